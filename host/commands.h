@@ -1,0 +1,26 @@
+// The mahost subcommands. Each lives in its own cmd_<name>.cpp and registers itself on the
+// app with one call from main.cpp; its callback runs the command and throws typed errors
+// (geometry::InputError, printer::ConfigError, ...) that main.cpp turns into one line and an
+// exit code.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace host {
+
+// Exit codes, documented in README.md.
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitInternal = 1;    // a bug: please report it
+inline constexpr int kExitBadInput = 2;    // a flag, file, profile or value that cannot be used
+inline constexpr int kExitPrinter = 3;     // the printer or its link failed
+inline constexpr int kExitCancelled = 4;   // the user cancelled or stopped the job
+inline constexpr int kExitInterrupted = 130;
+
+// A command that wants to end the process with a given code and a message (e.g. a job the
+// user cancelled) throws this; main.cpp prints the message, if any, and exits with the code.
+struct CommandExit {
+  int code = kExitOk;
+  std::string message;
+};
+
+}  // namespace host

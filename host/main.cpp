@@ -1,0 +1,57 @@
+// mahost: STL model to printed part. Parses the command line, runs one subcommand, and turns
+// every error into one line on stderr and an exit code (host/commands.h).
+#include <cstdio>
+#include <exception>
+#include <new>
+
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+
+#include "geometry/error.h"
+#include "host/commands.h"
+#include "printer/error.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"mahost: slice STL models with medial-axis contours and print them on a "
+               "Marlin-style printer"};
+  app.set_version_flag("--version", "mahost " MAHOST_VERSION);
+  app.require_subcommand(1);
+  app.fallthrough(false);
+
+  // One line per command; see host/commands.h.
+
+  try {
+    app.parse(argc, argv);
+    return host::kExitOk;
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    fmt::print(stderr, "mahost: {} (see mahost --help)\n", e.what());
+    return host::kExitBadInput;
+  } catch (const host::CommandExit& e) {
+    if (!e.message.empty()) fmt::print(stderr, "mahost: {}\n", e.message);
+    return e.code;
+  } catch (const geometry::InputError& e) {
+    fmt::print(stderr, "mahost: {}\n", e.what());
+    return host::kExitBadInput;
+  } catch (const printer::ConfigError& e) {
+    fmt::print(stderr, "mahost: {}\n", e.what());
+    return host::kExitBadInput;
+  } catch (const printer::LinkError& e) {
+    fmt::print(stderr, "mahost: {}\n", e.what());
+    return host::kExitPrinter;
+  } catch (const printer::PrinterError& e) {
+    fmt::print(stderr, "mahost: {}\n", e.what());
+    return host::kExitPrinter;
+  } catch (const std::bad_alloc&) {
+    fmt::print(stderr, "mahost: out of memory\n");
+    return host::kExitInternal;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "mahost: internal error: {} (please report this)\n", e.what());
+    return host::kExitInternal;
+  }
+}

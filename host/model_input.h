@@ -1,0 +1,31 @@
+// The model options every command shares (MODEL.stl, --units, --scale, --height, --up) and
+// loading a model through them: read, repair, place. What every later stage slices.
+#pragma once
+
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "geometry/mesh.h"
+#include "geometry/polygon.h"
+
+namespace host {
+
+struct ModelOptions {
+  std::string path;
+  std::string units = "mm";
+  double scale = 1.0;
+  double height = 0;  // 0: keep the size
+  std::string up = "z";
+  bool ignore_normals = false;
+};
+
+// Adds the positional MODEL argument (required) and the placement flags to a subcommand.
+void add_model_options(CLI::App& command, ModelOptions& options);
+
+// Reads, repairs and places the model, centred on `center`. Throws geometry::InputError with a
+// one-line reason for a file that cannot be used. Prints a one-line repair summary to stderr
+// when something was repaired.
+geometry::Mesh load_model(const ModelOptions& options, geometry::Vec2 center = {0, 0});
+
+}  // namespace host

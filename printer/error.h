@@ -1,0 +1,24 @@
+// Errors printer/ throws. Each message is one line naming the file, key or port and saying
+// what to do; host/ prints it and exits with the code DESIGN.md §5 gives for its kind.
+#pragma once
+
+#include <stdexcept>
+
+namespace printer {
+
+// A profile, G-code file or option value that cannot be used (exit code 2).
+struct ConfigError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// The link to the printer failed: port missing, busy, vanished, or silent (exit code 3).
+struct LinkError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// The firmware stopped the job: halted, thermal runaway, kill() (exit code 3).
+struct PrinterError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace printer

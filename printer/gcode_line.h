@@ -1,0 +1,51 @@
+// One line of G-code, as the host sends it and the firmware (ours or Marlin) reads it.
+//
+// Shared by the G-code writer's tests, the simulated printer and the host, so that all three
+// agree on what a line means. Every function is total: any input gives a defined result.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace printer {
+
+struct GcodeWord {
+  char letter = 0;  // upper case
+  double value = 0;
+};
+
+struct GcodeCommand {
+  char letter = 0;    // 'G', 'M' or 'T'; 0 for a line with no command (empty or comment only)
+  int code = -1;      // 1 for G1, 109 for M109
+  std::vector<GcodeWord> words;  // parameters in the order written (X, Y, E, S, ...)
+  std::string text;   // the command without comment or surrounding blanks: "G1 X10 Y5 E0.3"
+  std::string comment;  // text after ';' without the ';', trimmed ("LAYER:3", "TYPE:WALL-OUTER")
+
+  bool empty() const { return letter == 0; }
+  bool is(char l, int c) const { return letter == l && code == c; }
+  std::optional<double> get(char word) const;
+  bool has(char word) const { return get(word).has_value(); }
+};
+
+// Parses a line without line number or checksum (use parse_numbered_line first for those).
+GcodeCommand parse_gcode_line(std::string_view line);
+
+// The checksum Marlin checks: XOR of every byte before '*'.
+std::uint8_t gcode_checksum(std::string_view bytes);
+
+// "N<n> <command>*<checksum>" (no line end).
+std::string frame_line(long line_number, std::string_view command);
+
+// A line as it arrives at the firmware: optional "N<n> ", command, optional "*<checksum>".
+struct NumberedLine {
+  std::optional<long> line_number;
+  std::optional<int> checksum;  // as written after '*'
+  bool checksum_ok = true;      // true when there is no checksum or it matches
+  std::string command;          // between the number and the '*', trimmed, comment removed
+};
+NumberedLine parse_numbered_line(std::string_view line);
+
+}  // namespace printer
