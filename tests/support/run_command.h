@@ -1,0 +1,28 @@
+// Runs a program (by default the built mahost) as a user would, for CLI integration tests.
+#pragma once
+
+#include <chrono>
+#include <string>
+#include <vector>
+
+namespace test_support {
+
+struct CommandResult {
+  int exit_code = -1;      // the process's exit code; 128 + signal if it was killed
+  bool timed_out = false;  // killed after `timeout`
+  std::string out, err;
+};
+
+// Runs `argv` (argv[0] a path or a name looked up in PATH) with `input` on stdin, collecting
+// stdout and stderr; kills it after `timeout`.
+CommandResult run_command(const std::vector<std::string>& argv, const std::string& input = {},
+                          std::chrono::seconds timeout = std::chrono::seconds(300));
+
+// The same for the mahost binary under test: run_mahost({"info", "cube.stl"}).
+CommandResult run_mahost(const std::vector<std::string>& args, const std::string& input = {},
+                         std::chrono::seconds timeout = std::chrono::seconds(300));
+
+// Path of a fresh, empty scratch directory for one test (removed by the next run's cleanup).
+std::string scratch_dir(const std::string& test_name);
+
+}  // namespace test_support
