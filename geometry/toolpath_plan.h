@@ -1,0 +1,73 @@
+// Toolpath plan: every layer's toolpaths, in print order, from the layers' regions (issue 4,
+// "Toolpaths"; DESIGN.md §1).
+//
+// Inputs:  regions[i], the planar region layer i extrudes (any contour strategy: outer loops
+//          CCW, holes CW, mm), and layers[i], its bounds (z_lo, z_hi in mm); options below.
+// Outputs: one LayerToolpaths per layer (same count and order as `layers`; a layer without a
+//          region or with an empty one gets no paths): on the first layer the skirt, then per
+//          island, nearest first: inner walls, outer wall, thin walls, skins, infill.
+// Layer i uses regions[i] when i < regions.size(), else the empty region.
+//
+// Total: empty regions, zero-thickness layers and regions thinner than a bead all give a
+// defined plan (a region too thin for a loop gets a centre line). Options out of range are
+// clamped to the nearest sane value (density to [0, 100], counts to >= 0, widths to > 0);
+// validating what the user typed is the caller's job.
+// Deterministic: the same input gives the same plan, whatever the number of threads.
+//
+// See also: perimeters.h, skins.h, infill.h, skirt.h, travel_order.h, toolpaths.h.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+#include "geometry/layer_stack.h"
+#include "geometry/polygon.h"
+#include "geometry/toolpaths.h"
+
+namespace geometry {
+
+enum class InfillPattern {
+  rectilinear,  // parallel lines, the angle turning 90 degrees every layer
+  grid,         // two crossing sets of lines in every layer (density split between them)
+};
+
+enum class SeamPosition {
+  aligned,  // the same place on every layer: a corner at the rear of the loop
+  nearest,  // the loop point nearest to where the nozzle is (least travel)
+};
+
+std::string_view infill_pattern_name(InfillPattern pattern);  // "rectilinear", "grid"
+std::optional<InfillPattern> parse_infill_pattern(std::string_view name);
+std::string_view seam_position_name(SeamPosition seam);  // "aligned", "nearest"
+std::optional<SeamPosition> parse_seam_position(std::string_view name);
+
+// Defaults suit a 0.4 mm nozzle (PrusaSlicer's and Cura's usual settings).
+struct ToolpathOptions {
+  double extrusion_width = 0.45;    // bead width of walls, skins and infill, mm
+  double first_layer_width = 0.5;   // bead width on layer 0 (better adhesion), mm
+  int perimeters = 2;               // wall loops per island
+  double infill_density = 20;       // sparse infill, percent of the area (0..100)
+  InfillPattern infill_pattern = InfillPattern::grid;
+  double infill_angle = 45;         // degrees from +X of the first layer's lines
+  double infill_overlap = 0.15;     // infill reaches into the innermost wall, fraction of width
+  int top_layers = 3;               // solid layers under every top surface
+  int bottom_layers = 3;            // solid layers over every bottom surface
+  int skirt_loops = 1;              // loops around the first layer; 0 for none
+  double skirt_distance = 3.0;      // gap between the part and the skirt, mm
+  double retract_min_travel = 2.0;  // a travel longer than this retracts, mm
+  SeamPosition seam = SeamPosition::aligned;
+};
+
+// Called once per finished layer with the count of layers done so far, possibly from several
+// threads at once (host::Progress::update is safe for that).
+using LayerDone = std::function<void(std::size_t done)>;
+
+std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
+                                           const std::vector<Layer>& layers,
+                                           const ToolpathOptions& options,
+                                           const LayerDone& on_layer_done = {});
+
+}  // namespace geometry
