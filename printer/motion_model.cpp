@@ -1,0 +1,221 @@
+// The motion model (see motion_model.h): Marlin 2.x's planner, reduced to what decides time.
+//
+// Per move (a "block" in Marlin's words):
+//   length      the XYZ distance; |E| for a move of the extruder alone
+//   nominal     the feedrate (at least min_feedrate), scaled down so that no axis exceeds its
+//               max_speed; a non-positive or non-finite feedrate means "as fast as the axes go"
+//   accel       print_acceleration if it extrudes, travel_acceleration if it does not,
+//               retract_acceleration for E alone; then scaled down so that no axis exceeds
+//               its max_acceleration
+//   max entry   the junction speed with the previous move (junction deviation, below), never
+//               above either move's nominal speed; 0 for the first move after the buffer ran dry
+// Junction deviation as Marlin computes it: with cos_theta = -(u_prev . u) over the XYZE unit
+// directions, v^2 = a_j * junction_deviation * s / (1 - s), s = sqrt((1 - cos_theta) / 2),
+// a_j the move's acceleration limited by the axis maxima along the junction vector u - u_prev.
+// A full reversal (cos_theta > 0.999999) stops; a move shorter than 1 mm turning by less than
+// 45 degrees is also held to the speed of the arc it approximates, v^2 = a_j * length / angle.
+// Look-ahead: every push re-plans the open moves with the newest one ending at rest (reverse
+// pass: each entry no faster than can still stop in time; forward pass: no faster than can be
+// reached). The oldest open move's entry is fixed (it continues the move before it); it
+// becomes final, with its exit speed as currently planned, when more than `lookahead` moves
+// are open. Its time is the trapezoid (or triangle) from entry to exit through nominal.
+#include "printer/motion_model.h"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <limits>
+
+namespace printer {
+
+namespace {
+
+struct Block {
+  double length = 0;        // mm
+  double acceleration = 0;  // mm/s^2
+  double nominal_sqr = 0;   // (mm/s)^2
+  double max_entry_sqr = 0;
+  double entry_sqr = 0;     // as planned; fixed for the oldest open block
+};
+
+// Seconds to cover `length` starting at sqrt(entry_sqr), ending at sqrt(exit_sqr), never faster
+// than sqrt(nominal_sqr), accelerating and braking at `acceleration`.
+double block_time(const Block& b, double exit_sqr) {
+  const double a = b.acceleration, d = b.length;
+  const double vn = std::sqrt(b.nominal_sqr);
+  if (!(a > 0) || !std::isfinite(a)) return d / vn;
+  const double v0 = std::sqrt(b.entry_sqr), v1 = std::sqrt(exit_sqr);
+  const double accelerate = (b.nominal_sqr - b.entry_sqr) / (2 * a);
+  const double brake = (b.nominal_sqr - exit_sqr) / (2 * a);
+  if (accelerate + brake <= d) {  // trapezoid: reaches nominal speed and cruises
+    return (vn - v0) / a + (vn - v1) / a + (d - accelerate - brake) / vn;
+  }
+  const double peak_sqr = 0.5 * (b.entry_sqr + exit_sqr) + a * d;  // triangle
+  if (peak_sqr < std::max(b.entry_sqr, exit_sqr)) {
+    // Entry and exit cannot both be met at this acceleration (limits changed between
+    // moves): a single ramp between them.
+    return 2 * d / (v0 + v1);
+  }
+  const double vp = std::sqrt(peak_sqr);
+  return (vp - v0) / a + (vp - v1) / a;
+}
+
+}  // namespace
+
+struct MotionModel::Planner {
+  MotionLimits limits;
+  std::size_t lookahead = 16;
+  AxisPosition position;
+  std::deque<Block> open;
+  double total = 0;
+
+  // The last move that still shapes the next junction.
+  bool has_previous = false;
+  std::array<double, 4> previous_unit{};
+  double previous_nominal_sqr = 0;
+
+  void replan() {
+    if (open.size() < 2) return;
+    double next_entry = 0;  // the newest move ends at rest
+    for (std::size_t i = open.size() - 1; i >= 1; --i) {
+      Block& b = open[i];
+      b.entry_sqr = std::min(b.max_entry_sqr, next_entry + 2 * b.acceleration * b.length);
+      next_entry = b.entry_sqr;
+    }
+    for (std::size_t i = 0; i + 1 < open.size(); ++i) {
+      const Block& b = open[i];
+      Block& next = open[i + 1];
+      next.entry_sqr = std::min(next.entry_sqr, b.entry_sqr + 2 * b.acceleration * b.length);
+    }
+  }
+
+  double finalize_oldest() {
+    const double exit_sqr = open.size() > 1 ? open[1].entry_sqr : 0.0;
+    const double seconds = block_time(open.front(), exit_sqr);
+    open.pop_front();
+    total += seconds;
+    return seconds;
+  }
+};
+
+MotionModel::MotionModel(MotionLimits limits, std::size_t lookahead)
+    : planner_(std::make_unique<Planner>()) {
+  planner_->limits = limits;
+  planner_->lookahead = std::max<std::size_t>(lookahead, 1);
+}
+
+MotionModel::~MotionModel() = default;
+MotionModel::MotionModel(MotionModel&&) noexcept = default;
+MotionModel& MotionModel::operator=(MotionModel&&) noexcept = default;
+
+double MotionModel::push(AxisPosition target, double feedrate) {
+  Planner& p = *planner_;
+  const MotionLimits& lim = p.limits;
+  const std::array<double, 4> delta{target.x - p.position.x, target.y - p.position.y,
+                                    target.z - p.position.z, target.e - p.position.e};
+  p.position = target;
+
+  const double xyz = std::sqrt(delta[0] * delta[0] + delta[1] * delta[1] + delta[2] * delta[2]);
+  const double e = std::abs(delta[3]);
+  const bool extruder_only = !(xyz > 0);
+  const double length = extruder_only ? e : xyz;
+  if (!(length > 0) || !std::isfinite(length)) return 0;  // nothing moves: no block
+
+  // Nominal speed: the feedrate, then every axis held to its own maximum.
+  double speed = (feedrate > 0 && std::isfinite(feedrate))
+                     ? feedrate
+                     : std::numeric_limits<double>::infinity();
+  speed = std::max(speed, lim.min_feedrate);
+  for (int axis = 0; axis < 4; ++axis) {
+    const double share = std::abs(delta[axis]) / length;  // axis speed per unit of nominal
+    if (share > 0 && lim.max_speed[axis] > 0) speed = std::min(speed, lim.max_speed[axis] / share);
+  }
+  if (!std::isfinite(speed)) speed = lim.max_speed[0] > 0 ? lim.max_speed[0] : 1.0;
+
+  double acceleration = extruder_only ? lim.retract_acceleration
+                        : e > 0       ? lim.print_acceleration
+                                      : lim.travel_acceleration;
+  for (int axis = 0; axis < 4; ++axis) {
+    const double share = std::abs(delta[axis]) / length;
+    if (share > 0 && lim.max_acceleration[axis] > 0 && acceleration * share > lim.max_acceleration[axis]) {
+      acceleration = lim.max_acceleration[axis] / share;
+    }
+  }
+
+  Block block;
+  block.length = length;
+  block.acceleration = acceleration;
+  block.nominal_sqr = speed * speed;
+
+  // Direction over all four axes (Marlin normalises XYZE when the move extrudes).
+  const double norm = std::sqrt(xyz * xyz + e * e);
+  std::array<double, 4> unit{};
+  for (int axis = 0; axis < 4; ++axis) unit[axis] = delta[axis] / norm;
+
+  double junction_sqr = 0;  // after a dry buffer the move starts from rest
+  if (p.has_previous) {
+    double cos_theta = 0;
+    for (int axis = 0; axis < 4; ++axis) cos_theta -= p.previous_unit[axis] * unit[axis];
+    if (cos_theta > 0.999999) {
+      junction_sqr = 0;  // full reversal
+    } else {
+      cos_theta = std::max(cos_theta, -0.999999);
+      // The acceleration available along the change of direction.
+      std::array<double, 4> turn{};
+      double turn_norm = 0;
+      for (int axis = 0; axis < 4; ++axis) {
+        turn[axis] = unit[axis] - p.previous_unit[axis];
+        turn_norm += turn[axis] * turn[axis];
+      }
+      turn_norm = std::sqrt(turn_norm);
+      double junction_acceleration = acceleration;
+      if (turn_norm > 0) {
+        for (int axis = 0; axis < 4; ++axis) {
+          const double share = std::abs(turn[axis]) / turn_norm;
+          if (share > 0 && lim.max_acceleration[axis] > 0 &&
+              junction_acceleration * share > lim.max_acceleration[axis]) {
+            junction_acceleration = lim.max_acceleration[axis] / share;
+          }
+        }
+      }
+      const double sin_half = std::sqrt(0.5 * (1.0 - cos_theta));
+      junction_sqr = junction_acceleration * lim.junction_deviation * sin_half / (1.0 - sin_half);
+      if (length < 1.0 && cos_theta < -0.7071067812) {
+        // A short segment of a curve: no faster than the arc it approximates allows.
+        const double angle = std::acos(std::clamp(-cos_theta, -1.0, 1.0));
+        if (angle > 0) junction_sqr = std::min(junction_sqr, length * junction_acceleration / angle);
+      }
+    }
+    junction_sqr = std::min({junction_sqr, block.nominal_sqr, p.previous_nominal_sqr});
+  }
+  block.max_entry_sqr = junction_sqr;
+  block.entry_sqr = p.open.empty() ? 0.0 : junction_sqr;  // replan() settles it
+
+  p.has_previous = true;
+  p.previous_unit = unit;
+  p.previous_nominal_sqr = block.nominal_sqr;
+
+  p.open.push_back(block);
+  p.replan();
+  double seconds = 0;
+  while (p.open.size() > p.lookahead) seconds += p.finalize_oldest();
+  return seconds;
+}
+
+double MotionModel::flush() {
+  Planner& p = *planner_;
+  p.replan();
+  double seconds = 0;
+  while (!p.open.empty()) seconds += p.finalize_oldest();
+  p.has_previous = false;  // the buffer ran dry: the next move starts from rest
+  return seconds;
+}
+
+void MotionModel::set_position(AxisPosition position) { planner_->position = position; }
+AxisPosition MotionModel::position() const { return planner_->position; }
+double MotionModel::total_time() const { return planner_->total; }
+std::size_t MotionModel::pending() const { return planner_->open.size(); }
+const MotionLimits& MotionModel::limits() const { return planner_->limits; }
+void MotionModel::set_limits(const MotionLimits& limits) { planner_->limits = limits; }
+
+}  // namespace printer
