@@ -41,6 +41,7 @@ struct RepairReport {
   std::size_t holes_filled = 0;
   std::size_t faces_added = 0;
   double hole_area = 0;                      // area of the holes (filled or not), file units^2
+  double hole_share = 0;                     // hole_area / area of the surface in the file
   double surface_area = 0;                   // of the repaired mesh, fill included
   double volume = 0;                         // signed volume of the repaired mesh
   Box3 bounds;                               // of the repaired mesh, file units

@@ -1,0 +1,372 @@
+// Mesh repair with CGAL Polygon_mesh_processing; see repair.h for the steps and the contract.
+#include "geometry/repair.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <unordered_map>
+#include <vector>
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/border.h>
+#include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
+#include <CGAL/Polygon_mesh_processing/orientation.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
+#include <CGAL/Surface_mesh.h>
+#include <fmt/core.h>
+
+#include "geometry/error.h"
+
+namespace geometry {
+namespace {
+
+namespace PMP = CGAL::Polygon_mesh_processing;
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using SurfaceMesh = CGAL::Surface_mesh<Point>;
+using Polygon = std::array<std::size_t, 3>;
+
+// Exact coordinates as a hash key; -0.0 and 0.0 are the same corner.
+struct CornerKey {
+  std::uint64_t x, y, z;
+  bool operator==(const CornerKey&) const = default;
+};
+
+struct CornerHash {
+  std::size_t operator()(const CornerKey& k) const {
+    std::uint64_t h = k.x * 0x9E3779B97F4A7C15ull;
+    h ^= (k.y + 0x632BE59BD9B4E019ull + (h << 6) + (h >> 2));
+    h ^= (k.z + 0x85157AF5ull + (h << 6) + (h >> 2));
+    return static_cast<std::size_t>(h ^ (h >> 29));
+  }
+};
+
+std::uint64_t bits(double value) {
+  if (value == 0) value = 0;  // folds -0.0 into +0.0
+  std::uint64_t out;
+  std::memcpy(&out, &value, sizeof out);
+  return out;
+}
+
+Point to_point(const Vec3& v) { return {v.x, v.y, v.z}; }
+
+std::uint64_t edge_key(std::size_t a, std::size_t b) {
+  if (a > b) std::swap(a, b);
+  return static_cast<std::uint64_t>(a) << 32 | static_cast<std::uint64_t>(b);
+}
+
+// Counts reversed polygons and split vertices while CGAL orients the soup.
+struct OrientationVisitor : PMP::Default_orientation_visitor {
+  std::vector<char>* reversed = nullptr;
+  std::size_t* non_manifold_edges = nullptr;
+  void polygon_orientation_reversed(std::size_t id) { (*reversed)[id] ^= 1; }
+  void non_manifold_edge(std::size_t, std::size_t, std::size_t) { ++*non_manifold_edges; }
+};
+
+// Area enclosed by a closed polygon in space: half the length of its vector area. A lower
+// bound of the area of any surface that fills it.
+double vector_area(const std::vector<Point>& loop) {
+  Kernel::Vector_3 sum(0, 0, 0);
+  for (std::size_t i = 0; i < loop.size(); ++i) {
+    const Point& p = loop[i];
+    const Point& q = loop[(i + 1) % loop.size()];
+    sum = sum + CGAL::cross_product(p - CGAL::ORIGIN, q - CGAL::ORIGIN);
+  }
+  return 0.5 * std::sqrt(sum.squared_length());
+}
+
+double face_area(const SurfaceMesh& mesh, SurfaceMesh::Face_index f) {
+  const auto h = mesh.halfedge(f);
+  const Point& a = mesh.point(mesh.source(h));
+  const Point& b = mesh.point(mesh.target(h));
+  const Point& c = mesh.point(mesh.target(mesh.next(h)));
+  return 0.5 * std::sqrt(CGAL::cross_product(b - a, c - a).squared_length());
+}
+
+// Signed volume of a possibly open surface (PMP::volume wants it closed).
+double open_signed_volume(const SurfaceMesh& mesh) {
+  double six_volume = 0;
+  for (auto f : mesh.faces()) {
+    const auto h = mesh.halfedge(f);
+    const auto a = mesh.point(mesh.source(h)) - CGAL::ORIGIN;
+    const auto b = mesh.point(mesh.target(h)) - CGAL::ORIGIN;
+    const auto c = mesh.point(mesh.target(mesh.next(h))) - CGAL::ORIGIN;
+    six_volume += a * CGAL::cross_product(b, c);
+  }
+  return six_volume / 6;
+}
+
+std::size_t count_border_edges(const SurfaceMesh& mesh) {
+  std::size_t n = 0;
+  for (auto e : mesh.edges()) n += mesh.is_border(e) ? 1 : 0;
+  return n;
+}
+
+}  // namespace
+
+bool RepairReport::anything_repaired() const {
+  return degenerate_faces_dropped || duplicate_faces_dropped || non_manifold_vertices_split ||
+         faces_reoriented || holes_filled;
+}
+
+std::string RepairReport::summary() const {
+  std::vector<std::string> parts;
+  if (degenerate_faces_dropped) {
+    parts.push_back(fmt::format("{} degenerate facets dropped", degenerate_faces_dropped));
+  }
+  if (duplicate_faces_dropped) {
+    parts.push_back(fmt::format("{} duplicate facets dropped", duplicate_faces_dropped));
+  }
+  if (non_manifold_vertices_split) {
+    parts.push_back(
+        fmt::format("{} non-manifold vertices split", non_manifold_vertices_split));
+  }
+  if (faces_reoriented) parts.push_back(fmt::format("{} facets reoriented", faces_reoriented));
+  if (holes_filled) {
+    parts.push_back(fmt::format("{} hole{} filled (+{} faces)", holes_filled,
+                                holes_filled == 1 ? "" : "s", faces_added));
+  }
+  std::string out;
+  for (const std::string& p : parts) out += (out.empty() ? "" : ", ") + p;
+  return out;
+}
+
+Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
+            const RepairOptions& options) {
+  RepairReport report;
+  report.facets_read = facets.size();
+
+  // 1. Merge corners with identical coordinates.
+  std::vector<Vec3> points;
+  std::vector<Polygon> polygons;
+  polygons.reserve(facets.size());
+  {
+    std::unordered_map<CornerKey, std::size_t, CornerHash> index;
+    index.reserve(facets.size() * 3 / 5 + 16);  // closed meshes have about F/2 vertices
+    for (const Triangle& t : facets) {
+      Polygon p;
+      for (int i = 0; i < 3; ++i) {
+        const Vec3& v = t.v[i];
+        const auto [it, inserted] =
+            index.try_emplace(CornerKey{bits(v.x), bits(v.y), bits(v.z)}, points.size());
+        if (inserted) points.push_back(v);
+        p[i] = it->second;
+      }
+      polygons.push_back(p);
+    }
+    report.vertices_merged = 3 * facets.size() - points.size();
+  }
+
+  // 2. Drop degenerate facets (repeated or collinear corners) and second copies of a facet.
+  {
+    std::vector<Polygon> kept;
+    kept.reserve(polygons.size());
+    std::unordered_map<CornerKey, char, CornerHash> seen;  // sorted corner triple
+    seen.reserve(polygons.size());
+    for (const Polygon& p : polygons) {
+      if (p[0] == p[1] || p[1] == p[2] || p[0] == p[2] ||
+          CGAL::collinear(to_point(points[p[0]]), to_point(points[p[1]]),
+                          to_point(points[p[2]]))) {
+        ++report.degenerate_faces_dropped;
+        continue;
+      }
+      Polygon sorted = p;
+      std::sort(sorted.begin(), sorted.end());
+      if (!seen.try_emplace(CornerKey{sorted[0], sorted[1], sorted[2]}, 1).second) {
+        ++report.duplicate_faces_dropped;
+        continue;
+      }
+      kept.push_back(p);
+    }
+    polygons = std::move(kept);
+  }
+
+  // Corners that only degenerate facets used are not part of the surface.
+  {
+    std::vector<std::size_t> renumber(points.size(), SIZE_MAX);
+    std::vector<Vec3> used;
+    used.reserve(points.size());
+    for (Polygon& p : polygons) {
+      for (std::size_t& v : p) {
+        if (renumber[v] == SIZE_MAX) {
+          renumber[v] = used.size();
+          used.push_back(points[v]);
+        }
+        v = renumber[v];
+      }
+    }
+    points = std::move(used);
+  }
+
+  // Open and non-manifold edges of the file's surface, before any topological repair.
+  {
+    std::unordered_map<std::uint64_t, std::uint32_t> uses;
+    uses.reserve(polygons.size() * 3 / 2 + 16);
+    for (const Polygon& p : polygons) {
+      for (int i = 0; i < 3; ++i) ++uses[edge_key(p[i], p[(i + 1) % 3])];
+    }
+    for (const auto& [edge, n] : uses) {
+      if (n == 1) ++report.open_edges_before;
+      if (n > 2) ++report.non_manifold_edges;
+    }
+  }
+
+  // 3. Orient consistently; split non-manifold vertices. Most files are already a
+  // consistently oriented manifold soup, which CGAL checks much faster than it orients.
+  std::vector<char> reversed(polygons.size(), 0);
+  if (!PMP::is_polygon_soup_a_polygon_mesh(polygons)) {
+    std::vector<Point> soup_points;
+    soup_points.reserve(points.size());
+    for (const Vec3& v : points) soup_points.push_back(to_point(v));
+    OrientationVisitor visitor;
+    std::size_t ignored = 0;
+    visitor.reversed = &reversed;
+    visitor.non_manifold_edges = &ignored;
+    PMP::orient_polygon_soup(soup_points, polygons, CGAL::parameters::visitor(visitor));
+    report.non_manifold_vertices_split = soup_points.size() - points.size();
+    for (std::size_t i = points.size(); i < soup_points.size(); ++i) {
+      const Point& p = soup_points[i];
+      points.push_back({p.x(), p.y(), p.z()});
+    }
+  }
+
+  SurfaceMesh mesh;
+  for (const Vec3& v : points) mesh.add_vertex(to_point(v));
+  std::vector<std::size_t> face_polygon;  // Surface_mesh face index -> polygon
+  face_polygon.reserve(polygons.size());
+  for (std::size_t i = 0; i < polygons.size(); ++i) {
+    const Polygon& p = polygons[i];
+    const auto f = mesh.add_face(SurfaceMesh::Vertex_index(static_cast<std::uint32_t>(p[0])),
+                                 SurfaceMesh::Vertex_index(static_cast<std::uint32_t>(p[1])),
+                                 SurfaceMesh::Vertex_index(static_cast<std::uint32_t>(p[2])));
+    // The oriented soup is a polygon mesh, so every face fits; a face that still does not
+    // (a CGAL corner case) is dropped and counted as degenerate rather than trusted.
+    if (f == SurfaceMesh::null_face()) {
+      ++report.degenerate_faces_dropped;
+      continue;
+    }
+    face_polygon.push_back(i);
+  }
+  const std::size_t original_faces = mesh.number_of_faces();
+
+  // 4. Fill holes, unless filling would invent too much of the surface.
+  double area_before_fill = 0;
+  for (auto f : mesh.faces()) area_before_fill += face_area(mesh, f);
+  std::vector<SurfaceMesh::Halfedge_index> holes;
+  PMP::extract_boundary_cycles(mesh, std::back_inserter(holes));
+  report.holes_found = holes.size();
+  double estimated_hole_area = 0;
+  for (auto h : holes) {
+    std::vector<Point> loop;
+    for (auto e : CGAL::halfedges_around_face(h, mesh)) loop.push_back(mesh.point(mesh.source(e)));
+    estimated_hole_area += vector_area(loop);
+  }
+  report.hole_area = estimated_hole_area;
+  const double allowed = options.max_hole_share * area_before_fill;
+  if (!holes.empty() && original_faces > 0 && estimated_hole_area <= allowed) {
+    double filled_area = 0;
+    for (auto h : holes) {
+      std::vector<SurfaceMesh::Face_index> patch;
+      std::vector<SurfaceMesh::Vertex_index> added_vertices;
+      bool ok = std::get<0>(PMP::triangulate_refine_and_fair_hole(
+          mesh, h, std::back_inserter(patch), std::back_inserter(added_vertices)));
+      if (!ok) {
+        // Fairing can fail on awkward boundaries; a plain triangulation still closes them.
+        patch.clear();
+        PMP::triangulate_hole(mesh, h, std::back_inserter(patch));
+        ok = !patch.empty();
+      }
+      if (!ok) continue;
+      ++report.holes_filled;
+      report.faces_added += patch.size();
+      for (auto f : patch) filled_area += face_area(mesh, f);
+    }
+    report.hole_area = std::max(filled_area, estimated_hole_area);
+  }
+  report.hole_share = area_before_fill > 0 ? report.hole_area / area_before_fill
+                                           : (report.hole_area > 0 ? 1.0 : 0.0);
+
+  // 5. Orient outward. A closed surface knows its inside; an open one gets the orientation
+  // with positive signed volume, the best guess there is.
+  report.open_edges_after = count_border_edges(mesh);
+  report.closed = mesh.number_of_faces() > 0 && report.open_edges_after == 0;
+  if (report.closed) {
+    PMP::orient_to_bound_a_volume(mesh);
+  } else if (mesh.number_of_faces() > 0 && open_signed_volume(mesh) < 0) {
+    PMP::reverse_face_orientations(mesh);
+  }
+
+  Mesh out;
+  out.vertices.reserve(mesh.number_of_vertices());
+  for (auto v : mesh.vertices()) {
+    const Point& p = mesh.point(v);
+    out.vertices.push_back({p.x(), p.y(), p.z()});
+  }
+  out.faces.reserve(mesh.number_of_faces());
+  for (auto f : mesh.faces()) {
+    const auto h = mesh.halfedge(f);
+    out.faces.push_back({static_cast<std::uint32_t>(mesh.source(h)),
+                         static_cast<std::uint32_t>(mesh.target(h)),
+                         static_cast<std::uint32_t>(mesh.target(mesh.next(h)))});
+  }
+
+  // A file's facet was reoriented when its final corner order is the reverse of the order
+  // in the file (up to rotation).
+  for (std::size_t k = 0; k < original_faces; ++k) {
+    const auto& f = out.faces[k];
+    const Polygon& p = polygons[face_polygon[k]];
+    const bool same_as_oriented_soup =
+        (f[0] == p[0] && f[1] == p[1]) || (f[0] == p[1] && f[1] == p[2]) ||
+        (f[0] == p[2] && f[1] == p[0]);
+    if (same_as_oriented_soup == (reversed[face_polygon[k]] != 0)) ++report.faces_reoriented;
+  }
+
+  report.vertices = out.vertices.size();
+  report.volume = signed_volume(out);
+  report.surface_area = surface_area(out);
+  report.bounds = bounding_box(out);
+  if (report_out) *report_out = report;
+  return out;
+}
+
+void check_printable(const RepairReport& report, std::string_view name,
+                     const RepairOptions& options) {
+  const auto refuse = [name](const std::string& problem) {
+    throw InputError(fmt::format("{}: {}", name, problem));
+  };
+  if (report.facets_read == 0) refuse("no facets: there is nothing to print");
+  if (report.vertices == 0) {
+    refuse(fmt::format("all {} facets are degenerate (zero area): there is nothing to print",
+                       report.facets_read));
+  }
+  const Vec3 size = report.bounds.max - report.bounds.min;
+  const double largest = std::max({size.x, size.y, size.z});
+  for (const auto& [extent, axis] : {std::pair{size.x, 'X'}, {size.y, 'Y'}, {size.z, 'Z'}}) {
+    if (extent <= 1e-9 * largest) {
+      refuse(fmt::format("zero volume: the model is flat (no thickness along {}), a surface "
+                         "rather than a solid",
+                         axis));
+    }
+  }
+  if (report.hole_share > options.max_hole_share) {
+    refuse(fmt::format("the surface is missing too much to repair: its {} hole{} would need "
+                       "{:.0f}% of its area invented (at most {:.0f}% is filled); add the "
+                       "missing faces in a mesh editor",
+                       report.holes_found, report.holes_found == 1 ? "" : "s",
+                       100 * report.hole_share, 100 * options.max_hole_share));
+  }
+  if (!report.closed) {
+    refuse(fmt::format("still open after repair ({} open edges, {} holes of {} filled): not a "
+                       "closed solid; fix it in a mesh editor",
+                       report.open_edges_after, report.holes_filled, report.holes_found));
+  }
+  if (!(report.volume > 1e-9 * size.x * size.y * size.z)) {
+    refuse(fmt::format("zero volume: the closed surface encloses {:g} units^3, nothing to "
+                       "print",
+                       report.volume));
+  }
+}
+
+}  // namespace geometry
