@@ -1,0 +1,712 @@
+// Printer and material profiles (see profile.h): one table of rules per profile kind says, for
+// every key, its type, its range and where it goes; the file's keys and the --set overrides go
+// through the same rules, so a key is checked the same way wherever it comes from.
+#include "printer/profile.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <set>
+#include <sstream>
+
+#include <fmt/core.h>
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+#include "printer/error.h"
+
+namespace printer {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+enum class Kind { number, integer, boolean, text, number_list };
+
+struct Value {
+  double number = 0;
+  long long integer = 0;
+  bool flag = false;
+  std::string text;
+  std::vector<double> list;
+};
+
+template <class Target>
+struct Rule {
+  std::string_view key;
+  Kind kind = Kind::number;
+  double min = -kInf, max = kInf;  // numbers, integers and each list element
+  std::string_view unit;
+  std::vector<std::string_view> choices;  // text keys with a fixed set of values
+  bool required = false;
+  std::function<void(Target&, const Value&)> apply;
+};
+
+template <class Target>
+using Rules = std::vector<Rule<Target>>;
+
+// What a rule accepts, for messages: "a number from 1 to 500 mm/s".
+template <class Target>
+std::string describe(const Rule<Target>& rule) {
+  std::string range;
+  if (rule.min > -kInf && rule.max < kInf) {
+    range = fmt::format(" from {} to {}", rule.min, rule.max);
+  } else if (rule.min > -kInf) {
+    range = fmt::format(" of at least {}", rule.min);
+  }
+  const std::string unit = rule.unit.empty() ? "" : " " + std::string(rule.unit);
+  switch (rule.kind) {
+    case Kind::number: return "a number" + range + unit;
+    case Kind::integer: return "a whole number" + range + unit;
+    case Kind::boolean: return "true or false";
+    case Kind::number_list: return "a list of numbers" + range + unit;
+    case Kind::text:
+      if (!rule.choices.empty()) {
+        return fmt::format("one of {}", fmt::join(rule.choices, ", "));
+      }
+      return "a string";
+  }
+  return "a value";
+}
+
+template <class Target>
+void check_value(const Rule<Target>& rule, const Value& v, const std::string& where) {
+  auto out_of_range = [&](double x) {
+    return !std::isfinite(x) || x < rule.min || x > rule.max;
+  };
+  bool bad = false;
+  std::string shown;
+  switch (rule.kind) {
+    case Kind::number: bad = out_of_range(v.number); shown = fmt::format("{}", v.number); break;
+    case Kind::integer:
+      bad = out_of_range(static_cast<double>(v.integer));
+      shown = fmt::format("{}", v.integer);
+      break;
+    case Kind::number_list:
+      bad = v.list.empty() || std::any_of(v.list.begin(), v.list.end(), out_of_range);
+      shown = fmt::format("[{}]", fmt::join(v.list, ", "));
+      break;
+    case Kind::text:
+      bad = !rule.choices.empty() &&
+            std::find(rule.choices.begin(), rule.choices.end(), v.text) == rule.choices.end();
+      shown = "\"" + v.text + "\"";
+      break;
+    case Kind::boolean: break;
+  }
+  if (bad) {
+    throw ConfigError(fmt::format("{}: key '{}' = {} is not allowed; it must be {}", where,
+                                  rule.key, shown, describe(rule)));
+  }
+}
+
+std::string_view node_type_name(const toml::node& node) {
+  if (node.is_string()) return "a string";
+  if (node.is_integer() || node.is_floating_point()) return "a number";
+  if (node.is_boolean()) return "a boolean";
+  if (node.is_array()) return "a list";
+  if (node.is_table()) return "a table";
+  return "a date or time";
+}
+
+// Converts a TOML node to the rule's kind, or throws naming the key and the expected type.
+template <class Target>
+Value value_from_node(const Rule<Target>& rule, const toml::node& node, const std::string& where) {
+  Value v;
+  auto wrong_type = [&]() {
+    return ConfigError(fmt::format("{}: key '{}' must be {}, not {}", where, rule.key,
+                                   describe(rule), node_type_name(node)));
+  };
+  auto as_number = [&](const toml::node& n, double& out) {
+    if (auto i = n.value_exact<int64_t>()) { out = static_cast<double>(*i); return true; }
+    if (auto d = n.value_exact<double>()) { out = *d; return true; }
+    return false;
+  };
+  switch (rule.kind) {
+    case Kind::number:
+      if (!as_number(node, v.number)) throw wrong_type();
+      break;
+    case Kind::integer:
+      if (auto i = node.value_exact<int64_t>()) v.integer = *i; else throw wrong_type();
+      break;
+    case Kind::boolean:
+      if (auto b = node.value_exact<bool>()) v.flag = *b; else throw wrong_type();
+      break;
+    case Kind::text:
+      if (auto s = node.value_exact<std::string>()) v.text = *s; else throw wrong_type();
+      break;
+    case Kind::number_list: {
+      const toml::array* array = node.as_array();
+      if (!array) throw wrong_type();
+      for (const toml::node& element : *array) {
+        double x = 0;
+        if (!as_number(element, x)) throw wrong_type();
+        v.list.push_back(x);
+      }
+      break;
+    }
+  }
+  return v;
+}
+
+bool parse_double(std::string_view text, double& out) {
+  const std::string s(text);
+  if (s.empty()) return false;
+  char* end = nullptr;
+  out = std::strtod(s.c_str(), &end);
+  return end == s.c_str() + s.size();
+}
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
+  return s;
+}
+
+// Converts a --set value typed on the command line to the rule's kind.
+template <class Target>
+Value value_from_text(const Rule<Target>& rule, std::string_view text, const std::string& where) {
+  Value v;
+  auto wrong = [&]() {
+    return ConfigError(fmt::format("{}: key '{}' must be {}", where, rule.key, describe(rule)));
+  };
+  text = trim(text);
+  switch (rule.kind) {
+    case Kind::number:
+      if (!parse_double(text, v.number)) throw wrong();
+      break;
+    case Kind::integer: {
+      const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v.integer);
+      if (ec != std::errc() || end != text.data() + text.size() || text.empty()) throw wrong();
+      break;
+    }
+    case Kind::boolean:
+      if (text == "true") v.flag = true;
+      else if (text == "false") v.flag = false;
+      else throw wrong();
+      break;
+    case Kind::text: {
+      // "\n" typed on a command line means a line break in G-code.
+      std::string s(text);
+      for (std::size_t at = s.find("\\n"); at != std::string::npos; at = s.find("\\n", at + 1)) {
+        s.replace(at, 2, "\n");
+      }
+      v.text = s;
+      break;
+    }
+    case Kind::number_list: {
+      if (!text.empty() && text.front() == '[' && text.back() == ']') {
+        text = text.substr(1, text.size() - 2);
+      }
+      while (!text.empty()) {
+        const std::size_t comma = text.find(',');
+        double x = 0;
+        if (!parse_double(trim(text.substr(0, comma)), x)) throw wrong();
+        v.list.push_back(x);
+        if (comma == std::string_view::npos) break;
+        text.remove_prefix(comma + 1);
+      }
+      if (v.list.empty()) throw wrong();
+      break;
+    }
+  }
+  return v;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The rules.
+
+template <class Target>
+Rule<Target> number(std::string_view key, double min, double max, std::string_view unit,
+                    std::function<void(Target&, double)> set, bool required = false) {
+  Rule<Target> r;
+  r.key = key; r.kind = Kind::number; r.min = min; r.max = max; r.unit = unit;
+  r.required = required;
+  r.apply = [set](Target& t, const Value& v) { set(t, v.number); };
+  return r;
+}
+
+template <class Target>
+Rule<Target> integer(std::string_view key, double min, double max, std::string_view unit,
+                     std::function<void(Target&, int)> set) {
+  Rule<Target> r;
+  r.key = key; r.kind = Kind::integer; r.min = min; r.max = max; r.unit = unit;
+  r.apply = [set](Target& t, const Value& v) { set(t, static_cast<int>(v.integer)); };
+  return r;
+}
+
+template <class Target>
+Rule<Target> text(std::string_view key, std::vector<std::string_view> choices,
+                  std::function<void(Target&, const std::string&)> set, bool required = false) {
+  Rule<Target> r;
+  r.key = key; r.kind = Kind::text; r.choices = std::move(choices); r.required = required;
+  r.apply = [set](Target& t, const Value& v) { set(t, v.text); };
+  return r;
+}
+
+using P = PrinterProfile;
+using M = MaterialProfile;
+
+const Rules<P>& printer_rules() {
+  static const Rules<P> rules = [] {
+    Rules<P> r;
+    r.push_back(text<P>("name", {}, [](P& p, const std::string& s) { p.name = s; }, true));
+    r.push_back(text<P>("material", {}, [](P& p, const std::string& s) { p.default_material = s; }));
+    r.push_back(number<P>("build_volume.x", 10, 2000, "mm", [](P& p, double v) { p.bed_x = v; }, true));
+    r.push_back(number<P>("build_volume.y", 10, 2000, "mm", [](P& p, double v) { p.bed_y = v; }, true));
+    r.push_back(number<P>("build_volume.z", 10, 2000, "mm", [](P& p, double v) { p.bed_z = v; }, true));
+    r.push_back(number<P>("nozzle.diameter", 0.1, 2.0, "mm",
+                          [](P& p, double v) { p.nozzle_diameter = v; }, true));
+    r.push_back(number<P>("filament.diameter", 1.0, 3.5, "mm",
+                          [](P& p, double v) { p.filament_diameter = v; }, true));
+    r.push_back(number<P>("extrusion.width", 0.1, 3.0, "mm",
+                          [](P& p, double v) { p.extrusion_width = v; }));
+    r.push_back(text<P>("extrusion.e_mode", {"absolute", "relative"},
+                        [](P& p, const std::string& s) { p.relative_e = s == "relative"; }));
+    {
+      Rule<P> list;
+      list.key = "layer.allowed"; list.kind = Kind::number_list; list.min = 0.01; list.max = 2.0;
+      list.unit = "mm";
+      list.apply = [](P& p, const Value& v) {
+        p.layer.allowed = v.list;
+        std::sort(p.layer.allowed.begin(), p.layer.allowed.end());
+      };
+      r.push_back(list);
+    }
+    r.push_back(number<P>("layer.min", 0.01, 2.0, "mm", [](P& p, double v) { p.layer.min = v; }));
+    r.push_back(number<P>("layer.max", 0.01, 2.0, "mm", [](P& p, double v) { p.layer.max = v; }));
+    r.push_back(number<P>("layer.step", 0, 1.0, "mm (0: any)", [](P& p, double v) { p.layer.step = v; }));
+    r.push_back(number<P>("layer.default", 0.01, 2.0, "mm",
+                          [](P& p, double v) { p.layer.default_thickness = v; }));
+    r.push_back(number<P>("first_layer.height", 0.01, 2.0, "mm",
+                          [](P& p, double v) { p.first_layer_height = v; }));
+    r.push_back(number<P>("first_layer.width", 0.1, 3.0, "mm",
+                          [](P& p, double v) { p.first_layer_width = v; }));
+    r.push_back(number<P>("first_layer.speed", 1, 300, "mm/s",
+                          [](P& p, double v) { p.first_layer_speed = v; }));
+    static const std::string speed_keys[] = {"motion.max_speed_x", "motion.max_speed_y",
+                                             "motion.max_speed_z", "motion.max_speed_e"};
+    static const std::string accel_keys[] = {"motion.max_acceleration_x", "motion.max_acceleration_y",
+                                             "motion.max_acceleration_z", "motion.max_acceleration_e"};
+    for (int axis = 0; axis < 4; ++axis) {
+      r.push_back(number<P>(speed_keys[axis], 0.1, 2000, "mm/s",
+                            [axis](P& p, double v) { p.motion.max_speed[axis] = v; }));
+      r.push_back(number<P>(accel_keys[axis], 1, 100000, "mm/s^2",
+                            [axis](P& p, double v) { p.motion.max_acceleration[axis] = v; }));
+    }
+    r.push_back(number<P>("motion.print_acceleration", 1, 100000, "mm/s^2",
+                          [](P& p, double v) { p.motion.print_acceleration = v; }));
+    r.push_back(number<P>("motion.travel_acceleration", 1, 100000, "mm/s^2",
+                          [](P& p, double v) { p.motion.travel_acceleration = v; }));
+    r.push_back(number<P>("motion.retract_acceleration", 1, 100000, "mm/s^2",
+                          [](P& p, double v) { p.motion.retract_acceleration = v; }));
+    r.push_back(number<P>("motion.junction_deviation", 0.001, 0.5, "mm",
+                          [](P& p, double v) { p.motion.junction_deviation = v; }));
+    r.push_back(number<P>("motion.min_feedrate", 0, 100, "mm/s",
+                          [](P& p, double v) { p.motion.min_feedrate = v; }));
+    struct SpeedKey { std::string_view key; double FeatureSpeeds::*field; };
+    static const SpeedKey speeds[] = {
+        {"speed.outer_wall", &FeatureSpeeds::outer_wall}, {"speed.inner_wall", &FeatureSpeeds::inner_wall},
+        {"speed.thin_wall", &FeatureSpeeds::thin_wall}, {"speed.skirt", &FeatureSpeeds::skirt},
+        {"speed.top_skin", &FeatureSpeeds::top_skin}, {"speed.bottom_skin", &FeatureSpeeds::bottom_skin},
+        {"speed.solid_infill", &FeatureSpeeds::solid_infill},
+        {"speed.sparse_infill", &FeatureSpeeds::sparse_infill},
+        {"speed.travel", &FeatureSpeeds::travel}, {"speed.z", &FeatureSpeeds::z}};
+    for (const SpeedKey& s : speeds) {
+      const auto field = s.field;
+      r.push_back(number<P>(s.key, 1, 1000, "mm/s", [field](P& p, double v) { p.speed.*field = v; }));
+    }
+    r.push_back(number<P>("retraction.length", 0, 20, "mm", [](P& p, double v) { p.retraction.length = v; }));
+    r.push_back(number<P>("retraction.speed", 1, 200, "mm/s", [](P& p, double v) { p.retraction.speed = v; }));
+    r.push_back(number<P>("retraction.prime_speed", 1, 200, "mm/s",
+                          [](P& p, double v) { p.retraction.prime_speed = v; }));
+    r.push_back(number<P>("retraction.min_travel", 0, 100, "mm",
+                          [](P& p, double v) { p.retraction.min_travel = v; }));
+    r.push_back(number<P>("retraction.z_hop", 0, 10, "mm", [](P& p, double v) { p.retraction.z_hop = v; }));
+    r.push_back(integer<P>("print.perimeters", 0, 50, "", [](P& p, int v) { p.print.perimeters = v; }));
+    r.push_back(number<P>("print.infill_density", 0, 100, "%",
+                          [](P& p, double v) { p.print.infill_density = v; }));
+    r.push_back(text<P>("print.infill_pattern", {"grid", "rectilinear"},
+                        [](P& p, const std::string& s) { p.print.infill_pattern = s; }));
+    r.push_back(integer<P>("print.top_layers", 0, 100, "", [](P& p, int v) { p.print.top_layers = v; }));
+    r.push_back(integer<P>("print.bottom_layers", 0, 100, "", [](P& p, int v) { p.print.bottom_layers = v; }));
+    r.push_back(integer<P>("print.skirt_loops", 0, 20, "", [](P& p, int v) { p.print.skirt_loops = v; }));
+    r.push_back(number<P>("print.skirt_distance", 0, 50, "mm",
+                          [](P& p, double v) { p.print.skirt_distance = v; }));
+    r.push_back(text<P>("print.seam", {"aligned", "nearest"},
+                        [](P& p, const std::string& s) { p.print.seam = s; }));
+    r.push_back(text<P>("gcode.start", {}, [](P& p, const std::string& s) { p.start_gcode = s; }));
+    r.push_back(text<P>("gcode.end", {}, [](P& p, const std::string& s) { p.end_gcode = s; }));
+    {
+      Rule<P> baud;
+      baud.key = "serial.baud"; baud.kind = Kind::integer; baud.min = 1200; baud.max = 4000000;
+      baud.unit = "baud";
+      baud.apply = [](P& p, const Value& v) { p.baud = static_cast<int>(v.integer); };
+      r.push_back(baud);
+    }
+    return r;
+  }();
+  return rules;
+}
+
+const Rules<M>& material_rules() {
+  static const Rules<M> rules = [] {
+    Rules<M> r;
+    r.push_back(text<M>("name", {}, [](M& m, const std::string& s) { m.name = s; }, true));
+    r.push_back(number<M>("temperature.nozzle", 0, 350, "C",
+                          [](M& m, double v) { m.nozzle_temperature = v; }, true));
+    r.push_back(number<M>("temperature.first_layer_nozzle", 0, 350, "C",
+                          [](M& m, double v) { m.first_layer_nozzle_temperature = v; }));
+    r.push_back(number<M>("temperature.bed", 0, 150, "C",
+                          [](M& m, double v) { m.bed_temperature = v; }, true));
+    r.push_back(number<M>("temperature.first_layer_bed", 0, 150, "C",
+                          [](M& m, double v) { m.first_layer_bed_temperature = v; }));
+    r.push_back(number<M>("fan.speed", 0, 100, "%", [](M& m, double v) { m.fan_speed = v; }));
+    r.push_back(integer<M>("fan.start_layer", 0, 1000, "", [](M& m, int v) { m.fan_start_layer = v; }));
+    r.push_back(number<M>("flow", 0.5, 1.5, "", [](M& m, double v) { m.flow = v; }));
+    r.push_back(number<M>("density", 0.5, 3.0, "g/cm^3", [](M& m, double v) { m.density = v; }));
+    return r;
+  }();
+  return rules;
+}
+
+template <class Target>
+const Rule<Target>* find_rule(const Rules<Target>& rules, std::string_view key) {
+  for (const Rule<Target>& rule : rules) {
+    if (rule.key == key) return &rule;
+  }
+  return nullptr;
+}
+
+// "unknown key 'speed.outer_wal'; keys under 'speed': outer_wall, inner_wall, ..." so that a
+// typo is one glance from its fix.
+template <class Target>
+std::string unknown_key_message(const Rules<Target>& rules, std::string_view key,
+                                const std::string& where) {
+  const std::size_t dot = key.rfind('.');
+  const std::string_view section = dot == std::string_view::npos ? "" : key.substr(0, dot);
+  std::vector<std::string_view> siblings;
+  std::set<std::string_view> sections;
+  for (const Rule<Target>& rule : rules) {
+    const std::size_t rule_dot = rule.key.rfind('.');
+    const std::string_view rule_section =
+        rule_dot == std::string_view::npos ? "" : rule.key.substr(0, rule_dot);
+    sections.insert(rule_section.empty() ? rule.key : rule_section);
+    if (rule_section == section) siblings.push_back(rule.key.substr(rule_dot + 1));
+  }
+  if (!siblings.empty()) {
+    return fmt::format("{}: unknown key '{}'; keys {}: {}", where, key,
+                       section.empty() ? "at the top" : fmt::format("under '{}'", section),
+                       fmt::join(siblings, ", "));
+  }
+  return fmt::format("{}: unknown key '{}'; known sections and keys: {}", where, key,
+                     fmt::join(sections, ", "));
+}
+
+void flatten(const toml::table& table, const std::string& prefix,
+             std::vector<std::pair<std::string, const toml::node*>>& leaves) {
+  for (const auto& [name, node] : table) {
+    const std::string key = prefix.empty() ? std::string(name.str())
+                                           : prefix + "." + std::string(name.str());
+    if (const toml::table* inner = node.as_table()) {
+      flatten(*inner, key, leaves);
+    } else {
+      leaves.emplace_back(key, &node);
+    }
+  }
+}
+
+template <class Target>
+void apply_table(Target& target, const Rules<Target>& rules, std::string_view toml_text,
+                 const std::string& source) {
+  toml::table table;
+  try {
+    table = toml::parse(toml_text, source);
+  } catch (const toml::parse_error& e) {
+    throw ConfigError(fmt::format("{}:{}:{}: not valid TOML: {}", source, e.source().begin.line,
+                                  e.source().begin.column, e.description()));
+  }
+  std::vector<std::pair<std::string, const toml::node*>> leaves;
+  flatten(table, "", leaves);
+  std::set<std::string_view> seen;
+  for (const auto& [key, node] : leaves) {
+    const std::string where = fmt::format("{}:{}", source, node->source().begin.line);
+    const Rule<Target>* rule = find_rule(rules, key);
+    if (!rule) throw ConfigError(unknown_key_message(rules, key, where));
+    const Value v = value_from_node(*rule, *node, where);
+    check_value(*rule, v, where);
+    rule->apply(target, v);
+    seen.insert(rule->key);
+  }
+  for (const Rule<Target>& rule : rules) {
+    if (rule.required && !seen.count(rule.key)) {
+      throw ConfigError(fmt::format("{}: key '{}' is missing; it must be {}", source, rule.key,
+                                    describe(rule)));
+    }
+  }
+}
+
+std::string format_number(double v) { return fmt::format("{:g}", v); }
+
+// Checks that only make sense for the profile as a whole.
+void check_printer(const PrinterProfile& p) {
+  const std::string& where = p.source;
+  const LayerThicknesses& layer = p.layer;
+  if (layer.allowed.empty()) {
+    if (layer.min > layer.max) {
+      throw ConfigError(fmt::format("{}: layer.min ({} mm) is above layer.max ({} mm)", where,
+                                    layer.min, layer.max));
+    }
+  }
+  if (!layer.allows(layer.default_thickness)) {
+    throw ConfigError(fmt::format("{}: layer.default = {} mm is not a layer thickness this "
+                                  "printer allows ({})", where, layer.default_thickness,
+                                  layer.describe()));
+  }
+  if (!layer.allows(p.first_layer_height)) {
+    throw ConfigError(fmt::format("{}: first_layer.height = {} mm is not a layer thickness this "
+                                  "printer allows ({})", where, p.first_layer_height,
+                                  layer.describe()));
+  }
+  // The bead model (bead_model.h) is a rounded rectangle: a bead at least as wide as it is tall.
+  const double tallest = layer.allowed.empty() ? layer.max : layer.allowed.back();
+  if (p.extrusion_width < tallest) {
+    throw ConfigError(fmt::format("{}: extrusion.width = {} mm is narrower than the tallest layer "
+                                  "({} mm); widen it or lower the layer limit", where,
+                                  p.extrusion_width, tallest));
+  }
+  if (p.first_layer_width < p.first_layer_height) {
+    throw ConfigError(fmt::format("{}: first_layer.width = {} mm is narrower than "
+                                  "first_layer.height = {} mm", where, p.first_layer_width,
+                                  p.first_layer_height));
+  }
+}
+
+void check_gcode_placeholders(const Profiles& profiles) {
+  expand_placeholders(profiles.printer.start_gcode, profiles, {}, "gcode.start");
+  expand_placeholders(profiles.printer.end_gcode, profiles, {}, "gcode.end");
+}
+
+std::string read_text_file(const std::string& path, std::string_view what) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    throw ConfigError(fmt::format("cannot read {} profile '{}': {}", what, path,
+                                  std::filesystem::exists(path) ? "permission denied"
+                                                                : "no such file"));
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+bool looks_like_path(const std::string& s) {
+  return s.find('/') != std::string::npos ||
+         (s.size() > 5 && s.compare(s.size() - 5, 5, ".toml") == 0);
+}
+
+std::string resolve_profile(const std::string& name_or_path, const std::string& config_dir,
+                            std::string_view kind, std::string_view what) {
+  if (looks_like_path(name_or_path)) return name_or_path;
+  const std::string path = config_dir + "/" + std::string(kind) + "/" + name_or_path + ".toml";
+  if (std::filesystem::exists(path)) return path;
+  const std::vector<std::string> names = available_profiles(config_dir, kind);
+  throw ConfigError(fmt::format("{} profile '{}' not found in {}/{} (available: {}); give one of "
+                                "these names or a path to a .toml file", what, name_or_path,
+                                config_dir, kind, names.empty() ? "none" : fmt::format("{}", fmt::join(names, ", "))));
+}
+
+template <class Target>
+void apply_assignment(Target& target, const Rules<Target>& rules, std::string_view key,
+                      std::string_view value, const std::string& where) {
+  const Rule<Target>* rule = find_rule(rules, key);
+  if (!rule) throw ConfigError(unknown_key_message(rules, key, where));
+  const Value v = value_from_text(*rule, value, where);
+  check_value(*rule, v, where);
+  rule->apply(target, v);
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+
+bool LayerThicknesses::allows(double thickness) const {
+  constexpr double kTolerance = 1e-6;
+  if (!std::isfinite(thickness)) return false;
+  if (!allowed.empty()) {
+    return std::any_of(allowed.begin(), allowed.end(),
+                       [&](double a) { return std::abs(a - thickness) <= kTolerance; });
+  }
+  if (thickness < min - kTolerance || thickness > max + kTolerance) return false;
+  if (step <= 0) return true;
+  const double steps = (thickness - min) / step;
+  return std::abs(steps - std::round(steps)) * step <= kTolerance;
+}
+
+std::string LayerThicknesses::describe() const {
+  std::vector<std::string> values;
+  if (!allowed.empty()) {
+    for (double a : allowed) values.push_back(format_number(a));
+  } else if (step > 0 && (max - min) / step <= 20) {
+    for (int k = 0; min + k * step <= max + 1e-9; ++k) values.push_back(format_number(min + k * step));
+  } else if (step > 0) {
+    return fmt::format("{} to {} mm in steps of {} mm", format_number(min), format_number(max),
+                       format_number(step));
+  } else {
+    return fmt::format("{} to {} mm", format_number(min), format_number(max));
+  }
+  return fmt::format("{} mm", fmt::join(values, ", "));
+}
+
+std::string config_directory(const char* built_in) {
+  if (const char* env = std::getenv("MAHOST_CONFIG_DIR"); env && *env) return env;
+  return built_in ? built_in : "configs";
+}
+
+std::vector<std::string> available_profiles(const std::string& config_dir, std::string_view kind) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& entry :
+       std::filesystem::directory_iterator(config_dir + "/" + std::string(kind), ec)) {
+    if (entry.path().extension() == ".toml") names.push_back(entry.path().stem().string());
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+PrinterProfile parse_printer_profile(std::string_view toml_text, const std::string& source) {
+  PrinterProfile p;
+  p.source = source;
+  apply_table(p, printer_rules(), toml_text, source);
+  check_printer(p);
+  Profiles both{p, MaterialProfile{}};
+  check_gcode_placeholders(both);
+  return p;
+}
+
+MaterialProfile parse_material_profile(std::string_view toml_text, const std::string& source) {
+  MaterialProfile m;
+  m.source = source;
+  // First-layer temperatures default to the regular ones when a profile leaves them out.
+  m.first_layer_nozzle_temperature = -1;
+  m.first_layer_bed_temperature = -1;
+  apply_table(m, material_rules(), toml_text, source);
+  if (m.first_layer_nozzle_temperature < 0) m.first_layer_nozzle_temperature = m.nozzle_temperature;
+  if (m.first_layer_bed_temperature < 0) m.first_layer_bed_temperature = m.bed_temperature;
+  return m;
+}
+
+PrinterProfile load_printer_profile(const std::string& name_or_path, const std::string& config_dir) {
+  const std::string path = resolve_profile(name_or_path, config_dir, "printers", "printer");
+  return parse_printer_profile(read_text_file(path, "printer"), path);
+}
+
+MaterialProfile load_material_profile(const std::string& name_or_path, const std::string& config_dir) {
+  const std::string path = resolve_profile(name_or_path, config_dir, "materials", "material");
+  return parse_material_profile(read_text_file(path, "material"), path);
+}
+
+void apply_override(Profiles& profiles, std::string_view assignment) {
+  const std::string where = fmt::format("--set {}", assignment);
+  const std::size_t equals = assignment.find('=');
+  if (equals == std::string_view::npos || equals == 0) {
+    throw ConfigError(fmt::format("{}: expected key=value, e.g. --set retraction.length=1.5 or "
+                                  "--set material.temperature.nozzle=245", where));
+  }
+  std::string_view key = trim(assignment.substr(0, equals));
+  const std::string_view value = assignment.substr(equals + 1);
+  if (key.starts_with("material.")) {
+    key.remove_prefix(9);
+    apply_assignment(profiles.material, material_rules(), key, value, where);
+  } else {
+    if (key.starts_with("printer.")) key.remove_prefix(8);
+    apply_assignment(profiles.printer, printer_rules(), key, value, where);
+  }
+  try {
+    check_printer(profiles.printer);
+    check_gcode_placeholders(profiles);
+  } catch (const ConfigError& e) {
+    throw ConfigError(fmt::format("{} (after {})", e.what(), where));
+  }
+}
+
+Profiles load_profiles(const ProfileRequest& request) {
+  Profiles profiles;
+  profiles.printer = load_printer_profile(request.printer, request.config_dir);
+  const std::string material =
+      request.material.empty() ? profiles.printer.default_material : request.material;
+  profiles.material = load_material_profile(material, request.config_dir);
+  for (const std::string& assignment : request.overrides) apply_override(profiles, assignment);
+  check_gcode_placeholders(profiles);
+  return profiles;
+}
+
+void check_layer_thickness(const PrinterProfile& printer, double thickness) {
+  if (printer.layer.allows(thickness)) return;
+  throw ConfigError(fmt::format("layer thickness {} mm is not allowed on the {} ({}); allowed: {}",
+                                format_number(thickness), printer.name, printer.source,
+                                printer.layer.describe()));
+}
+
+void check_part_fits(const PrinterProfile& printer, double size_x, double size_y, double size_z) {
+  constexpr double kTolerance = 1e-6;
+  if (size_x <= printer.bed_x + kTolerance && size_y <= printer.bed_y + kTolerance &&
+      size_z <= printer.bed_z + kTolerance) {
+    return;
+  }
+  throw ConfigError(fmt::format("the part is {:.1f} x {:.1f} x {:.1f} mm but the {} builds at most "
+                                "{:g} x {:g} x {:g} mm; scale it down (--scale, --height) or "
+                                "choose a bigger printer (--printer)", size_x, size_y, size_z,
+                                printer.name, printer.bed_x, printer.bed_y, printer.bed_z));
+}
+
+std::string expand_placeholders(std::string_view text, const Profiles& profiles,
+                                const PlaceholderValues& values, std::string_view key) {
+  const PrinterProfile& p = profiles.printer;
+  const MaterialProfile& m = profiles.material;
+  struct Entry { std::string_view name; std::string value; };
+  const Entry entries[] = {
+      {"nozzle_temperature", format_number(m.nozzle_temperature)},
+      {"first_layer_nozzle_temperature", format_number(m.first_layer_nozzle_temperature)},
+      {"bed_temperature", format_number(m.bed_temperature)},
+      {"first_layer_bed_temperature", format_number(m.first_layer_bed_temperature)},
+      {"bed_x", format_number(p.bed_x)},
+      {"bed_y", format_number(p.bed_y)},
+      {"bed_z", format_number(p.bed_z)},
+      {"nozzle_diameter", format_number(p.nozzle_diameter)},
+      {"filament_diameter", format_number(p.filament_diameter)},
+      {"layer_height", format_number(values.layer_height)},
+      {"first_layer_height", format_number(p.first_layer_height)},
+      {"fan_speed", fmt::format("{}", static_cast<int>(std::lround(m.fan_speed * 2.55)))},
+      {"printer_name", p.name},
+      {"material_name", m.name},
+  };
+  std::string out;
+  out.reserve(text.size());
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (text[i] != '{') {
+      out += text[i];
+      continue;
+    }
+    const std::size_t close = text.find('}', i);
+    const std::string_view name =
+        text.substr(i + 1, close == std::string_view::npos ? std::string_view::npos : close - i - 1);
+    const Entry* found = nullptr;
+    for (const Entry& e : entries) {
+      if (close != std::string_view::npos && e.name == name) found = &e;
+    }
+    if (!found) {
+      std::vector<std::string_view> names;
+      for (const Entry& e : entries) names.push_back(e.name);
+      throw ConfigError(fmt::format("{}: {}: unknown placeholder '{{{}}}'; known: {}", p.source, key,
+                                    name, fmt::join(names, ", ")));
+    }
+    out += found->value;
+    i = close;
+  }
+  return out;
+}
+
+}  // namespace printer

@@ -1,0 +1,141 @@
+// Printer and material profiles: what a printer can do and how a material prints (issue 4).
+//
+// Profiles are TOML files in configs/printers/<name>.toml and configs/materials/<name>.toml
+// (found by name in a config directory, or given as a path). Every key is checked on load: an
+// unknown key, a wrong type or a value out of range throws ConfigError naming the file, the key
+// and what is allowed. `--set key=value` overrides go through the same checks (dotted keys as in
+// the file; `material.` in front of a key reaches the material profile).
+// Units: mm, s, mm/s, mm/s^2, degrees Celsius, percent, g/cm^3.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "printer/motion_model.h"
+
+namespace printer {
+
+// The layer thicknesses a printer can print: a list, or a range with an optional step.
+struct LayerThicknesses {
+  std::vector<double> allowed;  // if non-empty, exactly these
+  double min = 0.05, max = 0.3;
+  double step = 0;              // 0: any value in [min, max]
+  double default_thickness = 0.2;
+
+  bool allows(double thickness) const;
+  // "0.15, 0.2, 0.25, 0.3, 0.35, 0.4 mm" or "0.05 to 0.3 mm".
+  std::string describe() const;
+};
+
+// Speeds per feature, mm/s.
+struct FeatureSpeeds {
+  double outer_wall = 30, inner_wall = 45, thin_wall = 30, skirt = 30;
+  double top_skin = 35, bottom_skin = 35, solid_infill = 45, sparse_infill = 60;
+  double travel = 120, z = 8;
+};
+
+struct Retraction {
+  double length = 1.0;      // filament pulled back, mm (0: never retract)
+  double speed = 30;        // mm/s
+  double prime_speed = 30;  // pushing it back, mm/s
+  double min_travel = 2.0;  // travels shorter than this do not retract, mm
+  double z_hop = 0;         // lift during retracted travels, mm (0: none)
+};
+
+struct PrintSettings {
+  int perimeters = 2;
+  double infill_density = 20;  // percent
+  std::string infill_pattern = "grid";  // "grid" or "rectilinear"
+  int top_layers = 3, bottom_layers = 3;
+  int skirt_loops = 1;
+  double skirt_distance = 3.0;  // mm
+  std::string seam = "aligned";  // "aligned" or "nearest"
+};
+
+struct PrinterProfile {
+  std::string name;         // as shown to the user: "UP Plus 2"
+  std::string source;       // the file it came from, for messages
+  double bed_x = 220, bed_y = 220, bed_z = 250;  // build volume, mm; origin at a bed corner
+  double nozzle_diameter = 0.4;
+  double filament_diameter = 1.75;
+  double extrusion_width = 0.45;  // bead width of walls, skins and infill
+  LayerThicknesses layer;
+  double first_layer_height = 0.2, first_layer_width = 0.5, first_layer_speed = 20;
+  MotionLimits motion;
+  FeatureSpeeds speed;
+  Retraction retraction;
+  PrintSettings print;
+  bool relative_e = false;  // M83 (true) or M82
+  std::string start_gcode, end_gcode;  // with {placeholders}
+  int baud = 115200;
+  std::string default_material = "pla";
+};
+
+struct MaterialProfile {
+  std::string name;    // "ABS"
+  std::string source;
+  double nozzle_temperature = 210, first_layer_nozzle_temperature = 215;
+  double bed_temperature = 60, first_layer_bed_temperature = 60;
+  double fan_speed = 100;  // percent, from fan_start_layer on
+  int fan_start_layer = 1;  // 0-based: the first layer with the fan on
+  double flow = 1.0;       // extrusion multiplier
+  double density = 1.24;   // g/cm^3, for the filament weight
+};
+
+struct Profiles {
+  PrinterProfile printer;
+  MaterialProfile material;
+};
+
+// Which profiles to load, as the user gave them.
+struct ProfileRequest {
+  std::string printer = "up-plus-2";  // a name in config_dir/printers, or a path to a .toml
+  std::string material;               // empty: the printer's default_material
+  std::string config_dir;             // see config_directory()
+  std::vector<std::string> overrides;  // "key=value", applied in order
+};
+
+// The config directory: $MAHOST_CONFIG_DIR if set and non-empty, else `built_in`.
+std::string config_directory(const char* built_in);
+
+// Names of the profiles found in config_dir/printers or config_dir/materials, sorted.
+std::vector<std::string> available_profiles(const std::string& config_dir, std::string_view kind);
+
+// Parses and checks a profile's TOML text; `source` names it in messages.
+PrinterProfile parse_printer_profile(std::string_view toml, const std::string& source);
+MaterialProfile parse_material_profile(std::string_view toml, const std::string& source);
+
+// Reads a profile by name (from config_dir) or by path (anything with a '/' or ending in .toml).
+PrinterProfile load_printer_profile(const std::string& name_or_path, const std::string& config_dir);
+MaterialProfile load_material_profile(const std::string& name_or_path, const std::string& config_dir);
+
+// Applies one "key=value" override, checked like the file's own keys, then re-checks the
+// profiles as a whole. Keys starting with "material." go to the material.
+void apply_override(Profiles& profiles, std::string_view assignment);
+
+// Loads both profiles and applies the overrides.
+Profiles load_profiles(const ProfileRequest& request);
+
+// Throws ConfigError unless the printer can print layers this thick (names the allowed ones).
+void check_layer_thickness(const PrinterProfile& printer, double thickness);
+
+// Throws ConfigError with the part's size and the build volume's unless a part of this size
+// (mm) fits.
+void check_part_fits(const PrinterProfile& printer, double size_x, double size_y, double size_z);
+
+// Values for the {placeholders} of start and end G-code.
+struct PlaceholderValues {
+  double layer_height = 0.2;
+};
+
+// Expands {name} placeholders in a profile's G-code; an unknown name throws ConfigError naming
+// `key` and the known names. Known: nozzle_temperature, first_layer_nozzle_temperature,
+// bed_temperature, first_layer_bed_temperature, bed_x, bed_y, bed_z, nozzle_diameter,
+// filament_diameter, layer_height, first_layer_height, fan_speed (0-255), printer_name,
+// material_name.
+std::string expand_placeholders(std::string_view text, const Profiles& profiles,
+                                const PlaceholderValues& values, std::string_view key);
+
+}  // namespace printer

@@ -1,0 +1,253 @@
+// Printer and material profiles: the shipped files load with the machine's figures, and every
+// kind of bad key or value is refused with a message naming the file, the key and what is allowed.
+#include <cstdlib>
+#include <string>
+
+#include <doctest/doctest.h>
+
+#include "printer/error.h"
+#include "printer/profile.h"
+
+using namespace printer;
+
+namespace {
+
+const std::string kConfigDir = MAHOST_SOURCE_DIR "/configs";
+
+// The message a ConfigError carries, or "" if `f` does not throw one.
+template <class F>
+std::string config_error(F&& f) {
+  try {
+    f();
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// A small valid printer profile to break one key at a time.
+const std::string kMinimalPrinter = R"(name = "Test"
+[build_volume]
+x = 100
+y = 120
+z = 80
+[nozzle]
+diameter = 0.4
+[filament]
+diameter = 1.75
+)";
+
+}  // namespace
+
+TEST_CASE("up_plus_2_profile_has_the_machine_figures") {
+  const PrinterProfile p = load_printer_profile("up-plus-2", kConfigDir);
+  CHECK(p.name == "UP Plus 2");
+  CHECK(p.source == kConfigDir + "/printers/up-plus-2.toml");
+  CHECK(p.bed_x == 140);
+  CHECK(p.bed_y == 140);
+  CHECK(p.bed_z == 135);
+  CHECK(p.nozzle_diameter == 0.4);
+  CHECK(p.filament_diameter == 1.75);
+  CHECK(p.baud == 115200);
+  CHECK(p.default_material == "abs");
+  CHECK(p.layer.describe() == "0.15, 0.2, 0.25, 0.3, 0.35, 0.4 mm");
+  for (double t : {0.15, 0.2, 0.25, 0.3, 0.35, 0.4}) CHECK(p.layer.allows(t));
+  for (double t : {0.1, 0.17, 0.225, 0.45}) CHECK_FALSE(p.layer.allows(t));
+}
+
+TEST_CASE("generic_marlin_allows_any_layer_from_0_05_to_0_3") {
+  const PrinterProfile p = load_printer_profile("generic-marlin", kConfigDir);
+  CHECK(p.bed_x == 220);
+  CHECK(p.bed_y == 220);
+  CHECK(p.bed_z == 250);
+  CHECK(p.relative_e);
+  CHECK(p.layer.describe() == "0.05 to 0.3 mm");
+  for (double t : {0.05, 0.17, 0.123, 0.3}) CHECK(p.layer.allows(t));
+  for (double t : {0.04, 0.31}) CHECK_FALSE(p.layer.allows(t));
+}
+
+TEST_CASE("materials_have_temperatures_fan_flow_density") {
+  const MaterialProfile abs = load_material_profile("abs", kConfigDir);
+  CHECK(abs.name == "ABS");
+  CHECK(abs.nozzle_temperature == 245);
+  CHECK(abs.first_layer_bed_temperature == 105);
+  CHECK(abs.fan_speed == 0);
+  CHECK(abs.density == 1.04);
+  const MaterialProfile pla = load_material_profile("pla", kConfigDir);
+  CHECK(pla.fan_speed == 100);
+  CHECK(pla.fan_start_layer == 1);
+  CHECK(pla.flow == 1.0);
+}
+
+TEST_CASE("first_layer_temperatures_default_to_the_regular_ones") {
+  const MaterialProfile m = parse_material_profile(
+      "name = \"X\"\n[temperature]\nnozzle = 200\nbed = 55\n", "x.toml");
+  CHECK(m.first_layer_nozzle_temperature == 200);
+  CHECK(m.first_layer_bed_temperature == 55);
+}
+
+TEST_CASE("layer_not_on_the_printers_steps_is_refused_with_the_allowed_list") {
+  const PrinterProfile p = load_printer_profile("up-plus-2", kConfigDir);
+  CHECK(config_error([&] { check_layer_thickness(p, 0.17); }) ==
+        "layer thickness 0.17 mm is not allowed on the UP Plus 2 (" + kConfigDir +
+            "/printers/up-plus-2.toml); allowed: 0.15, 0.2, 0.25, 0.3, 0.35, 0.4 mm");
+  CHECK(config_error([&] { check_layer_thickness(p, 0.25); }).empty());
+}
+
+TEST_CASE("unknown_key_names_file_line_and_the_keys_of_its_section") {
+  const std::string text = kMinimalPrinter + "[speed]\nouter_wal = 30\n";
+  CHECK(config_error([&] { parse_printer_profile(text, "my.toml"); }) ==
+        "my.toml:11: unknown key 'speed.outer_wal'; keys under 'speed': outer_wall, inner_wall, "
+        "thin_wall, skirt, top_skin, bottom_skin, solid_infill, sparse_infill, travel, z");
+}
+
+TEST_CASE("unknown_section_lists_the_known_ones") {
+  const std::string text = kMinimalPrinter + "[sped]\nouter_wall = 30\n";
+  const std::string message = config_error([&] { parse_printer_profile(text, "my.toml"); });
+  CHECK(message.starts_with("my.toml:11: unknown key 'sped.outer_wall'; known sections and keys: "));
+  CHECK(message.find("speed") != std::string::npos);
+  CHECK(message.find("retraction") != std::string::npos);
+}
+
+TEST_CASE("wrong_type_names_the_key_and_the_expected_type") {
+  std::string text = kMinimalPrinter;
+  text.replace(text.find("diameter = 0.4"), 14, "diameter = \"0.4\"");
+  CHECK(config_error([&] { parse_printer_profile(text, "my.toml"); }) ==
+        "my.toml:7: key 'nozzle.diameter' must be a number from 0.1 to 2 mm, not a string");
+}
+
+TEST_CASE("whole_number_key_refuses_a_fraction") {
+  const std::string text = kMinimalPrinter + "[print]\nperimeters = 2.5\n";
+  CHECK(config_error([&] { parse_printer_profile(text, "my.toml"); }) ==
+        "my.toml:11: key 'print.perimeters' must be a whole number from 0 to 50, not a number");
+}
+
+TEST_CASE("out_of_range_value_names_the_range") {
+  std::string text = kMinimalPrinter;
+  text.replace(text.find("x = 100"), 7, "x = 5");
+  CHECK(config_error([&] { parse_printer_profile(text, "my.toml"); }) ==
+        "my.toml:3: key 'build_volume.x' = 5 is not allowed; it must be a number from 10 to 2000 mm");
+}
+
+TEST_CASE("text_choice_names_the_choices") {
+  const std::string text = kMinimalPrinter + "[print]\ninfill_pattern = \"honeycomb\"\n";
+  CHECK(config_error([&] { parse_printer_profile(text, "my.toml"); }) ==
+        "my.toml:11: key 'print.infill_pattern' = \"honeycomb\" is not allowed; it must be one "
+        "of grid, rectilinear");
+}
+
+TEST_CASE("missing_required_key_is_named") {
+  std::string text = kMinimalPrinter;
+  text.replace(text.find("[nozzle]\ndiameter = 0.4\n"), 24, "");
+  CHECK(config_error([&] { parse_printer_profile(text, "my.toml"); }) ==
+        "my.toml: key 'nozzle.diameter' is missing; it must be a number from 0.1 to 2 mm");
+}
+
+TEST_CASE("toml_syntax_error_names_file_and_line") {
+  const std::string message =
+      config_error([&] { parse_printer_profile(kMinimalPrinter + "[speed\n", "my.toml"); });
+  CHECK(message.starts_with("my.toml:10:"));
+  CHECK(message.find("not valid TOML") != std::string::npos);
+}
+
+TEST_CASE("default_layer_must_be_allowed") {
+  const std::string text = kMinimalPrinter + "[layer]\nallowed = [0.1, 0.2]\ndefault = 0.15\n";
+  CHECK(config_error([&] { parse_printer_profile(text, "my.toml"); }) ==
+        "my.toml: layer.default = 0.15 mm is not a layer thickness this printer allows "
+        "(0.1, 0.2 mm)");
+}
+
+TEST_CASE("unknown_placeholder_in_start_gcode_is_refused") {
+  const std::string text = kMinimalPrinter + "[gcode]\nstart = \"M104 S{hotend}\"\n";
+  CHECK(config_error([&] { parse_printer_profile(text, "my.toml"); })
+            .starts_with("my.toml: gcode.start: unknown placeholder '{hotend}'; known: "
+                         "nozzle_temperature, first_layer_nozzle_temperature,"));
+}
+
+TEST_CASE("placeholders_expand_from_both_profiles") {
+  Profiles profiles{load_printer_profile("up-plus-2", kConfigDir),
+                    load_material_profile("abs", kConfigDir)};
+  CHECK(expand_placeholders("M190 S{first_layer_bed_temperature}\nG1 X{bed_x} Y{bed_y} ; "
+                            "{material_name} {layer_height}",
+                            profiles, {0.15}, "test") == "M190 S105\nG1 X140 Y140 ; ABS 0.15");
+}
+
+TEST_CASE("set_overrides_a_dotted_key_with_the_same_checks") {
+  Profiles profiles{load_printer_profile("up-plus-2", kConfigDir),
+                    load_material_profile("abs", kConfigDir)};
+  apply_override(profiles, "retraction.length=2.5");
+  CHECK(profiles.printer.retraction.length == 2.5);
+  apply_override(profiles, "material.temperature.nozzle=255");
+  CHECK(profiles.material.nozzle_temperature == 255);
+  apply_override(profiles, "printer.speed.travel = 150");
+  CHECK(profiles.printer.speed.travel == 150);
+  apply_override(profiles, "layer.allowed=[0.1,0.2,0.3]");
+  CHECK(profiles.printer.layer.describe() == "0.1, 0.2, 0.3 mm");
+  apply_override(profiles, "extrusion.e_mode=relative");
+  CHECK(profiles.printer.relative_e);
+
+  CHECK(config_error([&] { apply_override(profiles, "retraction.length=25"); }) ==
+        "--set retraction.length=25: key 'retraction.length' = 25 is not allowed; it must be a "
+        "number from 0 to 20 mm");
+  CHECK(config_error([&] { apply_override(profiles, "retraction.length=long"); }) ==
+        "--set retraction.length=long: key 'retraction.length' must be a number from 0 to 20 mm");
+  CHECK(config_error([&] { apply_override(profiles, "retraction.lenght=1"); })
+            .starts_with("--set retraction.lenght=1: unknown key 'retraction.lenght'; keys under "
+                         "'retraction': length, speed,"));
+  CHECK(config_error([&] { apply_override(profiles, "retraction.length"); })
+            .starts_with("--set retraction.length: expected key=value"));
+  CHECK(config_error([&] { apply_override(profiles, "material.fan.speed=120"); }) ==
+        "--set material.fan.speed=120: key 'fan.speed' = 120 is not allowed; it must be a number "
+        "from 0 to 100 %");
+}
+
+TEST_CASE("set_that_breaks_the_profile_as_a_whole_is_refused") {
+  Profiles profiles{load_printer_profile("up-plus-2", kConfigDir),
+                    load_material_profile("abs", kConfigDir)};
+  const std::string message =
+      config_error([&] { apply_override(profiles, "first_layer.height=0.27"); });
+  CHECK(message.find("first_layer.height = 0.27 mm is not a layer thickness this printer allows "
+                     "(0.15, 0.2, 0.25, 0.3, 0.35, 0.4 mm)") != std::string::npos);
+  CHECK(message.ends_with("(after --set first_layer.height=0.27)"));
+}
+
+TEST_CASE("load_profiles_uses_the_printers_default_material_and_applies_overrides") {
+  ProfileRequest request;
+  request.printer = "up-plus-2";
+  request.config_dir = kConfigDir;
+  request.overrides = {"material.flow=0.95", "print.perimeters=3"};
+  const Profiles profiles = load_profiles(request);
+  CHECK(profiles.material.name == "ABS");
+  CHECK(profiles.material.flow == 0.95);
+  CHECK(profiles.printer.print.perimeters == 3);
+}
+
+TEST_CASE("profile_not_found_lists_the_available_ones") {
+  CHECK(config_error([&] { load_printer_profile("prusa-mk4", kConfigDir); }) ==
+        "printer profile 'prusa-mk4' not found in " + kConfigDir +
+            "/printers (available: generic-marlin, up-plus-2); give one of these names or a path "
+            "to a .toml file");
+  CHECK(config_error([&] { load_material_profile("/nonexistent/petg.toml", kConfigDir); }) ==
+        "cannot read material profile '/nonexistent/petg.toml': no such file");
+}
+
+TEST_CASE("profile_by_path_loads") {
+  const PrinterProfile p =
+      load_printer_profile(kConfigDir + "/printers/generic-marlin.toml", "/nonexistent");
+  CHECK(p.name == "Generic Marlin");
+}
+
+TEST_CASE("config_dir_environment_variable_wins_over_built_in") {
+  ::setenv("MAHOST_CONFIG_DIR", "/somewhere/else", 1);
+  CHECK(config_directory("/built/in") == "/somewhere/else");
+  ::unsetenv("MAHOST_CONFIG_DIR");
+  CHECK(config_directory("/built/in") == "/built/in");
+}
+
+TEST_CASE("part_too_big_is_refused_with_both_sizes") {
+  const PrinterProfile p = load_printer_profile("up-plus-2", kConfigDir);
+  CHECK(config_error([&] { check_part_fits(p, 139.9, 100, 135); }).empty());
+  CHECK(config_error([&] { check_part_fits(p, 150, 80.25, 40); }) ==
+        "the part is 150.0 x 80.2 x 40.0 mm but the UP Plus 2 builds at most 140 x 140 x 135 mm; "
+        "scale it down (--scale, --height) or choose a bigger printer (--printer)");
+}
