@@ -1,6 +1,7 @@
 // Printer and material profiles: the shipped files load with the machine's figures, and every
 // kind of bad key or value is refused with a message naming the file, the key and what is allowed.
 #include <cstdlib>
+#include <initializer_list>
 #include <string>
 
 #include <doctest/doctest.h>
