@@ -10,9 +10,14 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
+#include <span>
+#include <vector>
 
+#include "geometry/boundary_pair.h"
 #include "geometry/layer_stack.h"
 #include "geometry/polygon.h"
+#include "geometry/slab.h"
 
 namespace geometry {
 
@@ -26,5 +31,28 @@ struct MaOptions {
 };
 
 Region ma_contour(const LayerStack& stack, std::size_t layer, const MaOptions& options = {});
+
+// What one layer's contour took, for benchmarks and reports.
+struct MaStats {
+  std::size_t islands = 0;  // boundary pairs of the footprint
+  std::size_t caps = 0;     // of them, caps (all free faces solid or all empty)
+  std::size_t samples = 0;  // points given to the Delaunay triangulations
+  std::size_t loops = 0;    // closed medial-axis loops before the final union
+};
+
+Region ma_contour(const LayerStack& stack, std::size_t layer, const MaOptions& options,
+                  MaStats& stats);
+
+// The same from a slab and the model's cross-section at any height of it (ma_contour.cpp
+// documents what a cap becomes).
+Region ma_contour(const Slab& slab, const std::function<Region(double z)>& cross_section,
+                  const MaOptions& options = {}, MaStats* stats = nullptr);
+
+// One island's medial-axis loops: the Voronoi edges whose dual Delaunay edge joins a loop with
+// solid beside it to one with empty beside it (solid[k] for loops_of(pair)[k], see
+// boundary_pair.h), chained into closed loops, each with the solid on its left. Loops are
+// simple and pairwise disjoint. A cap (all solid or all empty) gives none.
+std::vector<Loop> medial_axis_loops(const BoundaryPair& pair, std::span<const char> solid,
+                                    const MaOptions& options = {}, MaStats* stats = nullptr);
 
 }  // namespace geometry

@@ -1,0 +1,356 @@
+// The medial-axis contour (paper §3.2-3.3). The only file that includes CGAL's Delaunay.
+//
+// Per layer: slab -> footprint -> boundary pairs (slab.h, boundary_pair.h); for each pair the
+// free faces beside its loops are labelled solid or empty from the mid cross-section; then
+//   1. sampling: every loop vertex, plus points on longer edges every `spacing` mm;
+//   2. CGAL Delaunay_triangulation_2 (Epick) of the island's samples;
+//   3. Observation 3.3.1: the Voronoi edges whose dual Delaunay edge joins a sample of a solid
+//      loop to one of an empty loop. With two labels every Delaunay triangle has 0 or 2 such
+//      edges, so the kept edges chain into closed loops, one per triangle strip, never
+//      branching, even where three or more loops meet (islands that merge inside the slab):
+//      the loop goes round the union of the solid loops' territories;
+//   4. each kept Voronoi edge gives one contour vertex where it crosses its dual Delaunay edge,
+//      which keeps the contour inside the triangles, hence inside the strip ("clipped to the
+//      strip"), simple, and disjoint from other loops. Unfaired, that is the edge's midpoint.
+//      Fairing (§3.3, Fig. 17) moves it along the dual edge to the point equidistant from the
+//      two boundary polygons (not their samples, so sampling aliasing is gone), then resamples
+//      locally: where the middle of a contour edge is off the medial axis by more than
+//      kFairingTolerance, a new vertex is put on the axis there, recursively;
+//   5. Clipper unions all loops (positive winding) into a valid Region.
+// Caps (a feature beginning or ending inside the slab: an island whose free faces are all
+// solid or all empty) have a medial-axis tree, not a loop. Their contour is the cross-section
+// at the layer's middle inside the island, which for a cap is the least volume deviation
+// possible (a column is filled iff the model fills at least half of it); if the feature does
+// not reach the middle, the cross-section half-way through the feature's own height inside the
+// slab, so the feature is kept (its walls then sit midway between its outline and its top).
+#include "geometry/ma_contour.h"
+
+#include <CGAL/Delaunay_triangulation_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_face_base_with_info_2.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <utility>
+
+#include "geometry/clipper_bridge.h"
+
+namespace geometry {
+
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using VertexBase = CGAL::Triangulation_vertex_base_with_info_2<std::uint32_t, Kernel>;
+using FaceBase = CGAL::Triangulation_face_base_with_info_2<std::uint8_t, Kernel>;
+using Tds = CGAL::Triangulation_data_structure_2<VertexBase, FaceBase>;
+using Delaunay = CGAL::Delaunay_triangulation_2<Kernel, Tds>;
+using Face = Delaunay::Face_handle;
+using Vertex = Delaunay::Vertex_handle;
+
+// Default spacing when MaOptions::spacing is 0, mm. Contour vertices are placed exactly on the
+// medial axis of the boundary polygons (fairing), so spacing only has to resolve the axis's
+// shape; 0.1 mm keeps the chord error below 1 um for axis radii above 1.25 mm and fairing
+// fixes the rest.
+constexpr double kDefaultSpacing = 0.1;
+
+// How far off the medial axis the middle of a contour edge may be before fairing adds a
+// vertex there, mm; and how deep it may split one edge.
+constexpr double kFairingTolerance = 0.001;
+constexpr int kFairingDepth = 6;
+
+// Samples on one circle or one straight edge are cocircular or collinear up to rounding, and
+// CGAL's filtered predicates then fall back to exact arithmetic on every test. A deterministic
+// jitter this small (1e-7 of a micrometre-scale strip) moves them off the degeneracy.
+constexpr double kJitter = 1e-7;
+
+struct Sample {
+  Vec2 at;
+  std::uint32_t loop = 0;     // index into loops_of(pair)
+  std::uint32_t segment = 0;  // the loop's edge from vertex `segment` to the next
+};
+
+double length(Vec2 v) { return std::hypot(v.x, v.y); }
+
+// splitmix64: a fixed pseudo-random sequence, so a layer's contour never depends on the run.
+double unit_noise(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  x ^= x >> 31;
+  return static_cast<double>(x >> 11) / static_cast<double>(1ULL << 53) * 2.0 - 1.0;
+}
+
+std::vector<Sample> sample_loops(const std::vector<const Loop*>& loops, const MaOptions& options) {
+  std::size_t vertices = 0;
+  double total = 0;
+  for (const Loop* loop : loops) {
+    vertices += loop->size();
+    total += perimeter(*loop);
+  }
+  const std::size_t cap = std::max<std::size_t>(options.max_points, 16);
+  // Over the cap even with vertices alone: keep every stride-th vertex.
+  const std::size_t stride = vertices > cap ? (vertices + cap - 1) / cap : 1;
+  double spacing = options.spacing > 0 ? options.spacing : kDefaultSpacing;
+  if (stride == 1 && vertices + total / spacing > cap) {
+    spacing = total / static_cast<double>(cap - vertices + 1);
+  }
+  std::vector<Sample> samples;
+  samples.reserve(std::min(cap + loops.size(), vertices + static_cast<std::size_t>(total / spacing) + 1));
+  for (std::uint32_t l = 0; l < loops.size(); ++l) {
+    const Loop& loop = *loops[l];
+    const std::size_t n = loop.size();
+    for (std::size_t j = 0; j < n; j += stride) {
+      const Vec2 a = loop[j], b = loop[(j + 1) % n];
+      samples.push_back({a, l, static_cast<std::uint32_t>(j)});
+      if (stride > 1) continue;
+      const int pieces = static_cast<int>(std::ceil(length(b - a) / spacing));
+      for (int k = 1; k < pieces; ++k) {
+        samples.push_back({a + (static_cast<double>(k) / pieces) * (b - a), l,
+                           static_cast<std::uint32_t>(j)});
+      }
+    }
+  }
+  return samples;
+}
+
+// Distance from x to the loop, searched from edge `segment` along the loop while it gets no
+// worse; `segment` is updated to the nearest edge found, as the hint for the next query.
+double distance_near(const Loop& loop, std::uint32_t& segment, Vec2 x) {
+  const std::size_t n = loop.size();
+  if (n == 0) return std::numeric_limits<double>::infinity();
+  const auto at = [&](std::size_t j) { return distance_to_segment(x, loop[j], loop[(j + 1) % n]); };
+  double best = at(segment);
+  for (int direction : {1, -1}) {
+    std::size_t j = segment;
+    for (std::size_t step = 1; step < n; ++step) {
+      j = (j + n + direction) % n;
+      const double d = at(j);
+      if (d > best) break;
+      if (d < best) {
+        best = d;
+        segment = static_cast<std::uint32_t>(j);
+      }
+    }
+  }
+  return best;
+}
+
+// Where the medial axis between two loops is looked for: the nearest edges of each so far.
+struct AxisQuery {
+  const Loop* solid_loop;
+  const Loop* empty_loop;
+  std::uint32_t solid_segment, empty_segment;
+  // Positive when x is nearer the empty loop than the solid one, i.e. on the empty side.
+  double imbalance(Vec2 x) {
+    return distance_near(*solid_loop, solid_segment, x) - distance_near(*empty_loop, empty_segment, x);
+  }
+};
+
+// The point of [s, e] (s on the solid loop, e on the empty one) equidistant from both loops.
+Vec2 equidistant_on(AxisQuery& query, Vec2 s, Vec2 e) {
+  double lo = 0, hi = 1;  // imbalance(s) <= 0 <= imbalance(e)
+  for (int it = 0; it < 40 && (hi - lo) * length(e - s) > 1e-7; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (query.imbalance(s + mid * (e - s)) > 0 ? hi : lo) = mid;
+  }
+  // Strictly inside the edge, so two loops can never share a point at a sample.
+  const double t = std::clamp(0.5 * (lo + hi), 0.01, 0.99);
+  return s + t * (e - s);
+}
+
+struct ContourVertex {
+  Vec2 at;
+  AxisQuery query;
+};
+
+// Fairing by local resampling: put vertices on the axis between a and b where the chord
+// strays from it. The solid side is left of a->b.
+void fair_between(const ContourVertex& a, const ContourVertex& b, int depth,
+                  std::vector<Vec2>& out) {
+  const Vec2 chord = b.at - a.at;
+  const double chord_length = length(chord);
+  if (depth <= 0 || chord_length < 4 * kFairingTolerance) return;
+  const Vec2 middle = 0.5 * (a.at + b.at);
+  AxisQuery query = a.query;
+  const double off = query.imbalance(middle);
+  if (std::abs(off) <= 2 * kFairingTolerance) return;
+  const Vec2 towards_solid = (1.0 / chord_length) * Vec2{-chord.y, chord.x};
+  // imbalance falls by at most 2 per unit moved towards the solid side: bracket, then bisect.
+  const double sign = off > 0 ? 1.0 : -1.0;
+  double near = 0, far = std::abs(off);
+  const double limit = chord_length;
+  while (far <= limit && query.imbalance(middle + (sign * far) * towards_solid) * sign > 0) {
+    near = far;
+    far *= 2;
+  }
+  if (far > limit) return;  // no crossing near the chord: leave the edge as it is
+  for (int it = 0; it < 30 && far - near > 1e-7; ++it) {
+    const double mid = 0.5 * (near + far);
+    (query.imbalance(middle + (sign * mid) * towards_solid) * sign > 0 ? near : far) = mid;
+  }
+  const ContourVertex added{middle + (sign * 0.5 * (near + far)) * towards_solid, query};
+  fair_between(a, added, depth - 1, out);
+  out.push_back(added.at);
+  fair_between(added, b, depth - 1, out);
+}
+
+}  // namespace
+
+std::vector<Loop> medial_axis_loops(const BoundaryPair& pair, std::span<const char> solid,
+                                    const MaOptions& options, MaStats* stats) {
+  const std::vector<const Loop*> loops = loops_of(pair);
+  std::vector<Loop> contour;
+  if (solid.size() != loops.size()) return contour;
+  if (std::all_of(solid.begin(), solid.end(), [&](char s) { return (s != 0) == (solid[0] != 0); })) {
+    return contour;  // a cap: no loop separates solid from empty
+  }
+  const std::vector<Sample> samples = sample_loops(loops, options);
+  if (stats) stats->samples += samples.size();
+
+  // Jitter relative to the island's size, so the triangulation is the same wherever it sits.
+  std::vector<std::pair<Kernel::Point_2, std::uint32_t>> points;
+  points.reserve(samples.size());
+  for (std::uint32_t i = 0; i < samples.size(); ++i) {
+    const Vec2 p = samples[i].at;
+    points.emplace_back(Kernel::Point_2(p.x + kJitter * unit_noise(2 * i),
+                                        p.y + kJitter * unit_noise(2 * i + 1)),
+                        i);
+  }
+  Delaunay triangulation;
+  triangulation.insert(points.begin(), points.end());  // spatially sorted inside
+  for (Face f : triangulation.all_face_handles()) f->info() = 0;
+
+  const char outside = solid[0] != 0;
+  const auto label = [&](Vertex v) -> char {
+    return triangulation.is_infinite(v) ? outside : solid[samples[v->info()].loop] != 0;
+  };
+  // In a face with mixed labels, the edge the contour leaves by: with vertices v0 v1 v2
+  // counter-clockwise and v_i the odd one out, the solid stays on the left if the contour
+  // enters by (v_i, v_i+1) and leaves by (v_i+2, v_i) when v_i is solid, the reverse if not.
+  const auto exit_edge = [&](Face f) -> int {
+    const char l0 = label(f->vertex(0)), l1 = label(f->vertex(1)), l2 = label(f->vertex(2));
+    if (l0 == l1 && l1 == l2) return -1;
+    const int odd = l1 == l2 ? 0 : (l0 == l2 ? 1 : 2);
+    return label(f->vertex(odd)) ? (odd + 1) % 3 : (odd + 2) % 3;
+  };
+
+  for (Face start : triangulation.all_face_handles()) {
+    if (start->info() || exit_edge(start) < 0) continue;
+    std::vector<ContourVertex> chain;
+    Face f = start;
+    do {
+      f->info() = 1;
+      const int out = exit_edge(f);
+      const Vertex u = f->vertex(Delaunay::cw(out)), v = f->vertex(Delaunay::ccw(out));
+      if (!triangulation.is_infinite(u) && !triangulation.is_infinite(v)) {
+        const Sample& su = samples[u->info()];
+        const Sample& sv = samples[v->info()];
+        const bool u_solid = label(u);
+        const Sample& s = u_solid ? su : sv;
+        const Sample& e = u_solid ? sv : su;
+        AxisQuery query{loops[s.loop], loops[e.loop], s.segment, e.segment};
+        const Vec2 at = options.fairing ? equidistant_on(query, s.at, e.at) : 0.5 * (s.at + e.at);
+        chain.push_back({at, query});
+      }
+      f = f->neighbor(out);
+    } while (f != start && exit_edge(f) >= 0 && !f->info());
+    if (chain.size() < 3) continue;
+    Loop loop;
+    loop.reserve(chain.size());
+    for (std::size_t i = 0; i < chain.size(); ++i) {
+      loop.push_back(chain[i].at);
+      if (options.fairing) fair_between(chain[i], chain[(i + 1) % chain.size()], kFairingDepth, loop);
+    }
+    contour.push_back(std::move(loop));
+  }
+  if (stats) stats->loops += contour.size();
+  return contour;
+}
+
+Region ma_contour(const Slab& slab, const std::function<Region(double z)>& cross_section,
+                  const MaOptions& options, MaStats* stats) {
+  if (slab.facets.empty() || !(slab.z_lo < slab.z_hi)) return {};
+  const std::vector<BoundaryPair> pairs = boundary_pairs(slab_footprint(slab));
+  if (pairs.empty()) return {};
+  const double z_mid = 0.5 * (slab.z_lo + slab.z_hi);
+  const Region middle = cross_section(z_mid);
+  if (stats) stats->islands += pairs.size();
+
+  ClipperLib::Paths paths;
+  for (const BoundaryPair& pair : pairs) {
+    const std::vector<char> solid = solid_beside(pair, middle);
+    const bool cap = std::all_of(solid.begin(), solid.end(), [&](char s) { return s == solid[0]; });
+    if (!cap) {
+      for (const Loop& loop : medial_axis_loops(pair, solid, options, stats)) {
+        paths.push_back(to_clipper(loop));
+      }
+      continue;
+    }
+    if (stats) ++stats->caps;
+    const ClipperLib::Path outline = to_clipper(pair.outer);
+    const auto section_inside = [&](const Region& section) {
+      ClipperLib::Clipper clipper;
+      clipper.AddPaths(to_clipper(section), ClipperLib::ptSubject, true);
+      clipper.AddPath(outline, ClipperLib::ptClip, true);
+      ClipperLib::Paths inside;
+      clipper.Execute(ClipperLib::ctIntersection, inside, ClipperLib::pftNonZero,
+                      ClipperLib::pftNonZero);
+      return inside;
+    };
+    ClipperLib::Paths inside = section_inside(middle);
+    // An empty-beside cap that misses the middle, or a solid-beside one (a cavity) that the
+    // middle fills completely: the feature does not reach z_mid. Cut half-way through it.
+    const double inside_area = [&] {
+      double a = 0;
+      for (const auto& p : inside) a += ClipperLib::Area(p);
+      return a;
+    }();
+    constexpr double kSquareMicrometre = 1e6;  // Clipper areas are in nm^2
+    const bool reaches_middle =
+        solid[0] ? std::abs(inside_area - ClipperLib::Area(outline)) > kSquareMicrometre
+                 : inside_area > kSquareMicrometre;
+    if (!reaches_middle) {
+      Region ring{{pair.outer}};
+      ring.loops.insert(ring.loops.end(), pair.inner.begin(), pair.inner.end());
+      double lo = slab.z_hi, hi = slab.z_lo;
+      for (const auto& facet : slab.facets) {
+        if (!point_in_region(ring, {facet[0].x, facet[0].y})) continue;
+        for (const Vec3& v : facet) {
+          lo = std::min(lo, v.z);
+          hi = std::max(hi, v.z);
+        }
+      }
+      if (lo < hi) inside = section_inside(cross_section(0.5 * (lo + hi)));
+    }
+    paths.insert(paths.end(), inside.begin(), inside.end());
+    if (solid[0]) {  // solid all round: the island's inside counts from the cap's section only
+      ClipperLib::Path reversed = outline;
+      ClipperLib::ReversePath(reversed);
+      paths.push_back(std::move(reversed));
+    }
+  }
+  ClipperLib::Clipper clipper;
+  clipper.StrictlySimple(true);
+  clipper.AddPaths(paths, ClipperLib::ptSubject, true);
+  ClipperLib::PolyTree tree;
+  clipper.Execute(ClipperLib::ctUnion, tree, ClipperLib::pftPositive, ClipperLib::pftPositive);
+  return from_clipper(tree);
+}
+
+Region ma_contour(const LayerStack& stack, std::size_t layer, const MaOptions& options,
+                  MaStats& stats) {
+  if (layer >= stack.size()) return {};
+  return ma_contour(
+      slab_of(stack, layer), [&stack](double z) { return stack.cross_section(z); }, options,
+      &stats);
+}
+
+Region ma_contour(const LayerStack& stack, std::size_t layer, const MaOptions& options) {
+  MaStats stats;
+  return ma_contour(stack, layer, options, stats);
+}
+
+}  // namespace geometry
