@@ -7,6 +7,10 @@
 //          region or with an empty one gets no paths): on the first layer the skirt, then per
 //          island, nearest first: inner walls, outer wall, thin walls, skins, infill.
 // Layer i uses regions[i] when i < regions.size(), else the empty region.
+// Travel: the first path of every layer has retract_before set (the layer change); after
+// that, a travel retracts when it is longer than retract_min_travel or leaves the region.
+// The nozzle starts each layer where the previous one ended (layer 0: the region's
+// front-left corner), and islands are visited nearest first.
 //
 // Total: empty regions, zero-thickness layers and regions thinner than a bead all give a
 // defined plan (a region too thin for a loop gets a centre line). Options out of range are
@@ -19,30 +23,15 @@
 
 #include <cstddef>
 #include <functional>
-#include <optional>
-#include <string_view>
 #include <vector>
 
+#include "geometry/infill.h"        // InfillPattern, infill_pattern_name, parse_infill_pattern
 #include "geometry/layer_stack.h"
 #include "geometry/polygon.h"
 #include "geometry/toolpaths.h"
+#include "geometry/travel_order.h"  // SeamPosition, seam_position_name, parse_seam_position
 
 namespace geometry {
-
-enum class InfillPattern {
-  rectilinear,  // parallel lines, the angle turning 90 degrees every layer
-  grid,         // two crossing sets of lines in every layer (density split between them)
-};
-
-enum class SeamPosition {
-  aligned,  // the same place on every layer: a corner at the rear of the loop
-  nearest,  // the loop point nearest to where the nozzle is (least travel)
-};
-
-std::string_view infill_pattern_name(InfillPattern pattern);  // "rectilinear", "grid"
-std::optional<InfillPattern> parse_infill_pattern(std::string_view name);
-std::string_view seam_position_name(SeamPosition seam);  // "aligned", "nearest"
-std::optional<SeamPosition> parse_seam_position(std::string_view name);
 
 // Defaults suit a 0.4 mm nozzle (PrusaSlicer's and Cura's usual settings).
 struct ToolpathOptions {

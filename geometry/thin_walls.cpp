@@ -1,0 +1,276 @@
+#include "geometry/thin_walls.h"
+
+#include <boost/polygon/polygon.hpp>
+#include <boost/polygon/voronoi.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <unordered_map>
+
+#include "geometry/clipper_bridge.h"
+
+namespace geometry {
+
+namespace {
+
+namespace bp = boost::polygon;
+using VoronoiPoint = bp::point_data<std::int32_t>;
+using VoronoiSegment = bp::segment_data<std::int32_t>;
+using Diagram = bp::voronoi_diagram<double>;
+
+// The region's edges in a local integer frame (nm from the bounding box's corner), with each
+// edge's neighbours on its loop so a vertex's two edges are known.
+struct Edges {
+  std::vector<VoronoiSegment> segments;
+  std::vector<std::size_t> previous;  // index of the edge ending where edge i starts
+  std::vector<std::size_t> next;      // index of the edge starting where edge i ends
+  ClipperLib::IntPoint origin;
+};
+
+struct Vec2d {
+  double x, y;
+};
+
+double cross2(Vec2d a, Vec2d b) { return a.x * b.y - a.y * b.x; }
+
+Vec2d low(const VoronoiSegment& s) { return {double(bp::x(s.low())), double(bp::y(s.low()))}; }
+Vec2d high(const VoronoiSegment& s) { return {double(bp::x(s.high())), double(bp::y(s.high()))}; }
+Vec2d sub(Vec2d a, Vec2d b) { return {a.x - b.x, a.y - b.y}; }
+
+double distance_to_segment(Vec2d p, Vec2d a, Vec2d b) {
+  const Vec2d ab = sub(b, a), ap = sub(p, a);
+  const double length2 = ab.x * ab.x + ab.y * ab.y;
+  const double t = length2 > 0 ? std::clamp((ap.x * ab.x + ap.y * ab.y) / length2, 0.0, 1.0) : 0;
+  return std::hypot(ap.x - t * ab.x, ap.y - t * ab.y);
+}
+
+// Distance from p to the site of a cell (an edge or one of its end points), nm.
+double distance_to_site(const Edges& edges, const Diagram::cell_type& cell, Vec2d p) {
+  const VoronoiSegment& s = edges.segments[cell.source_index()];
+  if (cell.contains_segment()) return distance_to_segment(p, low(s), high(s));
+  const Vec2d q = cell.source_category() == bp::SOURCE_CATEGORY_SEGMENT_START_POINT ? low(s)
+                                                                                    : high(s);
+  return std::hypot(p.x - q.x, p.y - q.y);
+}
+
+// Whether p, a point whose nearest boundary point is the cell's site, lies inside the region:
+// inside is left of every edge (outer loops CCW, holes CW); at a vertex, left of either edge
+// (a reflex vertex's cell is inside, a convex vertex's outside).
+bool inside_by_site(const Edges& edges, const Diagram::cell_type& cell, Vec2d p) {
+  const std::size_t i = cell.source_index();
+  const VoronoiSegment& s = edges.segments[i];
+  if (cell.contains_segment()) return cross2(sub(high(s), low(s)), sub(p, low(s))) > 0;
+  std::size_t in, out;
+  if (cell.source_category() == bp::SOURCE_CATEGORY_SEGMENT_START_POINT) {
+    in = edges.previous[i];
+    out = i;
+  } else {
+    in = i;
+    out = edges.next[i];
+  }
+  const VoronoiSegment& a = edges.segments[in];
+  const VoronoiSegment& b = edges.segments[out];
+  const Vec2d v = low(b);
+  return cross2(sub(high(a), low(a)), sub(p, v)) > 0 || cross2(sub(high(b), low(b)), sub(p, v)) > 0;
+}
+
+Edges region_edges(const Region& region) {
+  ClipperLib::Paths paths = to_clipper(region);
+  // Near-duplicate points make zero-length sites, which the Voronoi builder cannot take.
+  ClipperLib::CleanPolygons(paths, 100.0);
+  Edges edges;
+  bool any = false;
+  ClipperLib::cInt min_x = 0, min_y = 0, max_x = 0, max_y = 0;
+  for (const auto& path : paths) {
+    if (path.size() < 3) continue;
+    for (const auto& p : path) {
+      if (!any) { min_x = max_x = p.X; min_y = max_y = p.Y; any = true; }
+      min_x = std::min(min_x, p.X); max_x = std::max(max_x, p.X);
+      min_y = std::min(min_y, p.Y); max_y = std::max(max_y, p.Y);
+    }
+  }
+  constexpr ClipperLib::cInt kMaxExtent = std::numeric_limits<std::int32_t>::max() / 2;
+  if (!any || max_x - min_x > kMaxExtent || max_y - min_y > kMaxExtent) return edges;
+  edges.origin = {min_x, min_y};
+  for (const auto& path : paths) {
+    if (path.size() < 3) continue;
+    const std::size_t first = edges.segments.size(), n = path.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto& a = path[i];
+      const auto& b = path[(i + 1) % n];
+      edges.segments.emplace_back(
+          VoronoiPoint(std::int32_t(a.X - min_x), std::int32_t(a.Y - min_y)),
+          VoronoiPoint(std::int32_t(b.X - min_x), std::int32_t(b.Y - min_y)));
+      edges.previous.push_back(first + (i + n - 1) % n);
+      edges.next.push_back(first + (i + 1) % n);
+    }
+  }
+  return edges;
+}
+
+// The pruned medial axis as a graph: nodes are Voronoi vertices with their inscribed radius.
+struct Axis {
+  std::vector<Vec2d> points;
+  std::vector<double> radius;
+  std::vector<std::pair<std::size_t, std::size_t>> links;
+};
+
+Axis medial_axis(const Edges& edges, double min_radius) {
+  Axis axis;
+  if (edges.segments.empty()) return axis;
+  Diagram diagram;
+  bp::construct_voronoi(edges.segments.begin(), edges.segments.end(), &diagram);
+  std::unordered_map<const Diagram::vertex_type*, std::size_t> node_of;
+  auto node = [&](const Diagram::vertex_type* v, const Diagram::cell_type& cell) {
+    auto [it, fresh] = node_of.try_emplace(v, axis.points.size());
+    if (fresh) {
+      const Vec2d p{v->x(), v->y()};
+      axis.points.push_back(p);
+      axis.radius.push_back(distance_to_site(edges, cell, p));
+    }
+    return it->second;
+  };
+  for (const auto& edge : diagram.edges()) {
+    // Each edge comes with its twin; take one of the pair.
+    if (&edge > edge.twin() || !edge.is_primary() || !edge.is_finite()) continue;
+    const Vec2d a{edge.vertex0()->x(), edge.vertex0()->y()};
+    const Vec2d b{edge.vertex1()->x(), edge.vertex1()->y()};
+    const Vec2d mid{(a.x + b.x) / 2, (a.y + b.y) / 2};
+    const auto& cell = *edge.cell();
+    if (!inside_by_site(edges, cell, mid)) continue;
+    // Branches into corners end on the boundary (radius zero): a round bead end covers them.
+    if (distance_to_site(edges, cell, a) < min_radius ||
+        distance_to_site(edges, cell, b) < min_radius)
+      continue;
+    axis.links.emplace_back(node(edge.vertex0(), cell), node(edge.vertex1(), cell));
+  }
+  return axis;
+}
+
+double length(Vec2d a, Vec2d b) { return std::hypot(a.x - b.x, a.y - b.y); }
+
+// Removes short leaf branches that stay inside the disc of the junction they hang from: they
+// come from bumps of the boundary and add nothing a bead along the main line does not cover.
+void prune_spurs(Axis& axis) {
+  const std::size_t n = axis.points.size();
+  for (bool changed = true; changed;) {
+    changed = false;
+    std::vector<std::vector<std::size_t>> incident(n);
+    for (std::size_t l = 0; l < axis.links.size(); ++l) {
+      incident[axis.links[l].first].push_back(l);
+      incident[axis.links[l].second].push_back(l);
+    }
+    std::vector<bool> removed(axis.links.size(), false);
+    for (std::size_t leaf = 0; leaf < n; ++leaf) {
+      if (incident[leaf].size() != 1) continue;
+      std::vector<std::size_t> chain;
+      std::size_t at = leaf, via = incident[leaf][0];
+      double chain_length = 0;
+      while (true) {
+        if (removed[via]) break;
+        chain.push_back(via);
+        const auto [u, v] = axis.links[via];
+        const std::size_t next = u == at ? v : u;
+        chain_length += length(axis.points[at], axis.points[next]);
+        at = next;
+        if (incident[at].size() != 2) break;
+        via = incident[at][0] == via ? incident[at][1] : incident[at][0];
+      }
+      if (incident[at].size() >= 3 && chain_length < axis.radius[at]) {
+        for (std::size_t l : chain) removed[l] = true;
+        changed = true;
+      }
+    }
+    std::vector<std::pair<std::size_t, std::size_t>> kept;
+    for (std::size_t l = 0; l < axis.links.size(); ++l) {
+      if (!removed[l]) kept.push_back(axis.links[l]);
+    }
+    axis.links = std::move(kept);
+  }
+}
+
+// Chains of the graph between nodes that are not simple pass-throughs, then the cycles left.
+std::vector<std::vector<std::size_t>> chains(const Axis& axis) {
+  const std::size_t n = axis.points.size();
+  std::vector<std::vector<std::size_t>> incident(n);
+  for (std::size_t l = 0; l < axis.links.size(); ++l) {
+    incident[axis.links[l].first].push_back(l);
+    incident[axis.links[l].second].push_back(l);
+  }
+  std::vector<bool> used(axis.links.size(), false);
+  std::vector<std::vector<std::size_t>> result;
+  auto walk = [&](std::size_t start, std::size_t via) {
+    std::vector<std::size_t> chain{start};
+    std::size_t at = start;
+    while (!used[via]) {
+      used[via] = true;
+      const auto [u, v] = axis.links[via];
+      at = u == at ? v : u;
+      chain.push_back(at);
+      if (incident[at].size() != 2) break;
+      via = incident[at][0] == via ? incident[at][1] : incident[at][0];
+    }
+    result.push_back(std::move(chain));
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    if (incident[i].size() == 2) continue;
+    for (std::size_t l : incident[i]) {
+      if (!used[l]) walk(i, l);
+    }
+  }
+  for (std::size_t l = 0; l < axis.links.size(); ++l) {
+    if (!used[l]) walk(axis.links[l].first, l);  // a cycle: ends where it began
+  }
+  return result;
+}
+
+}  // namespace
+
+std::vector<ExtrusionPath> thin_walls(const Region& region, double min_width, double max_width) {
+  std::vector<ExtrusionPath> paths;
+  if (!(min_width > 0) || !(max_width >= min_width)) return paths;
+  const Edges edges = region_edges(region);
+  // Radius below which an axis point is taken to touch the boundary: a corner, not a wall.
+  const double min_radius = 0.05 * min_width * kClipperScale;
+  Axis axis = medial_axis(edges, min_radius);
+  prune_spurs(axis);
+  const Vec2 origin = from_clipper(edges.origin);
+  auto to_mm = [&](std::size_t node) {
+    return origin + Vec2{axis.points[node].x / kClipperScale, axis.points[node].y / kClipperScale};
+  };
+  for (const auto& chain : chains(axis)) {
+    // Runs of nearly constant width, each printed at its mean width.
+    std::size_t run_start = 0;
+    double run_length = 0, run_weighted = 0;
+    auto emit = [&](std::size_t end) {
+      if (end <= run_start || run_length <= 0) return;
+      ExtrusionPath path;
+      path.role = PathRole::thin_wall;
+      path.width = std::clamp(run_weighted / run_length / kClipperScale, min_width, max_width);
+      for (std::size_t k = run_start; k <= end; ++k) path.points.push_back(to_mm(chain[k]));
+      const bool closed = chain.front() == chain.back() && run_start == 0 &&
+                          end + 1 == chain.size();
+      if (closed || run_length / kClipperScale >= min_width) paths.push_back(std::move(path));
+    };
+    for (std::size_t k = 0; k + 1 < chain.size(); ++k) {
+      const double segment = length(axis.points[chain[k]], axis.points[chain[k + 1]]);
+      const double width = axis.radius[chain[k]] + axis.radius[chain[k + 1]];
+      if (run_length > 0) {
+        const double mean = run_weighted / run_length;
+        if (std::abs(width - mean) > 0.2 * mean) {
+          emit(k);
+          run_start = k;
+          run_length = run_weighted = 0;
+        }
+      }
+      run_length += segment;
+      run_weighted += segment * width;
+    }
+    emit(chain.size() - 1);
+  }
+  return paths;
+}
+
+}  // namespace geometry

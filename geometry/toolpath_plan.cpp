@@ -1,0 +1,149 @@
+#include "geometry/toolpath_plan.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+
+#include "geometry/clipper_bridge.h"
+#include "geometry/perimeters.h"
+#include "geometry/skins.h"
+#include "geometry/skirt.h"
+#include "geometry/toolpath_clipper.h"
+
+namespace geometry {
+
+namespace {
+
+namespace tc = toolpath_clipper;
+
+// Below this a bead is not a bead: keeps a zero or negative width from making endless lines.
+constexpr double kMinWidth = 0.01;  // mm
+
+ToolpathOptions sane(ToolpathOptions o) {
+  auto width = [](double w, double fallback) {
+    return std::isfinite(w) && w > 0 ? std::max(w, kMinWidth) : fallback;
+  };
+  o.extrusion_width = width(o.extrusion_width, ToolpathOptions{}.extrusion_width);
+  o.first_layer_width = width(o.first_layer_width, o.extrusion_width);
+  o.perimeters = std::max(o.perimeters, 0);
+  o.infill_density = std::isfinite(o.infill_density) ? std::clamp(o.infill_density, 0.0, 100.0)
+                                                     : 0.0;
+  if (!std::isfinite(o.infill_angle)) o.infill_angle = 0;
+  o.infill_overlap = std::isfinite(o.infill_overlap) ? std::clamp(o.infill_overlap, 0.0, 1.0)
+                                                     : 0.0;
+  o.top_layers = std::max(o.top_layers, 0);
+  o.bottom_layers = std::max(o.bottom_layers, 0);
+  o.skirt_loops = std::max(o.skirt_loops, 0);
+  if (!std::isfinite(o.skirt_distance)) o.skirt_distance = 0;
+  if (std::isnan(o.retract_min_travel)) o.retract_min_travel = 0;
+  return o;
+}
+
+// One island's paths in groups printed in this order; within a group the travel order picks.
+struct Island {
+  std::vector<std::vector<ExtrusionPath>> groups;
+};
+
+Island plan_island(const Region& island, std::size_t layer, double width,
+                   const ToolpathOptions& o, const Region* core, const Region* below,
+                   const Region* above) {
+  Island result;
+  Perimeters walls = perimeters(island, width, o.perimeters);
+  // Innermost wall first, outer wall last: the outer surface is laid against walls already
+  // there, so it stays where the model says.
+  for (auto k = walls.walls.size(); k-- > 0;) result.groups.push_back(std::move(walls.walls[k]));
+  result.groups.push_back(std::move(walls.thin_walls));
+
+  // Infill reaches into the innermost wall by the overlap, never past the island's edge.
+  const tc::Paths area = tc::intersection(
+      tc::offset(to_clipper(walls.infill_area), o.infill_overlap * width),
+      tc::union_of(to_clipper(island)));
+  const Skins skins = split_skins(from_clipper(area), core, below, above, width);
+  const double angle = o.infill_angle;
+  result.groups.push_back(solid_infill(skins.bottom, width, angle, layer, PathRole::bottom_skin));
+  result.groups.push_back(solid_infill(skins.top, width, angle, layer, PathRole::top_skin));
+  result.groups.push_back(solid_infill(skins.solid, width, angle, layer, PathRole::solid_infill));
+  result.groups.push_back(sparse_infill(skins.sparse, width, o.infill_density, o.infill_pattern,
+                                        angle, layer));
+  std::erase_if(result.groups, [](const auto& group) { return group.empty(); });
+  return result;
+}
+
+Vec2 front_left(const Region& region) {
+  Vec2 corner{0, 0};
+  bool any = false;
+  for (const Loop& loop : region.loops) {
+    for (Vec2 p : loop) {
+      corner = any ? Vec2{std::min(corner.x, p.x), std::min(corner.y, p.y)} : p;
+      any = true;
+    }
+  }
+  return corner;
+}
+
+}  // namespace
+
+std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
+                                           const std::vector<Layer>& layers,
+                                           const ToolpathOptions& options,
+                                           const LayerDone& on_layer_done) {
+  const ToolpathOptions o = sane(options);
+  const std::size_t n = layers.size();
+  // Every layer's region, cleaned (non-zero union): a layer past the given regions is empty.
+  std::vector<Region> region(n);
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+    if (i < regions.size()) region[i] = from_clipper(tc::union_of(to_clipper(regions[i])));
+  });
+  // Skins need the neighbours' regions: every layer's core first, then the layers in parallel.
+  const std::vector<std::optional<Region>> cores =
+      sparse_cores(region, o.top_layers, o.bottom_layers);
+  const Region nothing;
+
+  std::vector<std::vector<Island>> islands(n);
+  std::vector<ExtrusionPath> skirt_paths;
+  std::atomic<std::size_t> done{0};
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+    const double width = i == 0 ? o.first_layer_width : o.extrusion_width;
+    const Region* core = cores[i] ? &*cores[i] : nullptr;
+    const Region* below = o.bottom_layers > 0 ? (i > 0 ? &region[i - 1] : &nothing) : nullptr;
+    const Region* above = o.top_layers > 0 ? (i + 1 < n ? &region[i + 1] : &nothing) : nullptr;
+    for (const tc::Paths& island : tc::islands(to_clipper(region[i]))) {
+      islands[i].push_back(plan_island(from_clipper(island), i, width, o, core, below, above));
+    }
+    if (i == 0) skirt_paths = skirt(region[0], width, o.skirt_loops, o.skirt_distance);
+    if (on_layer_done) on_layer_done(++done);
+  });
+
+  // Order: sequential, since each layer starts where the one below ended.
+  std::vector<LayerToolpaths> plan(n);
+  Vec2 position = n > 0 ? front_left(region[0]) : Vec2{};
+  for (std::size_t i = 0; i < n; ++i) {
+    plan[i].z_lo = layers[i].z_lo;
+    plan[i].z_hi = layers[i].z_hi;
+    std::vector<ExtrusionPath>& out = plan[i].paths;
+    if (i == 0) append_nearest_first(std::move(skirt_paths), o.seam, position, out);
+    std::vector<Island>& left = islands[i];
+    while (!left.empty()) {
+      std::size_t next = 0;
+      double nearest = std::numeric_limits<double>::infinity();
+      for (std::size_t k = 0; k < left.size(); ++k) {
+        if (left[k].groups.empty()) continue;
+        const auto start = nearest_start(left[k].groups.front(), o.seam, position);
+        if (start && start->distance < nearest) { nearest = start->distance; next = k; }
+      }
+      for (auto& group : left[next].groups) {
+        append_nearest_first(std::move(group), o.seam, position, out);
+      }
+      left.erase(left.begin() + static_cast<std::ptrdiff_t>(next));
+    }
+  }
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+    mark_retractions(plan[i].paths, region[i], o.retract_min_travel);
+  });
+  return plan;
+}
+
+}  // namespace geometry

@@ -1,0 +1,269 @@
+#include "geometry/travel_order.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace geometry {
+
+namespace {
+
+double distance(Vec2 a, Vec2 b) { return std::hypot(a.x - b.x, a.y - b.y); }
+
+bool closed(const ExtrusionPath& path) {
+  return path.points.size() > 2 && path.points.front() == path.points.back();
+}
+
+// Turn at vertex i of a closed path, radians, positive to the left (convex for the part,
+// which lies left of every loop: outer loops CCW, holes CW).
+double turn(const std::vector<Vec2>& points, std::size_t i) {
+  const std::size_t n = points.size() - 1;  // distinct vertices
+  const Vec2 before = points[(i + n - 1) % n], at = points[i], after = points[(i + 1) % n];
+  const Vec2 a = at - before, b = after - at;
+  return std::atan2(cross(a, b), dot(a, b));
+}
+
+std::size_t nearest_vertex(const std::vector<Vec2>& points, Vec2 position) {
+  std::size_t best = 0;
+  double best_distance = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i + 1 < points.size(); ++i) {
+    const double d = distance(points[i], position);
+    if (d < best_distance) { best_distance = d; best = i; }
+  }
+  return best;
+}
+
+// Start vertex and whether the path runs backwards, for a path started from `position`.
+struct Start {
+  std::size_t vertex = 0;
+  bool reversed = false;
+};
+
+Start start_of(const ExtrusionPath& path, SeamPosition seam, Vec2 position) {
+  if (closed(path)) {
+    return {seam == SeamPosition::aligned ? aligned_seam(path.points)
+                                          : nearest_vertex(path.points, position),
+            false};
+  }
+  const bool reversed = !path.points.empty() &&
+                        distance(path.points.back(), position) <
+                            distance(path.points.front(), position);
+  return {reversed ? path.points.size() - 1 : 0, reversed};
+}
+
+void begin_at(ExtrusionPath& path, Start start) {
+  if (closed(path)) {
+    if (start.vertex == 0) return;
+    path.points.pop_back();
+    std::rotate(path.points.begin(), path.points.begin() + start.vertex, path.points.end());
+    path.points.push_back(path.points.front());
+  } else if (start.reversed) {
+    std::reverse(path.points.begin(), path.points.end());
+  }
+}
+
+bool segments_meet(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
+  const double d1 = cross(b - a, c - a), d2 = cross(b - a, d - a);
+  const double d3 = cross(d - c, a - c), d4 = cross(d - c, b - c);
+  if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0)))
+    return true;
+  auto on = [](Vec2 p, Vec2 q, Vec2 r, double o) {  // r on segment pq, given collinear
+    return o == 0 && std::min(p.x, q.x) <= r.x && r.x <= std::max(p.x, q.x) &&
+           std::min(p.y, q.y) <= r.y && r.y <= std::max(p.y, q.y);
+  };
+  return on(a, b, c, d1) || on(a, b, d, d2) || on(c, d, a, d3) || on(c, d, b, d4);
+}
+
+// The region's boundary edges bucketed in a uniform grid, so that a short travel is tested
+// against the few edges near it rather than all of them.
+class BoundaryGrid {
+ public:
+  explicit BoundaryGrid(const Region& region) {
+    for (const Loop& loop : region.loops) {
+      for (std::size_t i = 0, n = loop.size(); i < n && n > 1; ++i) {
+        edges_.push_back({loop[i], loop[(i + 1) % n]});
+      }
+    }
+    if (edges_.empty()) return;
+    min_ = max_ = edges_[0].a;
+    for (const Edge& e : edges_) {
+      for (Vec2 p : {e.a, e.b}) {
+        min_ = {std::min(min_.x, p.x), std::min(min_.y, p.y)};
+        max_ = {std::max(max_.x, p.x), std::max(max_.y, p.y)};
+      }
+    }
+    const double side = std::max({max_.x - min_.x, max_.y - min_.y, 1e-9});
+    cells_ = std::clamp<std::size_t>(
+        static_cast<std::size_t>(std::sqrt(static_cast<double>(edges_.size()))), 1, 256);
+    cell_ = side / static_cast<double>(cells_) * (1 + 1e-9);
+    buckets_.resize(cells_ * cells_);
+    for (std::size_t k = 0; k < edges_.size(); ++k) {
+      const auto [x0, y0, x1, y1] = cell_range(edges_[k].a, edges_[k].b);
+      for (std::size_t y = y0; y <= y1; ++y)
+        for (std::size_t x = x0; x <= x1; ++x) buckets_[y * cells_ + x].push_back(k);
+    }
+    seen_.assign(edges_.size(), 0);
+  }
+
+  bool crossed(Vec2 a, Vec2 b) {
+    if (edges_.empty()) return false;
+    if (std::max(a.x, b.x) < min_.x || std::min(a.x, b.x) > max_.x ||
+        std::max(a.y, b.y) < min_.y || std::min(a.y, b.y) > max_.y)
+      return false;
+    ++stamp_;
+    const auto [x0, y0, x1, y1] = cell_range(a, b);
+    for (std::size_t y = y0; y <= y1; ++y) {
+      for (std::size_t x = x0; x <= x1; ++x) {
+        for (std::size_t k : buckets_[y * cells_ + x]) {
+          if (seen_[k] == stamp_) continue;
+          seen_[k] = stamp_;
+          if (segments_meet(a, b, edges_[k].a, edges_[k].b)) return true;
+        }
+      }
+    }
+    return false;
+  }
+
+ private:
+  struct Edge {
+    Vec2 a, b;
+  };
+  struct Range {
+    std::size_t x0, y0, x1, y1;
+  };
+  std::size_t cell(double v, double lo) const {
+    const double c = std::floor((v - lo) / cell_);
+    return static_cast<std::size_t>(std::clamp(c, 0.0, static_cast<double>(cells_ - 1)));
+  }
+  Range cell_range(Vec2 a, Vec2 b) const {
+    return {cell(std::min(a.x, b.x), min_.x), cell(std::min(a.y, b.y), min_.y),
+            cell(std::max(a.x, b.x), min_.x), cell(std::max(a.y, b.y), min_.y)};
+  }
+
+  std::vector<Edge> edges_;
+  Vec2 min_, max_;
+  std::size_t cells_ = 1;
+  double cell_ = 1;
+  std::vector<std::vector<std::size_t>> buckets_;
+  std::vector<unsigned> seen_;
+  unsigned stamp_ = 0;
+};
+
+}  // namespace
+
+std::string_view seam_position_name(SeamPosition seam) {
+  return seam == SeamPosition::nearest ? "nearest" : "aligned";
+}
+
+std::optional<SeamPosition> parse_seam_position(std::string_view name) {
+  if (name == "aligned") return SeamPosition::aligned;
+  if (name == "nearest") return SeamPosition::nearest;
+  return std::nullopt;
+}
+
+std::size_t aligned_seam(const std::vector<Vec2>& points) {
+  if (points.size() < 3) return 0;
+  const std::size_t n = points.size() - 1;
+  double y_min = points[0].y, y_max = points[0].y;
+  for (std::size_t i = 0; i < n; ++i) {
+    y_min = std::min(y_min, points[i].y);
+    y_max = std::max(y_max, points[i].y);
+  }
+  const double band = std::max(0.5, 0.02 * (y_max - y_min));
+  // A corner is a turn of more than 30 degrees; concave ones (turning right) rank first.
+  constexpr double kCorner = 0.5236;
+  auto rank = [&](std::size_t i) {
+    const double t = turn(points, i);
+    if (t < -kCorner) return std::pair{2, -t};
+    if (t > kCorner) return std::pair{1, t};
+    return std::pair{0, 0.0};
+  };
+  std::size_t best = n;
+  std::pair<int, double> best_rank{-1, 0};
+  for (std::size_t i = 0; i < n; ++i) {
+    if (points[i].y < y_max - band) continue;
+    const auto r = rank(i);
+    bool better = best == n || r.first > best_rank.first;
+    if (!better && r.first == best_rank.first) {
+      if (r.first > 0 && r.second != best_rank.second) {
+        better = r.second > best_rank.second;
+      } else if (points[i].y != points[best].y) {
+        better = points[i].y > points[best].y;
+      } else {
+        better = points[i].x < points[best].x;
+      }
+    }
+    if (better) { best = i; best_rank = r; }
+  }
+  return best == n ? 0 : best;
+}
+
+std::optional<NearestStart> nearest_start(const std::vector<ExtrusionPath>& paths,
+                                          SeamPosition seam, Vec2 position) {
+  std::optional<NearestStart> best;
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    if (paths[i].points.empty()) continue;
+    const Start start = start_of(paths[i], seam, position);
+    const Vec2 p = paths[i].points[start.vertex];
+    const double d = distance(p, position);
+    if (!best || d < best->distance) best = NearestStart{i, p, d};
+  }
+  return best;
+}
+
+void append_nearest_first(std::vector<ExtrusionPath> paths, SeamPosition seam, Vec2& position,
+                          std::vector<ExtrusionPath>& out) {
+  std::erase_if(paths, [](const ExtrusionPath& p) { return p.points.empty(); });
+  // The aligned seam of a closed path does not depend on the nozzle: find it once.
+  std::vector<Start> fixed(paths.size());
+  std::vector<bool> is_closed(paths.size());
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    is_closed[i] = closed(paths[i]);
+    if (is_closed[i] && seam == SeamPosition::aligned) fixed[i] = {aligned_seam(paths[i].points)};
+  }
+  std::vector<bool> done(paths.size(), false);
+  for (std::size_t left = paths.size(); left > 0; --left) {
+    std::size_t best = paths.size();
+    Start best_start;
+    double best_distance = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < paths.size(); ++i) {
+      if (done[i]) continue;
+      const Start start = is_closed[i] && seam == SeamPosition::aligned
+                              ? fixed[i]
+                              : start_of(paths[i], seam, position);
+      const double d = distance(paths[i].points[start.vertex], position);
+      if (d < best_distance) { best_distance = d; best = i; best_start = start; }
+    }
+    if (best == paths.size()) best = static_cast<std::size_t>(
+        std::find(done.begin(), done.end(), false) - done.begin());  // only NaN coordinates
+    done[best] = true;
+    ExtrusionPath& path = paths[best];
+    begin_at(path, best_start);
+    position = path.points.back();
+    out.push_back(std::move(path));
+  }
+}
+
+void mark_retractions(std::vector<ExtrusionPath>& paths, const Region& region,
+                      double min_travel) {
+  BoundaryGrid boundary(region);
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    if (i == 0 || paths[i].points.empty() || paths[i - 1].points.empty()) {
+      paths[i].retract_before = true;
+      continue;
+    }
+    const Vec2 from = paths[i - 1].points.back(), to = paths[i].points.front();
+    paths[i].retract_before = distance(from, to) > min_travel || boundary.crossed(from, to);
+  }
+}
+
+bool crosses_boundary(const Region& region, Vec2 a, Vec2 b) {
+  for (const Loop& loop : region.loops) {
+    for (std::size_t i = 0, n = loop.size(); i < n && n > 1; ++i) {
+      if (segments_meet(a, b, loop[i], loop[(i + 1) % n])) return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace geometry

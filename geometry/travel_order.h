@@ -1,0 +1,58 @@
+// Travel order: the order and direction in which a layer's paths are printed, where closed
+// paths start (the seam), and which travels need a retraction (issue 4, "Toolpaths").
+//
+// Paths in mm (toolpaths.h). Closed paths end where they begin and may start at any vertex;
+// open paths may run either way. All functions accept empty input.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+#include "geometry/polygon.h"
+#include "geometry/toolpaths.h"
+
+namespace geometry {
+
+enum class SeamPosition {
+  aligned,  // the same place on every layer: a corner at the rear of the loop
+  nearest,  // the loop point nearest to where the nozzle is (least travel)
+};
+
+std::string_view seam_position_name(SeamPosition seam);  // "aligned", "nearest"
+std::optional<SeamPosition> parse_seam_position(std::string_view name);
+
+// The vertex where an aligned seam goes on a closed path (its points, last = first): among
+// the vertices near the rear (within max(0.5 mm, 2% of the loop's depth) of the largest y),
+// the sharpest concave corner of the part (the seam hides in it), else the sharpest convex
+// corner, else the rearmost vertex, ties to the smallest x. Similar loops on consecutive
+// layers give the same place. Returns 0 for fewer than 2 points.
+std::size_t aligned_seam(const std::vector<Vec2>& points);
+
+// Appends `paths` to `out` nearest first: from `position`, repeatedly the path whose start is
+// nearest; a closed path starts at its seam (rotated to it), an open path runs from its
+// nearer end (reversed if that is its last point). `position` ends where the last path ends.
+// Ties go to the earlier path, so the order is deterministic.
+void append_nearest_first(std::vector<ExtrusionPath> paths, SeamPosition seam, Vec2& position,
+                          std::vector<ExtrusionPath>& out);
+
+// Where append_nearest_first would start among `paths` from `position`, and the distance.
+struct NearestStart {
+  std::size_t path = 0;
+  Vec2 point;
+  double distance = 0;
+};
+std::optional<NearestStart> nearest_start(const std::vector<ExtrusionPath>& paths,
+                                          SeamPosition seam, Vec2 position);
+
+// Sets retract_before on every path whose travel from the end of the one before is longer
+// than min_travel or leaves `region` (crosses its boundary: a wall, into a hole or across
+// open air), and on the first path (the travel from the previous layer). Clears it elsewhere.
+void mark_retractions(std::vector<ExtrusionPath>& paths, const Region& region,
+                      double min_travel);
+
+// Whether the segment [a, b] meets the boundary of `region`.
+bool crosses_boundary(const Region& region, Vec2 a, Vec2 b);
+
+}  // namespace geometry
