@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <numbers>
 #include <unordered_map>
 
 #include "geometry/clipper_bridge.h"
@@ -117,21 +118,43 @@ struct Axis {
   std::vector<std::pair<std::size_t, std::size_t>> links;
 };
 
+// The interior angle at the vertex two edges of the region share, radians; pi if they share
+// none (then they are no corner).
+double corner_angle(const Edges& edges, const Diagram::cell_type& c1,
+                    const Diagram::cell_type& c2) {
+  if (!c1.contains_segment() || !c2.contains_segment()) return std::numbers::pi;
+  std::size_t in = c1.source_index(), out = c2.source_index();
+  if (edges.next[in] != out) std::swap(in, out);
+  if (edges.next[in] != out) return std::numbers::pi;
+  const Vec2d a = sub(high(edges.segments[in]), low(edges.segments[in]));
+  const Vec2d b = sub(high(edges.segments[out]), low(edges.segments[out]));
+  return std::numbers::pi - std::atan2(cross2(a, b), a.x * b.x + a.y * b.y);
+}
+
+double length(Vec2d a, Vec2d b) { return std::hypot(a.x - b.x, a.y - b.y); }
+
+// A corner sharper than this is a tapering wall, and its bisector is a centre line to print
+// (down to the narrowest bead); a blunter corner's bisector only runs into the corner.
+constexpr double kTaperAngle = std::numbers::pi / 4;
+
 Axis medial_axis(const Edges& edges, double min_radius) {
   Axis axis;
   if (edges.segments.empty()) return axis;
   Diagram diagram;
   bp::construct_voronoi(edges.segments.begin(), edges.segments.end(), &diagram);
   std::unordered_map<const Diagram::vertex_type*, std::size_t> node_of;
-  auto node = [&](const Diagram::vertex_type* v, const Diagram::cell_type& cell) {
+  auto add_node = [&](Vec2d p, double r) {
+    axis.points.push_back(p);
+    axis.radius.push_back(r);
+    return axis.points.size() - 1;
+  };
+  auto node = [&](const Diagram::vertex_type* v, double r) {
     auto [it, fresh] = node_of.try_emplace(v, axis.points.size());
-    if (fresh) {
-      const Vec2d p{v->x(), v->y()};
-      axis.points.push_back(p);
-      axis.radius.push_back(distance_to_site(edges, cell, p));
-    }
+    if (fresh) add_node({v->x(), v->y()}, r);
     return it->second;
   };
+  // An axis point closer to the boundary than this touches it: the edge ends in a corner.
+  const double touching = 0.1 * min_radius;
   for (const auto& edge : diagram.edges()) {
     // Each edge comes with its twin; take one of the pair.
     if (&edge > edge.twin() || !edge.is_primary() || !edge.is_finite()) continue;
@@ -140,16 +163,26 @@ Axis medial_axis(const Edges& edges, double min_radius) {
     const Vec2d mid{(a.x + b.x) / 2, (a.y + b.y) / 2};
     const auto& cell = *edge.cell();
     if (!inside_by_site(edges, cell, mid)) continue;
-    // Branches into corners end on the boundary (radius zero): a round bead end covers them.
-    if (distance_to_site(edges, cell, a) < min_radius ||
-        distance_to_site(edges, cell, b) < min_radius)
+    const double ra = distance_to_site(edges, cell, a), rb = distance_to_site(edges, cell, b);
+    if (ra >= touching && rb >= touching) {
+      axis.links.emplace_back(node(edge.vertex0(), ra), node(edge.vertex1(), rb));
       continue;
-    axis.links.emplace_back(node(edge.vertex0(), cell), node(edge.vertex1(), cell));
+    }
+    // An edge into a corner: keep it only in a sharp corner (a tapering wall), and only
+    // where the wall is at least the narrowest bead wide. Between two lines the radius
+    // grows linearly along the bisector.
+    if (corner_angle(edges, cell, *edge.twin()->cell()) > kTaperAngle) continue;
+    const bool a_in_corner = ra < rb;
+    const double r_far = a_in_corner ? rb : ra, r_near = a_in_corner ? ra : rb;
+    if (r_far <= min_radius) continue;
+    const Vec2d far = a_in_corner ? b : a, near = a_in_corner ? a : b;
+    const double t = (r_far - min_radius) / (r_far - r_near);
+    const Vec2d cut{far.x + t * (near.x - far.x), far.y + t * (near.y - far.y)};
+    const std::size_t far_node = node(a_in_corner ? edge.vertex1() : edge.vertex0(), r_far);
+    axis.links.emplace_back(far_node, add_node(cut, min_radius));
   }
   return axis;
 }
-
-double length(Vec2d a, Vec2d b) { return std::hypot(a.x - b.x, a.y - b.y); }
 
 // Removes short leaf branches that stay inside the disc of the junction they hang from: they
 // come from bumps of the boundary and add nothing a bead along the main line does not cover.
@@ -232,15 +265,32 @@ std::vector<ExtrusionPath> thin_walls(const Region& region, double min_width, do
   std::vector<ExtrusionPath> paths;
   if (!(min_width > 0) || !(max_width >= min_width)) return paths;
   const Edges edges = region_edges(region);
-  // Radius below which an axis point is taken to touch the boundary: a corner, not a wall.
-  const double min_radius = 0.05 * min_width * kClipperScale;
+  // The narrowest bead is printed along the axis wherever the region is at least that wide.
+  const double min_radius = min_width / 2 * kClipperScale;
   Axis axis = medial_axis(edges, min_radius);
   prune_spurs(axis);
   const Vec2 origin = from_clipper(edges.origin);
-  auto to_mm = [&](std::size_t node) {
-    return origin + Vec2{axis.points[node].x / kClipperScale, axis.points[node].y / kClipperScale};
-  };
   for (const auto& chain : chains(axis)) {
+    const bool cycle = chain.size() > 2 && chain.front() == chain.back();
+    // The chain's points, with steps inserted where the width changes along one edge (a
+    // tapering wall is a single Voronoi edge), the radius interpolated linearly.
+    std::vector<Vec2d> at;
+    std::vector<double> radius;
+    for (std::size_t k = 0; k + 1 < chain.size(); ++k) {
+      const Vec2d p = axis.points[chain[k]], q = axis.points[chain[k + 1]];
+      const double rp = axis.radius[chain[k]], rq = axis.radius[chain[k + 1]];
+      const double change = std::abs(rq - rp) / std::max({rp, rq, 1e-9});
+      const int steps = std::clamp(static_cast<int>(std::ceil(change / 0.05)), 1, 64);
+      for (int j = 0; j < steps; ++j) {
+        const double t = static_cast<double>(j) / steps;
+        at.push_back({p.x + t * (q.x - p.x), p.y + t * (q.y - p.y)});
+        radius.push_back(rp + t * (rq - rp));
+      }
+    }
+    if (chain.empty()) continue;
+    at.push_back(axis.points[chain.back()]);
+    radius.push_back(axis.radius[chain.back()]);
+
     // Runs of nearly constant width, each printed at its mean width.
     std::size_t run_start = 0;
     double run_length = 0, run_weighted = 0;
@@ -249,14 +299,16 @@ std::vector<ExtrusionPath> thin_walls(const Region& region, double min_width, do
       ExtrusionPath path;
       path.role = PathRole::thin_wall;
       path.width = std::clamp(run_weighted / run_length / kClipperScale, min_width, max_width);
-      for (std::size_t k = run_start; k <= end; ++k) path.points.push_back(to_mm(chain[k]));
-      const bool closed = chain.front() == chain.back() && run_start == 0 &&
-                          end + 1 == chain.size();
+      for (std::size_t k = run_start; k <= end; ++k) {
+        path.points.push_back(origin + Vec2{at[k].x / kClipperScale, at[k].y / kClipperScale});
+      }
+      const bool closed = cycle && run_start == 0 && end + 1 == at.size();
+      if (closed) path.points.back() = path.points.front();
       if (closed || run_length / kClipperScale >= min_width) paths.push_back(std::move(path));
     };
-    for (std::size_t k = 0; k + 1 < chain.size(); ++k) {
-      const double segment = length(axis.points[chain[k]], axis.points[chain[k + 1]]);
-      const double width = axis.radius[chain[k]] + axis.radius[chain[k + 1]];
+    for (std::size_t k = 0; k + 1 < at.size(); ++k) {
+      const double segment = length(at[k], at[k + 1]);
+      const double width = radius[k] + radius[k + 1];
       if (run_length > 0) {
         const double mean = run_weighted / run_length;
         if (std::abs(width - mean) > 0.2 * mean) {
@@ -268,7 +320,7 @@ std::vector<ExtrusionPath> thin_walls(const Region& region, double min_width, do
       run_length += segment;
       run_weighted += segment * width;
     }
-    emit(chain.size() - 1);
+    emit(at.size() - 1);
   }
   return paths;
 }

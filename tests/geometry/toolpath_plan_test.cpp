@@ -8,28 +8,12 @@
 #include <numbers>
 
 #include "geometry/bead_coverage.h"
+#include "geometry/toolpath_shapes.h"
 
 using namespace geometry;
+using namespace toolpath_shapes;
 
 namespace {
-
-Loop rectangle(double x0, double y0, double x1, double y1) {
-  return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
-}
-
-Loop reversed(Loop loop) {
-  std::reverse(loop.begin(), loop.end());
-  return loop;
-}
-
-Loop circle(Vec2 centre, double radius, int sides = 256) {
-  Loop loop;
-  for (int k = 0; k < sides; ++k) {
-    const double a = 2 * std::numbers::pi * k / sides;
-    loop.push_back({centre.x + radius * std::cos(a), centre.y + radius * std::sin(a)});
-  }
-  return loop;
-}
 
 // One layer 0.2 mm thick: every point is a bottom (and top) surface, so all of it is solid.
 std::vector<LayerToolpaths> single_layer(const Region& region, ToolpathOptions options = {}) {

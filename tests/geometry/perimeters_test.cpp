@@ -1,0 +1,144 @@
+// perimeters: wall loops at w/2 + k w from the edge, thin walls where no loop fits.
+#include "geometry/perimeters.h"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "geometry/toolpath_shapes.h"
+
+using namespace geometry;
+using namespace toolpath_shapes;
+
+namespace {
+constexpr double w = 0.45;
+}
+
+TEST_CASE("square_walls_are_nested_squares_one_width_apart") {
+  const Region square{{rectangle(0, 0, 20, 20)}};
+  const Perimeters p = perimeters(square, w, 3);
+  REQUIRE(p.walls.size() == 3);
+  for (int k = 0; k < 3; ++k) {
+    CAPTURE(k);
+    REQUIRE(p.walls[k].size() == 1);
+    const ExtrusionPath& loop = p.walls[k][0];
+    CHECK(loop.role == (k == 0 ? PathRole::outer_wall : PathRole::inner_wall));
+    CHECK(loop.width == w);
+    CHECK(is_closed(loop));
+    const double inset = w / 2 + k * w, side = 20 - 2 * inset;
+    CHECK(signed_area(loop_of(loop)) == doctest::Approx(side * side).epsilon(1e-9));
+    CHECK(perimeter(loop_of(loop)) == doctest::Approx(4 * side).epsilon(1e-9));
+    for (Vec2 v : loop.points) {
+      CHECK(std::min({v.x, v.y, 20 - v.x, 20 - v.y}) == doctest::Approx(inset).epsilon(1e-6));
+    }
+  }
+  CHECK(p.thin_walls.empty());
+  const double inner = 20 - 6 * w;
+  CHECK(area(p.infill_area) == doctest::Approx(inner * inner).epsilon(1e-9));
+}
+
+TEST_CASE("walls_and_infill_area_partition_the_square") {
+  // Beads of width w centred on squares of side s_k cover 4 s_k w each; with the infill area
+  // they tile the square exactly: no gap and no double coverage between walls and infill.
+  const Region square{{rectangle(0, 0, 20, 20)}};
+  for (int count : {1, 2, 4}) {
+    CAPTURE(count);
+    const Perimeters p = perimeters(square, w, count);
+    double beads = 0;
+    for (const auto& level : p.walls)
+      for (const auto& loop : level) beads += perimeter(loop_of(loop)) * w;
+    CHECK(beads + area(p.infill_area) == doctest::Approx(400).epsilon(1e-9));
+  }
+}
+
+TEST_CASE("hole_walls_run_clockwise_outer_walls_counter_clockwise") {
+  const Region holed{{rectangle(0, 0, 20, 20), reversed(rectangle(8, 8, 12, 12))}};
+  const Perimeters p = perimeters(holed, w, 2);
+  REQUIRE(p.walls.size() == 2);
+  for (std::size_t k = 0; k < 2; ++k) {
+    REQUIRE(p.walls[k].size() == 2);
+    const double inset = w / 2 + k * w;
+    int ccw = 0, cw = 0;
+    for (const auto& loop : p.walls[k]) {
+      const double a = signed_area(loop_of(loop));
+      if (a > 0) {
+        ++ccw;
+        CHECK(a == doctest::Approx(std::pow(20 - 2 * inset, 2)).epsilon(1e-9));
+      } else {
+        ++cw;
+        CHECK(-a == doctest::Approx(std::pow(4 + 2 * inset, 2)).epsilon(1e-9));
+      }
+    }
+    CHECK(ccw == 1);
+    CHECK(cw == 1);
+  }
+  CHECK(area(p.infill_area) == doctest::Approx(std::pow(20 - 4 * w, 2) - std::pow(4 + 4 * w, 2))
+                                   .epsilon(1e-9));
+}
+
+TEST_CASE("disc_walls_are_regular_polygons_inset_by_their_apothem") {
+  // Insetting a regular n-gon by d keeps it regular: apothem a - d, circumradius
+  // (a - d) / cos(pi / n), with a = R cos(pi / n).
+  const int n = 360;
+  const double radius = 10, apothem = radius * std::cos(std::numbers::pi / n);
+  const Region disc{{circle({3, -2}, radius, n)}};
+  const Perimeters p = perimeters(disc, w, 2);
+  REQUIRE(p.walls.size() == 2);
+  for (std::size_t k = 0; k < 2; ++k) {
+    REQUIRE(p.walls[k].size() == 1);
+    const double expected = (apothem - w / 2 - k * w) / std::cos(std::numbers::pi / n);
+    for (Vec2 v : p.walls[k][0].points) {
+      CHECK(std::hypot(v.x - 3, v.y + 2) == doctest::Approx(expected).epsilon(1e-6));
+    }
+  }
+}
+
+TEST_CASE("strip_too_narrow_for_second_loop_gets_centre_line_between_walls") {
+  // 1.2 mm strip: loop 0 fits (inset 0.225); the space left inside its bead is
+  // 1.2 - 2 w = 0.3 wide, too narrow for loop 1: a 0.3 mm centre line at y = 0.6.
+  const Region strip{{rectangle(0, 0, 15, 1.2)}};
+  const Perimeters p = perimeters(strip, w, 2);
+  REQUIRE(p.walls.size() == 1);
+  REQUIRE(p.thin_walls.size() == 1);
+  const ExtrusionPath& line = p.thin_walls[0];
+  CHECK(line.role == PathRole::thin_wall);
+  CHECK(line.width == doctest::Approx(0.3).epsilon(1e-6));
+  for (Vec2 v : line.points) CHECK(v.y == doctest::Approx(0.6).epsilon(1e-6));
+  // The bead's round ends reach the inside of the outer wall's bead at x = w and 15 - w.
+  CHECK(length(line.points) == doctest::Approx(15 - 2 * w - 0.3).epsilon(1e-6));
+  CHECK(area(p.infill_area) == doctest::Approx(0));
+}
+
+TEST_CASE("region_thinner_than_width_gets_single_centre_line") {
+  const Region strip{{rectangle(0, 0, 10, 0.3)}};
+  const Perimeters p = perimeters(strip, w, 2);
+  CHECK(p.walls.empty());
+  REQUIRE(p.thin_walls.size() == 1);
+  CHECK(p.thin_walls[0].width == doctest::Approx(0.3).epsilon(1e-6));
+  CHECK(length(p.thin_walls[0].points) == doctest::Approx(10 - 0.3).epsilon(1e-6));
+}
+
+TEST_CASE("strip_under_one_and_a_half_widths_gets_one_line_not_a_collapsed_loop") {
+  // A loop in a 0.6 mm strip would lay its two 0.45 mm sides 0.15 mm apart, one on the other.
+  const Region strip{{rectangle(0, 0, 10, 0.6)}};
+  const Perimeters p = perimeters(strip, w, 2);
+  CHECK(p.walls.empty());
+  REQUIRE(p.thin_walls.size() == 1);
+  CHECK(p.thin_walls[0].width == doctest::Approx(0.6).epsilon(1e-6));
+}
+
+TEST_CASE("no_loops_gives_whole_island_as_infill_area") {
+  const Region square{{rectangle(0, 0, 5, 5)}};
+  const Perimeters p = perimeters(square, w, 0);
+  CHECK(p.walls.empty());
+  CHECK(area(p.infill_area) == doctest::Approx(25));
+}
+
+TEST_CASE("empty_island_gives_nothing") {
+  const Perimeters p = perimeters(Region{}, w, 3);
+  CHECK(p.walls.empty());
+  CHECK(p.thin_walls.empty());
+  CHECK(p.infill_area.loops.empty());
+  CHECK(perimeters(Region{{rectangle(0, 0, 5, 5)}}, 0, 3).walls.empty());
+}

@@ -1,0 +1,83 @@
+// thin_walls: centre lines of regions narrower than a bead.
+#include "geometry/thin_walls.h"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "geometry/bead_coverage.h"
+#include "geometry/toolpath_shapes.h"
+
+using namespace geometry;
+using namespace toolpath_shapes;
+
+TEST_CASE("strip_centre_line_ends_half_its_width_from_the_ends") {
+  const Region strip{{rectangle(2, 1, 12, 1.3)}};
+  const auto paths = thin_walls(strip, 0.1, 0.45);
+  REQUIRE(paths.size() == 1);
+  CHECK(paths[0].width == doctest::Approx(0.3).epsilon(1e-9));
+  for (Vec2 v : paths[0].points) CHECK(v.y == doctest::Approx(1.15).epsilon(1e-9));
+  const auto [lo, hi] = std::minmax(paths[0].points.front().x, paths[0].points.back().x);
+  CHECK(lo == doctest::Approx(2.15).epsilon(1e-9));
+  CHECK(hi == doctest::Approx(11.85).epsilon(1e-9));
+}
+
+TEST_CASE("thin_ring_gets_closed_centre_line") {
+  // Annulus between regular 120-gons of circumradius 10 and 9.7: the centre line is the
+  // 120-gon midway (circumradius 9.85; its points lie between its apothem and that), closed,
+  // 0.3 cos(pi/120) wide (the distance between parallel edges).
+  const int n = 120;
+  const Region ring{{circle({0, 0}, 10, n), reversed(circle({0, 0}, 9.7, n))}};
+  const auto paths = thin_walls(ring, 0.1, 0.45);
+  REQUIRE(paths.size() == 1);
+  CHECK(is_closed(paths[0]));
+  CHECK(paths[0].width == doctest::Approx(0.3 * std::cos(std::numbers::pi / n)).epsilon(1e-6));
+  for (Vec2 v : paths[0].points) {
+    CHECK(std::hypot(v.x, v.y) <= 9.85 + 1e-6);
+    CHECK(std::hypot(v.x, v.y) >= 9.85 * std::cos(std::numbers::pi / n) - 1e-6);
+  }
+  const auto c = bead_coverage::coverage(ring, paths);
+  CHECK(c.inside >= 0.99);
+  CHECK(c.outside <= 0.01);
+}
+
+TEST_CASE("thin_t_junction_is_covered_by_its_centre_lines") {
+  // A T of two 0.3 mm strips: the medial axis branches; every branch is printed.
+  ClipperLib::Clipper clipper;
+  const Region bar{{rectangle(0, 0, 10, 0.3)}}, stem{{rectangle(4.85, 0, 5.15, 6)}};
+  clipper.AddPaths(to_clipper(bar), ClipperLib::ptSubject, true);
+  clipper.AddPaths(to_clipper(stem), ClipperLib::ptClip, true);
+  ClipperLib::Paths t;
+  clipper.Execute(ClipperLib::ctUnion, t, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+  const Region region = from_clipper(t);
+  const auto paths = thin_walls(region, 0.1, 0.45);
+  CHECK(paths.size() >= 3);
+  const auto c = bead_coverage::coverage(region, paths);
+  INFO("inside " << c.inside << " outside " << c.outside);
+  CHECK(c.inside >= 0.98);
+  CHECK(c.outside <= 0.02);
+}
+
+TEST_CASE("tapering_wedge_gets_narrowing_runs") {
+  // A 0.4 mm wide base narrowing to a point over 10 mm: widths fall along the line. The tip
+  // narrower than the 0.1 mm minimum bead (the last 2.5 mm, 6.25% of the area) is not
+  // printed, and each run's constant width misses up to a tenth of its strip.
+  const Region wedge{{Loop{{0, 0}, {10, 0.2}, {0, 0.4}}}};
+  const auto paths = thin_walls(wedge, 0.1, 0.45);
+  REQUIRE(paths.size() >= 2);
+  for (const auto& p : paths) {
+    CHECK(p.width >= 0.1);
+    CHECK(p.width <= 0.4);
+  }
+  const auto c = bead_coverage::coverage(wedge, paths);
+  INFO("inside " << c.inside << " outside " << c.outside);
+  CHECK(c.inside >= 0.85);
+  CHECK(c.outside <= 0.05);
+  for (std::size_t i = 1; i < paths.size(); ++i) CHECK(paths[i].width != paths[0].width);
+}
+
+TEST_CASE("thin_walls_of_nothing_is_nothing") {
+  CHECK(thin_walls(Region{}, 0.1, 0.45).empty());
+  CHECK(thin_walls(Region{{rectangle(0, 0, 1, 1)}}, 0, 0.45).empty());
+  CHECK(thin_walls(Region{{Loop{{0, 0}, {1, 0}}}}, 0.1, 0.45).empty());
+}
