@@ -1,0 +1,348 @@
+// The protocol engine against a scripted firmware, one reply case at a time (DESIGN.md §4).
+#include "printer/line_protocol.h"
+
+#include <doctest/doctest.h>
+#include <fmt/core.h>
+
+#include "printer/error.h"
+#include "printer/gcode_line.h"
+#include "printer/scripted_firmware.h"
+
+using printer::LineProtocol;
+using printer::ProtocolOptions;
+using test_support::ScriptedFirmware;
+using namespace std::chrono_literals;
+
+namespace {
+
+std::vector<std::string> moves(int count) {
+  std::vector<std::string> commands;
+  for (int i = 1; i <= count; ++i) {
+    commands.push_back(fmt::format("G1 X{} Y{} E{:.1f}", i, 2 * i, 0.1 * i));
+  }
+  return commands;
+}
+
+// What the firmware executed of the job: without the host's own M110, M115 and M105 probes.
+std::vector<std::string> job_part(const ScriptedFirmware& firmware) {
+  std::vector<std::string> out;
+  for (const std::string& c : firmware.executed) {
+    const printer::GcodeCommand parsed = printer::parse_gcode_line(c);
+    if (parsed.is('M', 110) || parsed.is('M', 115) || parsed.is('M', 105)) continue;
+    out.push_back(c);
+  }
+  return out;
+}
+
+void stream(LineProtocol& protocol, const std::vector<std::string>& commands) {
+  protocol.connect();
+  for (const std::string& c : commands) protocol.send(c);
+  protocol.wait_acknowledged();
+}
+
+}  // namespace
+
+TEST_CASE("every_line_is_numbered_with_its_checksum") {
+  ScriptedFirmware firmware;
+  LineProtocol protocol(firmware);
+  stream(protocol, {"G28", "G1 X10 Y5 E0.3"});
+  REQUIRE(firmware.received.size() == 4);
+  CHECK(firmware.received[0] == printer::frame_line(0, "M110 N0"));
+  CHECK(firmware.received[1] == printer::frame_line(1, "M115"));
+  CHECK(firmware.received[2] == "N2 G28*17");
+  CHECK(firmware.received[3] == printer::frame_line(3, "G1 X10 Y5 E0.3"));
+  CHECK(firmware.bad_frames == 0);
+  CHECK(protocol.firmware().name == "ScriptedFirmware");
+  CHECK(protocol.firmware().emergency_parser);
+}
+
+TEST_CASE("ping_pong_keeps_one_line_in_flight") {
+  ScriptedFirmware firmware;
+  LineProtocol protocol(firmware);
+  stream(protocol, moves(200));
+  CHECK(job_part(firmware) == moves(200));
+  CHECK(firmware.max_ahead == 1);
+}
+
+TEST_CASE("resend_rewinds_exactly") {
+  ScriptedFirmware firmware;
+  firmware.corrupt = {5, 17, 18, 40};
+  LineProtocol protocol(firmware);
+  stream(protocol, moves(60));
+  CHECK(job_part(firmware) == moves(60));
+  CHECK(protocol.stats().resend_requests == 4);
+  CHECK(protocol.stats().lines_resent == 4);
+  CHECK(protocol.stats().probes == 0);
+}
+
+TEST_CASE("resend_without_ok_is_learned_and_loses_nothing") {
+  ScriptedFirmware firmware;
+  firmware.ok_after_resend = false;
+  firmware.corrupt = {5, 9, 13, 30, 31};
+  LineProtocol protocol(firmware);
+  stream(protocol, moves(50));
+  CHECK(job_part(firmware) == moves(50));
+  CHECK(protocol.stats().lines_resent == 5);
+  CHECK(protocol.stats().probes == 0);
+}
+
+TEST_CASE("lost_ok_is_recovered_by_an_m105_probe") {
+  ScriptedFirmware firmware;
+  firmware.drop_ok = {7, 30};
+  LineProtocol protocol(firmware);
+  const auto start = firmware.now();
+  stream(protocol, moves(40));
+  CHECK(job_part(firmware) == moves(40));
+  CHECK(protocol.stats().probes == 2);
+  CHECK(protocol.stats().lines_resent == 0);
+  // Each lost ok costs one probe interval, not OctoPrint's 30 s.
+  CHECK(firmware.now() - start < 2 * ProtocolOptions{}.probe_after + 5s);
+}
+
+TEST_CASE("lost_line_is_replayed_after_the_probe") {
+  ScriptedFirmware firmware;
+  firmware.lose = {12};
+  LineProtocol protocol(firmware);
+  stream(protocol, moves(30));
+  CHECK(job_part(firmware) == moves(30));
+  CHECK(protocol.stats().probes == 1);
+}
+
+TEST_CASE("duplicate_ok_loses_and_repeats_nothing") {
+  ScriptedFirmware firmware;
+  firmware.duplicate_ok = {3, 4, 10};
+  LineProtocol protocol(firmware);
+  stream(protocol, moves(30));
+  CHECK(job_part(firmware) == moves(30));
+  CHECK(protocol.stats().duplicate_oks == 3);
+}
+
+TEST_CASE("resend_of_an_accepted_line_repeats_nothing") {
+  for (const bool reject : {true, false}) {
+    CAPTURE(reject);
+    ScriptedFirmware firmware;
+    firmware.reject_duplicates = reject;
+    firmware.resend_after_accept = {6, 20};
+    LineProtocol protocol(firmware);
+    stream(protocol, moves(30));
+    CHECK(job_part(firmware) == moves(30));
+  }
+}
+
+TEST_CASE("window_needs_advanced_ok") {
+  ScriptedFirmware firmware;
+  ProtocolOptions options;
+  options.window = 4;
+  LineProtocol protocol(firmware, options);
+  stream(protocol, moves(50));
+  CHECK(job_part(firmware) == moves(50));
+  CHECK_FALSE(protocol.advanced_ok());
+  CHECK(firmware.max_ahead == 1);
+}
+
+TEST_CASE("window_fills_with_advanced_ok_and_queue_space") {
+  ScriptedFirmware firmware;
+  firmware.advanced_ok = true;
+  firmware.queue_free = 3;
+  ProtocolOptions options;
+  options.window = 8;
+  LineProtocol protocol(firmware, options);
+  stream(protocol, moves(100));
+  CHECK(job_part(firmware) == moves(100));
+  CHECK(protocol.advanced_ok());
+  CHECK(firmware.max_ahead == 3);  // the window, capped by the queue space the firmware reports
+}
+
+TEST_CASE("stale_resends_from_the_window_are_ignored") {
+  ScriptedFirmware firmware;
+  firmware.advanced_ok = true;
+  firmware.queue_free = 4;
+  firmware.corrupt = {18, 50};
+  ProtocolOptions options;
+  options.window = 4;
+  LineProtocol protocol(firmware, options);
+  stream(protocol, moves(80));
+  CHECK(job_part(firmware) == moves(80));
+  CHECK(protocol.stats().resend_requests == 2);
+  // Every line written behind a corrupted one draws one stale request and is resent once:
+  // no second replay, no loop.
+  CHECK(protocol.stats().stale_resends > 0);
+  CHECK(protocol.stats().lines_resent ==
+        protocol.stats().resend_requests + protocol.stats().stale_resends);
+}
+
+TEST_CASE("window_survives_every_fault_at_once") {
+  for (const bool reject : {true, false}) {
+    for (const bool ok_after : {true, false}) {
+      CAPTURE(reject);
+      CAPTURE(ok_after);
+      ScriptedFirmware firmware;
+      firmware.advanced_ok = true;
+      firmware.reject_duplicates = reject;
+      firmware.ok_after_resend = ok_after;
+      firmware.corrupt = {11, 12, 40, 77, 78, 79};
+      firmware.drop_ok = {20, 90, 140};
+      firmware.duplicate_ok = {33, 34};
+      firmware.lose = {60, 120};
+      firmware.resend_after_accept = {100};
+      ProtocolOptions options;
+      options.window = 3;
+      LineProtocol protocol(firmware, options);
+      stream(protocol, moves(150));
+      CHECK(job_part(firmware) == moves(150));
+    }
+  }
+}
+
+TEST_CASE("busy_keepalive_extends_the_wait") {
+  ScriptedFirmware firmware;
+  firmware.busy_interval = 2s;
+  LineProtocol protocol(firmware);
+  stream(protocol, {"M109 S210", "G1 X1"});
+  CHECK(job_part(firmware) == std::vector<std::string>{"M109 S210", "G1 X1"});
+  CHECK(protocol.stats().probes == 0);
+  CHECK(protocol.stats().busy_reports >= 25);
+}
+
+TEST_CASE("m109_without_busy_keepalive_does_not_time_out") {
+  ScriptedFirmware firmware;
+  firmware.heat_time = 10min;
+  LineProtocol protocol(firmware);
+  stream(protocol, {"M109 S210", "G1 X1", "G1 X2", "M190 S60", "G1 X3"});
+  CHECK(job_part(firmware) ==
+        std::vector<std::string>{"M109 S210", "G1 X1", "G1 X2", "M190 S60", "G1 X3"});
+  CHECK(protocol.stats().probes == 0);
+  CHECK(firmware.now() >= 20min);
+}
+
+TEST_CASE("silence_ends_with_a_link_error_naming_the_port") {
+  ScriptedFirmware firmware;
+  firmware.silent_after = 10;
+  LineProtocol protocol(firmware);
+  protocol.connect();
+  std::string message;
+  try {
+    for (const std::string& c : moves(30)) protocol.send(c);
+    protocol.wait_acknowledged();
+  } catch (const printer::LinkError& e) {
+    message = e.what();
+  }
+  CHECK(message.starts_with("fake printer: the printer stopped answering"));
+  CHECK(protocol.stats().probes == ProtocolOptions{}.max_probes);
+}
+
+TEST_CASE("printer_halted_throws_with_the_firmware_reason") {
+  ScriptedFirmware firmware;
+  firmware.halt_at = 8;
+  LineProtocol protocol(firmware);
+  protocol.connect();
+  std::string message;
+  try {
+    for (const std::string& c : moves(30)) protocol.send(c);
+    protocol.wait_acknowledged();
+  } catch (const printer::PrinterError& e) {
+    message = e.what();
+  }
+  CHECK(message == "fake printer: the printer stopped: Error:Printer halted. kill() called!");
+}
+
+TEST_CASE("restart_mid_job_throws") {
+  ScriptedFirmware firmware;
+  firmware.restart_at = 9;
+  LineProtocol protocol(firmware);
+  protocol.connect();
+  CHECK_THROWS_AS(
+      {
+        for (const std::string& c : moves(30)) protocol.send(c);
+        protocol.wait_acknowledged();
+      },
+      printer::PrinterError);
+  CHECK(protocol.restart_seen());
+}
+
+TEST_CASE("resend_loop_gives_up_with_a_link_error") {
+  ScriptedFirmware firmware;
+  firmware.reject_always = {4};
+  LineProtocol protocol(firmware);
+  protocol.connect();
+  std::string message;
+  try {
+    for (const std::string& c : moves(10)) protocol.send(c);
+    protocol.wait_acknowledged();
+  } catch (const printer::LinkError& e) {
+    message = e.what();
+  }
+  CHECK(message.find("asked for line 4 11 times in a row") != std::string::npos);
+}
+
+TEST_CASE("emergency_stop_bypasses_a_full_window") {
+  ScriptedFirmware firmware;
+  firmware.heat_time = 5min;
+  LineProtocol protocol(firmware);
+  protocol.connect();
+  bool stopped = false;
+  protocol.on_wait = [&] {
+    if (!stopped && firmware.now() > 10s) {
+      stopped = true;
+      protocol.emergency("M112");
+    }
+  };
+  std::string message;
+  try {
+    protocol.send("M109 S210");
+    protocol.send("G1 X1");
+    protocol.wait_acknowledged();
+  } catch (const printer::PrinterError& e) {
+    message = e.what();
+  }
+  CHECK(stopped);
+  CHECK(firmware.received.back() == "M112");
+  CHECK(message.find("Printer halted") != std::string::npos);
+  CHECK(firmware.now() < 1min);
+}
+
+TEST_CASE("temperatures_come_from_every_report") {
+  ScriptedFirmware firmware;
+  LineProtocol protocol(firmware);
+  stream(protocol, {"M105"});
+  REQUIRE(protocol.temperatures());
+  CHECK(protocol.temperatures()->hotend == 210.0);
+  CHECK(protocol.temperatures()->bed_target == 60.0);
+}
+
+TEST_CASE("query_position_reads_m114") {
+  ScriptedFirmware firmware;
+  LineProtocol protocol(firmware);
+  protocol.connect();
+  const auto position = protocol.query_position();
+  REQUIRE(position);
+  CHECK(position->x == 10.0);
+  CHECK(position->z == 0.3);
+  CHECK(position->e == 5.0);
+}
+
+TEST_CASE("unanswered_connect_names_the_port") {
+  ScriptedFirmware firmware(false);
+  firmware.mute = true;
+  LineProtocol protocol(firmware);
+  std::string message;
+  try {
+    protocol.connect();
+  } catch (const printer::LinkError& e) {
+    message = e.what();
+  }
+  CHECK(message.starts_with("fake printer: the printer does not answer (no 'ok' to M110 in 5 tries)"));
+}
+
+TEST_CASE("noise_at_connect_points_at_the_baud_rate") {
+  ScriptedFirmware firmware(false);
+  firmware.noise = true;
+  LineProtocol protocol(firmware);
+  std::string message;
+  try {
+    protocol.connect();
+  } catch (const printer::LinkError& e) {
+    message = e.what();
+  }
+  CHECK(message.find("unreadable reply lines: likely the wrong --baud") != std::string::npos);
+}
