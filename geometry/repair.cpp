@@ -12,7 +12,6 @@
 #include <CGAL/Polygon_mesh_processing/border.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
-#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 #include <CGAL/Surface_mesh.h>
 #include <fmt/core.h>
@@ -57,12 +56,10 @@ std::uint64_t edge_key(std::size_t a, std::size_t b) {
   return static_cast<std::uint64_t>(a) << 32 | static_cast<std::uint64_t>(b);
 }
 
-// Counts reversed polygons and split vertices while CGAL orients the soup.
+// Records which polygons CGAL reverses while it orients the soup.
 struct OrientationVisitor : PMP::Default_orientation_visitor {
   std::vector<char>* reversed = nullptr;
-  std::size_t* non_manifold_edges = nullptr;
   void polygon_orientation_reversed(std::size_t id) { (*reversed)[id] ^= 1; }
-  void non_manifold_edge(std::size_t, std::size_t, std::size_t) { ++*non_manifold_edges; }
 };
 
 // Area enclosed by a closed polygon in space: half the length of its vector area. A lower
@@ -75,6 +72,31 @@ double vector_area(const std::vector<Point>& loop) {
     sum = sum + CGAL::cross_product(p - CGAL::ORIGIN, q - CGAL::ORIGIN);
   }
   return 0.5 * std::sqrt(sum.squared_length());
+}
+
+// True when the loop lies in a plane, to rounding of float coordinates. Such a hole is a cut
+// (the bunny's flat base) and is filled flat: fairing would bulge the patch out of the plane,
+// below the face the part stands on.
+bool is_planar(const std::vector<Point>& loop) {
+  Kernel::Vector_3 normal(0, 0, 0), sum(0, 0, 0);
+  CGAL::Bbox_3 box;
+  for (std::size_t i = 0; i < loop.size(); ++i) {
+    const Point& p = loop[i];
+    const Point& q = loop[(i + 1) % loop.size()];
+    normal = normal + CGAL::cross_product(p - CGAL::ORIGIN, q - CGAL::ORIGIN);
+    sum = sum + (p - CGAL::ORIGIN);
+    box += p.bbox();
+  }
+  const double length = std::sqrt(normal.squared_length());
+  if (loop.empty() || !(length > 0)) return true;  // no area: nothing to bulge
+  const Kernel::Vector_3 unit = normal / length;
+  const Point centre = CGAL::ORIGIN + sum / static_cast<double>(loop.size());
+  const double size = std::max({box.xmax() - box.xmin(), box.ymax() - box.ymin(),
+                                box.zmax() - box.zmin()});
+  for (const Point& p : loop) {
+    if (std::abs((p - centre) * unit) > 1e-5 * size) return false;
+  }
+  return true;
 }
 
 double face_area(const SurfaceMesh& mesh, SurfaceMesh::Face_index f) {
@@ -200,30 +222,76 @@ Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
     points = std::move(used);
   }
 
-  // Open and non-manifold edges of the file's surface, before any topological repair.
+  // Open and non-manifold edges of the file's surface, before any topological repair; and
+  // whether the soup already is a consistently oriented manifold surface, which most files
+  // are (a check ten times faster than CGAL's is_polygon_soup_a_polygon_mesh on the bunny).
+  bool oriented_manifold = true;
   {
-    std::unordered_map<std::uint64_t, std::uint32_t> uses;
+    // Per undirected edge: how many facets use it, and the corner slot (3 * facet + corner)
+    // of the first facet's start of that edge, to join corners of facets across the edge.
+    struct EdgeUse {
+      std::uint32_t count = 0;
+      std::size_t first_slot = 0;
+      bool first_forward = false;
+    };
+    std::unordered_map<std::uint64_t, EdgeUse> uses;
     uses.reserve(polygons.size() * 3 / 2 + 16);
-    for (const Polygon& p : polygons) {
-      for (int i = 0; i < 3; ++i) ++uses[edge_key(p[i], p[(i + 1) % 3])];
+    // Corners around a vertex that are joined across shared edges form one fan; a vertex
+    // with two fans is non-manifold (two surfaces touching in a point).
+    std::vector<std::size_t> fan(polygons.size() * 3);
+    for (std::size_t i = 0; i < fan.size(); ++i) fan[i] = i;
+    const auto find = [&fan](std::size_t i) {
+      while (fan[i] != i) i = fan[i] = fan[fan[i]];
+      return i;
+    };
+    const auto join = [&](std::size_t a, std::size_t b) { fan[find(a)] = find(b); };
+    for (std::size_t f = 0; f < polygons.size(); ++f) {
+      const Polygon& p = polygons[f];
+      for (std::size_t c = 0; c < 3; ++c) {
+        const std::size_t a = p[c], b = p[(c + 1) % 3];
+        EdgeUse& use = uses[edge_key(a, b)];
+        const bool forward = a < b;
+        if (++use.count == 1) {
+          use.first_slot = 3 * f + c;
+          use.first_forward = forward;
+          continue;
+        }
+        if (use.count > 2 || use.first_forward == forward) {
+          oriented_manifold = false;  // three facets on an edge, or two facing each other
+          continue;
+        }
+        // The other facet runs b -> a: its corner at b starts the edge, at a ends it.
+        const std::size_t other = use.first_slot / 3, other_c = use.first_slot % 3;
+        join(3 * f + c, 3 * other + (other_c + 1) % 3);         // corners at a
+        join(3 * f + (c + 1) % 3, 3 * other + other_c);         // corners at b
+      }
     }
-    for (const auto& [edge, n] : uses) {
-      if (n == 1) ++report.open_edges_before;
-      if (n > 2) ++report.non_manifold_edges;
+    for (const auto& [edge, use] : uses) {
+      if (use.count == 1) ++report.open_edges_before;
+      if (use.count > 2) ++report.non_manifold_edges;
+    }
+    if (oriented_manifold) {
+      std::vector<std::size_t> fan_of_vertex(points.size(), SIZE_MAX);
+      for (std::size_t slot = 0; slot < fan.size() && oriented_manifold; ++slot) {
+        const std::size_t v = polygons[slot / 3][slot % 3];
+        const std::size_t root = find(slot);
+        if (fan_of_vertex[v] == SIZE_MAX) {
+          fan_of_vertex[v] = root;
+        } else if (fan_of_vertex[v] != root) {
+          oriented_manifold = false;
+        }
+      }
     }
   }
 
-  // 3. Orient consistently; split non-manifold vertices. Most files are already a
-  // consistently oriented manifold soup, which CGAL checks much faster than it orients.
+  // 3. Orient consistently; split non-manifold vertices.
   std::vector<char> reversed(polygons.size(), 0);
-  if (!PMP::is_polygon_soup_a_polygon_mesh(polygons)) {
+  if (!oriented_manifold) {
     std::vector<Point> soup_points;
     soup_points.reserve(points.size());
     for (const Vec3& v : points) soup_points.push_back(to_point(v));
     OrientationVisitor visitor;
-    std::size_t ignored = 0;
     visitor.reversed = &reversed;
-    visitor.non_manifold_edges = &ignored;
     PMP::orient_polygon_soup(soup_points, polygons, CGAL::parameters::visitor(visitor));
     report.non_manifold_vertices_split = soup_points.size() - points.size();
     for (std::size_t i = points.size(); i < soup_points.size(); ++i) {
@@ -258,27 +326,33 @@ Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
   PMP::extract_boundary_cycles(mesh, std::back_inserter(holes));
   report.holes_found = holes.size();
   double estimated_hole_area = 0;
+  std::vector<bool> planar;
   for (auto h : holes) {
     std::vector<Point> loop;
     for (auto e : CGAL::halfedges_around_face(h, mesh)) loop.push_back(mesh.point(mesh.source(e)));
     estimated_hole_area += vector_area(loop);
+    planar.push_back(is_planar(loop));
   }
   report.hole_area = estimated_hole_area;
   const double allowed = options.max_hole_share * area_before_fill;
   if (!holes.empty() && original_faces > 0 && estimated_hole_area <= allowed) {
     double filled_area = 0;
-    for (auto h : holes) {
+    for (std::size_t i = 0; i < holes.size(); ++i) {
       std::vector<SurfaceMesh::Face_index> patch;
       std::vector<SurfaceMesh::Vertex_index> added_vertices;
-      bool ok = std::get<0>(PMP::triangulate_refine_and_fair_hole(
-          mesh, h, std::back_inserter(patch), std::back_inserter(added_vertices)));
-      if (!ok) {
-        // Fairing can fail on awkward boundaries; a plain triangulation still closes them.
-        patch.clear();
-        PMP::triangulate_hole(mesh, h, std::back_inserter(patch));
-        ok = !patch.empty();
+      // Refinement gives the patch triangles the size of the surrounding ones, so that the
+      // slicer sees no long sliver; fairing makes a curved patch continue the surface.
+      if (planar[i]) {
+        PMP::triangulate_and_refine_hole(mesh, holes[i], std::back_inserter(patch),
+                                         std::back_inserter(added_vertices));
+      } else if (!std::get<0>(PMP::triangulate_refine_and_fair_hole(
+                     mesh, holes[i], std::back_inserter(patch),
+                     std::back_inserter(added_vertices)))) {
+        // Fairing can fail on awkward boundaries; the refined patch it leaves still closes
+        // the hole, and if even triangulation failed, a plain attempt is all that is left.
+        if (patch.empty()) PMP::triangulate_hole(mesh, holes[i], std::back_inserter(patch));
       }
-      if (!ok) continue;
+      if (patch.empty()) continue;
       ++report.holes_filled;
       report.faces_added += patch.size();
       for (auto f : patch) filled_area += face_area(mesh, f);

@@ -23,4 +23,7 @@ struct CommandExit {
   std::string message;
 };
 
+// `mahost info`: host/cmd_info.cpp.
+void add_info_command(CLI::App& app);
+
 }  // namespace host

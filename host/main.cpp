@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   app.fallthrough(false);
 
   // One line per command; see host/commands.h.
+  host::add_info_command(app);
 
   try {
     app.parse(argc, argv);
@@ -29,6 +30,17 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
+  } catch (const CLI::RequiredError& e) {
+    // "mahost --bogus" or "mahost bogus": the unknown word is the news, not the missing
+    // subcommand CLI11 reports first.
+    const std::vector<std::string> unknown = app.remaining(true);
+    if (!unknown.empty()) {
+      fmt::print(stderr, "mahost: unknown {} '{}' (see mahost --help)\n",
+                 unknown.front().rfind("-", 0) == 0 ? "option" : "command", unknown.front());
+    } else {
+      fmt::print(stderr, "mahost: {} (see mahost --help)\n", e.what());
+    }
+    return host::kExitBadInput;
   } catch (const CLI::ParseError& e) {
     fmt::print(stderr, "mahost: {} (see mahost --help)\n", e.what());
     return host::kExitBadInput;

@@ -8,6 +8,7 @@
 
 #include "geometry/mesh.h"
 #include "geometry/polygon.h"
+#include "geometry/repair.h"
 
 namespace host {
 
@@ -27,5 +28,12 @@ void add_model_options(CLI::App& command, ModelOptions& options);
 // one-line reason for a file that cannot be used. Prints a one-line repair summary to stderr
 // when something was repaired.
 geometry::Mesh load_model(const ModelOptions& options, geometry::Vec2 center = {0, 0});
+
+// The same, silent, also returning what the repair did (in file units), for `mahost info`.
+struct LoadedModel {
+  geometry::Mesh mesh;  // placed, mm
+  geometry::RepairReport repair;
+};
+LoadedModel load_model_with_report(const ModelOptions& options, geometry::Vec2 center = {0, 0});
 
 }  // namespace host

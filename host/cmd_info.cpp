@@ -1,0 +1,66 @@
+// `mahost info MODEL.stl [placement] [--export OUT.stl]`: what the model is after reading,
+// repair and placement, the numbers a user checks before slicing (size, volume, watertight),
+// and optionally the placed, repaired mesh as binary STL, which is what every later stage
+// slices.
+#include <memory>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+
+#include "geometry/mesh.h"
+#include "geometry/stl_io.h"
+#include "host/commands.h"
+#include "host/model_input.h"
+
+namespace host {
+namespace {
+
+struct InfoOptions {
+  ModelOptions model;
+  std::string export_path;
+};
+
+void run_info(const InfoOptions& options) {
+  const LoadedModel model = load_model_with_report(options.model);
+  const geometry::Mesh& mesh = model.mesh;
+  const geometry::RepairReport& repair = model.repair;
+  const geometry::Box3 box = geometry::bounding_box(mesh);
+  const geometry::Vec3 size = box.max - box.min;
+  const std::string repairs = repair.summary();
+
+  fmt::print("model         {}\n", options.model.path);
+  fmt::print("triangles     {} in the file, {} after repair\n", repair.facets_read,
+             mesh.faces.size());
+  fmt::print("vertices      {}\n", mesh.vertices.size());
+  fmt::print("size          {:.3f} x {:.3f} x {:.3f} mm\n", size.x, size.y, size.z);
+  fmt::print("min           {:.3f} {:.3f} {:.3f} mm\n", box.min.x, box.min.y, box.min.z);
+  fmt::print("max           {:.3f} {:.3f} {:.3f} mm\n", box.max.x, box.max.y, box.max.z);
+  fmt::print("volume        {:.3f} mm^3\n", geometry::signed_volume(mesh));
+  fmt::print("surface area  {:.3f} mm^2\n", geometry::surface_area(mesh));
+  fmt::print("open edges    {} before repair, {} after\n", repair.open_edges_before,
+             repair.open_edges_after);
+  fmt::print("repairs       {}\n", repairs.empty() ? "none" : repairs);
+  fmt::print("watertight    {}\n", repair.closed ? "yes" : "no");
+  if (!options.export_path.empty()) {
+    geometry::write_stl_binary(options.export_path, mesh);
+    fmt::print("exported      {} (binary STL, mm)\n", options.export_path);
+  }
+}
+
+}  // namespace
+
+void add_info_command(CLI::App& app) {
+  auto options = std::make_shared<InfoOptions>();
+  CLI::App* info = app.add_subcommand(
+      "info",
+      "Read, repair and place a model and print its triangles, vertices, bounding box, "
+      "volume, surface area, open edges before/after repair, the repairs done and whether it "
+      "is watertight. Exit code 2 for a file that cannot be printed.");
+  add_model_options(*info, options->model);
+  info->add_option("--export", options->export_path,
+                   "write the placed, repaired mesh to this file as binary STL");
+  info->callback([options] { run_info(*options); });
+}
+
+}  // namespace host
