@@ -1,0 +1,142 @@
+// infill: line spacing from the density, angles, the fixed grid, solid fill.
+#include "geometry/infill.h"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "geometry/toolpath_shapes.h"
+
+using namespace geometry;
+using namespace toolpath_shapes;
+
+namespace {
+
+constexpr double w = 0.45;
+
+// Direction of a line in degrees, in [0, 180).
+double direction(const ExtrusionPath& line) {
+  const Vec2 d = line.points.back() - line.points.front();
+  double a = std::atan2(d.y, d.x) * 180 / std::numbers::pi;
+  if (a < 0) a += 180;
+  if (a >= 180 - 1e-9) a -= 180;
+  return a;
+}
+
+// Distance of a line from the origin, measured across lines of direction `angle`.
+double offset_across(const ExtrusionPath& line, double angle) {
+  const double a = angle * std::numbers::pi / 180;
+  const Vec2 p = line.points.front();
+  return -p.x * std::sin(a) + p.y * std::cos(a);
+}
+
+}  // namespace
+
+TEST_CASE("sparse_line_length_is_area_times_density_over_width") {
+  // Lines d/100/w per mm across the area: length = area d / (100 w), give or take one line
+  // (the grid is fixed, so the area may hold one line more or less than the ratio).
+  const Region disc{{circle({0, 0}, 30, 720)}};
+  const double a = area(disc), longest = 60;
+  for (InfillPattern pattern : {InfillPattern::rectilinear, InfillPattern::grid}) {
+    for (double density : {10.0, 20.0, 50.0}) {
+      CAPTURE(density);
+      const auto lines = sparse_infill(disc, w, density, pattern, 45, 0);
+      const double expected = a * density / 100 / w;
+      CHECK(std::abs(length(lines) - expected) <= (pattern == InfillPattern::grid ? 2 : 1) * longest);
+      for (const auto& l : lines) CHECK(l.role == PathRole::sparse_infill);
+    }
+  }
+}
+
+TEST_CASE("rectilinear_turns_90_degrees_every_layer") {
+  const Region square{{rectangle(0, 0, 20, 20)}};
+  for (std::size_t layer : {0u, 1u, 2u, 3u}) {
+    const auto lines = sparse_infill(square, w, 20, InfillPattern::rectilinear, 30, layer);
+    REQUIRE(!lines.empty());
+    for (const auto& l : lines) {
+      CHECK(direction(l) == doctest::Approx(layer % 2 ? 120 : 30).epsilon(1e-6));
+    }
+  }
+}
+
+TEST_CASE("grid_lays_both_directions_every_layer") {
+  const Region square{{rectangle(0, 0, 20, 20)}};
+  const auto lines = sparse_infill(square, w, 20, InfillPattern::grid, 45, 1);
+  int along = 0, across = 0;
+  for (const auto& l : lines) {
+    const double d = direction(l);
+    if (std::abs(d - 45) < 1e-6) ++along;
+    else if (std::abs(d - 135) < 1e-6) ++across;
+  }
+  CHECK(along > 0);
+  CHECK(across > 0);
+  CHECK(along + across == static_cast<int>(lines.size()));
+}
+
+TEST_CASE("sparse_lines_lie_on_a_grid_fixed_in_the_part_so_layers_stack") {
+  // Every line is a whole number of spacings from the origin; the same area two layers up
+  // gets the very same lines.
+  const Region blob{{circle({7, 3}, 12, 90)}};
+  const double spacing = w * 100 / 25;
+  const auto lines = sparse_infill(blob, w, 25, InfillPattern::rectilinear, 0, 0);
+  REQUIRE(!lines.empty());
+  for (const auto& l : lines) {
+    const double k = offset_across(l, 0) / spacing;
+    CHECK(k == doctest::Approx(std::round(k)).epsilon(1e-6));
+  }
+  const auto again = sparse_infill(blob, w, 25, InfillPattern::rectilinear, 0, 2);
+  REQUIRE(again.size() == lines.size());
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    CHECK(again[i].points.front() == lines[i].points.front());
+    CHECK(again[i].points.back() == lines[i].points.back());
+  }
+}
+
+TEST_CASE("solid_infill_spans_a_rectangle_with_whole_lines_edge_to_edge") {
+  // A 10 x 2.25 mm area is exactly 5 beads tall: 5 lines at y = 0.225 + 0.45 k, end to end.
+  const Region strip{{rectangle(0, 0, 10, 2.25)}};
+  const auto lines = solid_infill(strip, w, 0, 0, PathRole::top_skin);
+  REQUIRE(lines.size() == 5);
+  for (std::size_t k = 0; k < 5; ++k) {
+    CHECK(lines[k].role == PathRole::top_skin);
+    CHECK(lines[k].points.front().y == doctest::Approx(0.225 + 0.45 * k).epsilon(1e-9));
+    CHECK(length(lines[k].points) == doctest::Approx(10).epsilon(1e-9));
+  }
+  // Odd layers run across: 10 / 0.45 = 22.2 -> 22 lines 10/22 mm apart, each 2.25 long.
+  const auto across = solid_infill(strip, w, 0, 1, PathRole::solid_infill);
+  REQUIRE(across.size() == 22);
+  for (const auto& l : across) CHECK(length(l.points) == doctest::Approx(2.25).epsilon(1e-9));
+}
+
+TEST_CASE("solid_infill_length_is_area_over_width") {
+  const Region disc{{circle({0, 0}, 10, 360)}};
+  const auto lines = solid_infill(disc, w, 45, 0, PathRole::bottom_skin);
+  CHECK(length(lines) == doctest::Approx(area(disc) / w).epsilon(0.02));
+}
+
+TEST_CASE("infill_lines_stay_inside_a_holed_area") {
+  const Region holed{{rectangle(0, 0, 20, 20), reversed(rectangle(5, 5, 15, 15))}};
+  for (const auto& l : sparse_infill(holed, w, 40, InfillPattern::grid, 45, 0)) {
+    const Vec2 mid = 0.5 * (l.points.front() + l.points.back());
+    CHECK(!(mid.x > 5 + 1e-6 && mid.x < 15 - 1e-6 && mid.y > 5 + 1e-6 && mid.y < 15 - 1e-6));
+    for (Vec2 p : l.points) {
+      CHECK(p.x >= -1e-6);
+      CHECK(p.x <= 20 + 1e-6);
+    }
+  }
+}
+
+TEST_CASE("no_area_or_no_density_gives_no_lines") {
+  CHECK(sparse_infill(Region{}, w, 20, InfillPattern::grid, 45, 0).empty());
+  CHECK(sparse_infill(Region{{rectangle(0, 0, 5, 5)}}, w, 0, InfillPattern::grid, 45, 0).empty());
+  CHECK(solid_infill(Region{}, w, 45, 0, PathRole::top_skin).empty());
+  CHECK(hatch(Region{{rectangle(0, 0, 5, 5)}}, 0, 0, PathRole::top_skin, w).empty());
+}
+
+TEST_CASE("infill_pattern_names_round_trip") {
+  for (InfillPattern p : {InfillPattern::rectilinear, InfillPattern::grid}) {
+    CHECK(parse_infill_pattern(infill_pattern_name(p)) == p);
+  }
+  CHECK(!parse_infill_pattern("honeycomb"));
+}
