@@ -1,0 +1,59 @@
+// Faults the simulated printer injects, each seeded and reproducible (DESIGN.md §4).
+//
+// A fault spec is a comma-separated list of key=value pairs, e.g.
+//   "corrupt=0.01,drop-ok=0.01,dup-ok=0.005,resend=0.01,delay=50ms,disconnect-at-line=5000,
+//    disconnect-at-time=60s,halt-at-line=300,runaway-at-line=200,seed=42"
+// Probabilities are in [0, 1]; times take a unit (ms, s, min); lines count the lines the
+// firmware accepted into its command queue since power-on, starting at 1.
+//
+// What each fault does (and why it is shaped so):
+// - corrupt=p: each byte the host sends is, with probability p, changed by one flipped bit
+//   before the firmware reads it, as on a noisy serial line. At most one byte per line is
+//   changed, and never into or out of a line end, ';', '*', backspace or NUL, nor the 'N'
+//   that starts a line: Marlin's XOR checksum can only catch such a change (two flips of the
+//   same bit cancel; a flipped 'N' makes an unchecked line), so every corruption is detected
+//   and answered with an error and Resend, as the issue requires.
+// - drop-ok=p: an `ok` for an executed command is not sent.
+// - dup-ok=p: an `ok` is sent twice.
+// - resend=p: a numbered line that arrived intact is answered as if its checksum were wrong
+//   (Error:checksum mismatch, Resend) and not executed: the host must send it again.
+// - delay=T: every reply leaves T later than it would (order kept).
+// - disconnect-at-line=N / disconnect-at-time=T: the link vanishes when line N is accepted or
+//   at sim time T (SimLink throws printer::LinkError; `mahost sim` closes the terminal).
+// - halt-at-line=N: kill() when line N is executed: "Error:Printer halted. kill() called!".
+// - runaway-at-line=N: the hotend heater fails when line N is executed; Marlin's thermal
+//   protection then stops the printer once the temperature has stayed more than the
+//   hysteresis below its target for the protection period.
+// - seed=S: the seed of every random choice above (default 1).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace sim {
+
+struct FaultSpec {
+  double corrupt = 0;
+  double drop_ok = 0;
+  double dup_ok = 0;
+  double resend = 0;
+  double delay = 0;  // s
+  std::optional<std::uint64_t> disconnect_at_line;
+  std::optional<double> disconnect_at_time;  // s on the sim clock
+  std::optional<std::uint64_t> halt_at_line;
+  std::optional<std::uint64_t> runaway_at_line;
+  std::uint64_t seed = 1;
+
+  bool any() const;
+};
+
+// Parses a fault spec. Throws printer::ConfigError naming the key and what is allowed for an
+// unknown key, a missing '=', a value out of range or without its unit. "" gives no faults.
+FaultSpec parse_fault_spec(std::string_view spec);
+
+// The spec in the form parse_fault_spec reads ("" when there are no faults).
+std::string to_string(const FaultSpec& faults);
+
+}  // namespace sim

@@ -1,0 +1,1104 @@
+#include "sim/printer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <deque>
+#include <limits>
+#include <optional>
+#include <random>
+
+#include <fmt/core.h>
+
+#include "printer/gcode_line.h"
+#include "sim/heater.h"
+
+namespace sim {
+
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+constexpr std::string_view kVersion = "2.0.9.3";
+
+bool is_eol(char c) { return c == '\n' || c == '\r'; }
+bool is_digit(char c) { return c >= '0' && c <= '9'; }
+
+// C's strtol as Marlin calls it: leading blanks, a sign, digits; 0 when there are none.
+long marlin_strtol(std::string_view s) {
+  std::size_t i = 0;
+  while (i < s.size() && (s[i] == ' ' || s[i] == '\t')) ++i;
+  bool negative = false;
+  if (i < s.size() && (s[i] == '-' || s[i] == '+')) negative = s[i++] == '-';
+  long value = 0;
+  while (i < s.size() && is_digit(s[i])) {
+    value = value * 10 + (s[i++] - '0');
+    if (value > 1'000'000'000'000L) break;  // far beyond any line number; keeps it defined
+  }
+  return negative ? -value : value;
+}
+
+// What Marlin's parser keeps of a line as the command: without leading blanks, "N<n> ",
+// '*' and what follows, and trailing blanks.
+std::string command_text(std::string_view line) {
+  std::size_t i = 0;
+  while (i < line.size() && line[i] == ' ') ++i;
+  if (i + 1 < line.size() && (line[i] == 'N' || line[i] == 'n') &&
+      (is_digit(line[i + 1]) || line[i + 1] == '-')) {
+    i += 2;
+    while (i < line.size() && is_digit(line[i])) ++i;
+    while (i < line.size() && line[i] == ' ') ++i;
+  }
+  line.remove_prefix(std::min(i, line.size()));
+  if (const auto star = line.find('*'); star != std::string_view::npos) line = line.substr(0, star);
+  while (!line.empty() && (line.back() == ' ' || line.back() == '\t')) line.remove_suffix(1);
+  return std::string(line);
+}
+
+enum class Emergency { none, m108, m112, m410 };
+
+// Marlin's EMERGENCY_PARSER (feature/e_parser.h): watches every byte as it arrives.
+class EmergencyParser {
+ public:
+  Emergency update(char c) {
+    switch (state_) {
+      case State::reset:
+        if (c == ' ' || is_eol(c)) break;
+        state_ = c == 'N' ? State::n : c == 'M' ? State::m : State::ignore;
+        break;
+      case State::n:
+        if (is_digit(c) || c == '-' || c == ' ') break;
+        state_ = c == 'M' ? State::m : State::ignore;
+        break;
+      case State::m: state_ = c == '1' ? State::m1 : c == '4' ? State::m4 : State::ignore; break;
+      case State::m1: state_ = c == '0' ? State::m10 : c == '1' ? State::m11 : State::ignore; break;
+      case State::m10: state_ = c == '8' ? State::m108 : State::ignore; break;
+      case State::m11: state_ = c == '2' ? State::m112 : State::ignore; break;
+      case State::m4: state_ = c == '1' ? State::m41 : State::ignore; break;
+      case State::m41: state_ = c == '0' ? State::m410 : State::ignore; break;
+      default:
+        if (is_eol(c)) {
+          const State done = state_;
+          state_ = State::reset;
+          if (done == State::m108) return Emergency::m108;
+          if (done == State::m112) return Emergency::m112;
+          if (done == State::m410) return Emergency::m410;
+        }
+        break;
+    }
+    return Emergency::none;
+  }
+
+ private:
+  enum class State { reset, n, m, m1, m10, m11, m4, m41, m108, m112, m410, ignore };
+  State state_ = State::reset;
+};
+
+// A command in the queue: what the parser sees, and where it came from.
+struct Queued {
+  std::string text;
+  std::optional<long> line_number;  // for ADVANCED_OK's "N<n>"
+  std::uint64_t index = 0;          // 1-based count of accepted lines, for *-at-line faults
+};
+
+// Bytes on their way from the host: byte k of a chunk arrives at start + (k + 1) * byte_time.
+struct Chunk {
+  double start = 0;
+  std::string bytes;
+  std::size_t next = 0;
+};
+
+struct Reply {
+  double at = 0;  // when its last byte reaches the host
+  std::string text;
+};
+
+struct PendingEmergency {
+  double at = 0;
+  std::uint64_t byte = 0;  // sequence number of the byte that completes it
+  Emergency kind = Emergency::none;
+};
+
+enum class Wait { none, planner, motion, hotend, bed, user };
+
+}  // namespace
+
+struct Printer::Firmware {
+  Config cfg;
+  double now = 0;
+  PrinterState state = PrinterState::booting;
+  std::string stop_reason;
+  Counters counters;
+  std::vector<std::string> log;
+  DepositionRecord record;
+
+  // One random stream per fault, so enabling one does not move another's pattern.
+  std::mt19937_64 rng_corrupt, rng_drop, rng_dup, rng_resend;
+  bool line_corrupted = false;  // this line (as it crosses the wire) already has its flip
+  bool wire_line_start = true;  // the next non-blank byte on the wire starts a line
+  bool disconnect_time_done = false;
+
+  // Serial input.
+  double byte_time = 0;
+  std::deque<Chunk> wire;
+  double wire_free = 0;
+  std::uint64_t bytes_sent_on_wire = 0, bytes_off_wire = 0;  // sequence numbers
+  std::deque<PendingEmergency> emergencies;
+  EmergencyParser emergency_parser;
+  std::string rx;            // the firmware's RX buffer
+  bool rx_dropping = false;  // inside a run of lost bytes (one overflow)
+  std::string line;          // process_stream_char's buffer
+  bool line_skip = false;    // in a comment, or past max_cmd_size
+  bool line_escape = false;
+  long last_n = 0;
+
+  // Command queue; the front is the command executing, as in Marlin's ring buffer.
+  std::deque<Queued> queue;
+  bool executing = false;
+  bool report_position_after = false;  // G28
+  bool ok_with_temperatures = false;   // M105
+  Wait wait = Wait::none;
+  double done_at = 0;
+  double next_busy = kInfinity;
+  double next_wait_report = kInfinity;
+  double residency_from = kInfinity;  // when the waited-for heater got within its window
+  double last_activity = 0;           // for NO_TIMEOUTS' "wait"
+
+  // Serial output.
+  std::deque<Reply> out;
+  double tx_free = 0;
+
+  // Machine.
+  printer::MotionModel motion;
+  std::deque<double> open_moves;  // arrival time of each move still open in the planner
+  double stepper_free = 0;        // when all moves made final so far have run
+  Position pos;
+  double motion_e = 0;            // filament actually fed (flow applied), the planner's E
+  double feedrate = 25;           // mm/s (Marlin boots with 1500 mm/min)
+  bool relative = false;
+  enum class EMode { follow, absolute, relative } e_mode = EMode::follow;
+  double feed_percent = 100, flow_percent = 100;
+  int fan = 0;
+  Heater hotend, bed;
+  double autoreport_interval = 0, next_autoreport = kInfinity;
+  double busy_interval = 2;
+  double runaway_at = kInfinity;
+  double boot_done = 0;
+
+  explicit Firmware(Config config)
+      : cfg(std::move(config)),
+        rng_corrupt(cfg.faults.seed * 4 + 0),
+        rng_drop(cfg.faults.seed * 4 + 1),
+        rng_dup(cfg.faults.seed * 4 + 2),
+        rng_resend(cfg.faults.seed * 4 + 3),
+        motion(cfg.motion, static_cast<std::size_t>(std::max(cfg.planner_depth, 1))),
+        hotend(cfg.hotend, cfg.ambient),
+        bed(cfg.bed, cfg.ambient) {
+    cfg.queue_depth = std::max(cfg.queue_depth, 1);
+    cfg.planner_depth = std::max(cfg.planner_depth, 1);
+    cfg.rx_buffer_size = std::max(cfg.rx_buffer_size, 1);
+    cfg.max_cmd_size = std::max(cfg.max_cmd_size, 2);
+    byte_time = cfg.baud > 0 ? 10.0 / cfg.baud : 0.0;
+    power_on();
+  }
+
+  double chance(std::mt19937_64& rng) {
+    return std::uniform_real_distribution<double>(0.0, 1.0)(rng);
+  }
+
+  // ---- power and reset -------------------------------------------------------------------
+
+  void power_on() {
+    ++counters.resets;
+    state = PrinterState::booting;
+    stop_reason.clear();
+    boot_done = now + std::max(cfg.boot_time, 0.0);
+    wire.clear();
+    emergencies.clear();
+    bytes_off_wire = bytes_sent_on_wire;
+    emergency_parser = EmergencyParser{};
+    wire_free = now;
+    rx.clear();
+    rx_dropping = false;
+    line.clear();
+    line_skip = line_escape = false;
+    last_n = 0;
+    queue.clear();
+    executing = false;
+    wait = Wait::none;
+    next_busy = next_wait_report = residency_from = kInfinity;
+    out.clear();
+    tx_free = now;
+    motion = printer::MotionModel(cfg.motion, static_cast<std::size_t>(cfg.planner_depth));
+    open_moves.clear();
+    stepper_free = now;
+    pos = Position{};
+    motion_e = 0;
+    feedrate = 25;
+    relative = false;
+    e_mode = EMode::follow;
+    feed_percent = flow_percent = 100;
+    fan = 0;
+    hotend = Heater(cfg.hotend, cfg.ambient);
+    bed = Heater(cfg.bed, cfg.ambient);
+    hotend.advance_to(now);
+    bed.advance_to(now);
+    autoreport_interval = 0;
+    next_autoreport = kInfinity;
+    busy_interval = cfg.busy_interval;
+    runaway_at = kInfinity;
+    last_activity = now;
+    if (cfg.boot_time <= 0) finish_boot();
+  }
+
+  void finish_boot() {
+    state = PrinterState::running;
+    emit("start");
+    emit(fmt::format("echo:Marlin {}", kVersion));
+    emit("echo: Last Updated: 2021-12-25 | Author: (mahost simulated printer)");
+    last_activity = now;
+  }
+
+  // ---- output ----------------------------------------------------------------------------
+
+  void emit(std::string text) {
+    if (state == PrinterState::disconnected) return;
+    text += '\n';
+    double at = now + cfg.faults.delay;
+    if (byte_time > 0) at = std::max(at, tx_free) + byte_time * static_cast<double>(text.size());
+    if (!out.empty()) at = std::max(at, out.back().at);
+    tx_free = at;
+    counters.bytes_sent += text.size();
+    out.push_back(Reply{at, std::move(text)});
+  }
+
+  bool output_ready() const { return !out.empty() && out.front().at <= now; }
+
+  std::string take_output() {
+    std::string text;
+    while (output_ready()) {
+      text += out.front().text;
+      out.pop_front();
+    }
+    return text;
+  }
+
+  std::string heater_states() const {
+    return fmt::format(" T:{:.2f} /{:.2f} B:{:.2f} /{:.2f} @:{} B@:{}", hotend.temperature(),
+                       hotend.target(), bed.temperature(), bed.target(), hotend.power(),
+                       bed.power());
+  }
+
+  // The ok of an executed command; M105's carries the temperatures instead of ADVANCED_OK's
+  // fields, since Marlin's M105 prints its own ok.
+  void send_ok(const Queued& command, bool with_temperatures) {
+    if (cfg.faults.drop_ok > 0 && chance(rng_drop) < cfg.faults.drop_ok) {
+      ++counters.faults_injected;
+      return;
+    }
+    std::string ok = "ok";
+    if (with_temperatures) {
+      ok += heater_states();
+    } else if (cfg.advanced_ok) {
+      if (command.line_number) ok += fmt::format(" N{}", *command.line_number);
+      ok += fmt::format(" P{} B{}", planner_free(), cfg.queue_depth - static_cast<int>(queue.size()));
+    }
+    const bool twice = cfg.faults.dup_ok > 0 && chance(rng_dup) < cfg.faults.dup_ok;
+    emit(ok);
+    if (twice) {
+      ++counters.faults_injected;
+      emit(ok);
+    }
+  }
+
+  int planner_free() const {
+    return std::max(0, cfg.planner_depth - static_cast<int>(motion.pending()));
+  }
+
+  // ---- serial input ----------------------------------------------------------------------
+
+  // One bit flipped in `c` that Marlin's checksum is sure to catch (sim/faults.h), or c.
+  char corrupt(char c) {
+    std::uniform_int_distribution<int> bit(0, 7);
+    for (int attempt = 0; attempt < 16; ++attempt) {
+      const char flipped = static_cast<char>(c ^ (1 << bit(rng_corrupt)));
+      if (is_eol(flipped) || flipped == ';' || flipped == '*' || flipped == '\b' ||
+          flipped == '\0' || flipped == '\\' || flipped == 'N' || flipped == 'n') {
+        continue;
+      }
+      return flipped;
+    }
+    return c;
+  }
+
+  void receive(std::string_view bytes) {
+    if (state == PrinterState::disconnected || bytes.empty()) return;
+    Chunk chunk;
+    chunk.start = std::max(now, wire_free);
+    chunk.bytes.assign(bytes);
+    for (std::size_t k = 0; k < chunk.bytes.size(); ++k) {
+      char& c = chunk.bytes[k];
+      const bool eol = is_eol(c);
+      const bool protected_byte = eol || c == ';' || c == '*' || c == '\b' || c == '\0' ||
+                                  c == '\\' || (wire_line_start && (c == 'N' || c == 'n'));
+      if (cfg.faults.corrupt > 0 && !line_corrupted && !protected_byte &&
+          chance(rng_corrupt) < cfg.faults.corrupt) {
+        const char flipped = corrupt(c);
+        if (flipped != c) {
+          c = flipped;
+          line_corrupted = true;
+          ++counters.faults_injected;
+        }
+      }
+      if (eol) {
+        line_corrupted = false;
+        wire_line_start = true;
+      } else if (c != ' ') {
+        wire_line_start = false;
+      }
+      if (cfg.emergency_parser) {
+        const Emergency e = emergency_parser.update(c);
+        if (e != Emergency::none) {
+          emergencies.push_back(
+              {chunk.start + byte_time * static_cast<double>(k + 1), bytes_sent_on_wire + k, e});
+        }
+      }
+    }
+    wire_free = chunk.start + byte_time * static_cast<double>(chunk.bytes.size());
+    bytes_sent_on_wire += chunk.bytes.size();
+    wire.push_back(std::move(chunk));
+  }
+
+  bool queue_full() const { return static_cast<int>(queue.size()) >= cfg.queue_depth; }
+
+  // Bytes that have arrived by now go to the firmware: read at once while the queue has
+  // room (Marlin's loop keeps up), else into the RX buffer, else lost. The byte that
+  // completes an emergency command acts as it arrives; bytes that arrived in the same instant
+  // before it are read and their commands run first, so that a stream arriving at once keeps
+  // its order. Returns true when it stopped at such a byte (there is more to deliver now).
+  bool deliver() {
+    std::size_t delivered = 0;
+    while (!wire.empty()) {
+      Chunk& chunk = wire.front();
+      std::size_t arrived = chunk.bytes.size();
+      if (byte_time > 0) {
+        const double n = std::floor((now - chunk.start) / byte_time + 1e-9);
+        arrived = n <= 0 ? 0 : std::min(chunk.bytes.size(), static_cast<std::size_t>(n));
+      }
+      while (chunk.next < arrived) {
+        const bool trigger = !emergencies.empty() && emergencies.front().byte == bytes_off_wire;
+        if (trigger && delivered > 0) return true;
+        arrive(chunk.bytes[chunk.next++]);
+        if (wire.empty()) return false;  // the line it ended disconnected the link
+        ++bytes_off_wire;
+        ++delivered;
+        if (trigger) {
+          const Emergency e = emergencies.front().kind;
+          emergencies.pop_front();
+          if (state == PrinterState::running) emergency(e);
+          if (wire.empty()) return false;  // a kill or disconnect dropped the rest
+        }
+      }
+      if (chunk.next < chunk.bytes.size()) break;
+      wire.pop_front();
+    }
+    return false;
+  }
+
+  void arrive(char c) {
+    if (state == PrinterState::booting || state == PrinterState::halted) return;
+    if (rx.empty() && !queue_full() && state == PrinterState::running) {
+      ++counters.bytes_received;
+      read_char(c);
+      return;
+    }
+    if (static_cast<int>(rx.size()) < cfg.rx_buffer_size) {
+      ++counters.bytes_received;
+      rx += c;
+      rx_dropping = false;
+      return;
+    }
+    if (!rx_dropping) ++counters.overflows;
+    rx_dropping = true;
+    ++counters.overflow_bytes;
+  }
+
+  // Reads the RX buffer while the queue has room.
+  void read_rx() {
+    std::size_t used = 0;
+    while (used < rx.size() && !queue_full() && state == PrinterState::running) {
+      const char c = rx[used++];
+      if (read_char(c)) used = 0;  // a line error emptied the buffer
+    }
+    rx.erase(0, std::min(used, rx.size()));
+  }
+
+  // Marlin's get_serial_commands for one character. Returns true when a line error
+  // discarded the RX buffer.
+  bool read_char(char c) {
+    if (!is_eol(c)) {
+      stream_char(c);
+      return false;
+    }
+    line_skip = line_escape = false;
+    if (line.empty()) return false;
+    std::string text = std::move(line);
+    line.clear();
+    return line_done(text);
+  }
+
+  // process_stream_char: comments, escapes, backspace, over-long lines.
+  void stream_char(char c) {
+    if (line_skip) return;
+    if (line_escape) {
+      line_escape = false;
+    } else if (c == '\\') {
+      line_escape = true;
+      return;
+    } else if (c == ';') {
+      line_skip = true;
+      return;
+    }
+    if (c == '\b') {
+      if (!line.empty()) line.pop_back();
+      return;
+    }
+    line += c;
+    if (static_cast<int>(line.size()) >= cfg.max_cmd_size - 1) {
+      line_skip = true;
+      ++counters.long_lines;
+    }
+  }
+
+  bool line_done(const std::string& raw) {
+    std::string_view command = raw;
+    while (!command.empty() && command.front() == ' ') command.remove_prefix(1);
+    std::optional<long> number;
+    if (!command.empty() && command.front() == 'N') {
+      const bool m110 = command.find("M110") != std::string_view::npos;
+      std::string_view npos = command;
+      if (m110 && command.size() > 4) {
+        if (const auto n2 = command.find('N', 4); n2 != std::string_view::npos) {
+          npos = command.substr(n2);
+        }
+      }
+      const long gcode_n = marlin_strtol(npos.substr(1));
+      if (gcode_n != last_n + 1 && !m110) {
+        return line_error("Line Number is not Last Line Number+1, Last Line: ");
+      }
+      const auto star = command.rfind('*');
+      if (star == std::string_view::npos) {
+        return line_error("No Checksum with line number, Last Line: ");
+      }
+      std::uint8_t sum = 0;
+      for (std::size_t i = 0; i < star; ++i) sum ^= static_cast<std::uint8_t>(command[i]);
+      if (marlin_strtol(command.substr(star + 1)) != sum) {
+        return line_error("checksum mismatch, Last Line: ");
+      }
+      if (cfg.faults.resend > 0 && chance(rng_resend) < cfg.faults.resend) {
+        ++counters.faults_injected;
+        return line_error("checksum mismatch, Last Line: ");
+      }
+      last_n = gcode_n;
+      number = gcode_n;
+    }
+
+    Queued queued{command_text(command), number, ++counters.lines};
+    if (!cfg.emergency_parser && !number) {
+      // queue.cpp's early check of unnumbered lines.
+      if (queued.text.starts_with("M108")) emergency(Emergency::m108);
+      if (queued.text.starts_with("M112")) emergency(Emergency::m112);
+      if (queued.text.starts_with("M410")) emergency(Emergency::m410);
+      if (state != PrinterState::running) return false;
+    }
+    last_activity = now;
+    queue.push_back(std::move(queued));
+    if (cfg.faults.disconnect_at_line && counters.lines == *cfg.faults.disconnect_at_line) {
+      disconnect(fmt::format("disconnected at line {} (fault disconnect-at-line)", counters.lines));
+    }
+    return false;
+  }
+
+  // gcode_line_error + flush_and_request_resend.
+  bool line_error(std::string_view what) {
+    ++counters.errors;
+    ++counters.resends;
+    emit(fmt::format("Error:{}{}", what, last_n));
+    rx.clear();
+    rx_dropping = false;
+    emit(fmt::format("Resend: {}", last_n + 1));
+    if (cfg.ok_after_resend) emit("ok");
+    return true;
+  }
+
+  void emergency(Emergency e) {
+    switch (e) {
+      case Emergency::m108:
+        if (executing && (wait == Wait::hotend || wait == Wait::bed || wait == Wait::user)) {
+          done_at = now;
+        }
+        break;
+      case Emergency::m112:
+        log.push_back("M112");
+        ++counters.commands;
+        kill("kill() by M112");
+        break;
+      case Emergency::m410:
+        quickstop();
+        break;
+      case Emergency::none:
+        break;
+    }
+  }
+
+  // ---- faults and stops ------------------------------------------------------------------
+
+  void kill(std::string reason) {
+    hotend.set_target(0);
+    bed.set_target(0);
+    emit("Error:Printer halted. kill() called!");
+    if (state != PrinterState::disconnected) state = PrinterState::halted;
+    stop_reason = std::move(reason);
+    queue.clear();
+    executing = false;
+    wait = Wait::none;
+    rx.clear();
+    line.clear();
+    next_busy = next_wait_report = next_autoreport = runaway_at = kInfinity;
+    quickstop();
+  }
+
+  void disconnect(std::string reason) {
+    ++counters.faults_injected;
+    state = PrinterState::disconnected;
+    stop_reason = std::move(reason);
+    wire.clear();
+    emergencies.clear();
+    bytes_off_wire = bytes_sent_on_wire;
+    rx.clear();
+    out.clear();
+  }
+
+  void update_runaway() {
+    // Thermal protection: a failed heater that stays `hysteresis` below its target for
+    // `period` seconds stops the printer.
+    runaway_at = kInfinity;
+    if (!hotend.failed() || hotend.target() <= cfg.ambient) return;
+    const double below = hotend.target() - cfg.runaway_hysteresis;
+    const double from = hotend.temperature() < below ? now : hotend.time_reaching(below);
+    runaway_at = from + cfg.runaway_period;
+  }
+
+  void thermal_runaway() {
+    stop_reason = "thermal runaway (fault runaway-at-line)";
+    emit("Error:Thermal Runaway, system stopped! Heater_ID: 0");
+    kill("thermal runaway (fault runaway-at-line)");
+  }
+
+  // ---- motion ----------------------------------------------------------------------------
+
+  // Queues a move in the planner; returns when it could enter (a slot was free).
+  double plan_move(printer::AxisPosition target, double speed) {
+    const printer::AxisPosition from = motion.position();
+    const bool moves = target.x != from.x || target.y != from.y || target.z != from.z ||
+                       target.e != from.e;
+    const std::size_t before = motion.pending();
+    const double seconds = motion.push(target, speed);
+    const std::size_t opened = before + (moves ? 1 : 0);
+    const std::size_t finalized = opened > motion.pending() ? opened - motion.pending() : 0;
+    if (moves) open_moves.push_back(now);
+    if (finalized == 0) return now;
+    const double start = std::max(stepper_free, open_moves.front());
+    for (std::size_t i = 0; i < finalized && !open_moves.empty(); ++i) open_moves.pop_front();
+    stepper_free = start + seconds;
+    return std::max(now, stepper_free);
+  }
+
+  // planner.synchronize(): every queued move runs out. Returns when the last one ends.
+  double finish_motion() {
+    const double seconds = motion.flush();
+    if (!open_moves.empty()) {
+      const double start = std::max(stepper_free, open_moves.front());
+      stepper_free = std::max(start + seconds, open_moves.back());
+      open_moves.clear();
+    }
+    return std::max(now, stepper_free);
+  }
+
+  void quickstop() {
+    // The sim cannot say where inside a move the head stopped: queued moves are dropped
+    // from the clock and the position stays where the last command put it.
+    motion.flush();
+    open_moves.clear();
+    stepper_free = std::min(stepper_free, now);
+    motion.set_position({pos.x, pos.y, pos.z, motion_e});
+  }
+
+  bool e_relative() const {
+    if (e_mode == EMode::relative) return true;
+    if (e_mode == EMode::absolute) return false;
+    return relative;
+  }
+
+  double move(const printer::GcodeCommand& c) {
+    Position target = pos;
+    if (auto v = c.get('X')) target.x = relative ? pos.x + *v : *v;
+    if (auto v = c.get('Y')) target.y = relative ? pos.y + *v : *v;
+    if (auto v = c.get('Z')) target.z = relative ? pos.z + *v : *v;
+    if (auto v = c.get('E')) target.e = e_relative() ? pos.e + *v : *v;
+    if (auto f = c.get('F'); f && *f > 0) feedrate = *f / 60.0;
+    const double speed = feedrate * feed_percent / 100.0;
+    const double fed = (target.e - pos.e) * flow_percent / 100.0;
+    const geometry::Vec2 start{pos.x, pos.y}, end{target.x, target.y};
+    pos = target;
+    motion_e += fed;
+    if (fed > 0 && !(start == end)) record.add(target.z, start, end, fed, speed);
+    return plan_move({pos.x, pos.y, pos.z, motion_e}, speed);
+  }
+
+  double home(const printer::GcodeCommand& c) {
+    finish_motion();
+    const bool all = !c.has('X') && !c.has('Y') && !c.has('Z');
+    printer::AxisPosition at{pos.x, pos.y, pos.z, motion_e};
+    motion.set_position(at);
+    double seconds = 0;
+    for (int axis = 0; axis < 3; ++axis) {
+      if (!all && !c.has("XYZ"[axis])) continue;
+      double* coordinate = axis == 0 ? &at.x : axis == 1 ? &at.y : &at.z;
+      const double speed = cfg.homing_feedrate[axis];
+      const double bump = cfg.homing_bump[axis];
+      *coordinate = 0;  // to the endstop at 0
+      seconds += motion.push(at, speed);
+      *coordinate = bump;  // back off
+      seconds += motion.push(at, speed);
+      *coordinate = 0;  // and touch again, slower
+      seconds += motion.push(at, speed / (axis == 2 ? 4 : 2));
+      seconds += motion.flush();
+      (axis == 0 ? pos.x : axis == 1 ? pos.y : pos.z) = 0;
+    }
+    stepper_free = std::max(stepper_free, now) + seconds;
+    return stepper_free;
+  }
+
+  void set_position(const printer::GcodeCommand& c) {
+    if (auto v = c.get('X')) pos.x = *v;
+    if (auto v = c.get('Y')) pos.y = *v;
+    if (auto v = c.get('Z')) pos.z = *v;
+    if (auto v = c.get('E')) pos.e = *v;
+    motion.set_position({pos.x, pos.y, pos.z, motion_e});
+  }
+
+  std::string position_report() const {
+    return fmt::format("X:{:.2f} Y:{:.2f} Z:{:.2f} E:{:.2f} Count X:{} Y:{} Z:{}", pos.x, pos.y,
+                       pos.z, pos.e, std::lround(pos.x * cfg.steps_per_mm[0]),
+                       std::lround(pos.y * cfg.steps_per_mm[1]),
+                       std::lround(pos.z * cfg.steps_per_mm[2]));
+  }
+
+  // ---- heaters ---------------------------------------------------------------------------
+
+  void set_hotend(double target) {
+    hotend.set_target(std::clamp(target, 0.0, cfg.max_hotend_temp));
+    update_runaway();
+  }
+  void set_bed(double target) { bed.set_target(std::clamp(target, 0.0, cfg.max_bed_temp)); }
+
+  // M109/M190: wait_for_hotend / wait_for_bed. Reports at once and every second; done when
+  // within the window for the residency time and at the target.
+  double heat_wait(Heater& heater, const HeaterConstants& constants, bool wait_for_cooling) {
+    emit_wait_report(constants);
+    next_wait_report = now + 1;
+    const double target = heater.target();
+    const bool cooling = heater.temperature() > target;
+    if (cooling && !wait_for_cooling) return now;
+    if (std::abs(heater.temperature() - target) <= constants.window) {
+      residency_from = now;
+    } else {
+      residency_from = heater.time_reaching(cooling ? target + constants.window
+                                                    : target - constants.window);
+    }
+    const double at_target = heater.time_reaching(target);
+    return std::max(at_target, residency_from + constants.residency);
+  }
+
+  void emit_wait_report(const HeaterConstants& constants) {
+    std::string w = "?";
+    if (residency_from <= now) {
+      const long left_ms = std::lround((constants.residency - (now - residency_from)) * 1000);
+      w = fmt::format("{}", left_ms / 1000);
+    }
+    emit(heater_states() + " W:" + w);
+  }
+
+  // ---- commands --------------------------------------------------------------------------
+
+  void start_next() {
+    Queued& command = queue.front();
+    if (cfg.faults.halt_at_line && command.index == *cfg.faults.halt_at_line) {
+      ++counters.faults_injected;
+      kill(fmt::format("halted at line {} (fault halt-at-line)", command.index));
+      return;
+    }
+    log.push_back(command.text);
+    ++counters.commands;
+    executing = true;
+    wait = Wait::none;
+    done_at = now;
+    report_position_after = ok_with_temperatures = false;
+    next_busy = busy_interval > 0 ? now + busy_interval : kInfinity;
+    if (cfg.faults.runaway_at_line && command.index == *cfg.faults.runaway_at_line) {
+      ++counters.faults_injected;
+      hotend.fail();
+      update_runaway();
+    }
+    execute(command);
+  }
+
+  void complete() {
+    executing = false;
+    wait = Wait::none;
+    next_busy = next_wait_report = residency_from = kInfinity;
+    last_activity = now;
+    if (report_position_after) emit(position_report());  // G28 ends with it
+    send_ok(queue.front(), ok_with_temperatures);
+    queue.pop_front();
+  }
+
+  void unknown(const std::string& text) {
+    ++counters.unknown_commands;
+    emit(fmt::format("echo:Unknown command: \"{}\"", text));
+  }
+
+  void execute(const Queued& command) {
+    const printer::GcodeCommand c = printer::parse_gcode_line(command.text);
+    if (c.letter == 'G') {
+      switch (c.code) {
+        case 0:
+        case 1: {
+          done_at = move(c);
+          if (done_at > now) wait = Wait::planner;
+          return;
+        }
+        case 4: {
+          double dwell = 0;
+          if (auto p = c.get('P')) dwell = *p / 1000.0;
+          if (auto s = c.get('S')) dwell = *s;
+          done_at = finish_motion() + std::max(dwell, 0.0);
+          wait = Wait::motion;
+          return;
+        }
+        case 28:
+          done_at = home(c);
+          wait = Wait::motion;
+          report_position_after = true;
+          return;
+        case 90: relative = false; e_mode = EMode::follow; return;
+        case 91: relative = true; e_mode = EMode::follow; return;
+        case 92: set_position(c); return;
+        default: break;
+      }
+    } else if (c.letter == 'M') {
+      switch (c.code) {
+        case 0:
+        case 1: {
+          double limit = kInfinity;
+          if (auto p = c.get('P')) limit = *p / 1000.0;
+          if (auto s = c.get('S')) limit = *s;
+          done_at = finish_motion() + limit;
+          wait = Wait::user;
+          return;
+        }
+        case 17: case 73: case 75: case 76: case 77: case 111: case 117: case 300:
+          return;
+        case 18:
+        case 84:
+          if (!c.has('S')) {
+            done_at = finish_motion();
+            wait = Wait::motion;
+          }
+          return;
+        case 82: e_mode = EMode::absolute; return;
+        case 83: e_mode = EMode::relative; return;
+        case 104:
+          if (auto s = c.get('S')) set_hotend(*s);
+          return;
+        case 105:
+          ok_with_temperatures = true;
+          return;
+        case 106: fan = static_cast<int>(std::clamp(c.get('S').value_or(255), 0.0, 255.0)); return;
+        case 107: fan = 0; return;
+        case 108: return;  // already acted on when the line arrived
+        case 109:
+        case 190: {
+          const bool hot = c.code == 109;
+          const auto s = c.get('S');
+          const auto r = c.get('R');
+          if (!s && !r) return;
+          hot ? set_hotend(s ? *s : *r) : set_bed(s ? *s : *r);
+          done_at = hot ? heat_wait(hotend, cfg.hotend, !s) : heat_wait(bed, cfg.bed, !s);
+          wait = hot ? Wait::hotend : Wait::bed;
+          return;
+        }
+        case 110:
+          if (auto n = c.get('N')) last_n = static_cast<long>(*n);
+          return;
+        case 112:
+          kill("kill() by M112");
+          return;
+        case 113:
+          if (auto s = c.get('S')) busy_interval = std::clamp(*s, 0.0, 60.0);
+          return;
+        case 114:
+          emit(position_report());
+          return;
+        case 115:
+          report_firmware();
+          return;
+        case 140:
+          if (auto s = c.get('S')) set_bed(*s);
+          return;
+        case 155:
+          if (auto s = c.get('S')) {
+            autoreport_interval = std::clamp(*s, 0.0, 60.0);
+            next_autoreport = autoreport_interval > 0 ? now + autoreport_interval : kInfinity;
+          }
+          return;
+        case 201: case 203: case 204: case 205:
+          set_limits(c);
+          return;
+        case 220:
+          if (auto s = c.get('S')) feed_percent = std::max(*s, 1.0);
+          return;
+        case 221:
+          if (auto s = c.get('S')) flow_percent = std::max(*s, 0.0);
+          return;
+        case 400:
+          done_at = finish_motion();
+          wait = Wait::motion;
+          return;
+        case 410:
+          quickstop();
+          return;
+        case 999:
+          if (!c.has('S') || c.get('S').value_or(0) == 0) {
+            ++counters.resends;
+            emit(fmt::format("Resend: {}", last_n + 1));
+          }
+          return;
+        default: break;
+      }
+    } else if (c.letter == 'T' && c.code >= 0) {
+      if (c.code > 0) emit(fmt::format("echo:T{} Invalid extruder", c.code));
+      return;
+    }
+    unknown(command.text);
+  }
+
+  void set_limits(const printer::GcodeCommand& c) {
+    printer::MotionLimits limits = motion.limits();
+    constexpr std::string_view axes = "XYZE";
+    for (int axis = 0; axis < 4; ++axis) {
+      const auto v = c.get(axes[axis]);
+      if (!v || *v <= 0) continue;
+      if (c.code == 201) limits.max_acceleration[axis] = *v;
+      if (c.code == 203) limits.max_speed[axis] = *v;
+    }
+    if (c.code == 204) {
+      if (auto s = c.get('S'); s && *s > 0) limits.print_acceleration = limits.travel_acceleration = *s;
+      if (auto p = c.get('P'); p && *p > 0) limits.print_acceleration = *p;
+      if (auto r = c.get('R'); r && *r > 0) limits.retract_acceleration = *r;
+      if (auto t = c.get('T'); t && *t > 0) limits.travel_acceleration = *t;
+    }
+    if (c.code == 205) {
+      if (auto j = c.get('J'); j && *j > 0) limits.junction_deviation = *j;
+      if (auto s = c.get('S'); s && *s >= 0) limits.min_feedrate = *s;
+    }
+    motion.set_limits(limits);
+  }
+
+  void report_firmware() {
+    emit(fmt::format(
+        "FIRMWARE_NAME:Marlin {} (mahost simulated printer) "
+        "SOURCE_CODE_URL:github.com/MarlinFirmware/Marlin PROTOCOL_VERSION:1.0 "
+        "MACHINE_TYPE:mahost sim EXTRUDER_COUNT:1 UUID:cede2a2f-41a2-4748-9b12-c55c62f367ff",
+        kVersion));
+    const std::pair<std::string_view, bool> caps[] = {
+        {"SERIAL_XON_XOFF", false},   {"BINARY_FILE_TRANSFER", false},
+        {"EEPROM", false},            {"VOLUMETRIC", false},
+        {"AUTOREPORT_TEMP", true},    {"PROGRESS", false},
+        {"PRINT_JOB", true},          {"AUTOLEVEL", false},
+        {"RUNOUT", false},            {"Z_PROBE", false},
+        {"LEVELING_DATA", false},     {"BUILD_PERCENT", true},
+        {"SOFTWARE_POWER", false},    {"TOGGLE_LIGHTS", false},
+        {"CASE_LIGHT_BRIGHTNESS", false}, {"EMERGENCY_PARSER", cfg.emergency_parser},
+        {"PROMPT_SUPPORT", false},    {"SDCARD", false},
+        {"REPEAT", false},            {"AUTOREPORT_SD_STATUS", false},
+        {"LONG_FILENAME", false},     {"THERMAL_PROTECTION", true},
+        {"MOTION_MODES", false},      {"ARCS", false},
+        {"BABYSTEPPING", false},      {"CHAMBER_TEMPERATURE", false},
+        {"COOLER_TEMPERATURE", false}, {"MEATPACK", false},
+    };
+    for (const auto& [name, on] : caps) emit(fmt::format("Cap:{}:{}", name, on ? 1 : 0));
+  }
+
+  // ---- the loop --------------------------------------------------------------------------
+
+  void advance_clock(double t) {
+    if (t <= now) return;
+    now = t;
+    hotend.advance_to(now);
+    bed.advance_to(now);
+  }
+
+  // Does everything due at `now`.
+  void settle() {
+    if (state == PrinterState::booting && now >= boot_done) {
+      deliver();  // input during boot is lost
+      finish_boot();
+    }
+    if (cfg.faults.disconnect_at_time && !disconnect_time_done &&
+        now >= *cfg.faults.disconnect_at_time) {
+      disconnect_time_done = true;
+      if (state != PrinterState::disconnected) {
+        disconnect(fmt::format("disconnected at {:g} s (fault disconnect-at-time)",
+                               *cfg.faults.disconnect_at_time));
+      }
+    }
+    if (now >= runaway_at && state != PrinterState::halted) thermal_runaway();
+    for (bool progress = true; progress;) {
+      progress = deliver();
+      if (state != PrinterState::running && state != PrinterState::disconnected) {
+        rx.clear();
+        return;
+      }
+      if (!rx.empty() && !queue_full()) read_rx();
+      if (!executing && !queue.empty()) {
+        start_next();
+        progress = true;
+      }
+      if (executing && done_at <= now) {
+        complete();
+        progress = true;
+      }
+    }
+    if (executing && now >= next_busy) {
+      emit(wait == Wait::user ? "echo:busy: paused for user" : "echo:busy: processing");
+      next_busy = now + busy_interval;
+    }
+    if (executing && now >= next_wait_report) {
+      if (wait == Wait::hotend) emit_wait_report(cfg.hotend);
+      if (wait == Wait::bed) emit_wait_report(cfg.bed);
+      next_wait_report = now + 1;
+    }
+    if (now >= next_autoreport) {
+      emit(heater_states());
+      next_autoreport = now + autoreport_interval;
+    }
+    if (cfg.idle_wait_interval > 0 && !executing && queue.empty() && rx.empty() &&
+        now >= last_activity + cfg.idle_wait_interval) {
+      emit("wait");
+      last_activity = now;
+    }
+  }
+
+  // Arrival of the next line end on the wire (when the firmware would read it).
+  double next_line_end() const {
+    for (const Chunk& chunk : wire) {
+      for (std::size_t k = chunk.next; k < chunk.bytes.size(); ++k) {
+        if (is_eol(chunk.bytes[k])) return chunk.start + byte_time * static_cast<double>(k + 1);
+      }
+    }
+    return kInfinity;
+  }
+
+  // The next time after now at which the firmware does something on its own. settle() has
+  // done everything due at now, so only later times count.
+  double next_event() const {
+    double next = kInfinity;
+    const auto consider = [&](double t) {
+      if (t > now && t < next) next = t;
+    };
+    if (!out.empty()) consider(out.front().at);
+    if (cfg.faults.disconnect_at_time && !disconnect_time_done) {
+      consider(*cfg.faults.disconnect_at_time);
+    }
+    if (state == PrinterState::booting) {
+      consider(boot_done);
+      return next;
+    }
+    if (state == PrinterState::halted) return next;
+    if (!emergencies.empty()) consider(emergencies.front().at);
+    if (!queue_full() && state == PrinterState::running) consider(next_line_end());
+    if (executing) {
+      consider(done_at);
+      consider(next_busy);
+      consider(next_wait_report);
+    }
+    consider(next_autoreport);
+    consider(runaway_at);
+    if (cfg.idle_wait_interval > 0 && !executing && queue.empty()) {
+      consider(last_activity + cfg.idle_wait_interval);
+    }
+    return next;
+  }
+
+  bool run(double until, bool stop_on_output) {
+    for (;;) {
+      settle();
+      if (stop_on_output && output_ready()) return true;
+      const double next = next_event();
+      if (next > until) {
+        advance_clock(until);
+        settle();
+        return output_ready();
+      }
+      advance_clock(next);
+    }
+  }
+};
+
+Printer::Printer(Config config) : firmware_(std::make_unique<Firmware>(std::move(config))) {}
+Printer::~Printer() = default;
+Printer::Printer(Printer&&) noexcept = default;
+Printer& Printer::operator=(Printer&&) noexcept = default;
+
+void Printer::receive(std::string_view bytes) { firmware_->receive(bytes); }
+
+void Printer::run_until(double t) {
+  if (t > firmware_->now) firmware_->run(t, false);
+}
+
+bool Printer::run_until_output(double t) {
+  return firmware_->run(std::max(t, firmware_->now), true);
+}
+
+std::string Printer::take_output() { return firmware_->take_output(); }
+
+void Printer::reset() { firmware_->power_on(); }
+
+void Printer::reconnect() {
+  if (firmware_->state == PrinterState::disconnected) firmware_->state = PrinterState::running;
+  firmware_->power_on();
+}
+
+double Printer::now() const { return firmware_->now; }
+double Printer::next_event_time() const {
+  const double next = firmware_->next_event();
+  return next;
+}
+PrinterState Printer::state() const { return firmware_->state; }
+const std::string& Printer::stop_reason() const { return firmware_->stop_reason; }
+const std::vector<std::string>& Printer::executed_commands() const { return firmware_->log; }
+const DepositionRecord& Printer::deposition() const { return firmware_->record; }
+const Counters& Printer::counters() const { return firmware_->counters; }
+const Config& Printer::config() const { return firmware_->cfg; }
+double Printer::motion_time() const { return firmware_->motion.total_time(); }
+double Printer::motion_end_time() const { return firmware_->stepper_free; }
+void Printer::finish() { firmware_->finish_motion(); }
+
+Printer::Position Printer::position() const { return firmware_->pos; }
+double Printer::hotend_temperature() const { return firmware_->hotend.temperature(); }
+double Printer::bed_temperature() const { return firmware_->bed.temperature(); }
+double Printer::hotend_target() const { return firmware_->hotend.target(); }
+double Printer::bed_target() const { return firmware_->bed.target(); }
+
+}  // namespace sim

@@ -1,0 +1,324 @@
+// The simulated printer against hand-written byte streams: every reply compared literally
+// with what Marlin 2.x sends (Marlin/src/gcode/queue.cpp, gcode.cpp, temperature.cpp).
+// Checksums in the streams were worked out by hand (XOR of the bytes before '*').
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <string>
+
+#include "sim/printer.h"
+
+namespace {
+
+// A printer past its power-on banner.
+struct Bench {
+  sim::Printer printer;
+  explicit Bench(sim::Config config = {}) : printer(std::move(config)) {
+    printer.run_until(1e-3);
+    printer.take_output();
+  }
+  // Sends bytes, lets `seconds` of sim time pass, returns what the firmware said.
+  std::string send(std::string_view bytes, double seconds = 0.5) {
+    printer.receive(bytes);
+    printer.run_until(printer.now() + seconds);
+    return printer.take_output();
+  }
+};
+
+}  // namespace
+
+TEST_CASE("start_banner_on_power_on") {
+  sim::Printer printer;
+  printer.run_until(1e-3);
+  CHECK(printer.take_output() ==
+        "start\n"
+        "echo:Marlin 2.0.9.3\n"
+        "echo: Last Updated: 2021-12-25 | Author: (mahost simulated printer)\n");
+  CHECK(printer.counters().resets == 1);
+}
+
+TEST_CASE("input_during_boot_is_lost") {
+  sim::Config config;
+  config.boot_time = 1.5;
+  sim::Printer printer(config);
+  printer.receive("M105\n");
+  printer.run_until(1.0);
+  CHECK(printer.take_output().empty());
+  printer.run_until(2.0);
+  CHECK(printer.take_output().starts_with("start\n"));
+  CHECK(printer.executed_commands().empty());
+}
+
+TEST_CASE("numbered_line_with_good_checksum_gets_ok") {
+  Bench bench;
+  CHECK(bench.send("N1 M105*38\n") == "ok T:20.00 /0.00 B:20.00 /0.00 @:0 B@:0\n");
+  CHECK(bench.send("N2 M114*37\n") == "X:0.00 Y:0.00 Z:0.00 E:0.00 Count X:0 Y:0 Z:0\nok\n");
+  CHECK(bench.printer.executed_commands() == std::vector<std::string>{"M105", "M114"});
+}
+
+TEST_CASE("checksum_mismatch_answers_error_resend_ok") {
+  Bench bench;
+  CHECK(bench.send("N1 M105*39\n") ==
+        "Error:checksum mismatch, Last Line: 0\nResend: 1\nok\n");
+  CHECK(bench.printer.executed_commands().empty());
+  CHECK(bench.printer.counters().errors == 1);
+  CHECK(bench.printer.counters().resends == 1);
+}
+
+TEST_CASE("skipped_line_number_answers_line_number_error") {
+  Bench bench;
+  CHECK(bench.send("N2 M105*37\n") ==
+        "Error:Line Number is not Last Line Number+1, Last Line: 0\nResend: 1\nok\n");
+}
+
+TEST_CASE("line_number_is_checked_before_checksum") {
+  // Marlin checks the number first: a bad number with a bad checksum reports the number.
+  Bench bench;
+  CHECK(bench.send("N3 M105*0\n") ==
+        "Error:Line Number is not Last Line Number+1, Last Line: 0\nResend: 1\nok\n");
+}
+
+TEST_CASE("numbered_line_without_checksum_is_refused") {
+  Bench bench;
+  CHECK(bench.send("N1 M105\n") ==
+        "Error:No Checksum with line number, Last Line: 0\nResend: 1\nok\n");
+}
+
+TEST_CASE("resend_without_ok_when_configured") {
+  sim::Config config;
+  config.ok_after_resend = false;
+  Bench bench(config);
+  CHECK(bench.send("N1 M105*39\n") == "Error:checksum mismatch, Last Line: 0\nResend: 1\n");
+}
+
+TEST_CASE("repeated_line_is_refused_and_not_executed_twice") {
+  Bench bench;
+  CHECK(bench.send("N1 M105*38\n").starts_with("ok T:"));
+  CHECK(bench.send("N1 M105*38\n") ==
+        "Error:Line Number is not Last Line Number+1, Last Line: 1\nResend: 2\nok\n");
+  CHECK(bench.printer.executed_commands().size() == 1);
+}
+
+TEST_CASE("printrun_m110_reset_sets_next_line_to_zero") {
+  Bench bench;
+  CHECK(bench.send("N1 M105*38\n").starts_with("ok"));
+  CHECK(bench.send("N-1 M110*15\n") == "ok\n");
+  CHECK(bench.send("N0 M105*39\n").starts_with("ok T:"));
+}
+
+TEST_CASE("m110_with_n_sets_the_line_number") {
+  Bench bench;
+  CHECK(bench.send("N1 M110 N100*125\n") == "ok\n");
+  CHECK(bench.send("N101 M105*39\n").starts_with("ok T:"));
+  CHECK(bench.send("M110 N0\n") == "ok\n");
+  CHECK(bench.send("N1 M105*38\n").starts_with("ok T:"));
+}
+
+TEST_CASE("unnumbered_lines_are_not_checked") {
+  Bench bench;
+  CHECK(bench.send("M105*99\n").starts_with("ok T:"));
+  CHECK(bench.send("  G92 X1\n") == "ok\n");
+  CHECK(bench.printer.executed_commands() == std::vector<std::string>{"M105", "G92 X1"});
+}
+
+TEST_CASE("comments_blank_lines_and_carriage_returns") {
+  Bench bench;
+  CHECK(bench.send("; only a comment\n\n\r\nG92 X5 ; set x\rM114\r\n") ==
+        "ok\nX:5.00 Y:0.00 Z:0.00 E:0.00 Count X:400 Y:0 Z:0\nok\n");
+  CHECK(bench.printer.executed_commands() == std::vector<std::string>{"G92 X5", "M114"});
+}
+
+TEST_CASE("backspace_erases_the_previous_character") {
+  Bench bench;
+  CHECK(bench.send("G92 X9\b7\n") == "ok\n");
+  CHECK(bench.printer.executed_commands() == std::vector<std::string>{"G92 X7"});
+}
+
+TEST_CASE("over_long_line_is_cut_at_max_cmd_size") {
+  Bench bench;
+  const std::string text = "M117 " + std::string(200, 'x');
+  CHECK(bench.send(text + "\n") == "ok\n");
+  REQUIRE(bench.printer.executed_commands().size() == 1);
+  CHECK(bench.printer.executed_commands()[0] == text.substr(0, 95));
+  CHECK(bench.printer.counters().long_lines == 1);
+}
+
+TEST_CASE("unknown_command_echo_then_ok") {
+  Bench bench;
+  CHECK(bench.send("M9999 X1\n") == "echo:Unknown command: \"M9999 X1\"\nok\n");
+  CHECK(bench.send("G21\n") == "echo:Unknown command: \"G21\"\nok\n");
+  CHECK(bench.printer.counters().unknown_commands == 2);
+}
+
+TEST_CASE("second_extruder_is_invalid") {
+  Bench bench;
+  CHECK(bench.send("T0\n") == "ok\n");
+  CHECK(bench.send("T1\n") == "echo:T1 Invalid extruder\nok\n");
+}
+
+TEST_CASE("m114_reports_position_and_step_counts") {
+  Bench bench;
+  CHECK(bench.send("G92 X10 Y20 Z0.3 E1.5\nM114\n") ==
+        "ok\nX:10.00 Y:20.00 Z:0.30 E:1.50 Count X:800 Y:1600 Z:120\nok\n");
+}
+
+TEST_CASE("m115_reports_firmware_and_capabilities") {
+  Bench bench;
+  const std::string reply = bench.send("M115\n");
+  CHECK(reply.starts_with(
+      "FIRMWARE_NAME:Marlin 2.0.9.3 (mahost simulated printer) "
+      "SOURCE_CODE_URL:github.com/MarlinFirmware/Marlin PROTOCOL_VERSION:1.0 "
+      "MACHINE_TYPE:mahost sim EXTRUDER_COUNT:1 UUID:cede2a2f-41a2-4748-9b12-c55c62f367ff\n"
+      "Cap:SERIAL_XON_XOFF:0\n"));
+  CHECK(reply.find("\nCap:AUTOREPORT_TEMP:1\n") != std::string::npos);
+  CHECK(reply.find("\nCap:EMERGENCY_PARSER:1\n") != std::string::npos);
+  CHECK(reply.ends_with("\nCap:MEATPACK:0\nok\n"));
+}
+
+TEST_CASE("advanced_ok_reports_line_planner_and_queue_space") {
+  sim::Config config;
+  config.advanced_ok = true;
+  Bench bench(config);
+  // One move open in the 16-move planner; the command itself still holds one of 4 slots.
+  CHECK(bench.send("N1 G1 X10 F6000*48\n") == "ok N1 P15 B3\n");
+  CHECK(bench.send("G92 E0\n") == "ok P15 B3\n");
+  // M105 prints its own ok, with temperatures and without the buffer fields.
+  CHECK(bench.send("M105\n") == "ok T:20.00 /0.00 B:20.00 /0.00 @:0 B@:0\n");
+}
+
+TEST_CASE("m155_autoreports_temperatures") {
+  Bench bench;
+  CHECK(bench.send("M155 S1\n", 3.5) ==
+        "ok\n"
+        " T:20.00 /0.00 B:20.00 /0.00 @:0 B@:0\n"
+        " T:20.00 /0.00 B:20.00 /0.00 @:0 B@:0\n"
+        " T:20.00 /0.00 B:20.00 /0.00 @:0 B@:0\n");
+  CHECK(bench.send("M155 S0\n", 3) == "ok\n");
+}
+
+TEST_CASE("m109_waits_the_closed_form_heating_time") {
+  // Full power: T(t) = 500 - 480 e^(-t/120) (ambient 20, 4 °C/s, 120 s). Within 1 °C of 210
+  // at t1 = 120 ln(480/291), then 10 s of residency.
+  Bench bench;
+  const double start = bench.printer.now();
+  bench.printer.receive("M109 S210\n");
+  const double expected = 120 * std::log(480.0 / 291.0) + 10;
+  std::string said;
+  double ok_at = 0;
+  while (bench.printer.run_until_output(start + 200)) {
+    const std::string out = bench.printer.take_output();
+    said += out;
+    if (out.find("ok\n") != std::string::npos) {
+      ok_at = bench.printer.now() - start;
+      break;
+    }
+  }
+  CHECK(ok_at == doctest::Approx(expected).epsilon(1e-9));
+  CHECK(bench.printer.hotend_temperature() == doctest::Approx(210));
+  // A report at once and every second, busy every 2 s (Marlin's BUSY_WHILE_HEATING).
+  CHECK(said.starts_with(" T:20.00 /210.00 B:20.00 /0.00 @:127 B@:0 W:?\n"
+                         " T:23.98 /210.00 B:20.00 /0.00 @:127 B@:0 W:?\n"
+                         "echo:busy: processing\n"
+                         " T:27.93 /210.00 B:20.00 /0.00 @:127 B@:0 W:?\n"));
+  int busy = 0, reports = 0;
+  for (std::size_t at = 0; (at = said.find("busy: processing", at)) != std::string::npos; ++at) {
+    ++busy;
+  }
+  for (std::size_t at = 0; (at = said.find(" W:", at)) != std::string::npos; ++at) ++reports;
+  CHECK(busy == static_cast<int>(std::floor(expected / 2)));
+  CHECK(reports == static_cast<int>(std::floor(expected)) + 1);
+  // Holding power at 210: 127 * 190 / 480.
+  CHECK(bench.send("M105\n") == "ok T:210.00 /210.00 B:20.00 /0.00 @:50 B@:0\n");
+}
+
+TEST_CASE("m109_s_does_not_wait_for_cooling") {
+  Bench bench;
+  bench.send("M109 S200\n", 200);
+  CHECK(bench.send("M109 S180\n") == " T:200.00 /180.00 B:20.00 /0.00 @:0 B@:0 W:?\nok\n");
+}
+
+TEST_CASE("m190_waits_for_the_bed") {
+  // Bed: ceiling 20 + 0.6 * 300 = 200 °C; within 1 °C of 60 at 300 ln(180/141), then 10 s.
+  Bench bench;
+  const double start = bench.printer.now();
+  bench.printer.receive("M190 S60\nM105\n");
+  const double expected = 300 * std::log(180.0 / 141.0) + 10;
+  bench.printer.run_until(start + expected - 0.01);
+  CHECK(bench.printer.take_output().find("ok") == std::string::npos);
+  bench.printer.run_until(start + expected + 0.01);
+  CHECK(bench.printer.take_output().ends_with("ok\nok T:20.00 /0.00 B:60.00 /60.00 @:0 B@:28\n"));
+}
+
+TEST_CASE("m108_ends_a_heating_wait") {
+  Bench bench;
+  bench.send("M109 S210\n", 5);
+  const std::string said = bench.send("M108\n", 0.1);
+  CHECK(said == "ok\nok\n");  // M109's ok at once, then M108's own
+  CHECK(bench.printer.hotend_target() == 210);
+}
+
+TEST_CASE("m0_pauses_for_user_until_m108") {
+  Bench bench;
+  CHECK(bench.send("M0\n", 4.5) == "echo:busy: paused for user\necho:busy: paused for user\n");
+  CHECK(bench.send("M108\n") == "ok\nok\n");
+}
+
+TEST_CASE("m112_halts_and_nothing_but_a_reset_helps") {
+  Bench bench;
+  CHECK(bench.send("M104 S200\nM112\n") == "ok\nError:Printer halted. kill() called!\n");
+  CHECK(bench.printer.state() == sim::PrinterState::halted);
+  CHECK(bench.printer.hotend_target() == 0);
+  CHECK(bench.send("M999\nM105\n", 5).empty());
+  bench.printer.reset();
+  CHECK(bench.send("M105\n") ==
+        "start\necho:Marlin 2.0.9.3\n"
+        "echo: Last Updated: 2021-12-25 | Author: (mahost simulated printer)\n"
+        "ok T:20.00 /0.00 B:20.00 /0.00 @:0 B@:0\n");
+  CHECK(bench.printer.counters().resets == 2);
+}
+
+TEST_CASE("m112_jumps_a_full_queue_with_the_emergency_parser") {
+  Bench bench;
+  // Four dwells fill the queue; M112 behind them still acts the moment it arrives.
+  CHECK(bench.send("G4 S10\nG4 S10\nG4 S10\nG4 S10\nN7 M112*38\n", 1) ==
+        "Error:Printer halted. kill() called!\n");
+  CHECK(bench.printer.executed_commands() == std::vector<std::string>{"G4 S10", "M112"});
+}
+
+TEST_CASE("m112_waits_in_the_queue_without_the_emergency_parser") {
+  sim::Config config;
+  config.emergency_parser = false;
+  Bench bench(config);
+  CHECK(bench.send("G4 S1\nN1 M112*32\n", 0.5).empty());
+  CHECK(bench.send("", 1) == "ok\nError:Printer halted. kill() called!\n");
+}
+
+TEST_CASE("m999_asks_for_the_next_line") {
+  Bench bench;
+  CHECK(bench.send("N1 M105*38\n").starts_with("ok"));
+  CHECK(bench.send("M999\n") == "Resend: 2\nok\n");
+  CHECK(bench.send("M999 S1\n") == "ok\n");
+}
+
+TEST_CASE("g4_dwells_and_reports_busy") {
+  Bench bench;
+  CHECK(bench.send("G4 S5\n", 4.9) == "echo:busy: processing\necho:busy: processing\n");
+  CHECK(bench.send("", 0.2) == "ok\n");
+  CHECK(bench.send("M113 S0\nG4 P3000\n", 3.1) == "ok\nok\n");  // keepalive off
+}
+
+TEST_CASE("g28_homes_through_the_motion_model_and_reports_position") {
+  // Each homing move runs rest to rest: L/v + v/a. X from 50 at 50 mm/s, 1500 mm/s^2 (travel),
+  // 5 mm back off, 5 mm at 25 mm/s; Y likewise from 40; Z from 10 at 4 mm/s, 100 mm/s^2
+  // (Z's limit), 2 mm back off, 2 mm at 1 mm/s.
+  const double x = (50 / 50.0 + 50 / 1500.0) + (5 / 50.0 + 50 / 1500.0) + (5 / 25.0 + 25 / 1500.0);
+  const double y = (40 / 50.0 + 50 / 1500.0) + (5 / 50.0 + 50 / 1500.0) + (5 / 25.0 + 25 / 1500.0);
+  const double z = (10 / 4.0 + 4 / 100.0) + (2 / 4.0 + 4 / 100.0) + (2 / 1.0 + 1 / 100.0);
+  Bench bench;
+  CHECK(bench.send("G92 X50 Y40 Z10\n") == "ok\n");
+  const double start = bench.printer.now();
+  CHECK(bench.send("G28\n", x + y + z - 1e-6) ==
+        "echo:busy: processing\necho:busy: processing\necho:busy: processing\n");
+  CHECK(bench.send("", 2e-6) == "X:0.00 Y:0.00 Z:0.00 E:0.00 Count X:0 Y:0 Z:0\nok\n");
+  (void)start;
+}
