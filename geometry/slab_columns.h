@@ -1,0 +1,79 @@
+// The slab as vertical columns: how much of each column (x, y) x [z_lo, z_hi] the model fills
+// (paper §3.1, eq. 1 and 7; DESIGN.md §3). Every volume figure of a layer is an integral of
+// this occupied height occ(x, y):
+//   vol(S_i)              = integral of occ over the plane
+//   vol(S_i ∩ R x [z_lo, z_hi]) = integral of occ over R
+//   ΔV(R) = vol(S_i △ P_i) = vol(S_i) + t area(R) - 2 integral of occ over R
+//   the volume limit      = integral of min(occ, t - occ)             (volume_limit.h)
+//
+// Why columns and not cross-sections: a vertical line meets the slab's surface at its facets;
+// walking up, every up-facing facet is an exit and every down-facing one an entry, so
+//   occ(x, y) = t [(x, y) in C(z_lo)] + sum over facets f above (x, y) of s_f (z_hi - z_f(x, y)),
+// s_f = -1 for up-facing, +1 for down-facing facets, z_f the facet's plane. Each term is
+// linear over a convex polygon (the facet's projection), so the integral over any polygonal
+// region R is a sum of exact integrals of linear functions over (facet ∩ R): no quadrature,
+// no sampling. That is what makes ΔV exact (to floating point) and fast.
+//
+// Input: a Slab (slab.h: facets clipped to the slab, faces lying in the planes z_lo or z_hi
+// left out) and the section at z_lo as the limit from above (LayerStack::lower), mm.
+// Conventions match: a horizontal face at z_lo is not a facet of the slab, and the lower
+// section holds exactly what lies just above it. Vertical facets have no area and drop out.
+// Empty slab: no facets, zero volume.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "geometry/boundary_grid.h"
+#include "geometry/polygon.h"
+#include "geometry/slab.h"
+
+namespace geometry {
+
+// A facet of the slab seen from above: its projection (convex, counter-clockwise) and the
+// depth of the slab's top below it, w(x, y) = z_hi - z_f(x, y) = w0 + wx (x - origin.x) +
+// wy (y - origin.y), with origin its first vertex.
+struct ColumnFacet {
+  std::vector<Vec2> outline;
+  double w0 = 0, wx = 0, wy = 0;
+  int sign = 0;  // -1 up-facing (an exit), +1 down-facing (an entry)
+  Vec2 lo, hi;   // bounding box
+};
+
+struct SlabColumns {
+  double z_lo = 0, z_hi = 0;
+  std::vector<ColumnFacet> facets;
+  Region lower;                   // C(z_lo), limit from above
+  double lower_area = 0;
+  double volume = 0;              // vol(S_i), mm^3
+  double thickness() const { return z_hi - z_lo; }
+};
+
+SlabColumns slab_columns(const Slab& slab, const Region& lower_section);
+
+// Exact integrals of 1, x - o.x and y - o.y over (convex polygon ∩ region), mm^2 and mm^3:
+// the region's boundary (as a grid, whose segments must be those of `region`) clipped by
+// the polygon plus the polygon's boundary inside the region (Green's theorem). Degenerate
+// configurations (the region's boundary through a polygon corner, or exactly along it) fall
+// back to Clipper on the whole region.
+struct AreaMoments {
+  double area = 0, mx = 0, my = 0;
+};
+AreaMoments moments_of_intersection(const std::vector<Vec2>& convex, Vec2 origin,
+                                    const BoundaryGrid& region_grid, const Region& region);
+
+// Integral of occ over R, mm^3: vol(S_i ∩ R x [z_lo, z_hi]).
+double occupied_volume_inside(const SlabColumns& columns, const Region& region);
+double occupied_volume_inside(const SlabColumns& columns, const Region& region,
+                              const BoundaryGrid& region_grid);
+
+// Exact area of the intersection of two regions (Clipper, 1 nm units), mm^2.
+double intersection_area(const Region& a, const Region& b);
+
+// Integral over a polygon (one loop, any orientation: signed) of w0 + wx (x - o.x) +
+// wy (y - o.y), from its boundary.
+double integrate_linear(const std::vector<Vec2>& loop, Vec2 origin, double w0, double wx,
+                        double wy);
+AreaMoments moments_of_loop(const std::vector<Vec2>& loop, Vec2 origin);
+
+}  // namespace geometry
