@@ -1,0 +1,495 @@
+// The G-code writer (see gcode_writer.h). The program is generated twice by the same code:
+// once into a PrintClock, to learn the print time and each layer's start time (the header and
+// the M73 progress lines need them before the body is written), and once into text. Both runs
+// see the same rounded numbers, so the estimate is exactly what re-reading the text gives, and
+// nothing but the output buffer is held in memory.
+#include "printer/gcode_writer.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <string_view>
+
+#include <fmt/core.h>
+#include <fmt/format.h>
+
+#include "printer/bead_model.h"
+#include "printer/error.h"
+#include "printer/print_time.h"
+
+namespace printer {
+
+namespace {
+
+using geometry::ExtrusionPath;
+using geometry::LayerToolpaths;
+using geometry::PathRole;
+using geometry::Vec2;
+
+// The resolution written: what the firmware reads is what we time.
+double round_to(double v, double unit) { return std::round(v / unit) * unit; }
+double mm(double v) { return round_to(v, 1e-3); }
+double filament_mm(double v) { return round_to(v, 1e-5); }
+double per_minute(double mm_per_s) { return std::max(1.0, std::round(mm_per_s * 60)); }
+
+// Where the generated program goes: the clock (first run) or the text (second run).
+class Sink {
+ public:
+  virtual ~Sink() = default;
+  virtual void command(std::string_view line) = 0;  // any line the firmware reads
+  virtual void comment(std::string_view text) = 0;  // ";text", ignored by the firmware
+  virtual void move(int g, const MoveWords& words) = 0;
+  virtual void layer_start(std::size_t layer, double z) = 0;
+};
+
+class ClockSink final : public Sink {
+ public:
+  explicit ClockSink(const MotionLimits& limits) : clock_(limits) {}
+  void command(std::string_view line) override {
+    clock_.line(line);
+    settle_layers();
+  }
+  void comment(std::string_view) override {}
+  void move(int, const MoveWords& words) override {
+    clock_.linear_move(words);
+    settle_layers();
+  }
+  // A layer starts when the moves queued before it are done; the planner makes them final
+  // a window later, so the time is taken then.
+  void layer_start(std::size_t, double) override {
+    layer_starts_.push_back(clock_.moves_queued());
+    settle_layers();
+  }
+
+  double finish() {
+    const double total = clock_.finish();
+    settle_layers();
+    return total;
+  }
+  const std::vector<double>& layer_times() const { return layer_times_; }
+
+ private:
+  void settle_layers() {
+    while (layer_times_.size() < layer_starts_.size() &&
+           clock_.moves_final() >= layer_starts_[layer_times_.size()]) {
+      layer_times_.push_back(clock_.elapsed());
+    }
+  }
+
+  PrintClock clock_;
+  std::vector<std::size_t> layer_starts_;
+  std::vector<double> layer_times_;
+};
+
+class TextSink final : public Sink {
+ public:
+  TextSink(std::ostream& out, double total_seconds, std::vector<double> layer_times)
+      : out_(out), total_(total_seconds), layer_times_(std::move(layer_times)) {}
+  ~TextSink() override { flush(); }
+
+  void command(std::string_view line) override { write_line(line); }
+  void comment(std::string_view text) override {
+    buffer_.push_back(';');
+    write_line(text);
+  }
+  void move(int g, const MoveWords& w) override {
+    buffer_.push_back('G');
+    buffer_.push_back(g == 0 ? '0' : '1');
+    word('X', w.x, 3);
+    word('Y', w.y, 3);
+    word('Z', w.z, 3);
+    word('E', w.e, 5);
+    word('F', w.f, 0);
+    end_line();
+  }
+  void layer_start(std::size_t layer, double z) override {
+    const double at = layer < layer_times_.size() ? layer_times_[layer] : total_;
+    const int percent = total_ > 0 ? static_cast<int>(std::floor(100.0 * at / total_)) : 0;
+    const int minutes_left = static_cast<int>(std::ceil(std::max(0.0, total_ - at) / 60.0));
+    fmt::format_to(std::back_inserter(buffer_), ";LAYER:{}\n;Z:", layer);
+    number(z, 3);
+    end_line();
+    fmt::format_to(std::back_inserter(buffer_), "M73 P{} R{}", std::clamp(percent, 0, 100),
+                   minutes_left);
+    end_line();
+  }
+
+  void write_line(std::string_view line) {
+    buffer_.append(line.data(), line.data() + line.size());
+    end_line();
+  }
+  void flush() {
+    out_.write(buffer_.data(), static_cast<std::streamsize>(buffer_.size()));
+    bytes_ += buffer_.size();
+    buffer_.clear();
+  }
+  std::size_t bytes() { flush(); return bytes_; }
+  std::size_t lines() const { return lines_; }
+
+ private:
+  void word(char letter, const std::optional<double>& value, int decimals) {
+    if (!value) return;
+    buffer_.push_back(' ');
+    buffer_.push_back(letter);
+    number(*value, decimals);
+  }
+  // Fixed decimals without trailing zeros ("12.5", "0", "-0.8").
+  void number(double v, int decimals) {
+    char text[64];
+    const auto result = fmt::format_to_n(text, sizeof text, "{:.{}f}", v, decimals);
+    std::size_t n = std::min(result.size, sizeof text);
+    if (decimals > 0) {
+      while (n > 0 && text[n - 1] == '0') --n;
+      if (n > 0 && text[n - 1] == '.') --n;
+    }
+    if (n == 2 && text[0] == '-' && text[1] == '0') {
+      text[0] = '0';
+      n = 1;
+    }
+    buffer_.append(text, text + n);
+  }
+  void end_line() {
+    buffer_.push_back('\n');
+    ++lines_;
+    if (buffer_.size() > (1u << 20)) flush();
+  }
+
+  std::ostream& out_;
+  double total_;
+  std::vector<double> layer_times_;
+  fmt::memory_buffer buffer_;
+  std::size_t bytes_ = 0, lines_ = 0;
+};
+
+double feature_speed(const FeatureSpeeds& s, PathRole role) {
+  switch (role) {
+    case PathRole::skirt: return s.skirt;
+    case PathRole::outer_wall: return s.outer_wall;
+    case PathRole::inner_wall: return s.inner_wall;
+    case PathRole::thin_wall: return s.thin_wall;
+    case PathRole::bottom_skin: return s.bottom_skin;
+    case PathRole::top_skin: return s.top_skin;
+    case PathRole::solid_infill: return s.solid_infill;
+    case PathRole::sparse_infill: return s.sparse_infill;
+  }
+  return s.outer_wall;
+}
+
+// Splits a profile's G-code block into lines, dropping blank ones.
+template <class F>
+void for_each_line(std::string_view text, F&& f) {
+  while (!text.empty()) {
+    const std::size_t end = text.find('\n');
+    std::string_view line = text.substr(0, end);
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.remove_suffix(1);
+    while (!line.empty() && line.front() == ' ') line.remove_prefix(1);
+    if (!line.empty()) f(line);
+    if (end == std::string_view::npos) break;
+    text.remove_prefix(end + 1);
+  }
+}
+
+// Generates the program body into a sink; the same code for both runs.
+class Emitter {
+ public:
+  Emitter(const Profiles& profiles, const GcodeOptions& options, Vec2 offset, Sink& sink)
+      : printer_(profiles.printer), material_(profiles.material), profiles_(profiles),
+        options_(options), offset_(offset), sink_(sink) {}
+
+  void program(const std::vector<LayerToolpaths>& layers) {
+    const MaterialProfile& m = material_;
+    if (m.first_layer_bed_temperature > 0) {
+      sink_.command(fmt::format("M140 S{:g}", m.first_layer_bed_temperature));
+    }
+    if (m.first_layer_nozzle_temperature > 0) {
+      sink_.command(fmt::format("M104 S{:g}", m.first_layer_nozzle_temperature));
+    }
+    if (m.first_layer_bed_temperature > 0) {
+      sink_.command(fmt::format("M190 S{:g}", m.first_layer_bed_temperature));
+    }
+    if (m.first_layer_nozzle_temperature > 0) {
+      sink_.command(fmt::format("M109 S{:g}", m.first_layer_nozzle_temperature));
+    }
+    PlaceholderValues values;
+    values.layer_height = options_.layer_height;
+    sink_.comment("start G-code from the printer profile");
+    for_each_line(expand_placeholders(printer_.start_gcode, profiles_, values, "gcode.start"),
+                  [&](std::string_view line) { sink_.command(line); });
+    // G90 also resets Marlin's E to absolute, so the E mode comes after it.
+    sink_.command("G90");
+    sink_.command(printer_.relative_e ? "M83" : "M82");
+    sink_.command("G92 E0");
+    sink_.command("M107");
+
+    for (std::size_t n = 0; n < layers.size(); ++n) {
+      layer(n, layers[n]);
+      if (on_layer_) on_layer_(n + 1);
+    }
+
+    sink_.command("M107");
+    sink_.comment("end G-code from the printer profile");
+    for_each_line(expand_placeholders(printer_.end_gcode, profiles_, values, "gcode.end"),
+                  [&](std::string_view line) { sink_.command(line); });
+    sink_.command("M73 P100 R0");
+  }
+
+  double filament() const { return filament_; }
+  void on_layer(LayersWritten f) { on_layer_ = std::move(f); }
+
+ private:
+  void layer(std::size_t n, const LayerToolpaths& toolpaths) {
+    const double z = mm(toolpaths.z_hi);
+    sink_.layer_start(n, z);
+    sink_.command("G92 E0");
+    e_exact_ = 0;
+    e_written_ = 0;
+    if (n == 1) {
+      if (material_.nozzle_temperature > 0 &&
+          material_.nozzle_temperature != material_.first_layer_nozzle_temperature) {
+        sink_.command(fmt::format("M104 S{:g}", material_.nozzle_temperature));
+      }
+      if (material_.bed_temperature > 0 &&
+          material_.bed_temperature != material_.first_layer_bed_temperature) {
+        sink_.command(fmt::format("M140 S{:g}", material_.bed_temperature));
+      }
+    }
+    if (static_cast<int>(n) == material_.fan_start_layer && material_.fan_speed > 0) {
+      sink_.command(fmt::format("M106 S{}", static_cast<int>(std::lround(material_.fan_speed * 2.55))));
+    }
+    const double height = toolpaths.z_hi - toolpaths.z_lo;
+    if (!(height > 0)) return;  // a layer without thickness lays nothing
+    std::optional<PathRole> role;
+    for (const ExtrusionPath& path : toolpaths.paths) {
+      if (path.points.size() < 2) continue;
+      if (!role || *role != path.role) {
+        role = path.role;
+        sink_.comment(fmt::format("TYPE:{}", geometry::role_name(path.role)));
+      }
+      const double width = path.width > 0 ? path.width
+                           : n == 0       ? printer_.first_layer_width
+                                          : printer_.extrusion_width;
+      const double speed = n == 0 ? printer_.first_layer_speed : feature_speed(printer_.speed, path.role);
+      travel_to(place(path.points.front()), z, path.retract_before);
+      for (std::size_t i = 1; i < path.points.size(); ++i) {
+        extrude_to(place(path.points[i]), width, height, speed);
+      }
+    }
+  }
+
+  Vec2 place(Vec2 p) const { return {mm(p.x + offset_.x), mm(p.y + offset_.y)}; }
+
+  void set_feedrate(MoveWords& words, double mm_per_s) {
+    const double f = per_minute(mm_per_s);
+    if (f != feedrate_) {
+      words.f = f;
+      feedrate_ = f;
+    }
+  }
+
+  std::optional<double> e_word(double e_exact) {
+    const double written = filament_mm(e_exact);
+    std::optional<double> word;
+    if (printer_.relative_e) {
+      word = filament_mm(written - e_written_);
+    } else {
+      word = written;
+    }
+    e_written_ = written;
+    e_exact_ = e_exact;
+    return word;
+  }
+
+  // Pulls the filament back before a travel (retract = true) or pushes it back after one.
+  void set_retracted(bool retract) {
+    const double length = printer_.retraction.length;
+    if (!(length > 0) || retracted_ == retract) return;
+    MoveWords words;
+    words.e = e_word(e_exact_ + (retract ? -length : length));
+    set_feedrate(words, retract ? printer_.retraction.speed : printer_.retraction.prime_speed);
+    sink_.move(1, words);
+    retracted_ = retract;
+  }
+
+  void move_z(double z) {
+    if (z_known_ && z == z_) return;
+    MoveWords words;
+    words.z = z;
+    set_feedrate(words, printer_.speed.z);
+    sink_.move(1, words);
+    z_ = z;
+    z_known_ = true;
+  }
+
+  void travel_to(Vec2 p, double layer_z, bool retract) {
+    const bool moves = !xy_known_ || !(p == xy_);
+    const bool retracting = retract && moves && printer_.retraction.length > 0;
+    if (retracting) set_retracted(true);
+    const double hop = retracting ? printer_.retraction.z_hop : 0;
+    // Up first (never drag the nozzle through the part), over, then down onto the layer.
+    const double travel_z = mm(std::max(z_known_ ? z_ : layer_z, layer_z) + hop);
+    move_z(travel_z);
+    if (moves) {
+      MoveWords words;
+      words.x = p.x;
+      words.y = p.y;
+      set_feedrate(words, printer_.speed.travel);
+      sink_.move(0, words);
+      xy_ = p;
+      xy_known_ = true;
+    }
+    move_z(layer_z);
+    set_retracted(false);
+  }
+
+  void extrude_to(Vec2 p, double width, double height, double speed) {
+    const double length = std::hypot(p.x - xy_.x, p.y - xy_.y);
+    if (!(length > 0)) return;
+    const double e = filament_for_bead(width, height, length, printer_.filament_diameter,
+                                       material_.flow);
+    MoveWords words;
+    words.x = p.x;
+    words.y = p.y;
+    words.e = e_word(e_exact_ + e);
+    set_feedrate(words, speed);
+    sink_.move(1, words);
+    filament_ += e;
+    xy_ = p;
+  }
+
+  const PrinterProfile& printer_;
+  const MaterialProfile& material_;
+  const Profiles& profiles_;
+  const GcodeOptions& options_;
+  Vec2 offset_;
+  Sink& sink_;
+  LayersWritten on_layer_;
+
+  Vec2 xy_;
+  bool xy_known_ = false;
+  double z_ = 0;
+  bool z_known_ = false;
+  double feedrate_ = -1;  // mm/min as last written
+  double e_exact_ = 0;    // E since the last G92 E0, unrounded
+  double e_written_ = 0;  // E as last written (absolute value, rounded)
+  bool retracted_ = false;
+  double filament_ = 0;
+};
+
+// Refuses toolpaths that would leave the build volume once centred on the bed.
+void check_build_volume(const std::vector<LayerToolpaths>& layers, const PrinterProfile& printer,
+                        Vec2 offset) {
+  double min_x = std::numeric_limits<double>::infinity(), min_y = min_x, top = 0;
+  double max_x = -min_x, max_y = -min_x;
+  for (const LayerToolpaths& layer : layers) {
+    bool any = false;
+    for (const ExtrusionPath& path : layer.paths) {
+      if (path.points.size() < 2) continue;
+      for (const Vec2& p : path.points) {
+        min_x = std::min(min_x, p.x);
+        max_x = std::max(max_x, p.x);
+        min_y = std::min(min_y, p.y);
+        max_y = std::max(max_y, p.y);
+        any = true;
+      }
+    }
+    if (any) top = std::max(top, layer.z_hi);
+  }
+  if (!(max_x >= min_x)) return;  // nothing to print
+  constexpr double kTolerance = 1e-6;
+  const double hop = printer.retraction.length > 0 ? printer.retraction.z_hop : 0;
+  const bool fits = min_x + offset.x >= -kTolerance && max_x + offset.x <= printer.bed_x + kTolerance &&
+                    min_y + offset.y >= -kTolerance && max_y + offset.y <= printer.bed_y + kTolerance &&
+                    top + hop <= printer.bed_z + kTolerance;
+  if (fits) return;
+  throw ConfigError(fmt::format(
+      "the toolpaths (part and skirt) span {:.1f} x {:.1f} x {:.1f} mm but the {} builds at most "
+      "{:g} x {:g} x {:g} mm; scale the part down (--scale, --height), set a smaller "
+      "print.skirt_distance, or choose a bigger printer (--printer)",
+      max_x - min_x, max_y - min_y, top + hop, printer.name, printer.bed_x, printer.bed_y,
+      printer.bed_z));
+}
+
+void write_header(TextSink& text, const std::vector<LayerToolpaths>& layers, const Profiles& profiles,
+                  const GcodeOptions& options, double seconds, double filament) {
+  const PrinterProfile& p = profiles.printer;
+  const MaterialProfile& m = profiles.material;
+  const double grams = filament_weight(filament, p.filament_diameter, m.density);
+  const double cm3 = filament * filament_area(p.filament_diameter) / 1000.0;
+  // Cura's keys first: OctoPrint and printer screens read them.
+  text.write_line(";FLAVOR:Marlin");
+  text.write_line(fmt::format(";TIME:{:.0f}", std::round(seconds)));
+  text.write_line(fmt::format(";Filament used: {:.5f}m", filament / 1000.0));
+  text.write_line(fmt::format(";Layer height: {:g}", options.layer_height));
+  text.write_line(fmt::format(";LAYER_COUNT:{}", layers.size()));
+  text.write_line(";Generated with mahost (medial-axis contour slicing)");
+  text.write_line(fmt::format("; printer: {} ({})", p.name, p.source));
+  text.write_line(fmt::format("; material: {} ({}), {:g} C nozzle, {:g} C bed", m.name, m.source,
+                              m.nozzle_temperature, m.bed_temperature));
+  for (const std::string& note : options.notes) text.write_line("; " + note);
+  text.write_line(fmt::format("; layers: {}", layers.size()));
+  text.write_line(fmt::format("; estimated print time: {} (motion only, heating not counted)",
+                              format_duration(seconds)));
+  text.write_line(fmt::format(";PRINT_TIME_S:{:.3f}", seconds));
+  text.write_line(fmt::format("; filament: {:.1f} mm, {:.2f} cm3, {:.2f} g", filament, cm3, grams));
+  text.write_line(fmt::format(";FILAMENT_MM:{:.3f}", filament));
+  text.write_line(fmt::format(";FILAMENT_G:{:.3f}", grams));
+}
+
+}  // namespace
+
+std::string format_duration(double seconds) {
+  const long total = std::max(0L, std::lround(seconds));
+  const long h = total / 3600, min = (total % 3600) / 60, s = total % 60;
+  if (h > 0) return fmt::format("{} h {} min {} s", h, min, s);
+  if (min > 0) return fmt::format("{} min {} s", min, s);
+  return fmt::format("{} s", s);
+}
+
+GcodeSummary write_gcode(std::ostream& out, const std::vector<LayerToolpaths>& layers,
+                         const Profiles& profiles, const GcodeOptions& options,
+                         const LayersWritten& on_layer) {
+  const Vec2 offset{profiles.printer.bed_x / 2, profiles.printer.bed_y / 2};
+  check_build_volume(layers, profiles.printer, offset);
+
+  ClockSink clock(profiles.printer.motion);
+  Emitter timing(profiles, options, offset, clock);
+  timing.program(layers);
+  const double seconds = clock.finish();
+
+  TextSink text(out, seconds, clock.layer_times());
+  write_header(text, layers, profiles, options, seconds, timing.filament());
+  Emitter writing(profiles, options, offset, text);
+  writing.on_layer(on_layer);
+  writing.program(layers);
+
+  GcodeSummary summary;
+  summary.layers = layers.size();
+  summary.print_seconds = seconds;
+  summary.filament_mm = writing.filament();
+  summary.filament_grams = filament_weight(summary.filament_mm, profiles.printer.filament_diameter,
+                                           profiles.material.density);
+  summary.lines = text.lines();
+  summary.bytes = text.bytes();
+  return summary;
+}
+
+GcodeSummary write_gcode_file(const std::string& path, const std::vector<LayerToolpaths>& layers,
+                              const Profiles& profiles, const GcodeOptions& options,
+                              const LayersWritten& on_layer) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) {
+    throw ConfigError(fmt::format("cannot write '{}': {}; check the folder exists and is writable",
+                                  path, std::strerror(errno)));
+  }
+  GcodeSummary summary = write_gcode(out, layers, profiles, options, on_layer);
+  out.flush();
+  if (!out) {
+    throw ConfigError(fmt::format("writing '{}' failed (disk full?): {}", path, std::strerror(errno)));
+  }
+  return summary;
+}
+
+}  // namespace printer

@@ -1,0 +1,60 @@
+// The G-code writer: layers of toolpaths to a Marlin-flavour program (issue 4; DESIGN.md §1).
+//
+// Input: every layer's toolpaths in the part's frame (part centred on the origin, mm), the
+// printer and material profiles. Output, streamed: a header comment (print-time estimate from
+// the motion model run over the whole program, filament length and weight, layer count), the
+// heating (M140/M104, then M190/M109 at the first-layer temperatures), the profile's start
+// G-code with its placeholders expanded, G90 and M82 or M83, then per layer:
+//   ;LAYER:<n>  ;Z:<z>  M73 P<percent> R<minutes left>  G92 E0   (the host keys on ;LAYER:)
+//   the regular temperatures after the first layer, the fan (M106/M107) per the material,
+//   ;TYPE:<role> before each change of feature, travels (G0) with retraction and z-hop before
+//   paths marked retract_before, extrusions (G1 ... E) from the bead model at the layer's
+//   thickness and the path's width, the feature's speed (first-layer speed on layer 0);
+// then M107 and the end G-code. Toolpaths move to the bed centre. X, Y, Z are written to
+// 0.001 mm, E to 0.00001 mm, F to 1 mm/min; the estimate runs over these written values, so
+// re-reading the program gives the same time.
+// Throws ConfigError if the toolpaths do not fit the build volume (with both sizes).
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "geometry/toolpaths.h"
+#include "printer/profile.h"
+
+namespace printer {
+
+struct GcodeOptions {
+  double layer_height = 0.2;         // the {layer_height} placeholder and the header, mm
+  std::vector<std::string> notes;    // extra header lines ("model: bunny.stl", "contour: ma")
+};
+
+struct GcodeSummary {
+  std::size_t layers = 0;
+  double print_seconds = 0;   // motion and dwell time, as PrintClock reads the program
+  double filament_mm = 0;     // filament laid in beads (retractions excluded)
+  double filament_grams = 0;
+  std::size_t bytes = 0;      // size of the program written
+  std::size_t lines = 0;
+};
+
+// Called after each layer is written with the count written so far.
+using LayersWritten = std::function<void(std::size_t done)>;
+
+GcodeSummary write_gcode(std::ostream& out, const std::vector<geometry::LayerToolpaths>& layers,
+                         const Profiles& profiles, const GcodeOptions& options = {},
+                         const LayersWritten& on_layer = {});
+
+// The same into a file; a file that cannot be written throws ConfigError naming it.
+GcodeSummary write_gcode_file(const std::string& path,
+                              const std::vector<geometry::LayerToolpaths>& layers,
+                              const Profiles& profiles, const GcodeOptions& options = {},
+                              const LayersWritten& on_layer = {});
+
+// "1 h 23 min 45 s", "12 min 5 s", "40 s".
+std::string format_duration(double seconds);
+
+}  // namespace printer

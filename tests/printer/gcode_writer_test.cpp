@@ -1,0 +1,424 @@
+// The G-code writer, with hand-made toolpaths: read the program back as a printer would
+// (tests/support/gcode_beads) and check what it lays, where it moves, and what it claims.
+#include <cmath>
+#include <initializer_list>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <doctest/doctest.h>
+
+#include "geometry/polygon.h"
+#include "geometry/toolpaths.h"
+#include "printer/bead_model.h"
+#include "printer/error.h"
+#include "printer/gcode_line.h"
+#include "printer/gcode_writer.h"
+#include "printer/print_time.h"
+#include "printer/profile.h"
+#include "support/gcode_beads.h"
+
+using geometry::ExtrusionPath;
+using geometry::LayerToolpaths;
+using geometry::Loop;
+using geometry::PathRole;
+using geometry::Region;
+using geometry::Vec2;
+using namespace printer;
+
+namespace {
+
+const std::string kConfigDir = MAHOST_SOURCE_DIR "/configs";
+
+Profiles profiles(const std::string& printer, const std::string& material,
+                  std::vector<std::string> overrides = {}) {
+  ProfileRequest request;
+  request.printer = printer;
+  request.material = material;
+  request.config_dir = kConfigDir;
+  request.overrides = std::move(overrides);
+  return load_profiles(request);
+}
+
+// A closed square loop of side `side` centred on the origin, counter-clockwise.
+std::vector<Vec2> square_loop(double side) {
+  const double h = side / 2;
+  return {{-h, -h}, {h, -h}, {h, h}, {-h, h}, {-h, -h}};
+}
+
+// One layer of a `side` mm square, filled solid by hand: two walls of width w (outer wall's
+// outer edge on the square's edge), then lines w apart across the inside of the inner wall.
+LayerToolpaths square_layer(double z_lo, double z_hi, double side, double w) {
+  LayerToolpaths layer;
+  layer.z_lo = z_lo;
+  layer.z_hi = z_hi;
+  layer.paths.push_back({PathRole::inner_wall, square_loop(side - 3 * w), w, true});
+  layer.paths.push_back({PathRole::outer_wall, square_loop(side - w), w, false});
+  const double inside = side / 2 - 2 * w;
+  int k = 0;
+  for (double y = -inside + w / 2; y < inside; y += w, ++k) {
+    const double from = k % 2 ? inside : -inside;  // alternate directions: short travels
+    layer.paths.push_back({PathRole::solid_infill, {{from, y}, {-from, y}}, w, false});
+  }
+  return layer;
+}
+
+// Three layers of the 20 mm square: 0.3 mm first layer, then 0.2 mm.
+std::vector<LayerToolpaths> square_part(double w = 0.5) {
+  return {square_layer(0, 0.3, 20, w), square_layer(0.3, 0.5, 20, w),
+          square_layer(0.5, 0.7, 20, w)};
+}
+
+Region square_region(double side, Vec2 centre) {
+  const double h = side / 2;
+  return {{Loop{{centre.x - h, centre.y - h}, {centre.x + h, centre.y - h},
+                {centre.x + h, centre.y + h}, {centre.x - h, centre.y + h}}}};
+}
+
+std::string write(const std::vector<LayerToolpaths>& layers, const Profiles& p,
+                  GcodeSummary* summary = nullptr, GcodeOptions options = {}) {
+  std::ostringstream out;
+  const GcodeSummary s = write_gcode(out, layers, p, options);
+  if (summary) *summary = s;
+  return out.str();
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+std::size_t index_of(const std::vector<std::string>& lines, const std::string& line,
+                     std::size_t from = 0) {
+  for (std::size_t i = from; i < lines.size(); ++i) {
+    if (lines[i] == line) return i;
+  }
+  return lines.size();
+}
+
+template <class F>
+std::string config_error(F&& f) {
+  try {
+    f();
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("beads_cover_the_square_and_stay_inside_it") {
+  for (const std::string printer : {"up-plus-2", "generic-marlin"}) {
+    CAPTURE(printer);
+    const Profiles p = profiles(printer, "abs");
+    const std::string text = write(square_part(), p);
+    const test_support::PrintedProgram program =
+        test_support::read_printed_program(text, {p.printer.filament_diameter, p.material.flow});
+    CHECK(program.problems.empty());
+    REQUIRE(program.layers.size() == 3);
+    const Region square = square_region(20, {p.printer.bed_x / 2, p.printer.bed_y / 2});
+    for (const test_support::PrintedLayer& layer : program.layers) {
+      CAPTURE(layer.number);
+      const test_support::Coverage c = test_support::coverage(test_support::bead_region(layer), square);
+      CHECK(c.covered >= 0.98);
+      CHECK(c.outside <= 0.02);
+    }
+  }
+}
+
+TEST_CASE("extrusion_per_mm_matches_the_bead_model") {
+  for (const std::string printer : {"up-plus-2", "generic-marlin"}) {  // absolute and relative E
+    CAPTURE(printer);
+    const Profiles p = profiles(printer, "abs", {"material.flow=0.95"});
+    const test_support::PrintedProgram program = test_support::read_printed_program(
+        write(square_part(0.5), p), {p.printer.filament_diameter, p.material.flow});
+    REQUIRE(program.layers.size() == 3);
+    const double heights[] = {0.3, 0.2, 0.2};
+    std::size_t beads = 0;
+    for (std::size_t n = 0; n < 3; ++n) {
+      const test_support::PrintedLayer& layer = program.layers[n];
+      CHECK(layer.height == doctest::Approx(heights[n]).epsilon(1e-9));
+      const double per_mm = bead_area(0.5, heights[n]) / filament_area(1.75) * 0.95;
+      for (const auto& chain : layer.chains) {
+        for (const test_support::Bead& bead : chain) {
+          // E is written to 0.00001 mm: each end of a move rounds by half of that at most.
+          CHECK(std::abs(bead.filament - per_mm * bead.length()) <= 1e-5 + 1e-12);
+          CHECK(bead.width == doctest::Approx(0.5).epsilon(1e-3));
+          ++beads;
+        }
+      }
+    }
+    CHECK(beads > 100);
+  }
+}
+
+TEST_CASE("every_move_stays_inside_the_build_volume") {
+  const Profiles p = profiles("up-plus-2", "abs");
+  const test_support::PrintedProgram program = test_support::read_printed_program(write(square_part(), p));
+  CHECK(program.min_xy.x >= 0);
+  CHECK(program.min_xy.y >= 0);
+  CHECK(program.max_xy.x <= p.printer.bed_x);
+  CHECK(program.max_xy.y <= p.printer.bed_y);
+  CHECK(program.min_z >= 0);
+  CHECK(program.max_z <= p.printer.bed_z);
+  // The part itself is centred: its beads span the bed centre +- 10 mm.
+  double min_x = 1e9, max_x = -1e9;
+  for (const auto& layer : program.layers) {
+    for (const auto& chain : layer.chains) {
+      for (const auto& bead : chain) {
+        min_x = std::min({min_x, bead.from.x, bead.to.x});
+        max_x = std::max({max_x, bead.from.x, bead.to.x});
+      }
+    }
+  }
+  CHECK(min_x == doctest::Approx(70 - 9.75));
+  CHECK(max_x == doctest::Approx(70 + 9.75));
+}
+
+TEST_CASE("layer_comments_count_the_layers") {
+  const Profiles p = profiles("up-plus-2", "abs");
+  GcodeSummary summary;
+  const std::string text = write(square_part(), p, &summary);
+  const auto lines = lines_of(text);
+  std::vector<long> layers;
+  std::vector<std::string> zs;
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    if (lines[i].starts_with(";LAYER:")) {
+      layers.push_back(std::stol(lines[i].substr(7)));
+      REQUIRE(i + 1 < lines.size());
+      zs.push_back(lines[i + 1]);
+    }
+  }
+  CHECK(layers == std::vector<long>{0, 1, 2});
+  CHECK(zs == std::vector<std::string>{";Z:0.3", ";Z:0.5", ";Z:0.7"});
+  const test_support::PrintedProgram program = test_support::read_printed_program(text);
+  CHECK(program.header.at("LAYER_COUNT") == "3");
+  CHECK(summary.layers == 3);
+}
+
+TEST_CASE("estimate_equals_the_motion_model_over_the_written_program") {
+  for (const std::string printer : {"up-plus-2", "generic-marlin"}) {
+    CAPTURE(printer);
+    const Profiles p = profiles(printer, printer == "up-plus-2" ? "abs" : "pla");
+    GcodeSummary summary;
+    const std::string text = write(square_part(), p, &summary);
+    const double reread = estimate_print_time(text, p.printer.motion);
+    CHECK(summary.print_seconds == doctest::Approx(reread).epsilon(1e-12));
+    const test_support::PrintedProgram program = test_support::read_printed_program(text);
+    CHECK(std::abs(std::stod(program.header.at("PRINT_TIME_S")) - reread) <= 0.0005);  // 3 decimals
+    CHECK(std::stol(program.header.at("TIME")) == std::lround(reread));
+    CHECK(summary.print_seconds > 0);
+  }
+}
+
+TEST_CASE("filament_in_header_is_the_filament_in_the_beads") {
+  const Profiles p = profiles("up-plus-2", "abs");
+  GcodeSummary summary;
+  const std::string text = write(square_part(), p, &summary);
+  const test_support::PrintedProgram program = test_support::read_printed_program(text);
+  CHECK(summary.filament_mm == doctest::Approx(program.filament).epsilon(1e-6));
+  CHECK(std::stod(program.header.at("FILAMENT_MM")) == doctest::Approx(program.filament).epsilon(1e-5));
+  CHECK(summary.filament_grams ==
+        doctest::Approx(filament_weight(program.filament, 1.75, 1.04)).epsilon(1e-6));
+  // By hand: per layer, two square loops, 36 lines of 18 mm (less the ones that cross nothing).
+  const double loops = 4 * (20 - 0.5) + 4 * (20 - 1.5);
+  const double lines = 36 * 18.0;
+  const double expected = (loops + lines) * (bead_area(0.5, 0.3) + 2 * bead_area(0.5, 0.2)) /
+                          filament_area(1.75);
+  CHECK(program.filament == doctest::Approx(expected).epsilon(1e-6));
+}
+
+TEST_CASE("heats_to_first_layer_temperatures_then_regular_ones") {
+  const Profiles p = profiles("up-plus-2", "abs");
+  const auto lines = lines_of(write(square_part(), p));
+  const std::size_t bed = index_of(lines, "M190 S105");
+  const std::size_t nozzle = index_of(lines, "M109 S250");
+  const std::size_t home = index_of(lines, "G28 ; home all axes");
+  CHECK(index_of(lines, "M140 S105") < bed);
+  CHECK(index_of(lines, "M104 S250") < nozzle);
+  CHECK(bed < home);
+  CHECK(nozzle < home);
+  // The start G-code's placeholder was expanded.
+  CHECK(index_of(lines, "G1 Z0.3 F600") < lines.size());
+  // Back to 245 / 100 C once the first layer is done.
+  const std::size_t layer1 = index_of(lines, ";LAYER:1");
+  CHECK(index_of(lines, "M104 S245", layer1) < index_of(lines, ";LAYER:2"));
+  CHECK(index_of(lines, "M140 S100", layer1) < index_of(lines, ";LAYER:2"));
+  CHECK(index_of(lines, "M104 S245") > layer1);
+}
+
+TEST_CASE("extruder_mode_follows_the_profile_after_g90") {
+  const auto absolute = lines_of(write(square_part(), profiles("up-plus-2", "abs")));
+  CHECK(index_of(absolute, "M82") == index_of(absolute, "G90", index_of(absolute, "G92 E0")) + 1);
+  CHECK(index_of(absolute, "M83") == absolute.size());
+  const auto relative = lines_of(write(square_part(), profiles("generic-marlin", "pla")));
+  CHECK(index_of(relative, "M83") < index_of(relative, ";LAYER:0"));
+  CHECK(index_of(relative, "M83") > index_of(relative, "G28 ; home all axes"));
+}
+
+TEST_CASE("each_layer_resets_e_and_reports_progress") {
+  const auto lines = lines_of(write(square_part(), profiles("up-plus-2", "abs")));
+  int last_percent = -1;
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    if (!lines[i].starts_with(";LAYER:")) continue;
+    REQUIRE(i + 3 < lines.size());
+    const GcodeCommand m73 = parse_gcode_line(lines[i + 2]);
+    REQUIRE(m73.is('M', 73));
+    const int percent = static_cast<int>(*m73.get('P'));
+    CHECK(percent >= last_percent);
+    last_percent = percent;
+    CHECK(lines[i + 3] == "G92 E0");
+  }
+  CHECK(index_of(lines, "M73 P100 R0") < lines.size());
+}
+
+TEST_CASE("retraction_and_z_hop_before_marked_travels") {
+  // generic-marlin: relative E, 5 mm retraction at 45 mm/s, 0.2 mm z-hop, prime at 40 mm/s.
+  const auto lines = lines_of(write(square_part(), profiles("generic-marlin", "pla")));
+  const std::size_t layer1 = index_of(lines, ";LAYER:1");
+  const std::size_t retract = index_of(lines, "G1 E-5 F2700", layer1);
+  REQUIRE(retract < lines.size());
+  CHECK(lines[retract + 1] == "G1 Z0.7 F300");  // the layer's 0.5 plus 0.2 hop
+  CHECK(lines[retract + 2].starts_with("G0 X"));
+  CHECK(parse_gcode_line(lines[retract + 2]).get('F') == 9000);
+  CHECK(lines[retract + 3] == "G1 Z0.5 F300");
+  CHECK(lines[retract + 4] == "G1 E5 F2400");
+  // Unmarked travels (infill line to infill line) do not retract.
+  const std::size_t infill = index_of(lines, ";TYPE:FILL-SOLID", layer1);
+  CHECK(index_of(lines, "G1 E-5", infill) > index_of(lines, ";LAYER:2"));
+}
+
+TEST_CASE("absolute_e_retracts_below_the_current_e") {
+  const auto lines = lines_of(write(square_part(), profiles("up-plus-2", "abs")));
+  const std::size_t layer1 = index_of(lines, ";LAYER:1");
+  // After G92 E0 the first thing is the retraction: E back to -1 (1 mm at 30 mm/s).
+  CHECK(lines[layer1 + 4] == "M104 S245");
+  CHECK(index_of(lines, "G1 E-1 F1800", layer1) < index_of(lines, ";TYPE:WALL-OUTER", layer1));
+  CHECK(index_of(lines, "G1 E0 F1500", layer1) < index_of(lines, ";TYPE:WALL-OUTER", layer1));
+}
+
+TEST_CASE("first_layer_runs_at_first_layer_speed") {
+  const Profiles p = profiles("up-plus-2", "abs");  // first layer 15 mm/s; infill 40 mm/s
+  const auto lines = lines_of(write(square_part(), p));
+  const std::size_t layer0 = index_of(lines, ";LAYER:0"), layer1 = index_of(lines, ";LAYER:1");
+  for (std::size_t i = layer0; i < lines.size(); ++i) {
+    const GcodeCommand c = parse_gcode_line(lines[i]);
+    if (!c.is('G', 1) || !c.has('X') || !c.has('F')) continue;
+    CAPTURE(lines[i]);
+    if (i < layer1) CHECK(*c.get('F') == 900);
+    else if (i < index_of(lines, ";LAYER:2")) CHECK(*c.get('F') != 900);
+  }
+  const std::size_t fill = index_of(lines, ";TYPE:FILL-SOLID", layer1);
+  bool found = false;
+  for (std::size_t i = fill; i < index_of(lines, ";LAYER:2") && !found; ++i) {
+    const GcodeCommand c = parse_gcode_line(lines[i]);
+    if (c.is('G', 1) && c.has('E') && c.has('F')) {
+      CHECK(*c.get('F') == 2400);
+      found = true;
+    }
+  }
+  CHECK(found);
+}
+
+TEST_CASE("feature_comments_mark_each_change_of_role") {
+  const auto lines = lines_of(write(square_part(), profiles("up-plus-2", "abs")));
+  const test_support::PrintedProgram program = test_support::read_printed_program(
+      [&] { std::string s; for (auto& l : lines) s += l + "\n"; return s; }());
+  for (const auto& layer : program.layers) {
+    CHECK(layer.types == std::vector<std::string>{"WALL-INNER", "WALL-OUTER", "FILL-SOLID"});
+  }
+}
+
+TEST_CASE("fan_turns_on_at_the_materials_layer") {
+  // PLA: off on layer 0, 100% from layer 1. ABS: never on.
+  const auto pla = lines_of(write(square_part(), profiles("generic-marlin", "pla")));
+  const std::size_t on = index_of(pla, "M106 S255");
+  CHECK(on > index_of(pla, ";LAYER:1"));
+  CHECK(on < index_of(pla, ";LAYER:2"));
+  CHECK(index_of(pla, "M107") < index_of(pla, ";LAYER:0"));
+  const auto abs = lines_of(write(square_part(), profiles("up-plus-2", "abs")));
+  for (const auto& line : abs) CHECK_FALSE(line.starts_with("M106"));
+}
+
+TEST_CASE("end_gcode_follows_the_last_layer") {
+  const auto lines = lines_of(write(square_part(), profiles("up-plus-2", "abs")));
+  CHECK(index_of(lines, "M104 S0 ; nozzle off") > index_of(lines, ";LAYER:2"));
+  CHECK(index_of(lines, "G1 X0 Y140 F6000 ; present the part") < lines.size());
+  CHECK(lines.back() == "M73 P100 R0");
+}
+
+TEST_CASE("part_larger_than_the_bed_is_refused_with_both_sizes") {
+  LayerToolpaths layer;
+  layer.z_lo = 0;
+  layer.z_hi = 0.3;
+  layer.paths.push_back({PathRole::outer_wall, square_loop(150), 0.5, true});
+  const Profiles p = profiles("up-plus-2", "abs");
+  std::ostringstream out;
+  CHECK(config_error([&] { write_gcode(out, {layer}, p); }) ==
+        "the toolpaths (part and skirt) span 150.0 x 150.0 x 0.3 mm but the UP Plus 2 builds at "
+        "most 140 x 140 x 135 mm; scale the part down (--scale, --height), set a smaller "
+        "print.skirt_distance, or choose a bigger printer (--printer)");
+  CHECK(out.str().empty());
+}
+
+TEST_CASE("part_taller_than_the_build_volume_is_refused") {
+  LayerToolpaths layer = square_layer(135, 135.2, 10, 0.5);
+  std::ostringstream out;
+  CHECK(config_error([&] { write_gcode(out, {layer}, profiles("up-plus-2", "abs")); })
+            .starts_with("the toolpaths (part and skirt) span 9.5 x 9.5 x 135.2 mm"));
+}
+
+TEST_CASE("empty_and_degenerate_layers_give_a_valid_program") {
+  LayerToolpaths empty;
+  empty.z_lo = 0;
+  empty.z_hi = 0.3;
+  LayerToolpaths flat = square_layer(0.3, 0.3, 10, 0.5);  // zero thickness: lays nothing
+  LayerToolpaths single_point;
+  single_point.z_lo = 0.3;
+  single_point.z_hi = 0.5;
+  single_point.paths.push_back({PathRole::outer_wall, {{1, 1}}, 0.5, true});
+  const Profiles p = profiles("up-plus-2", "abs");
+  GcodeSummary summary;
+  const std::string text = write({empty, flat, single_point}, p, &summary);
+  const test_support::PrintedProgram program = test_support::read_printed_program(text);
+  CHECK(program.layers.size() == 3);
+  CHECK(program.filament == 0);
+  CHECK(summary.filament_mm == 0);
+  CHECK(summary.layers == 3);
+  GcodeSummary none;
+  write({}, p, &none);
+  CHECK(none.layers == 0);
+  CHECK(none.filament_mm == 0);
+}
+
+TEST_CASE("written_numbers_reread_exactly") {
+  // Coordinates off the 0.001 mm grid are rounded once, and beads are measured between the
+  // rounded points, so no drift accumulates along a path.
+  LayerToolpaths layer;
+  layer.z_lo = 0;
+  layer.z_hi = 0.3;
+  std::vector<Vec2> zigzag;
+  for (int i = 0; i <= 200; ++i) zigzag.push_back({-10 + 0.1000004 * i, (i % 2) * 0.3333333});
+  layer.paths.push_back({PathRole::thin_wall, zigzag, 0.5, true});
+  const Profiles p = profiles("up-plus-2", "abs");
+  GcodeSummary summary;
+  const std::string text = write({layer}, p, &summary);
+  const test_support::PrintedProgram program = test_support::read_printed_program(text);
+  REQUIRE(program.layers.size() == 1);
+  const double per_mm = bead_area(0.5, 0.3) / filament_area(1.75);
+  double length = 0;
+  for (const auto& chain : program.layers[0].chains) {
+    for (const auto& bead : chain) length += bead.length();
+  }
+  CHECK(program.filament == doctest::Approx(per_mm * length).epsilon(1e-6));
+  CHECK(std::abs(program.filament - per_mm * length) <= 1e-5);
+}
+
+TEST_CASE("format_duration_reads_as_hours_minutes_seconds") {
+  CHECK(format_duration(0) == "0 s");
+  CHECK(format_duration(59.6) == "1 min 0 s");
+  CHECK(format_duration(3 * 3600 + 25 * 60 + 7) == "3 h 25 min 7 s");
+}

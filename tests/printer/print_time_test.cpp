@@ -1,0 +1,105 @@
+// The print-time estimate reads G-code as Marlin does: modal feedrate, relative modes, G92,
+// homing, dwell and limit changes, each timed against hand-computed trapezoids.
+#include <cmath>
+
+#include <doctest/doctest.h>
+
+#include "printer/print_time.h"
+
+using namespace printer;
+
+namespace {
+
+MotionLimits plain_limits() {
+  MotionLimits limits;
+  limits.max_speed = {1000, 1000, 1000, 1000};
+  limits.max_acceleration = {1e6, 1e6, 1e6, 1e6};
+  limits.print_acceleration = limits.travel_acceleration = limits.retract_acceleration = 1000;
+  return limits;
+}
+
+// A move from rest to rest reaching cruise speed v: two ramps of v/a and the cruise.
+double rest_to_rest(double d, double v, double a) { return 2 * v / a + (d - v * v / a) / v; }
+
+}  // namespace
+
+TEST_CASE("feedrate_is_in_mm_per_minute_and_modal") {
+  // Two moves out and back (a reversal: each stops), both at F3000 = 50 mm/s.
+  const double t = estimate_print_time("G1 X100 F3000\nG1 X0\n", plain_limits());
+  CHECK(t == doctest::Approx(2 * rest_to_rest(100, 50, 1000)).epsilon(1e-12));
+}
+
+TEST_CASE("default_feedrate_is_marlins_25_mm_per_s") {
+  CHECK(estimate_print_time("G0 X100\n", plain_limits()) ==
+        doctest::Approx(rest_to_rest(100, 25, 1000)).epsilon(1e-12));
+}
+
+TEST_CASE("relative_moves_add_to_the_position") {
+  // G91: X10 four times is a 40 mm straight move in four collinear pieces.
+  const double t = estimate_print_time("G91\nG1 X10 F3000\nG1 X10\nG1 X10\nG1 X10\n", plain_limits());
+  CHECK(t == doctest::Approx(rest_to_rest(40, 50, 1000)).epsilon(1e-12));
+}
+
+TEST_CASE("g92_sets_position_without_motion") {
+  const double t = estimate_print_time("G92 X50\nG1 X100 F3000\n", plain_limits());
+  CHECK(t == doctest::Approx(rest_to_rest(50, 50, 1000)).epsilon(1e-12));
+}
+
+TEST_CASE("m83_makes_e_relative_and_g90_makes_it_absolute_again") {
+  PrintClock clock(plain_limits());
+  clock.line("M83");
+  clock.line("G1 E2 F1200");
+  clock.line("G1 E2");
+  CHECK(clock.position().e == 4);
+  clock.line("G90");
+  CHECK_FALSE(clock.relative_e());
+  clock.line("G1 E1");
+  CHECK(clock.position().e == 1);
+}
+
+TEST_CASE("homing_drains_and_zeroes_the_named_axes") {
+  PrintClock clock(plain_limits());
+  clock.line("G1 X100 Y20 Z5 F6000");
+  clock.line("G28 X");
+  CHECK(clock.position().x == 0);
+  CHECK(clock.position().y == 20);
+  CHECK(clock.moves_queued() == 1);
+  CHECK(clock.moves_final() == 1);  // drained before homing
+  clock.line("G28");
+  CHECK(clock.position().z == 0);
+}
+
+TEST_CASE("dwell_adds_its_time") {
+  CHECK(estimate_print_time("G4 P500\nG4 S2\n", plain_limits()) == doctest::Approx(2.5));
+}
+
+TEST_CASE("m204_changes_acceleration_for_later_moves") {
+  const double t = estimate_print_time("M204 T500\nG0 X100 F3000\n", plain_limits());
+  CHECK(t == doctest::Approx(rest_to_rest(100, 50, 500)).epsilon(1e-12));
+  const double p = estimate_print_time("M204 P250\nG1 X100 E5 F3000\n", plain_limits());
+  CHECK(p == doctest::Approx(rest_to_rest(100, 50, 250)).epsilon(1e-12));
+}
+
+TEST_CASE("m203_caps_axis_speed") {
+  const double t = estimate_print_time("M203 X20\nG0 X100 F3000\n", plain_limits());
+  CHECK(t == doctest::Approx(rest_to_rest(100, 20, 1000)).epsilon(1e-12));
+}
+
+TEST_CASE("comments_and_unknown_commands_take_no_time") {
+  CHECK(estimate_print_time(";LAYER:0\nM106 S255\nM117 hello\n\n   ; indented\n", plain_limits()) == 0);
+}
+
+TEST_CASE("moves_become_final_a_window_later") {
+  PrintClock clock(plain_limits(), 2);
+  clock.line("G1 X10 F3000");
+  clock.line("G1 X10");  // no motion: not a move
+  clock.line("G1 X20");
+  CHECK(clock.moves_queued() == 2);
+  CHECK(clock.moves_final() == 0);
+  clock.line("G1 X30");
+  CHECK(clock.moves_final() == 1);
+  CHECK(clock.elapsed() > 0);
+  clock.finish();
+  CHECK(clock.moves_final() == 3);
+  CHECK(clock.elapsed() == doctest::Approx(rest_to_rest(30, 50, 1000)).epsilon(1e-12));
+}
