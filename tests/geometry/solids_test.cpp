@@ -47,6 +47,10 @@ std::vector<Named> all_solids() {
   list.push_back({"stepped box", stepped_box({20, 12}, 5, {8, 6}, 7), 2});
   list.push_back({"overhanging stepped box", stepped_box({8, 6}, 5, {20, 12}, 7), 2});
   list.push_back({"diamond prism", diamond_prism(12, 3, 5, 4), 2});
+  list.push_back({"notched prism",
+                  lying_prism({{0, 0}, {10, 0}, {10, 6}, {7, 6}, {5, 3}, {3, 6}, {0, 6}}, 0, 8), 2});
+  list.push_back({"notched cylinder",
+                  revolve({{0, 0}, {9, 0}, {9, 10}, {7, 10}, {5, 5}, {3, 10}, {0, 10}}, 24), 2});
   list.push_back({"tube with a rod inside", combine(tube(6, 8, 10, 24), cylinder(3, 10, 24)), 2});
   return list;
 }
@@ -200,6 +204,15 @@ TEST_CASE("sphere_section_between_rings_is_linear_ngon") {
   CHECK(s.area(r) == 0);          // top pole: empty
   CHECK(s.area(-r) == 0);         // bottom pole: a vanishing section
   CHECK(s.section(-r).loops.empty());
+}
+
+TEST_CASE("notch_tip_on_the_plane_leaves_no_slit") {
+  const Solid prism = lying_prism({{0, 0}, {10, 0}, {10, 6}, {7, 6}, {5, 3}, {3, 6}, {0, 6}}, 0, 8);
+  CHECK(prism.section(3).loops.size() == 1);
+  CHECK(prism.area(3) == doctest::Approx(80).epsilon(1e-15));
+  CHECK(prism.perimeter(3) == doctest::Approx(36).epsilon(1e-15));
+  CHECK(prism.section(4.5).loops.size() == 2);  // 8 x 4 on the left, 8 x 4 on the right
+  CHECK(prism.area(4.5) == doctest::Approx(64).epsilon(1e-15));
 }
 
 TEST_CASE("torus_section_is_annulus") {

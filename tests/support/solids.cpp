@@ -53,15 +53,21 @@ std::vector<double> crossings(const std::vector<Vec2>& polygon, double z) {
   return result;
 }
 
-// A revolved profile's section at z as (inner, outer) circumradius pairs of positive width;
-// a pair that has shrunk to one radius (a ring edge touched from below) is no area.
-std::vector<std::pair<double, double>> rings_at(const std::vector<Vec2>& profile, double z) {
-  const std::vector<double> rho = crossings(profile, z);
-  std::vector<std::pair<double, double>> rings;
-  for (std::size_t i = 0; i + 1 < rho.size(); i += 2) {
-    if (rho[i] < rho[i + 1]) rings.push_back({rho[i], rho[i + 1]});
+// A profile's section at z as the intervals (lo, hi) of positive width between its crossings.
+// Intervals that touch are one: the slit between them has zero width in the limit from above
+// (a notch whose tip is at z). An interval that has shrunk to a point is no area.
+std::vector<std::pair<double, double>> intervals_at(const std::vector<Vec2>& profile, double z) {
+  const std::vector<double> at = crossings(profile, z);
+  std::vector<std::pair<double, double>> intervals;
+  for (std::size_t i = 0; i + 1 < at.size(); i += 2) {
+    if (!(at[i] < at[i + 1])) continue;
+    if (!intervals.empty() && intervals.back().second == at[i]) {
+      intervals.back().second = at[i + 1];
+    } else {
+      intervals.push_back({at[i], at[i + 1]});
+    }
   }
-  return rings;
+  return intervals;
 }
 
 Loop reversed(Loop loop) {
@@ -221,6 +227,36 @@ void emit_cap(MeshBuilder& builder, const std::vector<Vec2>& points,
   }
 }
 
+// Triangles of a simple counter-clockwise polygon (ear clipping; test-sized inputs).
+std::vector<std::array<std::size_t, 3>> ear_clipping(const std::vector<Vec2>& polygon) {
+  std::vector<std::size_t> left(polygon.size());
+  for (std::size_t i = 0; i < left.size(); ++i) left[i] = i;
+  std::vector<std::array<std::size_t, 3>> triangles;
+  const auto inside = [&](Vec2 p, Vec2 a, Vec2 b, Vec2 c) {
+    return geometry::cross(b - a, p - a) >= 0 && geometry::cross(c - b, p - b) >= 0 &&
+           geometry::cross(a - c, p - c) >= 0;
+  };
+  while (left.size() > 3) {
+    bool clipped = false;
+    for (std::size_t i = 0, n = left.size(); i < n && !clipped; ++i) {
+      const std::size_t ia = left[(i + n - 1) % n], ib = left[i], ic = left[(i + 1) % n];
+      const Vec2 a = polygon[ia], b = polygon[ib], c = polygon[ic];
+      if (geometry::cross(b - a, c - b) <= 0) continue;  // reflex or flat: not an ear
+      bool empty = true;
+      for (std::size_t j : left) {
+        if (j != ia && j != ib && j != ic && inside(polygon[j], a, b, c)) empty = false;
+      }
+      if (!empty) continue;
+      triangles.push_back({ia, ib, ic});
+      left.erase(left.begin() + static_cast<std::ptrdiff_t>(i));
+      clipped = true;
+    }
+    if (!clipped) break;  // not a simple polygon: give up rather than loop
+  }
+  if (left.size() == 3) triangles.push_back({left[0], left[1], left[2]});
+  return triangles;
+}
+
 Solid rectangle_prism_solid(Mesh mesh, Vec2 lo, Vec2 hi, double z0, double z1) {
   Solid solid;
   solid.mesh = std::move(mesh);
@@ -322,19 +358,19 @@ Solid revolve(const std::vector<Vec2>& profile, int n, Vec2 axis, double phase) 
   solid.volume = k * green;
   solid.area = [profile, k](double z) {
     double sum = 0;
-    for (auto [inner, outer] : rings_at(profile, z)) sum += outer * outer - inner * inner;
+    for (auto [inner, outer] : intervals_at(profile, z)) sum += outer * outer - inner * inner;
     return k * sum;
   };
   solid.perimeter = [profile, n](double z) {
     double sum = 0;
-    for (auto [inner, outer] : rings_at(profile, z)) {
+    for (auto [inner, outer] : intervals_at(profile, z)) {
       sum += regular_polygon_perimeter(n, outer) + regular_polygon_perimeter(n, inner);
     }
     return sum;
   };
   solid.section = [profile, n, axis, phase](double z) {
     Region region;
-    for (auto [inner, outer] : rings_at(profile, z)) {
+    for (auto [inner, outer] : intervals_at(profile, z)) {
       region.loops.push_back(regular_polygon(n, outer, axis, phase));
       if (inner > 0) region.loops.push_back(reversed(regular_polygon(n, inner, axis, phase)));
     }
@@ -505,9 +541,9 @@ Solid lying_prism(const std::vector<Vec2>& profile_yz, double x0, double x1) {
     for (Vec2 p : profile_yz) b.vertex({x, p.x, p.y});
   }
   const auto id = [](std::size_t i) { return static_cast<std::uint32_t>(i); };
-  for (std::size_t j = 1; j + 1 < m; ++j) {
-    b.triangle(id(m), id(m + j), id(m + j + 1));  // end at x1, normal +x
-    b.triangle(id(0), id(j + 1), id(j));          // end at x0, normal -x
+  for (const auto& t : ear_clipping(profile_yz)) {
+    b.triangle(id(m + t[0]), id(m + t[1]), id(m + t[2]));  // end at x1, normal +x
+    b.triangle(id(t[0]), id(t[2]), id(t[1]));              // end at x0, normal -x
   }
   for (std::size_t j = 0; j < m; ++j) {
     const std::size_t k = (j + 1) % m;
@@ -518,22 +554,22 @@ Solid lying_prism(const std::vector<Vec2>& profile_yz, double x0, double x1) {
   solid.mesh = std::move(b.mesh);
   const double length = x1 - x0;
   solid.volume = length * geometry::signed_area(profile_yz);
-  auto width_at = [profile_yz](double z) -> std::pair<double, double> {
-    const std::vector<double> y = crossings(profile_yz, z);
-    if (y.size() < 2) return {0, 0};
-    return {y.front(), y.back()};
-  };
   solid.area = [=](double z) {
-    const auto [lo, hi] = width_at(z);
-    return length * (hi - lo);
+    double sum = 0;
+    for (auto [lo, hi] : intervals_at(profile_yz, z)) sum += length * (hi - lo);
+    return sum;
   };
   solid.perimeter = [=](double z) {
-    const auto [lo, hi] = width_at(z);
-    return hi > lo ? 2 * (length + hi - lo) : 0.0;
+    double sum = 0;
+    for (auto [lo, hi] : intervals_at(profile_yz, z)) sum += 2 * (length + hi - lo);
+    return sum;
   };
   solid.section = [=](double z) {
-    const auto [lo, hi] = width_at(z);
-    return hi > lo ? Region{{rectangle(x0, lo, x1, hi)}} : Region{};
+    Region region;
+    for (auto [lo, hi] : intervals_at(profile_yz, z)) {
+      region.loops.push_back(rectangle(x0, lo, x1, hi));
+    }
+    return region;
   };
   return solid;
 }

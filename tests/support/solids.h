@@ -57,7 +57,8 @@ Solid cube(double side);
 // rho == 0 become single vertices on the axis (poles, cap centres); profile edges along the
 // axis are not surface. Section at z: the profile's crossings rho_0 < rho_1 < ... by the line
 // at z (limit from above) pair into intervals [rho_2k, rho_2k+1], each an n-gon ring
-// (outer rho_2k+1 CCW, inner rho_2k CW unless it is 0).
+// (outer rho_2k+1 CCW, inner rho_2k CW unless it is 0). Intervals that touch are merged (the
+// slit between them has zero width) and empty ones dropped.
 // Volume: n/2 sin(2 pi/n) * sum over profile edges (z_b - z_a)(r_a^2 + r_a r_b + r_b^2)/3.
 Solid revolve(const std::vector<geometry::Vec2>& profile, int n, geometry::Vec2 axis = {},
               double phase = 0);
@@ -110,9 +111,10 @@ Solid cube_with_round_hole(double side, double hole_radius, int n);
 Solid stepped_box(geometry::Vec2 lower_size, double lower_height, geometry::Vec2 upper_size,
                   double upper_height);
 
-// A convex polygon in the (y, z) plane, counter-clockwise with y first, extruded along x from
-// x0 to x1 (a prism lying on its side). Section at z: the rectangle [x0, x1] x [y_lo, y_hi]
-// where the profile's edges cross z.
+// A simple polygon in the (y, z) plane, counter-clockwise with y first, extruded along x from
+// x0 to x1 (a prism lying on its side; end caps by ear clipping). Section at z: one rectangle
+// [x0, x1] x [y_2k, y_2k+1] per interval between the profile's crossings of z (touching
+// intervals merged, as for revolve).
 Solid lying_prism(const std::vector<geometry::Vec2>& profile_yz, double x0, double x1);
 
 // lying_prism of the rhombus (y, z) = (0, z_mid - half_height), (half_width, z_mid),
