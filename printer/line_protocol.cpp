@@ -112,6 +112,7 @@ void LineProtocol::send(std::string_view command) {
   next.blocks = command_blocks(command);
   next.waits_for_user = command_waits_for_user(command);
   next.is_m105 = is_m105(command);
+  next.sequence = ++commands_sent_;
   history_.push_back(std::move(next));
   while (history_.size() > 1 && history_.front().number < accepted_ - kHistoryBehind) {
     history_.pop_front();
@@ -254,9 +255,22 @@ void LineProtocol::handle(const Reply& reply) {
   }
 }
 
+bool LineProtocol::long_command_in_flight() const {
+  for (long n = accepted_ + 1; n <= sent_; ++n) {
+    const SentLine* l = line(n);
+    if (l != nullptr && l->blocks) return true;
+  }
+  return false;
+}
+
+void LineProtocol::set_accepted(long number) {
+  accepted_ = number;
+  if (const SentLine* l = line(number)) commands_accepted_ = l->sequence;
+}
+
 void LineProtocol::accept_through(long number) {
   if (number <= accepted_) return;
-  accepted_ = number;
+  set_accepted(number);
   stale_left_ = 0;  // the stale requests come before any acceptance of the replay
   same_resend_count_ = 0;
   if (probe_line_ >= 0 && probe_line_ <= number) probe_line_ = -1;
@@ -348,7 +362,7 @@ void LineProtocol::handle_resend(long wanted) {
   ++stats_.resend_requests;
   // Lines written after `wanted` are rejected too, each with its own request for `wanted`.
   stale_left_ = static_cast<int>(std::max<long>(0, sent_ - wanted));
-  accepted_ = wanted - 1;
+  set_accepted(wanted - 1);
   sent_ = wanted - 1;
 }
 
@@ -381,6 +395,7 @@ void LineProtocol::check_silence() {
   probe.number = sent_ + 1;
   probe.command = "M105";
   probe.is_m105 = true;
+  if (const SentLine* before = line(sent_)) probe.sequence = before->sequence;
   const auto at = history_.begin() + static_cast<std::ptrdiff_t>(probe.number - first_number());
   for (auto it = history_.insert(at, probe) + 1; it != history_.end(); ++it) ++it->number;
   ++assigned_;
@@ -457,6 +472,7 @@ void LineProtocol::connect(milliseconds boot_wait) {
   }
   history_.clear();
   assigned_ = sent_ = accepted_ = highest_written_ = 0;
+  commands_sent_ = commands_accepted_ = 0;
   stale_left_ = 0;
   last_resend_ = -1;
   same_resend_count_ = 0;

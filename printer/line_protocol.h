@@ -120,6 +120,12 @@ class LineProtocol {
   long last_accepted() const { return accepted_; }
   long last_sent() const { return sent_; }
   std::size_t lines_in_flight() const { return static_cast<std::size_t>(sent_ - accepted_); }
+  // Commands given to send() so far, and how many of them the firmware has accepted (the
+  // engine's own M105 probes are not counted).
+  long commands_sent() const { return commands_sent_; }
+  long commands_accepted() const { return commands_accepted_; }
+  // True while a line in flight is one the firmware runs for long (M109, G28, M0, ...).
+  bool long_command_in_flight() const;
   Link& link() { return link_; }
 
  private:
@@ -129,6 +135,7 @@ class LineProtocol {
     bool blocks = false;    // the firmware runs it for a long time without answering
     bool waits_for_user = false;
     bool is_m105 = false;
+    long sequence = 0;      // which send() call it came from; a probe has its predecessor's
   };
 
   const SentLine* line(long number) const;
@@ -141,6 +148,7 @@ class LineProtocol {
   void feed(const std::string& bytes);
   void handle(const Reply& reply);
   void accept_through(long number);
+  void set_accepted(long number);
   void handle_ok(const Reply& reply);
   void handle_resend(long wanted);
   void check_silence();
@@ -155,6 +163,7 @@ class LineProtocol {
   long sent_ = 0;       // highest line number written since the last replay started
   long accepted_ = 0;   // highest line number the firmware accepted (see last_accepted)
   long highest_written_ = 0;   // highest line number ever written
+  long commands_sent_ = 0, commands_accepted_ = 0;
   int stale_left_ = 0;         // resend requests still expected from lines before the replay
   long last_resend_ = -1;      // line of the last replay
   int same_resend_count_ = 0;

@@ -1,0 +1,59 @@
+// A G-code file as the host streams it: its commands and where each layer starts.
+//
+// Input: a text file of G-code (from `mahost slice` or any slicer). Output: the commands in
+// order without comments or blank lines, exactly as they will be sent; the layers, from the
+// `;LAYER:<n>` comments slicers write at each layer start (Cura's and ours), with the `;Z:`
+// that follows when there is one; a hash of the file's bytes, so a journal can tell whether the
+// file changed before a resume. Commands are kept in one buffer (a bunny print has a million
+// of them).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace printer {
+
+struct GcodeLayer {
+  int number = 0;                 // n of ;LAYER:n
+  std::size_t first_command = 0;  // index of the layer's first command
+  std::optional<double> z;        // mm, from ;Z: when given
+};
+
+class GcodeFile {
+ public:
+  std::string path;
+  std::string hash;                 // "fnv1a64:<16 hex digits>" of the file's bytes
+  std::vector<GcodeLayer> layers;   // in file order
+
+  std::size_t size() const { return starts_.empty() ? 0 : starts_.size() - 1; }
+  std::string_view command(std::size_t i) const {
+    return std::string_view(text_).substr(starts_[i], starts_[i + 1] - starts_[i]);
+  }
+  // Index into layers of the layer command i belongs to; -1 before the first layer mark.
+  int layer_index_of(std::size_t command) const;
+  // Index into layers of the layer that starts at command i, or -1.
+  int layer_starting_at(std::size_t command) const;
+
+  void add_command(std::string_view command);
+
+ private:
+  std::string text_;
+  std::vector<std::size_t> starts_{0};
+};
+
+// Parses G-code text; `name` is used in messages. Throws ConfigError for text that is not
+// G-code: NUL bytes or other binary, or a command too long for Marlin's line buffer.
+GcodeFile parse_gcode(std::string_view text, const std::string& name);
+
+// Reads and parses a file. Throws ConfigError naming the file when it cannot be read, is
+// empty of commands, or is not G-code.
+GcodeFile read_gcode_file(const std::string& path);
+
+// "fnv1a64:<16 hex digits>": a hash to notice a changed file, not a cryptographic one.
+std::string content_hash(std::string_view bytes);
+
+}  // namespace printer

@@ -1,0 +1,280 @@
+#include "printer/job.h"
+
+#include <algorithm>
+
+#include <fmt/core.h>
+
+#include "printer/error.h"
+
+namespace printer {
+
+namespace {
+
+using std::chrono::nanoseconds;
+
+constexpr nanoseconds kTick = std::chrono::milliseconds(100);
+
+std::string mm(double value) { return fmt::format("{:.5f}", value); }
+
+}  // namespace
+
+std::string_view to_string(JobState state) {
+  switch (state) {
+    case JobState::printing: return "printing";
+    case JobState::pausing: return "pausing";
+    case JobState::paused: return "paused";
+    case JobState::cancelling: return "cancelling";
+    case JobState::completed: return "completed";
+    case JobState::cancelled: return "cancelled";
+    case JobState::stopped: return "stopped";
+    case JobState::failed: return "failed";
+  }
+  return "unknown";
+}
+
+Job::Job(LineProtocol& protocol, const GcodeFile& file, JobOptions options)
+    : protocol_(protocol), file_(file), options_(std::move(options)) {
+  layer_sequence_.assign(file_.layers.size(), -1);
+  layer_state_.assign(file_.layers.size(), PrintState{});
+  done_ = std::min(options_.first_command, file_.size());
+  if (options_.recover_from) state_ = *options_.recover_from;
+  layer_ = file_.layer_index_of(done_);
+}
+
+void Job::request(JobRequest request) {
+  switch (request) {
+    case JobRequest::pause:
+      if (job_state_ == JobState::printing) pause_requested_ = true;
+      break;
+    case JobRequest::resume:
+      if (job_state_ == JobState::paused || job_state_ == JobState::pausing) resume_requested_ = true;
+      pause_requested_ = false;  // a pause still waiting for its layer is called off
+      break;
+    case JobRequest::cancel:
+      cancel_requested_ = true;
+      break;
+    case JobRequest::stop:
+      stop_requested_ = true;
+      break;
+  }
+}
+
+JobProgress Job::progress() const {
+  JobProgress p;
+  p.state = job_state_;
+  p.commands_done = done_;
+  p.commands_total = file_.size();
+  p.layers = static_cast<int>(file_.layers.size());
+  p.layer = layer_ + 1;
+  const nanoseconds now = protocol_.link().now();
+  p.elapsed = now - start_;
+  const nanoseconds printing = p.elapsed - paused_for_;
+  const std::size_t streamed = done_ - std::min(done_, options_.first_command);
+  const std::size_t left = file_.size() - done_;
+  if (streamed > 200 && printing.count() > 0) {
+    p.remaining = nanoseconds(static_cast<long long>(static_cast<double>(printing.count()) *
+                                                     static_cast<double>(left) /
+                                                     static_cast<double>(streamed)));
+  }
+  p.temperatures = protocol_.temperatures();
+  if (pause_requested_) p.pause_before_layer = layer_ + 2;
+  return p;
+}
+
+void Job::event(const std::string& text) {
+  if (on_event) on_event(text);
+}
+
+void Job::tick(bool force) {
+  const nanoseconds now = protocol_.link().now();
+  if (!force && last_tick_.count() >= 0 && now - last_tick_ < kTick) return;
+  last_tick_ = now;
+  if (on_tick) on_tick(*this);
+  if (stop_requested_ && !stop_sent_) {
+    protocol_.emergency("M112");
+    stop_sent_ = true;
+    throw StopNow{};
+  }
+  // A cancel must not wait out a heat-up or a wait for the user: M108 breaks those.
+  if (cancel_requested_ && !break_sent_ && protocol_.long_command_in_flight()) {
+    protocol_.emergency("M108");
+    break_sent_ = true;
+  }
+}
+
+void Job::write_journal_now(const std::string& state, int layer, std::size_t command,
+                            const PrintState& at, const std::string& reason) {
+  if (options_.journal_path.empty()) return;
+  JournalRecord record = options_.journal;
+  record.commands = file_.size();
+  record.layers = file_.layers.size();
+  record.state = state;
+  record.reason = reason;
+  record.layer_index = layer;
+  record.resume_command = command;
+  record.state_at_resume = at;
+  record.updated.clear();
+  write_journal(options_.journal_path, record);
+}
+
+void Job::start_layer(int layer, std::size_t command) {
+  layer_ = layer;
+  layer_sequence_[static_cast<std::size_t>(layer)] = protocol_.commands_sent();
+  layer_state_[static_cast<std::size_t>(layer)] = state_;
+  write_journal_now("printing", layer, command, state_);
+  const int counted = layer + 1;
+  const bool planned = std::find(options_.pause_at_layers.begin(), options_.pause_at_layers.end(),
+                                 counted) != options_.pause_at_layers.end();
+  if (pause_requested_ || planned) pause_here(layer);
+}
+
+void Job::pause_here(int layer) {
+  pause_requested_ = false;
+  resume_requested_ = false;
+  job_state_ = JobState::pausing;
+  const nanoseconds began = protocol_.link().now();
+  event(fmt::format("pausing before layer {}/{}: finishing the moves in the printer's queue",
+                    layer + 1, file_.layers.size()));
+  const PausePoint point = pause_print(protocol_, state_, options_.pause);
+  job_state_ = JobState::paused;
+  write_journal_now("paused", layer, file_.layers[static_cast<std::size_t>(layer)].first_command,
+                    state_);
+  event(fmt::format(
+      "paused before layer {}/{} at X{:.2f} Y{:.2f} Z{:.2f}{}; nozzle parked at Z{:.2f}, "
+      "heaters kept at {:.0f}/{:.0f} °C",
+      layer + 1, file_.layers.size(), point.state.x, point.state.y, point.state.z,
+      point.reported ? "" : " (the printer did not report its position; the file's is used)",
+      point.lifted_z, state_.hotend_target, state_.bed_target));
+  while (!resume_requested_ && !cancel_requested_) {
+    protocol_.poll(std::chrono::duration_cast<std::chrono::milliseconds>(kTick));
+    tick();
+  }
+  if (cancel_requested_) return;
+  resume_requested_ = false;
+  event("resuming: re-heating if needed, returning to the part");
+  resume_print(protocol_, point, options_.pause);
+  paused_for_ += protocol_.link().now() - began;
+  ++pauses_;
+  job_state_ = JobState::printing;
+  write_journal_now("printing", layer, file_.layers[static_cast<std::size_t>(layer)].first_command,
+                    state_);
+  event(fmt::format("resumed at layer {}/{}", layer + 1, file_.layers.size()));
+}
+
+void Job::cancel_here() {
+  job_state_ = JobState::cancelling;
+  event("cancelling: letting the lines in flight finish, then heaters off, lift, park, motors off");
+  protocol_.wait_acknowledged();
+  const double top = options_.pause.max_z > 0 ? options_.pause.max_z : state_.z + 10;
+  const double lifted = std::max(state_.z, std::min(state_.z + 10, top));
+  std::vector<std::string> end{"M104 S0", "M140 S0", "M107", "G90", "M83"};
+  if (options_.pause.retract > 0) {
+    end.push_back(fmt::format("G1 E-{} F{}", mm(options_.pause.retract),
+                              options_.pause.retract_feedrate));
+  }
+  end.push_back(fmt::format("G1 Z{} F{}", mm(lifted), options_.pause.z_feedrate));
+  end.push_back(fmt::format("G1 X{} Y{} F{}", mm(options_.pause.park_x), mm(options_.pause.park_y),
+                            options_.pause.travel_feedrate));
+  end.push_back("M84");
+  for (const std::string& c : end) protocol_.send(c);
+  protocol_.wait_acknowledged();
+}
+
+int Job::resume_layer_after_failure() const {
+  // The first command the firmware did not confirm may not have run: reprint its layer.
+  const long accepted = protocol_.commands_accepted();
+  int layer = -1;
+  for (std::size_t l = 0; l < layer_sequence_.size(); ++l) {
+    if (layer_sequence_[l] < 0) continue;
+    if (layer_sequence_[l] <= accepted) layer = static_cast<int>(l);
+  }
+  return layer < 0 ? layer_ : std::min(layer, layer_);
+}
+
+JobResult Job::run() {
+  start_ = protocol_.link().now();
+  protocol_.on_wait = [this] { tick(); };
+  JobResult result;
+  const std::string hint =
+      options_.journal_path.empty()
+          ? std::string()
+          : fmt::format("; to finish the part: mahost resume {} --port PORT", options_.journal_path);
+  try {
+    if (options_.recover_from) {
+      const int layer = file_.layer_index_of(done_);
+      write_journal_now("printing", layer, done_, state_);
+      event(fmt::format("resuming at layer {}/{}: heating, lifting, homing X and Y{}", layer + 1,
+                        file_.layers.size(),
+                        options_.printer_restarted ? ", setting Z from the journal" : ""));
+      recover_print(protocol_, state_, options_.printer_restarted, options_.pause);
+    } else {
+      write_journal_now("printing", file_.layer_index_of(done_), done_, state_);
+    }
+    for (std::size_t i = done_; i < file_.size(); ++i) {
+      if (const int layer = file_.layer_starting_at(i); layer >= 0) start_layer(layer, i);
+      tick();
+      if (cancel_requested_) break;
+      const std::string_view command = file_.command(i);
+      protocol_.send(command);
+      apply(state_, command);
+      done_ = i + 1;
+    }
+    if (cancel_requested_) {
+      cancel_here();
+      job_state_ = JobState::cancelled;
+      result.reason = fmt::format("cancelled at layer {}/{}", layer_ + 1, file_.layers.size());
+      const int layer = std::max(layer_, 0);
+      write_journal_now("cancelled", layer_ < 0 ? -1 : layer,
+                        layer_ < 0 ? 0 : file_.layers[static_cast<std::size_t>(layer)].first_command,
+                        layer_ < 0 ? PrintState{} : layer_state_[static_cast<std::size_t>(layer)],
+                        result.reason);
+    } else {
+      protocol_.wait_acknowledged();
+      job_state_ = JobState::completed;
+      write_journal_now("completed", -1, file_.size(), state_);
+    }
+  } catch (const StopNow&) {
+    job_state_ = JobState::stopped;
+    result.reason = fmt::format(
+        "emergency stop (M112) at layer {}/{}: the printer is halted; reset it (power or M999) "
+        "before the next job",
+        layer_ + 1, file_.layers.size());
+    const int layer = resume_layer_after_failure();
+    if (layer >= 0) {
+      write_journal_now("stopped", layer, file_.layers[static_cast<std::size_t>(layer)].first_command,
+                        layer_state_[static_cast<std::size_t>(layer)], result.reason);
+    }
+  } catch (const PrinterError& e) {
+    if (stop_sent_) {
+      job_state_ = JobState::stopped;
+      result.reason = "emergency stop (M112): the printer is halted";
+    } else {
+      job_state_ = JobState::failed;
+      const int layer = resume_layer_after_failure();
+      if (layer >= 0) {
+        write_journal_now("failed", layer, file_.layers[static_cast<std::size_t>(layer)].first_command,
+                          layer_state_[static_cast<std::size_t>(layer)], e.what());
+      }
+      protocol_.on_wait = nullptr;
+      throw PrinterError(std::string(e.what()) + hint);
+    }
+  } catch (const LinkError& e) {
+    job_state_ = JobState::failed;
+    const int layer = resume_layer_after_failure();
+    if (layer >= 0) {
+      write_journal_now("failed", layer, file_.layers[static_cast<std::size_t>(layer)].first_command,
+                        layer_state_[static_cast<std::size_t>(layer)], e.what());
+    }
+    protocol_.on_wait = nullptr;
+    throw LinkError(std::string(e.what()) + hint);
+  }
+  protocol_.on_wait = nullptr;
+  result.state = job_state_;
+  result.commands_done = done_;
+  result.elapsed = protocol_.link().now() - start_;
+  result.pauses = pauses_;
+  result.filament_mm = state_.filament_fed;
+  return result;
+}
+
+}  // namespace printer

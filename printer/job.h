@@ -1,0 +1,108 @@
+// A print job: streams a G-code file through the protocol engine, pauses at layer
+// boundaries, cancels safely, stops at once, and keeps the journal (DESIGN.md §4).
+//
+// Input: a loaded GcodeFile, a connected LineProtocol, requests from the user (pause, resume,
+// cancel, stop) that arrive through on_tick. Output: the file's commands sent exactly once
+// and in order (a resume starts at a layer start), one-line events, the journal rewritten at
+// each layer start, and a JobResult. The job knows layers and commands, never reply syntax:
+// the engine owns that. Time is the link's clock.
+#pragma once
+
+#include <chrono>
+#include <cstddef>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "printer/gcode_file.h"
+#include "printer/journal.h"
+#include "printer/line_protocol.h"
+#include "printer/pause.h"
+#include "printer/print_state.h"
+
+namespace printer {
+
+enum class JobRequest { pause, resume, cancel, stop };
+enum class JobState { printing, pausing, paused, cancelling, completed, cancelled, stopped, failed };
+std::string_view to_string(JobState state);
+
+struct JobProgress {
+  JobState state = JobState::printing;
+  std::size_t commands_done = 0, commands_total = 0;  // of the file
+  int layer = 0, layers = 0;       // layer being printed counted from 1; 0 before the first
+  std::chrono::nanoseconds elapsed{0};                 // since the job started (link clock)
+  std::optional<std::chrono::nanoseconds> remaining;   // estimate, printing time only
+  std::optional<Temperatures> temperatures;
+  int pause_before_layer = 0;      // a requested pause waits for this layer (from 1), 0: none
+};
+
+struct JobOptions {
+  std::vector<int> pause_at_layers;  // pause before these layers start, counted from 1
+  PauseOptions pause;
+  std::string journal_path;          // "" keeps no journal
+  JournalRecord journal;             // job, G-code path and hash, port, baud: copied into it
+  // A resume: start at this command with the printer first brought back onto the part.
+  std::size_t first_command = 0;
+  std::optional<PrintState> recover_from;  // state at first_command; set = run recover_print
+  bool printer_restarted = false;          // the printer forgot its position
+};
+
+struct JobResult {
+  JobState state = JobState::completed;
+  std::string reason;                    // for cancelled and stopped
+  std::size_t commands_done = 0;
+  std::chrono::nanoseconds elapsed{0};
+  int pauses = 0;
+  double filament_mm = 0;                // fed by the file's commands
+};
+
+class Job {
+ public:
+  Job(LineProtocol& protocol, const GcodeFile& file, JobOptions options);
+
+  // Takes effect at the next chance: pause at the next layer start, resume a pause, cancel
+  // after the lines in flight, stop (M112) at once.
+  void request(JobRequest request);
+  JobProgress progress() const;
+  const std::string& journal_path() const { return options_.journal_path; }
+
+  // Called while the job streams and waits, about every 100 ms of link time: the UI draws
+  // and reads keys, the control socket answers; either may call request().
+  std::function<void(Job&)> on_tick;
+  // One-line events for the user: "paused before layer 20 ...", "resumed".
+  std::function<void(const std::string&)> on_event;
+
+  // Runs the job. A failed link or printer writes the journal and rethrows the LinkError or
+  // PrinterError with how to resume appended.
+  JobResult run();
+
+ private:
+  struct StopNow {};
+  void tick(bool force = false);
+  void start_layer(int layer, std::size_t command);
+  void pause_here(int layer);
+  void cancel_here();
+  void write_journal_now(const std::string& state, int layer, std::size_t command,
+                         const PrintState& at, const std::string& reason = {});
+  void event(const std::string& text);
+  int resume_layer_after_failure() const;
+
+  LineProtocol& protocol_;
+  const GcodeFile& file_;
+  JobOptions options_;
+  PrintState state_;
+  JobState job_state_ = JobState::printing;
+  std::size_t done_ = 0;
+  int layer_ = -1;
+  std::vector<long> layer_sequence_;  // commands_sent() before each layer's first command
+  std::vector<PrintState> layer_state_;  // the state at each layer's start
+  bool pause_requested_ = false, resume_requested_ = false;
+  bool cancel_requested_ = false, stop_requested_ = false, stop_sent_ = false;
+  bool break_sent_ = false;
+  std::chrono::nanoseconds start_{0}, paused_for_{0}, last_tick_{-1};
+  int pauses_ = 0;
+};
+
+}  // namespace printer

@@ -1,0 +1,118 @@
+#include "printer/pause.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/core.h>
+
+namespace printer {
+
+namespace {
+
+// M114 prints two decimals: the stream's own value is the exact one when they agree.
+double resolve(double from_stream, double reported) {
+  return std::abs(from_stream - reported) <= 0.011 ? from_stream : reported;
+}
+
+void send_all(LineProtocol& protocol, const std::vector<std::string>& commands) {
+  for (const std::string& c : commands) protocol.send(c);
+}
+
+std::string mm(double value) { return fmt::format("{:.5f}", value); }
+
+}  // namespace
+
+std::vector<std::string> reheat_commands(const PrintState& state,
+                                         const std::optional<Temperatures>& reported,
+                                         double reheat_margin) {
+  std::vector<std::string> commands;
+  auto cold = [&](const std::optional<double>& current, double target) {
+    return !current || *current < target - reheat_margin;
+  };
+  if (state.bed_target > 0 && cold(reported ? reported->bed : std::nullopt, state.bed_target)) {
+    commands.push_back(fmt::format("M190 S{}", state.bed_target));
+  }
+  if (state.hotend_target > 0 &&
+      cold(reported ? reported->hotend : std::nullopt, state.hotend_target)) {
+    commands.push_back(fmt::format("M109 S{}", state.hotend_target));
+  }
+  return commands;
+}
+
+PausePoint pause_print(LineProtocol& protocol, const PrintState& state, const PauseOptions& options) {
+  PausePoint point;
+  point.state = state;
+  if (const auto reported = protocol.query_position()) {
+    point.reported = true;
+    point.state.x = resolve(state.x, reported->x);
+    point.state.y = resolve(state.y, reported->y);
+    point.state.z = resolve(state.z, reported->z);
+    point.state.e = resolve(state.e, reported->e);
+  }
+  point.lifted_z = point.state.z + options.lift;
+  if (options.max_z > 0) point.lifted_z = std::max(point.state.z, std::min(point.lifted_z, options.max_z));
+  std::vector<std::string> commands{"G90", "M83"};
+  if (options.retract > 0) {
+    commands.push_back(fmt::format("G1 E-{} F{}", mm(options.retract), options.retract_feedrate));
+  }
+  commands.push_back(fmt::format("G1 Z{} F{}", mm(point.lifted_z), options.z_feedrate));
+  commands.push_back(fmt::format("G1 X{} Y{} F{}", mm(options.park_x), mm(options.park_y),
+                                 options.travel_feedrate));
+  send_all(protocol, commands);
+  protocol.wait_acknowledged();
+  return point;
+}
+
+void resume_print(LineProtocol& protocol, const PausePoint& point, const PauseOptions& options) {
+  const PrintState& s = point.state;
+  protocol.send("M105");
+  protocol.wait_acknowledged();
+  send_all(protocol, reheat_commands(s, protocol.temperatures(), options.reheat_margin));
+  std::vector<std::string> commands{
+      "G90",
+      fmt::format("G1 X{} Y{} F{}", mm(s.x), mm(s.y), options.travel_feedrate),
+      fmt::format("G1 Z{} F{}", mm(s.z), options.z_feedrate),
+      "M83",
+  };
+  if (options.retract > 0) {
+    commands.push_back(fmt::format("G1 E{} F{}", mm(options.retract), options.retract_feedrate));
+  }
+  commands.push_back(fmt::format("G92 E{}", mm(s.e)));
+  for (std::string& c : restore_modes(s)) commands.push_back(std::move(c));
+  send_all(protocol, commands);
+}
+
+void recover_print(LineProtocol& protocol, const PrintState& s, bool printer_restarted,
+                   const PauseOptions& options) {
+  protocol.send("M105");
+  protocol.wait_acknowledged();
+  std::vector<std::string> commands;
+  // Heat while lifting and homing; wait only once the nozzle is off the part.
+  if (s.bed_target > 0) commands.push_back(fmt::format("M140 S{}", s.bed_target));
+  if (s.hotend_target > 0) commands.push_back(fmt::format("M104 S{}", s.hotend_target));
+  // A printer that restarted forgot Z; Z did not move (its motors hold or were off), so the
+  // journal's Z is where the nozzle is, to within the layer that was being printed.
+  if (printer_restarted) commands.push_back(fmt::format("G92 Z{}", mm(s.z)));
+  commands.push_back("G91");
+  commands.push_back(fmt::format("G1 Z{} F{}", mm(options.lift), options.z_feedrate));
+  commands.push_back("G90");
+  commands.push_back("G28 X Y");
+  send_all(protocol, commands);
+  protocol.wait_acknowledged();
+  send_all(protocol, reheat_commands(s, protocol.temperatures(), 0.0));
+  commands = {
+      "G90",
+      fmt::format("G1 X{} Y{} F{}", mm(s.x), mm(s.y), options.travel_feedrate),
+      fmt::format("G1 Z{} F{}", mm(s.z), options.z_feedrate),
+      "M83",
+  };
+  if (options.retract > 0) {
+    commands.push_back(fmt::format("G1 E{} F{}", mm(options.retract), options.retract_feedrate));
+  }
+  commands.push_back(fmt::format("G92 E{}", mm(s.e)));
+  for (std::string& c : restore_modes(s)) commands.push_back(std::move(c));
+  commands.push_back(s.fan > 0 ? fmt::format("M106 S{}", s.fan) : "M107");
+  send_all(protocol, commands);
+}
+
+}  // namespace printer

@@ -1,0 +1,50 @@
+// Pausing a print at a layer boundary and getting back onto the part (DESIGN.md §4).
+//
+// pause_print: let the queued moves finish (M400), read where the nozzle is (M114), retract,
+// lift Z, park; the heaters stay at their targets. resume_print: re-heat if the temperature
+// fell, move X/Y at the lifted Z and only then down to Z (coming down onto the part from the
+// side could hit it), un-retract, restore E with G92 and the extruder mode, positioning mode
+// and feedrate, so the next line of the file runs exactly as it would have.
+// recover_print: the same after the host or the link died (`mahost resume`): re-heat, lift,
+// home X and Y only (homing Z would drive the nozzle into the part), tell a printer that
+// restarted where Z is, and restore E, modes, feedrate and fan from the journal.
+//
+// Positions come from the G-code stream (exact to the file's decimals) when M114 agrees with
+// them to 0.01 mm (Marlin prints M114 to two decimals), and from M114 otherwise.
+// Units: mm, mm/min, °C.
+#pragma once
+
+#include "printer/line_protocol.h"
+#include "printer/print_state.h"
+
+namespace printer {
+
+struct PauseOptions {
+  double retract = 1.0;            // filament pulled back while paused, mm (0: none)
+  double lift = 5.0;               // how far the nozzle rises off the part, mm
+  double park_x = 5, park_y = 5;   // where it waits, mm (a bed corner; parts sit centred)
+  double max_z = 0;                // build height, mm; the lift stops there (0: unknown)
+  double travel_feedrate = 6000;   // mm/min
+  double z_feedrate = 600;         // mm/min
+  double retract_feedrate = 1800;  // mm/min
+  double reheat_margin = 5;        // resume waits for heating when this far below target, °C
+};
+
+struct PausePoint {
+  PrintState state;          // the stream's state at the pause, position resolved as above
+  bool reported = false;     // M114 answered
+  double lifted_z = 0;       // where the nozzle waits, mm
+};
+
+PausePoint pause_print(LineProtocol& protocol, const PrintState& state, const PauseOptions& options);
+void resume_print(LineProtocol& protocol, const PausePoint& point, const PauseOptions& options);
+void recover_print(LineProtocol& protocol, const PrintState& at_resume, bool printer_restarted,
+                   const PauseOptions& options);
+
+// The heating commands resume sends: M190/M109 when the last report is `reheat_margin` or
+// more below the target (or there is none), nothing when it is near.
+std::vector<std::string> reheat_commands(const PrintState& state,
+                                         const std::optional<Temperatures>& reported,
+                                         double reheat_margin);
+
+}  // namespace printer

@@ -1,0 +1,37 @@
+// The state a G-code stream leaves the printer in, followed command by command: position,
+// positioning and extruder modes, feedrate, heater targets, fan.
+//
+// Input: commands in the order the printer runs them. Output: what the firmware would hold
+// after them, for what a pause must restore (modes, feedrate), what a journal records at
+// each layer start (E, Z, temperatures), and the filament a job feeds. It follows Marlin:
+// G90/G91 switch all axes including E, M82/M83 only E; G92 with no axis zeroes all four.
+// Units: mm, mm/min (feedrate as written in F), °C, fan 0-255.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "printer/gcode_line.h"
+
+namespace printer {
+
+struct PrintState {
+  double x = 0, y = 0, z = 0, e = 0;  // logical position, mm
+  double feedrate = 0;                // mm/min, the last F; 0 before any
+  bool relative_xyz = false;          // G91
+  bool relative_e = false;            // M83 or G91
+  double hotend_target = 0, bed_target = 0;  // °C
+  int fan = 0;                        // 0-255
+  double filament_fed = 0;            // mm of filament pushed by extruding moves, in total
+};
+
+// Applies one command to the state. Commands that do not change it are ignored.
+void apply(PrintState& state, const GcodeCommand& command);
+void apply(PrintState& state, std::string_view command);
+
+// The commands that put a firmware in `state`'s modes and feedrate (not its position):
+// "G90"/"G91", "M82"/"M83", "G1 F<f>".
+std::vector<std::string> restore_modes(const PrintState& state);
+
+}  // namespace printer
