@@ -25,5 +25,10 @@ struct CommandExit {
 
 // `mahost info`: host/cmd_info.cpp.
 void add_info_command(CLI::App& app);
+// `mahost slice`: host/cmd_slice.cpp.
+void add_slice_command(CLI::App& app);
+
+// `mahost sim`: host/cmd_sim.cpp.
+void add_sim_command(CLI::App& app);
 
 }  // namespace host

@@ -20,6 +20,8 @@ int main(int argc, char** argv) {
 
   // One line per command; see host/commands.h.
   host::add_info_command(app);
+  host::add_slice_command(app);
+  host::add_sim_command(app);
 
   try {
     app.parse(argc, argv);

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <limits>
@@ -479,15 +480,29 @@ GcodeSummary write_gcode(std::ostream& out, const std::vector<LayerToolpaths>& l
 GcodeSummary write_gcode_file(const std::string& path, const std::vector<LayerToolpaths>& layers,
                               const Profiles& profiles, const GcodeOptions& options,
                               const LayersWritten& on_layer) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  // Written beside the target and renamed at the end: a refused or failed slice never leaves
+  // a truncated program where a printer could pick it up, nor clobbers the previous one.
+  const std::string partial = path + ".part";
+  std::ofstream out(partial, std::ios::binary | std::ios::trunc);
   if (!out) {
     throw ConfigError(fmt::format("cannot write '{}': {}; check the folder exists and is writable",
                                   path, std::strerror(errno)));
   }
-  GcodeSummary summary = write_gcode(out, layers, profiles, options, on_layer);
-  out.flush();
-  if (!out) {
-    throw ConfigError(fmt::format("writing '{}' failed (disk full?): {}", path, std::strerror(errno)));
+  GcodeSummary summary;
+  try {
+    summary = write_gcode(out, layers, profiles, options, on_layer);
+    out.close();
+    if (!out) {
+      throw ConfigError(fmt::format("writing '{}' failed (disk full?): {}", path,
+                                    std::strerror(errno)));
+    }
+    if (std::rename(partial.c_str(), path.c_str()) != 0) {
+      throw ConfigError(fmt::format("cannot write '{}': {}", path, std::strerror(errno)));
+    }
+  } catch (...) {
+    out.close();
+    std::remove(partial.c_str());
+    throw;
   }
   return summary;
 }

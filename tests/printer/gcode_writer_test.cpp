@@ -1,6 +1,8 @@
 // The G-code writer, with hand-made toolpaths: read the program back as a printer would
 // (tests/support/gcode_beads) and check what it lays, where it moves, and what it claims.
 #include <cmath>
+#include <cstdio>
+#include <fstream>
 #include <initializer_list>
 #include <sstream>
 #include <string>
@@ -421,4 +423,29 @@ TEST_CASE("format_duration_reads_as_hours_minutes_seconds") {
   CHECK(format_duration(0) == "0 s");
   CHECK(format_duration(59.6) == "1 min 0 s");
   CHECK(format_duration(3 * 3600 + 25 * 60 + 7) == "3 h 25 min 7 s");
+}
+
+TEST_CASE("refused_file_is_neither_written_nor_clobbered") {
+  const std::string path = "gcode_writer_test_refused.gcode";
+  {
+    std::ofstream previous(path);
+    previous << "previous program\n";
+  }
+  LayerToolpaths layer;
+  layer.z_lo = 0;
+  layer.z_hi = 0.3;
+  layer.paths.push_back({PathRole::outer_wall, square_loop(150), 0.5, true});
+  CHECK_FALSE(config_error([&] { write_gcode_file(path, {layer}, profiles("up-plus-2", "abs")); }).empty());
+  std::ifstream in(path);
+  std::string first;
+  std::getline(in, first);
+  CHECK(first == "previous program");
+  CHECK_FALSE(std::ifstream(path + ".part").good());
+  std::remove(path.c_str());
+}
+
+TEST_CASE("file_in_a_missing_folder_is_refused_with_its_name") {
+  CHECK(config_error([&] {
+          write_gcode_file("/nonexistent-folder/part.gcode", square_part(), profiles("up-plus-2", "abs"));
+        }).starts_with("cannot write '/nonexistent-folder/part.gcode': No such file or directory"));
 }
