@@ -75,6 +75,7 @@ LayerStack::LayerStack(const Mesh& mesh, std::vector<Layer> layers)
   index.face_low.assign(face_count, NAN);
   index.face_high.assign(face_count, NAN);
 
+  std::vector<char> used(mesh.vertices.size(), 0);  // vertices of indexed faces
   bool any = false;
   double extent_sum = 0;
   std::size_t sloped = 0;
@@ -94,7 +95,10 @@ LayerStack::LayerStack(const Mesh& mesh, std::vector<Layer> layers)
     index.z_max = any ? std::max(index.z_max, high) : high;
     any = true;
     if (high > low) extent_sum += high - low, ++sloped;
-    for (std::uint32_t v : face) index.vertex_heights.push_back(mesh.vertices[v].z);
+    for (std::uint32_t v : face) used[v] = 1;
+  }
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+    if (used[v]) index.vertex_heights.push_back(mesh.vertices[v].z);
   }
   std::sort(index.vertex_heights.begin(), index.vertex_heights.end());
   index.vertex_heights.erase(

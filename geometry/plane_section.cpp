@@ -21,6 +21,8 @@ Node node_of(const Mesh& mesh, std::uint32_t a, std::uint32_t b, double z) {
   return (Node{a} << 32) | b;
 }
 
+bool is_vertex(Node node) { return (node >> 32) == (node & 0xffffffffu); }
+
 Vec2 crossing_point(const Mesh& mesh, Node node, double z) {
   Vec3 below = mesh.vertices[node >> 32];
   Vec3 above = mesh.vertices[node & 0xffffffffu];
@@ -77,6 +79,7 @@ void finish_loop(Loop& loop, Region& region) {
 Region plane_section(const Mesh& mesh, std::span<const std::uint32_t> faces, double z) {
   std::vector<Segment> segments;
   segments.reserve(faces.size());
+  bool on_plane = false;
   for (std::uint32_t f : faces) {
     const auto& face = mesh.faces[f];
     bool below[3];
@@ -91,8 +94,11 @@ Region plane_section(const Mesh& mesh, std::span<const std::uint32_t> faces, dou
       if (below[i] && !below[j]) segment.end = node_of(mesh, face[i], face[j], z);
     }
     segments.push_back(segment);
+    on_plane |= is_vertex(segment.start) || is_vertex(segment.end);
   }
-  cancel_zero_width(segments);
+  // Zero width needs a vertex exactly on the plane (in a manifold mesh two faces share at
+  // most one edge), so a plane that meets none, the usual case, skips the search for it.
+  if (on_plane) cancel_zero_width(segments);
   if (segments.empty()) return {};
 
   std::sort(segments.begin(), segments.end(),

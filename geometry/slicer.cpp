@@ -1,6 +1,7 @@
 // Uniform slicing: all planes in one upward sweep over the faces sorted by their lowest
 // vertex, keeping the list of faces that still reach above the current plane; each plane is
-// then cut from its own list (plane_section.h), the planes in parallel.
+// then cut from its own list (plane_section.h), the planes in parallel. What happens to a
+// mesh that is not closed (open chains) and to planes through vertices: see plane_section.h.
 #include "geometry/slicer.h"
 
 #include <tbb/parallel_for.h>
