@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <unordered_map>
+#include <utility>
 
 #include "geometry/clipper_bridge.h"
 
@@ -25,39 +27,15 @@ std::vector<Vec3> clip_half(const std::vector<Vec3>& in, double plane, double si
     const double ka = keep(a.z), kb = keep(b.z);
     if (ka >= 0) out.push_back(a);
     if ((ka < 0 && kb > 0) || (ka > 0 && kb < 0)) {
-      const double s = ka / (ka - kb);
-      Vec3 p = a + s * (b - a);
+      // From the lower end, so the face on the other side of this edge, which walks it the
+      // other way, computes the very same point, and the footprint's shared edges cancel.
+      const Vec3 lo = a.z < b.z ? a : b, hi = a.z < b.z ? b : a;
+      Vec3 p = lo + ((plane - lo.z) / (hi.z - lo.z)) * (hi - lo);
       p.z = plane;  // exactly, so later tests against the plane are exact
       out.push_back(p);
     }
   }
   return out;
-}
-
-double cross_z(IntPoint o, IntPoint a, IntPoint b) {
-  // Coordinates stay below 2^31 units (2 m), so the int64 products are exact.
-  return static_cast<double>((a.X - o.X) * (b.Y - o.Y) - (a.Y - o.Y) * (b.X - o.X));
-}
-
-// Andrew's monotone chain: the convex hull, counter-clockwise, no collinear points.
-ClipperLib::Path convex_hull(std::vector<IntPoint> points) {
-  std::sort(points.begin(), points.end(), [](IntPoint a, IntPoint b) {
-    return a.X < b.X || (a.X == b.X && a.Y < b.Y);
-  });
-  points.erase(std::unique(points.begin(), points.end()), points.end());
-  if (points.size() < 3) return {points.begin(), points.end()};
-  ClipperLib::Path hull(2 * points.size());
-  std::size_t k = 0;
-  for (const IntPoint& p : points) {
-    while (k >= 2 && cross_z(hull[k - 2], hull[k - 1], p) <= 0) --k;
-    hull[k++] = p;
-  }
-  for (std::size_t i = points.size() - 1, lower = k + 1; i-- > 0;) {
-    while (k >= lower && cross_z(hull[k - 2], hull[k - 1], points[i]) <= 0) --k;
-    hull[k++] = points[i];
-  }
-  hull.resize(k - 1);
-  return hull;
 }
 
 }  // namespace
@@ -114,34 +92,111 @@ Slab slab_of(const LayerStack& stack, std::size_t layer) {
   return slab_of(stack.mesh(), faces, bounds.z_lo, bounds.z_hi);
 }
 
-Region slab_footprint(const Slab& slab, double margin) {
-  // The octagon circumscribes the disc of radius `margin`, so every grown facet contains all
-  // points within `margin` of the facet's projection, and none farther than 1.09 * margin.
-  const double radius = std::max(margin, 0.0) / std::cos(std::numbers::pi / 8) * kClipperScale;
-  std::array<IntPoint, 8> octagon;
-  for (int k = 0; k < 8; ++k) {
-    const double angle = std::numbers::pi / 8 + k * std::numbers::pi / 4;
-    octagon[k] = {static_cast<cInt>(std::ceil(radius * std::cos(angle) - 0.5)),
-                  static_cast<cInt>(std::ceil(radius * std::sin(angle) - 0.5))};
+namespace {
+
+struct EdgeHash {
+  std::size_t operator()(const std::pair<IntPoint, IntPoint>& e) const {
+    std::uint64_t h = 1469598103934665603ULL;
+    for (cInt v : {e.first.X, e.first.Y, e.second.X, e.second.Y}) {
+      h = (h ^ static_cast<std::uint64_t>(v)) * 1099511628211ULL;
+    }
+    return static_cast<std::size_t>(h ^ (h >> 29));
   }
-  ClipperLib::Clipper clipper;
-  std::vector<IntPoint> grown;
-  for (const auto& facet : slab.facets) {
-    grown.clear();
-    for (const Vec3& v : facet) {
-      const IntPoint p = to_clipper(Vec2{v.x, v.y});
-      if (radius > 0) {
-        for (const IntPoint& o : octagon) grown.push_back({p.X + o.X, p.Y + o.Y});
+};
+
+// The boundary of the facets' projections taken as a 2-chain (each facet counter-clockwise,
+// weight one), as closed paths: a shared edge is walked once each way and cancels, so only
+// the lower and upper contours and the silhouettes remain. Their non-zero fill is the union
+// of the projections, and Clipper sees a few hundred edges instead of every facet.
+ClipperLib::Paths chain_boundary(const std::vector<ClipperLib::Path>& facets) {
+  std::unordered_map<std::pair<IntPoint, IntPoint>, int, EdgeHash> count;
+  for (const ClipperLib::Path& f : facets) {
+    for (std::size_t i = 0, n = f.size(); i < n; ++i) {
+      const IntPoint a = f[i], b = f[(i + 1) % n];
+      const auto reverse = count.find({b, a});
+      if (reverse != count.end() && reverse->second > 0) {
+        --reverse->second;
       } else {
-        grown.push_back(p);
+        ++count[{a, b}];
       }
     }
-    ClipperLib::Path hull = convex_hull(std::move(grown));
-    grown = {};
-    if (hull.size() >= 3) clipper.AddPath(hull, ClipperLib::ptSubject, true);
   }
+  std::unordered_multimap<IntPoint, IntPoint, decltype([](IntPoint p) {
+                            return std::hash<cInt>()(p.X * 1000003 ^ p.Y);
+                          })>
+      outgoing;
+  for (const auto& [edge, n] : count) {
+    for (int k = 0; k < n; ++k) outgoing.emplace(edge.first, edge.second);
+  }
+  ClipperLib::Paths paths;
+  while (!outgoing.empty()) {
+    auto it = outgoing.begin();
+    const IntPoint start = it->first;
+    ClipperLib::Path path{start};
+    IntPoint at = it->second;
+    outgoing.erase(it);
+    // Every vertex has as many edges in as out, so the walk ends where it began; should
+    // rounding ever break that, the walk stops and the path closes itself.
+    while (!(at == start)) {
+      path.push_back(at);
+      const auto next = outgoing.find(at);
+      if (next == outgoing.end()) break;
+      at = next->second;
+      outgoing.erase(next);
+    }
+    if (path.size() >= 3) paths.push_back(std::move(path));
+  }
+  return paths;
+}
+
+}  // namespace
+
+Region slab_footprint(const Slab& slab, double margin) {
+  // The union of the projections, then grown by the margin in one offset: the same set as
+  // growing each facet first (the Minkowski sum distributes over the union). Facets seen
+  // edge-on (vertical walls) project to segments of no area and join the offset as open
+  // paths.
+  std::vector<ClipperLib::Path> seen;
+  ClipperLib::Paths edge_on;
+  seen.reserve(slab.facets.size());
+  for (const auto& facet : slab.facets) {
+    ClipperLib::Path projected;
+    for (const Vec3& v : facet) {
+      const IntPoint p = to_clipper(Vec2{v.x, v.y});
+      if (projected.empty() || !(p == projected.back())) projected.push_back(p);
+    }
+    while (projected.size() > 1 && projected.front() == projected.back()) projected.pop_back();
+    // Edge-on: thinner than 10 nm across, which rounding to whole nanometres can leave of a
+    // vertical face; as a polygon such a sliver would vanish in the union.
+    double longest = 0;
+    for (std::size_t i = 0, n = projected.size(); i < n; ++i) {
+      const IntPoint a = projected[i], b = projected[(i + 1) % n];
+      longest = std::max(longest, std::hypot(double(b.X - a.X), double(b.Y - a.Y)));
+    }
+    constexpr double kEdgeOnWidth = 10;  // nm
+    if (projected.size() >= 3 && std::abs(ClipperLib::Area(projected)) > 0.5 * kEdgeOnWidth * longest) {
+      if (!ClipperLib::Orientation(projected)) ClipperLib::ReversePath(projected);
+      seen.push_back(std::move(projected));
+    } else if (!projected.empty()) {
+      edge_on.push_back(std::move(projected));
+    }
+  }
+  ClipperLib::Clipper clipper;
+  clipper.AddPaths(chain_boundary(seen), ClipperLib::ptSubject, true);
+  ClipperLib::Paths covered;
+  clipper.Execute(ClipperLib::ctUnion, covered, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+  const double delta = std::max(margin, 0.0) * kClipperScale;
   ClipperLib::PolyTree tree;
-  clipper.Execute(ClipperLib::ctUnion, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+  if (delta > 0) {
+    ClipperLib::ClipperOffset offset;
+    offset.AddPaths(covered, ClipperLib::jtMiter, ClipperLib::etClosedPolygon);
+    offset.AddPaths(edge_on, ClipperLib::jtMiter, ClipperLib::etOpenSquare);
+    offset.Execute(tree, delta);
+  } else {
+    ClipperLib::Clipper normalise;
+    normalise.AddPaths(covered, ClipperLib::ptSubject, true);
+    normalise.Execute(ClipperLib::ctUnion, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+  }
   return from_clipper(tree);
 }
 
