@@ -15,6 +15,8 @@ namespace tc = toolpath_clipper;
 // A loop with less length than this is a speck left by the offset, not a printable wall;
 // dropping it leaves its area to the thin-wall pass, which covers it if it is wide enough.
 constexpr double kMinLoopLength = 0.5;  // in bead widths
+// A gap with less area than this is a speck of the offsets, not a wall to print.
+constexpr double kMinGapArea = 1.0 / 16;  // in bead widths squared
 
 ExtrusionPath closed_path(const ClipperLib::Path& path, PathRole role, double width) {
   ExtrusionPath result;
@@ -37,7 +39,10 @@ Perimeters perimeters(const Region& island, double width, int count) {
   tc::Paths inside = tc::union_of(to_clipper(island));
   tc::Paths gaps;
   for (int k = 0; k < count && !inside.empty(); ++k) {
-    tc::Paths centre = tc::offset(inside, -width / 2);
+    // The loop's centre line, w/2 inside. Where its two sides would come closer than half a
+    // bead the loop would lay its beads on top of each other: that part (under 1.5 beads
+    // wide) is cut away (an opening by w/4) and left to a thin wall.
+    tc::Paths centre = tc::offset(tc::offset(inside, -0.75 * width), width / 4);
     std::erase_if(centre, [&](const ClipperLib::Path& path) {
       double length = 0;
       for (std::size_t i = 0; i < path.size(); ++i) {
@@ -46,13 +51,14 @@ Perimeters perimeters(const Region& island, double width, int count) {
       }
       return length < kMinLoopLength * width;
     });
-    // Where the loop's two sides would come closer than half a bead, the loop would lay its
-    // beads on top of each other: that part (under 1.5 beads wide) is left to a thin wall.
-    centre = tc::opening(centre, width / 4);
     // What the loop's bead covers, corners taken as sharp: a bead rounds them, but the sliver
     // it misses at a corner is not a wall to print.
     const tc::Paths covered = tc::offset(centre, width / 2, ClipperLib::jtMiter, 10.0);
     tc::Paths gap = tc::difference(inside, covered);
+    // The difference is mostly specks along the edge where the offsets round off short
+    // edges; a piece of wall to print has at least a quarter bead square of area.
+    const double min_gap = kMinGapArea * width * width * kClipperScale * kClipperScale;
+    std::erase_if(gap, [&](const auto& path) { return std::abs(ClipperLib::Area(path)) < min_gap; });
     if (!gap.empty()) {
       // Slivers narrower than a quarter bead are offset noise, not walls.
       gap = tc::opening(gap, width / 8);

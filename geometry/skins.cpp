@@ -13,17 +13,6 @@ namespace {
 
 namespace tc = toolpath_clipper;
 
-// Intersection of regions[first .. first + count - 1]; an index outside the stack is empty.
-tc::Paths covered_by_all(const std::vector<tc::Paths>& regions, long first, int count) {
-  const long size = static_cast<long>(regions.size());
-  if (first < 0 || first + count > size) return {};
-  tc::Paths result = regions[first];
-  for (long j = first + 1; j < first + count && !result.empty(); ++j) {
-    result = tc::intersection(result, regions[j]);
-  }
-  return result;
-}
-
 }  // namespace
 
 std::vector<std::optional<Region>> sparse_cores(const std::vector<Region>& regions,
@@ -33,19 +22,31 @@ std::vector<std::optional<Region>> sparse_cores(const std::vector<Region>& regio
   top_layers = std::max(top_layers, 0);
   bottom_layers = std::max(bottom_layers, 0);
   if (top_layers == 0 && bottom_layers == 0) return cores;
-  std::vector<tc::Paths> paths(n);
-  tbb::parallel_for(long{0}, n, [&](long i) { paths[i] = tc::union_of(to_clipper(regions[i])); });
+  // core_i is the intersection of the window regions[i - bottom .. i + top]: layer i itself
+  // is in it too, which changes nothing inside layer i. Windows of 2^k layers come from
+  // halves of 2^(k-1) (a sparse table), so a window of any length L costs log2(L) + 1
+  // intersections per layer rather than L - 1.
+  const long length = bottom_layers + top_layers + 1;
+  std::vector<tc::Paths> span(n);  // span[i]: regions[i .. i + 2^k - 1]
+  tbb::parallel_for(long{0}, n, [&](long i) { span[i] = tc::union_of(to_clipper(regions[i])); });
+  long width = 1;
+  for (; 2 * width <= length; width *= 2) {
+    std::vector<tc::Paths> wider(n);
+    tbb::parallel_for(long{0}, n, [&](long i) {
+      if (i + width < n) wider[i] = tc::intersection(span[i], span[i + width]);
+    });
+    span = std::move(wider);
+  }
   tbb::parallel_for(long{0}, n, [&](long i) {
-    tc::Paths core;
-    if (top_layers > 0 && bottom_layers > 0) {
-      core = tc::intersection(covered_by_all(paths, i + 1, top_layers),
-                              covered_by_all(paths, i - bottom_layers, bottom_layers));
-    } else if (top_layers > 0) {
-      core = covered_by_all(paths, i + 1, top_layers);
-    } else {
-      core = covered_by_all(paths, i - bottom_layers, bottom_layers);
+    const long first = i - bottom_layers, last = i + top_layers;
+    // A window reaching past either end of the stack covers nothing.
+    if (first < 0 || last >= n) {
+      cores[i] = Region{};
+      return;
     }
-    cores[i] = from_clipper(core);
+    const long second = last - width + 1;  // the two spans overlap: together they are exact
+    cores[i] = from_clipper(second == first ? span[first]
+                                            : tc::intersection(span[first], span[second]));
   });
   return cores;
 }

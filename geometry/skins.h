@@ -5,9 +5,11 @@
 // N layers below all cover it (N = top_layers, bottom_layers); layers beyond either end of
 // the stack cover nothing, so the first N and last N layers are solid.
 //
-// sparse_cores: per layer, the intersection of regions[i+1..i+top] and regions[i-bottom..i-1]:
-//   where sparse infill may go. nullopt when top_layers and bottom_layers are both 0 (no
-//   skins: everything may be sparse). Regions in mm; empty input gives an empty vector.
+// sparse_cores: per layer, the intersection of regions[i-bottom .. i+top] (layer i's own
+//   region included, which changes nothing inside it): where sparse infill may go. nullopt
+//   when top_layers and bottom_layers are both 0 (no skins: everything may be sparse).
+//   Regions in mm; empty input gives an empty vector. Costs log2(top + bottom + 1) + 1
+//   intersections per layer.
 // split_skins: one island's infill area (mm) split into
 //   bottom: solid, and not over the layer below (`below`, nullptr when bottom_layers = 0);
 //   top:    solid, not bottom, and not under the layer above (`above`, nullptr when

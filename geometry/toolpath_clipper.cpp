@@ -80,6 +80,64 @@ std::vector<Paths> islands(const Paths& region) {
   return result;
 }
 
+namespace {
+
+// Squared distance from p to the segment [a, b], in units^2 (doubles: nm^2 overflows int64).
+double distance2(const ClipperLib::IntPoint& p, const ClipperLib::IntPoint& a,
+                 const ClipperLib::IntPoint& b) {
+  const double abx = double(b.X - a.X), aby = double(b.Y - a.Y);
+  const double apx = double(p.X - a.X), apy = double(p.Y - a.Y);
+  const double length2 = abx * abx + aby * aby;
+  double t = length2 > 0 ? (apx * abx + apy * aby) / length2 : 0;
+  t = t < 0 ? 0 : t > 1 ? 1 : t;
+  const double dx = apx - t * abx, dy = apy - t * aby;
+  return dx * dx + dy * dy;
+}
+
+}  // namespace
+
+Paths simplified(const Paths& region, double tolerance) {
+  const double limit2 = tolerance * kClipperScale * tolerance * kClipperScale;
+  Paths result;
+  result.reserve(region.size());
+  for (const Path& path : region) {
+    const std::size_t n = path.size();
+    if (n < 3) continue;
+    // Split the loop at vertex 0 and the vertex farthest from it; simplify both chains.
+    std::size_t far = 0;
+    double far2 = -1;
+    for (std::size_t i = 1; i < n; ++i) {
+      const double d = distance2(path[i], path[0], path[0]);
+      if (d > far2) { far2 = d; far = i; }
+    }
+    std::vector<bool> keep(n, false);
+    keep[0] = keep[far] = true;
+    std::vector<std::pair<std::size_t, std::size_t>> stack{{0, far}, {far, n}};
+    while (!stack.empty()) {
+      const auto [from, to] = stack.back();  // chain from..to, index n meaning vertex 0
+      stack.pop_back();
+      const ClipperLib::IntPoint& a = path[from];
+      const ClipperLib::IntPoint& b = path[to % n];
+      std::size_t worst = from;
+      double worst2 = limit2;
+      for (std::size_t i = from + 1; i < to; ++i) {
+        const double d = distance2(path[i], a, b);
+        if (d > worst2) { worst2 = d; worst = i; }
+      }
+      if (worst == from) continue;
+      keep[worst] = true;
+      stack.push_back({from, worst});
+      stack.push_back({worst, to});
+    }
+    Path kept;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (keep[i]) kept.push_back(path[i]);
+    }
+    if (kept.size() >= 3) result.push_back(std::move(kept));
+  }
+  return result;
+}
+
 double area_mm2(const Paths& region) {
   double total = 0;
   for (const Path& path : region) total += ClipperLib::Area(path);

@@ -33,6 +33,11 @@ Paths clip_open(const Paths& lines, const Paths& region);
 // inside a hole is an island of its own. In the order Clipper's tree lists them.
 std::vector<Paths> islands(const Paths& region);
 
+// Each loop with the vertices dropped that lie within `tolerance` mm of the simplified loop
+// (Douglas-Peucker, a strict bound); loops left with fewer than 3 points are dropped. Not
+// re-unioned: run union_of after it if the loops may now touch.
+Paths simplified(const Paths& region, double tolerance);
+
 // Net area in mm^2 (outer loops minus holes).
 double area_mm2(const Paths& region);
 

@@ -6,7 +6,8 @@
 // Outputs: one LayerToolpaths per layer (same count and order as `layers`; a layer without a
 //          region or with an empty one gets no paths): on the first layer the skirt, then per
 //          island, nearest first: inner walls, outer wall, thin walls, skins, infill.
-// Layer i uses regions[i] when i < regions.size(), else the empty region.
+// Layer i uses regions[i] when i < regions.size(), else the empty region. Each region's edges
+// are first straightened within 5 um (Douglas-Peucker), far below a printer's step.
 // Travel: the first path of every layer has retract_before set (the layer change); after
 // that, a travel retracts when it is longer than retract_min_travel or leaves the region.
 // The nozzle starts each layer where the previous one ended (layer 0: the region's

@@ -1,0 +1,100 @@
+// Benchmark: plan_toolpaths over every layer of the 50 mm Stanford bunny (issue 4).
+//
+//   build*/tests/bench/bench_toolpaths [MODEL.stl] [layer mm] [mid|ma]
+//
+// Reads and repairs the bunny (Y up, metres, scaled to 50 mm tall), cuts its layers
+// (0.15 mm: 334 layers), takes each layer's region from the contour strategy (mid by default),
+// then times plan_toolpaths alone with the default options (0.45 mm beads, 2 walls, 20% grid,
+// 3 top and 3 bottom layers, one skirt loop). Prints the wall time of each stage, the paths
+// and extrusion length produced, and the process's peak resident memory.
+#include <sys/resource.h>
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include "geometry/ma_contour.h"
+#include "geometry/layer_stack.h"
+#include "geometry/placement.h"
+#include "geometry/repair.h"
+#include "geometry/stl_io.h"
+#include "geometry/toolpath_plan.h"
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+double resident_mib() {  // current resident set, from /proc
+  std::ifstream statm("/proc/self/statm");
+  long pages = 0, resident = 0;
+  statm >> pages >> resident;
+  return static_cast<double>(resident) * 4096 / (1024.0 * 1024.0);
+}
+
+double peak_mib() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace geometry;
+  const std::string model = argc > 1 ? argv[1] : MAHOST_DATA_DIR "/bunny.stl";
+  const double layer = argc > 2 ? std::stod(argv[2]) : 0.15;
+  const std::string contour = argc > 3 ? argv[3] : "mid";
+  if (contour != "mid" && contour != "ma") {
+    std::fprintf(stderr, "bench_toolpaths: contour must be mid or ma, not '%s'\n", contour.c_str());
+    return 2;
+  }
+
+  auto start = std::chrono::steady_clock::now();
+  Placement placement;
+  placement.units_to_mm = 1000;
+  placement.up = Axis::y;
+  placement.height = 50;
+  const Mesh mesh = place(repair(read_stl(model)), placement);
+  const double t_load = seconds_since(start);
+
+  start = std::chrono::steady_clock::now();
+  const LayerStack stack(mesh, uniform_layers(50, layer));
+  std::vector<Region> regions(stack.size());
+  tbb::parallel_for(std::size_t{0}, stack.size(),
+                    [&](std::size_t i) {
+                      regions[i] = contour == "ma" ? ma_contour(stack, i) : stack.mid(i);
+                    });
+  const double t_regions = seconds_since(start);
+  const double rss_before = resident_mib();
+
+  start = std::chrono::steady_clock::now();
+  const auto plan = plan_toolpaths(regions, stack.layers(), ToolpathOptions{});
+  const double t_plan = seconds_since(start);
+
+  std::size_t paths = 0, points = 0, retractions = 0;
+  double extruded = 0;
+  for (const auto& l : plan) {
+    for (const auto& p : l.paths) {
+      ++paths;
+      points += p.points.size();
+      retractions += p.retract_before;
+      for (std::size_t i = 0; i + 1 < p.points.size(); ++i) {
+        extruded += std::hypot(p.points[i + 1].x - p.points[i].x, p.points[i + 1].y - p.points[i].y);
+      }
+    }
+  }
+  std::printf("model %s, %zu layers of %.2f mm, %s contours\n", model.c_str(), plan.size(), layer,
+              contour.c_str());
+  std::printf("load+repair+place %.3f s, regions %.3f s\n", t_load, t_regions);
+  std::printf("plan_toolpaths    %.3f s  (%.2f ms/layer)\n", t_plan,
+              1000 * t_plan / static_cast<double>(std::max<std::size_t>(plan.size(), 1)));
+  std::printf("paths %zu, points %zu, retractions %zu, extruded path length %.1f m\n", paths,
+              points, retractions, extruded / 1000);
+  std::printf("resident before plan %.1f MiB, peak %.1f MiB\n", rss_before, peak_mib());
+  return 0;
+}
