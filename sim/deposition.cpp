@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
 #include <polyclipping/clipper.hpp>
 
 #include "geometry/clipper_bridge.h"
+#include "printer/bead_model.h"
 
 namespace sim {
 
@@ -50,15 +50,14 @@ std::vector<LayerBeads> bead_polygons(const DepositionRecord& record, double fil
     layers[i].z = record.layer_z[i];
     layers[i].height = record.layer_height(static_cast<int>(i));
   }
-  const double filament_area = std::numbers::pi * filament_diameter * filament_diameter / 4;
   for (const DepositedMove& move : record.moves) {
     LayerBeads& layer = layers[static_cast<std::size_t>(move.layer)];
     const geometry::Vec2 along = move.end - move.start;
     const double length = std::hypot(along.x, along.y);
     const double h = layer.height;
     if (!(length > 0) || !(h > 0)) continue;
-    const double section = move.e * filament_area / length;
-    const double width = section / h + h * (1 - std::numbers::pi / 4);
+    const double width = printer::bead_width(move.e, length, h, filament_diameter);
+    if (!(width > 0)) continue;
     const geometry::Vec2 side = (width / 2 / length) * geometry::Vec2{-along.y, along.x};
     Bead bead;
     bead.width = width;

@@ -7,17 +7,15 @@
 // come in the print (a layer reprinted after a resume folds into the same layer). Layers are
 // numbered from 0 in order of Z. Units: mm, mm/s.
 //
-// Bead width comes from the extruded volume: a move of length L that feeds E mm of filament
-// of diameter d lays a bead of cross-section A = E * pi d^2 / 4 / L; with the layer height h
-// (this layer's Z minus the Z of the layer below, or Z itself for the first) and the
-// rounded-rectangle bead model (a rectangle with half-discs on its sides, as slicers use),
-// width = A / h + h * (1 - pi / 4).
+// Bead width comes from the extruded volume through the bead model the G-code writer uses
+// (printer/bead_model.h, inverted): a move of length L that feeds E mm of filament of
+// diameter d at layer height h (this layer's Z minus the Z of the layer below, or Z itself for
+// the first) lays a bead of cross-section E * pi d^2 / 4 / L, a rounded rectangle of width w.
 #pragma once
 
 #include <string>
 #include <vector>
 
-#include "geometry/mesh.h"
 #include "geometry/polygon.h"
 
 namespace sim {
@@ -57,9 +55,5 @@ std::vector<LayerBeads> bead_polygons(const DepositionRecord& record, double fil
 
 // The area one layer covers: the union of its beads (Clipper, non-zero fill).
 geometry::Region printed_region(const LayerBeads& layer);
-
-// The printed part as a mesh: each layer's printed region extruded from z - height to z.
-// Walls and caps of every layer; layers touch but are not merged.
-geometry::Mesh printed_part(const DepositionRecord& record, double filament_diameter);
 
 }  // namespace sim

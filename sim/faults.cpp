@@ -14,7 +14,7 @@ namespace {
 
 constexpr std::string_view kKeys =
     "corrupt, drop-ok, dup-ok, resend, delay, disconnect-at-line, disconnect-at-time, "
-    "halt-at-line, runaway-at-line, seed";
+    "halt-at-line, runaway-at-line, from-line, seed";
 
 [[noreturn]] void bad(std::string_view key, std::string_view value, std::string_view what) {
   throw printer::ConfigError(
@@ -112,6 +112,8 @@ FaultSpec parse_fault_spec(std::string_view spec) {
       faults.halt_at_line = count(key, value, 1);
     } else if (key == "runaway-at-line") {
       faults.runaway_at_line = count(key, value, 1);
+    } else if (key == "from-line") {
+      faults.from_line = static_cast<long>(count(key, value, 0));
     } else if (key == "seed") {
       faults.seed = count(key, value, 0);
     } else {
@@ -137,6 +139,7 @@ std::string to_string(const FaultSpec& f) {
   if (f.disconnect_at_time) add("disconnect-at-time=" + seconds_text(*f.disconnect_at_time));
   if (f.halt_at_line) add(fmt::format("halt-at-line={}", *f.halt_at_line));
   if (f.runaway_at_line) add(fmt::format("runaway-at-line={}", *f.runaway_at_line));
+  if (f.from_line) add(fmt::format("from-line={}", *f.from_line));
   if (f.any()) add(fmt::format("seed={}", f.seed));
   return out;
 }

@@ -24,6 +24,10 @@
 // - runaway-at-line=N: the hotend heater fails when line N is executed; Marlin's thermal
 //   protection then stops the printer once the temperature has stayed more than the
 //   hysteresis below its target for the protection period.
+// - from-line=N: the faults above given as a probability or a delay (corrupt, drop-ok,
+//   dup-ok, resend, delay) start only once the firmware has accepted the numbered line N (the
+//   host's numbering) since its last reset, so that a host's connection handshake and its
+//   M110 get through: a host that loses its M110 loses line 0 for good (printcore does).
 // - seed=S: the seed of every random choice above (default 1).
 #pragma once
 
@@ -44,6 +48,7 @@ struct FaultSpec {
   std::optional<double> disconnect_at_time;  // s on the sim clock
   std::optional<std::uint64_t> halt_at_line;
   std::optional<std::uint64_t> runaway_at_line;
+  std::optional<long> from_line;
   std::uint64_t seed = 1;
 
   bool any() const;

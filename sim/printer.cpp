@@ -136,6 +136,7 @@ struct Printer::Firmware {
   bool line_corrupted = false;  // this line (as it crosses the wire) already has its flip
   bool wire_line_start = true;  // the next non-blank byte on the wire starts a line
   bool disconnect_time_done = false;
+  bool faults_armed = true;  // from-line: probabilistic faults wait for that line
 
   // Serial input.
   double byte_time = 0;
@@ -222,6 +223,7 @@ struct Printer::Firmware {
     line.clear();
     line_skip = line_escape = false;
     last_n = 0;
+    faults_armed = !cfg.faults.from_line;
     queue.clear();
     executing = false;
     wait = Wait::none;
@@ -263,7 +265,7 @@ struct Printer::Firmware {
   void emit(std::string text) {
     if (state == PrinterState::disconnected) return;
     text += '\n';
-    double at = now + cfg.faults.delay;
+    double at = now + (faults_armed ? cfg.faults.delay : 0.0);
     if (byte_time > 0) at = std::max(at, tx_free) + byte_time * static_cast<double>(text.size());
     if (!out.empty()) at = std::max(at, out.back().at);
     tx_free = at;
@@ -291,7 +293,7 @@ struct Printer::Firmware {
   // The ok of an executed command; M105's carries the temperatures instead of ADVANCED_OK's
   // fields, since Marlin's M105 prints its own ok.
   void send_ok(const Queued& command, bool with_temperatures) {
-    if (cfg.faults.drop_ok > 0 && chance(rng_drop) < cfg.faults.drop_ok) {
+    if (faults_armed && cfg.faults.drop_ok > 0 && chance(rng_drop) < cfg.faults.drop_ok) {
       ++counters.faults_injected;
       return;
     }
@@ -302,7 +304,7 @@ struct Printer::Firmware {
       if (command.line_number) ok += fmt::format(" N{}", *command.line_number);
       ok += fmt::format(" P{} B{}", planner_free(), cfg.queue_depth - static_cast<int>(queue.size()));
     }
-    const bool twice = cfg.faults.dup_ok > 0 && chance(rng_dup) < cfg.faults.dup_ok;
+    const bool twice = faults_armed && cfg.faults.dup_ok > 0 && chance(rng_dup) < cfg.faults.dup_ok;
     emit(ok);
     if (twice) {
       ++counters.faults_injected;
@@ -340,7 +342,7 @@ struct Printer::Firmware {
       const bool eol = is_eol(c);
       const bool protected_byte = eol || c == ';' || c == '*' || c == '\b' || c == '\0' ||
                                   c == '\\' || (wire_line_start && (c == 'N' || c == 'n'));
-      if (cfg.faults.corrupt > 0 && !line_corrupted && !protected_byte &&
+      if (faults_armed && cfg.faults.corrupt > 0 && !line_corrupted && !protected_byte &&
           chance(rng_corrupt) < cfg.faults.corrupt) {
         const char flipped = corrupt(c);
         if (flipped != c) {
@@ -494,12 +496,13 @@ struct Printer::Firmware {
       if (marlin_strtol(command.substr(star + 1)) != sum) {
         return line_error("checksum mismatch, Last Line: ");
       }
-      if (cfg.faults.resend > 0 && chance(rng_resend) < cfg.faults.resend) {
+      if (faults_armed && cfg.faults.resend > 0 && chance(rng_resend) < cfg.faults.resend) {
         ++counters.faults_injected;
         return line_error("checksum mismatch, Last Line: ");
       }
       last_n = gcode_n;
       number = gcode_n;
+      if (cfg.faults.from_line && gcode_n >= *cfg.faults.from_line) faults_armed = true;
     }
 
     Queued queued{command_text(command), number, ++counters.lines};
@@ -834,6 +837,8 @@ struct Printer::Firmware {
           const auto r = c.get('R');
           if (!s && !r) return;
           hot ? set_hotend(s ? *s : *r) : set_bed(s ? *s : *r);
+          // The planner runs dry while the firmware waits: later moves start from rest.
+          finish_motion();
           done_at = hot ? heat_wait(hotend, cfg.hotend, !s) : heat_wait(bed, cfg.bed, !s);
           wait = hot ? Wait::hotend : Wait::bed;
           return;
@@ -1064,7 +1069,7 @@ Printer& Printer::operator=(Printer&&) noexcept = default;
 void Printer::receive(std::string_view bytes) { firmware_->receive(bytes); }
 
 void Printer::run_until(double t) {
-  if (t > firmware_->now) firmware_->run(t, false);
+  if (t >= firmware_->now) firmware_->run(t, false);
 }
 
 bool Printer::run_until_output(double t) {
@@ -1086,6 +1091,10 @@ double Printer::next_event_time() const {
   return next;
 }
 PrinterState Printer::state() const { return firmware_->state; }
+bool Printer::idle() const {
+  const Firmware& f = *firmware_;
+  return !f.executing && f.queue.empty() && f.rx.empty() && f.wire.empty();
+}
 const std::string& Printer::stop_reason() const { return firmware_->stop_reason; }
 const std::vector<std::string>& Printer::executed_commands() const { return firmware_->log; }
 const DepositionRecord& Printer::deposition() const { return firmware_->record; }

@@ -66,7 +66,8 @@ class Printer {
   // while disconnected or halted are lost.
   void receive(std::string_view bytes);
 
-  // Runs the firmware until sim time `t` (no effect if t <= now()).
+  // Runs the firmware until sim time `t`; with t == now() it acts on what is due now (bytes
+  // just received). No effect for t < now().
   void run_until(double t);
   // Runs until a reply has reached the host or until `t`, whichever is first; returns true
   // when a reply is ready (now() is then the time it arrived).
@@ -87,6 +88,9 @@ class Printer {
   // a byte arrives); +infinity when it waits for the host.
   double next_event_time() const;
   PrinterState state() const;
+  // Nothing to do until the host sends more: no command queued or running, no input pending.
+  // (Moves may still be running out in the planner: their `ok`s have been sent.)
+  bool idle() const;
   // Why the printer stopped or the link went, for messages ("thermal runaway", "kill()").
   const std::string& stop_reason() const;
 

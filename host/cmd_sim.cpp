@@ -1,0 +1,155 @@
+// `mahost sim [--pty] [--baud B] [--faults SPEC] [--time-scale N|max] [--record OUT.json]
+//  [--printed-stl PART.stl] [--queue N] [--advanced-ok] ...`: a simulated Marlin printer on a
+// pseudo-terminal (sim/pty_server.h). The first line on stdout is the port to open
+// (/dev/pts/N); it serves until SIGINT or SIGTERM (or a disconnect fault), then writes the
+// record and prints a summary: lines, resends, faults injected, print time on the sim clock.
+#include <signal.h>
+
+#include <atomic>
+#include <charconv>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+
+#include "host/commands.h"
+#include "printer/error.h"
+#include "sim/faults.h"
+#include "sim/pty_server.h"
+#include "sim/record.h"
+
+namespace host {
+namespace {
+
+struct SimOptions {
+  bool pty = true;
+  double baud = 0;
+  std::string faults;
+  std::string time_scale = "1";
+  std::string record_path;
+  std::string stl_path;
+  int queue = 4;
+  int planner = 16;
+  int rx_buffer = 128;
+  bool advanced_ok = false;
+  bool no_ok_after_resend = false;
+  bool no_reset_on_open = false;
+  bool no_emergency_parser = false;
+};
+
+std::atomic<bool> stop_requested{false};
+
+void request_stop(int) { stop_requested.store(true); }
+
+double parse_time_scale(const std::string& text) {
+  if (text == "max") return 0;
+  double value = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec != std::errc() || end != text.data() + text.size() || !(value > 0) || value > 1e6) {
+    throw printer::ConfigError(fmt::format(
+        "--time-scale {}: give a speed-up factor above 0 (1 = real time, 10 = ten times "
+        "faster) or max",
+        text));
+  }
+  return value;
+}
+
+std::string_view state_text(sim::PrinterState state) {
+  switch (state) {
+    case sim::PrinterState::running: return "running";
+    case sim::PrinterState::booting: return "booting";
+    case sim::PrinterState::halted: return "halted";
+    case sim::PrinterState::disconnected: return "disconnected";
+  }
+  return "running";
+}
+
+void run_sim(const SimOptions& options) {
+  sim::Config config;
+  config.faults = sim::parse_fault_spec(options.faults);
+  config.queue_depth = options.queue;
+  config.planner_depth = options.planner;
+  config.rx_buffer_size = options.rx_buffer;
+  config.advanced_ok = options.advanced_ok;
+  config.ok_after_resend = !options.no_ok_after_resend;
+  config.emergency_parser = !options.no_emergency_parser;
+  sim::PtyOptions pty;
+  pty.time_scale = parse_time_scale(options.time_scale);
+  pty.baud = options.baud;
+  pty.reset_on_open = !options.no_reset_on_open;
+
+  sim::PtyServer server(config, pty);
+  // Handlers first: whoever reads the port may signal at once.
+  struct sigaction action {};
+  action.sa_handler = request_stop;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = 0;  // no SA_RESTART: a signal ends the wait at once
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+  fmt::print("{}\n", server.path());
+  std::fflush(stdout);
+
+  server.serve(stop_requested);
+
+  const sim::Printer& printer = server.printer();
+  if (!options.record_path.empty()) sim::write_record_json(printer, options.record_path);
+  if (!options.stl_path.empty()) sim::write_printed_stl(printer, options.stl_path);
+
+  const sim::Counters& n = printer.counters();
+  const std::string reason = printer.stop_reason().empty() ? "" : " (" + printer.stop_reason() + ")";
+  fmt::print("printer     {}{}, port opened {} time{}\n", state_text(printer.state()), reason,
+             server.opens(), server.opens() == 1 ? "" : "s");
+  fmt::print("lines       {} accepted, {} commands executed, {} unknown\n", n.lines, n.commands,
+             n.unknown_commands);
+  fmt::print("resends     {} ({} line errors)\n", n.resends, n.errors);
+  fmt::print("faults      {} injected{}\n", n.faults_injected,
+             options.faults.empty() ? "" : " (" + sim::to_string(config.faults) + ")");
+  fmt::print("overflows   {} ({} bytes lost)\n", n.overflows, n.overflow_bytes);
+  fmt::print("print time  {:.1f} s on the sim clock, {:.1f} s of motion, {:.1f} mm of filament\n",
+             printer.now(), printer.motion_time(), printer.deposition().filament_used());
+  if (!options.record_path.empty()) fmt::print("record      {}\n", options.record_path);
+  if (!options.stl_path.empty()) fmt::print("printed     {}\n", options.stl_path);
+}
+
+}  // namespace
+
+void add_sim_command(CLI::App& app) {
+  auto options = std::make_shared<SimOptions>();
+  CLI::App* sim = app.add_subcommand(
+      "sim",
+      "Run a simulated Marlin printer on a pseudo-terminal: prints the port (/dev/pts/N) "
+      "first, serves until Ctrl-C, then prints lines, resends, faults and print time.");
+  sim->add_flag("--pty", options->pty, "serve on a pseudo-terminal (the default and only mode)");
+  sim->add_option("--baud", options->baud, "pace bytes like a UART at this rate, 10 bits a byte")
+      ->check(CLI::Range(300.0, 4'000'000.0));
+  sim->add_option("--faults", options->faults,
+                  "faults to inject, e.g. corrupt=0.01,drop-ok=0.01,resend=0.01,delay=50ms,"
+                  "disconnect-at-line=5000,halt-at-line=N,runaway-at-line=N,seed=42");
+  sim->add_option("--time-scale", options->time_scale,
+                  "sim time per wall time: 1 = real time, N = N times faster, max = no waiting")
+      ->capture_default_str();
+  sim->add_option("--record", options->record_path,
+                  "write the executed commands, counters and deposition record as JSON on exit");
+  sim->add_option("--printed-stl", options->stl_path, "write the printed part as STL on exit");
+  sim->add_option("--queue", options->queue, "command queue depth (Marlin's BUFSIZE)")
+      ->check(CLI::Range(1, 64))
+      ->capture_default_str();
+  sim->add_option("--planner", options->planner, "planner depth in moves (BLOCK_BUFFER_SIZE)")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+  sim->add_option("--rx-buffer", options->rx_buffer, "serial receive buffer, bytes")
+      ->check(CLI::Range(16, 65536))
+      ->capture_default_str();
+  sim->add_flag("--advanced-ok", options->advanced_ok, "answer ok N<line> P<planner> B<queue>");
+  sim->add_flag("--no-ok-after-resend", options->no_ok_after_resend,
+                "send no ok after Resend: (as Marlin 2.0 does)");
+  sim->add_flag("--no-reset-on-open", options->no_reset_on_open,
+                "keep state when a host opens the port (a board that ignores DTR)");
+  sim->add_flag("--no-emergency-parser", options->no_emergency_parser,
+                "M112/M108/M410 wait in the queue like other commands");
+  sim->callback([options] { run_sim(*options); });
+}
+
+}  // namespace host
