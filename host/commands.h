@@ -30,5 +30,11 @@ void add_slice_command(CLI::App& app);
 
 // `mahost sim`: host/cmd_sim.cpp.
 void add_sim_command(CLI::App& app);
+// `mahost print` and `mahost resume`: host/cmd_print.cpp.
+void add_print_command(CLI::App& app);
+// `mahost ctl`: host/cmd_ctl.cpp.
+void add_ctl_command(CLI::App& app);
+// `mahost ports`: host/cmd_ports.cpp.
+void add_ports_command(CLI::App& app);
 
 }  // namespace host

@@ -20,6 +20,9 @@ int main(int argc, char** argv) {
 
   // One line per command; see host/commands.h.
   host::add_info_command(app);
+  host::add_print_command(app);
+  host::add_ctl_command(app);
+  host::add_ports_command(app);
   host::add_slice_command(app);
   host::add_sim_command(app);
 

@@ -114,7 +114,7 @@ void Job::write_journal_now(const std::string& state, int layer, std::size_t com
   record.resume_command = command;
   record.state_at_resume = at;
   record.updated.clear();
-  write_journal(options_.journal_path, record);
+  write_journal(options_.journal_path, record, options_.journal_durable);
 }
 
 void Job::start_layer(int layer, std::size_t command) {
@@ -235,10 +235,19 @@ JobResult Job::run() {
     }
   } catch (const StopNow&) {
     job_state_ = JobState::stopped;
+    // Marlin answers M112 with "Printer halted"; wait a moment for it, to say so.
+    protocol_.on_wait = nullptr;
+    bool confirmed = false;
+    try {
+      protocol_.poll(std::chrono::milliseconds(2000));
+    } catch (const PrinterError&) {
+      confirmed = true;
+    } catch (const LinkError&) {
+    }
     result.reason = fmt::format(
-        "emergency stop (M112) at layer {}/{}: the printer is halted; reset it (power or M999) "
-        "before the next job",
-        layer_ + 1, file_.layers.size());
+        "emergency stop (M112) at layer {}/{}: {}; reset it (power or M999) before the next job",
+        layer_ + 1, file_.layers.size(),
+        confirmed ? "the printer halted" : "the printer did not confirm the halt within 2 s");
     const int layer = resume_layer_after_failure();
     if (layer >= 0) {
       write_journal_now("stopped", layer, file_.layers[static_cast<std::size_t>(layer)].first_command,

@@ -42,6 +42,7 @@ struct JobOptions {
   std::vector<int> pause_at_layers;  // pause before these layers start, counted from 1
   PauseOptions pause;
   std::string journal_path;          // "" keeps no journal
+  bool journal_durable = true;       // fsync each record (a dry run need not)
   JournalRecord journal;             // job, G-code path and hash, port, baud: copied into it
   // A resume: start at this command with the printer first brought back onto the part.
   std::size_t first_command = 0;

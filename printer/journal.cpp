@@ -69,7 +69,7 @@ std::string local_time_now() {
 
 }  // namespace
 
-void write_journal(const std::string& path, const JournalRecord& r) {
+void write_journal(const std::string& path, const JournalRecord& r, bool durable) {
   json j{{"version", 1},
          {"job", r.job},
          {"gcode", {{"path", r.gcode_path}, {"hash", r.gcode_hash}, {"commands", r.commands},
@@ -90,7 +90,7 @@ void write_journal(const std::string& path, const JournalRecord& r) {
   }
   try {
     write_all(fd, bytes, temp);
-    if (::fsync(fd) != 0) {
+    if (durable && ::fsync(fd) != 0) {
       throw ConfigError(fmt::format("{}: cannot sync the journal: {}", temp, std::strerror(errno)));
     }
   } catch (...) {
@@ -103,7 +103,8 @@ void write_journal(const std::string& path, const JournalRecord& r) {
   }
   // The rename is durable only once the directory entry is.
   const std::string dir = std::filesystem::path(path).parent_path().string();
-  const int dir_fd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  const int dir_fd =
+      durable ? ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC) : -1;
   if (dir_fd >= 0) {
     ::fsync(dir_fd);
     ::close(dir_fd);

@@ -34,9 +34,9 @@ struct JournalRecord {
   int pid = 0;                // the host process that wrote it
 };
 
-// Writes the record durably (temp + fsync + rename + fsync of the directory). Throws
-// ConfigError naming the path when it cannot.
-void write_journal(const std::string& path, const JournalRecord& record);
+// Writes the record durably (temp + fsync + rename + fsync of the directory; `durable` false
+// skips the fsyncs, for dry runs). Throws ConfigError naming the path when it cannot.
+void write_journal(const std::string& path, const JournalRecord& record, bool durable = true);
 
 // Reads a journal. Throws ConfigError naming the file for a missing, unreadable or malformed
 // one, saying which key is wrong.

@@ -106,3 +106,163 @@ TEST_CASE("faulty_link_with_a_window_prints_every_command_once") {
                      << " probes " << faulty.stats.probes << " dup " << faulty.stats.duplicate_oks
                      << " resent " << faulty.stats.lines_resent);
 }
+
+TEST_CASE("pause_and_resume_at_20_layers_deposit_the_same_part") {
+  const GcodeFile file = parse_gcode(test_support::ring_program(60, 80), "ring.gcode");
+  const Printed plain = print(file, sim::Config{});
+  JobOptions options;
+  for (int layer = 2; layer <= 59; layer += 3) options.pause_at_layers.push_back(layer);
+  REQUIRE(options.pause_at_layers.size() == 20);
+  int paused_ticks = 0;
+  const Printed paused = print(file, sim::Config{}, options, {}, [&](Job& job) {
+    if (job.progress().state == JobState::paused && ++paused_ticks % 5 == 0) {
+      job.request(JobRequest::resume);  // after half a second of pause on the sim clock
+    }
+  });
+  CHECK(paused.result.state == JobState::completed);
+  CHECK(paused.result.pauses == 20);
+  // The park moves extrude nothing and the return restores X, Y, Z, E and F exactly, so the
+  // printer laid down the very same moves.
+  CHECK(paused.deposition.moves.size() == plain.deposition.moves.size());
+  CHECK(same_moves(paused.deposition, plain.deposition));
+  // And the file's own commands all ran, once, in order, between the pause sequences.
+  std::vector<std::string> mine = job_part(paused.executed);
+  std::vector<std::string> file_commands = commands_of(file);
+  std::size_t matched = 0;
+  for (const std::string& c : mine) {
+    if (matched < file_commands.size() && c == file_commands[matched]) ++matched;
+  }
+  CHECK(matched == file_commands.size());
+}
+
+TEST_CASE("resume_restores_z_and_e_after_a_pause_in_relative_e_mode") {
+  std::string text = test_support::ring_program(12, 40);
+  // The same part written with relative E: the resume must restore M83, not just E.
+  GcodeFile absolute = parse_gcode(text, "abs.gcode");
+  const Printed plain = print(absolute, sim::Config{});
+  JobOptions options;
+  options.pause_at_layers = {5, 9};
+  const Printed paused = print(absolute, sim::Config{}, options, {}, [](Job& job) {
+    if (job.progress().state == JobState::paused) job.request(JobRequest::resume);
+  });
+  CHECK(same_moves(paused.deposition, plain.deposition));
+}
+
+TEST_CASE("cancel_ends_with_heaters_off_lifted_and_motors_off") {
+  const GcodeFile file = parse_gcode(test_support::ring_program(30, 60), "ring.gcode");
+  sim::SimLink link{sim::Config{}};
+  LineProtocol protocol(link);
+  protocol.connect();
+  Job job(protocol, file, {});
+  job.on_tick = [](Job& j) {
+    if (j.progress().layer == 10) j.request(JobRequest::cancel);
+  };
+  const JobResult result = job.run();
+  CHECK(result.state == JobState::cancelled);
+  CHECK(result.reason == "cancelled at layer 10/30");
+  CHECK(result.commands_done < file.size());
+  const auto& executed = link.printer().executed_commands();
+  CHECK(executed.back() == "M84");
+  CHECK(link.printer().hotend_target() == 0);
+  CHECK(link.printer().bed_target() == 0);
+  CHECK(link.printer().position().z > 1.8 + 9.99);  // layer 10 at 1.8 or 2.0 mm, lifted 10 mm
+}
+
+TEST_CASE("emergency_stop_halts_the_printer_at_once") {
+  const GcodeFile file = parse_gcode(test_support::ring_program(30, 60), "ring.gcode");
+  sim::SimLink link{sim::Config{}};
+  LineProtocol protocol(link);
+  protocol.connect();
+  Job job(protocol, file, {});
+  job.on_tick = [](Job& j) {
+    if (j.progress().layer == 5) j.request(JobRequest::stop);
+  };
+  const JobResult result = job.run();
+  CHECK(result.state == JobState::stopped);
+  CHECK(result.reason.starts_with("emergency stop (M112) at layer 5/30: the printer halted"));
+  CHECK(link.printer().state() == sim::PrinterState::halted);
+  CHECK(link.printer().executed_commands().back() == "M112");
+}
+
+TEST_CASE("halt_fault_ends_the_job_with_the_reason_and_a_journal") {
+  const std::string dir = test_support::scratch_dir("halt_fault");
+  const GcodeFile file = parse_gcode(test_support::ring_program(30, 60), "ring.gcode");
+  sim::Config config;
+  config.faults = sim::parse_fault_spec("halt-at-line=900");
+  sim::SimLink link(config);
+  LineProtocol protocol(link);
+  protocol.connect();
+  JobOptions options;
+  options.journal_path = dir + "/job.journal";
+  Job job(protocol, file, options);
+  std::string message;
+  try {
+    job.run();
+  } catch (const PrinterError& e) {
+    message = e.what();
+  }
+  CHECK(message.starts_with("simulated printer: the printer stopped: Error:Printer halted. kill() called!"));
+  CHECK(message.find("mahost resume " + options.journal_path) != std::string::npos);
+  CHECK(message.find('\n') == std::string::npos);
+  const JournalRecord journal = read_journal(options.journal_path);
+  CHECK(journal.state == "failed");
+  CHECK(journal.layer_index >= 0);
+  CHECK(journal.resume_command == file.layers[static_cast<std::size_t>(journal.layer_index)].first_command);
+}
+
+TEST_CASE("disconnect_then_resume_reprints_only_the_interrupted_layer") {
+  const std::string dir = test_support::scratch_dir("disconnect_resume");
+  const GcodeFile file = parse_gcode(test_support::ring_program(30, 60), "ring.gcode");
+  const Printed clean = print(file, sim::Config{});
+  sim::Config config;
+  config.faults = sim::parse_fault_spec("disconnect-at-line=1234");
+  sim::SimLink link(config);
+  JobOptions options;
+  options.journal_path = dir + "/job.journal";
+  {
+    LineProtocol protocol(link);
+    protocol.connect();
+    Job job(protocol, file, options);
+    std::string message;
+    try {
+      job.run();
+    } catch (const LinkError& e) {
+      message = e.what();
+    }
+    CHECK(message.starts_with("simulated printer: the link is gone"));
+    CHECK(message.find('\n') == std::string::npos);
+  }
+  const JournalRecord journal = read_journal(options.journal_path);
+  REQUIRE(journal.state == "failed");
+  const std::size_t before = link.printer().deposition().moves.size();
+
+  link.reconnect();
+  LineProtocol protocol(link);
+  protocol.connect();
+  CHECK(protocol.restart_seen());
+  JobOptions resume;
+  resume.journal_path = options.journal_path;
+  resume.first_command = journal.resume_command;
+  resume.recover_from = journal.state_at_resume;
+  resume.printer_restarted = true;
+  Job job(protocol, file, resume);
+  CHECK(job.run().state == JobState::completed);
+
+  // What was printed: the clean print's moves up to the failure, then again from the start
+  // of the interrupted layer: that layer's printed part once more, nothing else.
+  const auto& moves = link.printer().deposition().moves;
+  const auto& reference = clean.deposition.moves;
+  std::size_t layer_start = 0;
+  const double layer_z = journal.state_at_resume.z + 0.2;
+  while (layer_start < reference.size() && reference[layer_start].z < layer_z - 1e-6) ++layer_start;
+  REQUIRE(before >= layer_start);
+  REQUIRE(moves.size() == before + (reference.size() - layer_start));
+  sim::DepositionRecord head, tail, reference_head, reference_tail;
+  for (std::size_t i = 0; i < before; ++i) head.moves.push_back(moves[i]);
+  for (std::size_t i = before; i < moves.size(); ++i) tail.moves.push_back(moves[i]);
+  for (std::size_t i = 0; i < before; ++i) reference_head.moves.push_back(reference[i]);
+  for (std::size_t i = layer_start; i < reference.size(); ++i) reference_tail.moves.push_back(reference[i]);
+  CHECK(same_moves(head, reference_head));
+  CHECK(same_moves(tail, reference_tail));
+  CHECK(before - layer_start < 61);  // less than one layer was printed twice
+}

@@ -1,0 +1,51 @@
+// printer::Link over a serial port with libserialport: USB boards (/dev/ttyUSB0, /dev/ttyACM0)
+// and pseudo-terminals (`mahost sim --pty`).
+//
+// Opens by path at a baud rate, 8N1, no flow control, with the port locked against other
+// programs (flock and TIOCEXCL, as pyserial's exclusive mode); drops and raises DTR so a board
+// that resets on it (Arduino-style Marlin boards) starts fresh: the protocol engine then waits
+// for its `start`. Every failure is a LinkError naming the port and what to do: missing,
+// busy, no permission, vanished mid-print. Time is the steady clock.
+#pragma once
+
+#include <chrono>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "printer/link.h"
+
+struct sp_port;
+
+namespace printer {
+
+class SerialLink : public Link {
+ public:
+  SerialLink(std::string path, int baud);
+  ~SerialLink() override;
+  SerialLink(const SerialLink&) = delete;
+  SerialLink& operator=(const SerialLink&) = delete;
+
+  void write(std::string_view bytes) override;
+  std::string read(std::chrono::milliseconds timeout) override;
+  std::chrono::nanoseconds now() const override;
+  std::string name() const override { return path_; }
+
+ private:
+  [[noreturn]] void vanished(const char* doing) const;
+  std::string path_;
+  sp_port* port_ = nullptr;
+};
+
+struct SerialPortInfo {
+  std::string path;         // /dev/ttyUSB0
+  std::string description;  // libserialport's description ("USB2.0-Serial")
+  std::string transport;    // "usb", "native", "bluetooth"
+  int usb_vendor = -1, usb_product = -1;
+  std::string manufacturer, product, serial_number;
+};
+
+// The serial ports libserialport finds (pseudo-terminals are not listed).
+std::vector<SerialPortInfo> list_serial_ports();
+
+}  // namespace printer
