@@ -424,6 +424,13 @@ void check_printable(const RepairReport& report, std::string_view name,
                          axis));
     }
   }
+  if (!report.closed && report.non_manifold_edges > 0) {
+    refuse(fmt::format("{} edge{} shared by more than two facets (parts touching along an "
+                       "edge or a face, or faces inside the part), and the surface does not "
+                       "close once they are split apart; join the parts into one solid in a "
+                       "mesh editor",
+                       report.non_manifold_edges, report.non_manifold_edges == 1 ? " is" : "s are"));
+  }
   if (report.hole_share > options.max_hole_share) {
     refuse(fmt::format("the surface is missing too much to repair: its {} hole{} would need "
                        "{:.0f}% of its area invented (at most {:.0f}% is filled); add the "

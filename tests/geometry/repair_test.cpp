@@ -214,6 +214,33 @@ TEST_CASE("corner_touching_cubes_split_into_two_solids") {
   CHECK(closed_and_consistent(mesh));
 }
 
+TEST_CASE("edge_touching_cubes_split_into_two_solids") {
+  // Two cubes that share one edge: four facets on that edge; its two ends are split.
+  auto facets = grid_cube(10);
+  const auto second = grid_cube(10, 1, {10, 10, 0});
+  facets.insert(facets.end(), second.begin(), second.end());
+  Mesh mesh;
+  const RepairReport r = repaired(facets, &mesh);
+  CHECK(r.non_manifold_edges == 1);
+  CHECK(r.non_manifold_vertices_split == 2);
+  CHECK(r.closed);
+  CHECK(r.volume == doctest::Approx(2000).epsilon(1e-12));
+  CHECK(closed_and_consistent(mesh));
+  CHECK(refusal(r).empty());
+}
+
+TEST_CASE("face_touching_cubes_refused_as_non_manifold") {
+  // Two cubes side by side whose shared square is split along crossing diagonals: its four
+  // edges carry three facets each, and split apart, neither cube closes.
+  auto facets = grid_cube(10);
+  const auto second = grid_cube(10, 1, {10, 0, 0});
+  facets.insert(facets.end(), second.begin(), second.end());
+  const RepairReport r = repaired(facets);
+  CHECK(r.non_manifold_edges == 4);
+  CHECK_FALSE(r.closed);
+  CHECK(refusal(r).rfind("part.stl: 4 edges are shared by more than two facets", 0) == 0);
+}
+
 TEST_CASE("hollow_cube_inner_shell_faces_inward") {
   // A 10 mm cube with a 6 mm cavity whose facets the file gives facing out of the cavity
   // (into the material): repair turns them to face into the cavity, volume 1000 - 216.
