@@ -1,7 +1,11 @@
 #include "printer/serial_link.h"
 
+#include <fcntl.h>
+#include <poll.h>
 #include <sys/file.h>
 #include <sys/ioctl.h>
+#include <termios.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
@@ -46,7 +50,9 @@ SerialLink::SerialLink(std::string path, int baud) : path_(std::move(path)) {
   std::error_code exists_error;
   if (!std::filesystem::exists(path_, exists_error)) throw LinkError(open_failure(path_, ENOENT));
   if (sp_get_port_by_name(path_.c_str(), &port_) != SP_OK) {
-    throw LinkError(open_failure(path_, ENOENT));
+    port_ = nullptr;
+    open_terminal(baud);
+    return;
   }
   if (sp_open(port_, SP_MODE_READ_WRITE) != SP_OK) {
     const int error = sp_last_error_code();
@@ -90,7 +96,43 @@ SerialLink::SerialLink(std::string path, int baud) : path_(std::move(path)) {
   sp_flush(port_, SP_BUF_INPUT);
 }
 
+void SerialLink::open_terminal(int baud) {
+  fd_ = ::open(path_.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
+  if (fd_ < 0) throw LinkError(open_failure(path_, errno));
+  if (!::isatty(fd_)) {
+    ::close(fd_);
+    fd_ = -1;
+    throw LinkError(fmt::format("{}: is not a serial port or terminal", path_));
+  }
+  if (flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    ::close(fd_);
+    fd_ = -1;
+    throw LinkError(open_failure(path_, EBUSY));
+  }
+  ioctl(fd_, TIOCEXCL);
+  termios t{};
+  if (tcgetattr(fd_, &t) == 0) {
+    cfmakeraw(&t);
+    t.c_cflag |= CLOCAL | CREAD;
+    t.c_cflag &= ~static_cast<tcflag_t>(CRTSCTS | CSTOPB | PARENB);
+    speed_t speed = B0;
+    switch (baud) {
+      case 9600: speed = B9600; break;
+      case 19200: speed = B19200; break;
+      case 38400: speed = B38400; break;
+      case 57600: speed = B57600; break;
+      case 115200: speed = B115200; break;
+      case 230400: speed = B230400; break;
+      default: break;  // a pseudo-terminal has no speed; a real port would need termios2
+    }
+    if (speed != B0) cfsetspeed(&t, speed);
+    tcsetattr(fd_, TCSANOW, &t);
+  }
+  tcflush(fd_, TCIFLUSH);
+}
+
 SerialLink::~SerialLink() {
+  if (fd_ >= 0) ::close(fd_);
   if (port_ != nullptr) {
     sp_drain(port_);
     sp_close(port_);
@@ -105,6 +147,25 @@ void SerialLink::vanished(const char* doing) const {
 }
 
 void SerialLink::write(std::string_view bytes) {
+  if (fd_ >= 0) {
+    std::size_t done = 0;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+    while (done < bytes.size()) {
+      const ssize_t n = ::write(fd_, bytes.data() + done, bytes.size() - done);
+      if (n > 0) {
+        done += static_cast<std::size_t>(n);
+        continue;
+      }
+      if (n < 0 && errno != EAGAIN && errno != EINTR) vanished("writing");
+      if (std::chrono::steady_clock::now() > deadline) {
+        throw LinkError(fmt::format("{}: the port took no data for 5 s", path_));
+      }
+      pollfd p{fd_, POLLOUT, 0};
+      ::poll(&p, 1, 100);
+      if (p.revents & (POLLHUP | POLLERR)) vanished("writing");
+    }
+    return;
+  }
   const sp_return written = sp_blocking_write(port_, bytes.data(), bytes.size(), 5000);
   if (written < 0) vanished("writing");
   if (static_cast<std::size_t>(written) < bytes.size()) {
@@ -114,6 +175,16 @@ void SerialLink::write(std::string_view bytes) {
 
 std::string SerialLink::read(std::chrono::milliseconds timeout) {
   char buffer[4096];
+  if (fd_ >= 0) {
+    pollfd p{fd_, POLLIN, 0};
+    const int ready = ::poll(&p, 1, static_cast<int>(std::max<long long>(0, timeout.count())));
+    if (ready < 0 && errno != EINTR) vanished("reading");
+    if (ready <= 0) return {};
+    const ssize_t n = ::read(fd_, buffer, sizeof buffer);
+    if (n > 0) return std::string(buffer, static_cast<std::size_t>(n));
+    if (n < 0 && (errno == EAGAIN || errno == EINTR)) return {};
+    vanished("reading");  // EOF or EIO: the other end closed
+  }
   sp_return got;
   if (timeout.count() <= 0) {
     got = sp_nonblocking_read(port_, buffer, sizeof buffer);

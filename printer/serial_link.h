@@ -6,6 +6,8 @@
 // that resets on it (Arduino-style Marlin boards) starts fresh: the protocol engine then waits
 // for its `start`. Every failure is a LinkError naming the port and what to do: missing,
 // busy, no permission, vanished mid-print. Time is the steady clock.
+// libserialport 0.1 finds ports through sysfs, where pseudo-terminals are not; a terminal it
+// does not know is driven through termios directly (raw, 8N1), the same way.
 #pragma once
 
 #include <chrono>
@@ -33,8 +35,10 @@ class SerialLink : public Link {
 
  private:
   [[noreturn]] void vanished(const char* doing) const;
+  void open_terminal(int baud);
   std::string path_;
   sp_port* port_ = nullptr;
+  int fd_ = -1;  // the termios path, when libserialport does not know the device
 };
 
 struct SerialPortInfo {
