@@ -57,8 +57,8 @@ double distance_to_site(const Edges& edges, const Diagram::cell_type& cell, Vec2
 }
 
 // Whether p, a point whose nearest boundary point is the cell's site, lies inside the region:
-// inside is left of every edge (outer loops CCW, holes CW); at a vertex, left of either edge
-// (a reflex vertex's cell is inside, a convex vertex's outside).
+// inside is left of every edge (outer loops CCW, holes CW), and at a vertex inside the wedge
+// its two edges make.
 bool inside_by_site(const Edges& edges, const Diagram::cell_type& cell, Vec2d p) {
   const std::size_t i = cell.source_index();
   const VoronoiSegment& s = edges.segments[i];
@@ -73,8 +73,11 @@ bool inside_by_site(const Edges& edges, const Diagram::cell_type& cell, Vec2d p)
   }
   const VoronoiSegment& a = edges.segments[in];
   const VoronoiSegment& b = edges.segments[out];
-  const Vec2d v = low(b);
-  return cross2(sub(high(a), low(a)), sub(p, v)) > 0 || cross2(sub(high(b), low(b)), sub(p, v)) > 0;
+  const Vec2d v = low(b), d_in = sub(high(a), low(a)), d_out = sub(high(b), low(b));
+  const bool left_of_in = cross2(d_in, sub(p, v)) > 0, left_of_out = cross2(d_out, sub(p, v)) > 0;
+  // The inside at a vertex is the wedge between its edges: at a convex vertex (turning left)
+  // left of both, at a reflex one left of either.
+  return cross2(d_in, d_out) > 0 ? left_of_in && left_of_out : left_of_in || left_of_out;
 }
 
 Edges region_edges(const Region& region) {
@@ -137,7 +140,7 @@ double length(Vec2d a, Vec2d b) { return std::hypot(a.x - b.x, a.y - b.y); }
 // (down to the narrowest bead); a blunter corner's bisector only runs into the corner.
 constexpr double kTaperAngle = std::numbers::pi / 4;
 
-Axis medial_axis(const Edges& edges, double min_radius) {
+Axis medial_axis(const Edges& edges, double min_radius, double max_radius) {
   Axis axis;
   if (edges.segments.empty()) return axis;
   Diagram diagram;
@@ -164,6 +167,9 @@ Axis medial_axis(const Edges& edges, double min_radius) {
     const auto& cell = *edge.cell();
     if (!inside_by_site(edges, cell, mid)) continue;
     const double ra = distance_to_site(edges, cell, a), rb = distance_to_site(edges, cell, b);
+    // Far wider than any bead: not a thin wall (and, from a region that breaks the
+    // builder's rule of edges meeting only at their ends, not trusted either).
+    if (ra > max_radius || rb > max_radius) continue;
     if (ra >= touching && rb >= touching) {
       axis.links.emplace_back(node(edge.vertex0(), ra), node(edge.vertex1(), rb));
       continue;
@@ -267,7 +273,7 @@ std::vector<ExtrusionPath> thin_walls(const Region& region, double min_width, do
   const Edges edges = region_edges(region);
   // The narrowest bead is printed along the axis wherever the region is at least that wide.
   const double min_radius = min_width / 2 * kClipperScale;
-  Axis axis = medial_axis(edges, min_radius);
+  Axis axis = medial_axis(edges, min_radius, max_width * kClipperScale);
   prune_spurs(axis);
   const Vec2 origin = from_clipper(edges.origin);
   for (const auto& chain : chains(axis)) {

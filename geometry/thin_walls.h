@@ -9,7 +9,8 @@
 //         path's width is the local width of the region (twice the inscribed radius,
 //         averaged along runs where it varies by less than 20%), clamped to
 //         [min_width, max_width]. A thin ring gives a closed path; lines shorter than
-//         min_width are dropped. Empty input, or a region larger than 2 m, gives no paths.
+//         min_width are dropped, and so are parts wider than 2 * max_width (not thin walls).
+//         Empty input, or a region larger than 2 m, gives no paths.
 // Method: Boost.Polygon's segment Voronoi diagram of the region's edges (exact predicates);
 // its interior edges are the medial axis.
 #pragma once

@@ -76,6 +76,35 @@ TEST_CASE("tapering_wedge_gets_narrowing_runs") {
   for (std::size_t i = 1; i < paths.size(); ++i) CHECK(paths[i].width != paths[0].width);
 }
 
+TEST_CASE("centre_lines_stay_inside_separate_sharp_pieces") {
+  // Gaps from a bunny layer: a sharp triangle beside two strips. The Voronoi edges between
+  // the pieces lie outside; a vertex cell's inside is the wedge at the vertex, not the half
+  // plane of either edge, or those edges pass for centre lines running off to 300 mm.
+  const Region gaps{{Loop{{0.777198, 7.889621}, {0.755278, 7.973255}, {0.632412, 7.973743},
+                          {0.444288, 7.850199}, {0.322145, 7.749248}, {0.380678, 7.664360}},
+                     Loop{{-1.222770, 4.792442}, {-1.078476, 4.944983}, {-0.914703, 5.185753},
+                          {-0.794999, 5.388626}, {-0.666136, 5.572525}, {-0.588855, 5.703130},
+                          {-0.276268, 6.144929}, {-0.253782, 6.192652}, {-0.067470, 6.468732},
+                          {0.004425, 6.627414}, {0.084342, 6.773274}, {0.006292, 6.831791},
+                          {-0.075124, 6.750382}, {-0.130185, 6.690423}, {-0.208398, 6.575436},
+                          {-0.364020, 6.387079}, {-0.613304, 6.056709}, {-0.857049, 5.711446},
+                          {-0.906732, 5.613074}, {-1.169199, 5.219279}, {-1.339939, 4.901734},
+                          {-1.378683, 4.733492}, {-1.296103, 4.695035}},
+                     Loop{{-1.538993, 3.954435}, {-1.872610, 4.060565}, {-1.778600, 3.748122}}}};
+  const auto paths = thin_walls(gaps, 0.1125, 0.675);
+  REQUIRE(!paths.empty());
+  const ClipperLib::Paths region = to_clipper(gaps);
+  for (const auto& p : paths) {
+    for (Vec2 v : p.points) {
+      int inside = 0;
+      for (const auto& loop : region) inside += ClipperLib::PointInPolygon(to_clipper(v), loop) != 0;
+      CHECK(inside == 1);
+    }
+  }
+  const auto c = bead_coverage::coverage(gaps, paths);
+  CHECK(c.outside <= 0.1);
+}
+
 TEST_CASE("thin_walls_of_nothing_is_nothing") {
   CHECK(thin_walls(Region{}, 0.1, 0.45).empty());
   CHECK(thin_walls(Region{{rectangle(0, 0, 1, 1)}}, 0, 0.45).empty());
