@@ -179,6 +179,30 @@ double feature_speed(const FeatureSpeeds& s, PathRole role) {
   return s.outer_wall;
 }
 
+// The points of `path` to write: every point whose distance to the chord from the last kept
+// point to the next candidate stays within `tolerance` for all points skipped is dropped.
+// First and last points always stay; a tolerance of 0 keeps every distinct point.
+std::vector<Vec2> simplify(const std::vector<Vec2>& path, double tolerance) {
+  std::vector<Vec2> kept;
+  kept.reserve(path.size());
+  if (path.empty()) return kept;
+  kept.push_back(path.front());
+  std::size_t anchor = 0;
+  for (std::size_t candidate = 2; candidate < path.size(); ++candidate) {
+    const Vec2 a = path[anchor], b = path[candidate];
+    bool fits = true;
+    for (std::size_t i = anchor + 1; i < candidate && fits; ++i) {
+      fits = geometry::distance_to_segment(path[i], a, b) <= tolerance;
+    }
+    if (!fits) {
+      anchor = candidate - 1;
+      kept.push_back(path[anchor]);
+    }
+  }
+  if (path.size() > 1) kept.push_back(path.back());
+  return kept;
+}
+
 // Splits a profile's G-code block into lines, dropping blank ones.
 template <class F>
 void for_each_line(std::string_view text, F&& f) {
@@ -273,10 +297,11 @@ class Emitter {
                            : n == 0       ? printer_.first_layer_width
                                           : printer_.extrusion_width;
       const double speed = n == 0 ? printer_.first_layer_speed : feature_speed(printer_.speed, path.role);
-      travel_to(place(path.points.front()), z, path.retract_before);
-      for (std::size_t i = 1; i < path.points.size(); ++i) {
-        extrude_to(place(path.points[i]), width, height, speed);
-      }
+      placed_.clear();
+      for (const Vec2& p : path.points) placed_.push_back(place(p));
+      const std::vector<Vec2> points = simplify(placed_, printer_.resolution);
+      travel_to(points.front(), z, path.retract_before);
+      for (std::size_t i = 1; i < points.size(); ++i) extrude_to(points[i], width, height, speed);
     }
   }
 
@@ -367,6 +392,7 @@ class Emitter {
   Vec2 offset_;
   Sink& sink_;
   LayersWritten on_layer_;
+  std::vector<Vec2> placed_;
 
   Vec2 xy_;
   bool xy_known_ = false;

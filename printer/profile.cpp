@@ -340,6 +340,7 @@ const Rules<P>& printer_rules() {
                         [](P& p, const std::string& s) { p.print.seam = s; }));
     r.push_back(text<P>("gcode.start", {}, [](P& p, const std::string& s) { p.start_gcode = s; }));
     r.push_back(text<P>("gcode.end", {}, [](P& p, const std::string& s) { p.end_gcode = s; }));
+    r.push_back(number<P>("gcode.resolution", 0, 0.1, "mm", [](P& p, double v) { p.resolution = v; }));
     {
       Rule<P> baud;
       baud.key = "serial.baud"; baud.kind = Kind::integer; baud.min = 1200; baud.max = 4000000;

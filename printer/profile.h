@@ -68,6 +68,10 @@ struct PrinterProfile {
   Retraction retraction;
   PrintSettings print;
   bool relative_e = false;  // M83 (true) or M82
+  // Largest distance a written path may stray from the planned one, mm: points closer than
+  // this to the line through their neighbours are dropped (PrusaSlicer's gcode_resolution),
+  // so a curve sampled every few microns does not flood the printer's serial line.
+  double resolution = 0.0125;
   std::string start_gcode, end_gcode;  // with {placeholders}
   int baud = 115200;
   std::string default_material = "pla";

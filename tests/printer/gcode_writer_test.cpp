@@ -449,3 +449,50 @@ TEST_CASE("file_in_a_missing_folder_is_refused_with_its_name") {
           write_gcode_file("/nonexistent-folder/part.gcode", square_part(), profiles("up-plus-2", "abs"));
         }).starts_with("cannot write '/nonexistent-folder/part.gcode': No such file or directory"));
 }
+
+TEST_CASE("collinear_points_are_written_as_one_move") {
+  LayerToolpaths layer;
+  layer.z_lo = 0;
+  layer.z_hi = 0.3;
+  std::vector<Vec2> line;
+  for (int i = 0; i <= 1000; ++i) line.push_back({-10 + 0.02 * i, 5});
+  layer.paths.push_back({PathRole::outer_wall, line, 0.5, true});
+  const test_support::PrintedProgram program =
+      test_support::read_printed_program(write({layer}, profiles("up-plus-2", "abs")));
+  REQUIRE(program.layers.size() == 1);
+  REQUIRE(program.layers[0].chains.size() == 1);
+  CHECK(program.layers[0].chains[0].size() == 1);
+  CHECK(program.layers[0].chains[0][0].length() == doctest::Approx(20).epsilon(1e-9));
+}
+
+TEST_CASE("dense_curve_is_written_within_the_printers_resolution") {
+  // A circle of radius 10 sampled every 0.0063 mm: no written chord strays more than
+  // gcode.resolution (0.0125 mm) from the circle, plus the 0.001 mm grid the points snap to.
+  LayerToolpaths layer;
+  layer.z_lo = 0;
+  layer.z_hi = 0.3;
+  std::vector<Vec2> circle;
+  const int n = 10000;
+  for (int i = 0; i <= n; ++i) {
+    const double a = 2 * 3.141592653589793 * (i % n) / n;
+    circle.push_back({10 * std::cos(a), 10 * std::sin(a)});
+  }
+  layer.paths.push_back({PathRole::outer_wall, circle, 0.5, true});
+  const Profiles p = profiles("up-plus-2", "abs");
+  REQUIRE(p.printer.resolution == 0.0125);
+  const test_support::PrintedProgram program = test_support::read_printed_program(write({layer}, p));
+  REQUIRE(program.layers.size() == 1);
+  const auto& chain = program.layers[0].chains.at(0);
+  // Sagitta of a chord c on radius r is c^2 / (8 r): chords up to sqrt(8 * 10 * 0.0125) = 1 mm.
+  CHECK(chain.size() < 200);
+  CHECK(chain.size() > 31);  // 2 pi 10 / 1 mm
+  for (const test_support::Bead& bead : chain) {
+    const Vec2 mid{(bead.from.x + bead.to.x) / 2 - 70, (bead.from.y + bead.to.y) / 2 - 70};
+    CHECK(10 - std::hypot(mid.x, mid.y) <= 0.0125 + 0.001);
+  }
+  // --set gcode.resolution=0 keeps every point not exactly in line with its neighbours on the
+  // 0.001 mm grid (near the axes many are).
+  const test_support::PrintedProgram exact = test_support::read_printed_program(
+      write({layer}, profiles("up-plus-2", "abs", {"gcode.resolution=0"})));
+  CHECK(exact.layers[0].chains.at(0).size() > 5000);
+}

@@ -1,0 +1,271 @@
+// `mahost slice` as a user runs it: the G-code it writes, read back as a printer would lay it
+// (tests/support/gcode_beads), against closed-form sections and the layer regions; and every
+// kind of bad input refused in one line with exit code 2.
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <doctest/doctest.h>
+
+#include "geometry/layer_stack.h"
+#include "geometry/ma_contour.h"
+#include "geometry/placement.h"
+#include "geometry/repair.h"
+#include "geometry/stl_io.h"
+#include "printer/print_time.h"
+#include "printer/profile.h"
+#include "support/gcode_beads.h"
+#include "support/run_command.h"
+#include "support/solids.h"
+
+using test_support::run_mahost;
+
+namespace {
+
+const std::string kConfigDir = MAHOST_SOURCE_DIR "/configs";
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+geometry::Region shifted(geometry::Region region, geometry::Vec2 by) {
+  for (geometry::Loop& loop : region.loops) {
+    for (geometry::Vec2& p : loop) p = p + by;
+  }
+  return region;
+}
+
+// Checks each printed layer's beads against `region_of(layer index)`; layers whose region is
+// smaller than `min_area` are only checked for staying inside.
+template <class RegionOf>
+void check_coverage(const test_support::PrintedProgram& program, RegionOf&& region_of,
+                    double min_area = 0) {
+  for (std::size_t i = 0; i < program.layers.size(); ++i) {
+    const geometry::Region region = region_of(i);
+    const double area = geometry::area(region);
+    if (!(area > 0)) continue;
+    CAPTURE(i);
+    CAPTURE(area);
+    const test_support::Coverage c =
+        test_support::coverage(test_support::bead_region(program.layers[i]), region);
+    if (area >= min_area) CHECK(c.covered >= 0.98);
+    CHECK(c.outside <= 0.02);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("slice_writes_gcode_and_reports_one_line") {
+  const std::string dir = test_support::scratch_dir("slice_writes_gcode");
+  const std::string stl = dir + "/cube.stl", out = dir + "/cube.gcode";
+  geometry::write_stl_binary(stl, solids::cube(20).mesh);
+  const auto result = run_mahost({"slice", stl, "-o", out, "--contour", "mid"});
+  CHECK(result.exit_code == 0);
+  CHECK(result.err.empty());
+  // UP Plus 2 defaults: 0.3 mm first layer, then 0.2: 1 + ceil(19.7 / 0.2) = 100 layers.
+  CHECK(result.out.starts_with(out + ": 100 layers, estimated print time "));
+  CHECK(result.out.find(" g ABS), ") != std::string::npos);
+  CHECK(std::count(result.out.begin(), result.out.end(), '\n') == 1);
+  const std::string gcode = read_file(out);
+  const test_support::PrintedProgram program = test_support::read_printed_program(gcode);
+  CHECK(program.layers.size() == 100);
+  CHECK(program.header.at("LAYER_COUNT") == "100");
+  CHECK(program.problems.empty());
+  CHECK_FALSE(std::filesystem::exists(out + ".part"));
+}
+
+TEST_CASE("cube_with_hole_beads_cover_each_layer") {
+  const std::string dir = test_support::scratch_dir("slice_cube_with_hole");
+  const std::string stl = dir + "/part.stl", out = dir + "/part.gcode";
+  const solids::Solid part = solids::cube_with_round_hole(20, 5, 48);
+  geometry::write_stl_binary(stl, part.mesh);
+  const auto result = run_mahost({"slice", stl, "-o", out, "--printer", "generic-marlin",
+                                  "--layer", "0.25", "--contour", "mid", "--infill", "100", "--set", "print.infill_pattern=rectilinear",
+                                  "--set", "print.skirt_loops=0"});
+  REQUIRE(result.exit_code == 0);
+  const printer::PrinterProfile marlin = printer::load_printer_profile("generic-marlin", kConfigDir);
+  const test_support::PrintedProgram program = test_support::read_printed_program(read_file(out));
+  const auto layers = geometry::uniform_layers(20, 0.25, marlin.first_layer_height);
+  REQUIRE(program.layers.size() == layers.size());
+  CHECK(program.layers.size() == 81);  // a 0.2 mm first layer, then ceil(19.8 / 0.25) = 80
+  // The exact section is the same at every height: the square less the 48-gon hole.
+  check_coverage(program, [&](std::size_t i) {
+    return shifted(part.section(layers[i].z_mid()), {marlin.bed_x / 2, marlin.bed_y / 2});
+  });
+}
+
+TEST_CASE("sphere_beads_cover_each_layer") {
+  const std::string dir = test_support::scratch_dir("slice_sphere");
+  const std::string stl = dir + "/sphere.stl", out = dir + "/sphere.gcode";
+  const solids::Solid sphere = solids::sphere(12, 96, 48, {0, 0, 12});
+  geometry::write_stl_binary(stl, sphere.mesh);
+  const auto result = run_mahost({"slice", stl, "-o", out, "--contour", "mid", "--layer", "0.2",
+                                  "--infill", "100", "--set", "print.infill_pattern=rectilinear", "--set", "print.skirt_loops=0"});
+  REQUIRE(result.exit_code == 0);
+  const printer::PrinterProfile up = printer::load_printer_profile("up-plus-2", kConfigDir);
+  const test_support::PrintedProgram program = test_support::read_printed_program(read_file(out));
+  const auto layers = geometry::uniform_layers(24, 0.2, up.first_layer_height);
+  REQUIRE(program.layers.size() == layers.size());
+  // Near the poles, where a section is a disc of a few bead widths, the square-cut ends of
+  // the infill lines leave more than 2% unfilled against the curved inner wall; layers under
+  // 80 mm^2 (radius ~5 mm, 11 bead widths) are held only to staying inside.
+  check_coverage(
+      program,
+      [&](std::size_t i) {
+        return shifted(sphere.section(layers[i].z_mid()), {up.bed_x / 2, up.bed_y / 2});
+      },
+      /*min_area=*/80.0);
+}
+
+TEST_CASE("bunny_ma_layers_are_covered_inside_the_bed_and_timed_exactly") {
+  const std::string dir = test_support::scratch_dir("slice_bunny");
+  const std::string stl = MAHOST_DATA_DIR "/bunny.stl", out = dir + "/bunny.gcode";
+  const auto result = run_mahost({"slice", stl, "--up", "y", "--units", "m", "--height", "50",
+                                  "-o", out, "--layer", "0.2", "--contour", "ma", "--infill", "100", "--set", "print.infill_pattern=rectilinear",
+                                  "--set", "print.skirt_loops=0"});
+  REQUIRE(result.exit_code == 0);
+  const std::string gcode = read_file(out);
+  const printer::PrinterProfile up = printer::load_printer_profile("up-plus-2", kConfigDir);
+  const test_support::PrintedProgram program = test_support::read_printed_program(gcode);
+
+  // 50 mm: 0.3 mm first layer, then 0.2 mm: 1 + ceil(49.7 / 0.2) = 250 layers.
+  CHECK(program.layers.size() == 250);
+  CHECK(program.header.at("LAYER_COUNT") == "250");
+  for (std::size_t i = 0; i < program.layers.size(); ++i) CHECK(program.layers[i].number == long(i));
+  CHECK(program.problems.empty());
+
+  CHECK(program.min_xy.x >= 0);
+  CHECK(program.min_xy.y >= 0);
+  CHECK(program.max_xy.x <= up.bed_x);
+  CHECK(program.max_xy.y <= up.bed_y);
+  CHECK(program.max_z <= up.bed_z);
+
+  const double reread = printer::estimate_print_time(gcode, up.motion);
+  CHECK(std::abs(std::stod(program.header.at("PRINT_TIME_S")) - reread) <= 0.0005);
+
+  // The layer regions, computed here the way mahost does: the same file, repair, placement.
+  geometry::RepairReport report;
+  geometry::Placement placement;
+  placement.units_to_mm = 1000;
+  placement.height = 50;
+  placement.up = geometry::Axis::y;
+  const geometry::Mesh mesh = geometry::place(
+      geometry::repair(geometry::read_stl(stl), &report), placement);
+  const auto layers = geometry::uniform_layers(50, 0.2, up.first_layer_height);
+  REQUIRE(layers.size() == program.layers.size());
+  const geometry::LayerStack stack(mesh, layers);
+  check_coverage(
+      program,
+      [&](std::size_t i) {
+        return shifted(geometry::ma_contour(stack, i), {up.bed_x / 2, up.bed_y / 2});
+      },
+      /*min_area=*/80.0);  // as for the sphere: the ears' tips are small discs
+}
+
+TEST_CASE("layer_not_allowed_by_the_printer_is_refused_with_the_list") {
+  const std::string dir = test_support::scratch_dir("slice_bad_layer");
+  const std::string stl = dir + "/cube.stl";
+  geometry::write_stl_binary(stl, solids::cube(10).mesh);
+  const auto result = run_mahost({"slice", stl, "-o", dir + "/cube.gcode", "--layer", "0.17"});
+  CHECK(result.exit_code == 2);
+  CHECK(result.err == "mahost: layer thickness 0.17 mm is not allowed on the UP Plus 2 (" +
+                          kConfigDir + "/printers/up-plus-2.toml); allowed: 0.15, 0.2, 0.25, "
+                          "0.3, 0.35, 0.4 mm\n");
+  CHECK_FALSE(std::filesystem::exists(dir + "/cube.gcode"));
+}
+
+TEST_CASE("bad_set_is_refused_naming_the_key") {
+  const std::string dir = test_support::scratch_dir("slice_bad_set");
+  const std::string stl = dir + "/cube.stl";
+  geometry::write_stl_binary(stl, solids::cube(10).mesh);
+  auto result = run_mahost({"slice", stl, "-o", dir + "/c.gcode", "--set", "retraction.length=25"});
+  CHECK(result.exit_code == 2);
+  CHECK(result.err == "mahost: --set retraction.length=25: key 'retraction.length' = 25 is not "
+                      "allowed; it must be a number from 0 to 20 mm\n");
+  result = run_mahost({"slice", stl, "-o", dir + "/c.gcode", "--set", "speed.wall=30"});
+  CHECK(result.exit_code == 2);
+  CHECK(result.err.starts_with("mahost: --set speed.wall=30: unknown key 'speed.wall'; keys "
+                               "under 'speed': outer_wall, inner_wall,"));
+}
+
+TEST_CASE("unknown_printer_is_refused_with_the_available_ones") {
+  const std::string dir = test_support::scratch_dir("slice_bad_printer");
+  const std::string stl = dir + "/cube.stl";
+  geometry::write_stl_binary(stl, solids::cube(10).mesh);
+  const auto result = run_mahost({"slice", stl, "-o", dir + "/c.gcode", "--printer", "ender9"});
+  CHECK(result.exit_code == 2);
+  CHECK(result.err == "mahost: printer profile 'ender9' not found in " + kConfigDir +
+                          "/printers (available: generic-marlin, up-plus-2); give one of these "
+                          "names or a path to a .toml file\n");
+}
+
+TEST_CASE("config_dir_from_the_environment_is_used") {
+  const std::string dir = test_support::scratch_dir("slice_config_env");
+  std::filesystem::create_directories(dir + "/configs/printers");
+  std::filesystem::create_directories(dir + "/configs/materials");
+  std::filesystem::copy_file(kConfigDir + "/materials/pla.toml", dir + "/configs/materials/pla.toml");
+  std::string profile = read_file(kConfigDir + "/printers/generic-marlin.toml");
+  const std::string name = "name = \"Generic Marlin\"";
+  profile.replace(profile.find(name), name.size(), "name = \"Workshop Printer\"");
+  std::ofstream(dir + "/configs/printers/workshop.toml") << profile;
+  const std::string stl = dir + "/cube.stl";
+  geometry::write_stl_binary(stl, solids::cube(5).mesh);
+  ::setenv("MAHOST_CONFIG_DIR", (dir + "/configs").c_str(), 1);
+  const auto result = run_mahost({"slice", stl, "-o", dir + "/c.gcode", "--printer", "workshop",
+                                  "--contour", "mid"});
+  ::unsetenv("MAHOST_CONFIG_DIR");
+  CHECK(result.err == "");
+  CHECK(result.exit_code == 0);
+  CHECK(read_file(dir + "/c.gcode").find("; printer: Workshop Printer") != std::string::npos);
+}
+
+TEST_CASE("part_too_big_for_the_bed_is_refused_with_both_sizes") {
+  const std::string dir = test_support::scratch_dir("slice_too_big");
+  const std::string stl = dir + "/big.stl";
+  geometry::write_stl_binary(stl, solids::box({0, 0, 0}, {150, 60, 30}).mesh);
+  const auto result = run_mahost({"slice", stl, "-o", dir + "/big.gcode"});
+  CHECK(result.exit_code == 2);
+  CHECK(result.err == "mahost: the part is 150.0 x 60.0 x 30.0 mm but the UP Plus 2 builds at "
+                      "most 140 x 140 x 135 mm; scale it down (--scale, --height) or choose a "
+                      "bigger printer (--printer)\n");
+  CHECK_FALSE(std::filesystem::exists(dir + "/big.gcode"));
+  // The same part fits the generic printer's 220 mm bed.
+  CHECK(run_mahost({"slice", stl, "-o", dir + "/big.gcode", "--printer", "generic-marlin",
+                    "--contour", "mid"}).exit_code == 0);
+}
+
+TEST_CASE("bad_flags_are_refused_with_exit_code_2") {
+  const std::string dir = test_support::scratch_dir("slice_bad_flags");
+  const std::string stl = dir + "/cube.stl";
+  geometry::write_stl_binary(stl, solids::cube(10).mesh);
+  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+           {"slice", stl, "-o", dir + "/c.gcode", "--contour", "best"},
+           {"slice", stl, "-o", dir + "/c.gcode", "--infill", "120"},
+           {"slice", stl, "-o", dir + "/c.gcode", "--perimeters", "-1"},
+           {"slice", stl, "-o", dir + "/c.gcode", "--layer", "abc"},
+           {"slice", stl},
+           {"slice", dir + "/missing.stl", "-o", dir + "/c.gcode"}}) {
+    const auto result = run_mahost(args);
+    CAPTURE(args.back());
+    CHECK(result.exit_code == 2);
+    CHECK(std::count(result.err.begin(), result.err.end(), '\n') == 1);
+    CHECK(result.err.starts_with("mahost: "));
+  }
+}
+
+TEST_CASE("unwritable_output_is_refused_naming_it") {
+  const std::string dir = test_support::scratch_dir("slice_unwritable");
+  const std::string stl = dir + "/cube.stl";
+  geometry::write_stl_binary(stl, solids::cube(10).mesh);
+  const auto result = run_mahost({"slice", stl, "-o", dir + "/no/such/folder/c.gcode",
+                                  "--contour", "mid"});
+  CHECK(result.exit_code == 2);
+  CHECK(result.err.starts_with("mahost: cannot write '" + dir + "/no/such/folder/c.gcode'"));
+}
