@@ -1,0 +1,324 @@
+// `mahost print`, `resume`, `ctl`, `ports` as a user runs them: against the in-process
+// simulated printer (--dry-run) and against `mahost sim --pty`, a separate process on a
+// pseudo-terminal, including a host killed with SIGKILL mid-print.
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include <doctest/doctest.h>
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include "printer/gcode_file.h"
+#include "printer/journal.h"
+#include "printer/test_program.h"
+#include "sim/sim_link.h"
+#include "printer/line_protocol.h"
+#include "printer/job.h"
+#include "support/run_command.h"
+
+extern char** environ;
+
+using test_support::run_mahost;
+using namespace std::chrono_literals;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A process running in the background, its stdout read line by line.
+class Background {
+ public:
+  explicit Background(const std::vector<std::string>& args) {
+    int out[2];
+    REQUIRE(pipe2(out, O_CLOEXEC) == 0);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+    posix_spawn_file_actions_adddup2(&actions, out[1], 1);
+    posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
+    std::vector<std::string> argv{MAHOST_BINARY};
+    argv.insert(argv.end(), args.begin(), args.end());
+    std::vector<char*> raw;
+    for (std::string& a : argv) raw.push_back(a.data());
+    raw.push_back(nullptr);
+    REQUIRE(posix_spawn(&pid_, MAHOST_BINARY, &actions, nullptr, raw.data(), environ) == 0);
+    posix_spawn_file_actions_destroy(&actions);
+    close(out[1]);
+    out_ = out[0];
+  }
+  ~Background() {
+    if (pid_ > 0) {
+      kill(pid_, SIGKILL);
+      waitpid(pid_, nullptr, 0);
+    }
+    if (out_ >= 0) close(out_);
+  }
+  // The first stdout line, waiting up to `timeout`.
+  std::string first_line(std::chrono::seconds timeout) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (buffer_.find('\n') == std::string::npos && std::chrono::steady_clock::now() < deadline) {
+      pollfd p{out_, POLLIN, 0};
+      if (poll(&p, 1, 100) > 0) {
+        char chunk[256];
+        const ssize_t n = read(out_, chunk, sizeof chunk);
+        if (n <= 0) break;
+        buffer_.append(chunk, static_cast<std::size_t>(n));
+      }
+    }
+    return buffer_.substr(0, buffer_.find('\n'));
+  }
+  void signal(int sig) { kill(pid_, sig); }
+  // Exit code (128 + signal when killed); waits up to `timeout`, then kills.
+  int wait(std::chrono::seconds timeout) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    int status = 0;
+    while (waitpid(pid_, &status, WNOHANG) == 0) {
+      if (std::chrono::steady_clock::now() > deadline) {
+        kill(pid_, SIGKILL);
+        waitpid(pid_, &status, 0);
+        break;
+      }
+      std::this_thread::sleep_for(20ms);
+    }
+    pid_ = -1;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  }
+
+ private:
+  pid_t pid_ = -1;
+  int out_ = -1;
+  std::string buffer_;
+};
+
+std::string write_file(const std::string& dir, const std::string& name, const std::string& text) {
+  const std::string path = dir + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+bool wait_for(const std::function<bool()>& condition, std::chrono::seconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (!condition()) {
+    if (std::chrono::steady_clock::now() > deadline) return false;
+    std::this_thread::sleep_for(20ms);
+  }
+  return true;
+}
+
+std::optional<printer::JournalRecord> journal_of(const std::string& path) {
+  try {
+    return printer::read_journal(path);
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
+int count_lines(const std::string& text) {
+  return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
+}
+
+// Each test keeps its jobs in its own runtime directory, so `mahost ctl` finds only them.
+std::string use_runtime_dir(const std::string& dir) {
+  const std::string runtime = dir + "/run";
+  fs::create_directories(runtime);
+  fs::permissions(runtime, fs::perms::owner_all);
+  setenv("XDG_RUNTIME_DIR", runtime.c_str(), 1);
+  return runtime;
+}
+
+}  // namespace
+
+TEST_CASE("dry_run_prints_a_gcode_file_and_says_what_the_print_would_do") {
+  const std::string dir = test_support::scratch_dir("print_dry_run");
+  use_runtime_dir(dir);
+  const std::string gcode = write_file(dir, "ring.gcode", test_support::ring_program(20, 50));
+  const auto r = run_mahost({"print", gcode, "--dry-run"});
+  CHECK(r.exit_code == 0);
+  CHECK(r.out.starts_with("completed: dry run on the simulated printer"));
+  // 9 start commands, per layer G92, Z, travel, prime, 50 moves, retract; 7 end commands.
+  const int commands = 9 + 20 * (50 + 5) + 7;
+  CHECK(r.out.find(fmt::format(" {} of {} commands, 20 layers; print time 0:0", commands, commands)) !=
+        std::string::npos);
+  CHECK(r.out.find("on the simulated printer's clock") != std::string::npos);
+  CHECK(r.out.find("0 resent after 0 resend requests") != std::string::npos);
+}
+
+TEST_CASE("dry_run_with_faults_still_completes") {
+  const std::string dir = test_support::scratch_dir("print_dry_run_faults");
+  use_runtime_dir(dir);
+  const std::string gcode = write_file(dir, "ring.gcode", test_support::ring_program(20, 50));
+  const auto r = run_mahost({"print", gcode, "--dry-run", "--faults",
+                             "corrupt=0.01,drop-ok=0.01,resend=0.01,seed=3"});
+  CHECK(r.exit_code == 0);
+  CHECK(r.out.starts_with("completed:"));
+  CHECK(r.out.find("0 resent after 0 resend") == std::string::npos);
+}
+
+TEST_CASE("bad_print_invocations_give_one_line_and_a_code") {
+  const std::string dir = test_support::scratch_dir("print_bad");
+  use_runtime_dir(dir);
+  const std::string gcode = write_file(dir, "ring.gcode", test_support::ring_program(3, 10));
+  const std::string binary = write_file(dir, "noise.gcode", std::string("G1 X1\n\0\x01\x02", 9));
+
+  auto r = run_mahost({"print", gcode});
+  CHECK(r.exit_code == 2);
+  CHECK(r.err == "mahost: print: give either --port PORT or --dry-run\n");
+
+  r = run_mahost({"print", gcode, "--port", "/dev/ttyUSB97"});
+  CHECK(r.exit_code == 3);
+  CHECK(r.err.starts_with("mahost: /dev/ttyUSB97: no such serial port"));
+  CHECK(count_lines(r.err) == 1);
+
+  r = run_mahost({"print", binary, "--dry-run"});
+  CHECK(r.exit_code == 2);
+  CHECK(r.err.find("noise.gcode: line 2 contains NUL bytes") != std::string::npos);
+  CHECK(count_lines(r.err) == 1);
+
+  r = run_mahost({"print", gcode, "--dry-run", "--pause-at-layer", "9"});
+  CHECK(r.exit_code == 2);
+  CHECK(r.err.find("--pause-at-layer 9: ") != std::string::npos);
+  CHECK(r.err.find("has 3 layers") != std::string::npos);
+
+  r = run_mahost({"resume", dir + "/missing.journal", "--dry-run"});
+  CHECK(r.exit_code == 2);
+  CHECK(count_lines(r.err) == 1);
+
+  r = run_mahost({"resume", gcode, "--dry-run"});
+  CHECK(r.exit_code == 2);
+  CHECK(r.err.find("is not a mahost job journal") != std::string::npos);
+
+  r = run_mahost({"ctl", "pause"});
+  CHECK(r.exit_code == 3);
+  CHECK(r.err.starts_with("mahost: no running mahost job found in "));
+
+  r = run_mahost({"ctl", "dance"});
+  CHECK(r.exit_code == 2);
+}
+
+TEST_CASE("halt_fault_exits_3_with_the_reason_and_the_resume_command") {
+  const std::string dir = test_support::scratch_dir("print_halt");
+  use_runtime_dir(dir);
+  const std::string gcode = write_file(dir, "ring.gcode", test_support::ring_program(20, 50));
+  const std::string journal = dir + "/job.journal";
+  const auto r = run_mahost({"print", gcode, "--dry-run", "--journal", journal, "--faults", "halt-at-line=700"});
+  CHECK(r.exit_code == 3);
+  CHECK(r.err.find("mahost: simulated printer: the printer stopped: Error:Printer halted. kill() called!") !=
+        std::string::npos);
+  CHECK(r.err.find("to finish the part: mahost resume " + journal) != std::string::npos);
+  const auto record = journal_of(journal);
+  REQUIRE(record);
+  CHECK(record->state == "failed");
+}
+
+TEST_CASE("ctl_pauses_and_resumes_a_print_without_a_terminal") {
+  const std::string dir = test_support::scratch_dir("print_ctl");
+  const std::string runtime = use_runtime_dir(dir);
+  Background sim({"sim", "--pty", "--time-scale", "20"});
+  const std::string pty = sim.first_line(10s);
+  REQUIRE(pty.starts_with("/dev/pts/"));
+  const std::string gcode = write_file(dir, "ring.gcode", test_support::ring_program(30, 60));
+  fs::create_directories(runtime + "/mahost");
+  const std::string journal = runtime + "/mahost/ring.journal";
+  Background print({"print", gcode, "--port", pty, "--journal", journal});
+  REQUIRE(wait_for([&] { return journal_of(journal) && journal_of(journal)->layer_index >= 3; }, 60s));
+
+  struct stat info{};
+  REQUIRE(stat((runtime + "/mahost/ring.sock").c_str(), &info) == 0);
+  CHECK((info.st_mode & 0777) == 0600);
+
+  auto r = run_mahost({"ctl", "pause"});  // found without --job: the one running job
+  CHECK(r.exit_code == 0);
+  CHECK(r.out.starts_with("pausing before layer "));
+  REQUIRE(wait_for([&] { return journal_of(journal) && journal_of(journal)->state == "paused"; }, 60s));
+  r = run_mahost({"ctl", "status", "--job", journal});
+  CHECK(r.exit_code == 0);
+  CHECK(r.out.starts_with("paused  layer "));
+  r = run_mahost({"ctl", "pause", "--job", "ring"});
+  CHECK(r.exit_code == 2);
+  CHECK(r.err == "mahost: ring: the job is paused, not printing\n");
+  r = run_mahost({"ctl", "resume"});
+  CHECK(r.exit_code == 0);
+  CHECK(print.wait(120s) == 0);
+  CHECK(journal_of(journal)->state == "completed");
+}
+
+TEST_CASE("killed_host_resumes_and_reprints_only_the_interrupted_layer") {
+  const std::string dir = test_support::scratch_dir("print_kill_resume");
+  use_runtime_dir(dir);
+  const std::string record_path = dir + "/record.json";
+  const int layers = 40, segments = 100;
+  const std::string program = test_support::ring_program(layers, segments);
+  const std::string gcode = write_file(dir, "ring.gcode", program);
+  const std::string journal = dir + "/ring.journal";
+
+  Background sim({"sim", "--pty", "--time-scale", "40", "--record", record_path});
+  const std::string pty = sim.first_line(10s);
+  REQUIRE(pty.starts_with("/dev/pts/"));
+  {
+    Background print({"print", gcode, "--port", pty, "--journal", journal});
+    REQUIRE(wait_for([&] { return journal_of(journal) && journal_of(journal)->layer_index >= 12; }, 120s));
+    std::this_thread::sleep_for(100ms);  // into the layer (a layer takes about 7 s of sim time, 0.2 s here)
+    print.signal(SIGKILL);
+    CHECK(print.wait(10s) == 128 + SIGKILL);
+  }
+  const auto interrupted = journal_of(journal);
+  REQUIRE(interrupted);
+  CHECK(interrupted->state == "printing");
+  const auto r = run_mahost({"resume", journal, "--port", pty}, {}, 300s);
+  CHECK(r.exit_code == 0);
+  CHECK(r.err.find("setting Z from the journal") != std::string::npos);  // the board reset on open
+  CHECK(journal_of(journal)->state == "completed");
+  sim.signal(SIGINT);
+  CHECK(sim.wait(30s) == 0);
+
+  // The reference: the same file printed without interruption.
+  const printer::GcodeFile file = printer::parse_gcode(program, "ring.gcode");
+  sim::SimLink link{sim::Config{}};
+  printer::LineProtocol protocol(link);
+  protocol.connect();
+  printer::Job job(protocol, file, {});
+  REQUIRE(job.run().state == printer::JobState::completed);
+  const auto& reference = link.printer().deposition().moves;
+
+  std::ifstream in(record_path);
+  const nlohmann::json record = nlohmann::json::parse(in);
+  const auto& moves = record.at("moves");
+  auto same = [&](std::size_t printed, std::size_t ref) {
+    const auto& m = moves.at(printed);
+    const auto& n = reference.at(ref);
+    return m.at("z").get<double>() == n.z && m.at("x0").get<double>() == n.start.x &&
+           m.at("y0").get<double>() == n.start.y && m.at("x1").get<double>() == n.end.x &&
+           m.at("y1").get<double>() == n.end.y && std::abs(m.at("e").get<double>() - n.e) < 1e-9;
+  };
+  // Printed = reference[0, k) then reference[s, end): s the start of the interrupted layer,
+  // s <= k < s + one layer. So the part is complete, that layer's printed part came twice,
+  // and nothing else.
+  const std::size_t per_layer = segments;
+  const std::size_t s = static_cast<std::size_t>(interrupted->layer_index) * per_layer;
+  REQUIRE(moves.size() >= reference.size());
+  const std::size_t k = moves.size() - (reference.size() - s);
+  CHECK(k >= s);
+  CHECK(k < s + per_layer);
+  bool all_same = true;
+  for (std::size_t i = 0; i < k; ++i) all_same = all_same && same(i, i);
+  for (std::size_t i = k; i < moves.size(); ++i) all_same = all_same && same(i, s + (i - k));
+  CHECK(all_same);
+  MESSAGE("interrupted at layer " << interrupted->layer_index + 1 << ", " << k - s
+                                  << " moves of it printed twice");
+}
+
+TEST_CASE("ports_lists_or_says_none") {
+  const auto r = run_mahost({"ports"});
+  CHECK(r.exit_code == 0);
+  CHECK(!r.out.empty());
+}
