@@ -22,7 +22,7 @@ void apply(PrintState& s, const GcodeCommand& c) {
         if (const auto e = c.get('E')) {
           const double before = s.e;
           s.e = s.relative_e ? s.e + *e : *e;
-          if (s.e > before) s.filament_fed += s.e - before;
+          s.filament_fed += s.e - before;  // retractions count back: the net feed
         }
         break;
       }

@@ -23,7 +23,7 @@ struct PrintState {
   bool relative_e = false;            // M83 or G91
   double hotend_target = 0, bed_target = 0;  // °C
   int fan = 0;                        // 0-255
-  double filament_fed = 0;            // mm of filament pushed by extruding moves, in total
+  double filament_fed = 0;            // mm of filament fed, net of retractions, in total
 };
 
 // Applies one command to the state. Commands that do not change it are ignored.

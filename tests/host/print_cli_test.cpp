@@ -25,6 +25,7 @@
 #include "sim/sim_link.h"
 #include "printer/line_protocol.h"
 #include "printer/job.h"
+#include "printer/gcode_line.h"
 #include "support/run_command.h"
 
 extern char** environ;
@@ -321,4 +322,84 @@ TEST_CASE("ports_lists_or_says_none") {
   const auto r = run_mahost({"ports"});
   CHECK(r.exit_code == 0);
   CHECK(!r.out.empty());
+}
+
+namespace {
+
+std::vector<std::string> job_part(const std::vector<std::string>& executed) {
+  std::vector<std::string> out;
+  for (const std::string& c : executed) {
+    const printer::GcodeCommand parsed = printer::parse_gcode_line(c);
+    if (parsed.is('M', 110) || parsed.is('M', 115) || parsed.is('M', 105)) continue;
+    out.push_back(c);
+  }
+  return out;
+}
+
+struct SimPrint {
+  std::vector<std::string> executed;
+  std::vector<sim::DepositedMove> moves;
+  printer::ProtocolStats stats;
+};
+
+SimPrint print_on_sim(const printer::GcodeFile& file, const sim::Config& config, std::size_t window = 1) {
+  sim::SimLink link(config);
+  printer::ProtocolOptions options;
+  options.window = window;
+  printer::LineProtocol protocol(link, options);
+  protocol.connect();
+  printer::Job job(protocol, file, {});
+  REQUIRE(job.run().state == printer::JobState::completed);
+  return {link.printer().executed_commands(), link.printer().deposition().moves, protocol.stats()};
+}
+
+bool same_moves(const std::vector<sim::DepositedMove>& a, const std::vector<sim::DepositedMove>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (a[i].z != b[i].z || !(a[i].start == b[i].start) || !(a[i].end == b[i].end) ||
+        a[i].e != b[i].e || a[i].feedrate != b[i].feedrate) {
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+TEST_CASE("bunny_print_through_a_noisy_link_executes_the_gcode_exactly") {
+  const std::string dir = test_support::scratch_dir("bunny_noisy");
+  const std::string gcode = dir + "/bunny.gcode";
+  const auto sliced = run_mahost({"slice", std::string(MAHOST_DATA_DIR) + "/bunny.stl", "--up", "y",
+                                  "--units", "m", "--height", "50", "-o", gcode});
+  REQUIRE(sliced.exit_code == 0);
+  const printer::GcodeFile file = printer::read_gcode_file(gcode);
+  REQUIRE(file.layers.size() > 200);
+  std::vector<std::string> commands;
+  for (std::size_t i = 0; i < file.size(); ++i) commands.emplace_back(file.command(i));
+
+  const SimPrint clean = print_on_sim(file, sim::Config{});
+  CHECK(job_part(clean.executed) == commands);
+
+  // 1% of the bytes corrupted, 1% of the oks lost, 1% of good lines answered with Resend;
+  // with Marlin 1.1's ok after Resend and Marlin 2.0's without.
+  for (const bool ok_after_resend : {true, false}) {
+    CAPTURE(ok_after_resend);
+    sim::Config noisy;
+    noisy.ok_after_resend = ok_after_resend;
+    noisy.faults = sim::parse_fault_spec("corrupt=0.01,drop-ok=0.01,resend=0.01,seed=2024");
+    const SimPrint faulty = print_on_sim(file, noisy);
+    CHECK(job_part(faulty.executed) == commands);  // no loss, no duplicate, same order
+    CHECK(same_moves(faulty.moves, clean.moves));  // the same part
+    CHECK(faulty.stats.resend_requests > 1000);
+    CHECK(faulty.stats.probes > 500);
+    MESSAGE("resend requests " << faulty.stats.resend_requests << ", lines resent "
+                               << faulty.stats.lines_resent << ", M105 probes " << faulty.stats.probes);
+  }
+  // The same with a window of 4 lines on a firmware reporting ADVANCED_OK.
+  sim::Config noisy;
+  noisy.advanced_ok = true;
+  noisy.faults = sim::parse_fault_spec("corrupt=0.01,drop-ok=0.01,resend=0.01,dup-ok=0.005,seed=99");
+  const SimPrint windowed = print_on_sim(file, noisy, 4);
+  CHECK(job_part(windowed.executed) == commands);
+  CHECK(same_moves(windowed.moves, clean.moves));
 }
