@@ -1,0 +1,57 @@
+// Loading G-code for a job: commands as sent, layer marks, the hash, refusals.
+#include "printer/gcode_file.h"
+
+#include <doctest/doctest.h>
+
+#include "printer/error.h"
+#include "printer/print_state.h"
+
+using namespace printer;
+
+TEST_CASE("commands_without_comments_and_layers_from_marks") {
+  const GcodeFile f = parse_gcode(
+      "; header\nG28 ; home\n\nM109 S210\n;LAYER:0\n;Z:0.2\nG1 Z0.2\nG1 X1 E1\n;LAYER:1\n;Z:0.4\nG1 X2 E2\n",
+      "t.gcode");
+  REQUIRE(f.size() == 5);
+  CHECK(f.command(0) == "G28");
+  CHECK(f.command(4) == "G1 X2 E2");
+  REQUIRE(f.layers.size() == 2);
+  CHECK(f.layers[0].number == 0);
+  CHECK(f.layers[0].first_command == 2);
+  CHECK(f.layers[0].z == 0.2);
+  CHECK(f.layers[1].first_command == 4);
+  CHECK(f.layer_index_of(1) == -1);
+  CHECK(f.layer_index_of(3) == 0);
+  CHECK(f.layer_starting_at(4) == 1);
+  CHECK(f.layer_starting_at(3) == -1);
+}
+
+TEST_CASE("hash_changes_with_one_byte") {
+  CHECK(content_hash("G1 X1\n") != content_hash("G1 X2\n"));
+  CHECK(content_hash("G1 X1\n") == parse_gcode("G1 X1\n", "a").hash);
+}
+
+TEST_CASE("binary_and_overlong_lines_are_refused_naming_the_line") {
+  CHECK_THROWS_WITH_AS(parse_gcode(std::string("G1\nG1 X\0", 8), "b.gcode"),
+                       "b.gcode: line 2 contains NUL bytes: this is not a G-code text file", ConfigError);
+  CHECK_THROWS_AS(parse_gcode("G1 X1 ; fine\n" + std::string(100, 'X') + "\n", "c.gcode"), ConfigError);
+  CHECK_THROWS_AS(read_gcode_file("/nonexistent/x.gcode"), ConfigError);
+}
+
+TEST_CASE("print_state_follows_marlin_modes") {
+  PrintState s;
+  for (const char* c : {"G90", "M82", "G1 X10 Y5 Z0.2 E1 F1800", "G91", "G1 X1 E0.5", "G90",
+                        "M83", "G1 E-1", "G92 E0", "M104 S215", "M140 S60", "M106 S128"}) {
+    apply(s, c);
+  }
+  CHECK(s.x == 11);
+  CHECK(s.y == 5);
+  CHECK(s.e == 0);
+  CHECK(s.relative_e);
+  CHECK_FALSE(s.relative_xyz);
+  CHECK(s.feedrate == 1800);
+  CHECK(s.hotend_target == 215);
+  CHECK(s.fan == 128);
+  CHECK(s.filament_fed == doctest::Approx(1.5 - 1.0));
+  CHECK(restore_modes(s) == std::vector<std::string>{"G90", "M83", "G1 F1800"});
+}
