@@ -1,0 +1,190 @@
+#!/usr/bin/env bash
+# mahost beside CuraEngine 4.13 and PrusaSlicer 2.5 on the paper's part: the Stanford bunny
+# placed 50 mm tall (--up y --units m --height 50), at 0.15 mm and 0.2 mm layers, with the
+# same machine and settings everywhere: the UP Plus 2 profile (140 x 140 x 135 mm, 0.4 mm
+# nozzle, 0.45 mm lines, 0.5 mm / 0.3 mm first layer, 1.75 mm ABS), 2 perimeters, 20% grid
+# infill, 3 top and 3 bottom layers, one skirt loop 3 mm out, the profile's speeds and
+# accelerations. Prints one table: layers, each slicer's own print-time estimate, filament,
+# wall time and peak memory of the slicing run.
+#
+# Usage: tests/bench/compare_slicers.sh [BUILD_DIR]   (default: build; mahost must be built)
+#
+# All three slice the same placed, repaired mesh (mahost info --export), so the geometry is
+# identical. CuraEngine needs Cura's JSON machine definitions, which Debian ships only in the
+# GUI package `cura` (416 packages with Qt); instead of installing it, this script fetches that
+# one .deb with `apt-get download cura` and unpacks its definitions into
+# ${XDG_CACHE_HOME:-~/.cache}/mahost/cura-4.13 (once). CuraEngine does not evaluate the
+# definitions' formulas (the Cura front end does), so every derived setting is passed
+# explicitly below. CuraEngine alone leaves its header's ;TIME:6666 and filament placeholders
+# for the front end to fill: its time is the last ;TIME_ELAPSED, its filament read back from E.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+build=${1:-build}
+mahost=$build/mahost
+[[ -x $mahost ]] || { echo "compare_slicers: $mahost not found; build first (scripts/build)" >&2; exit 2; }
+for tool in CuraEngine prusa-slicer /usr/bin/time; do
+  command -v "$tool" >/dev/null || { echo "compare_slicers: $tool not found; run scripts/setup" >&2; exit 2; }
+done
+
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+# --- Cura's machine definitions ------------------------------------------------------------
+cura_resources=""
+for dir in /usr/share/cura/resources "${XDG_CACHE_HOME:-$HOME/.cache}/mahost/cura-4.13/resources"; do
+  [[ -f $dir/definitions/fdmprinter.def.json ]] && { cura_resources=$dir; break; }
+done
+if [[ -z $cura_resources ]]; then
+  cache=${XDG_CACHE_HOME:-$HOME/.cache}/mahost/cura-4.13
+  echo "compare_slicers: fetching Cura's machine definitions (apt-get download cura, once)" >&2
+  (cd "$work" && apt-get download cura >/dev/null 2>&1) ||
+    { echo "compare_slicers: apt-get download cura failed; install the package cura instead" >&2; exit 2; }
+  dpkg-deb -x "$work"/cura_*.deb "$work/cura"
+  mkdir -p "$cache/resources"
+  cp -r "$work/cura/usr/share/cura/resources/definitions" "$work/cura/usr/share/cura/resources/extruders" \
+    "$cache/resources/"
+  cura_resources=$cache/resources
+fi
+export CURA_ENGINE_SEARCH_PATH=$cura_resources/definitions:$cura_resources/extruders
+
+# --- the part --------------------------------------------------------------------------------
+model=$work/bunny50.stl
+"$mahost" info data/bunny.stl --up y --units m --height 50 --export "$model" >/dev/null 2>&1
+
+# Runs a command under /usr/bin/time; leaves "wall_s peak_kib" in $work/time.
+timed() { /usr/bin/time -f "%e %M" -o "$work/time" "$@" >"$work/log" 2>&1 || {
+  echo "compare_slicers: failed: $*" >&2; tail -5 "$work/log" >&2; exit 1; }; }
+
+# Net filament (mm) of a program: E travelled forward, across G92 resets, either E mode.
+filament_of() {
+  awk '
+    /^M82/ { rel = 0 } /^M83/ { rel = 1 }
+    /^G9[01]/ { rel = ($1 == "G91") }
+    /^G92/ { for (i = 2; i <= NF; i++) if ($i ~ /^E/) { total += e - start; e = substr($i, 2) + 0; start = e } }
+    /^G[01] / { for (i = 2; i <= NF; i++) if ($i ~ /^E/) { v = substr($i, 2) + 0; e = rel ? e + v : v } }
+    END { total += e - start; printf "%.0f", total }' "$1"
+}
+
+hms() { awk -v s="$1" 'BEGIN { printf "%dh %02dm %02ds", s / 3600, (s % 3600) / 60, s % 60 }'; }
+
+rows=()
+row() {  # slicer layer layers seconds filament_mm wall peak_kib
+  rows+=("$(printf '%-22s %5s %7s %13s %9.2f m %8.2f s %7.1f MiB' "$1" "$2" "$3" "$(hms "$4")" \
+    "$(awk -v f="$5" 'BEGIN { print f / 1000 }')" "$6" "$(awk -v k="$7" 'BEGIN { print k / 1024 }')")")
+}
+
+for layer in 0.15 0.2; do
+  # mahost, the paper's MA contour and the mid-layer section other slicers use.
+  for contour in ma mid; do
+    out=$work/mahost-$contour-$layer.gcode
+    timed "$mahost" slice data/bunny.stl --up y --units m --height 50 --layer "$layer" \
+      --contour "$contour" -o "$out"
+    read -r wall peak <"$work/time"
+    row "mahost ($contour)" "$layer" "$(grep -m1 '^;LAYER_COUNT:' "$out" | cut -d: -f2)" \
+      "$(grep -m1 '^;PRINT_TIME_S:' "$out" | cut -d: -f2)" \
+      "$(grep -m1 '^;FILAMENT_MM:' "$out" | cut -d: -f2)" "$wall" "$peak"
+  done
+
+  # CuraEngine 4.13.
+  out=$work/cura-$layer.gcode
+  timed CuraEngine slice -j "$cura_resources/definitions/fdmprinter.def.json" \
+    -s machine_width=140 -s machine_depth=140 -s machine_height=135 -s machine_center_is_zero=true \
+    -s machine_gcode_flavor="RepRap (Marlin/Sprinter)" -s machine_start_gcode="G28" -s machine_end_gcode="M84" \
+    -s machine_max_feedrate_x=200 -s machine_max_feedrate_y=200 -s machine_max_feedrate_z=10 -s machine_max_feedrate_e=40 \
+    -s machine_max_acceleration_x=1500 -s machine_max_acceleration_y=1500 -s machine_max_acceleration_z=100 \
+    -s machine_max_acceleration_e=3000 -s machine_acceleration=800 \
+    -s layer_height="$layer" -s layer_height_0=0.3 \
+    -s line_width=0.45 -s wall_line_width=0.45 -s wall_line_width_0=0.45 -s wall_line_width_x=0.45 \
+    -s skin_line_width=0.45 -s infill_line_width=0.45 -s skirt_brim_line_width=0.45 \
+    -s initial_layer_line_width_factor=111.1 \
+    -s wall_line_count=2 -s top_layers=3 -s bottom_layers=3 \
+    -s infill_sparse_density=20 -s infill_pattern=grid -s infill_line_distance=4.5 \
+    -s adhesion_type=skirt -s skirt_line_count=1 -s skirt_gap=3 -s support_enable=false \
+    -s speed_print=50 -s speed_infill=50 -s speed_wall=40 -s speed_wall_0=25 -s speed_wall_x=40 \
+    -s speed_topbottom=30 -s speed_roofing=30 -s speed_travel=120 -s speed_layer_0=15 \
+    -s speed_print_layer_0=15 -s speed_travel_layer_0=120 -s skirt_brim_speed=15 \
+    -s acceleration_enabled=true -s acceleration_print=800 -s acceleration_infill=800 \
+    -s acceleration_wall=800 -s acceleration_wall_0=800 -s acceleration_wall_x=800 \
+    -s acceleration_topbottom=800 -s acceleration_roofing=800 -s acceleration_travel=1500 \
+    -s acceleration_layer_0=800 -s acceleration_print_layer_0=800 -s acceleration_travel_layer_0=1500 \
+    -s acceleration_skirt_brim=800 -s jerk_enabled=false \
+    -s retraction_enable=true -s retraction_amount=1 -s retraction_speed=30 \
+    -s retraction_retract_speed=30 -s retraction_prime_speed=25 -s retraction_min_travel=2 \
+    -s material_print_temperature=245 -s material_print_temperature_layer_0=250 \
+    -s material_bed_temperature=100 -s material_bed_temperature_layer_0=105 -s cool_fan_enabled=false \
+    -e0 -s machine_nozzle_size=0.4 -s material_diameter=1.75 \
+    -o "$out" -l "$model"
+  read -r wall peak <"$work/time"
+  row "CuraEngine 4.13" "$layer" "$(grep -c '^;LAYER:' "$out")" \
+    "$(grep '^;TIME_ELAPSED:' "$out" | tail -1 | cut -d: -f2)" "$(filament_of "$out")" "$wall" "$peak"
+
+  # PrusaSlicer 2.5.
+  cfg=$work/prusa.ini
+  cat >"$cfg" <<EOF
+bed_shape = 0x0,140x0,140x140,0x140
+max_print_height = 135
+nozzle_diameter = 0.4
+filament_diameter = 1.75
+layer_height = $layer
+first_layer_height = 0.3
+extrusion_width = 0.45
+first_layer_extrusion_width = 0.5
+perimeters = 2
+fill_density = 20%
+fill_pattern = grid
+top_solid_layers = 3
+bottom_solid_layers = 3
+skirts = 1
+skirt_distance = 3
+brim_width = 0
+support_material = 0
+external_perimeter_speed = 25
+perimeter_speed = 40
+small_perimeter_speed = 25
+infill_speed = 50
+solid_infill_speed = 40
+top_solid_infill_speed = 30
+gap_fill_speed = 25
+bridge_speed = 30
+travel_speed = 120
+first_layer_speed = 15
+retract_length = 1
+retract_speed = 30
+deretract_speed = 25
+retract_before_travel = 2
+gcode_flavor = marlin2
+machine_limits_usage = time_estimate_only
+machine_max_acceleration_extruding = 800
+machine_max_acceleration_travel = 1500
+machine_max_acceleration_retracting = 2000
+machine_max_acceleration_x = 1500
+machine_max_acceleration_y = 1500
+machine_max_acceleration_z = 100
+machine_max_acceleration_e = 3000
+machine_max_feedrate_x = 200
+machine_max_feedrate_y = 200
+machine_max_feedrate_z = 10
+machine_max_feedrate_e = 40
+temperature = 245
+first_layer_temperature = 250
+bed_temperature = 100
+first_layer_bed_temperature = 105
+filament_density = 1.04
+cooling = 0
+fan_always_on = 0
+start_gcode = G28
+end_gcode = M84
+EOF
+  out=$work/prusa-$layer.gcode
+  timed prusa-slicer --export-gcode --load "$cfg" --center 70,70 -o "$out" "$model"
+  read -r wall peak <"$work/time"
+  prusa_time=$(grep -m1 '^; estimated printing time (normal mode)' "$out" | sed 's/.*= //' |
+    awk '{ s = 0; for (i = 1; i <= NF; i++) { v = $i + 0; u = substr($i, length($i));
+           s += (u == "d") ? v * 86400 : (u == "h") ? v * 3600 : (u == "m") ? v * 60 : v } print s }')
+  row "PrusaSlicer 2.5" "$layer" "$(grep -c '^;LAYER_CHANGE' "$out")" "$prusa_time" \
+    "$(grep -m1 '^; filament used \[mm\]' "$out" | sed 's/.*= //')" "$wall" "$peak"
+done
+
+echo "bunny 50 mm, UP Plus 2 settings; each slicer's own print-time estimate; same machine, same run"
+printf '%-22s %5s %7s %13s %11s %10s %11s\n' slicer layer layers "est. time" filament wall "peak RSS"
+printf '%s\n' "${rows[@]}"
