@@ -8,12 +8,16 @@ namespace geometry {
 
 namespace {
 
-double distance_squared_to_segment(Vec2 p, const Segment2& s) {
+Vec2 foot_on_segment(Vec2 p, const Segment2& s) {
   const Vec2 ab = s.b - s.a;
   const double length2 = dot(ab, ab);
   double t = length2 > 0 ? dot(p - s.a, ab) / length2 : 0.0;
   t = std::clamp(t, 0.0, 1.0);
-  const Vec2 d = p - (s.a + t * ab);
+  return s.a + t * ab;
+}
+
+double distance_squared_to_segment(Vec2 p, const Segment2& s) {
+  const Vec2 d = p - foot_on_segment(p, s);
   return dot(d, d);
 }
 
@@ -86,8 +90,11 @@ std::pair<int, int> BoundaryGrid::cell_of(Vec2 p) const {
   return {x, y};
 }
 
-double BoundaryGrid::nearest_distance(Vec2 p) const {
-  if (segments_.empty()) return std::numeric_limits<double>::infinity();
+double BoundaryGrid::nearest_distance(Vec2 p) const { return nearest(p).distance; }
+
+BoundaryGrid::Nearest BoundaryGrid::nearest(Vec2 p) const {
+  Nearest found{std::numeric_limits<double>::infinity(), Nearest::npos, p};
+  if (segments_.empty()) return found;
   const auto [cx, cy] = cell_of(p);
   double best2 = std::numeric_limits<double>::infinity();
   for (int r = 0;; ++r) {
@@ -97,7 +104,11 @@ double BoundaryGrid::nearest_distance(Vec2 p) const {
       if (x < 0 || y < 0 || x >= nx_ || y >= ny_) return;
       const std::size_t c = static_cast<std::size_t>(y) * nx_ + x;
       for (std::uint32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
-        best2 = std::min(best2, distance_squared_to_segment(p, segments_[ids_[k]]));
+        const double d2 = distance_squared_to_segment(p, segments_[ids_[k]]);
+        if (d2 < best2) {
+          best2 = d2;
+          found.segment = ids_[k];
+        }
       }
     };
     for (int x = x0; x <= x1; ++x) {
@@ -108,12 +119,17 @@ double BoundaryGrid::nearest_distance(Vec2 p) const {
       visit_cell(x0, y);
       if (x1 != x0) visit_cell(x1, y);
     }
-    // Everything beyond ring r is at least r cells away from p's (clamped) cell.
-    const double reach = r * cell_;
+    // Everything beyond ring r is outside the block of cells around p's (clamped) cell: at
+    // least r cells away, and as far as p is from the block's sides when p is inside it.
+    const double left = p.x - (origin_.x + x0 * cell_), right = origin_.x + (x1 + 1) * cell_ - p.x;
+    const double below = p.y - (origin_.y + y0 * cell_), above = origin_.y + (y1 + 1) * cell_ - p.y;
+    const double reach = std::max(r * cell_, std::min({left, right, below, above}));
     if (best2 <= reach * reach) break;
     if (x0 <= 0 && y0 <= 0 && x1 >= nx_ - 1 && y1 >= ny_ - 1) break;
   }
-  return std::sqrt(best2);
+  found.distance = std::sqrt(best2);
+  found.foot = foot_on_segment(p, segments_[found.segment]);
+  return found;
 }
 
 int BoundaryGrid::winding_number(Vec2 p, double* clearance) const {

@@ -41,6 +41,16 @@ class BoundaryGrid {
   // Distance from p to the nearest segment, mm; +infinity for an empty grid.
   double nearest_distance(Vec2 p) const;
 
+  // The nearest segment to p, the nearest point on it, and the distance (mm). Empty grid:
+  // segment = npos, distance +infinity.
+  struct Nearest {
+    static constexpr std::uint32_t npos = 0xffffffffu;
+    double distance;
+    std::uint32_t segment;
+    Vec2 foot;
+  };
+  Nearest nearest(Vec2 p) const;
+
   // Winding number of the segments' loops around p (a ray to +x, half-open in y): 1 inside a
   // region's outer loop, 0 outside or inside a hole. Undefined for p exactly on a segment, so
   // it also reports in `clearance` a lower bound on p's distance to every segment, capped at

@@ -24,20 +24,23 @@
 // - An exactly horizontal facet (a step strictly inside the slab) is judged by its edges: its
 //   inside is parallel to the layer's top and bottom faces, where a horizontal distance means
 //   nothing; the paper measures the slice mesh's vertices, which are on those edges.
-// - Surface with no wall anywhere near (a missed feature) is still measured to the nearest
-//   wall of the layer, however far: that distance is the error a user sees.
-// - An empty region has no walls: the surface is then measured to the outer boundary of the
-//   slab's footprint (slab.h, holes filled), as if the walls had shrunk onto the feature's own
-//   outline: a cone's tip left out is as bad as the radius at its base, a band of a cone's
-//   flank as bad as the band's width. reverse is 0 (no walls).
+// - Surface in an island of the slab's footprint that the region does not touch (a missed
+//   feature, missed_features.h) is measured to that island's own outer outline, as if the
+//   walls had shrunk onto the feature: a cone's tip left out is as bad as the radius at its
+//   base, a bump left out as bad as its half-width. Measuring it to the nearest wall of some
+//   other island instead would make one missed tail tip 18 mm "wrong" and drown every other
+//   layer's figure; the miss itself is counted under missed features. An empty region
+//   misses every island. reverse is 0 when there are no walls.
 // - An empty slab: forward 0; reverse 0.
 // Units: mm.
 #pragma once
 
 #include <array>
+#include <span>
 #include <vector>
 
 #include "geometry/boundary_grid.h"
+#include "geometry/boundary_pair.h"
 #include "geometry/polygon.h"
 #include "geometry/slab.h"
 
@@ -60,15 +63,14 @@ struct SlabSurface {
   std::vector<std::array<Vec2, 3>> triangles;
   // ∂C(z) at each measured height, as segments (empty heights left out).
   std::vector<BoundaryGrid> levels;
-  // The outer boundary of the slab's footprint, the walls an empty region is measured to.
-  BoundaryGrid footprint_boundary;
 };
 
-SlabSurface slab_surface(const Slab& slab, const Region& footprint,
-                         const DistanceOptions& options = {});
+SlabSurface slab_surface(const Slab& slab, const DistanceOptions& options = {});
 
-// `walls`: a grid over the region's boundary (BoundaryGrid(region)).
+// `walls`: a grid over the region's boundary (BoundaryGrid(region)); `missed`: the islands of
+// the slab's footprint the region does not touch (missed_features.h).
 DistanceError distance_error(const SlabSurface& surface, const BoundaryGrid& walls,
+                             std::span<const BoundaryPair> missed,
                              const DistanceOptions& options = {});
 
 // The level segments of the slab's facets at height z: from above (z_lo's convention) or from

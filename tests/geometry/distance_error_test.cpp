@@ -14,6 +14,7 @@
 
 #include "geometry/distance_error.h"
 #include "geometry/layer_stack.h"
+#include "geometry/missed_features.h"
 #include "geometry/slab.h"
 #include "support/solids.h"
 
@@ -34,9 +35,9 @@ DistanceError distance_of(const LayerStack& stack, std::size_t layer, const Regi
   geometry::DistanceOptions options;
   options.tolerance = kTolerance;
   options.reverse_levels = levels;
-  const geometry::SlabSurface surface =
-      geometry::slab_surface(slab, geometry::slab_footprint(slab), options);
-  return geometry::distance_error(surface, geometry::BoundaryGrid(region), options);
+  const geometry::SlabSurface surface = geometry::slab_surface(slab, options);
+  const auto missed = geometry::missed_features(geometry::slab_footprint(slab), region);
+  return geometry::distance_error(surface, geometry::BoundaryGrid(region), missed, options);
 }
 
 }  // namespace
@@ -108,13 +109,17 @@ TEST_CASE("empty_region_is_measured_to_the_footprint_outline") {
   CHECK(d.reverse == 0);
 }
 
-TEST_CASE("missed_surface_is_measured_to_the_nearest_wall") {
-  // A cylinder standing on the bed next to a wide box; the region is only the box's section,
-  // so the cylinder's wall is measured to the box's nearest wall: 4 mm gap plus its diameter.
+TEST_CASE("missed_feature_is_measured_to_its_own_outline") {
+  // A box and, 5 mm away, a cone of the same height: in the top layer [1.5, 2] the region is
+  // the box's section only, so the cone's tip is a missed feature. It is measured to its own
+  // outline (the apothem of its section at 1.5), not to the box's wall 5 mm away.
+  const int n = 64;
   const solids::Solid both = solids::combine(solids::box({-10, -3, 0}, {0, 3, 2}),
-                                             solids::cylinder(1, 2, 64, {5, 0, 0}));
+                                             solids::cone(2, 2, n, {7, 0, 0}));
   const LayerStack stack(both.mesh, geometry::uniform_layers(2, 0.5));
   const Region box_only{{{{-10, -3}, {0, -3}, {0, 3}, {-10, 3}}}};
-  const DistanceError d = distance_of(stack, 1, box_only);
-  CHECK(d.forward == doctest::Approx(6).epsilon(1e-9));
+  const DistanceError d = distance_of(stack, 3, box_only);
+  const double apothem = 2 * (1 - 1.5 / 2) * std::cos(kPi / n);
+  CHECK(d.forward >= apothem - kTolerance);
+  CHECK(d.forward <= apothem + 2.2 * geometry::kFootprintMargin);
 }

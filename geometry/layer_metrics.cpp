@@ -1,0 +1,48 @@
+#include "geometry/layer_metrics.h"
+
+#include "geometry/boundary_grid.h"
+#include "geometry/missed_features.h"
+#include "geometry/volume_deviation.h"
+#include "geometry/volume_limit.h"
+
+namespace geometry {
+
+LayerReference layer_reference(const LayerStack& stack, std::size_t layer,
+                               const MetricOptions& options) {
+  LayerReference reference;
+  if (layer >= stack.size()) return reference;
+  reference.layer = stack.layers()[layer];
+  reference.slab = slab_of(stack, layer);
+  reference.footprint = slab_footprint(reference.slab);
+  reference.islands = boundary_pairs(reference.footprint);
+  reference.columns = slab_columns(reference.slab, stack.lower(layer));
+  reference.surface = slab_surface(reference.slab, options.distance);
+  reference.volume_limit = volume_limit(reference.columns);
+  return reference;
+}
+
+LayerMetrics layer_metrics(const LayerReference& reference, const Region& region,
+                           const MetricOptions& options) {
+  LayerMetrics metrics;
+  metrics.z_lo = reference.layer.z_lo;
+  metrics.thickness = reference.layer.thickness();
+  metrics.area = area(region);
+  const BoundaryGrid walls(region);
+  metrics.volume_deviation = volume_deviation(reference.columns, region, walls);
+  metrics.volume_limit = reference.volume_limit;
+  const std::vector<BoundaryPair> missed = missed_features(reference.islands, region);
+  metrics.missed_features = missed.size();
+  const DistanceError distance =
+      distance_error(reference.surface, walls, missed, options.distance);
+  metrics.distance = distance.forward;
+  metrics.reverse_distance = distance.reverse;
+  metrics.hausdorff = distance.hausdorff;
+  return metrics;
+}
+
+LayerMetrics layer_metrics(const LayerStack& stack, std::size_t layer, const Region& region,
+                           const MetricOptions& options) {
+  return layer_metrics(layer_reference(stack, layer, options), region, options);
+}
+
+}  // namespace geometry
