@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "geometry/clipper_bridge.h"
+#include "geometry/thin_walls.h"
 #include "geometry/toolpath_clipper.h"
 
 namespace geometry {
@@ -130,8 +131,29 @@ std::vector<ExtrusionPath> solid_infill(const Region& area, double width, double
   const double extent = r.y_max - r.y_min;
   const double count = std::max(1.0, std::round(extent / width));
   const double spacing = extent > 0 ? extent / count : width;
-  return lines(frame, r.y_min + spacing / 2, spacing, r.y_max, r.x_min, r.x_max, r.paths, role,
-               width);
+  std::vector<ExtrusionPath> result =
+      lines(frame, r.y_min + spacing / 2, spacing, r.y_max, r.x_min, r.x_max, r.paths, role,
+            width);
+
+  // Where an edge of the area runs along the lines between two of them, a strip up to half a
+  // bead wide stays bare: fill it with a centre line, as the walls' thin walls do.
+  ClipperLib::ClipperOffset beads(2.0, 0.005 * kClipperScale);
+  for (const ExtrusionPath& line : result) {
+    ClipperLib::Path path;
+    for (Vec2 p : line.points) path.push_back(to_clipper(p));
+    beads.AddPath(path, ClipperLib::jtRound, ClipperLib::etOpenRound);
+  }
+  tc::Paths covered;
+  beads.Execute(covered, width / 2 * kClipperScale);
+  tc::Paths bare = tc::difference(tc::union_of(to_clipper(area)), covered);
+  const double speck = width * width / 16 * kClipperScale * kClipperScale;
+  std::erase_if(bare, [&](const auto& path) { return std::abs(ClipperLib::Area(path)) < speck; });
+  bare = tc::opening(bare, width / 8);
+  for (ExtrusionPath& gap : thin_walls(from_clipper(bare), width / 4, width)) {
+    gap.role = role;
+    result.push_back(std::move(gap));
+  }
+  return result;
 }
 
 }  // namespace geometry

@@ -41,7 +41,9 @@ std::vector<ExtrusionPath> sparse_infill(const Region& area, double width, doubl
 
 // Solid infill (skins): lines at `angle` on even layers, angle + 90 on odd ones, their spacing
 // stretched from w so that a whole number of lines spans the area (a strip exactly n beads
-// wide gets n lines edge to edge). The given role (bottom_skin, top_skin, solid_infill).
+// wide gets n lines edge to edge); then a centre line (of its own width, see thin_walls.h)
+// along every strip the lines leave bare, where an edge of the area runs along the lines.
+// All paths get the given role (bottom_skin, top_skin, solid_infill).
 std::vector<ExtrusionPath> solid_infill(const Region& area, double width, double angle,
                                         std::size_t layer_index, PathRole role);
 

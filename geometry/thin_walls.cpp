@@ -8,15 +8,18 @@
 #include <cstdint>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <unordered_map>
 
 #include "geometry/clipper_bridge.h"
+#include "geometry/toolpath_clipper.h"
 
 namespace geometry {
 
 namespace {
 
 namespace bp = boost::polygon;
+namespace tc = toolpath_clipper;
 using VoronoiPoint = bp::point_data<std::int32_t>;
 using VoronoiSegment = bp::segment_data<std::int32_t>;
 using Diagram = bp::voronoi_diagram<double>;
@@ -265,9 +268,9 @@ std::vector<std::vector<std::size_t>> chains(const Axis& axis) {
   return result;
 }
 
-}  // namespace
 
-std::vector<ExtrusionPath> thin_walls(const Region& region, double min_width, double max_width) {
+std::vector<ExtrusionPath> centre_lines(const Region& region, double min_width,
+                                        double max_width) {
   std::vector<ExtrusionPath> paths;
   if (!(min_width > 0) || !(max_width >= min_width)) return paths;
   const Edges edges = region_edges(region);
@@ -327,6 +330,85 @@ std::vector<ExtrusionPath> thin_walls(const Region& region, double min_width, do
       run_weighted += segment * width;
     }
     emit(at.size() - 1);
+  }
+  return paths;
+}
+
+// One line through a compact piece along its long axis (the principal axis of its area),
+// as long as the piece less a bead's round ends, as wide as the piece's area over its chord.
+std::optional<ExtrusionPath> long_axis_line(const tc::Paths& piece, double min_width,
+                                            double max_width) {
+  // Area moments about the first vertex (keeps the sums small), then about the centroid.
+  const ClipperLib::IntPoint o = piece.front().front();
+  double a = 0, sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
+  for (const auto& path : piece) {
+    for (std::size_t i = 0, n = path.size(); i < n; ++i) {
+      const double x0 = double(path[i].X - o.X) / kClipperScale;
+      const double y0 = double(path[i].Y - o.Y) / kClipperScale;
+      const double x1 = double(path[(i + 1) % n].X - o.X) / kClipperScale;
+      const double y1 = double(path[(i + 1) % n].Y - o.Y) / kClipperScale;
+      const double c = x0 * y1 - x1 * y0;
+      a += c / 2;
+      sx += (x0 + x1) * c / 6;
+      sy += (y0 + y1) * c / 6;
+      sxx += (x0 * x0 + x0 * x1 + x1 * x1) * c / 12;
+      syy += (y0 * y0 + y0 * y1 + y1 * y1) * c / 12;
+      sxy += (x0 * y1 + 2 * x0 * y0 + 2 * x1 * y1 + x1 * y0) * c / 24;
+    }
+  }
+  if (!(a > 0)) return std::nullopt;
+  const double cx = sx / a, cy = sy / a;
+  const double ixx = sxx - a * cx * cx, iyy = syy - a * cy * cy, ixy = sxy - a * cx * cy;
+  const double angle = 0.5 * std::atan2(2 * ixy, ixx - iyy);  // the axis of largest spread
+  const Vec2 centre = from_clipper(o) + Vec2{cx, cy};
+  const Vec2 along{std::cos(angle), std::sin(angle)};
+  double reach = 0;
+  for (const auto& path : piece) {
+    for (const auto& p : path) reach = std::max(reach, std::abs(dot(from_clipper(p) - centre, along)));
+  }
+  const tc::Paths chord_line{{to_clipper(centre + (-reach - 1) * along),
+                              to_clipper(centre + (reach + 1) * along)}};
+  double chord = 0;
+  Vec2 from = centre, to = centre;
+  for (const auto& part : tc::clip_open(chord_line, piece)) {
+    const Vec2 p = from_clipper(part.front()), q = from_clipper(part.back());
+    const double length = std::hypot(q.x - p.x, q.y - p.y);
+    if (length > chord) { chord = length; from = p; to = q; }
+  }
+  if (!(chord > 0)) return std::nullopt;
+  const double width = std::clamp(a / chord, min_width, max_width);
+  const double keep = std::max(chord - width, 0.25 * width);  // a blob gets at least a dab
+  const Vec2 mid = 0.5 * (from + to), direction = (1 / chord) * (to - from);
+  ExtrusionPath line;
+  line.role = PathRole::thin_wall;
+  line.width = width;
+  line.points = {mid + (-keep / 2) * direction, mid + (keep / 2) * direction};
+  return line;
+}
+
+}  // namespace
+
+std::vector<ExtrusionPath> thin_walls(const Region& region, double min_width, double max_width) {
+  std::vector<ExtrusionPath> paths = centre_lines(region, min_width, max_width);
+  if (region.loops.empty() || !(min_width > 0) || !(max_width >= min_width)) return paths;
+  // A compact piece (an end of a thin feature, about as wide as it is long) has no centre
+  // line once the medial axis' branches into its corners are gone: what the lines leave
+  // bare, if a bead of the smallest width fits in it, gets one line along its long axis.
+  tc::Paths covered;  // each line's bead, at its own width
+  for (const ExtrusionPath& path : paths) {
+    ClipperLib::ClipperOffset one(2.0, 0.005 * kClipperScale);
+    ClipperLib::Path line;
+    for (Vec2 p : path.points) line.push_back(to_clipper(p));
+    one.AddPath(line, ClipperLib::jtRound, ClipperLib::etOpenRound);
+    tc::Paths bead;
+    one.Execute(bead, path.width / 2 * kClipperScale);
+    covered.insert(covered.end(), bead.begin(), bead.end());
+  }
+  const tc::Paths bare =
+      tc::opening(tc::difference(tc::union_of(to_clipper(region)), tc::union_of(covered)),
+                  min_width / 2);
+  for (const tc::Paths& piece : tc::islands(bare)) {
+    if (auto line = long_axis_line(piece, min_width, max_width)) paths.push_back(*line);
   }
   return paths;
 }

@@ -10,6 +10,9 @@
 //         averaged along runs where it varies by less than 20%), clamped to
 //         [min_width, max_width]. A thin ring gives a closed path; lines shorter than
 //         min_width are dropped, and so are parts wider than 2 * max_width (not thin walls).
+//         A compact piece the axis leaves bare (the blunt end of a thin feature), if a bead of
+//         min_width fits in it, gets one line along its long (principal) axis, as wide as
+//         its area over its length.
 //         Empty input, or a region larger than 2 m, gives no paths.
 // Method: Boost.Polygon's segment Voronoi diagram of the region's edges (exact predicates);
 // its interior edges are the medial axis.

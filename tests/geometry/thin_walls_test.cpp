@@ -105,6 +105,29 @@ TEST_CASE("centre_lines_stay_inside_separate_sharp_pieces") {
   CHECK(c.outside <= 0.1);
 }
 
+TEST_CASE("compact_blob_gets_one_line_through_its_centre") {
+  // A regular hexagon 0.6 mm across: its medial axis is six branches into blunt corners,
+  // all pruned, yet a bead fits. It gets one line through its centre, as wide as its area
+  // over its chord and shorter than the chord by that width (the bead's round ends), but at
+  // least a quarter width long.
+  const Region hexagon{{circle({3, 2}, 0.3, 6)}};
+  const auto paths = thin_walls(hexagon, 0.1, 0.6);
+  REQUIRE(paths.size() == 1);
+  const ExtrusionPath& line = paths[0];
+  const double chord = area(hexagon) / line.width;
+  CHECK(length(line.points) ==
+        doctest::Approx(std::max(chord - line.width, line.width / 4)).epsilon(1e-6));
+  CHECK(chord >= 2 * 0.3 * std::cos(std::numbers::pi / 6) - 1e-5);  // at least across flats
+  CHECK(chord <= 0.6 + 1e-5);  // at most corner to corner
+  const Vec2 mid = 0.5 * (line.points.front() + line.points.back());
+  CHECK(mid.x == doctest::Approx(3).epsilon(1e-9));
+  CHECK(mid.y == doctest::Approx(2).epsilon(1e-9));
+  const auto c = bead_coverage::coverage(hexagon, paths);
+  INFO("inside " << c.inside << " outside " << c.outside);
+  CHECK(c.inside >= 0.85);
+  CHECK(c.outside <= 0.1);
+}
+
 TEST_CASE("thin_walls_of_nothing_is_nothing") {
   CHECK(thin_walls(Region{}, 0.1, 0.45).empty());
   CHECK(thin_walls(Region{{rectangle(0, 0, 1, 1)}}, 0, 0.45).empty());
