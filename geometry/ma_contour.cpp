@@ -22,7 +22,9 @@
 // at the layer's middle inside the island, which for a cap is the least volume deviation
 // possible (a column is filled iff the model fills at least half of it); if the feature does
 // not reach the middle, the cross-section half-way through the feature's own height inside the
-// slab, so the feature is kept (its walls then sit midway between its outline and its top).
+// slab, so the feature is kept. Walls midway between a cap's outline and its apex would halve
+// the distance error of a symmetric dome, but on the bunny's 33 caps they made 6 layers' D
+// worse (up to 0.7 mm: tilted features whose apex sits at their edge) and 1 better.
 #include "geometry/ma_contour.h"
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
@@ -72,11 +74,6 @@ constexpr double kDefaultSpacing = 0.1;
 constexpr double kFairingTolerance = 0.001;
 constexpr int kFairingDepth = 6;
 
-// Samples on one circle or one straight edge are cocircular or collinear up to rounding, and
-// CGAL's filtered predicates then fall back to exact arithmetic on every test. A deterministic
-// jitter this small (1e-7 of a micrometre-scale strip) moves them off the degeneracy.
-constexpr double kJitter = 1e-7;
-
 struct Sample {
   Vec2 at;
   std::uint32_t loop = 0;     // index into loops_of(pair)
@@ -84,15 +81,6 @@ struct Sample {
 };
 
 double length(Vec2 v) { return std::hypot(v.x, v.y); }
-
-// splitmix64: a fixed pseudo-random sequence, so a layer's contour never depends on the run.
-double unit_noise(std::uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  x ^= x >> 31;
-  return static_cast<double>(x >> 11) / static_cast<double>(1ULL << 53) * 2.0 - 1.0;
-}
 
 std::vector<Sample> sample_loops(const std::vector<const Loop*>& loops, const MaOptions& options) {
   std::size_t vertices = 0;
@@ -276,9 +264,12 @@ std::vector<Loop> medial_axis_loops(const BoundaryPair& pair, std::span<const ch
   points.reserve(samples.size());
   for (std::uint32_t i = 0; i < samples.size(); ++i) {
     const Vec2 p = samples[i].at;
-    points.emplace_back(p.x + kJitter * unit_noise(2 * i), p.y + kJitter * unit_noise(2 * i + 1));
+    points.emplace_back(p.x, p.y);
   }
-  // Inserted in spatial (Hilbert) order, each located from the previous one: near-linear.
+  // Inserted in spatial (Hilbert) order, each located from the previous one. In loop order
+  // every new sample on a circle conflicts with much of what is built (measured: 40 000
+  // points on two circles 6.9 s in loop order, 0.03 s in Hilbert order; with constraints
+  // and fairing 0.06 s, 200 000 points 0.3 s).
   std::vector<std::size_t> order(samples.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
   using SortTraits = CGAL::Spatial_sort_traits_adapter_2<

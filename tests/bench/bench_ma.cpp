@@ -1,13 +1,15 @@
 // Benchmark: the medial-axis contour (ma_contour) over every layer of the Stanford bunny.
 //
-// Usage: bench_ma [STL] [--layer T] [--spacing S] [--max-points N] [--no-fairing]
+// Usage: bench_ma [STL] [--layer T] [--spacing S] [--max-points N] [--no-fairing] [--errors]
 // Default: data/bunny.stl placed as in the paper (Y up, metres, 50 mm tall), 0.15 mm layers.
 // Prints per-layer time (max, mean), the sequential total, the TBB-parallel wall time,
-// sample counts, islands, caps, and the contours' validity. Peak memory: run it under
+// sample counts, islands, caps, and the contours' validity. With --errors also the paper's
+// distance error D (mean, max over layers) of lower, mid and ma (distance_error.h). Peak memory: run it under
 // /usr/bin/time -v.
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -15,7 +17,10 @@
 #include <string>
 #include <vector>
 
+#include "geometry/boundary_grid.h"
+#include "geometry/distance_error.h"
 #include "geometry/layer_stack.h"
+#include "geometry/missed_features.h"
 #include "geometry/ma_contour.h"
 #include "geometry/placement.h"
 #include "geometry/repair.h"
@@ -32,6 +37,7 @@ int main(int argc, char** argv) {
   std::string path = std::string(MAHOST_DATA_DIR) + "/bunny.stl";
   double thickness = 0.15;
   MaOptions options;
+  bool errors = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--layer" && i + 1 < argc) {
@@ -40,6 +46,8 @@ int main(int argc, char** argv) {
       options.spacing = std::atof(argv[++i]);
     } else if (arg == "--max-points" && i + 1 < argc) {
       options.max_points = static_cast<std::size_t>(std::atoll(argv[++i]));
+    } else if (arg == "--errors") {
+      errors = true;
     } else if (arg == "--no-fairing") {
       options.fairing = false;
     } else {
@@ -111,5 +119,48 @@ int main(int argc, char** argv) {
               max_samples, islands, caps);
   std::printf("contours: %zu loops, %zu empty layers, %zu layers differ sequential vs parallel\n",
               loops, empty, differing);
+  if (errors) {
+    struct Tally {
+      const char* name;
+      double sum = 0, max = 0;
+    };
+    std::vector<Tally> tallies{{"lower"}, {"mid"}, {"ma"}};
+    std::vector<std::array<double, 3>> d(stack.size());
+    std::vector<std::size_t> missed_by_ma(stack.size());
+    tbb::parallel_for(std::size_t{0}, stack.size(), [&](std::size_t i) {
+      const Slab slab = slab_of(stack, i);
+      const SlabSurface surface = slab_surface(slab);
+      const std::vector<BoundaryPair> islands = boundary_pairs(slab_footprint(slab));
+      const Region regions[3] = {stack.lower(i), stack.mid(i), contours[i]};
+      for (int k = 0; k < 3; ++k) {
+        const std::vector<BoundaryPair> missed = missed_features(islands, regions[k]);
+        d[i][k] = distance_error(surface, BoundaryGrid(regions[k]), missed).forward;
+        if (k == 2) missed_by_ma[i] = missed.size();
+      }
+    });
+    std::size_t ma_worse_than_lower = 0, ma_worse_than_mid = 0, missed = 0;
+    for (std::size_t i = 0; i < stack.size(); ++i) {
+      missed += missed_by_ma[i];
+      for (int k = 0; k < 3; ++k) {
+        tallies[k].sum += d[i][k];
+        tallies[k].max = std::max(tallies[k].max, d[i][k]);
+      }
+      if (d[i][2] > d[i][0] + 1e-3) ++ma_worse_than_lower;
+      if (d[i][2] > d[i][1] + 1e-3) ++ma_worse_than_mid;
+    }
+    if (std::getenv("BENCH_MA_LAYERS")) {
+      for (std::size_t i = 0; i < stack.size(); ++i) {
+        std::printf("layer %3zu z %.3f D lower %.3f mid %.3f ma %.3f\n", i, stack.layers()[i].z_lo,
+                    d[i][0], d[i][1], d[i][2]);
+      }
+    }
+    for (const Tally& t : tallies) {
+      std::printf("distance error %-5s: mean %.3f mm, max %.3f mm\n", t.name,
+                  t.sum / stack.size(), t.max);
+    }
+    std::printf("layers where ma is worse (by > 1 um): than lower %zu, than mid %zu; "
+                "footprint islands ma misses: %zu\n",
+                ma_worse_than_lower, ma_worse_than_mid, missed);
+  }
   return differing == 0 ? 0 : 1;
 }

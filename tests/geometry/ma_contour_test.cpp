@@ -287,15 +287,32 @@ TEST_CASE("sphere_equator_layer_ma_lies_between_the_sections") {
   CHECK(boundary_hausdorff(ma, mean) <= 0.001 + kStripAllowance);
 }
 
+// Caps (ma_contour.cpp): the mid section inside the island, the least volume deviation any
+// layer can have there; the section half-way through the feature if the middle misses it.
 TEST_CASE("sphere_bottom_layer_cap_is_the_mid_section") {
-  // The pole: the footprint is a disc with nothing solid beside it, a cap. A column is filled
-  // by at least half the layer exactly inside the mid section, which is what the cap becomes.
+  // The first layer holds the pole: the footprint is the n-gon of the section at z_hi with
+  // nothing solid beside it, a cap.
   const solids::Solid sphere = solids::sphere(10, 64, 32, {0, 0, 10});
   LayerStack stack(sphere.mesh, uniform_layers(20, 0.15));
   MaStats stats;
   const Region ma = ma_contour(stack, 0, {}, stats);
   CHECK(stats.caps == 1);
+  REQUIRE(ma.loops.size() == 1);
   CHECK(boundary_hausdorff(ma, sphere.section(0.075)) <= 1e-6);
+}
+
+TEST_CASE("small_sphere_inside_one_layer_is_kept") {
+  // A ball spanning [0.15, 0.25] inside the layer [0.1, 0.4]: the middle (0.25) only touches
+  // its pole, so the mid section is empty and `mid` would lose it. The cap is cut half-way
+  // through its own height, at its equator.
+  const solids::Solid ball = solids::sphere(0.05, 32, 8, {1, 2, 0.2});
+  LayerStack stack(ball.mesh, {Layer{0.1, 0.4}});
+  MaStats stats;
+  const Region ma = ma_contour(stack, 0, {}, stats);
+  CHECK(stats.caps == 1);
+  CHECK(stack.mid(0).loops.empty());
+  REQUIRE(ma.loops.size() == 1);
+  CHECK(boundary_hausdorff(ma, ball.section(0.2), 0.005) <= 1e-6);
 }
 
 TEST_CASE("torus_layer_ma_is_the_annulus_of_mean_radii") {
@@ -325,26 +342,26 @@ TEST_CASE("torus_layer_ma_is_the_annulus_of_mean_radii") {
 }
 
 TEST_CASE("torus_top_cap_below_the_middle_is_cut_half_way_through_the_feature") {
-  // The tube's top vertex ring at z = 6. A layer [5.95, 6.3]: the torus ends in its lower
-  // seventh, the mid section (6.125) is empty, and the feature would be lost. The cap is cut
-  // half-way through its own height: at (5.95 + 6) / 2.
+  // The tube's top vertex ring lies at z = 6. In the layer [5.95, 6.3] the torus ends in the
+  // lower seventh, the mid section (6.125) is empty and the feature would be lost: the cap is
+  // cut half-way through its own height, at (5.95 + 6) / 2.
   const solids::Solid torus = solids::torus(10, 3, 48, 16, {0, 0, 3});
-  std::vector<Layer> layers{{5.95, 6.3}};
-  LayerStack stack(torus.mesh, layers);
+  LayerStack stack(torus.mesh, {Layer{5.95, 6.3}});
   MaStats stats;
   const Region ma = ma_contour(stack, 0, {}, stats);
   CHECK(stats.caps == 1);
   CHECK(stack.mid(0).loops.empty());
-  REQUIRE(ma.loops.size() == 2);
+  REQUIRE(count_ccw(ma) == 1);
+  REQUIRE(count_cw(ma) == 1);
   CHECK(boundary_hausdorff(ma, torus.section(5.975)) <= 1e-6);
 }
 
 TEST_CASE("torus_top_cap_above_the_middle_is_the_mid_section") {
   const solids::Solid torus = solids::torus(10, 3, 48, 16, {0, 0, 3});
-  std::vector<Layer> layers{{5.76, 6.08}};
-  LayerStack stack(torus.mesh, layers);
+  LayerStack stack(torus.mesh, {Layer{5.76, 6.08}});
   const Region ma = ma_contour(stack, 0);
-  REQUIRE(ma.loops.size() == 2);
+  REQUIRE(count_ccw(ma) == 1);
+  REQUIRE(count_cw(ma) == 1);
   CHECK(boundary_hausdorff(ma, torus.section(5.92)) <= 1e-6);
 }
 
