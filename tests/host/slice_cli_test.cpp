@@ -42,8 +42,10 @@ geometry::Region shifted(geometry::Region region, geometry::Vec2 by) {
   return region;
 }
 
-// Checks each printed layer's beads against `region_of(layer index)`; layers whose region is
-// smaller than `min_area` are only checked for staying inside.
+// Checks each printed layer's beads against `region_of(layer index)`: at least 98% of the
+// region covered, at most 2% of its area outside it. A region under `min_area` is only held to
+// staying inside, and may spill up to half a bead's square (0.125 mm^2 for 0.5 mm beads): a
+// sliver a bead wide cannot be drawn to 2% with beads of one width, nor filled to 98%.
 template <class RegionOf>
 void check_coverage(const test_support::PrintedProgram& program, RegionOf&& region_of,
                     double min_area = 0) {
@@ -55,8 +57,12 @@ void check_coverage(const test_support::PrintedProgram& program, RegionOf&& regi
     CAPTURE(area);
     const test_support::Coverage c =
         test_support::coverage(test_support::bead_region(program.layers[i]), region);
-    if (area >= min_area) CHECK(c.covered >= 0.98);
-    CHECK(c.outside <= 0.02);
+    if (area >= min_area) {
+      CHECK(c.covered >= 0.98);
+      CHECK(c.outside <= 0.02);
+    } else {
+      CHECK(c.outside * area <= std::max(0.02 * area, 0.125));
+    }
   }
 }
 
