@@ -62,10 +62,11 @@ Island plan_island(const Region& island, std::size_t layer, double width,
   for (auto k = walls.walls.size(); k-- > 0;) result.groups.push_back(std::move(walls.walls[k]));
   result.groups.push_back(std::move(walls.thin_walls));
 
-  // Infill reaches into the innermost wall by the overlap, never past the island's edge.
-  const tc::Paths area = tc::intersection(
-      tc::offset(to_clipper(walls.infill_area), o.infill_overlap * width),
-      tc::union_of(to_clipper(island)));
+  // Infill reaches into the innermost wall by the overlap (at most a bead: it stays inside
+  // the walls), or without walls up to the island's edge.
+  tc::Paths area = to_clipper(walls.infill_area);
+  area = o.perimeters > 0 ? tc::offset(area, o.infill_overlap * width)
+                          : tc::union_of(area);
   const Skins skins = split_skins(from_clipper(area), core, below, above, width);
   const double angle = o.infill_angle;
   result.groups.push_back(solid_infill(skins.bottom, width, angle, layer, PathRole::bottom_skin));
