@@ -21,6 +21,8 @@ constexpr long kHistoryBehind = 4096;
 // builds) while later lines are already acknowledged; until this many lines were written after
 // it, silence may still be that command running.
 constexpr long kBlockingReach = 40;
+// M110 attempts at connect before the printer counts as not answering.
+constexpr int kConnectTries = 5;
 
 double seconds(nanoseconds d) { return std::chrono::duration<double>(d).count(); }
 
@@ -442,7 +444,7 @@ void LineProtocol::connect(milliseconds boot_wait) {
 
   // M110 N0 resets the firmware's count whatever it was; retried when noise corrupts it.
   bool reset = false;
-  for (int attempt = 0; attempt < options_.max_probes && !reset; ++attempt) {
+  for (int attempt = 0; attempt < kConnectTries && !reset; ++attempt) {
     connect_ok_ = false;
     connect_rejected_ = false;
     expect_trailing_ok_ = false;
@@ -465,7 +467,7 @@ void LineProtocol::connect(milliseconds boot_wait) {
         "{}: the printer does not answer (no 'ok' to M110 in {} tries{}); check that it is on, "
         "that --baud matches its firmware (115200 or 250000) and that no other program uses "
         "the port",
-        link_.name(), options_.max_probes,
+        link_.name(), kConnectTries,
         stats_.unreadable_lines > 0
             ? fmt::format(", {} unreadable reply lines: likely the wrong --baud", stats_.unreadable_lines)
             : std::string()));

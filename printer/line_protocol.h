@@ -24,7 +24,9 @@
 //   While a command that blocks the firmware is in flight (M109, M190, G28, M400, M0, ...)
 //   silence is expected and waits `long_command_timeout` (M0/M1/M600: for ever) instead, so a
 //   firmware with busy keepalive off does not time out. `busy:` and any other line are signs
-//   of life. `max_probes` unanswered probes end the job with a LinkError.
+//   of life. `max_probes` unanswered probes end the job with a LinkError. (Marlin's own busy
+//   keepalive also covers a full planner; without it a long slow move can be silent for
+//   seconds, which is why one probe is not yet a failure.)
 // - Errors: `Error:` lines the firmware recovers from are counted; `Printer halted`, thermal
 //   runaway and the like throw PrinterError with the firmware's words; a `start` mid-session
 //   (the board reset) throws PrinterError.
@@ -50,7 +52,7 @@ namespace printer {
 struct ProtocolOptions {
   std::size_t window = 1;  // numbered lines in flight; > 1 takes effect with ADVANCED_OK only
   std::chrono::milliseconds probe_after{3000};           // silence before an M105 probe
-  int max_probes = 5;                                    // unanswered probes before giving up
+  int max_probes = 10;  // unanswered probes before giving up: 30 s of silence, as OctoPrint
   std::chrono::milliseconds long_command_timeout{30 * 60 * 1000};  // M109, G28, M400, ...
   int max_resends_of_one_line = 10;                      // consecutive requests for one line
   std::chrono::milliseconds resend_ok_grace{250};        // wait for an ok after `Resend:`
