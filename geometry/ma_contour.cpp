@@ -63,11 +63,13 @@ using Delaunay = CGAL::Constrained_Delaunay_triangulation_2<Kernel, Tds, CGAL::E
 using Face = Delaunay::Face_handle;
 using Vertex = Delaunay::Vertex_handle;
 
-// Default spacing when MaOptions::spacing is 0, mm. Contour vertices are placed exactly on the
-// medial axis of the boundary polygons (fairing), so spacing only has to resolve the axis's
-// shape; 0.1 mm keeps the chord error below 1 um for axis radii above 1.25 mm and fairing
-// fixes the rest.
-constexpr double kDefaultSpacing = 0.1;
+// Default spacing when MaOptions::spacing is 0, mm (every loop vertex is a sample anyway).
+// With fairing the contour's vertices sit on the exact axis of the boundary polygons and its
+// edges are split until they follow it to 1 um, so spacing only shapes the triangulation:
+// the bunny's distance errors are the same (mean 0.301 mm) at 0.1, 0.2, 0.5 mm and with loop
+// vertices alone, while CPU time falls from 1.9 s to 1.2 s. 0.25 mm still gives a long edge
+// (a cube's 10 mm side) forty samples, so the triangles across a strip stay short.
+constexpr double kDefaultSpacing = 0.25;
 
 // How far off the medial axis the middle of a contour edge may be before fairing adds a
 // vertex there, mm; and how deep it may split one edge.
@@ -359,7 +361,14 @@ std::vector<Loop> medial_axis_loops(const BoundaryPair& pair, std::span<const ch
 Region ma_contour(const Slab& slab, const std::function<Region(double z)>& cross_section,
                   const MaOptions& options, MaStats* stats) {
   if (slab.facets.empty() || !(slab.z_lo < slab.z_hi)) return {};
-  const std::vector<BoundaryPair> pairs = boundary_pairs(slab_footprint(slab));
+  return ma_contour(slab, slab_footprint(slab), cross_section, options, stats);
+}
+
+Region ma_contour(const Slab& slab, const Region& footprint,
+                  const std::function<Region(double z)>& cross_section, const MaOptions& options,
+                  MaStats* stats) {
+  if (slab.facets.empty() || !(slab.z_lo < slab.z_hi)) return {};
+  const std::vector<BoundaryPair> pairs = boundary_pairs(footprint);
   if (pairs.empty()) return {};
   const double z_mid = 0.5 * (slab.z_lo + slab.z_hi);
   const Region middle = cross_section(z_mid);

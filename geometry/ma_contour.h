@@ -44,8 +44,12 @@ Region ma_contour(const LayerStack& stack, std::size_t layer, const MaOptions& o
                   MaStats& stats);
 
 // The same from a slab and the model's cross-section at any height of it (ma_contour.cpp
-// documents what a cap becomes).
+// documents what a cap becomes); with the slab's footprint if the caller has it already
+// (slab_footprint(slab), about a third of the time here).
 Region ma_contour(const Slab& slab, const std::function<Region(double z)>& cross_section,
+                  const MaOptions& options = {}, MaStats* stats = nullptr);
+Region ma_contour(const Slab& slab, const Region& footprint,
+                  const std::function<Region(double z)>& cross_section,
                   const MaOptions& options = {}, MaStats* stats = nullptr);
 
 // One island's medial-axis loops: the Voronoi edges whose dual Delaunay edge joins a loop with
