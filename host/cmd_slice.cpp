@@ -17,8 +17,8 @@
 #include <fmt/core.h>
 #include <tbb/parallel_for.h>
 
+#include "geometry/contour_strategy.h"
 #include "geometry/layer_stack.h"
-#include "geometry/ma_contour.h"
 #include "geometry/mesh.h"
 #include "geometry/toolpath_plan.h"
 #include "host/commands.h"
@@ -43,14 +43,6 @@ struct SliceOptions {
   std::vector<std::string> overrides;
 };
 
-// The contour strategies by name (DESIGN.md §2).
-geometry::Region layer_region(const geometry::LayerStack& stack, std::size_t layer,
-                              const std::string& contour) {
-  if (contour == "lower") return stack.lower(layer);
-  if (contour == "mid") return stack.mid(layer);
-  return geometry::ma_contour(stack, layer);
-}
-
 std::string size_text(std::size_t bytes) {
   if (bytes >= (1u << 20)) return fmt::format("{:.1f} MiB", bytes / 1048576.0);
   if (bytes >= 1024) return fmt::format("{:.1f} KiB", bytes / 1024.0);
@@ -68,6 +60,8 @@ void run_slice(const SliceOptions& options) {
   if (options.perimeters >= 0) machine.print.perimeters = options.perimeters;
   if (options.infill >= 0) machine.print.infill_density = options.infill;
 
+  const geometry::ContourKind contour =
+      geometry::parse_contour_kind(options.contour).value_or(geometry::ContourKind::ma);
   const double thickness = options.layer > 0 ? options.layer : machine.layer.default_thickness;
   printer::check_layer_thickness(machine, thickness);
 
@@ -85,7 +79,7 @@ void run_slice(const SliceOptions& options) {
     Progress progress(fmt::format("contours ({})", options.contour), layers.size());
     std::atomic<std::size_t> done{0};
     tbb::parallel_for(std::size_t{0}, layers.size(), [&](std::size_t i) {
-      regions[i] = layer_region(stack, i, options.contour);
+      regions[i] = geometry::layer_contour(stack, i, contour);
       const std::size_t n = ++done;
       progress.update(n, fmt::format("layer {}/{}", n, layers.size()));
     });
@@ -162,8 +156,9 @@ void add_slice_command(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   slice->add_option("--contour", options->contour,
                     "which region each layer extrudes: lower (section at the layer's bottom), "
-                    "mid (at its middle, as other slicers), ma (the paper's medial-axis contour)")
-      ->check(CLI::IsMember({"lower", "mid", "ma"}))
+                    "mid (at its middle, as other slicers), optimal-height (the section with the "
+                    "least volume deviation), ma (the paper's medial-axis contour)")
+      ->check(CLI::IsMember({"lower", "mid", "optimal-height", "ma"}))
       ->capture_default_str();
   slice->add_option("--perimeters", options->perimeters, "wall loops (default: the printer's)")
       ->check(CLI::Range(0, 50));

@@ -107,6 +107,37 @@ TEST_CASE("cube_with_hole_beads_cover_each_layer") {
   });
 }
 
+TEST_CASE("every_contour_strategy_prints_a_vertical_wall_part_alike") {
+  // Walls straight up: every strategy's region is the section, so the beads cover it the same;
+  // only the last layer, [11.9, 12.1], differs: the section at its bottom is the part's top,
+  // at its middle nothing (and the optimal height ties between the two, taking nothing).
+  const std::string dir = test_support::scratch_dir("slice_contours");
+  const std::string stl = dir + "/part.stl";
+  const solids::Solid part = solids::cube_with_square_hole(12, 4);
+  geometry::write_stl_binary(stl, part.mesh);
+  const printer::PrinterProfile up = printer::load_printer_profile("up-plus-2", kConfigDir);
+  for (const std::string contour : {"lower", "mid", "optimal-height", "ma"}) {
+    CAPTURE(contour);
+    const std::string out = dir + "/" + contour + ".gcode";
+    const auto result = run_mahost({"slice", stl, "-o", out, "--contour", contour, "--infill", "100",
+                                    "--set", "print.infill_pattern=rectilinear", "--set",
+                                    "print.skirt_loops=0"});
+    REQUIRE(result.exit_code == 0);
+    const test_support::PrintedProgram program = test_support::read_printed_program(read_file(out));
+    CHECK(program.layers.size() == 1 + 59);  // 0.3 mm, then ceil(11.7 / 0.2) = 59
+    CHECK(read_file(out).find("; contour: " + contour + "\n") != std::string::npos);
+    const auto layers = geometry::uniform_layers(12, 0.2, up.first_layer_height);
+    const bool bottom = contour == "lower" || contour == "ma";
+    check_coverage(program, [&](std::size_t i) {
+      const double z = bottom ? layers[i].z_lo : layers[i].z_mid();
+      return shifted(part.section(z), {up.bed_x / 2, up.bed_y / 2});
+    });
+    // The top layer lays what the one below lays (both solid), within the skins' line ends.
+    CHECK(program.layers.back().filament ==
+          (bottom ? doctest::Approx(program.layers[58].filament).epsilon(1e-3) : doctest::Approx(0)));
+  }
+}
+
 TEST_CASE("sphere_beads_cover_each_layer") {
   const std::string dir = test_support::scratch_dir("slice_sphere");
   const std::string stl = dir + "/sphere.stl", out = dir + "/sphere.gcode";
