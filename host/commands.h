@@ -36,5 +36,6 @@ void add_print_command(CLI::App& app);
 void add_ctl_command(CLI::App& app);
 // `mahost ports`: host/cmd_ports.cpp.
 void add_ports_command(CLI::App& app);
+void add_analyze_command(CLI::App& app);  // `mahost analyze` and `mahost advise`: host/cmd_analyze.cpp
 
 }  // namespace host

@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   host::add_ports_command(app);
   host::add_slice_command(app);
   host::add_sim_command(app);
+  host::add_analyze_command(app);
 
   try {
     app.parse(argc, argv);

@@ -1,0 +1,641 @@
+// `mahost analyze MODEL.stl [placement] [--layer 0.15] [--contours lower,mid,optimal-height,ma]
+//  [--csv F] [--json F] [--plots DIR] [--thick 0.2,0.25] [--layer-index N]
+//  [--export-layers F.stl --contour K]`
+// `mahost advise MODEL.stl [placement] [--printer up-plus-2] [--contour ma]
+//  [--thicknesses 0.15,0.2,...] [--share 95] [--json F]`
+//
+// analyze (paper §4, Fig. 22-26): slices the model into uniform layers, makes each layer's
+// region with every strategy asked for, measures each region exactly (geometry/layer_metrics.h)
+// and prints one summary row per strategy, then how every strategy compares with lower (the
+// paper's baseline) and with mid (what PrusaSlicer, Slic3r and CuraEngine print). Optional
+// outputs: a CSV row per layer and strategy, a JSON summary, SVG charts (D per layer, ΔV per
+// layer, the medial-axis contour at thicker layers against lower at this one), a drawing of
+// one layer's contours, and the layered part as an STL.
+//
+// advise (paper §4): takes lower's distance error at the printer's thinnest layer as the
+// benchmark and, for every layer thickness the printer allows, reports the share of the
+// contour's layers whose D stays within the benchmark at the same heights, the layer count,
+// and the largest thickness that keeps at least --share percent of layers within it.
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <numeric>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "geometry/boundary_pair.h"
+#include "geometry/contour_strategy.h"
+#include "geometry/error.h"
+#include "geometry/extruded_layers.h"
+#include "geometry/layer_analysis.h"
+#include "geometry/layer_stack.h"
+#include "geometry/mesh.h"
+#include "geometry/slab.h"
+#include "geometry/stl_io.h"
+#include "host/commands.h"
+#include "host/model_input.h"
+#include "host/plots.h"
+#include "host/progress.h"
+#include "printer/profile.h"
+
+namespace host {
+namespace {
+
+using geometry::ContourKind;
+using geometry::LayerAnalysis;
+using geometry::StrategySummary;
+
+struct AnalyzeOptions {
+  ModelOptions model;
+  double layer = 0.15;
+  std::string contours = "lower,mid,optimal-height,ma";
+  std::string csv, json, plots, export_layers;
+  std::string contour = "ma";  // for --export-layers
+  std::string thick = "0.2,0.25";
+  int layer_index = -1;
+};
+
+struct AdviseOptions {
+  ModelOptions model;
+  std::string printer = "up-plus-2";
+  std::string contour = "ma";
+  std::string thicknesses;
+  double share = 95;
+  std::string json;
+};
+
+std::string name_of(ContourKind kind) { return std::string(geometry::contour_name(kind)); }
+
+ContourKind contour_kind(const std::string& name, const std::string& flag) {
+  const auto kind = geometry::parse_contour_kind(name);
+  if (!kind) {
+    throw geometry::InputError(fmt::format(
+        "{}: unknown contour strategy '{}' (use lower, mid, optimal-height or ma)", flag, name));
+  }
+  return *kind;
+}
+
+std::vector<std::string> split_list(const std::string& text) {
+  std::vector<std::string> items;
+  std::stringstream stream(text);
+  for (std::string item; std::getline(stream, item, ',');) {
+    item.erase(0, item.find_first_not_of(" \t"));
+    item.erase(item.find_last_not_of(" \t") + 1);
+    if (!item.empty()) items.push_back(item);
+  }
+  return items;
+}
+
+std::vector<double> thickness_list(const std::string& text, const std::string& flag) {
+  std::vector<double> values;
+  for (const std::string& item : split_list(text)) {
+    char* end = nullptr;
+    const double v = std::strtod(item.c_str(), &end);
+    if (end == item.c_str() || *end != '\0' || !std::isfinite(v) || !(v > 0) || v > 100) {
+      throw geometry::InputError(fmt::format(
+          "{}: '{}' is not a layer thickness in mm (give positive numbers, e.g. 0.15,0.2)", flag,
+          item));
+    }
+    values.push_back(v);
+  }
+  std::sort(values.begin(), values.end());
+  values.erase(std::unique(values.begin(), values.end(),
+                           [](double a, double b) { return std::abs(a - b) < 1e-9; }),
+               values.end());
+  return values;
+}
+
+std::ofstream open_output(const std::string& path, const std::string& flag) {
+  std::ofstream out(path);
+  if (!out) {
+    throw geometry::InputError(fmt::format("{} {}: cannot write this file; give a path in a "
+                                           "directory you can write to",
+                                           flag, path));
+  }
+  return out;
+}
+
+double part_height(const geometry::Mesh& mesh) {
+  const geometry::Box3 box = geometry::bounding_box(mesh);
+  return box.max.z - box.min.z;
+}
+
+// Analyses every layer with the given strategies, with a progress line on stderr.
+std::vector<LayerAnalysis> run_analysis(const geometry::LayerStack& stack,
+                                        const std::vector<ContourKind>& kinds, bool keep_regions,
+                                        const std::string& label) {
+  geometry::AnalysisOptions options;
+  options.keep_regions = keep_regions;
+  Progress progress(label, stack.size());
+  auto layers = geometry::analyze_layers(stack, kinds, options, [&](std::size_t done) {
+    progress.update(done, fmt::format("layer {}/{}", done, stack.size()));
+  });
+  progress.finish();
+  return layers;
+}
+
+// D of strategy k per layer, and the benchmark's D over the same heights: the largest D of the
+// benchmark layers overlapping the layer (the worst the benchmark prints there). Returns the
+// share of layers within it (D <= benchmark + tolerance), in percent.
+double share_within(const std::vector<LayerAnalysis>& layers, std::size_t k,
+                    const std::vector<LayerAnalysis>& benchmark, std::size_t bench_k,
+                    double tolerance, std::vector<double>* limits = nullptr) {
+  if (layers.empty()) return 0;
+  std::size_t within = 0, first = 0;
+  for (const LayerAnalysis& layer : layers) {
+    double limit = 0;
+    while (first < benchmark.size() && benchmark[first].layer.z_hi <= layer.layer.z_lo) ++first;
+    for (std::size_t b = first; b < benchmark.size() && benchmark[b].layer.z_lo < layer.layer.z_hi; ++b)
+      limit = std::max(limit, benchmark[b].strategies[bench_k].metrics.distance);
+    if (limits) limits->push_back(limit);
+    if (layer.strategies[k].metrics.distance <= limit + tolerance) ++within;
+  }
+  return 100.0 * within / layers.size();
+}
+
+int index_of(const std::vector<ContourKind>& kinds, ContourKind kind) {
+  for (std::size_t k = 0; k < kinds.size(); ++k)
+    if (kinds[k] == kind) return static_cast<int>(k);
+  return -1;
+}
+
+std::string percent_change(double value, double base) {
+  if (!(base > 0)) return "n/a";
+  return fmt::format("{:+.1f}%", 100.0 * (value - base) / base);
+}
+
+// How strategy k compares with baseline b: one line of text and its figures.
+nlohmann::json compare(const std::vector<LayerAnalysis>& layers,
+                       const std::vector<StrategySummary>& summaries, std::size_t k,
+                       std::size_t b) {
+  double per_layer = 0, lowest = 0, highest = 0;
+  std::size_t counted = 0, better = 0, worse = 0;
+  const double tolerance = geometry::DistanceOptions{}.tolerance;
+  for (const LayerAnalysis& layer : layers) {
+    const auto& m = layer.strategies[k].metrics;
+    const auto& base = layer.strategies[b].metrics;
+    if (base.volume_deviation > 1e-9) {
+      const double change = (m.volume_deviation - base.volume_deviation) / base.volume_deviation;
+      per_layer += change;
+      lowest = counted ? std::min(lowest, change) : change;
+      highest = counted ? std::max(highest, change) : change;
+      ++counted;
+    }
+    if (m.distance < base.distance - tolerance) ++better;
+    if (m.distance > base.distance + tolerance) ++worse;
+  }
+  const StrategySummary& s = summaries[k];
+  const StrategySummary& base = summaries[b];
+  nlohmann::json j;
+  j["strategy"] = name_of(s.kind);
+  j["baseline"] = name_of(base.kind);
+  j["mean_distance_change_percent"] =
+      base.mean_distance > 0 ? 100 * (s.mean_distance - base.mean_distance) / base.mean_distance : 0.0;
+  j["max_distance_change_percent"] =
+      base.max_distance > 0 ? 100 * (s.max_distance - base.max_distance) / base.max_distance : 0.0;
+  j["total_deviation_change_percent"] =
+      base.total_deviation > 0
+          ? 100 * (s.total_deviation - base.total_deviation) / base.total_deviation
+          : 0.0;
+  j["per_layer_deviation_change_percent"] = counted ? 100 * per_layer / counted : 0.0;
+  j["per_layer_deviation_change_min_percent"] = 100 * lowest;
+  j["per_layer_deviation_change_max_percent"] = 100 * highest;
+  j["layers_distance_better"] = better;
+  j["layers_distance_worse"] = worse;
+  fmt::print("{} vs {}: mean D {}, max D {}, total ΔV {}, ΔV per layer {:+.1f}% on average "
+             "({:+.0f}% to {:+.0f}%); D better on {}, worse on {} of {} layers\n",
+             name_of(s.kind), name_of(base.kind), percent_change(s.mean_distance, base.mean_distance),
+             percent_change(s.max_distance, base.max_distance),
+             percent_change(s.total_deviation, base.total_deviation),
+             counted ? 100 * per_layer / counted : 0.0, 100 * lowest, 100 * highest, better, worse,
+             layers.size());
+  return j;
+}
+
+const char* colour_of(ContourKind kind) {
+  switch (kind) {
+    case ContourKind::lower: return "#1f77b4";
+    case ContourKind::mid: return "#2ca02c";
+    case ContourKind::optimal_height: return "#ff7f0e";
+    case ContourKind::ma: return "#d62728";
+  }
+  return "#000000";
+}
+
+Series per_layer_series(const std::vector<LayerAnalysis>& layers, std::size_t k, bool distance,
+                        const std::string& title) {
+  Series series;
+  series.title = title;
+  series.colour = colour_of(layers.empty() ? ContourKind::lower : layers[0].strategies[k].kind);
+  for (const LayerAnalysis& layer : layers) {
+    series.x.push_back(layer.layer.z_mid());
+    const auto& m = layer.strategies[k].metrics;
+    series.y.push_back(distance ? m.distance : m.volume_deviation);
+  }
+  return series;
+}
+
+void draw_layer(const geometry::LayerStack& stack, std::size_t index,
+                const std::vector<ContourKind>& kinds, const std::string& path) {
+  geometry::AnalysisOptions options;
+  const LayerAnalysis analysis = geometry::analyze_layer(stack, index, kinds, options);
+  const geometry::Slab slab = geometry::slab_of(stack, index);
+  const geometry::Region footprint = geometry::slab_footprint(slab);
+  std::vector<Outline> outlines;
+  Outline pair{"boundary pair (slab footprint)", footprint.loops, "#888888", 4.0, false};
+  outlines.push_back(pair);
+  const geometry::Layer layer = stack.layers()[index];
+  fmt::print("layer {} [{:.3f}, {:.3f}] mm: {} island(s)\n", index, layer.z_lo, layer.z_hi,
+             geometry::boundary_pairs(footprint).size());
+  for (const geometry::StrategyLayer& s : analysis.strategies) {
+    Outline o{fmt::format("{} (D {:.3f} mm, ΔV {:.4f} mm³)", name_of(s.kind), s.metrics.distance,
+                          s.metrics.volume_deviation),
+              s.region.loops, colour_of(s.kind), 1.6, s.kind == ContourKind::lower};
+    outlines.push_back(o);
+    fmt::print("  {:<15} area {:9.3f} mm²  ΔV {:8.4f} mm³ (limit {:.4f})  D {:.4f} mm  reverse "
+               "{:.4f} mm  missed {}\n",
+               name_of(s.kind), s.metrics.area, s.metrics.volume_deviation,
+               s.metrics.volume_limit, s.metrics.distance, s.metrics.reverse_distance,
+               s.metrics.missed_features);
+  }
+  write_outlines_svg(path,
+                     fmt::format("layer {} (z {:.3f} to {:.3f} mm): contours", index, layer.z_lo,
+                                 layer.z_hi),
+                     outlines);
+  fmt::print("wrote {}\n", path);
+}
+
+void run_analyze(const AnalyzeOptions& options) {
+  std::vector<ContourKind> kinds;
+  for (const std::string& name : split_list(options.contours)) {
+    const ContourKind kind = contour_kind(name, "--contours");
+    if (index_of(kinds, kind) < 0) kinds.push_back(kind);
+  }
+  if (kinds.empty()) {
+    throw geometry::InputError("--contours: give at least one of lower, mid, optimal-height, ma");
+  }
+  const bool exporting = !options.export_layers.empty();
+  const ContourKind export_kind = contour_kind(options.contour, "--contour");
+  if (exporting && index_of(kinds, export_kind) < 0) kinds.push_back(export_kind);
+  const std::vector<double> thick = options.plots.empty() ? std::vector<double>{}
+                                                          : thickness_list(options.thick, "--thick");
+  if (!options.plots.empty()) {
+    std::error_code error;
+    std::filesystem::create_directories(options.plots, error);
+    if (error || !std::filesystem::is_directory(options.plots)) {
+      throw geometry::InputError(fmt::format(
+          "--plots {}: cannot create this directory ({}); give one you can write to",
+          options.plots, error ? error.message() : "not a directory"));
+    }
+  }
+
+  const geometry::Mesh mesh = load_model(options.model);
+  const double height = part_height(mesh);
+  const geometry::LayerStack stack(mesh, geometry::uniform_layers(height, options.layer));
+  if (stack.size() == 0) {
+    throw geometry::InputError(fmt::format("{}: the model has no height to slice",
+                                           options.model.path));
+  }
+  if (options.layer_index >= static_cast<int>(stack.size())) {
+    throw geometry::InputError(fmt::format(
+        "--layer-index {}: the part has {} layers of {:g} mm (indices 0 to {})",
+        options.layer_index, stack.size(), options.layer, stack.size() - 1));
+  }
+
+  const std::vector<LayerAnalysis> layers = run_analysis(stack, kinds, exporting, "analyze");
+  const std::vector<StrategySummary> summaries = geometry::summarize(layers);
+
+  double total_limit = 0;
+  for (const LayerAnalysis& layer : layers)
+    if (!layer.strategies.empty()) total_limit += layer.strategies[0].metrics.volume_limit;
+  fmt::print("{}: {:.2f} mm tall, {} layers of {:g} mm; volume limit {:.3f} mm³ (the least ΔV "
+             "any extruded layers can have)\n",
+             options.model.path, height, stack.size(), options.layer, total_limit);
+  fmt::print("{:<15} {:>8} {:>8} {:>8} {:>10} {:>9} {:>9} {:>7} {:>7} {:>5} {:>10}\n",
+             "strategy", "mean D", "max D", "mean H", "total ΔV", "mean ΔV", "ΔV>limit", "missed",
+             ">lower", ">mid", "ms/layer");
+  const int lower = index_of(kinds, ContourKind::lower), mid = index_of(kinds, ContourKind::mid);
+  for (const StrategySummary& s : summaries) {
+    fmt::print("{:<15} {:8.4f} {:8.4f} {:8.4f} {:10.3f} {:9.5f} {:8.1f}% {:7} {:>7} {:>5} {:10.2f}\n",
+               name_of(s.kind), s.mean_distance, s.max_distance, s.mean_hausdorff,
+               s.total_deviation, s.mean_deviation, s.above_limit_percent, s.missed_features,
+               lower >= 0 ? std::to_string(s.worse_than_lower) : "-",
+               mid >= 0 ? std::to_string(s.worse_than_mid) : "-",
+               1e3 * s.contour_seconds / std::max<std::size_t>(s.layers, 1));
+  }
+  fmt::print("(D: distance error surface to walls, H: Hausdorff, mm; ΔV mm³; >lower, >mid: layers "
+             "whose D exceeds that strategy's; ms/layer: CPU time to make the contour)\n");
+  nlohmann::json comparisons = nlohmann::json::array();
+  for (std::size_t k = 0; k < kinds.size(); ++k) {
+    if (lower >= 0 && static_cast<int>(k) != lower)
+      comparisons.push_back(compare(layers, summaries, k, static_cast<std::size_t>(lower)));
+    if (mid >= 0 && static_cast<int>(k) != mid && static_cast<int>(k) != lower)
+      comparisons.push_back(compare(layers, summaries, k, static_cast<std::size_t>(mid)));
+  }
+  const int optimal = index_of(kinds, ContourKind::optimal_height);
+  if (optimal >= 0) {
+    fmt::print("optimal-height: {:.1f} ms per slice on one core (the paper's CATIA search: about "
+               "90 s per slice)\n",
+               1e3 * summaries[optimal].contour_seconds / std::max<std::size_t>(summaries[optimal].layers, 1));
+  }
+
+  if (!options.csv.empty()) {
+    std::ofstream out = open_output(options.csv, "--csv");
+    out << "layer,strategy,z_lo,thickness,height,area,volume_deviation,volume_limit,distance,"
+           "reverse_distance,hausdorff,missed_features,contour_ms\n";
+    for (std::size_t i = 0; i < layers.size(); ++i) {
+      for (const geometry::StrategyLayer& s : layers[i].strategies) {
+        const auto& m = s.metrics;
+        out << fmt::format("{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.9g},{:.9g},{:.6f},{:.6f},{:.6f},{},{:.3f}\n",
+                           i, name_of(s.kind), m.z_lo, m.thickness, s.height, m.area,
+                           m.volume_deviation, m.volume_limit, m.distance, m.reverse_distance,
+                           m.hausdorff, m.missed_features, 1e3 * s.contour_seconds);
+      }
+    }
+    if (!out) throw geometry::InputError(fmt::format("--csv {}: writing failed", options.csv));
+    fmt::print("wrote {}: {} rows\n", options.csv, layers.size() * kinds.size());
+  }
+
+  // Fig. 24-25: the medial-axis contour at thicker layers against lower at this thickness.
+  nlohmann::json thicker = nlohmann::json::array();
+  if (!thick.empty() && lower >= 0) {
+    const std::vector<ContourKind> ma_only{ContourKind::ma};
+    for (double t : thick) {
+      if (std::abs(t - options.layer) < 1e-9) continue;
+      const geometry::LayerStack thick_stack(mesh, geometry::uniform_layers(height, t));
+      const auto thick_layers = run_analysis(thick_stack, ma_only, false, fmt::format("ma at {:g} mm", t));
+      std::vector<double> limits;
+      const double share = share_within(thick_layers, 0, layers, static_cast<std::size_t>(lower),
+                                        geometry::DistanceOptions{}.tolerance, &limits);
+      const auto thick_summary = geometry::summarize(thick_layers);
+      fmt::print("ma at {:g} mm: {} layers, mean D {:.4f} mm, max D {:.4f} mm; D within lower's at "
+                 "{:g} mm on {:.1f}% of layers\n",
+                 t, thick_stack.size(), thick_summary[0].mean_distance,
+                 thick_summary[0].max_distance, options.layer, share);
+      thicker.push_back({{"thickness", t},
+                         {"layers", thick_stack.size()},
+                         {"mean_distance", thick_summary[0].mean_distance},
+                         {"max_distance", thick_summary[0].max_distance},
+                         {"within_benchmark_percent", share}});
+      Chart chart{fmt::format("Distance error: lower ({:g} mm) vs MA ({:g} mm)", options.layer, t),
+                  "height, mm", "distance error D, mm", {}};
+      chart.series.push_back(per_layer_series(layers, static_cast<std::size_t>(lower), true,
+                                              fmt::format("lower, {:g} mm", options.layer)));
+      chart.series.push_back(per_layer_series(thick_layers, 0, true, fmt::format("ma, {:g} mm", t)));
+      const std::string path = (std::filesystem::path(options.plots) /
+                                fmt::format("distance-lower-{:g}-vs-ma-{:g}.svg", options.layer, t))
+                                   .string();
+      write_chart_svg(path, chart);
+      fmt::print("wrote {}\n", path);
+    }
+  }
+
+  if (!options.plots.empty()) {
+    const auto path_of = [&](const std::string& name) {
+      return (std::filesystem::path(options.plots) / name).string();
+    };
+    Chart all{fmt::format("Distance error per layer at {:g} mm", options.layer), "height, mm",
+              "distance error D, mm", {}};
+    Chart volume{fmt::format("Volume deviation per layer at {:g} mm", options.layer), "height, mm",
+                 "volume deviation, mm³", {}};
+    for (std::size_t k = 0; k < kinds.size(); ++k) {
+      all.series.push_back(per_layer_series(layers, k, true, name_of(kinds[k])));
+      volume.series.push_back(per_layer_series(layers, k, false, name_of(kinds[k])));
+    }
+    Series limit{"volume limit", {}, {}, "lines lw 1", "#000000"};
+    for (const LayerAnalysis& layer : layers) {
+      limit.x.push_back(layer.layer.z_mid());
+      limit.y.push_back(layer.strategies[0].metrics.volume_limit);
+    }
+    volume.series.push_back(limit);
+    write_chart_svg(path_of("distance.svg"), all);
+    write_chart_svg(path_of("volume.svg"), volume);
+    fmt::print("wrote {}, {}\n", path_of("distance.svg"), path_of("volume.svg"));
+    // Fig. 22: two strategies per chart, each against the medial-axis contour.
+    const int ma = index_of(kinds, ContourKind::ma);
+    for (int base : {lower, mid}) {
+      if (base < 0 || ma < 0) continue;
+      Chart pair{fmt::format("Distance error: {} vs ma at {:g} mm", name_of(kinds[base]), options.layer),
+                 "height, mm", "distance error D, mm", {}};
+      pair.series.push_back(per_layer_series(layers, static_cast<std::size_t>(base), true, name_of(kinds[base])));
+      pair.series.push_back(per_layer_series(layers, static_cast<std::size_t>(ma), true, "ma"));
+      const std::string path = path_of(fmt::format("distance-{}-vs-ma.svg", name_of(kinds[base])));
+      write_chart_svg(path, pair);
+      fmt::print("wrote {}\n", path);
+    }
+  }
+
+  if (options.layer_index >= 0) {
+    const std::string name = fmt::format("layer-{}.svg", options.layer_index);
+    const std::string path = options.plots.empty()
+                                 ? name
+                                 : (std::filesystem::path(options.plots) / name).string();
+    draw_layer(stack, static_cast<std::size_t>(options.layer_index), kinds, path);
+  }
+
+  if (exporting) {
+    const std::size_t k = static_cast<std::size_t>(index_of(kinds, export_kind));
+    std::vector<geometry::Region> regions;
+    regions.reserve(layers.size());
+    for (const LayerAnalysis& layer : layers) regions.push_back(layer.strategies[k].region);
+    const geometry::Mesh extruded = geometry::extruded_layers(stack.layers(), regions);
+    geometry::write_stl_binary(options.export_layers, extruded);
+    fmt::print("wrote {}: the layered part of {} ({} layers, {} triangles, {:.2f} mm³; model "
+               "{:.2f} mm³)\n",
+               options.export_layers, name_of(export_kind), layers.size(), extruded.faces.size(),
+               geometry::signed_volume(extruded), geometry::signed_volume(mesh));
+  }
+
+  if (!options.json.empty()) {
+    nlohmann::json j;
+    j["model"] = options.model.path;
+    j["height"] = height;
+    j["layer_thickness"] = options.layer;
+    j["layers"] = stack.size();
+    j["volume_limit"] = total_limit;
+    j["strategies"] = nlohmann::json::array();
+    for (const StrategySummary& s : summaries) {
+      j["strategies"].push_back({{"strategy", name_of(s.kind)},
+                                 {"mean_distance", s.mean_distance},
+                                 {"max_distance", s.max_distance},
+                                 {"mean_hausdorff", s.mean_hausdorff},
+                                 {"max_hausdorff", s.max_hausdorff},
+                                 {"total_volume_deviation", s.total_deviation},
+                                 {"mean_volume_deviation", s.mean_deviation},
+                                 {"above_limit_percent", s.above_limit_percent},
+                                 {"missed_features", s.missed_features},
+                                 {"layers_worse_than_lower", s.worse_than_lower},
+                                 {"layers_worse_than_mid", s.worse_than_mid},
+                                 {"contour_ms_per_layer",
+                                  1e3 * s.contour_seconds / std::max<std::size_t>(s.layers, 1)}});
+    }
+    j["comparisons"] = comparisons;
+    j["thicker_ma"] = thicker;
+    std::ofstream out = open_output(options.json, "--json");
+    out << j.dump(2) << "\n";
+    if (!out) throw geometry::InputError(fmt::format("--json {}: writing failed", options.json));
+    fmt::print("wrote {}\n", options.json);
+  }
+}
+
+std::vector<double> allowed_thicknesses(const printer::PrinterProfile& profile) {
+  const printer::LayerThicknesses& layer = profile.layer;
+  if (!layer.allowed.empty()) {
+    std::vector<double> values = layer.allowed;
+    std::sort(values.begin(), values.end());
+    return values;
+  }
+  if (!(layer.step > 0)) {
+    throw geometry::InputError(fmt::format(
+        "--printer {}: it allows any layer from {:g} to {:g} mm, not a list; give the "
+        "thicknesses to compare with --thicknesses, e.g. --thicknesses 0.1,0.15,0.2",
+        profile.name, layer.min, layer.max));
+  }
+  std::vector<double> values;
+  for (int i = 0;; ++i) {
+    const double t = layer.min + i * layer.step;
+    if (t > layer.max + 1e-9) break;
+    values.push_back(std::round(t * 1e6) / 1e6);
+  }
+  return values;
+}
+
+void run_advise(const AdviseOptions& options) {
+  const ContourKind kind = contour_kind(options.contour, "--contour");
+  std::vector<double> thicknesses;
+  std::string source;
+  if (!options.thicknesses.empty()) {
+    thicknesses = thickness_list(options.thicknesses, "--thicknesses");
+    source = "--thicknesses";
+  } else {
+    const printer::PrinterProfile profile = printer::load_printer_profile(
+        options.printer, printer::config_directory(MAHOST_CONFIG_DIR));
+    thicknesses = allowed_thicknesses(profile);
+    source = fmt::format("{} ({})", profile.name, profile.layer.describe());
+  }
+  if (thicknesses.empty()) throw geometry::InputError("--thicknesses: give at least one thickness");
+
+  const geometry::Mesh mesh = load_model(options.model);
+  const double height = part_height(mesh);
+  const double thinnest = thicknesses.front();
+  const geometry::LayerStack bench_stack(mesh, geometry::uniform_layers(height, thinnest));
+  const std::vector<ContourKind> bench_kinds{ContourKind::lower};
+  const auto benchmark = run_analysis(bench_stack, bench_kinds, false,
+                                      fmt::format("lower at {:g} mm", thinnest));
+  const auto bench_summary = geometry::summarize(benchmark);
+  fmt::print("{}: {:.2f} mm tall; thicknesses from {}\n", options.model.path, height, source);
+  fmt::print("benchmark: lower at {:g} mm, {} layers, mean D {:.4f} mm, max D {:.4f} mm\n",
+             thinnest, bench_stack.size(), bench_summary.empty() ? 0.0 : bench_summary[0].mean_distance,
+             bench_summary.empty() ? 0.0 : bench_summary[0].max_distance);
+  fmt::print("{:>9} {:>7} {:>8} {:>8} {:>8} {:>12}\n", "thickness", "layers", "mean D", "max D",
+             "within", "fewer layers");
+  nlohmann::json rows = nlohmann::json::array();
+  double best = 0;
+  const std::vector<ContourKind> kinds{kind};
+  for (double t : thicknesses) {
+    const geometry::LayerStack stack(mesh, geometry::uniform_layers(height, t));
+    const auto layers = run_analysis(stack, kinds, false, fmt::format("{} at {:g} mm", name_of(kind), t));
+    const auto summary = geometry::summarize(layers);
+    const double share = share_within(layers, 0, benchmark, 0, geometry::DistanceOptions{}.tolerance);
+    const double saving = 100.0 * (1.0 - static_cast<double>(stack.size()) / bench_stack.size());
+    fmt::print("{:>7.3g}mm {:7} {:8.4f} {:8.4f} {:7.1f}% {:11.1f}%\n", t, stack.size(),
+               summary.empty() ? 0.0 : summary[0].mean_distance,
+               summary.empty() ? 0.0 : summary[0].max_distance, share, saving);
+    if (share >= options.share) best = std::max(best, t);
+    rows.push_back({{"thickness", t},
+                    {"layers", stack.size()},
+                    {"mean_distance", summary.empty() ? 0.0 : summary[0].mean_distance},
+                    {"max_distance", summary.empty() ? 0.0 : summary[0].max_distance},
+                    {"within_benchmark_percent", share},
+                    {"fewer_layers_percent", saving}});
+  }
+  if (best > 0) {
+    fmt::print("advice: {} at {:g} mm keeps at least {:g}% of layers within lower's distance error "
+               "at {:g} mm\n",
+               name_of(kind), best, options.share, thinnest);
+  } else {
+    fmt::print("advice: no thickness keeps {:g}% of {}'s layers within lower's distance error at "
+               "{:g} mm; print at {:g} mm\n",
+               options.share, name_of(kind), thinnest, thinnest);
+  }
+  if (!options.json.empty()) {
+    nlohmann::json j{{"model", options.model.path},
+                     {"contour", name_of(kind)},
+                     {"benchmark_thickness", thinnest},
+                     {"share_required_percent", options.share},
+                     {"thicknesses", rows},
+                     {"advised_thickness", best > 0 ? nlohmann::json(best) : nlohmann::json(nullptr)}};
+    std::ofstream out = open_output(options.json, "--json");
+    out << j.dump(2) << "\n";
+    if (!out) throw geometry::InputError(fmt::format("--json {}: writing failed", options.json));
+  }
+}
+
+}  // namespace
+
+void add_analyze_command(CLI::App& app) {
+  auto options = std::make_shared<AnalyzeOptions>();
+  CLI::App* analyze = app.add_subcommand(
+      "analyze",
+      "Compare contour strategies layer by layer: exact volume deviation, distance error "
+      "(the paper's D, reverse, Hausdorff), the volume limit, missed features; CSV, JSON, "
+      "SVG plots, a layer's contours, the layered part as STL.");
+  add_model_options(*analyze, options->model);
+  analyze->add_option("--layer", options->layer, "layer thickness, mm")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  analyze->add_option("--contours", options->contours,
+                      "strategies to compare, comma-separated: lower, mid, optimal-height, ma")
+      ->capture_default_str();
+  analyze->add_option("--csv", options->csv, "write one row per layer and strategy to this CSV file");
+  analyze->add_option("--json", options->json, "write the summary to this JSON file");
+  analyze->add_option("--plots", options->plots,
+                      "write SVG charts (needs gnuplot) into this directory: D and ΔV per layer, "
+                      "lower and mid against ma, ma at the --thick layers against lower");
+  analyze->add_option("--thick", options->thick,
+                      "with --plots: thicker layers for ma to compare with lower at --layer, mm")
+      ->capture_default_str();
+  analyze->add_option("--layer-index", options->layer_index,
+                      "draw this layer's footprint and contours as layer-N.svg (in --plots, or "
+                      "here) and print its metrics")
+      ->check(CLI::NonNegativeNumber);
+  analyze->add_option("--export-layers", options->export_layers,
+                      "write the layered part (each layer's region extruded) as an STL file");
+  analyze->add_option("--contour", options->contour,
+                      "with --export-layers: which strategy's layers (lower, mid, optimal-height, ma)")
+      ->capture_default_str();
+  analyze->callback([options] { run_analyze(*options); });
+
+  auto advise_options = std::make_shared<AdviseOptions>();
+  CLI::App* advise = app.add_subcommand(
+      "advise",
+      "Which layer thickness can the contour strategy print while its distance error stays "
+      "within lower's at the printer's thinnest layer (paper §4)?");
+  add_model_options(*advise, advise_options->model);
+  advise->add_option("--printer", advise_options->printer,
+                     "printer profile whose layer thicknesses to try (a name or a .toml path)")
+      ->capture_default_str();
+  advise->add_option("--contour", advise_options->contour,
+                     "strategy for the thicker layers: lower, mid, optimal-height, ma")
+      ->capture_default_str();
+  advise->add_option("--thicknesses", advise_options->thicknesses,
+                     "thicknesses to try instead of the printer's, mm, comma-separated; the "
+                     "thinnest is the benchmark");
+  advise->add_option("--share", advise_options->share,
+                     "percent of layers that must stay within the benchmark")
+      ->check(CLI::Range(0.0, 100.0))
+      ->capture_default_str();
+  advise->add_option("--json", advise_options->json, "write the table to this JSON file");
+  advise->callback([advise_options] { run_advise(*advise_options); });
+}
+
+}  // namespace host
