@@ -5,7 +5,7 @@
 # nozzle, 0.45 mm lines, 0.5 mm / 0.3 mm first layer, 1.75 mm ABS), 2 perimeters, 20% grid
 # infill, 3 top and 3 bottom layers, one skirt loop 3 mm out, the profile's speeds and
 # accelerations. Prints one table: layers, each slicer's own print-time estimate, filament,
-# wall time and peak memory of the slicing run.
+# wall time, CPU time and peak memory of the slicing run.
 #
 # Usage: tests/bench/compare_slicers.sh [BUILD_DIR]   (default: build; mahost must be built)
 #
@@ -51,8 +51,9 @@ export CURA_ENGINE_SEARCH_PATH=$cura_resources/definitions:$cura_resources/extru
 model=$work/bunny50.stl
 "$mahost" info data/bunny.stl --up y --units m --height 50 --export "$model" >/dev/null 2>&1
 
-# Runs a command under /usr/bin/time; leaves "wall_s peak_kib" in $work/time.
-timed() { /usr/bin/time -f "%e %M" -o "$work/time" "$@" >"$work/log" 2>&1 || {
+# Runs a command under /usr/bin/time; leaves "wall_s cpu_s peak_kib" in $work/time (CPU time,
+# user + system over all threads, is what a busy machine does not inflate).
+timed() { /usr/bin/time -f "%e %U %S %M" -o "$work/time" "$@" >"$work/log" 2>&1 || {
   echo "compare_slicers: failed: $*" >&2; tail -5 "$work/log" >&2; exit 1; }; }
 
 # Net filament (mm) of a program: E travelled forward, across G92 resets, either E mode.
@@ -68,9 +69,12 @@ filament_of() {
 hms() { awk -v s="$1" 'BEGIN { printf "%dh %02dm %02ds", s / 3600, (s % 3600) / 60, s % 60 }'; }
 
 rows=()
-row() {  # slicer layer layers seconds filament_mm wall peak_kib
-  rows+=("$(printf '%-22s %5s %7s %13s %9.2f m %8.2f s %7.1f MiB' "$1" "$2" "$3" "$(hms "$4")" \
-    "$(awk -v f="$5" 'BEGIN { print f / 1000 }')" "$6" "$(awk -v k="$7" 'BEGIN { print k / 1024 }')")")
+row() {  # slicer layer layers seconds filament_mm (then the run's figures from $work/time)
+  local wall user sys peak
+  read -r wall user sys peak <"$work/time"
+  rows+=("$(printf '%-22s %5s %7s %13s %9.2f m %8.2f s %8.2f s %7.1f MiB' "$1" "$2" "$3" "$(hms "$4")" \
+    "$(awk -v f="$5" 'BEGIN { print f / 1000 }')" "$wall" "$(awk -v u="$user" -v s="$sys" 'BEGIN { print u + s }')" \
+    "$(awk -v k="$peak" 'BEGIN { print k / 1024 }')")")
 }
 
 for layer in 0.15 0.2; do
@@ -79,10 +83,9 @@ for layer in 0.15 0.2; do
     out=$work/mahost-$contour-$layer.gcode
     timed "$mahost" slice data/bunny.stl --up y --units m --height 50 --layer "$layer" \
       --contour "$contour" -o "$out"
-    read -r wall peak <"$work/time"
     row "mahost ($contour)" "$layer" "$(grep -m1 '^;LAYER_COUNT:' "$out" | cut -d: -f2)" \
       "$(grep -m1 '^;PRINT_TIME_S:' "$out" | cut -d: -f2)" \
-      "$(grep -m1 '^;FILAMENT_MM:' "$out" | cut -d: -f2)" "$wall" "$peak"
+      "$(grep -m1 '^;FILAMENT_MM:' "$out" | cut -d: -f2)"
   done
 
   # CuraEngine 4.13.
@@ -114,9 +117,8 @@ for layer in 0.15 0.2; do
     -s material_bed_temperature=100 -s material_bed_temperature_layer_0=105 -s cool_fan_enabled=false \
     -e0 -s machine_nozzle_size=0.4 -s material_diameter=1.75 \
     -o "$out" -l "$model"
-  read -r wall peak <"$work/time"
   row "CuraEngine 4.13" "$layer" "$(grep -c '^;LAYER:' "$out")" \
-    "$(grep '^;TIME_ELAPSED:' "$out" | tail -1 | cut -d: -f2)" "$(filament_of "$out")" "$wall" "$peak"
+    "$(grep '^;TIME_ELAPSED:' "$out" | tail -1 | cut -d: -f2)" "$(filament_of "$out")"
 
   # PrusaSlicer 2.5.
   cfg=$work/prusa.ini
@@ -177,14 +179,13 @@ end_gcode = M84
 EOF
   out=$work/prusa-$layer.gcode
   timed prusa-slicer --export-gcode --load "$cfg" --center 70,70 -o "$out" "$model"
-  read -r wall peak <"$work/time"
   prusa_time=$(grep -m1 '^; estimated printing time (normal mode)' "$out" | sed 's/.*= //' |
     awk '{ s = 0; for (i = 1; i <= NF; i++) { v = $i + 0; u = substr($i, length($i));
            s += (u == "d") ? v * 86400 : (u == "h") ? v * 3600 : (u == "m") ? v * 60 : v } print s }')
   row "PrusaSlicer 2.5" "$layer" "$(grep -c '^;LAYER_CHANGE' "$out")" "$prusa_time" \
-    "$(grep -m1 '^; filament used \[mm\]' "$out" | sed 's/.*= //')" "$wall" "$peak"
+    "$(grep -m1 '^; filament used \[mm\]' "$out" | sed 's/.*= //')"
 done
 
 echo "bunny 50 mm, UP Plus 2 settings; each slicer's own print-time estimate; same machine, same run"
-printf '%-22s %5s %7s %13s %11s %10s %11s\n' slicer layer layers "est. time" filament wall "peak RSS"
+printf '%-22s %5s %7s %13s %11s %10s %10s %11s\n' slicer layer layers "est. time" filament wall cpu "peak RSS"
 printf '%s\n' "${rows[@]}"
