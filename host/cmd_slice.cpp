@@ -166,7 +166,8 @@ void add_slice_command(CLI::App& app) {
       ->check(CLI::Range(0.0, 100.0));
   slice->add_option("--set", options->overrides,
                     "override a profile key, e.g. --set retraction.length=1.5 or "
-                    "--set material.temperature.nozzle=250 (repeatable)");
+                    "--set material.temperature.nozzle=250 (repeatable)")
+      ->allow_extra_args(false);  // one key=value per --set: a model path after it stays the model
   slice->callback([options] { run_slice(*options); });
 }
 

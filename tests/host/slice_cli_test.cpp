@@ -87,6 +87,16 @@ TEST_CASE("slice_writes_gcode_and_reports_one_line") {
   CHECK_FALSE(std::filesystem::exists(out + ".part"));
 }
 
+TEST_CASE("each_set_takes_one_key_and_the_model_may_follow") {
+  const std::string dir = test_support::scratch_dir("slice_set_order");
+  const std::string stl = dir + "/cube.stl", out = dir + "/cube.gcode";
+  geometry::write_stl_binary(stl, solids::cube(10).mesh);
+  const auto result = run_mahost({"slice", "--set", "print.perimeters=3", stl, "--set",
+                                  "print.infill_density=15", "-o", out, "--contour", "mid"});
+  CHECK(result.exit_code == 0);
+  CHECK(read_file(out).find("; perimeters: 3, infill: 15% grid") != std::string::npos);
+}
+
 TEST_CASE("cube_with_hole_beads_cover_each_layer") {
   const std::string dir = test_support::scratch_dir("slice_cube_with_hole");
   const std::string stl = dir + "/part.stl", out = dir + "/part.gcode";
