@@ -364,68 +364,121 @@ Region ma_contour(const Slab& slab, const std::function<Region(double z)>& cross
   return ma_contour(slab, slab_footprint(slab), cross_section, options, stats);
 }
 
+namespace {
+
+constexpr double kSquareMicrometre = 1e6;  // Clipper areas are in nm^2
+
+double clipper_area(const ClipperLib::Paths& paths) {
+  double a = 0;
+  for (const auto& p : paths) a += ClipperLib::Area(p);
+  return a;
+}
+
+ClipperLib::Paths clip(const ClipperLib::Paths& subject, const ClipperLib::Paths& by,
+                       ClipperLib::ClipType operation) {
+  ClipperLib::Clipper clipper;
+  clipper.AddPaths(subject, ClipperLib::ptSubject, true);
+  clipper.AddPaths(by, ClipperLib::ptClip, true);
+  ClipperLib::Paths result;
+  clipper.Execute(operation, result, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+  return result;
+}
+
+ClipperLib::Paths grown(const ClipperLib::Path& filled, double delta) {
+  ClipperLib::ClipperOffset offset(2.0, std::abs(delta) / 8);
+  offset.AddPath(filled, ClipperLib::jtRound, ClipperLib::etClosedPolygon);
+  ClipperLib::Paths result;
+  offset.Execute(result, delta);
+  return result;
+}
+
+// A vertical wall's strip: one outer loop, one hole, and every point of the ring within four
+// margins of both (a wall's ring is two margins wide). Checked as: the outline lies inside
+// the hole grown by that much, and the outline shrunk by it inside the hole.
+bool is_wall(const BoundaryPair& pair) {
+  if (pair.inner.size() != 1) return false;
+  const double reach = 4 * kFootprintMargin * kClipperScale;
+  const ClipperLib::Path outline = to_clipper(pair.outer);
+  ClipperLib::Path hole = to_clipper(pair.inner[0]);
+  ClipperLib::ReversePath(hole);  // as a filled polygon
+  if (clipper_area(clip({outline}, grown(hole, reach), ClipperLib::ctDifference)) > kSquareMicrometre) {
+    return false;
+  }
+  return clipper_area(clip(grown(outline, -reach), {hole}, ClipperLib::ctDifference)) <= kSquareMicrometre;
+}
+
+// A section's part inside the island's outline, as paths to add with positive winding: where
+// the island is solid all round, the outline reversed takes that solid away first.
+ClipperLib::Paths section_in_island(const Region& section, const BoundaryPair& pair,
+                                    bool solid_outside) {
+  const ClipperLib::Path outline = to_clipper(pair.outer);
+  ClipperLib::Paths paths = clip(to_clipper(section), {outline}, ClipperLib::ctIntersection);
+  if (solid_outside) {
+    ClipperLib::Path reversed = outline;
+    ClipperLib::ReversePath(reversed);
+    paths.push_back(std::move(reversed));
+  }
+  return paths;
+}
+
+// A cap: the mid section inside it; if the feature does not reach the middle (nothing of an
+// empty-beside cap there, all of a solid-beside one, a cavity), the section half-way through
+// the feature's own height range inside the slab.
+ClipperLib::Paths cap_contour(const Slab& slab, const BoundaryPair& pair, bool solid_outside,
+                              const Region& middle,
+                              const std::function<Region(double z)>& cross_section) {
+  const double island = ClipperLib::Area(to_clipper(pair.outer));
+  const double inside = clipper_area(clip(to_clipper(middle), {to_clipper(pair.outer)},
+                                          ClipperLib::ctIntersection));
+  const bool reaches_middle = solid_outside ? std::abs(inside - island) > kSquareMicrometre
+                                            : inside > kSquareMicrometre;
+  if (reaches_middle) return section_in_island(middle, pair, solid_outside);
+  Region ring{{pair.outer}};
+  ring.loops.insert(ring.loops.end(), pair.inner.begin(), pair.inner.end());
+  double lo = slab.z_hi, hi = slab.z_lo;
+  for (const auto& facet : slab.facets) {
+    if (!point_in_region(ring, {facet[0].x, facet[0].y})) continue;
+    for (const Vec3& v : facet) {
+      lo = std::min(lo, v.z);
+      hi = std::max(hi, v.z);
+    }
+  }
+  const Region section = lo < hi ? cross_section(0.5 * (lo + hi)) : middle;
+  return section_in_island(section, pair, solid_outside);
+}
+
+}  // namespace
+
 Region ma_contour(const Slab& slab, const Region& footprint,
                   const std::function<Region(double z)>& cross_section, const MaOptions& options,
                   MaStats* stats) {
   if (slab.facets.empty() || !(slab.z_lo < slab.z_hi)) return {};
   const std::vector<BoundaryPair> pairs = boundary_pairs(footprint);
   if (pairs.empty()) return {};
-  const double z_mid = 0.5 * (slab.z_lo + slab.z_hi);
-  const Region middle = cross_section(z_mid);
+  const Region middle = cross_section(0.5 * (slab.z_lo + slab.z_hi));
   if (stats) stats->islands += pairs.size();
 
+  // Every loop has the solid on its left, so summing winding numbers over all islands gives
+  // 1 exactly on the layer's region, also for islands nested in another's holes.
   ClipperLib::Paths paths;
   for (const BoundaryPair& pair : pairs) {
     const std::vector<char> solid = solid_beside(pair, middle);
     const bool cap = std::all_of(solid.begin(), solid.end(), [&](char s) { return s == solid[0]; });
-    if (!cap) {
+    ClipperLib::Paths island;
+    if (cap) {
+      if (stats) ++stats->caps;
+      island = cap_contour(slab, pair, solid[0] != 0, middle, cross_section);
+    } else if (is_wall(pair)) {
+      // Lower contour = upper contour: the contour is that section, exactly (the axis of the
+      // ring would be it to a fraction of the margin), without a triangulation.
+      if (stats) ++stats->walls;
+      island = section_in_island(middle, pair, solid[0] != 0);
+    } else {
       for (const Loop& loop : medial_axis_loops(pair, solid, options, stats)) {
-        paths.push_back(to_clipper(loop));
+        island.push_back(to_clipper(loop));
       }
-      continue;
     }
-    if (stats) ++stats->caps;
-    const ClipperLib::Path outline = to_clipper(pair.outer);
-    const auto section_inside = [&](const Region& section) {
-      ClipperLib::Clipper clipper;
-      clipper.AddPaths(to_clipper(section), ClipperLib::ptSubject, true);
-      clipper.AddPath(outline, ClipperLib::ptClip, true);
-      ClipperLib::Paths inside;
-      clipper.Execute(ClipperLib::ctIntersection, inside, ClipperLib::pftNonZero,
-                      ClipperLib::pftNonZero);
-      return inside;
-    };
-    ClipperLib::Paths inside = section_inside(middle);
-    // An empty-beside cap that misses the middle, or a solid-beside one (a cavity) that the
-    // middle fills completely: the feature does not reach z_mid. Cut half-way through it.
-    const double inside_area = [&] {
-      double a = 0;
-      for (const auto& p : inside) a += ClipperLib::Area(p);
-      return a;
-    }();
-    constexpr double kSquareMicrometre = 1e6;  // Clipper areas are in nm^2
-    const bool reaches_middle =
-        solid[0] ? std::abs(inside_area - ClipperLib::Area(outline)) > kSquareMicrometre
-                 : inside_area > kSquareMicrometre;
-    if (!reaches_middle) {
-      Region ring{{pair.outer}};
-      ring.loops.insert(ring.loops.end(), pair.inner.begin(), pair.inner.end());
-      double lo = slab.z_hi, hi = slab.z_lo;
-      for (const auto& facet : slab.facets) {
-        if (!point_in_region(ring, {facet[0].x, facet[0].y})) continue;
-        for (const Vec3& v : facet) {
-          lo = std::min(lo, v.z);
-          hi = std::max(hi, v.z);
-        }
-      }
-      if (lo < hi) inside = section_inside(cross_section(0.5 * (lo + hi)));
-    }
-    paths.insert(paths.end(), inside.begin(), inside.end());
-    if (solid[0]) {  // solid all round: the island's inside counts from the cap's section only
-      ClipperLib::Path reversed = outline;
-      ClipperLib::ReversePath(reversed);
-      paths.push_back(std::move(reversed));
-    }
+    paths.insert(paths.end(), island.begin(), island.end());
   }
   ClipperLib::Clipper clipper;
   clipper.AddPaths(paths, ClipperLib::ptSubject, true);

@@ -36,6 +36,7 @@ Region ma_contour(const LayerStack& stack, std::size_t layer, const MaOptions& o
 struct MaStats {
   std::size_t islands = 0;  // boundary pairs of the footprint
   std::size_t caps = 0;     // of them, caps (all free faces solid or all empty)
+  std::size_t walls = 0;    // of them, vertical walls (rings a few margins wide)
   std::size_t samples = 0;  // points given to the Delaunay triangulations
   std::size_t loops = 0;    // closed medial-axis loops before the final union
 };

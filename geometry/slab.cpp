@@ -149,6 +149,94 @@ ClipperLib::Paths chain_boundary(const std::vector<ClipperLib::Path>& facets) {
   return paths;
 }
 
+// Edge-on facets as few polylines: each facet's projection reduced to its longest chord
+// (the segment it lies on), duplicates dropped (a wall's two triangles give the same one),
+// and segments joined end to end where exactly two meet. Offsetting a wall loop as one
+// closed line gives a clean ring; offsetting its hundreds of segments one by one gives the
+// same set through thousands of overlapping rectangles.
+void chain_segments(const ClipperLib::Paths& edge_on, ClipperLib::Paths& open,
+                    ClipperLib::Paths& closed) {
+  const auto before = [](IntPoint a, IntPoint b) { return a.X < b.X || (a.X == b.X && a.Y < b.Y); };
+  std::vector<std::pair<IntPoint, IntPoint>> segments;
+  for (const ClipperLib::Path& path : edge_on) {
+    std::pair<IntPoint, IntPoint> longest{path[0], path[0]};
+    double best = -1;
+    for (std::size_t i = 0; i < path.size(); ++i) {
+      for (std::size_t j = i + 1; j < path.size(); ++j) {
+        const double dx = double(path[j].X - path[i].X), dy = double(path[j].Y - path[i].Y);
+        if (dx * dx + dy * dy > best) {
+          best = dx * dx + dy * dy;
+          longest = before(path[i], path[j]) ? std::pair{path[i], path[j]} : std::pair{path[j], path[i]};
+        }
+      }
+    }
+    segments.push_back(longest);
+  }
+  const auto pair_before = [&](const auto& a, const auto& b) {
+    return before(a.first, b.first) || (a.first == b.first && before(a.second, b.second));
+  };
+  std::sort(segments.begin(), segments.end(), pair_before);
+  segments.erase(std::unique(segments.begin(), segments.end()), segments.end());
+  std::vector<IntPoint> ends;
+  for (const auto& [a, b] : segments) {
+    ends.push_back(a);
+    ends.push_back(b);
+  }
+  std::sort(ends.begin(), ends.end(), before);
+  ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
+  const auto index = [&](IntPoint p) {
+    return static_cast<std::size_t>(std::lower_bound(ends.begin(), ends.end(), p, before) - ends.begin());
+  };
+  std::vector<std::vector<std::size_t>> touching(ends.size());
+  for (std::size_t k = 0; k < segments.size(); ++k) {
+    if (segments[k].first == segments[k].second) continue;  // a point: kept below as a path
+    touching[index(segments[k].first)].push_back(k);
+    touching[index(segments[k].second)].push_back(k);
+  }
+  std::vector<char> used(segments.size(), 0);
+  const auto walk = [&](std::size_t from, bool& is_closed) {
+    ClipperLib::Path path{ends[from]};
+    std::size_t at = from;
+    is_closed = false;
+    for (;;) {
+      std::size_t next = segments.size();
+      for (std::size_t k : touching[at]) {
+        if (!used[k]) {
+          next = k;
+          break;
+        }
+      }
+      if (next == segments.size()) break;
+      used[next] = 1;
+      at = index(segments[next].first == ends[at] ? segments[next].second : segments[next].first);
+      if (at == from) {
+        is_closed = true;
+        break;
+      }
+      path.push_back(ends[at]);
+      if (touching[at].size() != 2) break;
+    }
+    return path;
+  };
+  // Paths start where they end or branch; what is left after that are closed loops.
+  for (int pass = 0; pass < 2; ++pass) {
+    for (std::size_t c = 0; c < ends.size(); ++c) {
+      if (pass == 0 && touching[c].size() == 2) continue;
+      for (;;) {
+        bool any = false;
+        for (std::size_t k : touching[c]) any = any || !used[k];
+        if (!any) break;
+        bool is_closed = false;
+        ClipperLib::Path path = walk(c, is_closed);
+        (is_closed && path.size() >= 3 ? closed : open).push_back(std::move(path));
+      }
+    }
+  }
+  for (std::size_t k = 0; k < segments.size(); ++k) {
+    if (segments[k].first == segments[k].second) open.push_back({segments[k].first});
+  }
+}
+
 }  // namespace
 
 Region slab_footprint(const Slab& slab, double margin) {
@@ -168,13 +256,15 @@ Region slab_footprint(const Slab& slab, double margin) {
     while (projected.size() > 1 && projected.front() == projected.back()) projected.pop_back();
     // Edge-on: thinner than 10 nm across, which rounding to whole nanometres can leave of a
     // vertical face; as a polygon such a sliver would vanish in the union.
-    double longest = 0;
+    double longest2 = 0;
     for (std::size_t i = 0, n = projected.size(); i < n; ++i) {
       const IntPoint a = projected[i], b = projected[(i + 1) % n];
-      longest = std::max(longest, std::hypot(double(b.X - a.X), double(b.Y - a.Y)));
+      const double dx = double(b.X - a.X), dy = double(b.Y - a.Y);
+      longest2 = std::max(longest2, dx * dx + dy * dy);
     }
-    constexpr double kEdgeOnWidth = 10;  // nm
-    if (projected.size() >= 3 && std::abs(ClipperLib::Area(projected)) > 0.5 * kEdgeOnWidth * longest) {
+    constexpr double kEdgeOnWidth = 10;  // nm; area > width * longest / 2, squared
+    const double twice_area = 2 * ClipperLib::Area(projected);
+    if (projected.size() >= 3 && twice_area * twice_area > kEdgeOnWidth * kEdgeOnWidth * longest2) {
       if (!ClipperLib::Orientation(projected)) ClipperLib::ReversePath(projected);
       seen.push_back(std::move(projected));
     } else if (!projected.empty()) {
@@ -190,7 +280,10 @@ Region slab_footprint(const Slab& slab, double margin) {
   if (delta > 0) {
     ClipperLib::ClipperOffset offset;
     offset.AddPaths(covered, ClipperLib::jtMiter, ClipperLib::etClosedPolygon);
-    offset.AddPaths(edge_on, ClipperLib::jtMiter, ClipperLib::etOpenSquare);
+    ClipperLib::Paths open_lines, closed_lines;
+    chain_segments(edge_on, open_lines, closed_lines);
+    offset.AddPaths(open_lines, ClipperLib::jtMiter, ClipperLib::etOpenSquare);
+    offset.AddPaths(closed_lines, ClipperLib::jtMiter, ClipperLib::etClosedLine);
     offset.Execute(tree, delta);
   } else {
     ClipperLib::Clipper normalise;
