@@ -23,7 +23,7 @@ AreaMoments moments_of_paths(const ClipperLib::Paths& paths, Vec2 origin) {
   AreaMoments m;
   for (const auto& path : paths) {
     for (std::size_t i = 0, n = path.size(); i < n; ++i) {
-      add_segment(m, from_clipper(path[i]) - origin, from_clipper(path[(i + 1) % n]) - origin);
+      add_segment(m, from_fine_clipper(path[i]) - origin, from_fine_clipper(path[(i + 1) % n]) - origin);
     }
   }
   return m;
@@ -33,8 +33,8 @@ AreaMoments moments_of_paths(const ClipperLib::Paths& paths, Vec2 origin) {
 AreaMoments moments_by_clipper(const std::vector<Vec2>& convex, Vec2 origin,
                                const Region& region) {
   ClipperLib::Clipper clipper;
-  clipper.AddPath(to_clipper(convex), ClipperLib::ptSubject, true);
-  clipper.AddPaths(to_clipper(region), ClipperLib::ptClip, true);
+  clipper.AddPath(to_fine_clipper(convex), ClipperLib::ptSubject, true);
+  clipper.AddPaths(to_fine_clipper(region), ClipperLib::ptClip, true);
   ClipperLib::Paths result;
   clipper.Execute(ClipperLib::ctIntersection, result, ClipperLib::pftNonZero,
                   ClipperLib::pftNonZero);
@@ -48,6 +48,28 @@ struct Crossing {
 };
 
 }  // namespace
+
+ClipperLib::Path to_fine_clipper(const std::vector<Vec2>& loop) {
+  ClipperLib::Path path;
+  path.reserve(loop.size());
+  for (Vec2 p : loop) {
+    path.push_back({static_cast<ClipperLib::cInt>(std::llround(p.x * kFineClipperScale)),
+                    static_cast<ClipperLib::cInt>(std::llround(p.y * kFineClipperScale))});
+  }
+  return path;
+}
+
+ClipperLib::Paths to_fine_clipper(const Region& region) {
+  ClipperLib::Paths paths;
+  paths.reserve(region.loops.size());
+  for (const Loop& loop : region.loops) paths.push_back(to_fine_clipper(loop));
+  return paths;
+}
+
+Vec2 from_fine_clipper(const ClipperLib::IntPoint& p) {
+  return {static_cast<double>(p.X) / kFineClipperScale,
+          static_cast<double>(p.Y) / kFineClipperScale};
+}
 
 AreaMoments moments_of_loop(const std::vector<Vec2>& loop, Vec2 origin) {
   AreaMoments m;
@@ -214,14 +236,16 @@ SlabColumns slab_columns(const Slab& slab, const Region& lower_section) {
 double intersection_area(const Region& a, const Region& b) {
   if (a.loops.empty() || b.loops.empty()) return 0;
   ClipperLib::Clipper clipper;
-  clipper.AddPaths(to_clipper(a), ClipperLib::ptSubject, true);
-  clipper.AddPaths(to_clipper(b), ClipperLib::ptClip, true);
+  clipper.AddPaths(to_fine_clipper(a), ClipperLib::ptSubject, true);
+  clipper.AddPaths(to_fine_clipper(b), ClipperLib::ptClip, true);
   ClipperLib::Paths result;
   clipper.Execute(ClipperLib::ctIntersection, result, ClipperLib::pftNonZero,
                   ClipperLib::pftNonZero);
-  double twice = 0;
-  for (const auto& path : result) twice += 2 * ClipperLib::Area(path);
-  return twice / 2 / (kClipperScale * kClipperScale);
+  // Summed in the plane's own units: a loop's area in pm^2 can exceed a double's exact range
+  // but not its relative precision, which is all an area needs.
+  double total = 0;
+  for (const auto& path : result) total += moments_of_paths({path}, {0, 0}).area;
+  return total;
 }
 
 double occupied_volume_inside(const SlabColumns& columns, const Region& region,

@@ -4,9 +4,9 @@
 // the volume of the slab S_i it leaves out, mm^3. Equivalently the integral over [z_lo, z_hi]
 // of area(C(z) △ R_i). Computed through the slab's columns (slab_columns.h):
 //   ΔV = vol(S_i) + t area(R_i) - 2 vol(S_i ∩ P_i),
-// each term an exact integral of linear functions over polygons, so the only error is floating
-// point (relative ~1e-12) and Clipper's 1 nm rounding of the two cap intersections (below
-// 1e-6 mm times the section's perimeter times t). Validated against adaptive Gauss-Legendre
+// each term an exact integral of linear functions over polygons: the only errors are floating
+// point (relative ~1e-12) and the 1 pm grid of the Clipper intersection with the lower
+// section (under 1e-9 mm times its perimeter times t). Validated against adaptive Gauss-Legendre
 // integration of Clipper XOR areas and CGAL corefinement (tests/geometry).
 //
 // Input: the slab's columns and any valid region (outer loops CCW, holes CW), mm.

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <numeric>
 
-#include "geometry/clipper_bridge.h"
 
 namespace geometry {
 
@@ -101,7 +100,7 @@ ClipperLib::Paths boolean(ClipperLib::ClipType type, const ClipperLib::Paths& a,
 std::vector<Cell> arrangement(const SlabColumns& columns, const std::vector<int>& group) {
   std::vector<Cell> cells;
   for (int f : group) {
-    const ClipperLib::Paths facet{to_clipper(columns.facets[f].outline)};
+    const ClipperLib::Paths facet{to_fine_clipper(columns.facets[f].outline)};
     const ClipperLib::IntRect box = bounds(facet);
     std::vector<Cell> next;
     ClipperLib::Paths covered;
@@ -138,7 +137,11 @@ std::vector<Cell> arrangement(const SlabColumns& columns, const std::vector<int>
 double fold_correction(const SlabColumns& columns, const Cell& cell) {
   const double t = columns.thickness();
   std::vector<Poly> loops;
-  for (const auto& path : cell.paths) loops.push_back(from_clipper(path));
+  for (const auto& path : cell.paths) {
+    Poly loop;
+    for (const auto& p : path) loop.push_back(from_fine_clipper(p));
+    loops.push_back(std::move(loop));
+  }
   const Vec2 o = loops[0][0];
   AreaMoments m;
   for (const Poly& loop : loops) {

@@ -13,8 +13,8 @@
 // the facet splits at the line where the facet crosses the mid-plane. Columns that meet two
 // or more facets lie where an up-facing and a down-facing facet overlap seen from above (a
 // fold of the surface inside the slab: an equator, a lip); there the overlapping facets are
-// cut into cells with Clipper (1 nm units), occ is linear on each cell and min(occ, t - occ)
-// is integrated piecewise. Exact up to floating point and that 1 nm rounding of the cells.
+// cut into cells with Clipper (1 pm units), occ is linear on each cell and min(occ, t - occ)
+// is integrated piecewise. Exact up to floating point and that 1 pm rounding of the cells.
 // A consequence worth knowing: away from folds the best region is exactly the mid-plane
 // section, so mid-plane slicing reaches the limit on every layer without folds.
 //

@@ -102,8 +102,8 @@ TEST_CASE("no_strategy_beats_the_volume_limit") {
         CAPTURE(geometry::contour_name(kind));
         const Region region = geometry::layer_contour(stack, i, kind);
         const geometry::LayerMetrics m = geometry::layer_metrics(reference, region);
-        // The region's vertices are on Clipper's 1 nm grid: ΔV may undercut by that much.
-        CHECK(m.volume_limit <= m.volume_deviation + 1e-6 * 0.4 * geometry::perimeter(region) + 1e-9);
+        // Both are exact up to Clipper's 1 pm grid.
+        CHECK(m.volume_limit <= m.volume_deviation + 1e-9 * 0.4 * geometry::perimeter(region) + 1e-12);
       }
     }
   }

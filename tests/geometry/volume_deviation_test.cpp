@@ -101,11 +101,11 @@ std::vector<Vec2> torus_profile(double major, double minor, int tube_segments, d
   return profile;
 }
 
-// Regions from Clipper have their vertices on the 1 nm grid, so they differ from the exact
-// sections by at most 0.71 nm along their boundary; ΔV moves by at most that times t times
-// the boundary's length. The metric itself is exact for the region it is given.
+// The one rounding in ΔV: the cap term intersects the region with the lower section on
+// Clipper's 1 pm grid, which moves their boundaries by at most 0.71 pm; ΔV moves by at most
+// that times t times the boundary's length.
 double rounding_bound(double t, const Region& region) {
-  return 1e-6 * t * geometry::perimeter(region) + 1e-12;
+  return 1e-9 * t * geometry::perimeter(region) + 1e-12;
 }
 
 double deviation_of(const LayerStack& stack, std::size_t layer, const Region& region) {

@@ -25,7 +25,7 @@ geometry::SlabColumns columns_of(const LayerStack& stack, std::size_t layer) {
 }
 
 double rounding_bound(double t, const Region& region) {
-  return 1e-6 * t * geometry::perimeter(region) + 1e-12;
+  return 1e-9 * t * geometry::perimeter(region) + 1e-12;
 }
 
 // Exact ∫_0^H psi(h) dh for psi piecewise linear in h (trapezoids between all its kinks).
@@ -82,7 +82,7 @@ TEST_CASE("folded_slab_limit_matches_closed_form") {
               kinks.end());
   const double exact = 2 * L * (W / H) * integrate_piecewise_linear(psi, kinks);
   const geometry::SlabColumns columns = columns_of(stack, 1);
-  CHECK(geometry::volume_limit(columns) == doctest::Approx(exact).epsilon(1e-6));
+  CHECK(geometry::volume_limit(columns) == doctest::Approx(exact).epsilon(1e-9));
   // Here the mid-plane section is not the best region: the fold costs it.
   CHECK(geometry::volume_deviation(columns, stack.mid(1)) > exact * (1 + 1e-3));
 }
