@@ -397,6 +397,11 @@ ClipperLib::Paths grown(const ClipperLib::Path& filled, double delta) {
 // the hole grown by that much, and the outline shrunk by it inside the hole.
 bool is_wall(const BoundaryPair& pair) {
   if (pair.inner.size() != 1) return false;
+  // First the cheap test that rejects nearly every real strip: a wall's ring is on average
+  // two margins wide (its area over its mean perimeter).
+  const double mean_length = 0.5 * (perimeter(pair.outer) + perimeter(pair.inner[0]));
+  const double ring_area = signed_area(pair.outer) + signed_area(pair.inner[0]);
+  if (!(mean_length > 0) || ring_area > 3 * kFootprintMargin * mean_length) return false;
   const double reach = 4 * kFootprintMargin * kClipperScale;
   const ClipperLib::Path outline = to_clipper(pair.outer);
   ClipperLib::Path hole = to_clipper(pair.inner[0]);

@@ -83,19 +83,36 @@ int main(int argc, char** argv) {
   const double sequential = seconds_since(start);
   const double cpu = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
 
+  // The same split into its stages, as `analyze` runs it (slab and footprint are shared
+  // with the metrics there): CPU seconds.
+  double slab_cpu = 0, footprint_cpu = 0, contour_cpu = 0;
+  for (std::size_t i = 0; i < stack.size(); ++i) {
+    std::clock_t t = std::clock();
+    const Slab slab = slab_of(stack, i);
+    slab_cpu += static_cast<double>(std::clock() - t) / CLOCKS_PER_SEC;
+    t = std::clock();
+    const Region footprint = slab_footprint(slab);
+    footprint_cpu += static_cast<double>(std::clock() - t) / CLOCKS_PER_SEC;
+    t = std::clock();
+    const Region contour = ma_contour(
+        slab, footprint, [&stack](double z) { return stack.cross_section(z); }, options);
+    contour_cpu += static_cast<double>(std::clock() - t) / CLOCKS_PER_SEC;
+  }
+
   start = Clock::now();
   std::vector<Region> parallel(stack.size());
   tbb::parallel_for(std::size_t{0}, stack.size(),
                     [&](std::size_t i) { parallel[i] = ma_contour(stack, i, options); });
   const double wall = seconds_since(start);
 
-  std::size_t samples = 0, max_samples = 0, islands = 0, caps = 0, loops = 0, empty = 0;
+  std::size_t samples = 0, max_samples = 0, islands = 0, caps = 0, walls = 0, loops = 0, empty = 0;
   std::size_t differing = 0, slowest = 0;
   for (std::size_t i = 0; i < stack.size(); ++i) {
     samples += stats[i].samples;
     max_samples = std::max(max_samples, stats[i].samples);
     islands += stats[i].islands;
     caps += stats[i].caps;
+    walls += stats[i].walls;
     loops += contours[i].loops.size();
     if (contours[i].loops.empty()) ++empty;
     if (times[i] > times[slowest]) slowest = i;
@@ -115,8 +132,10 @@ int main(int argc, char** argv) {
               times[slowest] * 1e3, slowest, stats[slowest].samples, mean * 1e3);
   std::printf("total: %.3f s sequential (%.3f s CPU), %.3f s wall with TBB (%zu layers)\n",
               sequential, cpu, wall, stack.size());
-  std::printf("samples: %zu total, %zu max per layer; islands %zu, caps %zu\n", samples,
-              max_samples, islands, caps);
+  std::printf("stages (CPU): slab %.3f s, footprint %.3f s, contour from footprint %.3f s\n",
+              slab_cpu, footprint_cpu, contour_cpu);
+  std::printf("samples: %zu total, %zu max per layer; islands %zu, caps %zu, walls %zu\n",
+              samples, max_samples, islands, caps, walls);
   std::printf("contours: %zu loops, %zu empty layers, %zu layers differ sequential vs parallel\n",
               loops, empty, differing);
   if (errors) {
