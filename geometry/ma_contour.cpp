@@ -2,8 +2,12 @@
 //
 // Per layer: slab -> footprint -> boundary pairs (slab.h, boundary_pair.h); for each pair the
 // free faces beside its loops are labelled solid or empty from the mid cross-section; then
-//   1. sampling: every loop vertex, plus points on longer edges every `spacing` mm;
-//   2. CGAL Delaunay_triangulation_2 (Epick) of the island's samples;
+//   1. sampling: every loop vertex, plus points on longer edges every `spacing` mm (capped
+//      at max_points per island);
+//   2. CGAL's Delaunay triangulation (Epick) of the island's samples, inserted in Hilbert
+//      order, with the loops' edges as constraints (Constrained_Delaunay_triangulation_2:
+//      where a strip is wider than the spacing it is the plain Delaunay triangulation; where
+//      it is thinner the constraints keep its edges from jumping across the other loop);
 //   3. Observation 3.3.1: the Voronoi edges whose dual Delaunay edge joins a sample of a solid
 //      loop to one of an empty loop. With two labels every Delaunay triangle has 0 or 2 such
 //      edges, so the kept edges chain into closed loops, one per triangle strip, never
@@ -17,6 +21,8 @@
 //      locally: where the middle of a contour edge is off the medial axis by more than
 //      kFairingTolerance, a new vertex is put on the axis there, recursively;
 //   5. Clipper unions all loops (positive winding) into a valid Region.
+// A vertical wall's strip (lower contour = upper contour: a ring a few margins wide) gives the
+// mid section inside it, that very contour, without a triangulation.
 // Caps (a feature beginning or ending inside the slab: an island whose free faces are all
 // solid or all empty) have a medial-axis tree, not a loop. Their contour is the cross-section
 // at the layer's middle inside the island, which for a cap is the least volume deviation
