@@ -12,14 +12,14 @@
 // strictly inside the slab stay.
 //
 // slab_footprint: the union of the facets' projections to XY, the region the model's surface
-// covers inside the slab, which the boundary pair bounds (boundary_pair.h). Each projection is
-// grown by `margin` (Minkowski sum with an octagon circumscribing the disc of that radius)
-// before the union, so the footprint is the set of points within about `margin` of the
-// surface's projection. The margin is not optional: a vertical wall projects to a segment of
-// zero area, and the raw union pinches wherever lower and upper contours touch (DESIGN.md §6:
-// 68 398 pieces over the bunny, no rings). With it a vertical wall is a ring 2 * margin wide
-// whose medial axis is the wall, and every point just outside the footprint is at least
-// `margin` from the surface, so which side is solid can be read there (ma_contour.cpp).
+// covers inside the slab, which the boundary pair bounds (boundary_pair.h), grown by `margin`
+// (a mitred offset: every point within `margin` of the projection is in, none much farther).
+// The margin is not optional: a vertical wall projects to a segment of zero area, and the raw
+// union pinches wherever lower and upper contours touch (DESIGN.md §6: 68 398 pieces over
+// the bunny, no rings). With it a vertical wall is a ring 2 * margin wide round the wall, and
+// every point just outside the footprint is at least `margin` from the surface, so which side
+// is solid can be read there (boundary_pair.h). Facets thinner than 10 nm across in
+// projection count as seen edge-on. Bunny, 334 layers: 452 islands, 450 holes.
 // Empty slab: empty footprint. The result is a valid Region (outer loops CCW, holes CW).
 #pragma once
 
