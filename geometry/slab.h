@@ -19,7 +19,7 @@
 // the bunny, no rings). With it a vertical wall is a ring 2 * margin wide round the wall, and
 // every point just outside the footprint is at least `margin` from the surface, so which side
 // is solid can be read there (boundary_pair.h). Facets thinner than 10 nm across in
-// projection count as seen edge-on. Bunny, 334 layers: 452 islands, 450 holes.
+// projection count as seen edge-on. Bunny, 334 layers at 0.15 mm: 452 islands, 449 holes.
 // Empty slab: empty footprint. The result is a valid Region (outer loops CCW, holes CW).
 #pragma once
 
