@@ -355,7 +355,7 @@ void run_analyze(const AnalyzeOptions& options) {
     for (std::size_t i = 0; i < layers.size(); ++i) {
       for (const geometry::StrategyLayer& s : layers[i].strategies) {
         const auto& m = s.metrics;
-        out << fmt::format("{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.9g},{:.9g},{:.6f},{:.6f},{:.6f},{},{:.3f}\n",
+        out << fmt::format("{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.12g},{:.12g},{:.6f},{:.6f},{:.6f},{},{:.3f}\n",
                            i, name_of(s.kind), m.z_lo, m.thickness, s.height, m.area,
                            m.volume_deviation, m.volume_limit, m.distance, m.reverse_distance,
                            m.hausdorff, m.missed_features, 1e3 * s.contour_seconds);
