@@ -244,6 +244,24 @@ Series per_layer_series(const std::vector<LayerAnalysis>& layers, std::size_t k,
   return series;
 }
 
+// A few layers can be far off the rest (the bunny's hole-filled base: D up to 18 mm against
+// 0.2 mm elsewhere) and squash every other point onto the axis: the y axis then stops at 1.5
+// times the 98th percentile and the title says how many points it leaves out.
+void fit_y_axis(Chart& chart) {
+  std::vector<double> values;
+  for (const Series& s : chart.series)
+    for (double y : s.y)
+      if (std::isfinite(y)) values.push_back(y);
+  if (values.size() < 50) return;
+  std::sort(values.begin(), values.end());
+  const double cap = 1.5 * values[values.size() * 98 / 100];
+  const auto above = static_cast<std::size_t>(
+      values.end() - std::upper_bound(values.begin(), values.end(), cap));
+  if (above == 0 || !(cap > 0)) return;
+  chart.y_max = cap;
+  chart.title += fmt::format(" ({} point{} above {:.3g} not shown)", above, above == 1 ? "" : "s", cap);
+}
+
 void draw_layer(const geometry::LayerStack& stack, std::size_t index,
                 const std::vector<ContourKind>& kinds, const std::string& path) {
   geometry::AnalysisOptions options;
@@ -394,6 +412,7 @@ void run_analyze(const AnalyzeOptions& options) {
       const std::string path = (std::filesystem::path(options.plots) /
                                 fmt::format("distance-lower-{:g}-vs-ma-{:g}.svg", options.layer, t))
                                    .string();
+      fit_y_axis(chart);
       write_chart_svg(path, chart);
       fmt::print("wrote {}\n", path);
     }
@@ -417,6 +436,8 @@ void run_analyze(const AnalyzeOptions& options) {
       limit.y.push_back(layer.strategies[0].metrics.volume_limit);
     }
     volume.series.push_back(limit);
+    fit_y_axis(all);
+    fit_y_axis(volume);
     write_chart_svg(path_of("distance.svg"), all);
     write_chart_svg(path_of("volume.svg"), volume);
     fmt::print("wrote {}, {}\n", path_of("distance.svg"), path_of("volume.svg"));
@@ -429,6 +450,7 @@ void run_analyze(const AnalyzeOptions& options) {
       pair.series.push_back(per_layer_series(layers, static_cast<std::size_t>(base), true, name_of(kinds[base])));
       pair.series.push_back(per_layer_series(layers, static_cast<std::size_t>(ma), true, "ma"));
       const std::string path = path_of(fmt::format("distance-{}-vs-ma.svg", name_of(kinds[base])));
+      fit_y_axis(pair);
       write_chart_svg(path, pair);
       fmt::print("wrote {}\n", path);
     }

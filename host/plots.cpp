@@ -143,6 +143,7 @@ std::string chart_script(const std::string& path, const Chart& chart) {
   s += fmt::format("set xlabel {} noenhanced\nset ylabel {} noenhanced\n", quoted(chart.x_label),
                    quoted(chart.y_label));
   s += "set grid\nset key outside right top noenhanced\nset datafile missing 'NaN'\n";
+  if (chart.y_max > 0) s += fmt::format("set yrange [0:{}]\n", number(chart.y_max));
   for (std::size_t i = 0; i < chart.series.size(); ++i) {
     s += fmt::format("$series{} << EOD\n", i);
     const Series& series = chart.series[i];

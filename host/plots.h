@@ -25,6 +25,7 @@ struct Series {
 struct Chart {
   std::string title, x_label, y_label;
   std::vector<Series> series;
+  double y_max = 0;  // > 0: the y axis runs from 0 to this (points above are left out)
 };
 
 // A line chart or scatter plot of the series, 900 x 500 px.
