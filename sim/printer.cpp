@@ -1032,7 +1032,11 @@ struct Printer::Firmware {
     }
     if (state == PrinterState::halted) return next;
     if (!emergencies.empty()) consider(emergencies.front().at);
-    if (!queue_full() && state == PrinterState::running) consider(next_line_end());
+    if (!queue_full() && state == PrinterState::running) {
+      // Bytes just received are due now (settle() has read everything that came before).
+      const double line_end = std::max(next_line_end(), now);
+      if (line_end < next) next = line_end;
+    }
     if (executing) {
       consider(done_at);
       consider(next_busy);
@@ -1051,7 +1055,7 @@ struct Printer::Firmware {
       settle();
       if (stop_on_output && output_ready()) return true;
       const double next = next_event();
-      if (next > until) {
+      if (next > until || next == kInfinity) {
         advance_clock(until);
         settle();
         return output_ready();
@@ -1093,7 +1097,8 @@ double Printer::next_event_time() const {
 PrinterState Printer::state() const { return firmware_->state; }
 bool Printer::idle() const {
   const Firmware& f = *firmware_;
-  return !f.executing && f.queue.empty() && f.rx.empty() && f.wire.empty();
+  return !f.executing && f.queue.empty() && f.rx.empty() && f.emergencies.empty() &&
+         f.next_line_end() == std::numeric_limits<double>::infinity();
 }
 const std::string& Printer::stop_reason() const { return firmware_->stop_reason; }
 const std::vector<std::string>& Printer::executed_commands() const { return firmware_->log; }

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <string>
 
+#include "printer/print_time.h"
 #include "sim/printer.h"
 
 namespace {
@@ -14,7 +15,7 @@ namespace {
 struct Bench {
   sim::Printer printer;
   explicit Bench(sim::Config config = {}) : printer(std::move(config)) {
-    printer.run_until(1e-3);
+    printer.run_until(0.5);
     printer.take_output();
   }
   // Sends bytes, lets `seconds` of sim time pass, returns what the firmware said.
@@ -321,4 +322,89 @@ TEST_CASE("g28_homes_through_the_motion_model_and_reports_position") {
         "echo:busy: processing\necho:busy: processing\necho:busy: processing\n");
   CHECK(bench.send("", 2e-6) == "X:0.00 Y:0.00 Z:0.00 E:0.00 Count X:0 Y:0 Z:0\nok\n");
   (void)start;
+}
+
+TEST_CASE("host_that_ignores_ok_overflows_the_rx_buffer_and_bytes_are_lost") {
+  // 40 dwells of 8 bytes at once: one runs and three wait (BUFSIZE 4), 128 bytes (16 lines)
+  // wait in the RX buffer, the other 20 lines (160 bytes) are lost, as on Marlin.
+  Bench bench;
+  std::string flood;
+  for (int i = 0; i < 40; ++i) flood += "G4 P100\n";
+  bench.send(flood, 10);
+  const sim::Counters& n = bench.printer.counters();
+  CHECK(n.overflows == 1);
+  CHECK(n.overflow_bytes == 160);
+  CHECK(bench.printer.executed_commands().size() == 20);
+}
+
+TEST_CASE("line_error_discards_what_waits_in_the_rx_buffer") {
+  // The queue is full (a dwell and three more), so the next lines wait in the RX buffer;
+  // the bad line's error empties it, as gcode_line_error does, and asks for line 1 again.
+  Bench bench;
+  CHECK(bench.send("G4 S1\nG4 S1\nG4 S1\nG4 S1\nN1 M105*0\nM114\nM114\n", 5) ==
+        "ok\nError:checksum mismatch, Last Line: 0\nResend: 1\nok\nok\nok\nok\n");
+  CHECK(bench.printer.executed_commands().size() == 4);
+}
+
+TEST_CASE("baud_rate_paces_bytes_both_ways_at_ten_bits_a_byte") {
+  sim::Config config;
+  config.baud = 115200;
+  Bench bench(config);
+  const double sent = bench.printer.now();
+  bench.printer.receive("M105\n");  // 5 bytes in, 40 bytes back
+  REQUIRE(bench.printer.run_until_output(sent + 1));
+  CHECK(bench.printer.now() - sent == doctest::Approx((5 + 40) * 10 / 115200.0));
+  CHECK(bench.printer.take_output() == "ok T:20.00 /0.00 B:20.00 /0.00 @:0 B@:0\n");
+}
+
+TEST_CASE("g90_resets_m83_as_marlin_does") {
+  // Marlin's G90 clears the E mode set by M83: E is absolute again.
+  Bench bench;
+  bench.send("G92 E0\nM83\nG1 X1 E1 F600\nG1 X2 E1\nG90\nG1 X3 E2\nG1 X4 E2\n", 5);
+  const auto& moves = bench.printer.deposition().moves;
+  CHECK(moves.size() == 2);  // with E still relative, X3 and X4 would extrude 2 mm each
+  CHECK(bench.printer.position().e == 2);
+}
+
+TEST_CASE("relative_moves_feedrate_and_speed_and_flow_factors") {
+  Bench bench;
+  bench.send("G92 X10 Y10 Z0.2 E0\nG91\nG1 X5 E1 F1200\nM220 S50\nM221 S90\nG1 Y5 E1\n", 5);
+  const auto& moves = bench.printer.deposition().moves;
+  REQUIRE(moves.size() == 2);
+  CHECK(moves[0].start.x == 10);
+  CHECK(moves[0].end.x == 15);
+  CHECK(moves[0].feedrate == 20);
+  CHECK(moves[0].e == 1);
+  CHECK(moves[1].end.y == 15);
+  CHECK(moves[1].feedrate == 10);         // M220 S50 halves 20 mm/s
+  CHECK(moves[1].e == doctest::Approx(0.9));  // M221 S90
+  CHECK(bench.printer.position().e == 2);  // the commanded E, as M114 reports it
+}
+
+TEST_CASE("sim_clock_agrees_with_the_print_time_estimate") {
+  // The same program through the firmware and through the estimate (printer/print_time.h):
+  // one motion model, so the motion time is the same to rounding.
+  std::string program = "G92 X0 Y0 Z0.2 E0\nM83\n";
+  for (int i = 0; i < 300; ++i) {
+    program += "G1 X" + std::to_string(20 + (i * 7) % 60) + " Y" + std::to_string(20 + (i * 13) % 50) +
+               " E0.4 F" + std::to_string(1200 + 300 * (i % 5)) + "\n";
+    if (i % 50 == 49) program += "M400\nG4 P200\n";
+  }
+  // Fed line by line, as a host waiting for each ok would (all at once would overflow).
+  sim::Printer fed;
+  fed.run_until(1e-3);
+  std::size_t start = 0;
+  while (start < program.size()) {
+    const std::size_t end = program.find('\n', start);
+    fed.receive(std::string_view(program).substr(start, end + 1 - start));
+    while (!fed.idle()) fed.run_until(fed.next_event_time());
+    start = end + 1;
+  }
+  fed.finish();
+  CHECK(fed.executed_commands().size() == 2 + 300 + 12);
+  const double estimate = printer::estimate_print_time(program, printer::MotionLimits{});
+  CHECK(fed.motion_time() == doctest::Approx(estimate - 6 * 0.2).epsilon(1e-9));
+  // The clock: the host keeps the planner fed, so the moves run back to back from the first
+  // one (at 1 ms) but for the five dwells between them (the sixth ends the program).
+  CHECK(fed.motion_end_time() == doctest::Approx(1e-3 + fed.motion_time() + 5 * 0.2).epsilon(1e-12));
 }
