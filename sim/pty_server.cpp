@@ -27,17 +27,58 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// No pacing of its own for the firmware: on the pty the wall clock paces the bytes.
-Config for_pty(Config config) {
-  config.baud = 0;
-  config.time_scale = 0;
+// The firmware spaces bytes at the baud rate on its own clock (so a burst read from the
+// kernel arrives byte by byte, as over a UART); the server paces them on the wall clock.
+Config for_pty(Config config, const PtyOptions& options) {
+  config.baud = options.baud;
+  config.time_scale = 0;  // SimLink's pacing; the server follows the wall clock itself
   return config;
 }
+
+// What a UART at `rate` bytes/s can have moved: time for bytes starts when there is something
+// to move (an idle line saves nothing up), so over any stretch no more than rate x its length
+// goes through; `burst` bounds how far a late wake-up may catch up.
+class ByteBudget {
+ public:
+  using Time = std::chrono::steady_clock::time_point;
+  ByteBudget(double rate, double burst) : rate_(rate), burst_(burst) {}
+  bool limited() const { return rate_ > 0; }
+  bool idle() const { return idle_; }
+  // There are bytes to move from `now` on.
+  void demand(Time now) {
+    if (!idle_) return;
+    idle_ = false;
+    last_ = now;
+    tokens_ = 0;
+  }
+  void go_idle() { idle_ = true; }
+  void refill(Time now) {
+    if (idle_) return;
+    const double dt = std::chrono::duration<double>(now - last_).count();
+    tokens_ = std::min(burst_, tokens_ + std::max(dt, 0.0) * rate_);
+    last_ = now;
+  }
+  std::size_t allowed(std::size_t wanted) const {
+    if (!limited()) return wanted;
+    return idle_ || tokens_ < 1 ? 0 : std::min(wanted, static_cast<std::size_t>(tokens_));
+  }
+  void spend(std::size_t bytes) {
+    if (limited()) tokens_ -= static_cast<double>(bytes);
+  }
+  // Seconds until one byte may move (0 when unlimited or idle).
+  double wait() const { return !limited() || idle_ || tokens_ >= 1 ? 0.0 : (1 - tokens_) / rate_; }
+
+ private:
+  double rate_, burst_;
+  double tokens_ = 0;
+  bool idle_ = true;
+  Time last_{};
+};
 
 }  // namespace
 
 PtyServer::PtyServer(Config config, PtyOptions options)
-    : printer_(for_pty(std::move(config))), options_(options) {
+    : printer_(for_pty(std::move(config), options)), options_(options) {
   int slave = -1;
   char name[256] = {};
   if (openpty(&master_, &slave, name, nullptr, nullptr) != 0) {
@@ -70,14 +111,14 @@ void PtyServer::serve(const std::atomic<bool>& stop) {
   constexpr double kInfinity = std::numeric_limits<double>::infinity();
   const bool max_speed = options_.time_scale <= 0;
   const double byte_rate = options_.baud > 0 ? options_.baud / 10 : 0;  // bytes/s
+  // A late wake-up catches up at most 10 ms of bytes.
+  const double burst = std::max(1.0, byte_rate * 0.01);
+  ByteBudget budget_in(byte_rate, burst), budget_out(byte_rate, burst);
 
   bool open = false;  // a host has the port open
   // Sim clock = sim_base + (wall - wall_base) * scale while following the wall clock.
   Clock::time_point wall_base = Clock::now();
   double sim_base = printer_.now();
-  // Byte pacing: a budget that grows at byte_rate from when a host opened the port.
-  Clock::time_point pace_base = wall_base;
-  std::uint64_t bytes_in = 0, bytes_out = 0;
   std::string pending_out;
   char buffer[4096];
 
@@ -94,8 +135,9 @@ void PtyServer::serve(const std::atomic<bool>& stop) {
       ++opens_;
       // Align the clocks, then reset as a board does when DTR goes up.
       sim_base = printer_.now();
-      wall_base = pace_base = Clock::now();
-      bytes_in = bytes_out = 0;
+      wall_base = Clock::now();
+      budget_in.go_idle();
+      budget_out.go_idle();
       if (options_.reset_on_open) printer_.reset();
     }
 
@@ -110,15 +152,17 @@ void PtyServer::serve(const std::atomic<bool>& stop) {
 
     // 3. Bytes from the host, no faster than the UART would bring them.
     if (open) {
-      std::size_t allowed = sizeof buffer;
-      if (byte_rate > 0) {
-        const double budget = seconds_since(pace_base) * byte_rate - static_cast<double>(bytes_in);
-        allowed = budget < 1 ? 0 : std::min(sizeof buffer, static_cast<std::size_t>(budget));
+      if (budget_in.limited() && budget_in.idle()) {
+        pollfd ready{master_, POLLIN, 0};
+        if (poll(&ready, 1, 0) > 0 && (ready.revents & POLLIN)) budget_in.demand(Clock::now());
       }
+      budget_in.refill(Clock::now());
+      const std::size_t allowed = budget_in.allowed(sizeof buffer);
       if (allowed > 0) {
         const ssize_t n = read(master_, buffer, allowed);
+        if (n < static_cast<ssize_t>(allowed) && budget_in.limited()) budget_in.go_idle();
         if (n > 0) {
-          bytes_in += static_cast<std::uint64_t>(n);
+          budget_in.spend(static_cast<std::size_t>(n));
           printer_.receive(std::string_view(buffer, static_cast<std::size_t>(n)));
           printer_.run_until(printer_.now());
         }
@@ -145,16 +189,15 @@ void PtyServer::serve(const std::atomic<bool>& stop) {
     std::string said = printer_.take_output();
     if (open) pending_out += said;
     if (open && !pending_out.empty()) {
-      std::size_t allowed = pending_out.size();
-      if (byte_rate > 0) {
-        const double budget = seconds_since(pace_base) * byte_rate - static_cast<double>(bytes_out);
-        allowed = budget < 1 ? 0 : std::min(allowed, static_cast<std::size_t>(budget));
-      }
+      budget_out.demand(Clock::now());
+      budget_out.refill(Clock::now());
+      const std::size_t allowed = budget_out.allowed(pending_out.size());
       if (allowed > 0) {
         const ssize_t n = write(master_, pending_out.data(), allowed);
         if (n > 0) {
-          bytes_out += static_cast<std::uint64_t>(n);
+          budget_out.spend(static_cast<std::size_t>(n));
           pending_out.erase(0, static_cast<std::size_t>(n));
+          if (pending_out.empty()) budget_out.go_idle();
         }
       }
     }
@@ -168,21 +211,24 @@ void PtyServer::serve(const std::atomic<bool>& stop) {
       wait = std::min(wait, max_speed ? (printer_.idle() ? sim_wait : 0.0)
                                       : sim_wait / options_.time_scale);
     }
-    if (byte_rate > 0 && (!pending_out.empty())) wait = std::min(wait, 1 / byte_rate);
+    if (!pending_out.empty()) wait = std::min(wait, budget_out.wait());
     wait = std::max(wait, 0.0);
     if (!open) {
       usleep(static_cast<useconds_t>(wait * 1e6));
       continue;
     }
-    pollfd fds{master_, static_cast<short>(POLLIN | (pending_out.empty() ? 0 : POLLOUT)), 0};
-    if (byte_rate > 0) {
-      // Input that the budget does not allow yet must not wake us at once.
-      const double budget = seconds_since(pace_base) * byte_rate - static_cast<double>(bytes_in);
-      if (budget < 1) {
-        fds.events &= static_cast<short>(~POLLIN);
-        wait = std::min(wait, (1 - budget) / byte_rate);
-      }
+    // Wake for input or room to write only when the budgets allow moving a byte; otherwise
+    // sleep until they do.
+    budget_in.refill(Clock::now());
+    budget_out.refill(Clock::now());
+    short events = 0;
+    if (budget_in.wait() > 0) {
+      wait = std::min(wait, budget_in.wait());
+    } else {
+      events |= POLLIN;
     }
+    if (!pending_out.empty() && budget_out.wait() == 0) events |= POLLOUT;
+    pollfd fds{master_, events, 0};
     if (wait > 0) poll(&fds, 1, static_cast<int>(std::ceil(wait * 1000)));
   }
   printer_.finish();
