@@ -46,9 +46,7 @@ std::string progress_text(const printer::JobProgress& p) {
     text += p.layer > 0 ? fmt::format("layer {}/{}", p.layer, p.layers)
                         : fmt::format("start of {} layers", p.layers);
   }
-  const double percent =
-      p.commands_total ? 100.0 * static_cast<double>(p.commands_done) / static_cast<double>(p.commands_total) : 100.0;
-  text += fmt::format("  {:.1f}%  elapsed {}", percent, clock_text(p.elapsed));
+  text += fmt::format("  {:.1f}%  elapsed {}", 100.0 * p.fraction, clock_text(p.elapsed));
   if (p.remaining) text += fmt::format("  ETA {}", clock_text(*p.remaining));
   if (p.temperatures) {
     const auto& t = *p.temperatures;

@@ -1,5 +1,5 @@
-// The terminal side of a print job: a progress line (layer n/N, percent of lines, elapsed,
-// ETA, temperatures) redrawn in place on stderr, single keys on stdin (p pause, r resume,
+// The terminal side of a print job: a progress line (layer n/N counted from 1, percent of the
+// estimated print time, elapsed, ETA, temperatures) redrawn in place on stderr, single keys on stdin (p pause, r resume,
 // c cancel, ! emergency stop), and the job's events as lines.
 //
 // Keys are read only when stdin is a terminal (it is put in non-canonical mode and restored

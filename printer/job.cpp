@@ -33,7 +33,7 @@ std::string_view to_string(JobState state) {
 }
 
 Job::Job(LineProtocol& protocol, const GcodeFile& file, JobOptions options)
-    : protocol_(protocol), file_(file), options_(std::move(options)) {
+    : protocol_(protocol), file_(file), options_(std::move(options)), eta_(file, options_.motion) {
   layer_sequence_.assign(file_.layers.size(), -1);
   layer_state_.assign(file_.layers.size(), PrintState{});
   done_ = std::min(options_.first_command, file_.size());
@@ -68,17 +68,20 @@ JobProgress Job::progress() const {
   p.layer = layer_ + 1;
   const nanoseconds now = protocol_.link().now();
   p.elapsed = now - start_;
-  const nanoseconds printing = p.elapsed - paused_for_;
-  const std::size_t streamed = done_ - std::min(done_, options_.first_command);
-  const std::size_t left = file_.size() - done_;
-  if (streamed > 200 && printing.count() > 0) {
-    p.remaining = nanoseconds(static_cast<long long>(static_cast<double>(printing.count()) *
-                                                     static_cast<double>(left) /
-                                                     static_cast<double>(streamed)));
-  }
+  const double printing = std::chrono::duration<double>(printing_time(now)).count();
+  const double done_at = std::chrono::duration<double>(done_at_).count();
+  p.remaining = std::chrono::duration_cast<nanoseconds>(
+      std::chrono::duration<double>(eta_.remaining(done_, done_at, printing)));
+  p.fraction = eta_.fraction(done_);
   p.temperatures = protocol_.temperatures();
   if (pause_requested_) p.pause_before_layer = layer_ + 2;
   return p;
+}
+
+nanoseconds Job::printing_time(nanoseconds now) const {
+  nanoseconds paused = paused_for_;
+  if (paused_since_) paused += now - *paused_since_;
+  return now - start_ - paused;
 }
 
 void Job::event(const std::string& text) {
@@ -121,6 +124,10 @@ void Job::start_layer(int layer, std::size_t command) {
   layer_ = layer;
   layer_sequence_[static_cast<std::size_t>(layer)] = protocol_.commands_sent();
   layer_state_[static_cast<std::size_t>(layer)] = state_;
+  // The pace is measured from the second layer the job reaches: the heat-up, homing or
+  // recovery before the first are not in the model, and the printer's planner may still be
+  // running them when the first layer's commands are acknowledged.
+  if (layers_reached_++ > 0) eta_.arm_pace(command);
   write_journal_now("printing", layer, command, state_);
   const int counted = layer + 1;
   const bool planned = std::find(options_.pause_at_layers.begin(), options_.pause_at_layers.end(),
@@ -133,6 +140,7 @@ void Job::pause_here(int layer) {
   resume_requested_ = false;
   job_state_ = JobState::pausing;
   const nanoseconds began = protocol_.link().now();
+  paused_since_ = began;
   event(fmt::format("pausing before layer {}/{}: finishing the moves in the printer's queue",
                     layer + 1, file_.layers.size()));
   const PausePoint point = pause_print(protocol_, state_, options_.pause);
@@ -154,6 +162,7 @@ void Job::pause_here(int layer) {
   event("resuming: re-heating if needed, returning to the part");
   resume_print(protocol_, point, options_.pause);
   paused_for_ += protocol_.link().now() - began;
+  paused_since_.reset();
   ++pauses_;
   job_state_ = JobState::printing;
   write_journal_now("printing", layer, file_.layers[static_cast<std::size_t>(layer)].first_command,
@@ -195,10 +204,12 @@ JobResult Job::run() {
   start_ = protocol_.link().now();
   protocol_.on_wait = [this] { tick(); };
   JobResult result;
-  const std::string hint =
-      options_.journal_path.empty()
-          ? std::string()
-          : fmt::format("; to finish the part: mahost resume {} --port PORT", options_.journal_path);
+  std::string hint;
+  if (options_.resume_command) {
+    if (!options_.resume_command->empty()) hint = "; to finish the part: " + *options_.resume_command;
+  } else if (!options_.journal_path.empty()) {
+    hint = fmt::format("; to finish the part: mahost resume {} --port PORT", options_.journal_path);
+  }
   try {
     if (options_.recover_from) {
       const int layer = file_.layer_index_of(done_);
@@ -218,6 +229,8 @@ JobResult Job::run() {
       protocol_.send(command);
       apply(state_, command);
       done_ = i + 1;
+      done_at_ = printing_time(protocol_.link().now());
+      eta_.command_done(done_, std::chrono::duration<double>(done_at_).count());
     }
     if (cancel_requested_) {
       cancel_here();

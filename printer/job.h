@@ -19,7 +19,9 @@
 #include "printer/gcode_file.h"
 #include "printer/journal.h"
 #include "printer/line_protocol.h"
+#include "printer/motion_model.h"
 #include "printer/pause.h"
+#include "printer/print_eta.h"
 #include "printer/print_state.h"
 
 namespace printer {
@@ -33,7 +35,10 @@ struct JobProgress {
   std::size_t commands_done = 0, commands_total = 0;  // of the file
   int layer = 0, layers = 0;       // layer being printed counted from 1; 0 before the first
   std::chrono::nanoseconds elapsed{0};                 // since the job started (link clock)
-  std::optional<std::chrono::nanoseconds> remaining;   // estimate, printing time only
+  // The motion model's time left for the file, scaled by the pace kept so far (print_eta.h);
+  // heating and pauses to come are not in it.
+  std::optional<std::chrono::nanoseconds> remaining;
+  double fraction = 0;             // share of the file's modelled print time done, 0..1
   std::optional<Temperatures> temperatures;
   int pause_before_layer = 0;      // a requested pause waits for this layer (from 1), 0: none
 };
@@ -44,6 +49,10 @@ struct JobOptions {
   std::string journal_path;          // "" keeps no journal
   bool journal_durable = true;       // fsync each record (a dry run need not)
   JournalRecord journal;             // job, G-code path and hash, port, baud: copied into it
+  // What a failure's message tells the user to run to finish the part; unset: "mahost resume
+  // <journal> --port PORT"; empty: nothing (a journal that will not outlive the job).
+  std::optional<std::string> resume_command;
+  MotionLimits motion;               // the printer's, for the remaining time (print_eta.h)
   // A resume: start at this command with the printer first brought back onto the part.
   std::size_t first_command = 0;
   std::optional<PrintState> recover_from;  // state at first_command; set = run recover_print
@@ -68,6 +77,8 @@ class Job {
   void request(JobRequest request);
   JobProgress progress() const;
   const std::string& journal_path() const { return options_.journal_path; }
+  // The motion model's time for the whole file (its print-time estimate), s.
+  double estimated_seconds() const { return eta_.total(); }
 
   // Called while the job streams and waits, about every 100 ms of link time: the UI draws
   // and reads keys, the control socket answers; either may call request().
@@ -89,6 +100,8 @@ class Job {
                          const PrintState& at, const std::string& reason = {});
   void event(const std::string& text);
   int resume_layer_after_failure() const;
+  // Link time since the job started, less the time spent pausing or paused.
+  std::chrono::nanoseconds printing_time(std::chrono::nanoseconds now) const;
 
   LineProtocol& protocol_;
   const GcodeFile& file_;
@@ -103,6 +116,10 @@ class Job {
   bool cancel_requested_ = false, stop_requested_ = false, stop_sent_ = false;
   bool break_sent_ = false;
   std::chrono::nanoseconds start_{0}, paused_for_{0}, last_tick_{-1};
+  std::optional<std::chrono::nanoseconds> paused_since_;  // set while pausing or paused
+  std::chrono::nanoseconds done_at_{0};  // printing time when done_ last grew
+  int layers_reached_ = 0;
+  PrintEta eta_;
   int pauses_ = 0;
 };
 

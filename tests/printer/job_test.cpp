@@ -3,6 +3,7 @@
 #include "printer/job.h"
 
 #include <filesystem>
+#include <optional>
 
 #include <doctest/doctest.h>
 
@@ -265,4 +266,32 @@ TEST_CASE("disconnect_then_resume_reprints_only_the_interrupted_layer") {
   CHECK(same_moves(head, reference_head));
   CHECK(same_moves(tail, reference_tail));
   CHECK(before - layer_start < 61);  // less than one layer was printed twice
+}
+
+TEST_CASE("pause_at_layer_n_pauses_before_the_files_layer_n_minus_1") {
+  // Users count layers from 1 (the progress line's "layer n/N", --pause-at-layer); the file's
+  // ;LAYER:n comments count from 0.
+  const GcodeFile file = parse_gcode(test_support::ring_program(5, 10), "ring.gcode");
+  REQUIRE(file.layers[2].number == 2);
+  JobOptions options;
+  options.pause_at_layers = {3};
+  std::vector<std::string> events;
+  std::optional<JobProgress> at_pause;
+  sim::SimLink link{sim::Config{}};
+  LineProtocol protocol(link);
+  protocol.connect();
+  Job job(protocol, file, options);
+  job.on_event = [&](const std::string& e) { events.push_back(e); };
+  job.on_tick = [&](Job& j) {
+    if (j.progress().state != JobState::paused) return;
+    if (!at_pause) at_pause = j.progress();
+    j.request(JobRequest::resume);
+  };
+  CHECK(job.run().pauses == 1);
+  REQUIRE(at_pause);
+  CHECK(at_pause->layer == 3);
+  CHECK(at_pause->layers == 5);
+  CHECK(at_pause->commands_done == file.layers[2].first_command);
+  REQUIRE(!events.empty());
+  CHECK(events.front().starts_with("pausing before layer 3/5:"));
 }
