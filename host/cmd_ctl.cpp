@@ -3,6 +3,7 @@
 // --job, the user's one running job is found in the job directory.
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -45,9 +46,54 @@ std::string socket_for(const std::string& job) {
   return (fs::path(printer::job_directory()) / (job + ".sock")).string();
 }
 
+// The journal beside a control socket, if there is one to read.
+std::optional<printer::JournalRecord> journal_beside(const std::string& socket) {
+  const std::string journal = fs::path(socket).replace_extension(".journal").string();
+  std::error_code error;
+  if (!fs::exists(journal, error)) return std::nullopt;
+  try {
+    return printer::read_journal(journal);
+  } catch (const printer::ConfigError&) {
+    return std::nullopt;
+  }
+}
+
+// A job that no longer answers: what its journal says, for `status`, or why the action cannot
+// be done.
+void report_ended_job(const CtlOptions& options, const std::string& socket,
+                      const printer::JournalRecord& record) {
+  const std::string journal = fs::path(socket).replace_extension(".journal").string();
+  std::string what;
+  if (record.state == "completed") {
+    what = fmt::format("completed, {} layers (journal updated {})", record.layers, record.updated);
+  } else {
+    const bool interrupted = record.state == "printing" || record.state == "paused";
+    what = fmt::format("{} at layer {}/{} (journal updated {}){}; mahost resume {} --port PORT "
+                       "finishes it",
+                       interrupted ? "not running: interrupted" : record.state,
+                       record.layer_index + 1, record.layers, record.updated,
+                       record.reason.empty() ? "" : ": " + record.reason, journal);
+  }
+  if (options.action == "status") {
+    fmt::print("{}\n", what);
+    return;
+  }
+  throw CommandExit{kExitBadInput, fmt::format("{}: the job is not running: {}",
+                                               fs::path(socket).stem().string(), what)};
+}
+
 void run_ctl(const CtlOptions& options) {
   const std::string socket = socket_for(options.job);
-  const std::string reply = send_control(socket, options.action);
+  std::string reply;
+  try {
+    reply = send_control(socket, options.action);
+  } catch (const printer::LinkError&) {
+    if (const auto record = journal_beside(socket)) {
+      report_ended_job(options, socket, *record);
+      return;
+    }
+    throw;
+  }
   if (reply.starts_with("ok")) {
     fmt::print("{}\n", reply.size() > 3 ? reply.substr(3) : std::string("done"));
     return;
@@ -60,11 +106,18 @@ void run_ctl(const CtlOptions& options) {
 
 void add_ctl_command(CLI::App& app) {
   auto options = std::make_shared<CtlOptions>();
-  auto* ctl = app.add_subcommand("ctl", "pause, resume, cancel, stop or ask the status of a running print");
+  auto* ctl = app.add_subcommand("ctl", "Pause, resume, cancel or stop a running print");
+  ctl->footer(
+      "pause waits for the next layer start; cancel lets the lines in flight finish, then "
+      "turns the heaters off, lifts, parks and turns the motors off; stop is an emergency "
+      "stop (M112). status prints the job's progress line, or what the journal of a job that "
+      "ended says.");
   ctl->add_option("ACTION", options->action, "pause, resume, cancel, stop or status")
       ->required()
       ->check(CLI::IsMember({"pause", "resume", "cancel", "stop", "status"}));
-  ctl->add_option("--job", options->job, "the job: its name, journal or socket (default: the one running)");
+  ctl->add_option("--job", options->job,
+                  "the job: its name, journal or control socket (default: the one job running "
+                  "in $XDG_RUNTIME_DIR/mahost)");
   ctl->callback([options] { run_ctl(*options); });
 }
 

@@ -52,14 +52,16 @@ void run_info(const InfoOptions& options) {
 
 void add_info_command(CLI::App& app) {
   auto options = std::make_shared<InfoOptions>();
-  CLI::App* info = app.add_subcommand(
-      "info",
-      "Read, repair and place a model and print its triangles, vertices, bounding box, "
-      "volume, surface area, open edges before/after repair, the repairs done and whether it "
-      "is watertight. Exit code 2 for a file that cannot be printed.");
+  CLI::App* info = app.add_subcommand("info", "Show a model's size, volume and repairs");
+  info->footer(
+      "Reads, repairs and places the model as slice and print do, then prints its triangles, "
+      "vertices, bounding box, volume, surface area, open edges before and after repair, the "
+      "repairs done and whether it is watertight. Exit code 2 for a file that cannot be "
+      "printed.");
   add_model_options(*info, options->model);
   info->add_option("--export", options->export_path,
-                   "write the placed, repaired mesh to this file as binary STL");
+                   "write the placed, repaired mesh to this file as binary STL, mm (default: "
+                   "none)");
   info->callback([options] { run_info(*options); });
 }
 

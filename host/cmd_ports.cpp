@@ -9,7 +9,9 @@
 namespace host {
 
 void add_ports_command(CLI::App& app) {
-  auto* ports = app.add_subcommand("ports", "list the serial ports a printer may be on");
+  auto* ports = app.add_subcommand("ports", "List the serial ports a printer may be on");
+  ports->footer("Each port with its USB description, vendor and product ids; give one to "
+                "mahost print --port.");
   ports->callback([] {
     const auto found = printer::list_serial_ports();
     if (found.empty()) {

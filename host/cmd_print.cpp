@@ -1,10 +1,16 @@
 // `mahost print MODEL.stl|FILE.gcode (--port P [--baud B] | --dry-run) ...` and
 // `mahost resume JOURNAL (--port P | --dry-run)`: a print job from the command line, with
 // the terminal UI, the control socket for `mahost ctl`, and the journal for `mahost resume`.
-// An STL is sliced first by `mahost slice` with the slice options given here.
+// An STL is sliced first, in this process, by the slice pipeline (host/slice_pipeline.h) with
+// the same options as `mahost slice`.
+//
+// The files of a job: its journal, control socket and (for an STL) sliced G-code, in the job
+// directory (printer::job_directory()). A dry run removes what it made when it ends, however
+// it ends; a print removes them once it completes and keeps them otherwise, for `mahost
+// resume`. --keep keeps them; a journal named with --journal is kept (it says "completed"),
+// with the G-code it names; -o keeps the sliced G-code there.
+#include <malloc.h>
 #include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -23,25 +29,32 @@
 #include "host/commands.h"
 #include "host/control_socket.h"
 #include "host/print_ui.h"
+#include "host/slice_pipeline.h"
+#include "printer/bead_model.h"
 #include "printer/error.h"
 #include "printer/gcode_file.h"
+#include "printer/gcode_writer.h"
 #include "printer/job.h"
 #include "printer/journal.h"
 #include "printer/line_protocol.h"
+#include "printer/profile.h"
 #include "printer/serial_link.h"
 #include "sim/faults.h"
 #include "sim/sim_link.h"
-
-extern char** environ;
 
 namespace host {
 namespace {
 
 namespace fs = std::filesystem;
 
+constexpr const char* kLinkGroup = "Printer link";
+constexpr const char* kDryRunGroup = "Dry run (the in-process simulated printer)";
+constexpr const char* kJobGroup = "Job";
+constexpr const char* kSliceGroup = "Slicing (an STL model; see mahost slice --help)";
+
 struct LinkOptions {
   std::string port;
-  int baud = 115200;
+  int baud = 0;                // bit/s; 0: the printer profile's (print) or the journal's (resume)
   bool dry_run = false;
   std::string faults;          // dry run only: the simulated printer's faults
   bool advanced_ok = false;    // dry run only: the simulated firmware reports buffer space
@@ -55,9 +68,11 @@ struct PrintOptions {
   std::string input;
   LinkOptions link;
   std::vector<int> pause_at;
-  std::string journal;
-  // Passed to `mahost slice` for an STL.
-  std::vector<std::pair<std::string, std::string>> slice_args;
+  std::string journal;         // --journal: the user's path, kept
+  std::string output;          // -o: where to keep the sliced G-code
+  bool keep = false;
+  SliceOptions slice;
+  std::vector<std::string> model_options_given;  // slice options that need an STL, as given
 };
 
 struct OpenLink {
@@ -65,12 +80,16 @@ struct OpenLink {
   sim::SimLink* sim = nullptr;  // set for a dry run
 };
 
-OpenLink open_link(const LinkOptions& options) {
+// A dry run simulates the printer the job is for: its motion limits and filament.
+OpenLink open_link(const LinkOptions& options, const printer::PrinterProfile& machine,
+                   int default_baud) {
   OpenLink open;
   if (options.dry_run) {
     sim::Config config;
     config.faults = sim::parse_fault_spec(options.faults);
     config.advanced_ok = options.advanced_ok;
+    config.motion = machine.motion;
+    config.filament_diameter = machine.filament_diameter;
     auto link = std::make_unique<sim::SimLink>(config);
     open.sim = link.get();
     open.link = std::move(link);
@@ -78,7 +97,13 @@ OpenLink open_link(const LinkOptions& options) {
     if (!options.faults.empty()) {
       throw printer::ConfigError("--faults: only a --dry-run printer can be given faults");
     }
-    open.link = std::make_unique<printer::SerialLink>(options.port, options.baud);
+    if (options.advanced_ok) {
+      throw printer::ConfigError(
+          "--advanced-ok: only a --dry-run printer can be told to report ADVANCED_OK; a real "
+          "one says so itself");
+    }
+    open.link = std::make_unique<printer::SerialLink>(
+        options.port, options.baud > 0 ? options.baud : default_baud);
   }
   return open;
 }
@@ -90,7 +115,7 @@ printer::ProtocolOptions protocol_options(const LinkOptions& options) {
   return p;
 }
 
-printer::PauseOptions pause_options(const LinkOptions& options) {
+printer::PauseOptions pause_options(const LinkOptions& options, const printer::PrinterProfile& machine) {
   printer::PauseOptions p;
   if (options.park.size() == 2) {
     p.park_x = options.park[0];
@@ -98,6 +123,7 @@ printer::PauseOptions pause_options(const LinkOptions& options) {
   }
   p.lift = options.lift;
   p.retract = options.retract;
+  p.max_z = machine.bed_z;
   return p;
 }
 
@@ -115,58 +141,92 @@ std::string timestamp() {
   return text;
 }
 
-// Runs `mahost slice` (this same binary) so that slicing for a print is exactly `mahost slice`.
-void slice_model(const PrintOptions& options, const std::string& gcode_path) {
-  std::vector<std::string> argv{"/proc/self/exe", "slice", options.input, "-o", gcode_path};
-  for (const auto& [flag, value] : options.slice_args) {
-    argv.push_back(flag);
-    argv.push_back(value);
-  }
-  std::vector<char*> args;
-  for (std::string& a : argv) args.push_back(a.data());
-  args.push_back(nullptr);
-  pid_t pid = 0;
-  if (posix_spawn(&pid, "/proc/self/exe", nullptr, nullptr, args.data(), environ) != 0) {
-    throw std::runtime_error("cannot run mahost slice");
-  }
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    // `mahost slice` already said why on stderr.
-    throw CommandExit{WIFEXITED(status) ? WEXITSTATUS(status) : kExitInternal, ""};
+bool is_stl(const std::string& path) { return lower(fs::path(path).extension().string()) == ".stl"; }
+
+bool in_job_directory(const std::string& path) {
+  return fs::path(path).parent_path() == fs::path(printer::job_directory());
+}
+
+void remove_files(const std::vector<std::string>& paths) {
+  for (const std::string& path : paths) {
+    std::error_code ignored;
+    fs::remove(path, ignored);
+    fs::remove(path + ".tmp", ignored);  // a journal write cut short
   }
 }
 
-bool is_stl(const std::string& path) { return lower(fs::path(path).extension().string()) == ".stl"; }
+// The files a job made for itself, removed when it ends unless kept (see the file comment).
+class JobFiles {
+ public:
+  JobFiles() = default;
+  JobFiles(const JobFiles&) = delete;
+  JobFiles& operator=(const JobFiles&) = delete;
+  ~JobFiles() {
+    if (!kept_) remove_files(paths_);
+  }
+  void add(const std::string& path) { paths_.push_back(path); }
+  void keep() { kept_ = true; }
 
+ private:
+  std::vector<std::string> paths_;
+  bool kept_ = false;
+};
+
+std::string duration_text(double seconds) { return printer::format_duration(seconds); }
+
+// What the job did, on stdout: outcome, time, filament, what the link went through.
 void print_summary(const printer::JobResult& result, const printer::GcodeFile& file,
                    const OpenLink& link, const printer::LineProtocol& protocol,
+                   double estimated_seconds, const printer::Profiles* sliced_for,
                    std::chrono::steady_clock::duration wall) {
   const auto& stats = protocol.stats();
-  const double wall_s = std::chrono::duration<double>(wall).count();
+  const double elapsed = std::chrono::duration<double>(result.elapsed).count();
   std::string where;
-  double seconds = std::chrono::duration<double>(result.elapsed).count();
+  std::string time;
   if (link.sim != nullptr) {
-    link.sim->printer().finish();
-    seconds = std::max(seconds, link.sim->printer().motion_end_time());
-    where = fmt::format("dry run on the simulated printer ({:.1f} s of wall time)", wall_s);
+    sim::Printer& printer = link.sim->printer();
+    const double job_start = std::chrono::duration<double>(link.link->now()).count() - elapsed;
+    printer.finish();  // the moves still in the planner run out
+    const double seconds = std::max(elapsed, printer.motion_end_time() - job_start);
+    where = "dry run on the simulated printer";
+    time = fmt::format("print time {} on the simulated printer's clock: {} of motion (estimated "
+                       "{}), the rest heating and waiting",
+                       duration_text(seconds), duration_text(printer.motion_time()),
+                       duration_text(estimated_seconds));
   } else {
     where = fmt::format("on {}", link.link->name());
+    time = fmt::format("print time {} (estimated {} of motion; heating not counted)",
+                       duration_text(elapsed), duration_text(estimated_seconds));
   }
-  fmt::print("{}: {} {} of {} commands, {} layers; print time {} ({}), filament {:.2f} m\n",
-             printer::to_string(result.state), where, result.commands_done, file.size(),
-             file.layers.size(), clock_text(std::chrono::nanoseconds(static_cast<long long>(seconds * 1e9))),
-             link.sim != nullptr ? "on the simulated printer's clock" : "wall clock",
-             result.filament_mm / 1000.0);
+  std::string filament = fmt::format("filament {:.2f} m", result.filament_mm / 1000.0);
+  if (sliced_for != nullptr) {
+    filament += fmt::format(" ({:.1f} g {})",
+                            printer::filament_weight(result.filament_mm,
+                                                     sliced_for->printer.filament_diameter,
+                                                     sliced_for->material.density),
+                            sliced_for->material.name);
+  }
+  fmt::print("{}: {}, {} of {} commands, {} layers\n", printer::to_string(result.state), where,
+             result.commands_done, file.size(), file.layers.size());
+  fmt::print("{}; {}\n", time, filament);
   fmt::print("link: {} lines sent, {} resent after {} resend requests ({} stale ignored), {} "
              "timeouts probed with M105, {} duplicate oks, {} firmware errors; {} pauses\n",
              stats.lines_sent, stats.lines_resent, stats.resend_requests, stats.stale_resends,
              stats.probes, stats.duplicate_oks, stats.recoverable_errors, result.pauses);
+  if (link.sim != nullptr) {
+    const sim::Printer& printer = link.sim->printer();
+    if (printer.config().faults.any()) {
+      fmt::print("simulated faults: {} injected ({})\n", printer.counters().faults_injected,
+                 sim::to_string(printer.config().faults));
+    }
+    fmt::print("wall time: {:.1f} s\n", std::chrono::duration<double>(wall).count());
+  }
 }
 
-void run_job(printer::LineProtocol& protocol, const printer::GcodeFile& file, OpenLink& link,
-             printer::JobOptions job_options, const std::string& socket_path) {
+printer::JobResult run_job(printer::LineProtocol& protocol, const printer::GcodeFile& file,
+                           OpenLink& link, printer::JobOptions job_options,
+                           const std::string& socket_path, const std::string& journal_note,
+                           const printer::Profiles* sliced_for) {
   const auto wall_start = std::chrono::steady_clock::now();
   install_print_signals();
   PrintUi ui;
@@ -177,49 +237,83 @@ void run_job(printer::LineProtocol& protocol, const printer::GcodeFile& file, Op
     ui.tick(j);
     control.serve(j);
   };
-  ui.event(fmt::format("journal: {} (mahost resume it if the print is interrupted)", job.journal_path()));
-  ui.event(fmt::format("control: {}: p pause, r resume, c cancel, ! stop{}", 
-                       ui.keys() ? "keys" : "mahost ctl pause|resume|cancel|stop|status",
-                       ui.keys() ? ", or mahost ctl from another terminal" : ""));
+  if (!journal_note.empty()) ui.event(journal_note);
+  ui.event(ui.keys() ? "control: keys p pause, r resume, c cancel, ! stop; or mahost ctl from "
+                       "another terminal"
+                     : fmt::format("control: mahost ctl pause|resume|cancel|stop|status --job {}",
+                                   fs::path(socket_path).stem().string()));
   const printer::JobResult result = job.run();
   ui.finish();
-  print_summary(result, file, link, protocol, std::chrono::steady_clock::now() - wall_start);
-  if (result.state == printer::JobState::cancelled || result.state == printer::JobState::stopped) {
-    throw CommandExit{kExitCancelled, result.reason};
-  }
+  print_summary(result, file, link, protocol, job.estimated_seconds(), sliced_for,
+                std::chrono::steady_clock::now() - wall_start);
+  return result;
 }
 
 void connect(printer::LineProtocol& protocol, const OpenLink& link) {
   protocol.connect(link.sim != nullptr ? std::chrono::milliseconds(500) : std::chrono::milliseconds(3000));
 }
 
-void run_print(const PrintOptions& options) {
-  if (options.link.dry_run == !options.link.port.empty()) {
-    throw printer::ConfigError("print: give either --port PORT or --dry-run");
+void check_link_choice(const LinkOptions& link, const char* command) {
+  if (link.dry_run == !link.port.empty()) {
+    throw printer::ConfigError(fmt::format("{}: give either --port PORT or --dry-run", command));
   }
+}
+
+void run_print(const PrintOptions& options) {
+  check_link_choice(options.link, "print");
   for (int layer : options.pause_at) {
     if (layer < 1) throw printer::ConfigError(fmt::format("--pause-at-layer {}: layers count from 1", layer));
   }
+  const bool stl = is_stl(options.input);
+  if (!stl && !options.model_options_given.empty()) {
+    throw printer::ConfigError(fmt::format(
+        "{}: {} is G-code, already sliced; slice options other than --printer and --set apply "
+        "to an STL model",
+        options.model_options_given.front(), options.input));
+  }
+  if (!stl && !options.output.empty()) {
+    throw printer::ConfigError(fmt::format(
+        "-o: {} is G-code, already sliced; -o names where to keep the G-code sliced from an STL",
+        options.input));
+  }
+  // The printer the job is for: an STL is sliced for it, and its motion limits time the job
+  // (and are what a dry run simulates).
+  const printer::Profiles profiles = load_slice_profiles(options.slice);
+
   const std::string stem = fs::path(options.input).stem().string();
   const std::string name = fmt::format("{}-{}-{}", stem.empty() ? "job" : stem, timestamp(), ::getpid());
-  std::string journal = options.journal;
-  if (journal.empty()) journal = (fs::path(printer::job_directory()) / (name + ".journal")).string();
-  journal = fs::absolute(journal).string();
+  const bool named_journal = !options.journal.empty();
+  const std::string journal = fs::absolute(
+      named_journal ? fs::path(options.journal) : fs::path(printer::job_directory()) / (name + ".journal")).string();
   const std::string base = fs::path(journal).replace_extension().string();
 
+  JobFiles own;
+  if (!named_journal) own.add(journal);
   std::string gcode_path = options.input;
-  if (is_stl(options.input)) {
-    gcode_path = base + ".gcode";
-    slice_model(options, gcode_path);
+  std::optional<SliceResult> sliced;
+  if (stl) {
+    gcode_path = !options.output.empty() ? options.output : base + ".gcode";
+    if (options.output.empty() && !named_journal) own.add(gcode_path);
+    SliceOptions slice = options.slice;
+    slice.model.path = options.input;
+    sliced = slice_to_gcode(slice, gcode_path, slice_progress_bars(slice.contour));
+    fmt::print("sliced {}{}: {}\n", options.input,
+               options.output.empty() && !named_journal && !options.keep ? ""
+                                                                          : " to " + gcode_path,
+               slice_summary_text(*sliced));
+    std::fflush(stdout);
+    // The slicer's meshes and toolpaths are freed; hand their pages back before the job
+    // loads the file, so the print's memory does not stack on the slicer's.
+    ::malloc_trim(0);
   }
   const printer::GcodeFile file = printer::read_gcode_file(gcode_path);
   for (int layer : options.pause_at) {
     if (static_cast<std::size_t>(layer) > file.layers.size()) {
       throw printer::ConfigError(fmt::format("--pause-at-layer {}: {} has {} layers", layer,
-                                             gcode_path, file.layers.size()));
+                                             stl ? options.input : gcode_path, file.layers.size()));
     }
   }
-  OpenLink link = open_link(options.link);
+  OpenLink link = open_link(options.link, profiles.printer, profiles.printer.baud);
   printer::LineProtocol protocol(*link.link, protocol_options(options.link));
   connect(protocol, link);
   if (options.link.window > 1 && !protocol.advanced_ok()) {
@@ -229,17 +323,46 @@ void run_print(const PrintOptions& options) {
                options.link.window);
   }
 
+  const bool dry_run = options.link.dry_run;
+  const bool keep = options.keep || named_journal;
   printer::JobOptions job_options;
   job_options.pause_at_layers = options.pause_at;
-  job_options.pause = pause_options(options.link);
+  job_options.pause = pause_options(options.link, profiles.printer);
+  job_options.motion = profiles.printer.motion;
   job_options.journal_path = journal;
-  job_options.journal_durable = !options.link.dry_run;
+  job_options.journal_durable = !dry_run;
   job_options.journal.job = fs::path(base).filename().string();
   job_options.journal.gcode_path = fs::absolute(gcode_path).string();
   job_options.journal.gcode_hash = file.hash;
-  job_options.journal.port = options.link.dry_run ? "" : options.link.port;
-  job_options.journal.baud = options.link.dry_run ? 0 : options.link.baud;
-  run_job(protocol, file, link, std::move(job_options), base + ".sock");
+  job_options.journal.printer = fs::absolute(profiles.printer.source).string();
+  job_options.journal.port = dry_run ? "" : options.link.port;
+  job_options.journal.baud = dry_run ? 0 : (options.link.baud > 0 ? options.link.baud : profiles.printer.baud);
+  std::string note;
+  if (!dry_run) {
+    job_options.resume_command = fmt::format("mahost resume {} --port {}", journal, options.link.port);
+    note = fmt::format("journal: {} (if the print is interrupted: {})", journal, *job_options.resume_command);
+  } else if (keep) {
+    job_options.resume_command = fmt::format("mahost resume {} --dry-run", journal);
+    note = fmt::format("journal: {} (kept; if the dry run is interrupted: {})", journal,
+                       *job_options.resume_command);
+  } else {
+    job_options.resume_command = "";
+    note = fmt::format("journal: {} (a dry run's: removed when it ends; --keep keeps it)", journal);
+  }
+
+  printer::JobResult result;
+  try {
+    result = run_job(protocol, file, link, std::move(job_options), base + ".sock", note,
+                     sliced ? &sliced->profiles : nullptr);
+  } catch (...) {
+    // A print that failed keeps its journal and G-code for `mahost resume`.
+    if (!dry_run || keep) own.keep();
+    throw;
+  }
+  if (keep || (!dry_run && result.state != printer::JobState::completed)) own.keep();
+  if (result.state == printer::JobState::cancelled || result.state == printer::JobState::stopped) {
+    throw CommandExit{kExitCancelled, result.reason};
+  }
 }
 
 struct ResumeOptions {
@@ -255,10 +378,19 @@ bool process_is_mahost(int pid) {
   return !a && !b && theirs == mine;
 }
 
-void run_resume(const ResumeOptions& options) {
-  if (options.link.dry_run == !options.link.port.empty()) {
-    throw printer::ConfigError("resume: give either --port PORT or --dry-run");
+// The printer profile the job was sliced and timed for; its motion limits time the rest.
+printer::PrinterProfile resume_profile(const printer::JournalRecord& record) {
+  const std::string name = record.printer.empty() ? "up-plus-2" : record.printer;
+  try {
+    return printer::load_printer_profile(name, printer::config_directory(MAHOST_CONFIG_DIR));
+  } catch (const printer::ConfigError& e) {
+    fmt::print(stderr, "note: {}; the remaining time uses Marlin's default motion limits\n", e.what());
+    return printer::PrinterProfile{};
   }
+}
+
+void run_resume(const ResumeOptions& options) {
+  check_link_choice(options.link, "resume");
   const std::string journal = fs::absolute(options.journal).string();
   const printer::JournalRecord record = printer::read_journal(journal);
   if (record.state == "completed") {
@@ -275,82 +407,146 @@ void run_resume(const ResumeOptions& options) {
         "different part",
         record.gcode_path, record.gcode_hash, file.hash));
   }
-  OpenLink link = open_link(options.link);
+  const printer::PrinterProfile machine = resume_profile(record);
+  OpenLink link = open_link(options.link, machine, record.baud > 0 ? record.baud : machine.baud);
   printer::LineProtocol protocol(*link.link, protocol_options(options.link));
   connect(protocol, link);
 
+  const bool dry_run = options.link.dry_run;
+  const std::string base = fs::path(journal).replace_extension().string();
   printer::JobOptions job_options;
-  job_options.pause = pause_options(options.link);
-  job_options.journal_path = journal;
-  job_options.journal_durable = !options.link.dry_run;
-  job_options.journal = record;
-  job_options.journal.port = options.link.dry_run ? "" : options.link.port;
-  job_options.journal.baud = options.link.dry_run ? 0 : options.link.baud;
-  job_options.journal.pid = 0;
+  job_options.pause = pause_options(options.link, machine);
+  job_options.motion = machine.motion;
   job_options.first_command = record.resume_command;
   if (record.layer_index >= 0) {
     job_options.recover_from = record.state_at_resume;
     job_options.printer_restarted = protocol.restart_seen() || link.sim != nullptr;
   }
-  const std::string base = fs::path(journal).replace_extension().string();
-  run_job(protocol, file, link, std::move(job_options), base + ".sock");
+  std::string note, socket = base + ".sock";
+  if (dry_run) {
+    // A rehearsal: the journal stays as it is, for the real resume.
+    job_options.resume_command = "";
+    socket = (fs::path(printer::job_directory()) /
+              fmt::format("{}-dry-run-{}.sock", fs::path(base).filename().string(), ::getpid()))
+                 .string();
+    note = fmt::format("dry run: {} is left as it was, for the real resume", journal);
+  } else {
+    job_options.journal_path = journal;
+    job_options.journal = record;
+    job_options.journal.port = options.link.port;
+    job_options.journal.baud = options.link.baud > 0 ? options.link.baud : (record.baud > 0 ? record.baud : machine.baud);
+    job_options.journal.pid = 0;
+    job_options.resume_command = fmt::format("mahost resume {} --port {}", journal, options.link.port);
+    note = fmt::format("journal: {} (if the print is interrupted again: {})", journal,
+                       *job_options.resume_command);
+  }
+  const printer::JobResult result =
+      run_job(protocol, file, link, std::move(job_options), socket, note, nullptr);
+  if (!dry_run && result.state == printer::JobState::completed && in_job_directory(journal)) {
+    // The job's own files, as `mahost print` removes them on completion.
+    std::vector<std::string> own{journal};
+    if (record.gcode_path == base + ".gcode") own.push_back(record.gcode_path);
+    remove_files(own);
+  }
+  if (result.state == printer::JobState::cancelled || result.state == printer::JobState::stopped) {
+    throw CommandExit{kExitCancelled, result.reason};
+  }
 }
 
-void add_link_options(CLI::App& command, LinkOptions& link) {
-  auto* port = command.add_option("--port", link.port, "the printer's serial port (/dev/ttyUSB0, /dev/pts/N)");
+void add_link_options(CLI::App& command, LinkOptions& link, const std::string& baud_default) {
+  auto* port = command.add_option("--port", link.port,
+                                  "the printer's serial port, e.g. /dev/ttyUSB0 or /dev/pts/N "
+                                  "(see mahost ports; no default: give --port or --dry-run)")
+                   ->group(kLinkGroup);
   auto* dry = command.add_flag("--dry-run", link.dry_run,
-                               "print on the in-process simulated printer, at full speed");
+                               "print on the in-process simulated printer, at full speed, "
+                               "instead of a port (default: off; give --port or --dry-run)")
+                  ->group(kLinkGroup);
   port->excludes(dry);
-  command.add_option("--baud", link.baud, "serial speed (default 115200)")->check(CLI::PositiveNumber);
+  command.add_option("--baud", link.baud, "serial speed, bit/s (default: " + baud_default + ")")
+      ->check(CLI::PositiveNumber)
+      ->group(kLinkGroup);
   command.add_option("--window", link.window,
-                     "lines in flight (default 1; more only when the firmware reports ADVANCED_OK)")
-      ->check(CLI::Range(1, 32));
-  command.add_option("--timeout", link.probe_after, "seconds of silence before probing with M105 (default 3)")
-      ->check(CLI::Range(0.1, 600.0));
-  command.add_option("--faults", link.faults, "dry run: faults of the simulated printer (see mahost sim)");
-  command.add_flag("--advanced-ok", link.advanced_ok, "dry run: the simulated firmware reports ADVANCED_OK");
-  command.add_option("--park", link.park, "where a pause parks the nozzle: X,Y in mm (default 5,5)")
+                     "lines in flight; more than 1 only when the firmware reports ADVANCED_OK "
+                     "(default: 1)")
+      ->check(CLI::Range(1, 32))
+      ->group(kLinkGroup);
+  command.add_option("--timeout", link.probe_after,
+                     "silence before the host probes the printer with M105, s (default: 3)")
+      ->check(CLI::Range(0.1, 600.0))
+      ->group(kLinkGroup);
+  command.add_option("--faults", link.faults,
+                     "faults of the simulated printer, e.g. corrupt=0.01,drop-ok=0.01,seed=3 "
+                     "(see mahost sim --help; default: none)")
+      ->group(kDryRunGroup);
+  command.add_flag("--advanced-ok", link.advanced_ok,
+                   "the simulated firmware reports its buffer space (ADVANCED_OK), so --window "
+                   "takes effect (default: off)")
+      ->group(kDryRunGroup);
+  command.add_option("--park", link.park, "where a pause parks the nozzle: X,Y, mm (default: 5,5)")
       ->delimiter(',')
-      ->expected(2);
-  command.add_option("--lift", link.lift, "how far a pause lifts the nozzle, mm (default 5)")->check(CLI::Range(0.0, 100.0));
-  command.add_option("--retract", link.retract, "filament a pause retracts, mm (default 1)")->check(CLI::Range(0.0, 20.0));
+      ->expected(2)
+      ->group(kJobGroup);
+  command.add_option("--lift", link.lift, "how far a pause lifts the nozzle, mm (default: 5)")
+      ->check(CLI::Range(0.0, 100.0))
+      ->group(kJobGroup);
+  command.add_option("--retract", link.retract, "filament a pause retracts, mm (default: 1)")
+      ->check(CLI::Range(0.0, 20.0))
+      ->group(kJobGroup);
 }
 
 }  // namespace
 
 void add_print_command(CLI::App& app) {
   auto options = std::make_shared<PrintOptions>();
-  auto* print = app.add_subcommand("print", "print an STL model or a G-code file on a printer or a simulated one");
-  print->add_option("MODEL", options->input, "the STL model (sliced first) or G-code file")
+  auto* print = app.add_subcommand("print", "Print an STL model or a G-code file");
+  print->footer(
+      "An STL model is sliced first, as mahost slice would. Layers are numbered from 1 as the "
+      "progress line shows them (layer n/N); layer n is the file's ;LAYER:n-1 comment. Keys on "
+      "a terminal: p pause, r resume, c cancel, ! emergency stop; without one, mahost ctl. A "
+      "dry run removes its journal and sliced G-code when it ends; a print removes them once "
+      "it completes and keeps them otherwise, for mahost resume.");
+  print->add_option("MODEL", options->input, "the STL model (sliced first) or G-code file to print")
       ->required()
       ->check(CLI::ExistingFile);
-  add_link_options(*print, options->link);
+  add_link_options(*print, options->link, "the printer profile's serial.baud");
   print->add_option("--pause-at-layer", options->pause_at,
-                    "pause before these layers start, counted from 1 (e.g. 20,45)")
-      ->delimiter(',');
+                    "pause before these layers start, numbered from 1 as the progress line "
+                    "shows them (layer n is the file's ;LAYER:n-1), e.g. 20,45 (default: none)")
+      ->delimiter(',')
+      ->group(kJobGroup);
   print->add_option("--journal", options->journal,
-                    "where to keep the job journal (default: a file in $XDG_RUNTIME_DIR/mahost)");
-  // Slice options, handed to `mahost slice` for an STL.
-  for (const char* flag : {"--printer", "--material", "--layer", "--contour", "--perimeters",
-                           "--infill", "--units", "--scale", "--height", "--up"}) {
-    print->add_option_function<std::string>(
-        flag, [options, flag](const std::string& value) { options->slice_args.emplace_back(flag, value); },
-        "slice option (see mahost slice --help)");
-  }
-  print->add_option_function<std::vector<std::string>>(
-      "--set",
-      [options](const std::vector<std::string>& values) {
-        for (const std::string& v : values) options->slice_args.emplace_back("--set", v);
-      },
-      "slice option: override a profile key (see mahost slice --help)");
-  print->callback([options] { run_print(*options); });
+                    "keep the job journal at this path, and the sliced G-code beside it "
+                    "(default: in $XDG_RUNTIME_DIR/mahost, removed when the job completes)")
+      ->group(kJobGroup);
+  print->add_flag("--keep", options->keep,
+                  "keep the journal and the sliced G-code when the job completes or a dry run "
+                  "ends (default: removed)")
+      ->group(kJobGroup);
+  print->add_option("-o,--output", options->output,
+                    "keep the G-code sliced from an STL in this file (default: removed with the "
+                    "job's other files)")
+      ->group(kSliceGroup);
+  add_slice_options(*print, options->slice, kSliceGroup);
+  print->callback([options, print] {
+    options->model_options_given.clear();
+    for (const std::string& name : model_only_slice_options()) {
+      if (print->count(name) > 0) options->model_options_given.push_back(name);
+    }
+    run_print(*options);
+  });
 
   auto resume_options = std::make_shared<ResumeOptions>();
-  auto* resume = app.add_subcommand("resume", "finish a job after the host, the link or the printer died");
-  resume->add_option("JOURNAL", resume_options->journal, "the job's journal (printed when it started)")
+  auto* resume = app.add_subcommand("resume", "Finish a print whose host, link or printer died");
+  resume->footer(
+      "Re-heats, homes X and Y only, sets Z from the journal and reprints the interrupted layer "
+      "from its start. A --dry-run rehearses it on the simulated printer and leaves the "
+      "journal as it was.");
+  resume->add_option("JOURNAL", resume_options->journal,
+                     "the job's journal, as mahost print named it when it started")
       ->required()
       ->check(CLI::ExistingFile);
-  add_link_options(*resume, resume_options->link);
+  add_link_options(*resume, resume_options->link, "the journal's, else its printer profile's serial.baud");
   resume->callback([resume_options] { run_resume(*resume_options); });
 }
 

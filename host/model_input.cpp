@@ -61,20 +61,33 @@ geometry::Axis axis(const std::string& up) {
 
 void add_model_options(CLI::App& command, ModelOptions& options) {
   command.add_option("MODEL", options.path, "the STL file (ASCII or binary)")->required();
-  command.add_option("--units", options.units, "unit of the file's coordinates (STL has none)")
-      ->check(one_of({"m", "mm", "in"}, "a unit"))
-      ->capture_default_str();
-  auto* scale = command.add_option("--scale", options.scale, "scale factor, after --units")
+  add_placement_options(command, options);
+}
+
+void add_placement_options(CLI::App& command, ModelOptions& options, const std::string& group) {
+  std::vector<CLI::Option*> added;
+  added.push_back(command.add_option("--units", options.units,
+                                     "unit of the file's coordinates, which STL does not record "
+                                     "(default: mm)")
+                      ->check(one_of({"m", "mm", "in"}, "a unit")));
+  auto* scale = command.add_option("--scale", options.scale,
+                                   "scale factor, applied after --units (default: 1)")
                     ->check(positive_number("F > 0"));
-  command.add_option("--height", options.height, "scale uniformly so the part is MM tall")
-      ->check(positive_number("MM > 0"))
-      ->excludes(scale);
-  command.add_option("--up", options.up, "the model's axis that points up on the bed")
-      ->check(one_of({"x", "y", "z"}, "an axis"))
-      ->capture_default_str();
-  command.add_flag("--ignore-normals", options.ignore_normals,
-                   "rebuild the facets' normals from their vertex order instead of refusing a "
-                   "file whose stored normals contradict it");
+  added.push_back(scale);
+  added.push_back(command.add_option("--height", options.height,
+                                     "scale uniformly so the part is MM tall, mm (default: "
+                                     "the file's size)")
+                      ->check(positive_number("MM > 0"))
+                      ->excludes(scale));
+  added.push_back(command.add_option("--up", options.up,
+                                     "the model's axis that points up on the bed (default: z)")
+                      ->check(one_of({"x", "y", "z"}, "an axis")));
+  added.push_back(command.add_flag("--ignore-normals", options.ignore_normals,
+                                   "rebuild the facets' normals from their vertex order instead "
+                                   "of refusing a file whose stored normals contradict it (default: off)"));
+  if (!group.empty()) {
+    for (CLI::Option* option : added) option->group(group);
+  }
 }
 
 LoadedModel load_model_with_report(const ModelOptions& options, geometry::Vec2 center) {

@@ -23,6 +23,10 @@ struct ModelOptions {
 
 // Adds the positional MODEL argument (required) and the placement flags to a subcommand.
 void add_model_options(CLI::App& command, ModelOptions& options);
+// Adds only the placement flags (--units, --scale, --height, --up, --ignore-normals), listed
+// under `group` in the help ("" leaves them among the command's other options): for a command
+// whose positional argument is not always a model (`mahost print FILE.gcode`).
+void add_placement_options(CLI::App& command, ModelOptions& options, const std::string& group = {});
 
 // Reads, repairs and places the model, centred on `center`. Throws geometry::InputError with a
 // one-line reason for a file that cannot be used. Prints a one-line repair summary to stderr

@@ -74,6 +74,7 @@ void write_journal(const std::string& path, const JournalRecord& r, bool durable
          {"job", r.job},
          {"gcode", {{"path", r.gcode_path}, {"hash", r.gcode_hash}, {"commands", r.commands},
                     {"layers", r.layers}}},
+         {"printer_profile", r.printer},
          {"port", r.port},
          {"baud", r.baud},
          {"state", r.state},
@@ -135,6 +136,7 @@ JournalRecord read_journal(const std::string& path) {
     r.gcode_hash = j.at("gcode").at("hash").get<std::string>();
     r.commands = j.at("gcode").at("commands").get<std::size_t>();
     r.layers = j.at("gcode").at("layers").get<std::size_t>();
+    r.printer = j.value("printer_profile", std::string());
     r.port = j.at("port").get<std::string>();
     r.baud = j.at("baud").get<int>();
     r.state = j.at("state").get<std::string>();

@@ -23,6 +23,8 @@ struct JournalRecord {
   std::string gcode_hash;     // content_hash of the file
   std::size_t commands = 0;   // commands in the file
   std::size_t layers = 0;     // layers in the file
+  std::string printer;        // the printer profile it was sliced and timed for (name or
+                              // absolute path); "" when not known
   std::string port;           // where it printed; "" for a dry run
   int baud = 0;
   std::string state = "printing";  // printing, paused, completed, cancelled, stopped, failed

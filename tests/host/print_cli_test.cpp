@@ -19,6 +19,7 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
+#include "geometry/stl_io.h"
 #include "printer/gcode_file.h"
 #include "printer/journal.h"
 #include "printer/test_program.h"
@@ -27,6 +28,7 @@
 #include "printer/job.h"
 #include "printer/gcode_line.h"
 #include "support/run_command.h"
+#include "support/solids.h"
 
 extern char** environ;
 
@@ -141,17 +143,25 @@ std::string use_runtime_dir(const std::string& dir) {
 
 TEST_CASE("dry_run_prints_a_gcode_file_and_says_what_the_print_would_do") {
   const std::string dir = test_support::scratch_dir("print_dry_run");
-  use_runtime_dir(dir);
+  const std::string runtime = use_runtime_dir(dir);
   const std::string gcode = write_file(dir, "ring.gcode", test_support::ring_program(20, 50));
   const auto r = run_mahost({"print", gcode, "--dry-run"});
   CHECK(r.exit_code == 0);
-  CHECK(r.out.starts_with("completed: dry run on the simulated printer"));
   // 9 start commands, per layer G92, Z, travel, prime, 50 moves, retract; 7 end commands.
   const int commands = 9 + 20 * (50 + 5) + 7;
-  CHECK(r.out.find(fmt::format(" {} of {} commands, 20 layers; print time 0:0", commands, commands)) !=
+  CHECK(r.out.starts_with(fmt::format(
+      "completed: dry run on the simulated printer, {} of {} commands, 20 layers\nprint time ",
+      commands, commands)));
+  CHECK(r.out.find(" on the simulated printer's clock: ") != std::string::npos);
+  CHECK(r.out.find(" (estimated ") != std::string::npos);
+  CHECK(r.out.find("; filament ") != std::string::npos);
+  // Every command once, and the host's M115 query at connection.
+  CHECK(r.out.find(fmt::format("\nlink: {} lines sent, 0 resent after 0 resend requests", commands + 1)) !=
         std::string::npos);
-  CHECK(r.out.find("on the simulated printer's clock") != std::string::npos);
-  CHECK(r.out.find("0 resent after 0 resend requests") != std::string::npos);
+  CHECK(r.out.find("simulated faults") == std::string::npos);
+  // A dry run leaves nothing behind: no journal, no socket.
+  CHECK(fs::is_empty(runtime + "/mahost"));
+  CHECK(r.err.find("(a dry run's: removed when it ends; --keep keeps it)") != std::string::npos);
 }
 
 TEST_CASE("dry_run_with_faults_still_completes") {
@@ -215,10 +225,23 @@ TEST_CASE("halt_fault_exits_3_with_the_reason_and_the_resume_command") {
   CHECK(r.exit_code == 3);
   CHECK(r.err.find("mahost: simulated printer: the printer stopped: Error:Printer halted. kill() called!") !=
         std::string::npos);
-  CHECK(r.err.find("to finish the part: mahost resume " + journal) != std::string::npos);
+  CHECK(r.err.find("; to finish the part: mahost resume " + journal + " --dry-run\n") != std::string::npos);
   const auto record = journal_of(journal);
   REQUIRE(record);
   CHECK(record->state == "failed");
+  CHECK(fs::exists(dir + "/job.journal"));  // a journal the user named stays
+
+  // Rehearsing the resume on the simulated printer finishes the part there and leaves the
+  // journal as it was, for the real resume.
+  std::ifstream before_in(journal);
+  const std::string before((std::istreambuf_iterator<char>(before_in)), std::istreambuf_iterator<char>());
+  const auto rehearsal = run_mahost({"resume", journal, "--dry-run"});
+  CHECK(rehearsal.exit_code == 0);
+  CHECK(rehearsal.out.starts_with("completed: dry run on the simulated printer, "));
+  CHECK(rehearsal.err.find("is left as it was, for the real resume") != std::string::npos);
+  std::ifstream after_in(journal);
+  const std::string after((std::istreambuf_iterator<char>(after_in)), std::istreambuf_iterator<char>());
+  CHECK(after == before);
 }
 
 TEST_CASE("ctl_pauses_and_resumes_a_print_without_a_terminal") {
@@ -251,6 +274,99 @@ TEST_CASE("ctl_pauses_and_resumes_a_print_without_a_terminal") {
   CHECK(r.exit_code == 0);
   CHECK(print.wait(120s) == 0);
   CHECK(journal_of(journal)->state == "completed");
+  CHECK_FALSE(fs::exists(runtime + "/mahost/ring.sock"));
+
+  // The job has ended: ctl says what its journal says; it is not "running".
+  r = run_mahost({"ctl", "status", "--job", journal});
+  CHECK(r.exit_code == 0);
+  CHECK(r.out.starts_with("completed, 30 layers (journal updated "));
+  r = run_mahost({"ctl", "pause", "--job", "ring"});
+  CHECK(r.exit_code == 2);
+  CHECK(r.err.starts_with("mahost: ring: the job is not running: completed, 30 layers"));
+  r = run_mahost({"ctl", "status"});
+  CHECK(r.exit_code == 3);
+  CHECK(r.err.starts_with("mahost: no running mahost job found in "));
+}
+
+TEST_CASE("a_completed_print_removes_its_own_journal") {
+  const std::string dir = test_support::scratch_dir("print_completed_cleanup");
+  const std::string runtime = use_runtime_dir(dir);
+  Background sim({"sim", "--pty", "--time-scale", "200"});
+  const std::string pty = sim.first_line(10s);
+  REQUIRE(pty.starts_with("/dev/pts/"));
+  const std::string gcode = write_file(dir, "ring.gcode", test_support::ring_program(4, 20));
+  const auto r = run_mahost({"print", gcode, "--port", pty}, {}, 120s);
+  CHECK(r.exit_code == 0);
+  CHECK(r.out.starts_with("completed: on " + pty + ", "));
+  CHECK(r.err.find("journal: " + runtime + "/mahost/ring-") != std::string::npos);
+  CHECK(r.err.find("(if the print is interrupted: mahost resume ") != std::string::npos);
+  CHECK(fs::is_empty(runtime + "/mahost"));  // journal and socket gone: nothing to resume
+  CHECK(fs::exists(gcode));                  // the user's file stays
+}
+
+TEST_CASE("print_slices_an_stl_in_process_as_slice_does_and_a_dry_run_leaves_nothing") {
+  const std::string dir = test_support::scratch_dir("print_stl");
+  const std::string runtime = use_runtime_dir(dir);
+  const std::string stl = dir + "/cube.stl";
+  geometry::write_stl_binary(stl, solids::cube(8).mesh);
+  const std::vector<std::string> options{"--contour", "mid", "--layer", "0.3", "--set",
+                                         "print.skirt_loops=2", "--units", "mm"};
+  std::vector<std::string> slice{"slice", stl, "-o", dir + "/sliced.gcode"};
+  slice.insert(slice.end(), options.begin(), options.end());
+  const auto sliced = run_mahost(slice);
+  REQUIRE(sliced.exit_code == 0);
+  const std::string summary = sliced.out.substr(sliced.out.find(": ") + 2);  // "27 layers, ..."
+
+  std::vector<std::string> print{"print", stl, "--dry-run", "-o", dir + "/printed.gcode"};
+  print.insert(print.end(), options.begin(), options.end());
+  auto r = run_mahost(print);
+  CHECK(r.exit_code == 0);
+  CHECK(r.out.starts_with("sliced " + stl + " to " + dir + "/printed.gcode: " + summary));
+  CHECK(r.out.find("\ncompleted: dry run on the simulated printer, ") != std::string::npos);
+  CHECK(r.out.find(" g ABS)\n") != std::string::npos);  // the material's weight of what was fed
+  const auto bytes = [](const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  CHECK(bytes(dir + "/printed.gcode") == bytes(dir + "/sliced.gcode"));  // the same pipeline
+  CHECK(fs::is_empty(runtime + "/mahost"));
+
+  // Without -o the sliced G-code lives in the job directory and goes with the dry run.
+  r = run_mahost({"print", stl, "--dry-run", "--contour", "mid"});
+  CHECK(r.exit_code == 0);
+  CHECK(r.out.starts_with("sliced " + stl + ": "));
+  CHECK(fs::is_empty(runtime + "/mahost"));
+
+  // --keep keeps the journal (completed) and the G-code it names.
+  r = run_mahost({"print", stl, "--dry-run", "--contour", "mid", "--keep"});
+  CHECK(r.exit_code == 0);
+  std::vector<std::string> kept;
+  for (const auto& entry : fs::directory_iterator(runtime + "/mahost")) kept.push_back(entry.path().string());
+  std::sort(kept.begin(), kept.end());
+  REQUIRE(kept.size() == 2);
+  CHECK(kept[0].ends_with(".gcode"));
+  CHECK(kept[1].ends_with(".journal"));
+  const auto record = journal_of(kept[1]);
+  REQUIRE(record);
+  CHECK(record->state == "completed");
+  CHECK(record->gcode_path == kept[0]);
+  CHECK(record->printer == MAHOST_SOURCE_DIR "/configs/printers/up-plus-2.toml");
+}
+
+TEST_CASE("slice_options_are_refused_for_a_gcode_file") {
+  const std::string dir = test_support::scratch_dir("print_gcode_slice_options");
+  use_runtime_dir(dir);
+  const std::string gcode = write_file(dir, "ring.gcode", test_support::ring_program(3, 10));
+  auto r = run_mahost({"print", gcode, "--dry-run", "--layer", "0.3"});
+  CHECK(r.exit_code == 2);
+  CHECK(r.err == "mahost: --layer: " + gcode + " is G-code, already sliced; slice options other "
+                 "than --printer and --set apply to an STL model\n");
+  r = run_mahost({"print", gcode, "--dry-run", "-o", dir + "/x.gcode"});
+  CHECK(r.exit_code == 2);
+  CHECK(count_lines(r.err) == 1);
+  // --printer names the machine the file is timed for and the dry run simulates.
+  r = run_mahost({"print", gcode, "--dry-run", "--printer", "generic-marlin"});
+  CHECK(r.exit_code == 0);
 }
 
 TEST_CASE("killed_host_resumes_and_reprints_only_the_interrupted_layer") {

@@ -1,0 +1,76 @@
+// The slice pipeline in one call (DESIGN.md §1): load the model (read, repair, place) ->
+// layers (the printer's first-layer height, then --layer) -> each layer's region by the
+// contour strategy -> toolpaths -> G-code for the printer and material. `mahost slice` runs it
+// to write a file; `mahost print` runs it in-process before streaming an STL. Its command-line
+// options are defined here once, for both commands.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "geometry/polygon.h"
+#include "host/model_input.h"
+#include "printer/gcode_writer.h"
+#include "printer/profile.h"
+
+namespace host {
+
+struct SliceOptions {
+  ModelOptions model;
+  std::string printer = "up-plus-2";
+  std::string material;    // "": the printer's
+  double layer = 0;        // mm; 0: the printer's layer.default
+  std::string contour = "ma";
+  int perimeters = -1;     // -1: the printer profile's print.perimeters
+  double infill = -1;      // percent; -1: the profile's print.infill_density
+  std::vector<std::string> overrides;  // "key=value", one per --set
+};
+
+// Adds the slice options to a command: the model's placement (--units, --scale, --height,
+// --up, --ignore-normals; not the MODEL argument itself), --printer, --material, --layer,
+// --contour, --perimeters, --infill, --set. They are listed under `group` in the command's
+// help ("" leaves them among its other options).
+void add_slice_options(CLI::App& command, SliceOptions& options, const std::string& group = {});
+
+// The options of add_slice_options that only mean something for a model to slice (all but
+// --printer), as written on the command line: for `print` to refuse them with a G-code file.
+const std::vector<std::string>& model_only_slice_options();
+
+// The printer and material profiles the options name, with --perimeters and --infill
+// applied. Throws printer::ConfigError naming the profile, key or value that is wrong.
+printer::Profiles load_slice_profiles(const SliceOptions& options);
+
+// The pipeline's stages, in order; progress is reported per stage.
+enum class SliceStage { contours, toolpaths, writing };
+std::string_view stage_name(SliceStage stage);  // "contours", "toolpaths", "writing"
+
+// Called with done = 0 from the calling thread when a stage starts, then as its layers are
+// done (done of total), possibly from several threads at once.
+using SliceProgress = std::function<void(SliceStage stage, std::size_t done, std::size_t total)>;
+
+struct SliceResult {
+  printer::Profiles profiles;      // as used, overrides applied
+  geometry::Vec3 part_size;        // mm, after placement
+  double layer_thickness = 0;      // mm, the layers after the first
+  printer::GcodeSummary summary;   // layers, estimated seconds, filament, bytes
+};
+
+// Slices the model into a G-code file at `output` (written beside it and renamed at the end:
+// a failed slice leaves no file). Throws geometry::InputError for a model that cannot be used
+// and printer::ConfigError for profiles, a layer the printer cannot print, a part that does
+// not fit, or a file that cannot be written.
+SliceResult slice_to_gcode(const SliceOptions& options, const std::string& output,
+                           const SliceProgress& progress = {});
+
+// A terminal progress bar per stage (host/progress.h), as a SliceProgress.
+SliceProgress slice_progress_bars(const std::string& contour);
+
+// "250 layers, estimated print time 56 min 51 s, filament 3.25 m (8.1 g ABS), 2.6 MiB".
+std::string slice_summary_text(const SliceResult& result);
+
+}  // namespace host
