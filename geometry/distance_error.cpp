@@ -229,7 +229,18 @@ double forward_distance(const SlabSurface& surface, const BoundaryGrid& walls,
   std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return top(a) > top(b); });
   std::vector<std::uint32_t> near;
   for (std::uint32_t i : order) {
-    search_triangle(surface.triangles[i], corner[i], *grid_of[i], tolerance, best, near);
+    const auto& p = surface.triangles[i];
+    // A vertical facet, or a flat face's edge, projects to a segment: search it as one, since
+    // splitting a flat triangle in four only copies the segment.
+    const double twice_area = std::abs(cross(p[1] - p[0], p[2] - p[0]));
+    const double l01 = length(p[0], p[1]), l12 = length(p[1], p[2]), l20 = length(p[2], p[0]);
+    const double longest = std::max({l01, l12, l20});
+    if (twice_area <= 1e-9 * longest * longest) {
+      const int a = l01 >= l12 && l01 >= l20 ? 0 : l12 >= l20 ? 1 : 2, b = (a + 1) % 3;
+      search_segment(p[a], p[b], corner[i][a], corner[i][b], *grid_of[i], tolerance, best, near);
+      continue;
+    }
+    search_triangle(p, corner[i], *grid_of[i], tolerance, best, near);
   }
   return best;
 }

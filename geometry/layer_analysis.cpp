@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <limits>
 
 #include "geometry/ma_contour.h"
 
@@ -118,8 +119,11 @@ std::vector<StrategySummary> summarize(std::span<const LayerAnalysis> layers,
       s.mean_hausdorff /= s.layers;
       s.mean_deviation = s.total_deviation / s.layers;
     }
-    s.above_limit_percent =
-        s.total_limit > 0 ? (s.total_deviation - s.total_limit) / s.total_limit * 100 : 0;
+    // A part of vertical walls has no limit to speak of (1e-13 mm^3): a percentage of it
+    // would be noise, so there is none.
+    s.above_limit_percent = s.total_limit > kNegligibleVolume * s.layers
+                                ? (s.total_deviation - s.total_limit) / s.total_limit * 100
+                                : std::numeric_limits<double>::quiet_NaN();
     summaries.push_back(s);
   }
   return summaries;

@@ -56,6 +56,10 @@ std::vector<LayerAnalysis> analyze_layers(const LayerStack& stack,
                                           const AnalysisOptions& options = {},
                                           const std::function<void(std::size_t)>& progress = {});
 
+// Volumes below this per layer (mm^3, a cube of 10 um) are rounding, not deviation: ratios to
+// them mean nothing.
+inline constexpr double kNegligibleVolume = 1e-6;
+
 struct StrategySummary {
   ContourKind kind = ContourKind::lower;
   std::size_t layers = 0;
@@ -63,7 +67,8 @@ struct StrategySummary {
   double mean_hausdorff = 0, max_hausdorff = 0;
   double total_deviation = 0, mean_deviation = 0;
   double total_limit = 0;
-  double above_limit_percent = 0;      // (total ΔV - total limit) / total limit * 100
+  double above_limit_percent = 0;      // (total ΔV - total limit) / total limit * 100; NaN
+                                       // when the limit is negligible (vertical walls only)
   std::size_t missed_features = 0;
   std::size_t worse_than_lower = 0;    // layers with D above lower's (if lower was analysed)
   std::size_t worse_than_mid = 0;      // ... above mid's (if mid was analysed)

@@ -183,7 +183,7 @@ nlohmann::json compare(const std::vector<LayerAnalysis>& layers,
   for (const LayerAnalysis& layer : layers) {
     const auto& m = layer.strategies[k].metrics;
     const auto& base = layer.strategies[b].metrics;
-    if (base.volume_deviation > 1e-9) {
+    if (base.volume_deviation > geometry::kNegligibleVolume) {
       const double change = (m.volume_deviation - base.volume_deviation) / base.volume_deviation;
       per_layer += change;
       lowest = counted ? std::min(lowest, change) : change;
@@ -203,21 +203,27 @@ nlohmann::json compare(const std::vector<LayerAnalysis>& layers,
   j["max_distance_change_percent"] =
       base.max_distance > 0 ? 100 * (s.max_distance - base.max_distance) / base.max_distance : 0.0;
   j["total_deviation_change_percent"] =
-      base.total_deviation > 0
-          ? 100 * (s.total_deviation - base.total_deviation) / base.total_deviation
-          : 0.0;
+      base.total_deviation > geometry::kNegligibleVolume * layers.size()
+          ? nlohmann::json(100 * (s.total_deviation - base.total_deviation) / base.total_deviation)
+          : nlohmann::json(nullptr);
   j["per_layer_deviation_change_percent"] = counted ? 100 * per_layer / counted : 0.0;
+  j["layers_compared_for_deviation"] = counted;
   j["per_layer_deviation_change_min_percent"] = 100 * lowest;
   j["per_layer_deviation_change_max_percent"] = 100 * highest;
   j["layers_distance_better"] = better;
   j["layers_distance_worse"] = worse;
-  fmt::print("{} vs {}: mean D {}, max D {}, total ΔV {}, ΔV per layer {:+.1f}% on average "
-             "({:+.0f}% to {:+.0f}%); D better on {}, worse on {} of {} layers\n",
+  const std::string per_layer_text =
+      counted ? fmt::format("ΔV per layer {:+.1f}% on average ({:+.0f}% to {:+.0f}%)",
+                            100 * per_layer / counted, 100 * lowest, 100 * highest)
+              : std::string("ΔV per layer: n/a (the baseline's is negligible)");
+  fmt::print("{} vs {}: mean D {}, max D {}, total ΔV {}, {}; D better on {}, worse on {} of {} "
+             "layers\n",
              name_of(s.kind), name_of(base.kind), percent_change(s.mean_distance, base.mean_distance),
              percent_change(s.max_distance, base.max_distance),
-             percent_change(s.total_deviation, base.total_deviation),
-             counted ? 100 * per_layer / counted : 0.0, 100 * lowest, 100 * highest, better, worse,
-             layers.size());
+             base.total_deviation > geometry::kNegligibleVolume * layers.size()
+                 ? percent_change(s.total_deviation, base.total_deviation)
+                 : std::string("n/a"),
+             per_layer_text, better, worse, layers.size());
   return j;
 }
 
@@ -343,9 +349,12 @@ void run_analyze(const AnalyzeOptions& options) {
              ">lower", ">mid", "ms/layer");
   const int lower = index_of(kinds, ContourKind::lower), mid = index_of(kinds, ContourKind::mid);
   for (const StrategySummary& s : summaries) {
-    fmt::print("{:<15} {:8.4f} {:8.4f} {:8.4f} {:10.3f} {:9.5f} {:8.1f}% {:7} {:>7} {:>5} {:10.2f}\n",
+    fmt::print("{:<15} {:8.4f} {:8.4f} {:8.4f} {:10.3f} {:9.5f} {:>9} {:7} {:>7} {:>5} {:10.2f}\n",
                name_of(s.kind), s.mean_distance, s.max_distance, s.mean_hausdorff,
-               s.total_deviation, s.mean_deviation, s.above_limit_percent, s.missed_features,
+               s.total_deviation, s.mean_deviation,
+               std::isnan(s.above_limit_percent) ? std::string("n/a")
+                                                 : fmt::format("{:.1f}%", s.above_limit_percent),
+               s.missed_features,
                lower >= 0 ? std::to_string(s.worse_than_lower) : "-",
                mid >= 0 ? std::to_string(s.worse_than_mid) : "-",
                1e3 * s.contour_seconds / std::max<std::size_t>(s.layers, 1));
@@ -493,7 +502,9 @@ void run_analyze(const AnalyzeOptions& options) {
                                  {"max_hausdorff", s.max_hausdorff},
                                  {"total_volume_deviation", s.total_deviation},
                                  {"mean_volume_deviation", s.mean_deviation},
-                                 {"above_limit_percent", s.above_limit_percent},
+                                 {"above_limit_percent", std::isnan(s.above_limit_percent)
+                                                             ? nlohmann::json(nullptr)
+                                                             : nlohmann::json(s.above_limit_percent)},
                                  {"missed_features", s.missed_features},
                                  {"layers_worse_than_lower", s.worse_than_lower},
                                  {"layers_worse_than_mid", s.worse_than_mid},
