@@ -106,7 +106,7 @@ void run_ctl(const CtlOptions& options) {
 
 void add_ctl_command(CLI::App& app) {
   auto options = std::make_shared<CtlOptions>();
-  auto* ctl = app.add_subcommand("ctl", "Pause, resume, cancel or stop a running print");
+  auto* ctl = app.add_subcommand("ctl", "Pause, resume, cancel, stop or query a running print");
   ctl->footer(
       "pause waits for the next layer start; cancel lets the lines in flight finish, then "
       "turns the heaters off, lifts, parks and turns the motors off; stop is an emergency "

@@ -18,12 +18,12 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.fallthrough(false);
 
-  // One line per command; see host/commands.h.
+  // One line per command, in the order a user meets them; see host/commands.h.
   host::add_info_command(app);
+  host::add_slice_command(app);
   host::add_print_command(app);
   host::add_ctl_command(app);
   host::add_ports_command(app);
-  host::add_slice_command(app);
   host::add_sim_command(app);
   host::add_analyze_command(app);
 
