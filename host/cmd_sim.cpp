@@ -6,8 +6,10 @@
 #include <signal.h>
 
 #include <atomic>
+#include <cerrno>
 #include <charconv>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <string>
 
@@ -16,6 +18,7 @@
 
 #include "host/commands.h"
 #include "printer/error.h"
+#include "printer/profile.h"
 #include "sim/faults.h"
 #include "sim/pty_server.h"
 #include "sim/record.h"
@@ -30,6 +33,7 @@ struct SimOptions {
   std::string time_scale = "1";
   std::string record_path;
   std::string stl_path;
+  std::string printer_profile;
   int queue = 4;
   int planner = 16;
   int rx_buffer = 128;
@@ -56,6 +60,17 @@ double parse_time_scale(const std::string& text) {
   return value;
 }
 
+// Fails now rather than after a long session when an output file cannot be written.
+void check_writable(const std::string& path, std::string_view what) {
+  if (path.empty()) return;
+  std::FILE* file = std::fopen(path.c_str(), "w");
+  if (!file) {
+    throw printer::ConfigError(fmt::format("cannot write the {} {}: {}; check the folder exists and is writable",
+                                           what, path, std::strerror(errno)));
+  }
+  std::fclose(file);
+}
+
 std::string_view state_text(sim::PrinterState state) {
   switch (state) {
     case sim::PrinterState::running: return "running";
@@ -68,6 +83,13 @@ std::string_view state_text(sim::PrinterState state) {
 
 void run_sim(const SimOptions& options) {
   sim::Config config;
+  if (!options.printer_profile.empty()) {
+    // The profile's limits, so the sim's clock matches the estimate the slicer wrote.
+    const printer::PrinterProfile profile = printer::load_printer_profile(
+        options.printer_profile, printer::config_directory(MAHOST_CONFIG_DIR));
+    config.motion = profile.motion;
+    config.filament_diameter = profile.filament_diameter;
+  }
   config.faults = sim::parse_fault_spec(options.faults);
   config.queue_depth = options.queue;
   config.planner_depth = options.planner;
@@ -80,6 +102,8 @@ void run_sim(const SimOptions& options) {
   pty.baud = options.baud;
   pty.reset_on_open = !options.no_reset_on_open;
 
+  check_writable(options.record_path, "record");
+  check_writable(options.stl_path, "printed part");
   sim::PtyServer server(config, pty);
   // Handlers first: whoever reads the port may signal at once.
   struct sigaction action {};
@@ -133,6 +157,9 @@ void add_sim_command(CLI::App& app) {
   sim->add_option("--record", options->record_path,
                   "write the executed commands, counters and deposition record as JSON on exit");
   sim->add_option("--printed-stl", options->stl_path, "write the printed part as STL on exit");
+  sim->add_option("--printer", options->printer_profile,
+                  "printer profile (name or .toml) for motion limits and filament diameter; "
+                  "default: Marlin's stock limits");
   sim->add_option("--queue", options->queue, "command queue depth (Marlin's BUFSIZE)")
       ->check(CLI::Range(1, 64))
       ->capture_default_str();

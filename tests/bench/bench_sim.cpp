@@ -7,7 +7,14 @@
 // 2. Bytes per second on `mahost sim --pty --baud 115200` (must be <= 11 520, the UART's
 //    limit at 10 bits a byte): into the sim (a block of M117 lines) and out of it (M115).
 //
-// Usage: bench_sim [commands (default 500000)] [--no-pty]
+// 3. With --gcode FILE: the file streamed as a host would (comments off, numbered lines, one
+//    ok at a time) through the in-process sim: wall time, the sim's print time beside the
+//    file's own estimate (;PRINT_TIME_S), layers and filament from the deposition record, and
+//    the time and size of the record (JSON) and printed part (STL) written under /tmp.
+//
+//    --printer NAME takes the motion limits from that profile, as the slicer's estimate did.
+//
+// Usage: bench_sim [commands (default 500000)] [--no-pty] [--gcode FILE [--printer NAME]]
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
@@ -24,8 +31,16 @@
 
 #include <fmt/core.h>
 
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "geometry/mesh.h"
 #include "printer/gcode_line.h"
+#include "printer/profile.h"
+#include "sim/printed_part.h"
 #include "sim/printer.h"
+#include "sim/record.h"
 
 extern char** environ;
 
@@ -181,17 +196,84 @@ void bench_pty(double baud) {
   waitpid(pid, nullptr, 0);
 }
 
+// The value of a ";KEY:value" header comment, or 0.
+double header(const std::string& gcode, const std::string& key) {
+  const auto at = gcode.find(";" + key + ":");
+  return at == std::string::npos ? 0 : std::atof(gcode.c_str() + at + key.size() + 2);
+}
+
+void bench_gcode(const std::string& path, const std::string& profile) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string gcode = text.str();
+  std::vector<std::string> lines;
+  std::istringstream stream(gcode);
+  for (std::string line; std::getline(stream, line);) {
+    line = line.substr(0, line.find(';'));
+    line.erase(0, line.find_first_not_of(" \t"));
+    line.erase(line.find_last_not_of(" \t\r") + 1);
+    if (!line.empty()) lines.push_back(printer::frame_line(static_cast<long>(lines.size() + 1), line) + "\n");
+  }
+  sim::Config config;
+  if (!profile.empty()) {
+    const auto p = printer::load_printer_profile(profile, MAHOST_DATA_DIR "/../configs");
+    config.motion = p.motion;
+    config.filament_diameter = p.filament_diameter;
+  }
+  sim::Printer printer(config);
+  printer.run_until(1);
+  printer.take_output();
+  const auto start = Clock::now();
+  for (const std::string& line : lines) {
+    printer.receive(line);
+    while (printer.run_until_output(1e12)) {
+      if (printer.take_output().find("ok") != std::string::npos) break;
+    }
+  }
+  printer.finish();
+  const double wall = since(start);
+  const auto& record = printer.deposition();
+  fmt::print("{}: {} commands in {:.3f} s wall ({:.0f}/s); sim clock {:.1f} s, motion {:.1f} s, "
+             "file's estimate {:.1f} s; {} layers, {} extruding moves, filament {:.1f} mm "
+             "(file {:.1f} mm); {} unknown commands\n",
+             path, lines.size(), wall, static_cast<double>(lines.size()) / wall,
+             printer.motion_end_time(), printer.motion_time(), header(gcode, "PRINT_TIME_S"),
+             record.layer_z.size(), record.moves.size(), record.filament_used(),
+             header(gcode, "FILAMENT_MM"), printer.counters().unknown_commands);
+  auto t = Clock::now();
+  sim::write_record_json(printer, "/tmp/bench_sim_record.json");
+  fmt::print("record: {:.2f} s, {:.1f} MB\n", since(t),
+             static_cast<double>(std::filesystem::file_size("/tmp/bench_sim_record.json")) / 1e6);
+  t = Clock::now();
+  const geometry::Mesh part = sim::printed_part(record, printer.config().filament_diameter);
+  const double mesh_time = since(t);
+  sim::write_printed_stl(printer, "/tmp/bench_sim_part.stl");
+  fmt::print("printed part: {} triangles, {:.1f} mm^3, built in {:.2f} s, STL {:.1f} MB\n",
+             part.faces.size(), geometry::signed_volume(part), mesh_time,
+             static_cast<double>(std::filesystem::file_size("/tmp/bench_sim_part.stl")) / 1e6);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   std::size_t count = 500000;
   bool pty = true;
+  std::string gcode, profile;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--no-pty") == 0) {
       pty = false;
+    } else if (std::strcmp(argv[i], "--gcode") == 0 && i + 1 < argc) {
+      gcode = argv[++i];
+    } else if (std::strcmp(argv[i], "--printer") == 0 && i + 1 < argc) {
+      profile = argv[++i];
     } else {
       count = std::stoul(argv[i]);
     }
+  }
+  if (!gcode.empty()) {
+    bench_gcode(gcode, profile);
+    return 0;
   }
   bench_in_process(count);
   if (pty) bench_pty(115200);

@@ -254,6 +254,22 @@ TEST_CASE("sim_refuses_a_bad_fault_spec_in_one_line") {
   CHECK(unknown.err.starts_with("mahost: fault spec: unknown fault 'explode' (known: corrupt,"));
 }
 
+TEST_CASE("sim_refuses_an_unwritable_record_before_serving") {
+  const auto result = run_mahost({"sim", "--record", "/nonexistent-dir/record.json"});
+  CHECK(result.exit_code == 2);
+  CHECK(result.out.empty());
+  CHECK(result.err == "mahost: cannot write the record /nonexistent-dir/record.json: No such file "
+                      "or directory; check the folder exists and is writable\n");
+}
+
+TEST_CASE("sim_refuses_an_unknown_printer_profile") {
+  const auto result = run_mahost({"sim", "--printer", "nosuch"});
+  CHECK(result.exit_code == 2);
+  CHECK(result.out.empty());
+  CHECK(std::count(result.err.begin(), result.err.end(), '\n') == 1);
+  CHECK(result.err.find("'nosuch'") != std::string::npos);
+}
+
 TEST_CASE("sim_refuses_a_bad_time_scale_and_baud") {
   const auto scale = run_mahost({"sim", "--time-scale", "fast"});
   CHECK(scale.exit_code == 2);
