@@ -296,7 +296,13 @@ void run_print(const PrintOptions& options) {
     if (options.output.empty() && !named_journal) own.add(gcode_path);
     SliceOptions slice = options.slice;
     slice.model.path = options.input;
-    sliced = slice_to_gcode(slice, gcode_path, slice_progress_bars(slice.contour));
+    // Ctrl-C while slicing stops at the next layer, and the job's files go with it.
+    install_print_signals();
+    const SliceProgress bars = slice_progress_bars(slice.contour);
+    sliced = slice_to_gcode(slice, gcode_path, [&bars](SliceStage stage, std::size_t done, std::size_t total) {
+      if (interrupt_count() > 0) throw CommandExit{kExitInterrupted, "interrupted while slicing; nothing was printed"};
+      bars(stage, done, total);
+    });
     fmt::print("sliced {}{}: {}\n", options.input,
                options.output.empty() && !named_journal && !options.keep ? ""
                                                                           : " to " + gcode_path,
