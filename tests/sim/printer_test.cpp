@@ -3,6 +3,7 @@
 // Checksums in the streams were worked out by hand (XOR of the bytes before '*').
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -407,4 +408,44 @@ TEST_CASE("sim_clock_agrees_with_the_print_time_estimate") {
   // The clock: the host keeps the planner fed, so the moves run back to back from the first
   // one (at 1 ms) but for the five dwells between them (the sixth ends the program).
   CHECK(fed.motion_end_time() == doctest::Approx(1e-3 + fed.motion_time() + 5 * 0.2).epsilon(1e-12));
+}
+
+TEST_CASE("full_planner_delays_the_ok_until_the_oldest_move_ends") {
+  // Back and forth 10 mm at 10 mm/s: every move reverses, so each runs rest to rest in
+  // L/v + v/a = 1 + 10/1500 s (travel acceleration). Sixteen fill the planner at once; the
+  // seventeenth waits for the first to end.
+  sim::Config config;
+  config.advanced_ok = true;
+  Bench bench(config);
+  std::string moves;
+  for (int i = 0; i < 17; ++i) moves += i % 2 ? "G1 X0\n" : "G1 X10 F600\n";
+  const double start = bench.printer.now();
+  bench.printer.receive(moves);
+  bench.printer.run_until(start + 0.5);
+  const std::string first = bench.printer.take_output();
+  // B counts free queue slots as Marlin does (BUFSIZE less the commands held, this one
+  // included): the queue stays full while lines wait in the RX buffer.
+  CHECK(first.starts_with("ok P15 B0\nok P14 B0\n"));
+  CHECK(first.ends_with("ok P2 B0\nok P1 B1\nok P0 B2\n"));
+  CHECK(std::count(first.begin(), first.end(), '\n') == 16);
+  REQUIRE(bench.printer.run_until_output(start + 5));
+  CHECK(bench.printer.now() - start == doctest::Approx(1 + 10 / 1500.0).epsilon(1e-12));
+  CHECK(bench.printer.take_output() == "ok P0 B3\n");
+}
+
+TEST_CASE("m204_travel_acceleration_changes_the_clock") {
+  // One 10 mm travel from rest to rest: 10/10 + 10/a.
+  for (const double a : {1500.0, 100.0}) {
+    Bench bench;
+    bench.send("M204 T" + std::to_string(static_cast<int>(a)) + "\nG1 X10 F600\nM400\n", 5);
+    CHECK(bench.printer.motion_time() == doctest::Approx(1 + 10 / a).epsilon(1e-12));
+  }
+}
+
+TEST_CASE("wait_when_idle_if_configured") {
+  sim::Config config;
+  config.idle_wait_interval = 1;
+  Bench bench(config);
+  CHECK(bench.send("", 2.2) == "wait\nwait\n");
+  CHECK(bench.send("G4 S3\n", 4.5) == "echo:busy: processing\nok\nwait\n");
 }
