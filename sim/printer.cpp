@@ -12,6 +12,7 @@
 
 #include "printer/gcode_line.h"
 #include "sim/heater.h"
+#include "sim/serial_line.h"
 
 namespace sim {
 
@@ -19,79 +20,6 @@ namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr std::string_view kVersion = "2.0.9.3";
-
-bool is_eol(char c) { return c == '\n' || c == '\r'; }
-bool is_digit(char c) { return c >= '0' && c <= '9'; }
-
-// C's strtol as Marlin calls it: leading blanks, a sign, digits; 0 when there are none.
-long marlin_strtol(std::string_view s) {
-  std::size_t i = 0;
-  while (i < s.size() && (s[i] == ' ' || s[i] == '\t')) ++i;
-  bool negative = false;
-  if (i < s.size() && (s[i] == '-' || s[i] == '+')) negative = s[i++] == '-';
-  long value = 0;
-  while (i < s.size() && is_digit(s[i])) {
-    value = value * 10 + (s[i++] - '0');
-    if (value > 1'000'000'000'000L) break;  // far beyond any line number; keeps it defined
-  }
-  return negative ? -value : value;
-}
-
-// What Marlin's parser keeps of a line as the command: without leading blanks, "N<n> ",
-// '*' and what follows, and trailing blanks.
-std::string command_text(std::string_view line) {
-  std::size_t i = 0;
-  while (i < line.size() && line[i] == ' ') ++i;
-  if (i + 1 < line.size() && (line[i] == 'N' || line[i] == 'n') &&
-      (is_digit(line[i + 1]) || line[i + 1] == '-')) {
-    i += 2;
-    while (i < line.size() && is_digit(line[i])) ++i;
-    while (i < line.size() && line[i] == ' ') ++i;
-  }
-  line.remove_prefix(std::min(i, line.size()));
-  if (const auto star = line.find('*'); star != std::string_view::npos) line = line.substr(0, star);
-  while (!line.empty() && (line.back() == ' ' || line.back() == '\t')) line.remove_suffix(1);
-  return std::string(line);
-}
-
-enum class Emergency { none, m108, m112, m410 };
-
-// Marlin's EMERGENCY_PARSER (feature/e_parser.h): watches every byte as it arrives.
-class EmergencyParser {
- public:
-  Emergency update(char c) {
-    switch (state_) {
-      case State::reset:
-        if (c == ' ' || is_eol(c)) break;
-        state_ = c == 'N' ? State::n : c == 'M' ? State::m : State::ignore;
-        break;
-      case State::n:
-        if (is_digit(c) || c == '-' || c == ' ') break;
-        state_ = c == 'M' ? State::m : State::ignore;
-        break;
-      case State::m: state_ = c == '1' ? State::m1 : c == '4' ? State::m4 : State::ignore; break;
-      case State::m1: state_ = c == '0' ? State::m10 : c == '1' ? State::m11 : State::ignore; break;
-      case State::m10: state_ = c == '8' ? State::m108 : State::ignore; break;
-      case State::m11: state_ = c == '2' ? State::m112 : State::ignore; break;
-      case State::m4: state_ = c == '1' ? State::m41 : State::ignore; break;
-      case State::m41: state_ = c == '0' ? State::m410 : State::ignore; break;
-      default:
-        if (is_eol(c)) {
-          const State done = state_;
-          state_ = State::reset;
-          if (done == State::m108) return Emergency::m108;
-          if (done == State::m112) return Emergency::m112;
-          if (done == State::m410) return Emergency::m410;
-        }
-        break;
-    }
-    return Emergency::none;
-  }
-
- private:
-  enum class State { reset, n, m, m1, m10, m11, m4, m41, m108, m112, m410, ignore };
-  State state_ = State::reset;
-};
 
 // A command in the queue: what the parser sees, and where it came from.
 struct Queued {
@@ -147,9 +75,7 @@ struct Printer::Firmware {
   EmergencyParser emergency_parser;
   std::string rx;            // the firmware's RX buffer
   bool rx_dropping = false;  // inside a run of lost bytes (one overflow)
-  std::string line;          // process_stream_char's buffer
-  bool line_skip = false;    // in a comment, or past max_cmd_size
-  bool line_escape = false;
+  LineAssembler line;
   long last_n = 0;
 
   // Command queue; the front is the command executing, as in Marlin's ring buffer.
@@ -192,6 +118,7 @@ struct Printer::Firmware {
         rng_dup(cfg.faults.seed * 4 + 2),
         rng_resend(cfg.faults.seed * 4 + 3),
         motion(cfg.motion, static_cast<std::size_t>(std::max(cfg.planner_depth, 1))),
+        line(cfg.max_cmd_size),
         hotend(cfg.hotend, cfg.ambient),
         bed(cfg.bed, cfg.ambient) {
     cfg.queue_depth = std::max(cfg.queue_depth, 1);
@@ -220,8 +147,7 @@ struct Printer::Firmware {
     wire_free = now;
     rx.clear();
     rx_dropping = false;
-    line.clear();
-    line_skip = line_escape = false;
+    line = LineAssembler(cfg.max_cmd_size);
     last_n = 0;
     faults_armed = !cfg.faults.from_line;
     queue.clear();
@@ -323,7 +249,7 @@ struct Printer::Firmware {
     std::uniform_int_distribution<int> bit(0, 7);
     for (int attempt = 0; attempt < 16; ++attempt) {
       const char flipped = static_cast<char>(c ^ (1 << bit(rng_corrupt)));
-      if (is_eol(flipped) || flipped == ';' || flipped == '*' || flipped == '\b' ||
+      if (is_line_end(flipped) || flipped == ';' || flipped == '*' || flipped == '\b' ||
           flipped == '\0' || flipped == '\\' || flipped == 'N' || flipped == 'n') {
         continue;
       }
@@ -339,7 +265,7 @@ struct Printer::Firmware {
     chunk.bytes.assign(bytes);
     for (std::size_t k = 0; k < chunk.bytes.size(); ++k) {
       char& c = chunk.bytes[k];
-      const bool eol = is_eol(c);
+      const bool eol = is_line_end(c);
       const bool protected_byte = eol || c == ';' || c == '*' || c == '\b' || c == '\0' ||
                                   c == '\\' || (wire_line_start && (c == 'N' || c == 'n'));
       if (faults_armed && cfg.faults.corrupt > 0 && !line_corrupted && !protected_byte &&
@@ -437,75 +363,32 @@ struct Printer::Firmware {
   // Marlin's get_serial_commands for one character. Returns true when a line error
   // discarded the RX buffer.
   bool read_char(char c) {
-    if (!is_eol(c)) {
-      stream_char(c);
+    if (!is_line_end(c)) {
+      const bool was_cut = line.cut();
+      line.feed(c);
+      if (line.cut() && !was_cut) ++counters.long_lines;
       return false;
     }
-    line_skip = line_escape = false;
-    if (line.empty()) return false;
-    std::string text = std::move(line);
-    line.clear();
-    return line_done(text);
-  }
-
-  // process_stream_char: comments, escapes, backspace, over-long lines.
-  void stream_char(char c) {
-    if (line_skip) return;
-    if (line_escape) {
-      line_escape = false;
-    } else if (c == '\\') {
-      line_escape = true;
-      return;
-    } else if (c == ';') {
-      line_skip = true;
-      return;
-    }
-    if (c == '\b') {
-      if (!line.empty()) line.pop_back();
-      return;
-    }
-    line += c;
-    if (static_cast<int>(line.size()) >= cfg.max_cmd_size - 1) {
-      line_skip = true;
-      ++counters.long_lines;
-    }
+    const std::string raw = line.take();
+    if (raw.empty()) return false;
+    return line_done(raw);
   }
 
   bool line_done(const std::string& raw) {
-    std::string_view command = raw;
-    while (!command.empty() && command.front() == ' ') command.remove_prefix(1);
+    const LineCheck check = check_line(raw, last_n);
     std::optional<long> number;
-    if (!command.empty() && command.front() == 'N') {
-      const bool m110 = command.find("M110") != std::string_view::npos;
-      std::string_view npos = command;
-      if (m110 && command.size() > 4) {
-        if (const auto n2 = command.find('N', 4); n2 != std::string_view::npos) {
-          npos = command.substr(n2);
-        }
-      }
-      const long gcode_n = marlin_strtol(npos.substr(1));
-      if (gcode_n != last_n + 1 && !m110) {
-        return line_error("Line Number is not Last Line Number+1, Last Line: ");
-      }
-      const auto star = command.rfind('*');
-      if (star == std::string_view::npos) {
-        return line_error("No Checksum with line number, Last Line: ");
-      }
-      std::uint8_t sum = 0;
-      for (std::size_t i = 0; i < star; ++i) sum ^= static_cast<std::uint8_t>(command[i]);
-      if (marlin_strtol(command.substr(star + 1)) != sum) {
-        return line_error("checksum mismatch, Last Line: ");
-      }
+    if (check.verdict != LineVerdict::unnumbered) {
+      if (check.verdict != LineVerdict::accepted) return line_error(error_text(check.verdict));
       if (faults_armed && cfg.faults.resend > 0 && chance(rng_resend) < cfg.faults.resend) {
         ++counters.faults_injected;
-        return line_error("checksum mismatch, Last Line: ");
+        return line_error(error_text(LineVerdict::checksum_mismatch));
       }
-      last_n = gcode_n;
-      number = gcode_n;
-      if (cfg.faults.from_line && gcode_n >= *cfg.faults.from_line) faults_armed = true;
+      last_n = check.number;
+      number = check.number;
+      if (cfg.faults.from_line && check.number >= *cfg.faults.from_line) faults_armed = true;
     }
 
-    Queued queued{command_text(command), number, ++counters.lines};
+    Queued queued{command_text(raw), number, ++counters.lines};
     if (!cfg.emergency_parser && !number) {
       // queue.cpp's early check of unnumbered lines.
       if (queued.text.starts_with("M108")) emergency(Emergency::m108);
@@ -565,7 +448,7 @@ struct Printer::Firmware {
     executing = false;
     wait = Wait::none;
     rx.clear();
-    line.clear();
+    line.take();
     next_busy = next_wait_report = next_autoreport = runaway_at = kInfinity;
     quickstop();
   }
@@ -1009,7 +892,7 @@ struct Printer::Firmware {
   double next_line_end() const {
     for (const Chunk& chunk : wire) {
       for (std::size_t k = chunk.next; k < chunk.bytes.size(); ++k) {
-        if (is_eol(chunk.bytes[k])) return chunk.start + byte_time * static_cast<double>(k + 1);
+        if (is_line_end(chunk.bytes[k])) return chunk.start + byte_time * static_cast<double>(k + 1);
       }
     }
     return kInfinity;

@@ -1,0 +1,135 @@
+#include "sim/serial_line.h"
+
+#include <algorithm>
+
+namespace sim {
+
+namespace {
+bool is_digit(char c) { return c >= '0' && c <= '9'; }
+}  // namespace
+
+long marlin_strtol(std::string_view s) {
+  std::size_t i = 0;
+  while (i < s.size() && (s[i] == ' ' || s[i] == '\t')) ++i;
+  bool negative = false;
+  if (i < s.size() && (s[i] == '-' || s[i] == '+')) negative = s[i++] == '-';
+  long value = 0;
+  while (i < s.size() && is_digit(s[i])) {
+    value = value * 10 + (s[i++] - '0');
+    if (value > 1'000'000'000'000L) break;  // far beyond any line number; keeps it defined
+  }
+  return negative ? -value : value;
+}
+
+void LineAssembler::feed(char c) {
+  if (skip_) return;
+  if (escape_) {
+    escape_ = false;
+  } else if (c == '\\') {
+    escape_ = true;
+    return;
+  } else if (c == ';') {
+    skip_ = true;
+    return;
+  }
+  if (c == '\b') {
+    if (!line_.empty()) line_.pop_back();
+    return;
+  }
+  line_ += c;
+  if (static_cast<int>(line_.size()) >= max_size_ - 1) {
+    skip_ = true;
+    cut_ = true;
+  }
+}
+
+std::string LineAssembler::take() {
+  std::string line = std::move(line_);
+  line_.clear();
+  skip_ = escape_ = cut_ = false;
+  return line;
+}
+
+LineCheck check_line(std::string_view command, long last_n) {
+  while (!command.empty() && command.front() == ' ') command.remove_prefix(1);
+  LineCheck check;
+  if (command.empty() || command.front() != 'N') return check;
+  const bool m110 = command.find("M110") != std::string_view::npos;
+  std::string_view npos = command;
+  if (m110 && command.size() > 4) {
+    if (const auto n2 = command.find('N', 4); n2 != std::string_view::npos) npos = command.substr(n2);
+  }
+  check.number = marlin_strtol(npos.substr(1));
+  if (check.number != last_n + 1 && !m110) {
+    check.verdict = LineVerdict::wrong_line_number;
+    return check;
+  }
+  const auto star = command.rfind('*');
+  if (star == std::string_view::npos) {
+    check.verdict = LineVerdict::no_checksum;
+    return check;
+  }
+  unsigned char sum = 0;
+  for (std::size_t i = 0; i < star; ++i) sum ^= static_cast<unsigned char>(command[i]);
+  check.verdict = marlin_strtol(command.substr(star + 1)) == sum ? LineVerdict::accepted
+                                                                 : LineVerdict::checksum_mismatch;
+  return check;
+}
+
+std::string_view error_text(LineVerdict verdict) {
+  switch (verdict) {
+    case LineVerdict::wrong_line_number: return "Line Number is not Last Line Number+1, Last Line: ";
+    case LineVerdict::no_checksum: return "No Checksum with line number, Last Line: ";
+    case LineVerdict::checksum_mismatch: return "checksum mismatch, Last Line: ";
+    case LineVerdict::unnumbered:
+    case LineVerdict::accepted: break;
+  }
+  return "";
+}
+
+std::string command_text(std::string_view line) {
+  std::size_t i = 0;
+  while (i < line.size() && line[i] == ' ') ++i;
+  if (i + 1 < line.size() && (line[i] == 'N' || line[i] == 'n') &&
+      (is_digit(line[i + 1]) || line[i + 1] == '-')) {
+    i += 2;
+    while (i < line.size() && is_digit(line[i])) ++i;
+    while (i < line.size() && line[i] == ' ') ++i;
+  }
+  line.remove_prefix(std::min(i, line.size()));
+  if (const auto star = line.find('*'); star != std::string_view::npos) line = line.substr(0, star);
+  while (!line.empty() && (line.back() == ' ' || line.back() == '\t')) line.remove_suffix(1);
+  return std::string(line);
+}
+
+Emergency EmergencyParser::update(char c) {
+  switch (state_) {
+    case State::reset:
+      if (c == ' ' || is_line_end(c)) break;
+      state_ = c == 'N' ? State::n : c == 'M' ? State::m : State::ignore;
+      break;
+    case State::n:
+      if (is_digit(c) || c == '-' || c == ' ') break;
+      state_ = c == 'M' ? State::m : State::ignore;
+      break;
+    case State::m: state_ = c == '1' ? State::m1 : c == '4' ? State::m4 : State::ignore; break;
+    case State::m1: state_ = c == '0' ? State::m10 : c == '1' ? State::m11 : State::ignore; break;
+    case State::m10: state_ = c == '8' ? State::m108 : State::ignore; break;
+    case State::m11: state_ = c == '2' ? State::m112 : State::ignore; break;
+    case State::m4: state_ = c == '1' ? State::m41 : State::ignore; break;
+    case State::m41: state_ = c == '0' ? State::m410 : State::ignore; break;
+    default:
+      // After a command (and whatever follows it on the line), or a line to ignore.
+      if (is_line_end(c)) {
+        const State done = state_;
+        state_ = State::reset;
+        if (done == State::m108) return Emergency::m108;
+        if (done == State::m112) return Emergency::m112;
+        if (done == State::m410) return Emergency::m410;
+      }
+      break;
+  }
+  return Emergency::none;
+}
+
+}  // namespace sim

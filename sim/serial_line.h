@@ -1,0 +1,67 @@
+// How Marlin 2.x reads a line from its serial port (Marlin/src/gcode/queue.cpp,
+// feature/e_parser.h), as small pieces the simulated printer puts together.
+//
+// Input: the bytes of one line as the firmware receives them. Output: the line as Marlin
+// keeps it (comments, escapes and backspaces applied, cut at max_cmd_size - 1 characters),
+// Marlin's verdict on its line number and checksum, and the command its parser sees.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace sim {
+
+inline bool is_line_end(char c) { return c == '\n' || c == '\r'; }
+
+// C's strtol as Marlin calls it: leading blanks, a sign, digits; 0 when there are none.
+long marlin_strtol(std::string_view text);
+
+// process_stream_char: builds a line from bytes. ';' starts a comment to the line end, '\'
+// takes the next byte as it is, a backspace erases, and bytes beyond max_cmd_size - 1 are
+// dropped. Line ends are not fed to it: take() ends the line.
+class LineAssembler {
+ public:
+  explicit LineAssembler(int max_cmd_size) : max_size_(max_cmd_size) {}
+  void feed(char c);
+  // The line so far, and a fresh start for the next one.
+  std::string take();
+  // Whether the line being built has been cut (counted once per line).
+  bool cut() const { return cut_; }
+
+ private:
+  int max_size_;
+  std::string line_;
+  bool skip_ = false, escape_ = false, cut_ = false;
+};
+
+// Marlin's checks of a line that starts with N (after blanks), in its order: the number must
+// follow last_n (unless the line holds M110), then a checksum must be there and match.
+enum class LineVerdict { unnumbered, accepted, wrong_line_number, no_checksum, checksum_mismatch };
+struct LineCheck {
+  LineVerdict verdict = LineVerdict::unnumbered;
+  long number = 0;  // the N (for M110 lines, the N after M110 when given)
+};
+LineCheck check_line(std::string_view line, long last_n);
+
+// "Line Number is not Last Line Number+1, Last Line: " and so on, for an error verdict.
+std::string_view error_text(LineVerdict verdict);
+
+// What Marlin's parser keeps of a line as the command: without leading blanks, "N<n> ",
+// '*' and what follows, and trailing blanks ("N5 G1 X1 *23" -> "G1 X1").
+std::string command_text(std::string_view line);
+
+// EMERGENCY_PARSER: watches every byte as it arrives, before any buffer, and recognises
+// M108, M112 and M410 (after an optional line number) when their line ends.
+enum class Emergency { none, m108, m112, m410 };
+class EmergencyParser {
+ public:
+  Emergency update(char c);
+
+ private:
+  enum class State { reset, n, m, m1, m10, m11, m4, m41, m108, m112, m410, ignore };
+  State state_ = State::reset;
+};
+
+}  // namespace sim
