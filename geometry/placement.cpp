@@ -3,6 +3,8 @@
 
 #include <cmath>
 
+#include "geometry/clipper_bridge.h"
+
 namespace geometry {
 namespace {
 
@@ -19,6 +21,12 @@ Vec3 turn_up(const Vec3& p, Axis up) {
   }
   return p;
 }
+
+// Heights on a 1 nm grid. Files store flat faces with float noise (the stl-models gearwheel's
+// bottom is at +-5e-17); without the snap, a plane exactly at such a face (z = 0 for the first
+// layer's lower contour) would cut a ragged sliver instead of the whole face. 1 nm is the
+// resolution of every 2D operation here (clipper_bridge.h), far below any printer's.
+double snap_height(double z) { return std::round(z * kClipperScale) / kClipperScale; }
 
 }  // namespace
 
@@ -37,7 +45,8 @@ Mesh place(Mesh mesh, const Placement& placement) {
   const Vec3 shift{(box.min.x + box.max.x) / 2, (box.min.y + box.max.y) / 2, box.min.z};
   for (Vec3& p : mesh.vertices) {
     const Vec3 q = p - shift;
-    p = {placement.center.x + factor * q.x, placement.center.y + factor * q.y, factor * q.z};
+    p = {placement.center.x + factor * q.x, placement.center.y + factor * q.y,
+         snap_height(factor * q.z)};
   }
   return mesh;
 }

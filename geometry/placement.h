@@ -2,7 +2,8 @@
 //
 // Input: a mesh in file units. Output: the same mesh in mm, rotated so that `up` becomes +Z
 // (a proper rotation, so outward faces stay outward), scaled, its bounding box centred on
-// `center` in XY and its lowest point on z = 0. An empty mesh stays empty.
+// `center` in XY and its lowest point on z = 0. Heights are snapped to a 1 nm grid, so faces
+// that are flat up to the file's float noise come out exactly flat. An empty mesh stays empty.
 #pragma once
 
 #include <optional>

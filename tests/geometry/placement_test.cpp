@@ -131,3 +131,12 @@ TEST_CASE("flat_mesh_placed_without_height_scaling") {
   CHECK(size_of(placed).x == 2);
   CHECK(bounding_box(placed).max.z == 0);
 }
+
+TEST_CASE("faces_flat_up_to_float_noise_come_out_exactly_flat") {
+  // The stl-models gearwheel stores its bottom at z = +-5e-17: placed, the whole bottom must
+  // sit on exactly z = 0 and the top on exactly the height, or a plane at z = 0 misses it.
+  Mesh m = box(10, 10, 8);
+  for (Vec3& v : m.vertices) v.z += (v.x > 0 ? 4e-17 : -5e-17) + (v.y > 0 ? 1e-15 : 0);
+  const Mesh placed = place(m, Placement{});
+  for (const Vec3& v : placed.vertices) CHECK((v.z == 0.0 || v.z == 8.0));
+}
