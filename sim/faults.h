@@ -12,7 +12,9 @@
 //   changed, and never into or out of a line end, ';', '*', backspace or NUL, nor the 'N'
 //   that starts a line: Marlin's XOR checksum can only catch such a change (two flips of the
 //   same bit cancel; a flipped 'N' makes an unchecked line), so every corruption is detected
-//   and answered with an error and Resend, as the issue requires.
+//   and answered with an error and Resend, as the issue requires. Unnumbered lines carry no
+//   checksum, so Marlin runs them as they arrive, changed or not; use from-line to keep a
+//   host's unnumbered handshake out of reach.
 // - drop-ok=p: an `ok` for an executed command is not sent.
 // - dup-ok=p: an `ok` is sent twice.
 // - resend=p: a numbered line that arrived intact is answered as if its checksum were wrong
