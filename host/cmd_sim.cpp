@@ -122,9 +122,12 @@ void run_sim(const SimOptions& options) {
   if (!options.stl_path.empty()) sim::write_printed_stl(printer, options.stl_path);
 
   const sim::Counters& n = printer.counters();
-  const std::string reason = printer.stop_reason().empty() ? "" : " (" + printer.stop_reason() + ")";
-  fmt::print("printer     {}{}, port opened {} time{}\n", state_text(printer.state()), reason,
-             server.opens(), server.opens() == 1 ? "" : "s");
+  // A disconnect's reason says so itself; a halt's says why.
+  std::string state(state_text(printer.state()));
+  if (printer.state() == sim::PrinterState::disconnected) state = printer.stop_reason();
+  if (printer.state() == sim::PrinterState::halted) state += ": " + printer.stop_reason();
+  fmt::print("printer     {}, port opened {} time{}\n", state, server.opens(),
+             server.opens() == 1 ? "" : "s");
   fmt::print("lines       {} accepted, {} commands executed, {} unknown\n", n.lines, n.commands,
              n.unknown_commands);
   fmt::print("resends     {} ({} line errors)\n", n.resends, n.errors);
