@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <deque>
 #include <limits>
+#include <numbers>
 #include <optional>
 #include <random>
 
@@ -525,13 +526,20 @@ struct Printer::Firmware {
     return relative;
   }
 
-  double move(const printer::GcodeCommand& c) {
+  // Where a G0-G3 goes, in the current modes; F sets the feedrate.
+  Position destination(const printer::GcodeCommand& c) {
     Position target = pos;
     if (auto v = c.get('X')) target.x = relative ? pos.x + *v : *v;
     if (auto v = c.get('Y')) target.y = relative ? pos.y + *v : *v;
     if (auto v = c.get('Z')) target.z = relative ? pos.z + *v : *v;
     if (auto v = c.get('E')) target.e = e_relative() ? pos.e + *v : *v;
     if (auto f = c.get('F'); f && *f > 0) feedrate = *f / 60.0;
+    return target;
+  }
+
+  // One straight move: recorded if it extrudes, queued in the planner. Returns when it
+  // entered the planner.
+  double line_to(const Position& target) {
     const double speed = feedrate * feed_percent / 100.0;
     const double fed = (target.e - pos.e) * flow_percent / 100.0;
     const geometry::Vec2 start{pos.x, pos.y}, end{target.x, target.y};
@@ -539,6 +547,53 @@ struct Printer::Firmware {
     motion_e += fed;
     if (fed > 0 && !(start == end)) record.add(target.z, start, end, fed, speed);
     return plan_move({pos.x, pos.y, pos.z, motion_e}, speed);
+  }
+
+  double move(const printer::GcodeCommand& c) { return line_to(destination(c)); }
+
+  // G2 (clockwise) / G3: an arc in XY about the centre at I, J from the start (or of radius
+  // R), Z and E spread along it, cut into 1 mm segments (Marlin's plan_arc with
+  // MM_PER_ARC_SEGMENT 1). A start equal to the end with I/J is a full circle.
+  double arc(const printer::GcodeCommand& c, bool clockwise) {
+    const Position start = pos;
+    const Position target = destination(c);
+    double i = c.get('I').value_or(0), j = c.get('J').value_or(0);
+    if (auto r = c.get('R'); r && *r != 0 && (target.x != start.x || target.y != start.y)) {
+      const double e = (clockwise != (*r < 0)) ? -1 : 1;
+      const double dx = target.x - start.x, dy = target.y - start.y, d = std::hypot(dx, dy);
+      const double h2 = (*r - 0.5 * d) * (*r + 0.5 * d), h = h2 >= 0 ? std::sqrt(h2) : 0.0;
+      const double cx = (start.x + target.x) / 2 + e * h * -dy / d;
+      const double cy = (start.y + target.y) / 2 + e * h * dx / d;
+      i = cx - start.x;
+      j = cy - start.y;
+    }
+    const double cx = start.x + i, cy = start.y + j;
+    const double radius = std::hypot(i, j);
+    const double ax = -i, ay = -j;  // centre to start
+    const double bx = target.x - cx, by = target.y - cy;
+    double angle = std::atan2(ax * by - ay * bx, ax * bx + ay * by);
+    if (angle < 0) angle += 2 * std::numbers::pi;
+    if (clockwise) angle -= 2 * std::numbers::pi;
+    if (angle == 0 && start.x == target.x && start.y == target.y && radius > 0) {
+      angle = clockwise ? -2 * std::numbers::pi : 2 * std::numbers::pi;
+    }
+    const double flat = radius * std::abs(angle), rise = target.z - start.z;
+    const double travel = std::hypot(flat, rise);
+    if (!(radius > 0) || travel < 0.001) return line_to(target);
+    const int segments = std::max(1, static_cast<int>(std::floor(travel / 1.0)));
+    double entered = now;
+    for (int k = 1; k <= segments; ++k) {
+      Position p = target;
+      if (k < segments) {
+        const double share = static_cast<double>(k) / segments, turn = angle * share;
+        p.x = cx + ax * std::cos(turn) - ay * std::sin(turn);
+        p.y = cy + ax * std::sin(turn) + ay * std::cos(turn);
+        p.z = start.z + rise * share;
+        p.e = start.e + (target.e - start.e) * share;
+      }
+      entered = std::max(entered, line_to(p));
+    }
+    return entered;
   }
 
   double home(const printer::GcodeCommand& c) {
@@ -659,8 +714,10 @@ struct Printer::Firmware {
     if (c.letter == 'G') {
       switch (c.code) {
         case 0:
-        case 1: {
-          done_at = move(c);
+        case 1:
+        case 2:
+        case 3: {
+          done_at = c.code <= 1 ? move(c) : arc(c, c.code == 2);
           if (done_at > now) wait = Wait::planner;
           return;
         }
@@ -821,7 +878,7 @@ struct Printer::Firmware {
         {"PROMPT_SUPPORT", false},    {"SDCARD", false},
         {"REPEAT", false},            {"AUTOREPORT_SD_STATUS", false},
         {"LONG_FILENAME", false},     {"THERMAL_PROTECTION", true},
-        {"MOTION_MODES", false},      {"ARCS", false},
+        {"MOTION_MODES", false},      {"ARCS", true},
         {"BABYSTEPPING", false},      {"CHAMBER_TEMPERATURE", false},
         {"COOLER_TEMPERATURE", false}, {"MEATPACK", false},
     };

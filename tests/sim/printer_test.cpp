@@ -449,3 +449,35 @@ TEST_CASE("wait_when_idle_if_configured") {
   CHECK(bench.send("", 2.2) == "wait\nwait\n");
   CHECK(bench.send("G4 S3\n", 4.5) == "echo:busy: processing\nok\nwait\n");
 }
+
+TEST_CASE("g3_full_circle_is_cut_into_one_millimetre_chords_on_the_circle") {
+  // Radius 10: 20 pi = 62.83 mm of arc, so 62 chords, each ending on the circle.
+  Bench bench;
+  bench.send("G92 X10 Y0 Z0.2 E0\nG3 X10 Y0 I-10 J0 E6.2 F1200\n", 30);
+  const auto& moves = bench.printer.deposition().moves;
+  REQUIRE(moves.size() == 62);
+  double filament = 0;
+  for (const auto& m : moves) {
+    CHECK(std::hypot(m.end.x, m.end.y) == doctest::Approx(10).epsilon(1e-12));
+    filament += m.e;
+  }
+  CHECK(filament == doctest::Approx(6.2));
+  CHECK(moves[0].end.y > 0);  // counter-clockwise from (10, 0)
+  CHECK(moves.back().end.x == 10);
+  CHECK(moves.back().end.y == 0);
+}
+
+TEST_CASE("g2_with_radius_finds_the_centre_marlin_does") {
+  // Clockwise quarter from (10, 0) to (0, -10) with R10: centre (0, 0), through y < 0.
+  Bench bench;
+  bench.send("G92 X10 Y0 Z0.2 E0\nG2 X0 Y-10 R10 E1 F1200\n", 30);
+  const auto& moves = bench.printer.deposition().moves;
+  REQUIRE(moves.size() == 15);  // 5 pi = 15.7 mm
+  for (const auto& m : moves) {
+    CHECK(std::hypot(m.end.x, m.end.y) == doctest::Approx(10).epsilon(1e-12));
+    CHECK(m.end.y <= 1e-12);
+    CHECK(m.end.x >= -1e-12);
+  }
+  CHECK(bench.printer.position().x == 0);
+  CHECK(bench.printer.position().y == -10);
+}
