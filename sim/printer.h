@@ -20,6 +20,18 @@
 // - M112, M108 and M410 act when their line is read, ahead of the queue;
 // - replies: M105, M114, M115, M155, busy keepalive, unknown commands, `start`, kill().
 // Faults (sim/faults.h) are injected on top, from their seed.
+//
+// Commands it runs: G0-G3 (arcs in 1 mm chords), G4, G28 (homing moves through the motion
+// model, from where the head is; it powers on at 0,0,0), G90/G91 (both also set E, as
+// Marlin's do), G92, M0/M1 (until M108 or S/P), M17/M18/M84, M82/M83, M104/M109, M140/M190,
+// M105, M106/M107, M108, M110, M112, M113, M114, M115, M155, M201/M203/M204/M205 (the motion
+// model's limits), M220/M221, M400, M410, M999, T0; M73, M75-M77, M111, M117, M300 are
+// accepted and do nothing here. Anything else is an unknown command (G20/G21 too, as in
+// Marlin's stock configuration without INCH_MODE_SUPPORT).
+// Not modelled: software endstops (moves are not clamped to a bed), where inside a move
+// M410 stops the head (the sim keeps the commanded position), PID overshoot (heaters follow
+// sim/heater.h's closed form), the planner running dry when a host feeds it too slowly (moves
+// keep their look-ahead speeds; the clock only waits for them to arrive).
 #pragma once
 
 #include <cstdint>
