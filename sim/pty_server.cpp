@@ -138,7 +138,12 @@ void PtyServer::serve(const std::atomic<bool>& stop) {
       wall_base = Clock::now();
       budget_in.go_idle();
       budget_out.go_idle();
-      if (options_.reset_on_open) printer_.reset();
+      if (options_.reset_on_open) {
+        // Bytes left from the last session, or sent while the board resets, are lost.
+        while (read(master_, buffer, sizeof buffer) > 0) {
+        }
+        printer_.reset();
+      }
     }
 
     // 2. The sim clock catches up with the wall clock (or runs ahead at full speed).
