@@ -288,3 +288,39 @@ TEST_CASE("printcore_prints_a_file_and_the_sim_executes_exactly_its_commands") {
 TEST_CASE("printcore_through_one_percent_byte_corruption_loses_and_repeats_nothing") {
   print_with_printcore("corrupt=0.01,from-line=0,seed=7", "printcore_corrupt");
 }
+
+TEST_CASE("sim_without_reset_on_open_keeps_its_state_across_hosts") {
+  SimProcess sim({"--time-scale", "max", "--no-reset-on-open"});
+  int fd = open_port(sim.port());
+  REQUIRE(fd >= 0);
+  CHECK(write(fd, "G92 X5\n", 7) == 7);
+  // (The power-on banner comes too if the port was opened before the server first looked.)
+  CHECK(read_until(fd, "ok\n", 5).ends_with("ok\n"));
+  close(fd);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  fd = open_port(sim.port());
+  REQUIRE(fd >= 0);
+  CHECK(write(fd, "M114\n", 5) == 5);
+  CHECK(read_until(fd, "ok\n", 5) == "X:5.00 Y:0.00 Z:0.00 E:0.00 Count X:400 Y:0 Z:0\nok\n");
+  close(fd);
+  int code = -1;
+  sim.stop(code);
+  CHECK(code == 0);
+}
+
+TEST_CASE("sim_baud_paces_replies_no_faster_than_the_uart") {
+  // A lower bound only: a slow machine takes longer, never less.
+  SimProcess sim({"--time-scale", "max", "--baud", "9600"});
+  const int fd = open_port(sim.port());
+  REQUIRE(fd >= 0);
+  read_until(fd, "Author", 5);
+  const auto start = std::chrono::steady_clock::now();
+  CHECK(write(fd, "M115\n", 5) == 5);
+  const std::string reply = read_until(fd, "ok\n", 20);
+  const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  REQUIRE(reply.ends_with("ok\n"));
+  CHECK(took >= (5 + reply.size()) * 10 / 9600.0 * 0.98);
+  close(fd);
+  int code = -1;
+  sim.stop(code);
+}
