@@ -31,6 +31,29 @@
 // slab, so the feature is kept. Walls midway between a cap's outline and its apex would halve
 // the distance error of a symmetric dome, but on the bunny's 33 caps they made 6 layers' D
 // worse (up to 0.7 mm: tilted features whose apex sits at their edge) and 1 better.
+//
+// Where the strip is not a strip. The axis is right where the surface inside the slab is a
+// flank running from the island's solid loops to its empty loops; the boundary pair shows
+// nothing else. Two rules take the mid section (the least-ΔV choice, as for caps) where the
+// surface does something else:
+//   6. floating features: a face of the mid section inside a strip (a solid part, or an empty
+//      part of a hole) that holds none of the island's loops, that is, the surface crosses the
+//      middle there on a closed curve the boundary pair cannot show: a bump or tail tip that
+//      begins inside the slab, a dip, the patches of a nearly flat surface whose height wobbles
+//      round the middle (the bunny's hole-filled base). The face itself becomes part of the
+//      contour (solid) or a hole in it (empty); the rest of the island keeps its axis.
+//   7. pockets (paper §3.4, non-contributing points): the same-side triangles of the
+//      triangulation, joined across their shared edges, with the mixed triangles at their
+//      mouths. A pocket holds samples with no Delaunay neighbour on the other side: the bottom
+//      of a groove, a neck or septum where two parts of one side merge inside the slab (a
+//      saddle), the lobe of a bump, a sharp corner. The axis does not come near them (on a
+//      saddle it fills the neck; the surface may cut it). Let Θ be the largest distance from a
+//      contributing sample of the island to the walls (the paper's Θ): a pocket with a sample
+//      farther than Θ takes the mid section inside its triangles, if that brings its samples
+//      nearer to the walls. The paper's own refinement (moving Voronoi vertices towards
+//      those samples) is not implemented here either.
+// Both replacements are one Clipper operation each, (region \ zone) ∪ (mid ∩ zone), so the
+// parts meet exactly on the zone's edges (a short wall there joins the axis to the section).
 #include "geometry/ma_contour.h"
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
@@ -48,6 +71,7 @@
 #include <limits>
 #include <utility>
 
+#include "geometry/boundary_grid.h"
 #include "geometry/clipper_bridge.h"
 
 namespace geometry {
@@ -62,8 +86,14 @@ struct SampleRef {
 
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using VertexBase = CGAL::Triangulation_vertex_base_with_info_2<SampleRef, Kernel>;
+// Per face: visited by the chain walk, and how many loops a walk from the infinite face
+// crosses to reach it (odd: inside the footprint).
+struct FaceInfo {
+  std::uint8_t visited = 0;
+  std::int8_t nesting = -1;
+};
 using FaceBase = CGAL::Constrained_triangulation_face_base_2<
-    Kernel, CGAL::Triangulation_face_base_with_info_2<std::uint8_t, Kernel>>;
+    Kernel, CGAL::Triangulation_face_base_with_info_2<FaceInfo, Kernel>>;
 using Tds = CGAL::Triangulation_data_structure_2<VertexBase, FaceBase>;
 using Delaunay = CGAL::Constrained_Delaunay_triangulation_2<Kernel, Tds, CGAL::Exact_predicates_tag>;
 using Face = Delaunay::Face_handle;
@@ -255,13 +285,31 @@ void fair_between(const ContourVertex& a, const ContourVertex& b, int depth,
 
 }  // namespace
 
-std::vector<Loop> medial_axis_loops(const BoundaryPair& pair, std::span<const char> solid,
-                                    const MaOptions& options, MaStats* stats) {
+namespace {
+
+// A pocket (see the top of the file): a connected set of same-side triangles inside the
+// footprint with at least one non-contributing sample, together with the mixed triangles at
+// its mouths, and the corners of all of them.
+struct Pocket {
+  ClipperLib::Paths triangles;
+  std::vector<Vec2> corners;
+  std::vector<Vec2> non_contributing;
+};
+
+struct IslandAxis {
+  std::vector<Loop> loops;
+  std::vector<Vec2> contributing;  // samples with a Delaunay neighbour on the other side
+  std::vector<Pocket> pockets;
+};
+
+IslandAxis island_axis(const BoundaryPair& pair, std::span<const char> solid,
+                       const MaOptions& options, MaStats* stats, bool want_pockets) {
+  IslandAxis axis;
   const std::vector<const Loop*> loops = loops_of(pair);
-  std::vector<Loop> contour;
-  if (solid.size() != loops.size()) return contour;
+  std::vector<Loop>& contour = axis.loops;
+  if (solid.size() != loops.size()) return axis;
   if (std::all_of(solid.begin(), solid.end(), [&](char s) { return (s != 0) == (solid[0] != 0); })) {
-    return contour;  // a cap: no loop separates solid from empty
+    return axis;  // a cap: no loop separates solid from empty
   }
   const std::vector<Sample> samples = sample_loops(loops, options);
   if (stats) stats->samples += samples.size();
@@ -303,7 +351,7 @@ std::vector<Loop> medial_axis_loops(const BoundaryPair& pair, std::span<const ch
         i + 1 < samples.size() && samples[i + 1].loop == samples[i].loop ? i + 1 : first_of_loop[samples[i].loop];
     if (vertex_of[i] != vertex_of[next]) triangulation.insert_constraint(vertex_of[i], vertex_of[next]);
   }
-  for (Face f : triangulation.all_face_handles()) f->info() = 0;
+  for (Face f : triangulation.all_face_handles()) f->info() = FaceInfo{};
 
   const char outside = solid[0] != 0;
   const auto known = [&](Vertex v) {
@@ -312,6 +360,10 @@ std::vector<Loop> medial_axis_loops(const BoundaryPair& pair, std::span<const ch
   // A crossing vertex (two loops touching) takes the outside's label: any labelling closes.
   const auto label = [&](Vertex v) -> char {
     return known(v) ? solid[samples[v->info().index].loop] != 0 : outside;
+  };
+  const auto mixed = [&](Face f) {
+    const char l0 = label(f->vertex(0));
+    return label(f->vertex(1)) != l0 || label(f->vertex(2)) != l0;
   };
   // In a face with mixed labels, the edge the contour leaves by: with vertices v0 v1 v2
   // counter-clockwise and v_i the odd one out, the solid stays on the left if the contour
@@ -324,11 +376,11 @@ std::vector<Loop> medial_axis_loops(const BoundaryPair& pair, std::span<const ch
   };
 
   for (Face start : triangulation.all_face_handles()) {
-    if (start->info() || exit_edge(start) < 0) continue;
+    if (start->info().visited || exit_edge(start) < 0) continue;
     std::vector<ContourVertex> chain;
     Face f = start;
     do {
-      f->info() = 1;
+      f->info().visited = 1;
       const int out = exit_edge(f);
       const Vertex u = f->vertex(Delaunay::cw(out)), v = f->vertex(Delaunay::ccw(out));
       if (known(u) && known(v)) {
@@ -350,7 +402,7 @@ std::vector<Loop> medial_axis_loops(const BoundaryPair& pair, std::span<const ch
         chain.push_back({at, query});
       }
       f = f->neighbor(out);
-    } while (f != start && exit_edge(f) >= 0 && !f->info());
+    } while (f != start && exit_edge(f) >= 0 && !f->info().visited);
     if (chain.size() < 3) continue;
     Loop loop;
     loop.reserve(chain.size());
@@ -361,7 +413,114 @@ std::vector<Loop> medial_axis_loops(const BoundaryPair& pair, std::span<const ch
     contour.push_back(std::move(loop));
   }
   if (stats) stats->loops += contour.size();
-  return contour;
+  if (!want_pockets) return axis;
+
+  // Which faces lie inside the footprint: flood from the infinite face, one more loop
+  // crossed at every constrained edge (CGAL's polygon-with-holes triangulation example).
+  {
+    std::vector<std::pair<Face, int>> border{{triangulation.infinite_face(), 0}};
+    std::vector<Face> queue;
+    while (!border.empty()) {
+      const auto [seed, nesting] = border.back();
+      border.pop_back();
+      if (seed->info().nesting != -1) continue;
+      queue.assign(1, seed);
+      while (!queue.empty()) {
+        const Face f = queue.back();
+        queue.pop_back();
+        if (f->info().nesting != -1) continue;
+        f->info().nesting = static_cast<std::int8_t>(std::min(nesting, 100));
+        for (int i = 0; i < 3; ++i) {
+          const Face n = f->neighbor(i);
+          if (n->info().nesting != -1) continue;
+          if (triangulation.is_constrained({f, i})) {
+            border.push_back({n, nesting + 1});
+          } else {
+            queue.push_back(n);
+          }
+        }
+      }
+    }
+  }
+  const auto inside = [&](Face f) {
+    return !triangulation.is_infinite(f) && (f->info().nesting & 1) != 0;
+  };
+  const auto corner = [&](Face f, int i) {
+    const auto& p = f->vertex(i)->point();
+    return Vec2{p.x(), p.y()};
+  };
+  const auto triangle = [&](Face f) {
+    ClipperLib::Path path;
+    for (int i = 0; i < 3; ++i) path.push_back(to_clipper(corner(f, i)));
+    return path;  // CCW, as CGAL keeps its faces
+  };
+  // Contributing samples: corners of a mixed face inside the footprint.
+  std::vector<char> contributing(samples.size(), 0);
+  for (Face f : triangulation.finite_face_handles()) {
+    if (!inside(f) || !mixed(f)) continue;
+    for (int i = 0; i < 3; ++i) {
+      const Vertex v = f->vertex(i);
+      if (known(v)) contributing[v->info().index] = 1;
+    }
+  }
+  for (std::uint32_t i = 0; i < samples.size(); ++i) {
+    if (contributing[i]) axis.contributing.push_back(samples[i].at);
+  }
+  // Pockets: components of same-side faces inside the footprint, joined across their shared
+  // (unconstrained) edges; visited is reused as "already in a component".
+  for (Face f : triangulation.all_face_handles()) f->info().visited = 0;
+  std::vector<Face> component, queue;
+  for (Face seed : triangulation.finite_face_handles()) {
+    if (seed->info().visited || !inside(seed) || mixed(seed)) continue;
+    component.clear();
+    queue.assign(1, seed);
+    seed->info().visited = 1;
+    while (!queue.empty()) {
+      const Face f = queue.back();
+      queue.pop_back();
+      component.push_back(f);
+      for (int i = 0; i < 3; ++i) {
+        const Face n = f->neighbor(i);
+        if (n->info().visited || !inside(n) || triangulation.is_constrained({f, i})) continue;
+        if (mixed(n)) continue;
+        n->info().visited = 1;
+        queue.push_back(n);
+      }
+    }
+    Pocket pocket;
+    for (Face f : component) {
+      for (int i = 0; i < 3; ++i) {
+        const Vertex v = f->vertex(i);
+        if (known(v) && !contributing[v->info().index]) {
+          contributing[v->info().index] = 2;  // listed once
+          pocket.non_contributing.push_back(samples[v->info().index].at);
+        }
+      }
+    }
+    if (pocket.non_contributing.empty()) continue;
+    // A mixed face has one same-side edge, so it is the mouth of one pocket at most, once.
+    for (Face f : component) {
+      pocket.triangles.push_back(triangle(f));
+      for (int i = 0; i < 3; ++i) {
+        const Face n = f->neighbor(i);
+        if (inside(n) && mixed(n) && !triangulation.is_constrained({f, i})) {
+          pocket.triangles.push_back(triangle(n));
+        }
+      }
+    }
+    for (const ClipperLib::Path& t : pocket.triangles) {
+      for (const auto& p : t) pocket.corners.push_back(from_clipper(p));
+    }
+    axis.pockets.push_back(std::move(pocket));
+  }
+  return axis;
+}
+
+}  // namespace
+
+std::vector<Loop> medial_axis_loops(const BoundaryPair& pair, std::span<const char> solid,
+                                    const MaOptions& options, MaStats* stats) {
+  return island_axis(pair, solid, options, stats, false).loops;
 }
 
 Region ma_contour(const Slab& slab, const std::function<Region(double z)>& cross_section,
@@ -460,6 +619,111 @@ ClipperLib::Paths cap_contour(const Slab& slab, const BoundaryPair& pair, bool s
 
 }  // namespace
 
+namespace {
+
+// Below this, mm, two distances are the same for the refinement's decisions: the distance
+// metric's own tolerance (distance_error.h).
+constexpr double kRefineTolerance = 0.001;
+
+// 10 nm, in Clipper units (clipper_bridge.h).
+constexpr double kCleanDistance = 10;
+
+ClipperLib::PolyTree& united_tree(const ClipperLib::Paths& paths, ClipperLib::PolyTree& tree) {
+  ClipperLib::Clipper clipper;
+  clipper.AddPaths(paths, ClipperLib::ptSubject, true);
+  clipper.Execute(ClipperLib::ctUnion, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+  return tree;
+}
+
+ClipperLib::Paths united(const ClipperLib::Paths& paths) {
+  ClipperLib::Clipper clipper;
+  clipper.AddPaths(paths, ClipperLib::ptSubject, true);
+  ClipperLib::Paths result;
+  clipper.Execute(ClipperLib::ctUnion, result, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+  return result;
+}
+
+// `region` with the mid section taking its place inside `zone`: (region \ zone) ∪ (mid ∩ zone),
+// in one Clipper operation, so that the two parts meet exactly along the zone's edges (two
+// operations round their crossings apart and leave nanometre cracks there). Each input has
+// winding 1 inside and 0 outside. Subject: region - zone > 0; clip: mid + zone - box > 0,
+// the box reversed round everything.
+Region mid_inside(const ClipperLib::Paths& region, const ClipperLib::Paths& middle,
+                  const ClipperLib::Paths& zone) {
+  ClipperLib::cInt lo_x = 0, lo_y = 0, hi_x = 0, hi_y = 0;
+  bool first = true;
+  for (const ClipperLib::Paths* paths : {&middle, &zone}) {
+    for (const auto& path : *paths) {
+      for (const auto& p : path) {
+        lo_x = first ? p.X : std::min(lo_x, p.X);
+        lo_y = first ? p.Y : std::min(lo_y, p.Y);
+        hi_x = first ? p.X : std::max(hi_x, p.X);
+        hi_y = first ? p.Y : std::max(hi_y, p.Y);
+        first = false;
+      }
+    }
+  }
+  ClipperLib::Clipper clipper;
+  clipper.AddPaths(region, ClipperLib::ptSubject, true);
+  for (ClipperLib::Path path : zone) {
+    ClipperLib::ReversePath(path);
+    clipper.AddPath(path, ClipperLib::ptSubject, true);
+  }
+  clipper.AddPaths(middle, ClipperLib::ptClip, true);
+  clipper.AddPaths(zone, ClipperLib::ptClip, true);
+  const ClipperLib::Path box{{lo_x - 1, lo_y - 1}, {lo_x - 1, hi_y + 1}, {hi_x + 1, hi_y + 1},
+                             {hi_x + 1, lo_y - 1}};  // clockwise
+  clipper.AddPath(box, ClipperLib::ptClip, true);
+  ClipperLib::Paths joined;
+  clipper.Execute(ClipperLib::ctUnion, joined, ClipperLib::pftPositive, ClipperLib::pftPositive);
+  // Where the mid section's walls meet the zone's edges a few nanometres from another vertex,
+  // the crossing leaves edges of a nanometre or two: nothing a printer or a metric sees, but
+  // slivers for a mesh made from the region (extruded_layers.h, CGAL's corefinement).
+  ClipperLib::CleanPolygons(joined, kCleanDistance);
+  ClipperLib::PolyTree tree;
+  return from_clipper(united_tree(joined, tree));
+}
+
+// Floating features of an island (see the top of the file): the faces of the mid section
+// (solid: an outer loop less its holes; empty: a hole less the outer loops inside it) that are
+// bounded by a loop inside the island's footprint and hold none of the island's loops (a loop
+// is held where its free face is: a point of it lies in the face). `middle` is the section's
+// nesting (Clipper's PolyTree); the faces go to `zones`, as paths with winding 1 inside.
+void add_floating_features(const BoundaryPair& pair, const ClipperLib::PolyTree& middle,
+                           ClipperLib::Paths& zones, MaStats* stats) {
+  Region ring{{pair.outer}};
+  ring.loops.insert(ring.loops.end(), pair.inner.begin(), pair.inner.end());
+  const std::vector<const Loop*> boundaries = loops_of(pair);
+  for (const ClipperLib::PolyNode* node = middle.GetFirst(); node; node = node->GetNext()) {
+    if (node->Contour.size() < 3 || !point_in_region(ring, from_clipper(node->Contour[0]))) continue;
+    // The face: inside the node's loop, outside its children's.
+    const Region outline{{from_clipper(node->Contour)}};
+    std::vector<Region> children;
+    for (const ClipperLib::PolyNode* child : node->Childs) children.push_back({{from_clipper(child->Contour)}});
+    bool anchored = false;
+    for (const Loop* boundary : boundaries) {
+      const Vec2 p = (*boundary)[0];
+      if (!point_in_region(outline, p)) continue;
+      bool in_child = false;
+      for (const Region& child : children) in_child = in_child || point_in_region(child, p);
+      anchored = anchored || !in_child;
+    }
+    if (anchored) continue;
+    // Winding 1 inside the face: the node's loop counter-clockwise, its children clockwise.
+    ClipperLib::Path outer = node->Contour;
+    if (!ClipperLib::Orientation(outer)) ClipperLib::ReversePath(outer);
+    zones.push_back(std::move(outer));
+    for (const ClipperLib::PolyNode* child : node->Childs) {
+      ClipperLib::Path hole = child->Contour;
+      if (ClipperLib::Orientation(hole)) ClipperLib::ReversePath(hole);
+      zones.push_back(std::move(hole));
+    }
+    if (stats) ++stats->features;
+  }
+}
+
+}  // namespace
+
 Region ma_contour(const Slab& slab, const Region& footprint,
                   const std::function<Region(double z)>& cross_section, const MaOptions& options,
                   MaStats* stats) {
@@ -471,7 +735,10 @@ Region ma_contour(const Slab& slab, const Region& footprint,
 
   // Every loop has the solid on its left, so summing winding numbers over all islands gives
   // 1 exactly on the layer's region, also for islands nested in another's holes.
-  ClipperLib::Paths paths;
+  ClipperLib::Paths paths, features;
+  ClipperLib::PolyTree middle_nesting;
+  if (options.floating_features) united_tree(to_clipper(middle), middle_nesting);
+  std::vector<IslandAxis> axes;
   for (const BoundaryPair& pair : pairs) {
     const std::vector<char> solid = solid_beside(pair, middle);
     const bool cap = std::all_of(solid.begin(), solid.end(), [&](char s) { return s == solid[0]; });
@@ -485,9 +752,9 @@ Region ma_contour(const Slab& slab, const Region& footprint,
       if (stats) ++stats->walls;
       island = section_in_island(middle, pair, solid[0] != 0);
     } else {
-      for (const Loop& loop : medial_axis_loops(pair, solid, options, stats)) {
-        island.push_back(to_clipper(loop));
-      }
+      axes.push_back(island_axis(pair, solid, options, stats, options.pockets));
+      for (const Loop& loop : axes.back().loops) island.push_back(to_clipper(loop));
+      if (options.floating_features) add_floating_features(pair, middle_nesting, features, stats);
     }
     paths.insert(paths.end(), island.begin(), island.end());
   }
@@ -495,7 +762,42 @@ Region ma_contour(const Slab& slab, const Region& footprint,
   clipper.AddPaths(paths, ClipperLib::ptSubject, true);
   ClipperLib::PolyTree tree;
   clipper.Execute(ClipperLib::ctUnion, tree, ClipperLib::pftPositive, ClipperLib::pftPositive);
-  return from_clipper(tree);
+  bool any_pocket = false;
+  for (const IslandAxis& axis : axes) any_pocket = any_pocket || !axis.pockets.empty();
+  if (features.empty() && !any_pocket) return from_clipper(tree);
+
+  Region basic = from_clipper(tree);
+  const ClipperLib::Paths basic_paths = to_clipper(basic);
+  const ClipperLib::Paths middle_paths = to_clipper(middle);
+  const ClipperLib::Paths feature_zone = united(features);
+  const Region with_features =
+      feature_zone.empty() ? std::move(basic) : mid_inside(basic_paths, middle_paths, feature_zone);
+  if (!any_pocket) return with_features;
+  // Pockets (paper §3.4's non-contributing points): where a pocket's samples are farther from
+  // the walls than every contributing sample of the island, and the mid section's walls are
+  // nearer to them, the pocket takes the mid section.
+  const BoundaryGrid walls(with_features), middle_walls(middle);
+  ClipperLib::Paths zone = feature_zone;
+  for (const IslandAxis& axis : axes) {
+    if (axis.pockets.empty()) continue;
+    double level = 0;  // Θ of §3.4: the largest distance of a contributing sample
+    for (Vec2 p : axis.contributing) level = std::max(level, walls.nearest_distance(p));
+    for (const Pocket& pocket : axis.pockets) {
+      double worst = 0;
+      for (Vec2 p : pocket.non_contributing) worst = std::max(worst, walls.nearest_distance(p));
+      if (worst <= level + kRefineTolerance) continue;
+      double now = 0, with_middle = 0;
+      for (Vec2 p : pocket.corners) {
+        now = std::max(now, walls.nearest_distance(p));
+        with_middle = std::max(with_middle, middle_walls.nearest_distance(p));
+      }
+      if (with_middle >= now - kRefineTolerance) continue;
+      zone.insert(zone.end(), pocket.triangles.begin(), pocket.triangles.end());
+      if (stats) ++stats->pockets;
+    }
+  }
+  if (zone.size() == feature_zone.size()) return with_features;
+  return mid_inside(basic_paths, middle_paths, united(zone));
 }
 
 Region ma_contour(const LayerStack& stack, std::size_t layer, const MaOptions& options,

@@ -21,12 +21,14 @@
 
 #include "geometry/boundary_pair.h"
 #include "geometry/clipper_bridge.h"
+#include "geometry/layer_metrics.h"
 #include "geometry/layer_stack.h"
 #include "geometry/ma_contour.h"
 #include "geometry/placement.h"
 #include "geometry/polygon.h"
 #include "geometry/repair.h"
 #include "geometry/slab.h"
+#include "geometry/slab_columns.h"
 #include "geometry/stl_io.h"
 #include "support/solids.h"
 
@@ -468,6 +470,130 @@ TEST_CASE("ma_contour_is_deterministic_across_threads") {
                        parallel[i].loops[k].begin()));
     }
   }
+}
+
+// ---- where the strip is not a strip (ma_contour.h): floating features and pockets ----
+
+TEST_CASE("wavy_underside_in_one_slab_follows_the_mid_section") {
+  // A solid of revolution whose nearly flat underside rises and falls round the layer's middle
+  // (the bunny's hole-filled base in closed form): profile (rho, z) = (0, 0), (1, 0.1),
+  // (3, 0.5), (5, 0.3), (7, 0.55), (8, 0.25), then up the wall at rho = 8. In the layer
+  // [0.2, 0.6] the footprint is the annulus from rho = 1.5 (where the underside enters the
+  // layer; inside it every column is full: solid) to the wall at 8 (empty outside): a strip
+  // 6.5 mm wide whose axis is the circle of radius 4.75. But the underside crosses the middle
+  // (0.4) at rho = 2.5, 4, 5.8 and 7.5: the mid section is the disc 2.5, the ring 4-5.8 and
+  // the ring 7.5-8, and all but the disc are faces of it that hold none of the island's
+  // loops. With the floating-feature rule the contour is exactly the mid section.
+  const int n = 48;
+  const solids::Solid wavy = solids::revolve(
+      {{0, 0}, {1, 0.1}, {3, 0.5}, {5, 0.3}, {7, 0.55}, {8, 0.25}, {8, 2}, {0, 2}}, n);
+  LayerStack stack(wavy.mesh, {Layer{0.2, 0.6}});
+  const Region mid = wavy.section(0.4);
+  REQUIRE(mid.loops.size() == 5);
+  MaStats stats;
+  const Region ma = ma_contour(stack, 0, {}, stats);
+  CHECK(stats.caps == 0);
+  CHECK(stats.features == 4);
+  CHECK(boundary_hausdorff(ma, mid) <= 1e-5);
+  CHECK(area(ma) == doctest::Approx(area(mid)).epsilon(1e-6));
+  // Without the rule: the axis of the 6.5 mm strip, the mean circle.
+  MaOptions basic;
+  basic.floating_features = false;
+  basic.pockets = false;
+  const Region axis = ma_contour(stack, 0, basic);
+  REQUIRE(axis.loops.size() == 1);
+  const double corner = 6.5 * (1 - std::cos(kPi / n)) / (2 * (1 + std::cos(kPi / n)));
+  CHECK(boundary_hausdorff(axis, Region{{solids::regular_polygon(n, 4.75)}}) <= corner + kStripAllowance);
+  // D: the wall at rho = 8 is 3.25 from the axis; the mid section has a wall wherever the
+  // underside crosses the middle, and the farthest surface is where the underside enters the
+  // layer, rho = 1.5, 1 from the wall at 2.5.
+  CHECK(layer_metrics(stack, 0, axis).distance == doctest::Approx(3.25).epsilon(0.002));
+  const double d = layer_metrics(stack, 0, ma).distance;
+  CHECK(d == doctest::Approx(layer_metrics(stack, 0, mid).distance).epsilon(1e-6));
+  CHECK(d == doctest::Approx(1).epsilon(0.005));
+}
+
+TEST_CASE("ball_above_a_cone_flank_inside_the_slab_is_kept") {
+  // A tail tip that begins and ends inside a slab but belongs to a larger island: a ball of
+  // radius 0.2 centred at (6.1, 0, 4.35), 0.12 mm above the flank of a 45-degree cone
+  // (radius 10, height 10), inside the layer [4, 4.6]. Its projection overlaps the cone's
+  // strip (rho 5.4 to 6), so the footprint is one island, the ball a lobe of its empty outer
+  // loop. The axis of the strip stays near rho = 5.7 and never reaches the ball; its section
+  // at the middle (4.3) is a face of the mid section that holds none of the island's loops,
+  // and is kept.
+  const int n = 64;
+  const solids::Solid cone = solids::cone(10, 10, n);
+  const solids::Solid ball = solids::sphere(0.2, 32, 16, {6.1, 0, 4.35});
+  const solids::Solid part = solids::combine(cone, ball);
+  LayerStack stack(part.mesh, {Layer{4, 4.6}});
+  REQUIRE(boundary_pairs(slab_footprint(slab_of(stack, 0))).size() == 1);
+  const Region tip = ball.section(4.3);
+  REQUIRE(tip.loops.size() == 1);
+  MaStats stats;
+  const Region ma = ma_contour(stack, 0, {}, stats);
+  CHECK(stats.features == 1);
+  CHECK(intersection_area(ma, tip) == doctest::Approx(area(tip)).epsilon(1e-6));
+  // The cone's part is still its axis, the mean 64-gon (away from the ball, which the axis
+  // bends round), and the region is the two of them.
+  CHECK(area(ma) == doctest::Approx(area(Region{{solids::regular_polygon(n, 5.7)}}) + area(tip)).epsilon(2e-3));
+  MaOptions basic;
+  basic.floating_features = false;
+  basic.pockets = false;
+  CHECK(intersection_area(ma_contour(stack, 0, basic), tip) < 1e-3 * area(tip));
+}
+
+TEST_CASE("septum_ending_inside_the_slab_is_cut_where_the_mid_section_cuts_it") {
+  // A saddle: a 10 x 10 block (x, y in [-5, 5], z in [0, 4]) with a V-groove cut along x from
+  // its top down to z = 1 (flanks y = +-2 (z - 1) / 3). In the layer [0.9, 1.5] the block is
+  // whole below z = 1 and two bars above it: the footprint is the ring of the outer walls and
+  // the groove's band |y| <= 1/3, one island whose two holes (the bars, solid) merge across
+  // the band, a septum between two solid loops whose ends meet the empty outer loop. The
+  // solid loops are nearer each other (2/3) than the band's ends (10), so the axis fills the
+  // band and leaves its surface 4.7 mm from any wall. The band is a pocket; the mid section
+  // (1.2) cuts it with a channel |y| < 2/15, whose walls are 1/5 from the band's edges
+  // (1/3 - 2/15) and 2/15 from the groove's bottom: D = 1/5. The pocket takes the mid section.
+  const solids::Solid grooved =
+      solids::lying_prism({{-5, 0}, {5, 0}, {5, 4}, {2, 4}, {0, 1}, {-2, 4}, {-5, 4}}, -5, 5);
+  LayerStack stack(grooved.mesh, {Layer{0.9, 1.5}});
+  const Region mid = grooved.section(1.2);
+  REQUIRE(mid.loops.size() == 2);
+  MaStats stats;
+  const Region ma = ma_contour(stack, 0, {}, stats);
+  CHECK(stats.pockets >= 1);
+  CHECK(count_ccw(ma) == 2);  // cut, as the section at the middle is
+  const double d_mid = layer_metrics(stack, 0, mid).distance;
+  CHECK(d_mid == doctest::Approx(0.2).epsilon(1e-3));
+  CHECK(layer_metrics(stack, 0, ma).distance <= d_mid + 0.002);
+  MaOptions basic;
+  basic.pockets = false;
+  const Region axis = ma_contour(stack, 0, basic);
+  CHECK(count_ccw(axis) == 1);
+  CHECK(layer_metrics(stack, 0, axis).distance > 4);
+  CHECK(layer_metrics(stack, 0, ma).volume_deviation < layer_metrics(stack, 0, axis).volume_deviation);
+}
+
+TEST_CASE("square_frustum_corner_takes_the_mid_section") {
+  // Where the axis is worse than the mid section on a plain strip: the corners of a square
+  // frustum. Layer [1, 1.5] of a 4-gon frustum (circumradius 10 at z = 0, 6 at z = 4):
+  // circumradii 9 and 8.5, a strip w = 0.5 / sqrt(2) wide along the sides. The mid section's
+  // corner is 0.25 = (9 - 8.5) / 2 from the outer corner O, its sides w/2 from everything
+  // else: D_mid = 0.25. The axis bends round the inner corner I (a parabola with focus I) and
+  // meets the outer corner's bisector at J, equidistant from I and from O's two sides:
+  // |OJ| = (9 - 8.5)(2 - sqrt(2)) = 0.2929. O is non-contributing (its Voronoi cell ends
+  // before the axis), farther from the walls than any contributing sample (|IJ| = 0.2071):
+  // the pocket round it takes the mid section, and D falls to mid's.
+  const solids::Solid frustum = solids::frustum(10, 6, 4, 4);
+  LayerStack stack(frustum.mesh, {Layer{1, 1.5}});
+  const Region mid = frustum.section(1.25);
+  CHECK(layer_metrics(stack, 0, mid).distance == doctest::Approx(0.25).epsilon(1e-3));
+  MaOptions basic;
+  basic.pockets = false;
+  CHECK(layer_metrics(stack, 0, ma_contour(stack, 0, basic)).distance ==
+        doctest::Approx(0.5 * (2 - std::sqrt(2.0))).epsilon(0.01));
+  MaStats stats;
+  const Region ma = ma_contour(stack, 0, {}, stats);
+  CHECK(stats.pockets == 4);
+  CHECK(layer_metrics(stack, 0, ma).distance <= 0.25 + 0.002);
 }
 
 // ---- the paper's part ----
