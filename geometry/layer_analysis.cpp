@@ -50,10 +50,10 @@ LayerAnalysis analyze_layer(const LayerStack& stack, std::size_t layer,
         break;
       }
       case ContourKind::ma:
-        // The slab is already clipped: hand it over rather than clip it again.
+        // The slab is clipped and its islands found already: hand them over.
         result.region = ma_contour(
-            reference.slab, [&stack](double z) { return stack.cross_section(z); },
-            options.contour.ma);
+            reference.slab, reference.islands,
+            [&stack](double z) { return stack.cross_section(z); }, options.contour.ma);
         result.height = analysis.layer.z_mid();
         break;
     }

@@ -111,6 +111,8 @@ constexpr double kDefaultSpacing = 0.25;
 // vertex there, mm; and how deep it may split one edge.
 constexpr double kFairingTolerance = 0.001;
 constexpr int kFairingDepth = 6;
+// How far, mm, simplifying the faired contour may move it: a quarter of the fairing tolerance.
+constexpr double kSimplifyTolerance = 0.25 * kFairingTolerance;
 
 struct Sample {
   Vec2 at;
@@ -215,36 +217,94 @@ struct AxisQuery {
   }
 };
 
+// How exactly fairing places a point on the axis, mm: far below kFairingTolerance, and each
+// step of the solver costs a walk along up to six loops.
+constexpr double kAxisSolveTolerance = 1e-5;
+
+// The root of f between lo and hi, where f(lo) = f_lo and f(hi) = f_hi have opposite signs, to
+// within `tolerance` in the argument. f is close to linear where fairing asks (an imbalance of
+// distances along a short segment), so regula falsi with the Illinois step converges in a few
+// evaluations where bisection would take twenty.
+template <class F>
+double regula_falsi(F&& f, double lo, double hi, double f_lo, double f_hi, double tolerance) {
+  double t = 0.5 * (lo + hi);
+  int kept_side = 0;
+  for (int it = 0; it < 60 && std::abs(hi - lo) > tolerance; ++it) {
+    t = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
+    const double value = f(t);
+    if (value == 0) break;
+    if ((value > 0) == (f_hi > 0)) {
+      hi = t;
+      f_hi = value;
+      if (kept_side == -1) f_lo *= 0.5;
+      kept_side = -1;
+    } else {
+      lo = t;
+      f_lo = value;
+      if (kept_side == 1) f_hi *= 0.5;
+      kept_side = 1;
+    }
+  }
+  return t;
+}
+
 // The point of [s, e] (s on the solid loop, e on the empty one) equidistant from both loops.
-// The imbalance is close to linear along the edge, so regula falsi (Illinois) converges in a
-// few steps where bisection would take twenty.
 Vec2 equidistant_on(AxisQuery& query, Vec2 s, Vec2 e) {
-  const double tolerance = 1e-7 / std::max(length(e - s), 1e-12);
-  double lo = 0, hi = 1;
-  double f_lo = query.imbalance(s), f_hi = query.imbalance(e);
+  const double f_lo = query.imbalance(s), f_hi = query.imbalance(e);
   double t = 0.5;
   if (f_lo < 0 && f_hi > 0) {
-    int kept_side = 0;
-    for (int it = 0; it < 60 && hi - lo > tolerance; ++it) {
-      t = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
-      const double f = query.imbalance(s + t * (e - s));
-      if (f == 0) break;
-      if (f > 0) {
-        hi = t;
-        f_hi = f;
-        if (kept_side == -1) f_lo *= 0.5;
-        kept_side = -1;
-      } else {
-        lo = t;
-        f_lo = f;
-        if (kept_side == 1) f_hi *= 0.5;
-        kept_side = 1;
-      }
-    }
+    t = regula_falsi([&](double u) { return query.imbalance(s + u * (e - s)); }, 0, 1, f_lo, f_hi,
+                     kAxisSolveTolerance / std::max(length(e - s), 1e-12));
   }
   // Strictly inside the edge, so two loops can never share a point at a sample.
   t = std::clamp(t, 0.01, 0.99);
   return s + t * (e - s);
+}
+
+// Douglas-Peucker on a closed loop: the vertices kept are within `tolerance` of the edges
+// that replace the dropped ones. A faired contour has a vertex wherever the triangulation
+// crosses the axis, two or three per sample, most of them on straight stretches.
+Loop simplified(const Loop& loop, double tolerance) {
+  const std::size_t n = loop.size();
+  if (n <= 4) return loop;
+  // Split at vertex 0 and the vertex farthest from it; each half is an open polyline.
+  std::size_t far = 0;
+  double far2 = -1;
+  for (std::size_t i = 1; i < n; ++i) {
+    const Vec2 d = loop[i] - loop[0];
+    if (dot(d, d) > far2) {
+      far2 = dot(d, d);
+      far = i;
+    }
+  }
+  std::vector<char> keep(n, 0);
+  keep[0] = keep[far] = 1;
+  const double tolerance2 = tolerance * tolerance;
+  std::vector<std::pair<std::size_t, std::size_t>> stack{{0, far}, {far, n}};
+  while (!stack.empty()) {
+    const auto [first, last] = stack.back();  // last may be n: vertex 0 again
+    stack.pop_back();
+    const Vec2 a = loop[first], b = loop[last % n];
+    double worst = -1;
+    std::size_t at = first;
+    for (std::size_t i = first + 1; i < last; ++i) {
+      const double d = distance_to_segment(loop[i], a, b);
+      if (d * d > worst) {
+        worst = d * d;
+        at = i;
+      }
+    }
+    if (worst > tolerance2) {
+      keep[at] = 1;
+      stack.push_back({first, at});
+      stack.push_back({at, last});
+    }
+  }
+  Loop out;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (keep[i]) out.push_back(loop[i]);
+  }
+  return out;
 }
 
 struct ContourVertex {
@@ -264,20 +324,28 @@ void fair_between(const ContourVertex& a, const ContourVertex& b, int depth,
   const double off = query.imbalance(middle);
   if (std::abs(off) <= 2 * kFairingTolerance) return;
   const Vec2 towards_solid = (1.0 / chord_length) * Vec2{-chord.y, chord.x};
-  // imbalance falls by at most 2 per unit moved towards the solid side: bracket, then bisect.
+  // imbalance falls by at most 2 per unit moved towards the solid side, so the axis is at
+  // least |off| / 2 away: bracket from there, then solve.
   const double sign = off > 0 ? 1.0 : -1.0;
-  double near = 0, far = std::abs(off);
+  const auto along = [&](double d) { return sign * query.imbalance(middle + (sign * d) * towards_solid); };
+  double near = 0.5 * std::abs(off), far = std::abs(off);
+  double f_near = along(near), f_far = along(far);
+  if (!(f_near > 0)) {
+    far = near;  // at exactly the bound (a wall of slope 2): the axis is there
+    f_far = f_near;
+  }
   const double limit = chord_length;
-  while (far <= limit && query.imbalance(middle + (sign * far) * towards_solid) * sign > 0) {
+  while (f_far > 0 && far <= limit) {
     near = far;
+    f_near = f_far;
     far *= 2;
+    f_far = along(far);
   }
   if (far > limit) return;  // no crossing near the chord: leave the edge as it is
-  for (int it = 0; it < 30 && far - near > 1e-7; ++it) {
-    const double mid = 0.5 * (near + far);
-    (query.imbalance(middle + (sign * mid) * towards_solid) * sign > 0 ? near : far) = mid;
-  }
-  const ContourVertex added{middle + (sign * 0.5 * (near + far)) * towards_solid, query};
+  const double d = f_far == 0 || far == near
+                       ? far
+                       : regula_falsi(along, near, far, f_near, f_far, kAxisSolveTolerance);
+  const ContourVertex added{middle + (sign * d) * towards_solid, query};
   fair_between(a, added, depth - 1, out);
   out.push_back(added.at);
   fair_between(added, b, depth - 1, out);
@@ -410,7 +478,8 @@ IslandAxis island_axis(const BoundaryPair& pair, std::span<const char> solid,
       loop.push_back(chain[i].at);
       if (options.fairing) fair_between(chain[i], chain[(i + 1) % chain.size()], kFairingDepth, loop);
     }
-    contour.push_back(std::move(loop));
+    if (options.fairing) loop = simplified(loop, kSimplifyTolerance);
+    if (loop.size() >= 3) contour.push_back(std::move(loop));
   }
   if (stats) stats->loops += contour.size();
   if (!want_pockets) return axis;
@@ -728,7 +797,13 @@ Region ma_contour(const Slab& slab, const Region& footprint,
                   const std::function<Region(double z)>& cross_section, const MaOptions& options,
                   MaStats* stats) {
   if (slab.facets.empty() || !(slab.z_lo < slab.z_hi)) return {};
-  const std::vector<BoundaryPair> pairs = boundary_pairs(footprint);
+  return ma_contour(slab, boundary_pairs(footprint), cross_section, options, stats);
+}
+
+Region ma_contour(const Slab& slab, std::span<const BoundaryPair> pairs,
+                  const std::function<Region(double z)>& cross_section, const MaOptions& options,
+                  MaStats* stats) {
+  if (slab.facets.empty() || !(slab.z_lo < slab.z_hi)) return {};
   if (pairs.empty()) return {};
   const Region middle = cross_section(0.5 * (slab.z_lo + slab.z_hi));
   if (stats) stats->islands += pairs.size();

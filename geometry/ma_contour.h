@@ -77,6 +77,10 @@ Region ma_contour(const Slab& slab, const std::function<Region(double z)>& cross
 Region ma_contour(const Slab& slab, const Region& footprint,
                   const std::function<Region(double z)>& cross_section,
                   const MaOptions& options = {}, MaStats* stats = nullptr);
+// ... and with its boundary pairs (boundary_pairs(footprint)), as layer_metrics.h keeps them.
+Region ma_contour(const Slab& slab, std::span<const BoundaryPair> islands,
+                  const std::function<Region(double z)>& cross_section,
+                  const MaOptions& options = {}, MaStats* stats = nullptr);
 
 // One island's medial-axis loops: the Voronoi edges whose dual Delaunay edge joins a loop with
 // solid beside it to one with empty beside it (solid[k] for loops_of(pair)[k], see

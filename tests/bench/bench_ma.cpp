@@ -1,6 +1,7 @@
 // Benchmark: the medial-axis contour (ma_contour) over every layer of the Stanford bunny.
 //
 // Usage: bench_ma [STL] [--layer T] [--spacing S] [--max-points N] [--no-fairing] [--errors]
+//                 [--no-features] [--no-pockets]   (the rules of ma_contour.h, off)
 // Default: data/bunny.stl placed as in the paper (Y up, metres, 50 mm tall), 0.15 mm layers.
 // Prints per-layer time (max, mean), the sequential total, the TBB-parallel wall time,
 // sample counts, islands, caps, and the contours' validity. With --errors also the paper's
@@ -50,6 +51,10 @@ int main(int argc, char** argv) {
       errors = true;
     } else if (arg == "--no-fairing") {
       options.fairing = false;
+    } else if (arg == "--no-features") {
+      options.floating_features = false;
+    } else if (arg == "--no-pockets") {
+      options.pockets = false;
     } else {
       path = arg;
     }
@@ -106,6 +111,7 @@ int main(int argc, char** argv) {
   const double wall = seconds_since(start);
 
   std::size_t samples = 0, max_samples = 0, islands = 0, caps = 0, walls = 0, loops = 0, empty = 0;
+  std::size_t features = 0, pockets = 0;
   std::size_t differing = 0, slowest = 0;
   for (std::size_t i = 0; i < stack.size(); ++i) {
     samples += stats[i].samples;
@@ -113,6 +119,8 @@ int main(int argc, char** argv) {
     islands += stats[i].islands;
     caps += stats[i].caps;
     walls += stats[i].walls;
+    features += stats[i].features;
+    pockets += stats[i].pockets;
     loops += contours[i].loops.size();
     if (contours[i].loops.empty()) ++empty;
     if (times[i] > times[slowest]) slowest = i;
@@ -125,17 +133,19 @@ int main(int argc, char** argv) {
     if (!same) ++differing;
   }
   const double mean = stack.size() ? sequential / stack.size() : 0;
-  std::printf("options: spacing %s, max_points %zu, fairing %s\n",
+  std::printf("options: spacing %s, max_points %zu, fairing %s, features %s, pockets %s\n",
               options.spacing > 0 ? std::to_string(options.spacing).c_str() : "default",
-              options.max_points, options.fairing ? "on" : "off");
+              options.max_points, options.fairing ? "on" : "off",
+              options.floating_features ? "on" : "off", options.pockets ? "on" : "off");
   std::printf("per layer: max %.1f ms (layer %zu, %zu samples), mean %.2f ms\n",
               times[slowest] * 1e3, slowest, stats[slowest].samples, mean * 1e3);
   std::printf("total: %.3f s sequential (%.3f s CPU), %.3f s wall with TBB (%zu layers)\n",
               sequential, cpu, wall, stack.size());
   std::printf("stages (CPU): slab %.3f s, footprint %.3f s, contour from footprint %.3f s\n",
               slab_cpu, footprint_cpu, contour_cpu);
-  std::printf("samples: %zu total, %zu max per layer; islands %zu, caps %zu, walls %zu\n",
-              samples, max_samples, islands, caps, walls);
+  std::printf("samples: %zu total, %zu max per layer; islands %zu, caps %zu, walls %zu; "
+              "floating features %zu, pockets given the mid section %zu\n",
+              samples, max_samples, islands, caps, walls, features, pockets);
   std::printf("contours: %zu loops, %zu empty layers, %zu layers differ sequential vs parallel\n",
               loops, empty, differing);
   if (errors) {
