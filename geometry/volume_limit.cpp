@@ -1,6 +1,7 @@
 #include "geometry/volume_limit.h"
 
 #include <algorithm>
+#include <bit>
 #include <numeric>
 
 
@@ -57,130 +58,88 @@ double convex_overlap(const Poly& a, const Poly& b) {
   return piece.size() >= 3 ? signed_area(piece) : 0;
 }
 
-struct Cell {
-  ClipperLib::Paths paths;
-  std::vector<int> cover;  // facets above every column of the cell
-  ClipperLib::IntRect box;
+// The part of a convex polygon inside another convex counter-clockwise polygon.
+Poly clipped_to(Poly piece, const Poly& by) {
+  for (std::size_t k = 0, n = by.size(); k < n && piece.size() >= 3; ++k) {
+    const Vec2 p = by[k], d = by[(k + 1) % n] - p;
+    piece = keep_nonnegative(piece, Linear{p, 0, -d.y, d.x});
+  }
+  return piece;
+}
+
+// Overlaps below this, mm^2, are neighbours touching along an edge: rounding, not a fold.
+constexpr double kFoldArea = 1e-12;
+
+// Folds (the header): the correction is ∫ phi(cover(x)) over the plane, cover(x) the facets
+// above column x and, for a set T of facets,
+//   phi(T) = min(occ_T, t - occ_T) - sum over f in T of min(w_f, t - w_f),
+// occ_T the occupancy T alone would give (walking up from solid if T's lowest facet is an
+// exit). phi vanishes on single facets. By Moebius inversion over the subsets of cover(x),
+//   ∫ phi(cover) = sum over sets S of overlapping facets of ∫ over ∩S of psi(S),
+//   psi(S) = sum over T ⊆ S, |T| >= 2, of (-1)^(|S| - |T|) phi(T),
+// and every ∩S is convex (facets are convex). Facets overlapping seen from above do not cross
+// (the surface does not intersect itself), so their vertical order is one on all of ∩S.
+// A fold has two sheets over most of its area: pairs, and the odd triple along edges.
+struct Folds {
+  const SlabColumns& columns;
+  const std::vector<std::vector<int>>& overlapping;  // larger indices only
+  double t;
+  double total = 0;
+
+  // ∫ over `piece` of phi(T), T given by `members` (bits of `set`).
+  double phi(const Poly& piece, const std::vector<int>& set, unsigned members, Vec2 centroid) const {
+    std::vector<int> subset;
+    for (std::size_t k = 0; k < set.size(); ++k)
+      if (members & (1u << k)) subset.push_back(set[k]);
+    int lowest = subset[0];
+    for (int f : subset) {
+      // Larger depth below z_hi = lower facet.
+      if (depth_of(columns.facets[f]).at(centroid) > depth_of(columns.facets[lowest]).at(centroid)) lowest = f;
+    }
+    const Vec2 o = piece[0];
+    Linear occ{o, columns.facets[lowest].sign < 0 ? t : 0.0, 0, 0};
+    double value = 0;
+    for (int f : subset) {
+      const Linear w = depth_of(columns.facets[f]).moved_to(o);
+      const int s = columns.facets[f].sign;
+      occ.f0 += s * w.f0;
+      occ.fx += s * w.fx;
+      occ.fy += s * w.fy;
+      value -= integrate_min(piece, w, t);
+    }
+    return value + integrate_min(piece, occ, t);
+  }
+
+  void add(const std::vector<int>& set, const Poly& piece) {
+    const AreaMoments m = moments_of_loop(piece, piece[0]);
+    const Vec2 centroid = piece[0] + Vec2{m.mx / m.area, m.my / m.area};
+    const unsigned all = (1u << set.size()) - 1;
+    for (unsigned members = all;; members = (members - 1) & all) {
+      if (std::popcount(members) >= 2) {
+        const int sign = (std::popcount(all) - std::popcount(members)) % 2 ? -1 : 1;
+        total += sign * phi(piece, set, members, centroid);
+      }
+      if (members == 0) break;
+    }
+  }
+
+  // Every set of facets, `set` extended by larger indices, whose common part has area.
+  void extend(std::vector<int>& set, const Poly& common, const std::vector<int>& candidates) {
+    for (int g : candidates) {
+      const Poly next = clipped_to(common, columns.facets[g].outline);
+      if (next.size() < 3 || signed_area(next) <= kFoldArea) continue;
+      set.push_back(g);
+      add(set, next);
+      if (set.size() < 16) {
+        std::vector<int> further;
+        for (int h : overlapping[g])
+          if (std::find(candidates.begin(), candidates.end(), h) != candidates.end()) further.push_back(h);
+        extend(set, next, further);
+      }
+      set.pop_back();
+    }
+  }
 };
-
-ClipperLib::IntRect bounds(const ClipperLib::Paths& paths) {
-  ClipperLib::IntRect box{0, 0, 0, 0};
-  bool first = true;
-  for (const auto& path : paths) {
-    for (const auto& p : path) {
-      if (first) {
-        box = {p.X, p.Y, p.X, p.Y};
-        first = false;
-      }
-      box.left = std::min(box.left, p.X);
-      box.right = std::max(box.right, p.X);
-      box.top = std::min(box.top, p.Y);
-      box.bottom = std::max(box.bottom, p.Y);
-    }
-  }
-  return box;
-}
-
-bool boxes_meet(const ClipperLib::IntRect& a, const ClipperLib::IntRect& b) {
-  return a.left <= b.right && b.left <= a.right && a.top <= b.bottom && b.top <= a.bottom;
-}
-
-ClipperLib::Paths boolean(ClipperLib::ClipType type, const ClipperLib::Paths& a,
-                          const ClipperLib::Paths& b) {
-  ClipperLib::Clipper clipper;
-  clipper.AddPaths(a, ClipperLib::ptSubject, true);
-  clipper.AddPaths(b, ClipperLib::ptClip, true);
-  ClipperLib::Paths result;
-  clipper.Execute(type, result, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
-  return result;
-}
-
-// The cells of the arrangement of a group of overlapping facets: pieces of the plane with the
-// same set of facets above them.
-std::vector<Cell> arrangement(const SlabColumns& columns, const std::vector<int>& group) {
-  std::vector<Cell> cells;
-  for (int f : group) {
-    const ClipperLib::Paths facet{to_fine_clipper(columns.facets[f].outline)};
-    const ClipperLib::IntRect box = bounds(facet);
-    std::vector<Cell> next;
-    ClipperLib::Paths covered;
-    for (Cell& cell : cells) {
-      if (!boxes_meet(cell.box, box)) {
-        next.push_back(std::move(cell));
-        continue;
-      }
-      ClipperLib::Paths inside = boolean(ClipperLib::ctIntersection, cell.paths, facet);
-      ClipperLib::Paths outside = boolean(ClipperLib::ctDifference, cell.paths, facet);
-      covered.insert(covered.end(), cell.paths.begin(), cell.paths.end());
-      if (!inside.empty()) {
-        std::vector<int> cover = cell.cover;
-        cover.push_back(f);
-        const ClipperLib::IntRect inside_box = bounds(inside);
-        next.push_back({std::move(inside), std::move(cover), inside_box});
-      }
-      if (!outside.empty()) {
-        const ClipperLib::IntRect outside_box = bounds(outside);
-        next.push_back({std::move(outside), std::move(cell.cover), outside_box});
-      }
-    }
-    ClipperLib::Paths rest = covered.empty() ? facet : boolean(ClipperLib::ctDifference, facet, covered);
-    if (!rest.empty()) {
-      const ClipperLib::IntRect rest_box = bounds(rest);
-      next.push_back({std::move(rest), {f}, rest_box});
-    }
-    cells = std::move(next);
-  }
-  return cells;
-}
-
-// ∫ over the cell of min(occ, t - occ) minus what the single-facet sums counted there.
-double fold_correction(const SlabColumns& columns, const Cell& cell) {
-  const double t = columns.thickness();
-  std::vector<Poly> loops;
-  for (const auto& path : cell.paths) {
-    Poly loop;
-    for (const auto& p : path) loop.push_back(from_fine_clipper(p));
-    loops.push_back(std::move(loop));
-  }
-  const Vec2 o = loops[0][0];
-  AreaMoments m;
-  for (const Poly& loop : loops) {
-    const AreaMoments part = moments_of_loop(loop, o);
-    m.area += part.area;
-    m.mx += part.mx;
-    m.my += part.my;
-  }
-  if (!(m.area > 1e-18)) return 0;
-  // Facets do not cross inside a cell, so the sign of z_f - z_g is constant on it; being
-  // linear, its value at the centroid has that sign even if the centroid is outside the cell.
-  const Vec2 centroid = o + Vec2{m.mx / m.area, m.my / m.area};
-  std::vector<int> order = cell.cover;
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
-    // Larger depth below z_hi = lower facet.
-    return depth_of(columns.facets[a]).at(centroid) > depth_of(columns.facets[b]).at(centroid);
-  });
-  // Walking up, an up-facing facet is an exit: if the lowest is one, the column starts solid.
-  const bool solid_at_bottom = columns.facets[order.front()].sign < 0;
-  Linear occ{o, solid_at_bottom ? t : 0.0, 0, 0};
-  for (int f : cell.cover) {
-    const Linear w = depth_of(columns.facets[f]).moved_to(o);
-    const int s = columns.facets[f].sign;
-    occ.f0 += s * w.f0;
-    occ.fx += s * w.fx;
-    occ.fy += s * w.fy;
-  }
-  double correction = 0;
-  for (const Poly& loop : loops) {
-    correction += integrate_min(loop, occ, t);
-    for (int f : cell.cover) correction -= integrate_min(loop, depth_of(columns.facets[f]).moved_to(o), t);
-  }
-  return correction;
-}
-
-int find(std::vector<int>& parent, int i) {
-  while (parent[i] != i) i = parent[i] = parent[parent[i]];
-  return i;
-}
 
 }  // namespace
 
@@ -190,43 +149,44 @@ double volume_limit(const SlabColumns& columns) {
   double limit = 0;
   for (const ColumnFacet& facet : columns.facets) limit += integrate_min(facet.outline, depth_of(facet), t);
 
-  // Folds: up-facing facets overlapping down-facing ones seen from above.
-  std::vector<Segment2> down_boxes;
-  std::vector<int> down_ids;
-  for (std::size_t i = 0; i < columns.facets.size(); ++i) {
-    if (columns.facets[i].sign > 0) {
-      down_boxes.push_back({columns.facets[i].lo, columns.facets[i].hi});
-      down_ids.push_back(static_cast<int>(i));
-    }
-  }
-  if (down_ids.empty() || down_ids.size() == columns.facets.size()) return std::max(limit, 0.0);
+  // Folds: up-facing facets overlapping down-facing ones seen from above; then, among the
+  // facets of folds, every overlapping pair whatever its facing (an S-fold stacks two
+  // up-facing sheets with a down-facing one between).
+  std::vector<Segment2> boxes;
+  for (const ColumnFacet& facet : columns.facets) boxes.push_back({facet.lo, facet.hi});
   // A segment's box is the facet's box, so the grid finds facets whose boxes meet.
-  const BoundaryGrid down_grid(std::move(down_boxes));
-  std::vector<int> parent(columns.facets.size());
-  std::iota(parent.begin(), parent.end(), 0);
-  std::vector<bool> folded(columns.facets.size(), false);
+  const BoundaryGrid grid(std::move(boxes));
+  const std::size_t n = columns.facets.size();
+  std::vector<char> folded(n, 0);
+  const auto overlap = [&](std::size_t a, std::size_t b) {
+    return convex_overlap(columns.facets[a].outline, columns.facets[b].outline) > kFoldArea;
+  };
   bool any = false;
-  for (std::size_t u = 0; u < columns.facets.size(); ++u) {
-    const ColumnFacet& up = columns.facets[u];
-    if (up.sign > 0) continue;
-    down_grid.for_each_near(up.lo, up.hi, [&](std::uint32_t k) {
-      const int d = down_ids[k];
-      // Neighbours along an edge touch without overlapping: their overlap is rounding.
-      if (convex_overlap(up.outline, columns.facets[d].outline) <= 1e-12) return;
-      folded[u] = folded[d] = any = true;
-      parent[find(parent, static_cast<int>(u))] = find(parent, d);
+  for (std::size_t u = 0; u < n; ++u) {
+    if (columns.facets[u].sign > 0) continue;
+    grid.for_each_near(columns.facets[u].lo, columns.facets[u].hi, [&](std::uint32_t d) {
+      if (columns.facets[d].sign < 0 || (folded[u] && folded[d]) || !overlap(u, d)) return;
+      folded[u] = folded[d] = 1;
+      any = true;
     });
   }
   if (!any) return std::max(limit, 0.0);
-  std::vector<std::vector<int>> groups(columns.facets.size());
-  for (std::size_t i = 0; i < columns.facets.size(); ++i)
-    if (folded[i]) groups[find(parent, static_cast<int>(i))].push_back(static_cast<int>(i));
-  for (const auto& group : groups) {
-    if (group.size() < 2) continue;
-    for (const Cell& cell : arrangement(columns, group)) {
-      if (cell.cover.size() >= 2) limit += fold_correction(columns, cell);
-    }
+  std::vector<std::vector<int>> overlapping(n);
+  for (std::size_t a = 0; a < n; ++a) {
+    if (!folded[a]) continue;
+    grid.for_each_near(columns.facets[a].lo, columns.facets[a].hi, [&](std::uint32_t b) {
+      if (b > a && folded[b] && overlap(a, b)) overlapping[a].push_back(static_cast<int>(b));
+    });
+    std::sort(overlapping[a].begin(), overlapping[a].end());
   }
+  Folds folds{columns, overlapping, t};
+  std::vector<int> set;
+  for (std::size_t a = 0; a < n; ++a) {
+    if (overlapping[a].empty()) continue;
+    set.assign(1, static_cast<int>(a));
+    folds.extend(set, columns.facets[a].outline, overlapping[a]);
+  }
+  limit += folds.total;
   return std::max(limit, 0.0);
 }
 

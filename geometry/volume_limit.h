@@ -12,9 +12,12 @@
 // min(occ, t - occ) is the facet's own distance to the nearer slab plane; its integral over
 // the facet splits at the line where the facet crosses the mid-plane. Columns that meet two
 // or more facets lie where an up-facing and a down-facing facet overlap seen from above (a
-// fold of the surface inside the slab: an equator, a lip); there the overlapping facets are
-// cut into cells with Clipper (1 pm units), occ is linear on each cell and min(occ, t - occ)
-// is integrated piecewise. Exact up to floating point and that 1 pm rounding of the cells.
+// fold of the surface inside the slab: an equator, a lip); there the correction is summed by
+// inclusion-exclusion over the sets of overlapping facets, each set's common part a convex
+// polygon (facets are convex) on which the facets' vertical order is fixed, so occ is linear
+// there and min(occ, t - occ) is integrated piecewise. Exact up to floating point (the
+// Clipper cells this replaced, on a 1 pm grid, agree to 1e-9 on every bunny layer, 3-6x
+// slower).
 // A consequence worth knowing: away from folds the best region is exactly the mid-plane
 // section, so mid-plane slicing reaches the limit on every layer without folds.
 //
