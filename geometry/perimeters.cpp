@@ -17,6 +17,8 @@ namespace tc = toolpath_clipper;
 constexpr double kMinLoopLength = 0.5;  // in bead widths
 // A gap with less area than this is a speck of the offsets, not a wall to print.
 constexpr double kMinGapArea = 1.0 / 16;  // in bead widths squared
+// Round joins within this of the arc (mm).
+constexpr double kArcTolerance = 0.005;
 
 ExtrusionPath closed_path(const ClipperLib::Path& path, PathRole role, double width) {
   ExtrusionPath result;
@@ -30,20 +32,35 @@ ExtrusionPath closed_path(const ClipperLib::Path& path, PathRole role, double wi
 }  // namespace
 
 Perimeters perimeters(const Region& island, double width, int count) {
+  return perimeters(tc::union_of(to_clipper(island)), width, count);
+}
+
+Perimeters perimeters(const ClipperLib::Paths& whole, double width, int count) {
   Perimeters result;
   if (!(width > 0) || count <= 0) {
-    if (count <= 0) result.infill_area = island;
+    if (count <= 0) result.infill_area = from_clipper(whole);
     return result;
   }
-  // inside: the part of the island not yet covered by the loops made so far.
-  tc::Paths inside = tc::union_of(to_clipper(island));
-  tc::Paths gaps;
-  for (int k = 0; k < count && !inside.empty(); ++k) {
-    // The loop's centre line, w/2 inside. Where its two sides would come closer than half a
-    // bead the loop would lay its beads on top of each other: that part (under 1.5 beads
-    // wide) is cut away (an opening by w/4) and left to a thin wall.
-    tc::Paths centre = tc::offset(tc::offset(inside, -0.75 * width), width / 4);
-    std::erase_if(centre, [&](const ClipperLib::Path& path) {
+  // core: where the centre of the next loop's bead may go with half a bead to spare on
+  // either side (the loops so far, or the edge, are w/2 + w/2 away).
+  tc::Paths core = tc::offset(whole, -width);
+  tc::Paths centre;
+  // gaps: what the loops' beads leave of the space each was laid in (inside: the island,
+  // then the inside of the loop before), taking a bead's convex corners as cut square
+  // at half a bead from the centre line: a bead rounds them, and a corner sharper than
+  // about 60 degrees leaves a sliver worth a gap fill, one blunter a speck.
+  tc::Paths gaps, inside = whole;
+  int made = 0;
+  for (int k = 0; k < count && !core.empty(); ++k) {
+    // The loop's centre line runs w/2 inside what is left, except where that is narrower
+    // than two beads and the loop's two sides would overlap (or at best touch with nothing
+    // between): the core grown back by w/2 (an opening), which those parts do not survive;
+    // they are left to the gap fill, which lays one bead there or two side by side. The
+    // opening is mitred, so that corners stay sharp, with the smallest mitre limit (2):
+    // where the core pinched to a point, a mitre pokes out towards the edge, at most w/2
+    // further than a round join would.
+    tc::Paths loops = tc::offset(core, width / 2, ClipperLib::jtMiter, 2.0);
+    std::erase_if(loops, [&](const ClipperLib::Path& path) {
       double length = 0;
       for (std::size_t i = 0; i < path.size(); ++i) {
         const Vec2 d = from_clipper(path[(i + 1) % path.size()]) - from_clipper(path[i]);
@@ -51,31 +68,40 @@ Perimeters perimeters(const Region& island, double width, int count) {
       }
       return length < kMinLoopLength * width;
     });
-    // What the loop's bead covers, corners taken as sharp: a bead rounds them, but the sliver
-    // it misses at a corner is not a wall to print.
-    const tc::Paths covered = tc::offset(centre, width / 2, ClipperLib::jtMiter, 10.0);
-    tc::Paths gap = tc::difference(inside, covered);
-    // The difference is mostly specks along the edge where the offsets round off short
-    // edges; a piece of wall to print has at least a quarter bead square of area.
-    const double min_gap = kMinGapArea * width * width * kClipperScale * kClipperScale;
-    std::erase_if(gap, [&](const auto& path) { return std::abs(ClipperLib::Area(path)) < min_gap; });
-    if (!gap.empty()) {
-      // Slivers narrower than a quarter bead are offset noise, not walls.
-      gap = tc::opening(gap, width / 8);
-      gaps.insert(gaps.end(), gap.begin(), gap.end());
-    }
-    if (!centre.empty()) {
-      std::vector<ExtrusionPath> loops;
-      const PathRole role = k == 0 ? PathRole::outer_wall : PathRole::inner_wall;
-      for (const auto& path : centre) loops.push_back(closed_path(path, role, width));
-      result.walls.push_back(std::move(loops));
-    }
+    if (loops.empty()) break;
+    std::vector<ExtrusionPath> level;
+    const PathRole role = k == 0 ? PathRole::outer_wall : PathRole::inner_wall;
+    for (const auto& path : loops) level.push_back(closed_path(path, role, width));
+    result.walls.push_back(std::move(level));
+    const tc::Paths gap = tc::difference(inside, tc::offset(loops, width / 2, ClipperLib::jtSquare));
+    gaps.insert(gaps.end(), gap.begin(), gap.end());
+    centre = std::move(loops);
+    ++made;
     inside = tc::offset(centre, -width / 2);
+    if (k + 1 < count) core = tc::offset(centre, -1.5 * width);
   }
+  // Infill goes inside the last of `count` loops; if fewer fit, what they leave is gap.
+  tc::Paths infill;
+  if (made == count) {
+    infill = std::move(inside);
+  } else {
+    gaps.insert(gaps.end(), inside.begin(), inside.end());
+  }
+  // The difference is mostly specks along the edge where the offsets round off short
+  // edges; a piece of wall to print has at least a sixteenth of a bead square of area.
+  // Slivers narrower than a quarter bead are offset noise, not walls.
+  const double min_gap = kMinGapArea * width * width * kClipperScale * kClipperScale;
+  auto drop_specks = [&] {
+    std::erase_if(gaps, [&](const auto& path) { return std::abs(ClipperLib::Area(path)) < min_gap; });
+  };
+  drop_specks();
+  gaps = tc::opening(gaps, width / 8);
+  drop_specks();
   if (!gaps.empty()) {
-    result.thin_walls = thin_walls(from_clipper(tc::union_of(gaps)), width / 4, 1.5 * width);
+    const Region island = from_clipper(whole);
+    result.thin_walls = thin_walls(from_clipper(gaps), width / 4, 2 * width, 1.5 * width, &island);
   }
-  result.infill_area = from_clipper(inside);
+  result.infill_area = from_clipper(infill);
   return result;
 }
 

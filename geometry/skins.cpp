@@ -27,8 +27,10 @@ std::vector<std::optional<Region>> sparse_cores(const std::vector<Region>& regio
   // halves of 2^(k-1) (a sparse table), so a window of any length L costs log2(L) + 1
   // intersections per layer rather than L - 1.
   const long length = bottom_layers + top_layers + 1;
+  // (Every window is at least two layers, so each span below comes out of an intersection,
+  // which takes its inputs with the non-zero rule: no cleaning needed first.)
   std::vector<tc::Paths> span(n);  // span[i]: regions[i .. i + 2^k - 1]
-  tbb::parallel_for(long{0}, n, [&](long i) { span[i] = tc::union_of(to_clipper(regions[i])); });
+  tbb::parallel_for(long{0}, n, [&](long i) { span[i] = to_clipper(regions[i]); });
   long width = 1;
   for (; 2 * width <= length; width *= 2) {
     std::vector<tc::Paths> wider(n);
@@ -54,7 +56,7 @@ std::vector<std::optional<Region>> sparse_cores(const std::vector<Region>& regio
 Skins split_skins(const Region& area, const Region* core, const Region* below,
                   const Region* above, double width) {
   Skins skins;
-  const tc::Paths all = tc::union_of(to_clipper(area));
+  const tc::Paths all = to_clipper(area);  // the booleans below take it non-zero as it is
   if (all.empty()) return skins;
   if (!core) {
     skins.sparse = from_clipper(all);

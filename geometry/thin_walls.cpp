@@ -9,6 +9,7 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <map>
 #include <unordered_map>
 
 #include "geometry/clipper_bridge.h"
@@ -138,6 +139,10 @@ double corner_angle(const Edges& edges, const Diagram::cell_type& c1,
 }
 
 double length(Vec2d a, Vec2d b) { return std::hypot(a.x - b.x, a.y - b.y); }
+
+// A run of a centre line is printed at one width while the strip's width stays within this
+// fraction of the run's mean: a bead wider than the strip lays its excess outside it.
+constexpr double kRunTolerance = 0.1;
 
 // A corner sharper than this is a tapering wall, and its bisector is a centre line to print
 // (down to the narrowest bead); a blunter corner's bisector only runs into the corner.
@@ -320,7 +325,7 @@ std::vector<ExtrusionPath> centre_lines(const Region& region, double min_width,
       const double width = radius[k] + radius[k + 1];
       if (run_length > 0) {
         const double mean = run_weighted / run_length;
-        if (std::abs(width - mean) > 0.2 * mean) {
+        if (std::abs(width - mean) > kRunTolerance * mean) {
           emit(k);
           run_start = k;
           run_length = run_weighted = 0;
@@ -388,7 +393,80 @@ std::optional<ExtrusionPath> long_axis_line(const tc::Paths& piece, double min_w
 
 }  // namespace
 
-std::vector<ExtrusionPath> thin_walls(const Region& region, double min_width, double max_width) {
+// A run too wide for one bead as two beads side by side: the outline of its centre line
+// widened by a quarter of its width (round ends, so that the pair ends where one bead as
+// wide would), as closed paths half its width wide. The outline is kept a quarter width
+// inside the region (the pair's beads stay in it where the run's mean width is more than
+// the strip's there, or the centre line runs off-centre past a corner of the edge).
+std::vector<ExtrusionPath> side_by_side(const ExtrusionPath& run, const tc::Paths& region) {
+  const bool closed = run.points.size() > 2 && run.points.front() == run.points.back();
+  ClipperLib::Path line;
+  for (Vec2 p : run.points) line.push_back(to_clipper(p));
+  if (closed) line.pop_back();
+  ClipperLib::ClipperOffset offset(2.0, 0.005 * kClipperScale);
+  offset.AddPath(line, ClipperLib::jtRound, closed ? ClipperLib::etClosedLine
+                                                    : ClipperLib::etOpenRound);
+  tc::Paths outline;
+  offset.Execute(outline, run.width / 4 * kClipperScale);
+  outline = tc::intersection(outline, tc::offset(region, -run.width / 4));
+  std::vector<ExtrusionPath> pair;
+  for (const auto& path : outline) {
+    if (path.size() < 3) continue;
+    ExtrusionPath loop;
+    loop.role = PathRole::thin_wall;
+    loop.width = run.width / 2;
+    loop.points = from_clipper(path);
+    loop.points.push_back(loop.points.front());
+    pair.push_back(std::move(loop));
+  }
+  return pair;
+}
+
+// Free ends (an end no other path shares) carried on by half their width along their last
+// piece, where the bead then still lies inside `within`: the centre line stops where its
+// bead's round end meets the edge, but a bead laid against another bead or a wall, not the
+// air, may as well be full to the end.
+void reach_on(std::vector<ExtrusionPath>& paths, const Region& within) {
+  auto key = [](Vec2 p) { return std::pair{std::llround(p.x * 1e6), std::llround(p.y * 1e6)}; };
+  std::map<std::pair<long long, long long>, int> ends;
+  for (const ExtrusionPath& path : paths) {
+    if (path.points.size() < 2 || path.points.front() == path.points.back()) continue;
+    ++ends[key(path.points.front())];
+    ++ends[key(path.points.back())];
+  }
+  const tc::Paths area = to_clipper(within);
+  auto room = [&](Vec2 q, double radius) {
+    int winding = 0;
+    for (const auto& loop : area) {
+      if (ClipperLib::PointInPolygon(to_clipper(q), loop) != 0) {
+        winding += ClipperLib::Orientation(loop) ? 1 : -1;
+      }
+    }
+    if (winding <= 0) return false;
+    for (const Loop& loop : within.loops) {
+      for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
+        if (distance_to_segment(q, loop[i], loop[(i + 1) % n]) < radius) return false;
+      }
+    }
+    return true;
+  };
+  for (ExtrusionPath& path : paths) {
+    auto& p = path.points;
+    if (p.size() < 2 || p.front() == p.back()) continue;
+    for (bool front : {true, false}) {
+      const Vec2 end = front ? p.front() : p.back();
+      const Vec2 before = front ? p[1] : p[p.size() - 2];
+      const Vec2 d = end - before;
+      const double length = std::hypot(d.x, d.y);
+      if (ends[key(end)] > 1 || !(length > 0)) continue;
+      const Vec2 q = end + (path.width / 2 / length) * d;
+      if (room(q, path.width / 2 * (1 - 1e-6))) (front ? p.front() : p.back()) = q;
+    }
+  }
+}
+
+std::vector<ExtrusionPath> thin_walls(const Region& region, double min_width, double max_width,
+                                      double pair_width, const Region* reach_within) {
   std::vector<ExtrusionPath> paths = centre_lines(region, min_width, max_width);
   if (region.loops.empty() || !(min_width > 0) || !(max_width >= min_width)) return paths;
   // A compact piece (an end of a thin feature, about as wide as it is long) has no centre
@@ -410,7 +488,18 @@ std::vector<ExtrusionPath> thin_walls(const Region& region, double min_width, do
   for (const tc::Paths& piece : tc::islands(bare)) {
     if (auto line = long_axis_line(piece, min_width, max_width)) paths.push_back(*line);
   }
-  return paths;
+  if (reach_within) reach_on(paths, *reach_within);
+  if (!(pair_width < max_width)) return paths;
+  std::vector<ExtrusionPath> laid;
+  const tc::Paths area = tc::union_of(to_clipper(region));
+  for (ExtrusionPath& path : paths) {
+    if (path.width > pair_width) {
+      for (ExtrusionPath& side : side_by_side(path, area)) laid.push_back(std::move(side));
+    } else {
+      laid.push_back(std::move(path));
+    }
+  }
+  return laid;
 }
 
 }  // namespace geometry

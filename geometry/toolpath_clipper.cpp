@@ -2,6 +2,8 @@
 
 #include "geometry/clipper_bridge.h"
 
+#include <cmath>
+
 namespace geometry::toolpath_clipper {
 
 namespace {
@@ -9,6 +11,9 @@ namespace {
 // Round joins within this distance of the true arc: finer than any printer resolves, coarse
 // enough that a 0.2 mm arc has a dozen points rather than thousands of nanometre steps.
 constexpr double kArcTolerance = 0.005;  // mm
+
+// A loop with less area than a micrometre square is a sliver of rounding, in nm^2.
+constexpr double kNoArea = 1e6;
 
 Paths boolean(const Paths& a, const Paths& b, ClipperLib::ClipType type) {
   ClipperLib::Clipper clipper;
@@ -24,7 +29,15 @@ Paths boolean(const Paths& a, const Paths& b, ClipperLib::ClipType type) {
 Paths offset(const Paths& region, double delta, ClipperLib::JoinType join, double miter_limit) {
   if (region.empty()) return {};
   ClipperLib::ClipperOffset offsetter(miter_limit, kArcTolerance * kClipperScale);
-  offsetter.AddPaths(region, join, ClipperLib::etClosedPolygon);
+  // ClipperOffset takes the orientation of the loop with the lowest vertex for that of every
+  // outer loop: a loop of next to no area there (a union leaves such slivers where two
+  // pieces touch at the edge), if it runs the other way, turns the whole region inside out.
+  // Such loops are nothing to offset.
+  for (const Path& path : region) {
+    if (std::abs(ClipperLib::Area(path)) >= kNoArea) {
+      offsetter.AddPath(path, join, ClipperLib::etClosedPolygon);
+    }
+  }
   Paths result;
   offsetter.Execute(result, delta * kClipperScale);
   return result;

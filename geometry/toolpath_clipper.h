@@ -15,7 +15,8 @@ using ClipperLib::Path;
 using ClipperLib::Paths;
 
 // Offset of a filled region by delta mm (negative shrinks). Sharp joins are mitred up to
-// miter_limit times delta; round joins follow the arc within 5 um.
+// miter_limit times delta; round joins follow the arc within 5 um. Loops of less than a
+// square micrometre are dropped first (they would confuse Clipper's orientation check).
 Paths offset(const Paths& region, double delta, ClipperLib::JoinType join = ClipperLib::jtMiter,
              double miter_limit = 3.0);
 

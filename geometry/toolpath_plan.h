@@ -9,7 +9,8 @@
 // Layer i uses regions[i] when i < regions.size(), else the empty region. Each region's edges
 // are first straightened within 5 um (Douglas-Peucker), far below a printer's step.
 // Travel: the first path of every layer has retract_before set (the layer change); after
-// that, a travel retracts when it is longer than retract_min_travel or leaves the region.
+// that, a travel retracts when it leaves the region (crosses a wall, a hole or open air) and
+// is longer than retract_min_travel; a travel inside the region never does (travel_order.h).
 // The nozzle starts each layer where the previous one ended (layer 0: the region's
 // front-left corner), and islands are visited nearest first.
 //
@@ -47,8 +48,9 @@ struct ToolpathOptions {
   int bottom_layers = 3;            // solid layers over every bottom surface
   int skirt_loops = 1;              // loops around the first layer; 0 for none
   double skirt_distance = 3.0;      // gap between the part and the skirt, mm
-  double retract_min_travel = 2.0;  // a travel longer than this retracts, mm
+  double retract_min_travel = 2.0;  // a travel leaving the region retracts if longer, mm
   SeamPosition seam = SeamPosition::aligned;
+  InfillLines infill_lines = InfillLines::connected;  // zig-zags along the edge, or separate
 };
 
 // Called once per finished layer with the count of layers done so far, possibly from several

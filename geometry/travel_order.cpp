@@ -253,7 +253,7 @@ void mark_retractions(std::vector<ExtrusionPath>& paths, const Region& region,
       continue;
     }
     const Vec2 from = paths[i - 1].points.back(), to = paths[i].points.front();
-    paths[i].retract_before = distance(from, to) > min_travel || boundary.crossed(from, to);
+    paths[i].retract_before = distance(from, to) > min_travel && boundary.crossed(from, to);
   }
 }
 

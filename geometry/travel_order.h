@@ -46,9 +46,11 @@ struct NearestStart {
 std::optional<NearestStart> nearest_start(const std::vector<ExtrusionPath>& paths,
                                           SeamPosition seam, Vec2 position);
 
-// Sets retract_before on every path whose travel from the end of the one before is longer
-// than min_travel or leaves `region` (crosses its boundary: a wall, into a hole or across
-// open air), and on the first path (the travel from the previous layer). Clears it elsewhere.
+// Sets retract_before on every path whose travel from the end of the one before leaves
+// `region` (crosses its boundary: a wall, into a hole or across open air) and is longer than
+// min_travel, and on the first path (the travel from the previous layer). Clears it
+// elsewhere: a travel that stays inside the region, however long, oozes only onto the part,
+// where the next beads cover it (Cura's combing), so it keeps the filament where it is.
 void mark_retractions(std::vector<ExtrusionPath>& paths, const Region& region,
                       double min_travel);
 

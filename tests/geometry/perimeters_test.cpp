@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "geometry/bead_coverage.h"
 #include "geometry/toolpath_shapes.h"
 
 using namespace geometry;
@@ -105,8 +106,10 @@ TEST_CASE("strip_too_narrow_for_second_loop_gets_centre_line_between_walls") {
   CHECK(line.role == PathRole::thin_wall);
   CHECK(line.width == doctest::Approx(0.3).epsilon(1e-6));
   for (Vec2 v : line.points) CHECK(v.y == doctest::Approx(0.6).epsilon(1e-6));
-  // The bead's round ends reach the inside of the outer wall's bead at x = w and 15 - w.
-  CHECK(length(line.points) == doctest::Approx(15 - 2 * w - 0.3).epsilon(1e-6));
+  // The centre line ends where its round ends would reach the inside of the outer wall's
+  // bead (x = w and 15 - w), then runs on by half its width: laid against a wall, not the
+  // air, the bead is full to the end of the strip.
+  CHECK(length(line.points) == doctest::Approx(15 - 2 * w).epsilon(1e-6));
   CHECK(area(p.infill_area) == doctest::Approx(0));
 }
 
@@ -126,6 +129,39 @@ TEST_CASE("strip_under_one_and_a_half_widths_gets_one_line_not_a_collapsed_loop"
   CHECK(p.walls.empty());
   REQUIRE(p.thin_walls.size() == 1);
   CHECK(p.thin_walls[0].width == doctest::Approx(0.6).epsilon(1e-6));
+}
+
+TEST_CASE("strip_between_one_and_a_half_and_two_widths_gets_two_beads_not_an_overlapping_loop") {
+  // A loop in a 0.8 mm strip would lay its 0.45 mm sides 0.35 mm apart, 0.1 mm on top of
+  // each other (12% of the strip laid twice). Instead: two beads side by side, each 0.4 mm
+  // (and a dab in each of the strip's square corners).
+  const Region strip{{rectangle(0, 0, 10, 0.8)}};
+  const Perimeters p = perimeters(strip, w, 2);
+  CHECK(p.walls.empty());
+  REQUIRE(!p.thin_walls.empty());
+  CHECK(is_closed(p.thin_walls[0]));
+  CHECK(p.thin_walls[0].width == doctest::Approx(0.4).epsilon(1e-6));
+  for (std::size_t i = 1; i < p.thin_walls.size(); ++i) CHECK(length(p.thin_walls[i].points) < 0.15);
+  const auto c = bead_coverage::coverage(strip, p.thin_walls);
+  INFO("inside " << c.inside << " outside " << c.outside << " double " << c.double_coverage);
+  CHECK(c.inside >= 0.99);
+  CHECK(c.outside <= 0.005);
+  CHECK(c.double_coverage <= 0.005);
+}
+
+TEST_CASE("a_sharp_corner_the_bead_cannot_follow_gets_a_gap_fill") {
+  // A 20 mm triangle with a 20 degree tip: the outer wall's bead rounds it off 1.3 mm short
+  // of the tip (w/2 / sin 10 degrees, less w/2); the gap fill runs a tapering line into it.
+  const double tip = 20 * std::numbers::pi / 180;
+  const Region wedge{{Loop{{0, 0}, {20, 20 * std::tan(tip / 2)}, {0, 2 * 20 * std::tan(tip / 2)}}}};
+  const Perimeters p = perimeters(wedge, w, 1);
+  REQUIRE(p.walls.size() == 1);
+  double reach = 0;
+  for (const auto& line : p.thin_walls)
+    for (Vec2 v : line.points) reach = std::max(reach, v.x);
+  double wall_reach = 0;
+  for (Vec2 v : p.walls[0][0].points) wall_reach = std::max(wall_reach, v.x);
+  CHECK(reach > wall_reach + 0.5);
 }
 
 TEST_CASE("no_loops_gives_whole_island_as_infill_area") {

@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "geometry/bead_coverage.h"
 #include "geometry/toolpath_shapes.h"
@@ -126,6 +127,50 @@ TEST_CASE("compact_blob_gets_one_line_through_its_centre") {
   INFO("inside " << c.inside << " outside " << c.outside);
   CHECK(c.inside >= 0.85);
   CHECK(c.outside <= 0.1);
+}
+
+TEST_CASE("strip_too_wide_for_one_bead_gets_two_side_by_side") {
+  // A 0.8 x 10 mm strip with beads up to 0.9 mm, paired above 0.675: its centre line (0.8
+  // wide) becomes one closed path 0.4 wide a quarter width (0.2) either side of it and
+  // round its ends: two beads that tile the strip, neither overlapping nor leaving a gap
+  // between them. (The strip's square corners, which the round ends leave, get a dab each.)
+  const Region strip{{rectangle(0, 0, 10, 0.8)}};
+  const auto paths = thin_walls(strip, 0.1125, 0.9, 0.675);
+  REQUIRE(paths.size() == 5);
+  CHECK(is_closed(paths[0]));
+  CHECK(paths[0].width == doctest::Approx(0.4).epsilon(1e-6));
+  for (Vec2 v : paths[0].points) {
+    CHECK(v.y >= 0.2 - 1e-6);
+    CHECK(v.y <= 0.6 + 1e-6);
+  }
+  for (std::size_t i = 1; i < paths.size(); ++i) CHECK(length(paths[i].points) < 0.15);
+  const auto c = bead_coverage::coverage(strip, paths);
+  INFO("inside " << c.inside << " outside " << c.outside << " double " << c.double_coverage);
+  CHECK(c.inside >= 0.99);
+  CHECK(c.outside <= 0.005);
+  CHECK(c.double_coverage <= 0.005);
+  // Without pairing it is one bead 0.8 wide.
+  const auto single = thin_walls(strip, 0.1125, 0.9);
+  REQUIRE(single.size() == 5);
+  CHECK(single[0].width == doctest::Approx(0.8).epsilon(1e-6));
+}
+
+TEST_CASE("free_ends_reach_on_only_where_their_bead_stays_inside") {
+  // A 0.3 mm gap across the middle of a 2 mm wide part (0.85 to 1.15): against walls on
+  // either side the centre line runs on by half its width to the gap's ends; cut at the
+  // part's edge (the gap reaching x = 0) its end stays half a width in.
+  const Region gap{{rectangle(1, 0.85, 9, 1.15)}};
+  const Region part{{rectangle(0, 0, 10, 2)}};
+  const auto inside = thin_walls(gap, 0.1, 0.45, std::numeric_limits<double>::infinity(), &part);
+  REQUIRE(inside.size() == 1);
+  CHECK(length(inside[0].points) == doctest::Approx(8).epsilon(1e-6));
+  const Region edge_gap{{rectangle(0, 0.85, 9, 1.15)}};
+  const auto at_edge =
+      thin_walls(edge_gap, 0.1, 0.45, std::numeric_limits<double>::infinity(), &part);
+  REQUIRE(at_edge.size() == 1);
+  const auto [lo, hi] = std::minmax(at_edge[0].points.front().x, at_edge[0].points.back().x);
+  CHECK(lo == doctest::Approx(0.15).epsilon(1e-6));
+  CHECK(hi == doctest::Approx(9).epsilon(1e-6));
 }
 
 TEST_CASE("thin_walls_of_nothing_is_nothing") {

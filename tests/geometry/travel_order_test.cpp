@@ -81,21 +81,30 @@ TEST_CASE("open_paths_print_nearest_first_from_their_nearer_end") {
   CHECK(at == Vec2{10, 2});
 }
 
-TEST_CASE("travel_that_crosses_a_hole_or_runs_long_retracts") {
+TEST_CASE("travel_that_leaves_the_region_retracts_one_inside_does_not") {
+  // A 20 mm square with a 10 mm hole: a travel over the hole or out of the part oozes where
+  // nothing covers it, and retracts if longer than 2 mm; one inside the part never does,
+  // however long: what oozes there lands on the part.
   const Region holed{{rectangle(0, 0, 20, 20), reversed(rectangle(5, 5, 15, 15))}};
   std::vector<ExtrusionPath> paths{
-      line({1, 10}, {2, 10}),    // first: always
-      line({2.5, 10}, {3, 10}),  // 0.5 mm on: no
-      line({17, 10}, {18, 10}),  // across the hole: yes
-      line({18, 11}, {18, 12}),  // 1 mm on: no
-      line({18, 16}, {18, 17}),  // 4 mm, inside: longer than 2 mm, yes
+      line({1, 10}, {2, 10}),      // first: always (the layer change)
+      line({2.5, 10}, {3, 10}),    // 0.5 mm on: no
+      line({17, 10}, {18, 10}),    // 14 mm across the hole: yes
+      line({18, 11}, {18, 12}),    // 1 mm on: no
+      line({18, 16}, {18, 17}),    // 4 mm, inside: no
+      line({1, 17}, {1, 18}),      // 17 mm along the top, inside: no
+      line({-0.5, 18}, {-0.5, 1}),  // 1.5 mm out of the part: shorter than 2 mm, no
+      line({25, 1}, {26, 1}),      // 25.5 mm through the part and out: yes
   };
   mark_retractions(paths, holed, 2.0);
   CHECK(paths[0].retract_before);
   CHECK(!paths[1].retract_before);
   CHECK(paths[2].retract_before);
   CHECK(!paths[3].retract_before);
-  CHECK(paths[4].retract_before);
+  CHECK(!paths[4].retract_before);
+  CHECK(!paths[5].retract_before);
+  CHECK(!paths[6].retract_before);
+  CHECK(paths[7].retract_before);
 }
 
 TEST_CASE("crosses_boundary_sees_walls_and_holes_only") {
