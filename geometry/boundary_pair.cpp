@@ -41,6 +41,11 @@ std::vector<BoundaryPair> boundary_pairs(const Region& footprint) {
   clipper.AddPaths(to_clipper(footprint), ClipperLib::ptSubject, true);
   ClipperLib::PolyTree tree;
   clipper.Execute(ClipperLib::ctUnion, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+  return boundary_pairs(tree);
+}
+
+std::vector<BoundaryPair> boundary_pairs(const ClipperLib::PolyTree& tree) {
+  std::vector<BoundaryPair> pairs;
   for (const ClipperLib::PolyNode* node = tree.GetFirst(); node; node = node->GetNext()) {
     if (node->IsHole() || node->IsOpen()) continue;
     BoundaryPair pair;

@@ -16,6 +16,8 @@
 
 #include <vector>
 
+#include <polyclipping/clipper.hpp>
+
 #include "geometry/polygon.h"
 
 namespace geometry {
@@ -26,6 +28,9 @@ struct BoundaryPair {
 };
 
 std::vector<BoundaryPair> boundary_pairs(const Region& footprint);
+
+// The same from the footprint's nesting as Clipper built it (slab.cpp), without a union.
+std::vector<BoundaryPair> boundary_pairs(const ClipperLib::PolyTree& footprint);
 
 // The pair's loops in the order the contour code numbers them: outer first, then inner.
 std::vector<const Loop*> loops_of(const BoundaryPair& pair);

@@ -211,10 +211,22 @@ double forward_distance(const SlabSurface& surface, const BoundaryGrid& walls,
   }
   std::vector<std::array<Nearest, 3>> corner(surface.triangles.size());
   double best = 0;
+  const bool indexed = surface.corners.size() == surface.triangles.size();
+  std::vector<Nearest> at_point(indexed ? surface.points.size() : 0);
+  std::vector<char> found(at_point.size(), 0);
   for (std::size_t i = 0; i < surface.triangles.size(); ++i) {
     if (grid_of[i]->empty()) continue;
     for (int k = 0; k < 3; ++k) {
-      corner[i][k] = grid_of[i]->nearest(surface.triangles[i][k]);
+      if (indexed && grid_of[i] == &walls) {
+        const std::uint32_t p = surface.corners[i][k];
+        if (!found[p]) {
+          at_point[p] = walls.nearest(surface.points[p]);
+          found[p] = 1;
+        }
+        corner[i][k] = at_point[p];
+      } else {
+        corner[i][k] = grid_of[i]->nearest(surface.triangles[i][k]);
+      }
       best = std::max(best, corner[i][k].distance);
     }
   }
@@ -324,6 +336,21 @@ SlabSurface slab_surface(const Slab& slab, const DistanceOptions& options) {
     while (j < flat_edges.size() && key(flat_edges[j]) == key(flat_edges[i])) ++j;
     if (j - i == 1) surface.triangles.push_back({flat_edges[i].a, flat_edges[i].b, flat_edges[i].b});
     i = j;
+  }
+  // Index the corners: sort them, give equal points one number.
+  std::vector<std::pair<Vec2, std::uint32_t>> all;
+  all.reserve(3 * surface.triangles.size());
+  for (std::uint32_t i = 0; i < surface.triangles.size(); ++i) {
+    for (std::uint32_t k = 0; k < 3; ++k) all.push_back({surface.triangles[i][k], 3 * i + k});
+  }
+  std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) {
+    return a.first.x < b.first.x || (a.first.x == b.first.x && a.first.y < b.first.y);
+  });
+  surface.corners.resize(surface.triangles.size());
+  for (std::size_t j = 0; j < all.size(); ++j) {
+    if (j == 0 || !(all[j].first == all[j - 1].first)) surface.points.push_back(all[j].first);
+    surface.corners[all[j].second / 3][all[j].second % 3] =
+        static_cast<std::uint32_t>(surface.points.size() - 1);
   }
   const int levels = std::max(options.reverse_levels, 2);
   const double t = slab.z_hi - slab.z_lo;

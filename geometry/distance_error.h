@@ -36,6 +36,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -61,6 +62,10 @@ struct SlabSurface {
   // The surface seen from above: facets fanned into triangles; a horizontal facet's edges as
   // triangles of zero area (a, b, b).
   std::vector<std::array<Vec2, 3>> triangles;
+  // Their corners once each (neighbouring facets share them), and each triangle's corners as
+  // indices into it: the nearest wall is searched once per point.
+  std::vector<Vec2> points;
+  std::vector<std::array<std::uint32_t, 3>> corners;
   // ∂C(z) at each measured height, as segments (empty heights left out).
   std::vector<BoundaryGrid> levels;
 };

@@ -13,8 +13,9 @@ LayerReference layer_reference(const LayerStack& stack, std::size_t layer,
   if (layer >= stack.size()) return reference;
   reference.layer = stack.layers()[layer];
   reference.slab = slab_of(stack, layer);
-  reference.footprint = slab_footprint(reference.slab);
-  reference.islands = boundary_pairs(reference.footprint);
+  Footprint footprint = slab_footprint_with_islands(reference.slab);
+  reference.footprint = std::move(footprint.region);
+  reference.islands = std::move(footprint.islands);
   reference.columns = slab_columns(reference.slab, stack.lower(layer));
   reference.surface = slab_surface(reference.slab, options.distance);
   reference.volume_limit = volume_limit(reference.columns);

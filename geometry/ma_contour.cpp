@@ -288,9 +288,9 @@ Loop simplified(const Loop& loop, double tolerance) {
     double worst = -1;
     std::size_t at = first;
     for (std::size_t i = first + 1; i < last; ++i) {
-      const double d = distance_to_segment(loop[i], a, b);
-      if (d * d > worst) {
-        worst = d * d;
+      const double d2 = squared_distance_to_segment(loop[i], a, b);
+      if (d2 > worst) {
+        worst = d2;
         at = i;
       }
     }
@@ -853,14 +853,25 @@ Region ma_contour(const Slab& slab, std::span<const BoundaryPair> pairs,
   // nearer to them, the pocket takes the mid section.
   const BoundaryGrid walls(with_features), middle_walls(middle);
   ClipperLib::Paths zone = feature_zone;
+  std::vector<double> worst;
   for (const IslandAxis& axis : axes) {
     if (axis.pockets.empty()) continue;
-    double level = 0;  // Θ of §3.4: the largest distance of a contributing sample
-    for (Vec2 p : axis.contributing) level = std::max(level, walls.nearest_distance(p));
-    for (const Pocket& pocket : axis.pockets) {
-      double worst = 0;
-      for (Vec2 p : pocket.non_contributing) worst = std::max(worst, walls.nearest_distance(p));
-      if (worst <= level + kRefineTolerance) continue;
+    worst.assign(axis.pockets.size(), 0);
+    double farthest = 0;
+    for (std::size_t k = 0; k < axis.pockets.size(); ++k) {
+      for (Vec2 p : axis.pockets[k].non_contributing) worst[k] = std::max(worst[k], walls.nearest_distance(p));
+      farthest = std::max(farthest, worst[k]);
+    }
+    // Θ of §3.4, the largest distance of a contributing sample to the walls; only needed up
+    // to the farthest pocket sample (most pockets are a sharp corner's few samples).
+    double level = 0;
+    for (Vec2 p : axis.contributing) {
+      level = std::max(level, walls.nearest_distance(p));
+      if (level > farthest) break;
+    }
+    for (std::size_t k = 0; k < axis.pockets.size(); ++k) {
+      const Pocket& pocket = axis.pockets[k];
+      if (worst[k] <= level + kRefineTolerance) continue;
       double now = 0, with_middle = 0;
       for (Vec2 p : pocket.corners) {
         now = std::max(now, walls.nearest_distance(p));

@@ -4,7 +4,6 @@
 #include <array>
 #include <cmath>
 #include <numbers>
-#include <unordered_map>
 #include <utility>
 
 #include "geometry/clipper_bridge.h"
@@ -94,55 +93,75 @@ Slab slab_of(const LayerStack& stack, std::size_t layer) {
 
 namespace {
 
-struct EdgeHash {
-  std::size_t operator()(const std::pair<IntPoint, IntPoint>& e) const {
-    std::uint64_t h = 1469598103934665603ULL;
-    for (cInt v : {e.first.X, e.first.Y, e.second.X, e.second.Y}) {
-      h = (h ^ static_cast<std::uint64_t>(v)) * 1099511628211ULL;
-    }
-    return static_cast<std::size_t>(h ^ (h >> 29));
-  }
-};
+bool before(IntPoint a, IntPoint b) { return a.X < b.X || (a.X == b.X && a.Y < b.Y); }
 
 // The boundary of the facets' projections taken as a 2-chain (each facet counter-clockwise,
 // weight one), as closed paths: a shared edge is walked once each way and cancels, so only
 // the lower and upper contours and the silhouettes remain. Their non-zero fill is the union
-// of the projections, and Clipper sees a few hundred edges instead of every facet.
+// of the projections, and Clipper sees a few hundred edges instead of every facet. Sorting,
+// not hashing: the edges are sorted once by their ends to cancel pairs, then by their start
+// to walk them.
 ClipperLib::Paths chain_boundary(const std::vector<ClipperLib::Path>& facets) {
-  std::unordered_map<std::pair<IntPoint, IntPoint>, int, EdgeHash> count;
+  struct Edge {
+    IntPoint lo, hi;  // lo before hi
+    int direction;    // +1: walked lo -> hi
+  };
+  std::vector<Edge> edges;
   for (const ClipperLib::Path& f : facets) {
     for (std::size_t i = 0, n = f.size(); i < n; ++i) {
       const IntPoint a = f[i], b = f[(i + 1) % n];
-      const auto reverse = count.find({b, a});
-      if (reverse != count.end() && reverse->second > 0) {
-        --reverse->second;
-      } else {
-        ++count[{a, b}];
-      }
+      if (a == b) continue;
+      edges.push_back(before(a, b) ? Edge{a, b, 1} : Edge{b, a, -1});
     }
   }
-  std::unordered_multimap<IntPoint, IntPoint, decltype([](IntPoint p) {
-                            return std::hash<cInt>()(p.X * 1000003 ^ p.Y);
-                          })>
-      outgoing;
-  for (const auto& [edge, n] : count) {
-    for (int k = 0; k < n; ++k) outgoing.emplace(edge.first, edge.second);
+  std::sort(edges.begin(), edges.end(), [](const Edge& x, const Edge& y) {
+    return before(x.lo, y.lo) || (x.lo == y.lo && before(x.hi, y.hi));
+  });
+  std::vector<std::pair<IntPoint, IntPoint>> remaining;  // directed, after cancelling
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i;
+    int net = 0;
+    for (; j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi; ++j) {
+      net += edges[j].direction;
+    }
+    for (int k = 0; k < std::abs(net); ++k) {
+      remaining.push_back(net > 0 ? std::pair{edges[i].lo, edges[i].hi} : std::pair{edges[i].hi, edges[i].lo});
+    }
+    i = j;
   }
+  std::sort(remaining.begin(), remaining.end(),
+            [](const auto& x, const auto& y) { return before(x.first, y.first); });
+  std::vector<char> used(remaining.size(), 0);
+  // The first unused edge out of `at`, or remaining.size().
+  std::vector<std::size_t> cursor(remaining.size());
+  for (std::size_t i = 0; i < remaining.size(); ++i) {
+    cursor[i] = i > 0 && remaining[i].first == remaining[i - 1].first ? cursor[i - 1] : i;
+  }
+  const auto take_from = [&](IntPoint at) -> std::size_t {
+    const auto it = std::lower_bound(remaining.begin(), remaining.end(), at,
+                                     [](const auto& e, IntPoint p) { return before(e.first, p); });
+    if (it == remaining.end() || !(it->first == at)) return remaining.size();
+    const std::size_t first = static_cast<std::size_t>(it - remaining.begin());
+    std::size_t& next = cursor[first];
+    while (next < remaining.size() && remaining[next].first == at && used[next]) ++next;
+    if (next >= remaining.size() || !(remaining[next].first == at)) return remaining.size();
+    return next;
+  };
   ClipperLib::Paths paths;
-  while (!outgoing.empty()) {
-    auto it = outgoing.begin();
-    const IntPoint start = it->first;
+  for (std::size_t s = 0; s < remaining.size(); ++s) {
+    if (used[s]) continue;
+    used[s] = 1;
+    const IntPoint start = remaining[s].first;
     ClipperLib::Path path{start};
-    IntPoint at = it->second;
-    outgoing.erase(it);
+    IntPoint at = remaining[s].second;
     // Every vertex has as many edges in as out, so the walk ends where it began; should
     // rounding ever break that, the walk stops and the path closes itself.
     while (!(at == start)) {
       path.push_back(at);
-      const auto next = outgoing.find(at);
-      if (next == outgoing.end()) break;
-      at = next->second;
-      outgoing.erase(next);
+      const std::size_t next = take_from(at);
+      if (next == remaining.size()) break;
+      used[next] = 1;
+      at = remaining[next].second;
     }
     if (path.size() >= 3) paths.push_back(std::move(path));
   }
@@ -239,7 +258,11 @@ void chain_segments(const ClipperLib::Paths& edge_on, ClipperLib::Paths& open,
 
 }  // namespace
 
-Region slab_footprint(const Slab& slab, double margin) {
+namespace {
+
+// The footprint as Clipper's nesting (the tree must be the caller's: a PolyTree cannot be
+// copied).
+void footprint_tree(const Slab& slab, double margin, ClipperLib::PolyTree& tree) {
   // The union of the projections, then grown by the margin in one offset: the same set as
   // growing each facet first (the Minkowski sum distributes over the union). Facets seen
   // edge-on (vertical walls) project to segments of no area and join the offset as open
@@ -276,7 +299,6 @@ Region slab_footprint(const Slab& slab, double margin) {
   ClipperLib::Paths covered;
   clipper.Execute(ClipperLib::ctUnion, covered, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
   const double delta = std::max(margin, 0.0) * kClipperScale;
-  ClipperLib::PolyTree tree;
   if (delta > 0) {
     ClipperLib::ClipperOffset offset;
     offset.AddPaths(covered, ClipperLib::jtMiter, ClipperLib::etClosedPolygon);
@@ -290,7 +312,20 @@ Region slab_footprint(const Slab& slab, double margin) {
     normalise.AddPaths(covered, ClipperLib::ptSubject, true);
     normalise.Execute(ClipperLib::ctUnion, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
   }
+}
+
+}  // namespace
+
+Region slab_footprint(const Slab& slab, double margin) {
+  ClipperLib::PolyTree tree;
+  footprint_tree(slab, margin, tree);
   return from_clipper(tree);
+}
+
+Footprint slab_footprint_with_islands(const Slab& slab, double margin) {
+  ClipperLib::PolyTree tree;
+  footprint_tree(slab, margin, tree);
+  return {from_clipper(tree), boundary_pairs(tree)};
 }
 
 }  // namespace geometry

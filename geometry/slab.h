@@ -28,6 +28,7 @@
 #include <span>
 #include <vector>
 
+#include "geometry/boundary_pair.h"
 #include "geometry/layer_stack.h"
 #include "geometry/mesh.h"
 #include "geometry/polygon.h"
@@ -52,5 +53,13 @@ Slab slab_of(const Mesh& mesh, std::span<const std::uint32_t> faces, double z_lo
 std::vector<Vec3> clip_to_slab(std::span<const Vec3> polygon, double z_lo, double z_hi);
 
 Region slab_footprint(const Slab& slab, double margin = kFootprintMargin);
+
+// The footprint and its islands (boundary_pair.h) from one union: what
+// boundary_pairs(slab_footprint(slab, margin)) gives, without normalising the footprint twice.
+struct Footprint {
+  Region region;
+  std::vector<BoundaryPair> islands;
+};
+Footprint slab_footprint_with_islands(const Slab& slab, double margin = kFootprintMargin);
 
 }  // namespace geometry
