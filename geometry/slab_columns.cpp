@@ -188,6 +188,65 @@ AreaMoments moments_of_intersection(const std::vector<Vec2>& convex, Vec2 origin
   return m;
 }
 
+std::vector<Vec2> clip_to_half_plane(const std::vector<Vec2>& polygon, Vec2 o, double f0,
+                                     double fx, double fy) {
+  const auto at = [&](Vec2 p) { return f0 + fx * (p.x - o.x) + fy * (p.y - o.y); };
+  std::vector<Vec2> out;
+  for (std::size_t i = 0, n = polygon.size(); i < n; ++i) {
+    const Vec2 a = polygon[i], b = polygon[(i + 1) % n];
+    const double fa = at(a), fb = at(b);
+    if (fa >= 0) out.push_back(a);
+    if ((fa >= 0) != (fb >= 0)) out.push_back(a + (fa / (fa - fb)) * (b - a));
+  }
+  return out;
+}
+
+std::vector<Vec2> convex_intersection(std::vector<Vec2> polygon, const std::vector<Vec2>& by) {
+  for (std::size_t k = 0, n = by.size(); k < n && polygon.size() >= 3; ++k) {
+    const Vec2 p = by[k], d = by[(k + 1) % n] - p;
+    // Left of p -> p + d: cross(d, x - p) >= 0.
+    polygon = clip_to_half_plane(polygon, p, 0, -d.y, d.x);
+  }
+  return polygon;
+}
+
+std::vector<std::vector<int>> overlapping_facets(const SlabColumns& columns) {
+  const std::size_t n = columns.facets.size();
+  std::vector<std::vector<int>> overlapping(n);
+  std::vector<Segment2> boxes;
+  boxes.reserve(n);
+  for (const ColumnFacet& facet : columns.facets) boxes.push_back({facet.lo, facet.hi});
+  // A segment's box is the facet's box, so the grid finds facets whose boxes meet.
+  const BoundaryGrid grid(std::move(boxes));
+  const auto overlap = [&](std::size_t a, std::size_t b) {
+    const std::vector<Vec2> common =
+        convex_intersection(columns.facets[a].outline, columns.facets[b].outline);
+    return common.size() >= 3 && signed_area(common) > kFoldArea;
+  };
+  // First the facets of folds (an up-facing facet over a down-facing one), then every pair
+  // among them whatever its facing (an S-fold stacks two up-facing sheets round a
+  // down-facing one).
+  std::vector<char> folded(n, 0);
+  bool any = false;
+  for (std::size_t u = 0; u < n; ++u) {
+    if (columns.facets[u].sign > 0) continue;
+    grid.for_each_near(columns.facets[u].lo, columns.facets[u].hi, [&](std::uint32_t d) {
+      if (columns.facets[d].sign < 0 || (folded[u] && folded[d]) || !overlap(u, d)) return;
+      folded[u] = folded[d] = 1;
+      any = true;
+    });
+  }
+  if (!any) return overlapping;
+  for (std::size_t a = 0; a < n; ++a) {
+    if (!folded[a]) continue;
+    grid.for_each_near(columns.facets[a].lo, columns.facets[a].hi, [&](std::uint32_t b) {
+      if (b > a && folded[b] && overlap(a, b)) overlapping[a].push_back(static_cast<int>(b));
+    });
+    std::sort(overlapping[a].begin(), overlapping[a].end());
+  }
+  return overlapping;
+}
+
 SlabColumns slab_columns(const Slab& slab, const Region& lower_section) {
   SlabColumns columns;
   columns.z_lo = slab.z_lo;

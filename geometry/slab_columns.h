@@ -88,4 +88,20 @@ double integrate_linear(const std::vector<Vec2>& loop, Vec2 origin, double w0, d
                         double wy);
 AreaMoments moments_of_loop(const std::vector<Vec2>& loop, Vec2 origin);
 
+// The part of a polygon where the linear function f0 + fx (x - o.x) + fy (y - o.y) is >= 0
+// (Sutherland-Hodgman against one half-plane; a convex polygon stays convex, a non-convex one
+// may come out with zero-width bridges along the line, which integrate to nothing).
+std::vector<Vec2> clip_to_half_plane(const std::vector<Vec2>& polygon, Vec2 o, double f0,
+                                     double fx, double fy);
+
+// The intersection of a convex polygon with a convex counter-clockwise one.
+std::vector<Vec2> convex_intersection(std::vector<Vec2> polygon, const std::vector<Vec2>& by);
+
+// Folds (columns that meet two or more facets, where an up-facing and a down-facing facet
+// overlap seen from above): for every facet a, the larger indices b of the facets whose
+// projection overlaps a's by more than kFoldArea, ascending. Facets of no fold, and every
+// facet of a slab without folds, have none.
+inline constexpr double kFoldArea = 1e-12;  // mm^2: less is neighbours touching along an edge
+std::vector<std::vector<int>> overlapping_facets(const SlabColumns& columns);
+
 }  // namespace geometry

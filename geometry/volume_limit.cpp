@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <bit>
-#include <numeric>
 
 
 namespace geometry {
@@ -45,30 +44,6 @@ double integrate_min(const Poly& loop, const Linear& f, double t) {
 Linear depth_of(const ColumnFacet& facet) {
   return {facet.outline[0], facet.w0, facet.wx, facet.wy};
 }
-
-// Area of the intersection of two convex counter-clockwise polygons.
-double convex_overlap(const Poly& a, const Poly& b) {
-  Poly piece = a;
-  for (std::size_t k = 0, n = b.size(); k < n && piece.size() >= 3; ++k) {
-    const Vec2 p = b[k], d = b[(k + 1) % n] - p;
-    // Left of p -> p + d: cross(d, x - p) >= 0, a linear function of x.
-    const Linear left{p, 0, -d.y, d.x};
-    piece = keep_nonnegative(piece, left);
-  }
-  return piece.size() >= 3 ? signed_area(piece) : 0;
-}
-
-// The part of a convex polygon inside another convex counter-clockwise polygon.
-Poly clipped_to(Poly piece, const Poly& by) {
-  for (std::size_t k = 0, n = by.size(); k < n && piece.size() >= 3; ++k) {
-    const Vec2 p = by[k], d = by[(k + 1) % n] - p;
-    piece = keep_nonnegative(piece, Linear{p, 0, -d.y, d.x});
-  }
-  return piece;
-}
-
-// Overlaps below this, mm^2, are neighbours touching along an edge: rounding, not a fold.
-constexpr double kFoldArea = 1e-12;
 
 // Folds (the header): the correction is ∫ phi(cover(x)) over the plane, cover(x) the facets
 // above column x and, for a set T of facets,
@@ -126,7 +101,7 @@ struct Folds {
   // Every set of facets, `set` extended by larger indices, whose common part has area.
   void extend(std::vector<int>& set, const Poly& common, const std::vector<int>& candidates) {
     for (int g : candidates) {
-      const Poly next = clipped_to(common, columns.facets[g].outline);
+      const Poly next = convex_intersection(common, columns.facets[g].outline);
       if (next.size() < 3 || signed_area(next) <= kFoldArea) continue;
       set.push_back(g);
       add(set, next);
@@ -149,39 +124,13 @@ double volume_limit(const SlabColumns& columns) {
   double limit = 0;
   for (const ColumnFacet& facet : columns.facets) limit += integrate_min(facet.outline, depth_of(facet), t);
 
-  // Folds: up-facing facets overlapping down-facing ones seen from above; then, among the
-  // facets of folds, every overlapping pair whatever its facing (an S-fold stacks two
-  // up-facing sheets with a down-facing one between).
-  std::vector<Segment2> boxes;
-  for (const ColumnFacet& facet : columns.facets) boxes.push_back({facet.lo, facet.hi});
-  // A segment's box is the facet's box, so the grid finds facets whose boxes meet.
-  const BoundaryGrid grid(std::move(boxes));
-  const std::size_t n = columns.facets.size();
-  std::vector<char> folded(n, 0);
-  const auto overlap = [&](std::size_t a, std::size_t b) {
-    return convex_overlap(columns.facets[a].outline, columns.facets[b].outline) > kFoldArea;
-  };
-  bool any = false;
-  for (std::size_t u = 0; u < n; ++u) {
-    if (columns.facets[u].sign > 0) continue;
-    grid.for_each_near(columns.facets[u].lo, columns.facets[u].hi, [&](std::uint32_t d) {
-      if (columns.facets[d].sign < 0 || (folded[u] && folded[d]) || !overlap(u, d)) return;
-      folded[u] = folded[d] = 1;
-      any = true;
-    });
-  }
-  if (!any) return std::max(limit, 0.0);
-  std::vector<std::vector<int>> overlapping(n);
-  for (std::size_t a = 0; a < n; ++a) {
-    if (!folded[a]) continue;
-    grid.for_each_near(columns.facets[a].lo, columns.facets[a].hi, [&](std::uint32_t b) {
-      if (b > a && folded[b] && overlap(a, b)) overlapping[a].push_back(static_cast<int>(b));
-    });
-    std::sort(overlapping[a].begin(), overlapping[a].end());
+  const std::vector<std::vector<int>> overlapping = overlapping_facets(columns);
+  if (std::all_of(overlapping.begin(), overlapping.end(), [](const auto& l) { return l.empty(); })) {
+    return std::max(limit, 0.0);
   }
   Folds folds{columns, overlapping, t};
   std::vector<int> set;
-  for (std::size_t a = 0; a < n; ++a) {
+  for (std::size_t a = 0; a < overlapping.size(); ++a) {
     if (overlapping[a].empty()) continue;
     set.assign(1, static_cast<int>(a));
     folds.extend(set, columns.facets[a].outline, overlapping[a]);
