@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "geometry/clipper_bridge.h"
 
@@ -40,6 +41,12 @@ AreaMoments moments_by_clipper(const std::vector<Vec2>& convex, Vec2 origin,
                   ClipperLib::pftNonZero);
   return moments_of_paths(result, origin);
 }
+
+// How far outside a corner the no-crossing case judges the polygon (the infinitesimal margin of
+// step 1), and how clear of the region's boundary that point must be, mm: both far below the
+// 1e-10 mm of the generic move below, far above double rounding at bed coordinates (1e-13).
+constexpr double kProbe = 1e-13;
+constexpr double kClearance = 1e-12;
 
 struct Crossing {
   double position;  // edge index + parameter along the polygon's edge
@@ -85,11 +92,14 @@ double integrate_linear(const std::vector<Vec2>& loop, Vec2 origin, double w0, d
   return w0 * m.area + wx * m.mx + wy * m.my;
 }
 
-AreaMoments moments_of_intersection(const std::vector<Vec2>& convex, Vec2 origin,
-                                    const BoundaryGrid& region_grid, const Region& region) {
+namespace {
+
+// The moments of (convex ∩ region) by Green's theorem, or nothing where the configuration is
+// degenerate (the region's boundary through a corner of the polygon or along its edge).
+std::optional<AreaMoments> crossing_moments(const std::vector<Vec2>& convex, Vec2 origin,
+                                            const BoundaryGrid& region_grid) {
   const std::size_t n = convex.size();
   AreaMoments m;
-  if (n < 3 || region_grid.empty()) return m;
   Vec2 lo = convex[0], hi = convex[0];
   for (Vec2 p : convex) {
     lo = {std::min(lo.x, p.x), std::min(lo.y, p.y)};
@@ -143,10 +153,10 @@ AreaMoments moments_of_intersection(const std::vector<Vec2>& convex, Vec2 origin
     centre = (1.0 / n) * centre;
     const Vec2 out = convex[0] - centre;
     const double length = std::hypot(out.x, out.y);
-    const Vec2 probe = length > 0 ? convex[0] + (1e-10 / length) * out : convex[0];
+    const Vec2 probe = length > 0 ? convex[0] + (kProbe / length) * out : convex[0];
     double clearance = 0;
     const int winding = region_grid.winding_number(probe, &clearance);
-    if (clearance < 1e-8) return moments_by_clipper(convex, origin, region);
+    if (clearance < kClearance) return std::nullopt;
     if (winding != 0) {
       for (std::size_t k = 0; k < n; ++k) add_segment(m, convex[k] - origin, convex[(k + 1) % n] - origin);
     }
@@ -161,7 +171,7 @@ AreaMoments moments_of_intersection(const std::vector<Vec2>& convex, Vec2 origin
     const Crossing& a = crossings[i];
     const Crossing& b = crossings[(i + 1) % count];
     const double gap = i + 1 < count ? b.position - a.position : b.position + n - a.position;
-    if (a.entry == b.entry || gap < 1e-12) return moments_by_clipper(convex, origin, region);
+    if (a.entry == b.entry || gap < 1e-12) return std::nullopt;
   }
   // From every exit, the polygon's boundary runs inside the region up to the next entry.
   for (std::size_t i = 0; i < count; ++i) {
@@ -186,6 +196,25 @@ AreaMoments moments_of_intersection(const std::vector<Vec2>& convex, Vec2 origin
     add_segment(m, at - origin, entry.point - origin);
   }
   return m;
+}
+
+}  // namespace
+
+AreaMoments moments_of_intersection(const std::vector<Vec2>& convex, Vec2 origin,
+                                    const BoundaryGrid& region_grid, const Region& region) {
+  if (convex.size() < 3 || region_grid.empty()) return {};
+  if (const auto m = crossing_moments(convex, origin, region_grid)) return *m;
+  // Degenerate: a section through the polygon's corners, the lower contour along a facet's
+  // bottom edge. Moved by 0.1 pm in a generic direction the polygon meets the region
+  // generically, and its moments move by less than 1e-10 mm times its perimeter (times the
+  // integrand): far below the 1 pm grid of the Clipper fallback, which runs over the whole
+  // region (Clipper only if both moves still degenerate).
+  for (const Vec2 shift : {Vec2{7.548776662e-11, 5.698402910e-11}, Vec2{-4.301597090e-11, 9.127451e-11}}) {
+    std::vector<Vec2> moved = convex;
+    for (Vec2& p : moved) p = p + shift;
+    if (const auto m = crossing_moments(moved, origin, region_grid)) return *m;
+  }
+  return moments_by_clipper(convex, origin, region);
 }
 
 std::vector<Vec2> clip_to_half_plane(const std::vector<Vec2>& polygon, Vec2 o, double f0,
