@@ -45,22 +45,19 @@ namespace geometry {
 class SectionDeviation {
  public:
   explicit SectionDeviation(const SlabColumns& columns);
+  ~SectionDeviation();
+  SectionDeviation(SectionDeviation&&) noexcept;
   double operator()(double h) const;
 
  private:
-  struct Facet {
-    double z_min = 0, z_max = 0;
-    int lower = 0;               // its projection: 1 inside C(z_lo), 0 outside, -1 crossing it
-    double area = 0;             // constants while wholly below h
-    double area_in_lower = 0;
-    double integral = 0;         // ∫ over the facet of w_f
-    double folds = 0;            // sum over partners g of s_f s_g ∫ over f ∩ g of w_g
-  };
-  const SlabColumns* columns_;
+  struct Facet;
   std::vector<Facet> facets_;
-  std::vector<std::vector<int>> partners_;  // overlapping facets, both ways
+  std::vector<int> by_top_, by_bottom_;  // facets by z_max, by z_min
+  std::vector<double> prefix_area_, prefix_occupied_;  // sums over by_top_'s prefixes
   BoundaryGrid lower_grid_;
-  double occupied_lower_ = 0;  // ∫ over C(z_lo) of occ
+  const Region* lower_;
+  double z_hi_, thickness_, volume_;
+  double lower_area_ = 0, occupied_lower_ = 0;  // area C(z_lo), ∫ over C(z_lo) of occ
 };
 
 struct OptimalHeightOptions {
