@@ -55,6 +55,7 @@ void BoundaryGrid::build() {
   const double max_cells = 4.0 * segments_.size() + 16;
   if (width / cell * (height / cell) > max_cells) cell = std::sqrt(width * height / max_cells);
   cell_ = cell;
+  inverse_cell_ = 1 / cell;
   origin_ = lo;
   nx_ = std::max(1, static_cast<int>(std::ceil(width / cell_)));
   ny_ = std::max(1, static_cast<int>(std::ceil(height / cell_)));
@@ -80,14 +81,6 @@ void BoundaryGrid::build() {
       for (int x = x0; x <= x1; ++x) ids_[count[static_cast<std::size_t>(y) * nx_ + x]++] = id;
   }
   stamp_.assign(segments_.size(), 0);
-}
-
-std::pair<int, int> BoundaryGrid::cell_of(Vec2 p) const {
-  const double fx = std::floor((p.x - origin_.x) / cell_);
-  const double fy = std::floor((p.y - origin_.y) / cell_);
-  const int x = static_cast<int>(std::clamp(fx, 0.0, static_cast<double>(nx_ - 1)));
-  const int y = static_cast<int>(std::clamp(fy, 0.0, static_cast<double>(ny_ - 1)));
-  return {x, y};
 }
 
 double BoundaryGrid::nearest_distance(Vec2 p) const { return nearest(p).distance; }

@@ -59,13 +59,20 @@ class BoundaryGrid {
 
  private:
   void build();
-  std::pair<int, int> cell_of(Vec2 p) const;
+  // The cell holding p, clamped to the grid (points outside fall in the border cells). Not
+  // std::floor: that is a call on baseline x86-64, and this runs for every query.
+  std::pair<int, int> cell_of(Vec2 p) const {
+    const auto clamp = [](double f, int n) {
+      return f > 0 ? (f < n ? static_cast<int>(f) : n - 1) : 0;  // NaN gives 0
+    };
+    return {clamp((p.x - origin_.x) * inverse_cell_, nx_), clamp((p.y - origin_.y) * inverse_cell_, ny_)};
+  }
   template <class Visit>
   void for_each_in_cells(int x0, int y0, int x1, int y1, Visit&& visit) const;
 
   std::vector<Segment2> segments_;
   Vec2 origin_{};
-  double cell_ = 1;
+  double cell_ = 1, inverse_cell_ = 1;
   int nx_ = 0, ny_ = 0;
   std::vector<std::uint32_t> cell_start_;  // CSR: segments of cell c are ids_[start[c]..start[c+1])
   std::vector<std::uint32_t> ids_;

@@ -111,7 +111,9 @@ std::optional<AreaMoments> crossing_moments(const std::vector<Vec2>& convex, Vec
   // grown by an infinitesimal margin, and step 2 judges its edges at that margin too, so both
   // steps see the same configuration. Each vertex's side of each line is computed by the same
   // expression wherever it appears, so neighbouring boundary segments agree on it.
-  std::vector<Crossing> crossings;
+  // Reused: this runs for every facet and region, and a fresh vector each time was a malloc.
+  thread_local std::vector<Crossing> crossings;
+  crossings.clear();
   const auto& segments = region_grid.segments();
   region_grid.for_each_near(lo, hi, [&](std::uint32_t id) {
     const Segment2& s = segments[id];
