@@ -19,6 +19,12 @@ namespace tc = toolpath_clipper;
 // Longest connector of sparse and of solid infill, in line spacings (see infill.h).
 constexpr double kSparseConnector = 3;
 constexpr double kSolidConnector = 2;
+// Beads are taken this much wider when finding what they leave bare (mm): where they fill
+// the area, their edge then does not run along its edge, which would cost the difference
+// a crossing at every vertex.
+constexpr double kCoverTolerance = 0.01;
+// Sparse infill's area is straightened within this first (mm).
+constexpr double kSparseTolerance = 0.025;
 // Round joins within this of the arc (mm).
 constexpr double kArc = 0.005;
 // How much less than half a bead solid lines keep from the edge (mm): see solid_infill.
@@ -184,7 +190,11 @@ std::vector<ExtrusionPath> sparse_infill(const Region& area, double width, doubl
     }
     return result;
   }
-  const Region centres = from_clipper(tc::offset(to_clipper(area), -width / 2));
+  // The lines are far apart: where exactly they end and their connectors run matters to
+  // tens of micrometres at most, so the area is straightened within 25 um first (a third of
+  // the vertices to offset).
+  const Region centres =
+      from_clipper(tc::offset(tc::simplified(to_clipper(area), kSparseTolerance), -width / 2));
   for (double a : angles) {
     auto set = zigzag(centres, ScanLines{a, set_spacing, 0}, kSparseConnector * set_spacing,
                       &area, PathRole::sparse_infill, width);
@@ -236,15 +246,16 @@ std::vector<ExtrusionPath> solid_infill(const std::vector<SolidPiece>& pieces, d
   }
   if (pieces.size() > 1) result = split_by_piece(result, pieces, piece_paths);
 
-  // What the lines leave bare, up to a bead wide, gets centre lines of its own width.
+  // What the lines leave bare, up to a bead wide, gets centre lines of its own width. (The
+  // beads are taken with square ends and corners: as much as round ones but for specks.)
   ClipperLib::ClipperOffset beads(2.0, kArc * kClipperScale);
   for (const ExtrusionPath& line : result) {
     ClipperLib::Path path;
     for (Vec2 p : line.points) path.push_back(to_clipper(p));
-    beads.AddPath(path, ClipperLib::jtRound, ClipperLib::etOpenRound);
+    beads.AddPath(path, ClipperLib::jtSquare, ClipperLib::etOpenSquare);
   }
   tc::Paths covered;
-  beads.Execute(covered, bead / 2 * kClipperScale);
+  beads.Execute(covered, (bead / 2 + kCoverTolerance) * kClipperScale);
   tc::Paths bare = tc::difference(whole, covered);
   // A piece under an eighth of a bead's square is a notch a round bead leaves at a turn of
   // the zig-zag or at a corner (two notches of (1 - pi/4) w^2/4 where turns meet): a bead

@@ -17,8 +17,8 @@ namespace tc = toolpath_clipper;
 constexpr double kMinLoopLength = 0.5;  // in bead widths
 // A gap with less area than this is a speck of the offsets, not a wall to print.
 constexpr double kMinGapArea = 1.0 / 16;  // in bead widths squared
-// Round joins within this of the arc (mm).
-constexpr double kArcTolerance = 0.005;
+// The loops' beads are taken as covering what they do within this, for finding gaps (mm).
+constexpr double kCoverTolerance = 0.01;
 
 ExtrusionPath closed_path(const ClipperLib::Path& path, PathRole role, double width) {
   ExtrusionPath result;
@@ -41,15 +41,21 @@ Perimeters perimeters(const ClipperLib::Paths& whole, double width, int count) {
     if (count <= 0) result.infill_area = from_clipper(whole);
     return result;
   }
-  // core: where the centre of the next loop's bead may go with half a bead to spare on
-  // either side (the loops so far, or the edge, are w/2 + w/2 away).
-  tc::Paths core = tc::offset(whole, -width);
-  tc::Paths centre;
-  // gaps: what the loops' beads leave of the space each was laid in (inside: the island,
-  // then the inside of the loop before), taking a bead's convex corners as cut square
-  // at half a bead from the centre line: a bead rounds them, and a corner sharper than
-  // about 60 degrees leaves a sliver worth a gap fill, one blunter a speck.
-  tc::Paths gaps, inside = whole;
+  // Morphology makes every level an offset of the island by whole beads: the space left
+  // inside k loops is the island shrunk by k w (shrinking an opening by at least its radius
+  // is shrinking the original), so each level costs three offsets, none of the chain
+  // of loop, inside of loop, core of the next that following the loops would.
+  //   inside: the island shrunk by k w, the space loop k is laid in;
+  //   core: shrunk by (k + 1) w, where loop k's centre may go with half a bead to spare on
+  //         either side; it is the next level's inside.
+  tc::Paths inside = whole, core = tc::offset(whole, -width);
+  // gaps: what the loops' beads leave of the space each was laid in (inside), taking a
+  // bead's convex corners as cut square at half a bead from the centre line: a bead rounds
+  // them, and a corner sharper than about 60 degrees leaves a sliver worth a gap fill, one
+  // blunter a speck. The bead is taken 10 um wider (its straightened centre line, 10 um, is
+  // what it is grown from), so that where there is no gap its edge does not run along the
+  // edge of the space, which would cost the difference a crossing at every vertex.
+  tc::Paths gaps;
   int made = 0;
   for (int k = 0; k < count && !core.empty(); ++k) {
     // The loop's centre line runs w/2 inside what is left, except where that is narrower
@@ -73,12 +79,13 @@ Perimeters perimeters(const ClipperLib::Paths& whole, double width, int count) {
     const PathRole role = k == 0 ? PathRole::outer_wall : PathRole::inner_wall;
     for (const auto& path : loops) level.push_back(closed_path(path, role, width));
     result.walls.push_back(std::move(level));
-    const tc::Paths gap = tc::difference(inside, tc::offset(loops, width / 2, ClipperLib::jtSquare));
+    const tc::Paths bead = tc::offset(tc::simplified(loops, kCoverTolerance),
+                                      width / 2 + kCoverTolerance, ClipperLib::jtSquare);
+    const tc::Paths gap = tc::difference(inside, bead);
     gaps.insert(gaps.end(), gap.begin(), gap.end());
-    centre = std::move(loops);
     ++made;
-    inside = tc::offset(centre, -width / 2);
-    if (k + 1 < count) core = tc::offset(centre, -1.5 * width);
+    inside = std::move(core);
+    if (k + 1 < count) core = tc::offset(inside, -width);
   }
   // Infill goes inside the last of `count` loops; if fewer fit, what they leave is gap.
   tc::Paths infill;

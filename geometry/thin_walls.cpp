@@ -467,13 +467,42 @@ void reach_on(std::vector<ExtrusionPath>& paths, const Region& within) {
 
 std::vector<ExtrusionPath> thin_walls(const Region& region, double min_width, double max_width,
                                       double pair_width, const Region* reach_within) {
-  std::vector<ExtrusionPath> paths = centre_lines(region, min_width, max_width);
-  if (region.loops.empty() || !(min_width > 0) || !(max_width >= min_width)) return paths;
+  if (region.loops.empty() || !(min_width > 0) || !(max_width >= min_width)) return {};
+  // A piece that fits in a box the widest bead across is a blob (a gap fill's
+  // piece mostly is one): its medial axis, pruned of the branches into its corners, is
+  // little or nothing, and it gets the one line along its long axis below without
+  // building the Voronoi diagram.
+  std::vector<ExtrusionPath> paths;
+  tc::Paths long_pieces;
+  for (const tc::Paths& piece : tc::islands(to_clipper(region))) {
+    ClipperLib::cInt x0 = piece[0][0].X, x1 = x0, y0 = piece[0][0].Y, y1 = y0;
+    for (const auto& p : piece[0]) {
+      x0 = std::min(x0, p.X); x1 = std::max(x1, p.X);
+      y0 = std::min(y0, p.Y); y1 = std::max(y1, p.Y);
+    }
+    const double box = max_width * kClipperScale;
+    if (static_cast<double>(x1 - x0) <= box && static_cast<double>(y1 - y0) <= box) {
+      for (const tc::Paths& core : tc::islands(tc::opening(piece, min_width / 2))) {
+        if (auto line = long_axis_line(core, min_width, max_width)) paths.push_back(*line);
+      }
+    } else {
+      long_pieces.insert(long_pieces.end(), piece.begin(), piece.end());
+    }
+  }
+  if (long_pieces.empty()) {
+    if (reach_within) reach_on(paths, *reach_within);
+    return paths;
+  }
+  std::vector<ExtrusionPath> lines =
+      centre_lines(from_clipper(long_pieces), min_width, max_width);
+  const std::size_t blobs = paths.size();
+  paths.insert(paths.end(), lines.begin(), lines.end());
   // A compact piece (an end of a thin feature, about as wide as it is long) has no centre
   // line once the medial axis' branches into its corners are gone: what the lines leave
   // bare, if a bead of the smallest width fits in it, gets one line along its long axis.
   tc::Paths covered;  // each line's bead, at its own width
-  for (const ExtrusionPath& path : paths) {
+  for (std::size_t i = blobs; i < paths.size(); ++i) {
+    const ExtrusionPath& path = paths[i];
     ClipperLib::ClipperOffset one(2.0, 0.005 * kClipperScale);
     ClipperLib::Path line;
     for (Vec2 p : path.points) line.push_back(to_clipper(p));
@@ -483,18 +512,16 @@ std::vector<ExtrusionPath> thin_walls(const Region& region, double min_width, do
     covered.insert(covered.end(), bead.begin(), bead.end());
   }
   const tc::Paths bare =
-      tc::opening(tc::difference(tc::union_of(to_clipper(region)), tc::union_of(covered)),
-                  min_width / 2);
+      tc::opening(tc::difference(long_pieces, tc::union_of(covered)), min_width / 2);
   for (const tc::Paths& piece : tc::islands(bare)) {
     if (auto line = long_axis_line(piece, min_width, max_width)) paths.push_back(*line);
   }
   if (reach_within) reach_on(paths, *reach_within);
   if (!(pair_width < max_width)) return paths;
   std::vector<ExtrusionPath> laid;
-  const tc::Paths area = tc::union_of(to_clipper(region));
   for (ExtrusionPath& path : paths) {
     if (path.width > pair_width) {
-      for (ExtrusionPath& side : side_by_side(path, area)) laid.push_back(std::move(side));
+      for (ExtrusionPath& side : side_by_side(path, long_pieces)) laid.push_back(std::move(side));
     } else {
       laid.push_back(std::move(path));
     }

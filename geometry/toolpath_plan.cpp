@@ -27,6 +27,12 @@ namespace tc = toolpath_clipper;
 // of a 10 mm^2 sphere section.)
 constexpr double kSimplifyTolerance = 0.005;  // mm
 
+// Where skins begin and end is decided on the regions straightened within this: a skin's
+// edge lies inside the part, under or over another layer, where tens of micrometres are
+// nothing (and skins narrower than half a bead go to their neighbours anyway), and the
+// intersections of seven layers' regions for every layer cost a third as much.
+constexpr double kSkinTolerance = 0.05;  // mm
+
 // Below this a bead is not a bead: keeps a zero or negative width from making endless lines.
 constexpr double kMinWidth = 0.01;  // mm
 
@@ -122,18 +128,23 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
   // Every layer's region, simplified and cleaned (non-zero union), split into islands: a
   // layer past the given regions is empty.
   std::vector<std::vector<tc::Paths>> island_paths(n);
-  std::vector<Region> region(n);
+  std::vector<Region> region(n), outline(n);
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
     if (i >= regions.size()) return;
     island_paths[i] = tc::islands(
         tc::simplified(tc::union_of(to_clipper(regions[i])), kSimplifyTolerance));
+    tc::Paths all;
     for (const tc::Paths& island : island_paths[i]) {
-      for (const auto& path : island) region[i].loops.push_back(from_clipper(path));
+      for (const auto& path : island) {
+        region[i].loops.push_back(from_clipper(path));
+        all.push_back(path);
+      }
     }
+    outline[i] = from_clipper(tc::simplified(all, kSkinTolerance));
   });
   // Skins need the neighbours' regions: every layer's core first, then the layers in parallel.
   const std::vector<std::optional<Region>> cores =
-      sparse_cores(region, o.top_layers, o.bottom_layers);
+      sparse_cores(outline, o.top_layers, o.bottom_layers);
   const Region nothing;
 
   std::vector<std::vector<Island>> islands(n);
@@ -142,8 +153,8 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
     const double width = i == 0 ? o.first_layer_width : o.extrusion_width;
     const Region* core = cores[i] ? &*cores[i] : nullptr;
-    const Region* below = o.bottom_layers > 0 ? (i > 0 ? &region[i - 1] : &nothing) : nullptr;
-    const Region* above = o.top_layers > 0 ? (i + 1 < n ? &region[i + 1] : &nothing) : nullptr;
+    const Region* below = o.bottom_layers > 0 ? (i > 0 ? &outline[i - 1] : &nothing) : nullptr;
+    const Region* above = o.top_layers > 0 ? (i + 1 < n ? &outline[i + 1] : &nothing) : nullptr;
     for (const tc::Paths& island : island_paths[i]) {
       islands[i].push_back(plan_island(island, i, width, o, core, below, above));
     }
