@@ -83,7 +83,7 @@ SectionDeviation::SectionDeviation(const SlabColumns& columns)
     : lower_grid_(columns.lower), lower_(&columns.lower), z_hi_(columns.z_hi),
       thickness_(columns.thickness()), volume_(columns.volume) {
   const double t = thickness_;
-  const std::vector<std::vector<int>> overlapping = overlapping_facets(columns);
+  const std::vector<std::vector<int>>& overlapping = columns.overlapping;
   facets_.resize(columns.facets.size());
   for (std::size_t a = 0; a < overlapping.size(); ++a) {
     for (int b : overlapping[a]) {

@@ -37,7 +37,7 @@ namespace geometry {
 //                      + sum_f ∫ over f_h of w_f + sum over overlapping f != g of s_f s_g ∫ over f_h ∩ g of w_g,
 // and ΔV(h) = vol(S_i) + t area C(h) - 2 ∫ over C(h) of occ. Facets wholly below h add
 // constants, those wholly above nothing; only the few that h cuts are clipped, with their fold
-// partners (slab_columns.h's overlapping_facets). The same value as
+// partners (SlabColumns::overlapping). The same value as
 // volume_deviation(columns, cross_section(h)) to floating point (that one rounds the section to
 // 1 nm and its intersection with C(z_lo) to 1 pm), for h in [z_lo, z_hi); at h = z_hi the
 // section from above belongs to the next slab and has to be built.

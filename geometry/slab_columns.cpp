@@ -320,6 +320,7 @@ SlabColumns slab_columns(const Slab& slab, const Region& lower_section) {
     columns.facets.push_back(std::move(column));
   }
   columns.volume = volume;
+  columns.overlapping = overlapping_facets(columns);
   return columns;
 }
 

@@ -48,6 +48,8 @@ struct SlabColumns {
   Region lower;                   // C(z_lo), limit from above
   double lower_area = 0;
   double volume = 0;              // vol(S_i), mm^3
+  // Folds: overlapping_facets(*this) below, for the volume limit and optimal-height.
+  std::vector<std::vector<int>> overlapping;
   double thickness() const { return z_hi - z_lo; }
 };
 

@@ -18,25 +18,26 @@ struct Linear {
   Linear moved_to(Vec2 origin) const { return {origin, at(origin), fx, fy}; }
 };
 
-// The part of a loop where f >= 0 (Sutherland-Hodgman against one half-plane). A non-convex
-// loop may come out with zero-width bridges along the line; they integrate to nothing.
-Poly keep_nonnegative(const Poly& loop, const Linear& f) {
-  Poly out;
+// The part of a loop where f >= 0 (Sutherland-Hodgman against one half-plane), into `out`. A
+// non-convex loop may come out with zero-width bridges along the line; they integrate to
+// nothing.
+void keep_nonnegative(const Poly& loop, const Linear& f, Poly& out) {
+  out.clear();
   for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
     const Vec2 a = loop[i], b = loop[(i + 1) % n];
     const double fa = f.at(a), fb = f.at(b);
     if (fa >= 0) out.push_back(a);
     if ((fa >= 0) != (fb >= 0)) out.push_back(a + (fa / (fa - fb)) * (b - a));
   }
-  return out;
 }
 
-// ∫ over a loop (signed by its orientation) of min(f, t - f).
+// ∫ over a loop (signed by its orientation) of min(f, t - f). Runs for every facet of every
+// slab: the two halves go to reused buffers, not fresh vectors.
 double integrate_min(const Poly& loop, const Linear& f, double t) {
   if (loop.size() < 3) return 0;
-  const Linear below{f.o, t / 2 - f.f0, -f.fx, -f.fy};  // >= 0 where f <= t/2
-  const Linear above{f.o, f.f0 - t / 2, f.fx, f.fy};    // >= 0 where f >= t/2
-  const Poly low = keep_nonnegative(loop, below), high = keep_nonnegative(loop, above);
+  thread_local Poly low, high;
+  keep_nonnegative(loop, Linear{f.o, t / 2 - f.f0, -f.fx, -f.fy}, low);  // where f <= t/2
+  keep_nonnegative(loop, Linear{f.o, f.f0 - t / 2, f.fx, f.fy}, high);   // where f >= t/2
   return integrate_linear(low, f.o, f.f0, f.fx, f.fy) +
          integrate_linear(high, f.o, t - f.f0, -f.fx, -f.fy);
 }
@@ -124,7 +125,7 @@ double volume_limit(const SlabColumns& columns) {
   double limit = 0;
   for (const ColumnFacet& facet : columns.facets) limit += integrate_min(facet.outline, depth_of(facet), t);
 
-  const std::vector<std::vector<int>> overlapping = overlapping_facets(columns);
+  const std::vector<std::vector<int>>& overlapping = columns.overlapping;
   if (std::all_of(overlapping.begin(), overlapping.end(), [](const auto& l) { return l.empty(); })) {
     return std::max(limit, 0.0);
   }
