@@ -163,12 +163,15 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
   });
 
   // Order: sequential, since each layer starts where the one below ended.
+  // Aligned seams remember where the layer below had them, so that they line up.
   std::vector<LayerToolpaths> plan(n);
   Vec2 position = n > 0 ? front_left(region[0]) : Vec2{};
+  std::vector<Seam> below, laid;
   for (std::size_t i = 0; i < n; ++i) {
     plan[i].z_lo = layers[i].z_lo;
     plan[i].z_hi = layers[i].z_hi;
     std::vector<ExtrusionPath>& out = plan[i].paths;
+    laid.clear();
     if (i == 0) append_nearest_first(std::move(skirt_paths), o.seam, position, out);
     std::vector<Island>& left = islands[i];
     while (!left.empty()) {
@@ -180,10 +183,11 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
         if (start && start->distance < nearest) { nearest = start->distance; next = k; }
       }
       for (auto& group : left[next].groups) {
-        append_nearest_first(std::move(group), o.seam, position, out);
+        append_nearest_first(std::move(group), o.seam, position, out, &below, &laid);
       }
       left.erase(left.begin() + static_cast<std::ptrdiff_t>(next));
     }
+    std::swap(below, laid);
   }
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
     mark_retractions(plan[i].paths, region[i], o.retract_min_travel);

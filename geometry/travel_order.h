@@ -30,12 +30,33 @@ std::optional<SeamPosition> parse_seam_position(std::string_view name);
 // layers give the same place. Returns 0 for fewer than 2 points.
 std::size_t aligned_seam(const std::vector<Vec2>& points);
 
+// Where a closed path started on a layer: its seam, for the layer above to line up with.
+struct Seam {
+  PathRole role = PathRole::outer_wall;
+  bool hole = false;  // the path runs clockwise (round a hole)
+  Vec2 at;
+};
+
+// The aligned seam of a closed path (its points, last = first) with the seams of the layer
+// below in mind. The seam below of the same role and direction nearest to the path, if it
+// is within `reach` mm of a vertex, marks the place: the best corner within `radius` mm
+// of it (ranked as aligned_seam ranks: concave, then convex, then none; then the nearer)
+// is kept, so that seams stay in one line layer after layer, unless it is no corner at all
+// and aligned_seam finds a concave corner to hide the seam in. Otherwise, and without a
+// seam below, aligned_seam. Returns 0 for fewer than 3 points.
+std::size_t remembered_seam(const std::vector<Vec2>& points, PathRole role,
+                            const std::vector<Seam>& below, double reach, double radius);
+
 // Appends `paths` to `out` nearest first: from `position`, repeatedly the path whose start is
 // nearest; a closed path starts at its seam (rotated to it), an open path runs from its
 // nearer end (reversed if that is its last point). `position` ends where the last path ends.
 // Ties go to the earlier path, so the order is deterministic.
+// With aligned seams and `below` (the seams of the layer below), a closed path's seam is
+// remembered_seam's (reach 3 and radius 1 bead widths); the seams laid are appended to
+// `laid` when given.
 void append_nearest_first(std::vector<ExtrusionPath> paths, SeamPosition seam, Vec2& position,
-                          std::vector<ExtrusionPath>& out);
+                          std::vector<ExtrusionPath>& out, const std::vector<Seam>* below = nullptr,
+                          std::vector<Seam>* laid = nullptr);
 
 // Where append_nearest_first would start among `paths` from `position`, and the distance.
 struct NearestStart {

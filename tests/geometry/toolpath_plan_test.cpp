@@ -236,6 +236,29 @@ TEST_CASE("a_layer_of_one_island_retracts_only_at_the_layer_change") {
   }
 }
 
+TEST_CASE("aligned_seams_line_up_layer_over_layer") {
+  // A box whose back edge tilts one way on even layers and the other on odd ones: the
+  // sharper rear corner flips sides every layer, yet every outer wall starts at the corner
+  // the first layer chose, within a bead.
+  std::vector<Region> regions;
+  for (int i = 0; i < 12; ++i) {
+    const double tilt = i % 2 ? -0.2 : 0.2;
+    regions.push_back(Region{{Loop{{0, 0}, {20, 0}, {20, 10 + std::max(tilt, 0.0)},
+                                   {0, 10 + std::max(-tilt, 0.0)}}}});
+  }
+  ToolpathOptions options;
+  options.skirt_loops = 0;
+  const auto plan = plan_toolpaths(regions, layers_of(12), options);
+  std::vector<Vec2> seams;
+  for (const auto& layer : plan) {
+    for (const auto& p : layer.paths) {
+      if (p.role == PathRole::outer_wall) seams.push_back(p.points.front());
+    }
+  }
+  REQUIRE(seams.size() == 12);
+  for (Vec2 s : seams) CHECK(std::hypot(s.x - seams[0].x, s.y - seams[0].y) < options.extrusion_width);
+}
+
 TEST_CASE("stepped_part_gets_top_skin_on_the_lower_step_and_bottom_skin_over_air") {
   // 20 mm square for 10 layers, 10 mm square for 10 more, then 20 mm again for 10 (an
   // overhang): top skin on layer 9 outside the upper step, bottom skin on layer 20 outside

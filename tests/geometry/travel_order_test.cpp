@@ -3,6 +3,9 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "geometry/toolpath_shapes.h"
 
 using namespace geometry;
@@ -51,6 +54,76 @@ TEST_CASE("aligned_seam_stays_put_on_similar_loops_of_consecutive_layers") {
   const auto a = closed_path(circle({0, 0}, 10, 90));
   const auto b = closed_path(circle({0.01, 0}, 10.02, 90));
   CHECK(aligned_seam(a.points) == aligned_seam(b.points));
+}
+
+namespace {
+
+// A 20 x 10 rectangle whose back edge rises by `tilt` mm to the right (falls if negative):
+// the rear corner on the higher side is the sharper one.
+ExtrusionPath tilted_box(double tilt) {
+  return closed_path(Loop{{0, 0}, {20, 0}, {20, 10 + std::max(tilt, 0.0)},
+                          {0, 10 + std::max(-tilt, 0.0)}});
+}
+
+}  // namespace
+
+TEST_CASE("remembered_seam_stays_where_the_layer_below_had_it") {
+  // The per-layer rule picks the sharper rear corner, which flips sides with the tilt; with
+  // the seam below at the right-hand corner, the seam stays there.
+  const auto right = tilted_box(0.2), left = tilted_box(-0.2);
+  CHECK(right.points[aligned_seam(right.points)].x == 20);
+  CHECK(left.points[aligned_seam(left.points)].x == 0);
+  const std::vector<Seam> below{{PathRole::outer_wall, false, {20, 10.2}}};
+  const std::size_t i = remembered_seam(left.points, PathRole::outer_wall, below, 1.35, 0.45);
+  CHECK(left.points[i] == Vec2{20, 10});
+  // A seam below of another role, or running the other way (a hole's), or too far away,
+  // is not this loop's: the per-layer rule.
+  const std::vector<Seam> other_role{{PathRole::inner_wall, false, {20, 10.2}}};
+  CHECK(remembered_seam(left.points, PathRole::outer_wall, other_role, 1.35, 0.45) ==
+        aligned_seam(left.points));
+  const std::vector<Seam> hole{{PathRole::outer_wall, true, {20, 10.2}}};
+  CHECK(remembered_seam(left.points, PathRole::outer_wall, hole, 1.35, 0.45) ==
+        aligned_seam(left.points));
+  const std::vector<Seam> far{{PathRole::outer_wall, false, {22, 12}}};
+  CHECK(remembered_seam(left.points, PathRole::outer_wall, far, 1.35, 0.45) ==
+        aligned_seam(left.points));
+}
+
+TEST_CASE("remembered_seam_moves_into_a_concave_corner_only_from_a_smooth_stretch") {
+  // A 90-gon circle has no corner (4 degree turns): the seam below, at the front, stays.
+  Loop ring = circle({0, 0}, 10, 90);
+  const auto smooth = closed_path(ring);
+  const std::vector<Seam> front{{PathRole::outer_wall, false, {0, -10}}};
+  const std::size_t kept = remembered_seam(smooth.points, PathRole::outer_wall, front, 1.35, 0.45);
+  CHECK(std::hypot(smooth.points[kept].x, smooth.points[kept].y + 10) < 0.45);
+  // A notch at the back is a better place: the seam goes there.
+  Loop notched = ring;
+  notched[22] = {0.33, 9.6};  // vertex 22 of 90, at 88 degrees, pulled in 0.4 mm: a concave
+                              // corner (56 degrees) within the rear band
+  const auto with_notch = closed_path(notched);
+  CHECK(with_notch.points[remembered_seam(with_notch.points, PathRole::outer_wall, front, 1.35,
+                                          0.45)] == Vec2{0.33, 9.6});
+  // From a corner, it stays: a square with the notch in its back edge, seam below at the
+  // front-right corner.
+  const auto box = closed_path(Loop{{0, 0}, {20, 0}, {20, 20}, {11, 20}, {10, 19.6}, {9, 20}, {0, 20}});
+  CHECK(box.points[aligned_seam(box.points)] == Vec2{10, 19.6});
+  const std::vector<Seam> corner{{PathRole::outer_wall, false, {20.1, 0}}};
+  CHECK(box.points[remembered_seam(box.points, PathRole::outer_wall, corner, 1.35, 0.45)] ==
+        Vec2{20, 0});
+}
+
+TEST_CASE("appended_loops_remember_and_report_their_seams") {
+  std::vector<ExtrusionPath> out;
+  Vec2 at{-5, -5};
+  std::vector<Seam> laid;
+  const std::vector<Seam> below{{PathRole::outer_wall, false, {20, 10.2}}};
+  append_nearest_first({tilted_box(-0.2)}, SeamPosition::aligned, at, out, &below, &laid);
+  REQUIRE(out.size() == 1);
+  CHECK(out[0].points.front() == Vec2{20, 10});
+  REQUIRE(laid.size() == 1);
+  CHECK(laid[0].at == Vec2{20, 10});
+  CHECK(laid[0].role == PathRole::outer_wall);
+  CHECK(!laid[0].hole);
 }
 
 TEST_CASE("closed_path_rotates_to_its_seam_and_still_closes") {
