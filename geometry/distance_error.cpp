@@ -352,7 +352,7 @@ SlabSurface slab_surface(const Slab& slab, const DistanceOptions& options) {
     surface.corners[all[j].second / 3][all[j].second % 3] =
         static_cast<std::uint32_t>(surface.points.size() - 1);
   }
-  const int levels = std::max(options.reverse_levels, 2);
+  const int levels = options.reverse ? std::max(options.reverse_levels, 2) : 0;
   const double t = slab.z_hi - slab.z_lo;
   for (int j = 0; j < levels && t > 0; ++j) {
     const double z = j + 1 == levels ? slab.z_hi : slab.z_lo + t * j / (levels - 1);
@@ -368,7 +368,7 @@ DistanceError distance_error(const SlabSurface& surface, const BoundaryGrid& wal
   DistanceError error;
   const double tolerance = std::max(options.tolerance, 1e-9);
   error.forward = forward_distance(surface, walls, missed, tolerance);
-  error.reverse = walls.empty() ? 0 : reverse_distance(surface, walls, tolerance);
+  error.reverse = walls.empty() || !options.reverse ? 0 : reverse_distance(surface, walls, tolerance);
   error.hausdorff = std::max(error.forward, error.reverse);
   return error;
 }

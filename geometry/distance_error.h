@@ -50,6 +50,7 @@ namespace geometry {
 struct DistanceOptions {
   double tolerance = 1e-3;  // mm
   int reverse_levels = 5;   // heights for the reverse direction, both ends included (>= 2)
+  bool reverse = true;      // false: forward only (no levels built; reverse 0, Hausdorff = forward)
 };
 
 struct DistanceError {

@@ -44,7 +44,13 @@ LayerAnalysis analyze_layer(const LayerStack& stack, std::size_t layer,
         result.height = analysis.layer.z_mid();
         break;
       case ContourKind::optimal_height: {
-        OptimalHeight best = optimal_height(stack, layer, reference.columns, options.optimal);
+        // Without volume metrics the reference has no columns; the search needs them.
+        const SlabColumns columns = options.metrics.volumes
+                                        ? SlabColumns{}
+                                        : slab_columns(reference.slab, stack.lower(layer));
+        OptimalHeight best = optimal_height(stack, layer,
+                                            options.metrics.volumes ? reference.columns : columns,
+                                            options.optimal);
         result.region = std::move(best.section);
         result.height = best.height;
         break;

@@ -16,9 +16,11 @@ LayerReference layer_reference(const LayerStack& stack, std::size_t layer,
   Footprint footprint = slab_footprint_with_islands(reference.slab);
   reference.footprint = std::move(footprint.region);
   reference.islands = std::move(footprint.islands);
-  reference.columns = slab_columns(reference.slab, stack.lower(layer));
+  if (options.volumes) {
+    reference.columns = slab_columns(reference.slab, stack.lower(layer));
+    reference.volume_limit = volume_limit(reference.columns);
+  }
   reference.surface = slab_surface(reference.slab, options.distance);
-  reference.volume_limit = volume_limit(reference.columns);
   return reference;
 }
 
@@ -29,7 +31,7 @@ LayerMetrics layer_metrics(const LayerReference& reference, const Region& region
   metrics.thickness = reference.layer.thickness();
   metrics.area = area(region);
   const BoundaryGrid walls(region);
-  metrics.volume_deviation = volume_deviation(reference.columns, region, walls);
+  if (options.volumes) metrics.volume_deviation = volume_deviation(reference.columns, region, walls);
   metrics.volume_limit = reference.volume_limit;
   const std::vector<BoundaryPair> missed = missed_features(reference.islands, region);
   metrics.missed_features = missed.size();

@@ -25,6 +25,9 @@ namespace geometry {
 
 struct MetricOptions {
   DistanceOptions distance;
+  // false: no columns, volume limit or volume deviation (they stay 0), for callers that only
+  // compare distance errors (mahost advise, analyze's thicker layers).
+  bool volumes = true;
 };
 
 struct LayerMetrics {

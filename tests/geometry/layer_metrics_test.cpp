@@ -42,6 +42,29 @@ TEST_CASE("cone_layer_metrics_in_one_call") {
   CHECK(again.distance == lower.distance);
 }
 
+TEST_CASE("distance_only_metrics_keep_the_distance_and_leave_the_rest") {
+  // What advise asks for: D alone, the same D as the full metrics give.
+  const solids::Solid cone = solids::cone(10, 20, 48);
+  const geometry::LayerStack stack(cone.mesh, geometry::uniform_layers(20, 0.4));
+  geometry::MetricOptions distance_only;
+  distance_only.volumes = false;
+  distance_only.distance.reverse = false;
+  for (std::size_t i : {3u, 12u, 40u}) {
+    const geometry::Region mid = stack.mid(i);
+    const geometry::LayerMetrics full = geometry::layer_metrics(stack, i, mid);
+    const geometry::LayerMetrics d = geometry::layer_metrics(stack, i, mid, distance_only);
+    CAPTURE(i);
+    CHECK(d.distance == full.distance);
+    CHECK(full.volume_deviation > 0);
+    CHECK(full.reverse_distance > 0);
+    CHECK(d.volume_deviation == 0);
+    CHECK(d.volume_limit == 0);
+    CHECK(d.reverse_distance == 0);
+    CHECK(d.hausdorff == d.distance);
+    CHECK(d.area == full.area);
+  }
+}
+
 TEST_CASE("layer_metrics_of_a_missing_layer_are_zero") {
   const solids::Solid cube = solids::cube(2);
   const geometry::LayerStack stack(cube.mesh, geometry::uniform_layers(2, 0.5));
