@@ -2,7 +2,9 @@
 //
 // Each path becomes its bead: the path offset by width/2 on both sides, with round ends and
 // joins (the nozzle leaves a round blob where a bead starts and stops). The coverage of a
-// region compares the union of the beads with the region (areas in mm^2).
+// region compares the union of the beads with the region (areas in mm^2). Ends::cut takes
+// open paths' ends as cut square at their end points instead ("segment x width", as
+// tests/support/gcode_beads reads a printed program): no bead reaches past its end.
 #pragma once
 
 #include <polyclipping/clipper.hpp>
@@ -16,13 +18,15 @@
 
 namespace bead_coverage {
 
+enum class Ends { round, cut };
+
 inline double area_mm2(const ClipperLib::Paths& paths) {
   double total = 0;
   for (const auto& path : paths) total += ClipperLib::Area(path);
   return total / (geometry::kClipperScale * geometry::kClipperScale);
 }
 
-inline ClipperLib::Paths bead(const geometry::ExtrusionPath& path) {
+inline ClipperLib::Paths bead(const geometry::ExtrusionPath& path, Ends ends = Ends::round) {
   ClipperLib::ClipperOffset offset(2.0, 0.002 * geometry::kClipperScale);
   ClipperLib::Path line;
   for (const geometry::Vec2& p : path.points) line.push_back(geometry::to_clipper(p));
@@ -31,16 +35,18 @@ inline ClipperLib::Paths bead(const geometry::ExtrusionPath& path) {
     line.pop_back();
     offset.AddPath(line, ClipperLib::jtRound, ClipperLib::etClosedLine);
   } else {
-    offset.AddPath(line, ClipperLib::jtRound, ClipperLib::etOpenRound);
+    offset.AddPath(line, ClipperLib::jtRound,
+                   ends == Ends::round ? ClipperLib::etOpenRound : ClipperLib::etOpenButt);
   }
   ClipperLib::Paths result;
   offset.Execute(result, path.width / 2 * geometry::kClipperScale);
   return result;
 }
 
-inline ClipperLib::Paths beads(const std::vector<geometry::ExtrusionPath>& paths) {
+inline ClipperLib::Paths beads(const std::vector<geometry::ExtrusionPath>& paths,
+                               Ends ends = Ends::round) {
   ClipperLib::Clipper clipper;
-  for (const auto& path : paths) clipper.AddPaths(bead(path), ClipperLib::ptSubject, true);
+  for (const auto& path : paths) clipper.AddPaths(bead(path, ends), ClipperLib::ptSubject, true);
   ClipperLib::Paths result;
   clipper.Execute(ClipperLib::ctUnion, result, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
   return result;
@@ -66,9 +72,10 @@ inline double laid_area(const std::vector<geometry::ExtrusionPath>& paths) {
 }
 
 inline Coverage coverage(const geometry::Region& region,
-                         const std::vector<geometry::ExtrusionPath>& paths) {
+                         const std::vector<geometry::ExtrusionPath>& paths,
+                         Ends ends = Ends::round) {
   const ClipperLib::Paths target = geometry::to_clipper(region);
-  const ClipperLib::Paths laid = beads(paths);
+  const ClipperLib::Paths laid = beads(paths, ends);
   auto boolean = [](const ClipperLib::Paths& a, const ClipperLib::Paths& b,
                     ClipperLib::ClipType type) {
     ClipperLib::Clipper clipper;
