@@ -5,9 +5,14 @@
 //          CCW, holes CW, mm), and layers[i], its bounds (z_lo, z_hi in mm); options below.
 // Outputs: one LayerToolpaths per layer (same count and order as `layers`; a layer without a
 //          region or with an empty one gets no paths): on the first layer the skirt, then per
-//          island, nearest first: inner walls, outer wall, thin walls, skins, infill.
+//          island, nearest first: inner walls, outer wall, thin walls (and gap fill),
+//          skins, infill. An island's solid pieces (bottom and top skins, solid infill, and
+//          sparse infill at 100%) share one set of lines; infill lines are joined into
+//          zig-zags unless infill_lines says separate (infill.h, zigzag.h).
 // Layer i uses regions[i] when i < regions.size(), else the empty region. Each region's edges
 // are first straightened within 5 um (Douglas-Peucker), far below a printer's step.
+// Seams (aligned): each closed path's seam stays near the seam of the same loop on the layer
+// below, so that seams line up (travel_order.h: remembered_seam).
 // Travel: the first path of every layer has retract_before set (the layer change); after
 // that, a travel retracts when it leaves the region (crosses a wall, a hole or open air) and
 // is longer than retract_min_travel; a travel inside the region never does (travel_order.h).
@@ -20,7 +25,8 @@
 // validating what the user typed is the caller's job.
 // Deterministic: the same input gives the same plan, whatever the number of threads.
 //
-// See also: perimeters.h, skins.h, infill.h, skirt.h, travel_order.h, toolpaths.h.
+// See also: perimeters.h, thin_walls.h, skins.h, infill.h, zigzag.h, skirt.h,
+// travel_order.h, toolpaths.h.
 #pragma once
 
 #include <cstddef>
