@@ -74,31 +74,6 @@ double vector_area(const std::vector<Point>& loop) {
   return 0.5 * std::sqrt(sum.squared_length());
 }
 
-// True when the loop lies in a plane, to rounding of float coordinates. Such a hole is a cut
-// (the bunny's flat base) and is filled flat: fairing would bulge the patch out of the plane,
-// below the face the part stands on.
-bool is_planar(const std::vector<Point>& loop) {
-  Kernel::Vector_3 normal(0, 0, 0), sum(0, 0, 0);
-  CGAL::Bbox_3 box;
-  for (std::size_t i = 0; i < loop.size(); ++i) {
-    const Point& p = loop[i];
-    const Point& q = loop[(i + 1) % loop.size()];
-    normal = normal + CGAL::cross_product(p - CGAL::ORIGIN, q - CGAL::ORIGIN);
-    sum = sum + (p - CGAL::ORIGIN);
-    box += p.bbox();
-  }
-  const double length = std::sqrt(normal.squared_length());
-  if (loop.empty() || !(length > 0)) return true;  // no area: nothing to bulge
-  const Kernel::Vector_3 unit = normal / length;
-  const Point centre = CGAL::ORIGIN + sum / static_cast<double>(loop.size());
-  const double size = std::max({box.xmax() - box.xmin(), box.ymax() - box.ymin(),
-                                box.zmax() - box.zmin()});
-  for (const Point& p : loop) {
-    if (std::abs((p - centre) * unit) > 1e-5 * size) return false;
-  }
-  return true;
-}
-
 double face_area(const SurfaceMesh& mesh, SurfaceMesh::Face_index f) {
   const auto h = mesh.halfedge(f);
   const Point& a = mesh.point(mesh.source(h));
@@ -326,12 +301,10 @@ Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
   PMP::extract_boundary_cycles(mesh, std::back_inserter(holes));
   report.holes_found = holes.size();
   double estimated_hole_area = 0;
-  std::vector<bool> planar;
   for (auto h : holes) {
     std::vector<Point> loop;
     for (auto e : CGAL::halfedges_around_face(h, mesh)) loop.push_back(mesh.point(mesh.source(e)));
     estimated_hole_area += vector_area(loop);
-    planar.push_back(is_planar(loop));
   }
   report.hole_area = estimated_hole_area;
   const double allowed = options.max_hole_share * area_before_fill;
@@ -340,18 +313,13 @@ Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
     for (std::size_t i = 0; i < holes.size(); ++i) {
       std::vector<SurfaceMesh::Face_index> patch;
       std::vector<SurfaceMesh::Vertex_index> added_vertices;
-      // Refinement gives the patch triangles the size of the surrounding ones, so that the
-      // slicer sees no long sliver; fairing makes a curved patch continue the surface.
-      if (planar[i]) {
-        PMP::triangulate_and_refine_hole(mesh, holes[i], std::back_inserter(patch),
-                                         std::back_inserter(added_vertices));
-      } else if (!std::get<0>(PMP::triangulate_refine_and_fair_hole(
-                     mesh, holes[i], std::back_inserter(patch),
-                     std::back_inserter(added_vertices)))) {
-        // Fairing can fail on awkward boundaries; the refined patch it leaves still closes
-        // the hole, and if even triangulation failed, a plain attempt is all that is left.
-        if (patch.empty()) PMP::triangulate_hole(mesh, holes[i], std::back_inserter(patch));
-      }
+      // A flat patch (triangulated, then refined to the size of the surrounding triangles so
+      // the slicer sees no long sliver), never a faired one: fairing continues the surface's
+      // curvature, and on the bunny's base it bulges 0.06 mm below the face the part stands
+      // on, so the first layer would print only the bulge's tip.
+      PMP::triangulate_and_refine_hole(mesh, holes[i], std::back_inserter(patch),
+                                       std::back_inserter(added_vertices));
+      if (patch.empty()) PMP::triangulate_hole(mesh, holes[i], std::back_inserter(patch));
       if (patch.empty()) continue;
       ++report.holes_filled;
       report.faces_added += patch.size();

@@ -6,7 +6,8 @@
 //  2. drop degenerate facets (two corners the same, or three collinear) and duplicate facets;
 //  3. split non-manifold vertices (two surfaces touching in one point) and orient every
 //     connected surface consistently;
-//  4. fill holes (CGAL triangulate_refine_and_fair_hole) unless the holes together would
+//  4. fill holes with flat, refined patches (CGAL triangulate_and_refine_hole; not faired, so
+//     a patch never bulges past its rim) unless the holes together would
 //     invent more than `max_hole_share` of the surface: a file that is missing that much of
 //     its surface is left open and refused by check_printable, not guessed;
 //  5. orient each closed surface outward (inner shells of hollow parts inward).

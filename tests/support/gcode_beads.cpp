@@ -132,6 +132,21 @@ PrintedProgram read_printed_program(std::string_view gcode, const BeadSettings& 
   return program;
 }
 
+namespace {
+
+// A disc of radius r about c, as a polygon within 2 um of the circle.
+ClipperLib::Path disc(geometry::Vec2 c, double r) {
+  const int sides = std::max(8, static_cast<int>(std::ceil(M_PI / std::acos(1 - 0.002 / r))));
+  ClipperLib::Path path;
+  for (int i = 0; i < sides; ++i) {
+    const double a = 2 * M_PI * i / sides;
+    path.push_back(geometry::to_clipper({c.x + r * std::cos(a), c.y + r * std::sin(a)}));
+  }
+  return path;
+}
+
+}  // namespace
+
 geometry::Region bead_region(const PrintedLayer& layer) {
   ClipperLib::Paths all;
   for (const std::vector<Bead>& chain : layer.chains) {
@@ -157,6 +172,12 @@ geometry::Region bead_region(const PrintedLayer& layer) {
       ClipperLib::Paths widened;
       offset.Execute(widened, width / 2 * geometry::kClipperScale);
       all.insert(all.end(), widened.begin(), widened.end());
+      if (stop < chain.size()) {
+        // The chain goes on at another width: the nozzle passes through this point, so the
+        // pieces meet in a round joint, not in two square cuts with a wedge between them.
+        const double joint = std::min(chain[stop - 1].width, chain[stop].width) / 2;
+        all.push_back(disc(chain[stop].from, joint));
+      }
       start = stop;
     }
   }

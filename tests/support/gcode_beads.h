@@ -8,7 +8,8 @@
 // layer's height. Consecutive extruding moves form a chain; the chain's polygon is its centre
 // line widened by half the width each side with round joins (closed chains as loops, open
 // chains with square-cut ends), which is "segment x width" with the corners filled as the
-// nozzle fills them. Units: mm.
+// nozzle fills them. Where a chain's width changes (E rounding on short moves is enough), its
+// pieces meet in a round joint. Units: mm.
 #pragma once
 
 #include <cstddef>
