@@ -14,8 +14,6 @@ using std::chrono::nanoseconds;
 
 constexpr nanoseconds kTick = std::chrono::milliseconds(100);
 
-std::string mm(double value) { return fmt::format("{:.5f}", value); }
-
 }  // namespace
 
 std::string_view to_string(JobState state) {
@@ -173,20 +171,7 @@ void Job::pause_here(int layer) {
 void Job::cancel_here() {
   job_state_ = JobState::cancelling;
   event("cancelling: letting the lines in flight finish, then heaters off, lift, park, motors off");
-  protocol_.wait_acknowledged();
-  const double top = options_.pause.max_z > 0 ? options_.pause.max_z : state_.z + 10;
-  const double lifted = std::max(state_.z, std::min(state_.z + 10, top));
-  std::vector<std::string> end{"M104 S0", "M140 S0", "M107", "G90", "M83"};
-  if (options_.pause.retract > 0) {
-    end.push_back(fmt::format("G1 E-{} F{}", mm(options_.pause.retract),
-                              options_.pause.retract_feedrate));
-  }
-  end.push_back(fmt::format("G1 Z{} F{}", mm(lifted), options_.pause.z_feedrate));
-  end.push_back(fmt::format("G1 X{} Y{} F{}", mm(options_.pause.park_x), mm(options_.pause.park_y),
-                            options_.pause.travel_feedrate));
-  end.push_back("M84");
-  for (const std::string& c : end) protocol_.send(c);
-  protocol_.wait_acknowledged();
+  cancel_print(protocol_, state_, options_.pause);
 }
 
 int Job::resume_layer_after_failure() const {

@@ -9,6 +9,9 @@ namespace printer {
 
 namespace {
 
+// How far a cancel lifts the nozzle off the part, mm (the build height permitting).
+constexpr double kCancelLift = 10;
+
 // M114 prints two decimals: the stream's own value is the exact one when they agree.
 double resolve(double from_stream, double reported) {
   return std::abs(from_stream - reported) <= 0.011 ? from_stream : reported;
@@ -19,6 +22,40 @@ void send_all(LineProtocol& protocol, const std::vector<std::string>& commands) 
 }
 
 std::string mm(double value) { return fmt::format("{:.5f}", value); }
+
+// `lift` above z, stopping at the build height when it is known, never below z.
+double lifted(double z, double lift, double max_z) {
+  return max_z > 0 ? std::max(z, std::min(z + lift, max_z)) : z + lift;
+}
+
+// Retract (relative E), lift to `z`, park: leaving the part.
+std::vector<std::string> leave_part(double z, const PauseOptions& options) {
+  std::vector<std::string> commands{"G90", "M83"};
+  if (options.retract > 0) {
+    commands.push_back(fmt::format("G1 E-{} F{}", mm(options.retract), options.retract_feedrate));
+  }
+  commands.push_back(fmt::format("G1 Z{} F{}", mm(z), options.z_feedrate));
+  commands.push_back(fmt::format("G1 X{} Y{} F{}", mm(options.park_x), mm(options.park_y),
+                                 options.travel_feedrate));
+  return commands;
+}
+
+// Back onto the part from above it: X/Y at the lifted Z, then down to Z, un-retract, and the
+// stream's E, modes and feedrate, so the next line of the file runs as it would have.
+std::vector<std::string> return_to_part(const PrintState& s, const PauseOptions& options) {
+  std::vector<std::string> commands{
+      "G90",
+      fmt::format("G1 X{} Y{} F{}", mm(s.x), mm(s.y), options.travel_feedrate),
+      fmt::format("G1 Z{} F{}", mm(s.z), options.z_feedrate),
+      "M83",
+  };
+  if (options.retract > 0) {
+    commands.push_back(fmt::format("G1 E{} F{}", mm(options.retract), options.retract_feedrate));
+  }
+  commands.push_back(fmt::format("G92 E{}", mm(s.e)));
+  for (std::string& c : restore_modes(s)) commands.push_back(std::move(c));
+  return commands;
+}
 
 }  // namespace
 
@@ -49,16 +86,8 @@ PausePoint pause_print(LineProtocol& protocol, const PrintState& state, const Pa
     point.state.z = resolve(state.z, reported->z);
     point.state.e = resolve(state.e, reported->e);
   }
-  point.lifted_z = point.state.z + options.lift;
-  if (options.max_z > 0) point.lifted_z = std::max(point.state.z, std::min(point.lifted_z, options.max_z));
-  std::vector<std::string> commands{"G90", "M83"};
-  if (options.retract > 0) {
-    commands.push_back(fmt::format("G1 E-{} F{}", mm(options.retract), options.retract_feedrate));
-  }
-  commands.push_back(fmt::format("G1 Z{} F{}", mm(point.lifted_z), options.z_feedrate));
-  commands.push_back(fmt::format("G1 X{} Y{} F{}", mm(options.park_x), mm(options.park_y),
-                                 options.travel_feedrate));
-  send_all(protocol, commands);
+  point.lifted_z = lifted(point.state.z, options.lift, options.max_z);
+  send_all(protocol, leave_part(point.lifted_z, options));
   protocol.wait_acknowledged();
   return point;
 }
@@ -68,18 +97,7 @@ void resume_print(LineProtocol& protocol, const PausePoint& point, const PauseOp
   protocol.send("M105");
   protocol.wait_acknowledged();
   send_all(protocol, reheat_commands(s, protocol.temperatures(), options.reheat_margin));
-  std::vector<std::string> commands{
-      "G90",
-      fmt::format("G1 X{} Y{} F{}", mm(s.x), mm(s.y), options.travel_feedrate),
-      fmt::format("G1 Z{} F{}", mm(s.z), options.z_feedrate),
-      "M83",
-  };
-  if (options.retract > 0) {
-    commands.push_back(fmt::format("G1 E{} F{}", mm(options.retract), options.retract_feedrate));
-  }
-  commands.push_back(fmt::format("G92 E{}", mm(s.e)));
-  for (std::string& c : restore_modes(s)) commands.push_back(std::move(c));
-  send_all(protocol, commands);
+  send_all(protocol, return_to_part(s, options));
 }
 
 void recover_print(LineProtocol& protocol, const PrintState& s, bool printer_restarted,
@@ -100,19 +118,20 @@ void recover_print(LineProtocol& protocol, const PrintState& s, bool printer_res
   send_all(protocol, commands);
   protocol.wait_acknowledged();
   send_all(protocol, reheat_commands(s, protocol.temperatures(), 0.0));
-  commands = {
-      "G90",
-      fmt::format("G1 X{} Y{} F{}", mm(s.x), mm(s.y), options.travel_feedrate),
-      fmt::format("G1 Z{} F{}", mm(s.z), options.z_feedrate),
-      "M83",
-  };
-  if (options.retract > 0) {
-    commands.push_back(fmt::format("G1 E{} F{}", mm(options.retract), options.retract_feedrate));
-  }
-  commands.push_back(fmt::format("G92 E{}", mm(s.e)));
-  for (std::string& c : restore_modes(s)) commands.push_back(std::move(c));
+  commands = return_to_part(s, options);
   commands.push_back(s.fan > 0 ? fmt::format("M106 S{}", s.fan) : "M107");
   send_all(protocol, commands);
+}
+
+void cancel_print(LineProtocol& protocol, const PrintState& state, const PauseOptions& options) {
+  protocol.wait_acknowledged();
+  std::vector<std::string> commands{"M104 S0", "M140 S0", "M107"};
+  for (std::string& c : leave_part(lifted(state.z, kCancelLift, options.max_z), options)) {
+    commands.push_back(std::move(c));
+  }
+  commands.push_back("M84");
+  send_all(protocol, commands);
+  protocol.wait_acknowledged();
 }
 
 }  // namespace printer

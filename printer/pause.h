@@ -8,6 +8,8 @@
 // recover_print: the same after the host or the link died (`mahost resume`): re-heat, lift,
 // home X and Y only (homing Z would drive the nozzle into the part), tell a printer that
 // restarted where Z is, and restore E, modes, feedrate and fan from the journal.
+// cancel_print: the safe end of a cancelled job once the lines in flight are done: heaters and
+// fan off, retract, lift 10 mm (to the build height at most), park, motors off.
 //
 // Positions come from the G-code stream (exact to the file's decimals) when M114 agrees with
 // them to 0.01 mm (Marlin prints M114 to two decimals), and from M114 otherwise.
@@ -40,6 +42,7 @@ PausePoint pause_print(LineProtocol& protocol, const PrintState& state, const Pa
 void resume_print(LineProtocol& protocol, const PausePoint& point, const PauseOptions& options);
 void recover_print(LineProtocol& protocol, const PrintState& at_resume, bool printer_restarted,
                    const PauseOptions& options);
+void cancel_print(LineProtocol& protocol, const PrintState& state, const PauseOptions& options);
 
 // The heating commands resume sends: M190/M109 when the last report is `reheat_margin` or
 // more below the target (or there is none), nothing when it is near.
