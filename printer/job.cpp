@@ -37,6 +37,11 @@ Job::Job(LineProtocol& protocol, const GcodeFile& file, JobOptions options)
   done_ = std::min(options_.first_command, file_.size());
   if (options_.recover_from) state_ = *options_.recover_from;
   layer_ = file_.layer_index_of(done_);
+  // A resume starts at a layer start; a failure while it recovers, before start_layer runs,
+  // journals that layer again, with the state the recovery restores.
+  if (layer_ >= 0 && file_.layer_starting_at(done_) == layer_) {
+    layer_state_[static_cast<std::size_t>(layer_)] = state_;
+  }
 }
 
 void Job::request(JobRequest request) {

@@ -295,3 +295,39 @@ TEST_CASE("pause_at_layer_n_pauses_before_the_files_layer_n_minus_1") {
   REQUIRE(!events.empty());
   CHECK(events.front().starts_with("pausing before layer 3/5:"));
 }
+
+TEST_CASE("a_link_lost_while_recovering_keeps_the_journals_resume_point") {
+  // `mahost resume` whose link dies again while it heats and homes, before the interrupted
+  // layer restarts: the journal must still say where that layer starts and what the printer
+  // held there, so that the next resume can finish the part.
+  const std::string dir = test_support::scratch_dir("lost_while_recovering");
+  const GcodeFile file = parse_gcode(test_support::ring_program(30, 60), "ring.gcode");
+  const std::size_t start = file.layers[10].first_command;
+  PrintState at;
+  for (std::size_t i = 0; i < start; ++i) apply(at, file.command(i));
+  REQUIRE(at.z > 1.9);
+  REQUIRE(at.hotend_target == 210);
+
+  sim::Config config;
+  config.faults = sim::parse_fault_spec("disconnect-at-line=6");  // M110, M115, M105, M140, ...
+  sim::SimLink link(config);
+  LineProtocol protocol(link);
+  protocol.connect();
+  JobOptions resume;
+  resume.journal_path = dir + "/job.journal";
+  resume.first_command = start;
+  resume.recover_from = at;
+  resume.printer_restarted = true;
+  Job job(protocol, file, resume);
+  CHECK_THROWS_AS(job.run(), LinkError);
+
+  const JournalRecord journal = read_journal(resume.journal_path);
+  CHECK(journal.state == "failed");
+  CHECK(journal.layer_index == 10);
+  CHECK(journal.resume_command == start);
+  CHECK(journal.state_at_resume.x == at.x);
+  CHECK(journal.state_at_resume.z == at.z);
+  CHECK(journal.state_at_resume.e == at.e);
+  CHECK(journal.state_at_resume.hotend_target == at.hotend_target);
+  CHECK(journal.state_at_resume.bed_target == at.bed_target);
+}
