@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "geometry/bead_spacing.h"
 #include "geometry/clipper_bridge.h"
 #include "geometry/infill.h"
 #include "geometry/perimeters.h"
@@ -61,11 +62,12 @@ struct Island {
   std::vector<std::vector<ExtrusionPath>> groups;
 };
 
-Island plan_island(const tc::Paths& island, std::size_t layer, double width,
-                   const ToolpathOptions& o, const Region* core, const Region* below,
-                   const Region* above) {
-  Island result;
-  Perimeters walls = perimeters(island, width, o.perimeters);
+// The paths of an island laid out by shares `share` wide (see plan_island); the infill
+// overlap is a fraction of the bead's width.
+void plan_shares(const tc::Paths& island, std::size_t layer, double share, double width,
+                 const ToolpathOptions& o, const Region* core, const Region* below,
+                 const Region* above, Island& result) {
+  Perimeters walls = perimeters(island, share, o.perimeters);
   // Innermost wall first, outer wall last: the outer surface is laid against walls already
   // there, so it stays where the model says.
   for (auto k = walls.walls.size(); k-- > 0;) result.groups.push_back(std::move(walls.walls[k]));
@@ -76,7 +78,7 @@ Island plan_island(const tc::Paths& island, std::size_t layer, double width,
   tc::Paths area = to_clipper(walls.infill_area);
   area = o.perimeters > 0 ? tc::offset(area, o.infill_overlap * width)
                           : tc::union_of(area);
-  Skins skins = split_skins(from_clipper(area), core, below, above, width);
+  Skins skins = split_skins(from_clipper(area), core, below, above, share);
   const double angle = o.infill_angle;
   // One set of solid lines for all solid pieces, so that they meet edge to edge; infill at
   // 100% is solid too.
@@ -88,7 +90,7 @@ Island plan_island(const tc::Paths& island, std::size_t layer, double width,
     if (role == PathRole::sparse_infill && o.infill_density < 100) continue;
     if (!piece->loops.empty()) solid.push_back({std::move(*piece), role});
   }
-  std::vector<ExtrusionPath> solid_paths = solid_infill(solid, width, angle, layer, o.infill_lines);
+  std::vector<ExtrusionPath> solid_paths = solid_infill(solid, share, angle, layer, o.infill_lines);
   for (PathRole role : {PathRole::bottom_skin, PathRole::top_skin, PathRole::solid_infill,
                         PathRole::sparse_infill}) {
     std::vector<ExtrusionPath> group;
@@ -98,10 +100,31 @@ Island plan_island(const tc::Paths& island, std::size_t layer, double width,
     result.groups.push_back(std::move(group));
   }
   if (o.infill_density < 100) {
-    result.groups.push_back(sparse_infill(skins.sparse, width, o.infill_density,
+    result.groups.push_back(sparse_infill(skins.sparse, share, o.infill_density,
                                           o.infill_pattern, angle, layer, o.infill_lines));
   }
   std::erase_if(result.groups, [](const auto& group) { return group.empty(); });
+}
+
+// The island's paths for beads `width` wide on a layer `height` thick. Everything is laid
+// out by shares (bead_spacing.h): the strips each bead fills, side by side without overlap,
+// in the island shrunk by half what a bead's rounded sides add to its share, so that a bead
+// at the edge has its rounded side on the island's edge (the outer wall's centre line lies
+// w/2 in). Each path is then widened to the bead that fills its share.
+Island plan_island(const tc::Paths& island, std::size_t layer, double width, double height,
+                   const ToolpathOptions& o, const Region* core, const Region* below,
+                   const Region* above) {
+  Island result;
+  const double share = bead_spacing(width, height);
+  const double sides = width - share;  // the rounded sides' reach past the share, both sides
+  const tc::Paths shared = sides > 0 ? tc::offset(island, -sides / 2) : island;
+  plan_shares(shared, layer, share, width, o, core, below, above, result);
+  for (auto& group : result.groups) {
+    for (ExtrusionPath& path : group) {
+      // A whole share is a whole bead, exactly as wide as the profile says.
+      path.width = path.width == share ? width : bead_width_for_spacing(path.width, height);
+    }
+  }
   return result;
 }
 
@@ -152,11 +175,12 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
   std::atomic<std::size_t> done{0};
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
     const double width = i == 0 ? o.first_layer_width : o.extrusion_width;
+    const double height = layers[i].z_hi - layers[i].z_lo;
     const Region* core = cores[i] ? &*cores[i] : nullptr;
     const Region* below = o.bottom_layers > 0 ? (i > 0 ? &outline[i - 1] : &nothing) : nullptr;
     const Region* above = o.top_layers > 0 ? (i + 1 < n ? &outline[i + 1] : &nothing) : nullptr;
     for (const tc::Paths& island : island_paths[i]) {
-      islands[i].push_back(plan_island(island, i, width, o, core, below, above));
+      islands[i].push_back(plan_island(island, i, width, height, o, core, below, above));
     }
     if (i == 0) skirt_paths = skirt(region[0], width, o.skirt_loops, o.skirt_distance);
     if (on_layer_done) on_layer_done(++done);

@@ -46,9 +46,11 @@ geometry::Region shifted(geometry::Region region, geometry::Vec2 by) {
 // region covered, at most 2% of its area outside it. A region under `min_area` is only held to
 // staying inside, and may spill up to half a bead's square (0.125 mm^2 for 0.5 mm beads): a
 // sliver a bead wide cannot be drawn to 2% with beads of one width, nor filled to 98%.
+// Returns the least share covered of a layer held to 98%, and which layer that is.
 template <class RegionOf>
-void check_coverage(const test_support::PrintedProgram& program, RegionOf&& region_of,
-                    double min_area = 0) {
+std::pair<double, std::size_t> check_coverage(const test_support::PrintedProgram& program,
+                                              RegionOf&& region_of, double min_area = 0) {
+  std::pair<double, std::size_t> least{1.0, 0};
   for (std::size_t i = 0; i < program.layers.size(); ++i) {
     const geometry::Region region = region_of(i);
     const double area = geometry::area(region);
@@ -60,10 +62,12 @@ void check_coverage(const test_support::PrintedProgram& program, RegionOf&& regi
     if (area >= min_area) {
       CHECK(c.covered >= 0.98);
       CHECK(c.outside <= 0.02);
+      if (c.covered < least.first) least = {c.covered, i};
     } else {
       CHECK(c.outside * area <= std::max(0.02 * area, 0.125));
     }
   }
+  return least;
 }
 
 }  // namespace
@@ -112,9 +116,10 @@ TEST_CASE("cube_with_hole_beads_cover_each_layer") {
   REQUIRE(program.layers.size() == layers.size());
   CHECK(program.layers.size() == 81);  // a 0.2 mm first layer, then ceil(19.8 / 0.25) = 80
   // The exact section is the same at every height: the square less the 48-gon hole.
-  check_coverage(program, [&](std::size_t i) {
+  const auto [least, at] = check_coverage(program, [&](std::size_t i) {
     return shifted(part.section(layers[i].z_mid()), {marlin.bed_x / 2, marlin.bed_y / 2});
   });
+  MESSAGE("holed cube: least covered " << least << " on layer " << at);
 }
 
 TEST_CASE("every_contour_strategy_prints_a_vertical_wall_part_alike") {
@@ -162,9 +167,10 @@ TEST_CASE("sphere_beads_cover_each_layer") {
   REQUIRE(program.layers.size() == layers.size());
   // Every layer, the poles' small discs too: the infill lines join into zig-zags along the
   // inner wall and gap fill takes what their ends leave.
-  check_coverage(program, [&](std::size_t i) {
+  const auto [least, at] = check_coverage(program, [&](std::size_t i) {
     return shifted(sphere.section(layers[i].z_mid()), {up.bed_x / 2, up.bed_y / 2});
   });
+  MESSAGE("sphere: least covered " << least << " on layer " << at);
 }
 
 TEST_CASE("bunny_ma_layers_are_covered_inside_the_bed_and_timed_exactly") {
@@ -204,12 +210,13 @@ TEST_CASE("bunny_ma_layers_are_covered_inside_the_bed_and_timed_exactly") {
   const auto layers = geometry::uniform_layers(50, 0.2, up.first_layer_height);
   REQUIRE(layers.size() == program.layers.size());
   const geometry::LayerStack stack(mesh, layers);
-  check_coverage(
+  const auto [least, at] = check_coverage(
       program,
       [&](std::size_t i) {
         return shifted(geometry::ma_contour(stack, i), {up.bed_x / 2, up.bed_y / 2});
       },
       /*min_area=*/80.0);  // as for the sphere: the ears' tips are small discs
+  MESSAGE("bunny: least covered " << least << " on layer " << at);
 }
 
 TEST_CASE("layer_not_allowed_by_the_printer_is_refused_with_the_list") {
@@ -312,3 +319,4 @@ TEST_CASE("unwritable_output_is_refused_naming_it") {
   CHECK(result.exit_code == 2);
   CHECK(result.err.starts_with("mahost: cannot write '" + dir + "/no/such/folder/c.gcode'"));
 }
+

@@ -4,6 +4,7 @@
 
 #include <doctest/doctest.h>
 
+#include "geometry/bead_spacing.h"
 #include "printer/bead_model.h"
 
 using namespace printer;
@@ -47,4 +48,16 @@ TEST_CASE("filament_weight_from_density") {
   CHECK(filament_weight(1000, 1.75, 1.04) ==
         doctest::Approx(pi * 1.75 * 1.75 / 4 * 1000 / 1000 * 1.04).epsilon(1e-15));
   CHECK(filament_weight(1000, 1.75, 1.04) == doctest::Approx(2.5015).epsilon(1e-4));
+}
+
+// geometry lays beads out by shares (geometry/bead_spacing.h) without depending on printer/;
+// the share times the height must be the cross-section the G-code writer extrudes.
+TEST_CASE("geometry_bead_spacing_fills_the_writers_bead_cross_section") {
+  for (double h : {0.1, 0.2, 0.35}) {
+    for (double w : {0.15, 0.4, 0.45, 0.6}) {
+      CAPTURE(h);
+      CAPTURE(w);
+      CHECK(geometry::bead_spacing(w, h) * h == doctest::Approx(bead_area(w, h)).epsilon(1e-12));
+    }
+  }
 }
