@@ -2,6 +2,11 @@
 //
 // Usage: bench_ma [STL] [--layer T] [--spacing S] [--max-points N] [--no-fairing] [--errors]
 //                 [--no-features] [--no-pockets]   (the rules of ma_contour.h, off)
+//                 [--dump FILE] [--compare FILE] [--quick]
+// --quick: the sequential pass only (no stage split, no parallel pass), for callgrind or perf.
+// --dump writes every layer's contour to FILE (text, mm); --compare reads such a file and
+// prints how far this run's contours are from it: the area of the symmetric difference per
+// layer (sum, max) against the contours' area, to judge a speed change by its results.
 // Default: data/bunny.stl placed as in the paper (Y up, metres, 50 mm tall), 0.15 mm layers.
 // Prints per-layer time (max, mean), the sequential total, the TBB-parallel wall time,
 // sample counts, islands, caps, and the contours' validity. With --errors also the paper's
@@ -15,10 +20,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+#include <fstream>
 #include <string>
 #include <vector>
 
 #include "geometry/boundary_grid.h"
+#include "geometry/clipper_bridge.h"
 #include "geometry/distance_error.h"
 #include "geometry/layer_stack.h"
 #include "geometry/missed_features.h"
@@ -34,11 +41,71 @@ static double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+// One line per loop: "layer n x0 y0 x1 y1 ...", full double precision.
+static void dump_contours(const std::string& file, const std::vector<Region>& contours) {
+  std::ofstream out(file);
+  out.precision(17);
+  for (std::size_t i = 0; i < contours.size(); ++i) {
+    for (const Loop& loop : contours[i].loops) {
+      out << i << ' ' << loop.size();
+      for (Vec2 p : loop) out << ' ' << p.x << ' ' << p.y;
+      out << '\n';
+    }
+  }
+}
+
+static std::vector<Region> read_contours(const std::string& file, std::size_t layers) {
+  std::vector<Region> contours(layers);
+  std::ifstream in(file);
+  std::size_t layer = 0, n = 0;
+  while (in >> layer >> n) {
+    Loop loop(n);
+    for (Vec2& p : loop) in >> p.x >> p.y;
+    if (layer < layers) contours[layer].loops.push_back(std::move(loop));
+  }
+  return contours;
+}
+
+static double area_of(const ClipperLib::Paths& paths) {
+  double a = 0;
+  for (const auto& p : paths) a += ClipperLib::Area(p);
+  return a / (kClipperScale * kClipperScale);
+}
+
+// Symmetric difference of each layer's contours, mm^2: sum and max over layers, and the sum
+// of the reference's areas.
+static void compare_contours(const std::string& file, const std::vector<Region>& contours) {
+  const std::vector<Region> reference = read_contours(file, contours.size());
+  double xor_sum = 0, xor_max = 0, area = 0;
+  std::size_t worst = 0, differing = 0;
+  for (std::size_t i = 0; i < contours.size(); ++i) {
+    ClipperLib::Clipper clipper;
+    clipper.AddPaths(to_clipper(contours[i]), ClipperLib::ptSubject, true);
+    clipper.AddPaths(to_clipper(reference[i]), ClipperLib::ptClip, true);
+    ClipperLib::Paths difference;
+    clipper.Execute(ClipperLib::ctXor, difference, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+    const double x = area_of(difference);
+    area += area_of(to_clipper(reference[i]));
+    xor_sum += x;
+    if (x > 1e-6) ++differing;
+    if (x > xor_max) {
+      xor_max = x;
+      worst = i;
+    }
+  }
+  std::printf("against %s: symmetric difference %.6f mm^2 in all (%.2e of %.1f mm^2), "
+              "max %.6f mm^2 (layer %zu), %zu layers differ by > 1e-6 mm^2\n",
+              file.c_str(), xor_sum, area > 0 ? xor_sum / area : 0.0, area, xor_max, worst,
+              differing);
+}
+
 int main(int argc, char** argv) {
   std::string path = std::string(MAHOST_DATA_DIR) + "/bunny.stl";
   double thickness = 0.15;
   MaOptions options;
   bool errors = false;
+  std::string dump, compare;
+  bool quick = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--layer" && i + 1 < argc) {
@@ -47,6 +114,12 @@ int main(int argc, char** argv) {
       options.spacing = std::atof(argv[++i]);
     } else if (arg == "--max-points" && i + 1 < argc) {
       options.max_points = static_cast<std::size_t>(std::atoll(argv[++i]));
+    } else if (arg == "--dump" && i + 1 < argc) {
+      dump = argv[++i];
+    } else if (arg == "--compare" && i + 1 < argc) {
+      compare = argv[++i];
+    } else if (arg == "--quick") {
+      quick = true;
     } else if (arg == "--errors") {
       errors = true;
     } else if (arg == "--no-fairing") {
@@ -91,7 +164,7 @@ int main(int argc, char** argv) {
   // The same split into its stages, as `analyze` runs it (slab and footprint are shared
   // with the metrics there): CPU seconds.
   double slab_cpu = 0, footprint_cpu = 0, contour_cpu = 0;
-  for (std::size_t i = 0; i < stack.size(); ++i) {
+  for (std::size_t i = 0; i < (quick ? 0 : stack.size()); ++i) {
     std::clock_t t = std::clock();
     const Slab slab = slab_of(stack, i);
     slab_cpu += static_cast<double>(std::clock() - t) / CLOCKS_PER_SEC;
@@ -105,9 +178,11 @@ int main(int argc, char** argv) {
   }
 
   start = Clock::now();
-  std::vector<Region> parallel(stack.size());
-  tbb::parallel_for(std::size_t{0}, stack.size(),
-                    [&](std::size_t i) { parallel[i] = ma_contour(stack, i, options); });
+  std::vector<Region> parallel = quick ? contours : std::vector<Region>(stack.size());
+  if (!quick) {
+    tbb::parallel_for(std::size_t{0}, stack.size(),
+                      [&](std::size_t i) { parallel[i] = ma_contour(stack, i, options); });
+  }
   const double wall = seconds_since(start);
 
   std::size_t samples = 0, max_samples = 0, islands = 0, caps = 0, walls = 0, loops = 0, empty = 0;
@@ -148,6 +223,8 @@ int main(int argc, char** argv) {
               samples, max_samples, islands, caps, walls, features, pockets);
   std::printf("contours: %zu loops, %zu empty layers, %zu layers differ sequential vs parallel\n",
               loops, empty, differing);
+  if (!dump.empty()) dump_contours(dump, contours);
+  if (!compare.empty()) compare_contours(compare, contours);
   if (errors) {
     struct Tally {
       const char* name;
