@@ -595,7 +595,7 @@ std::vector<Loop> medial_axis_loops(const BoundaryPair& pair, std::span<const ch
 Region ma_contour(const Slab& slab, const std::function<Region(double z)>& cross_section,
                   const MaOptions& options, MaStats* stats) {
   if (slab.facets.empty() || !(slab.z_lo < slab.z_hi)) return {};
-  return ma_contour(slab, slab_footprint(slab), cross_section, options, stats);
+  return ma_contour(slab, slab_islands(slab), cross_section, options, stats);
 }
 
 namespace {

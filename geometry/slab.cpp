@@ -95,25 +95,27 @@ namespace {
 
 bool before(IntPoint a, IntPoint b) { return a.X < b.X || (a.X == b.X && a.Y < b.Y); }
 
-// The boundary of the facets' projections taken as a 2-chain (each facet counter-clockwise,
-// weight one), as closed paths: a shared edge is walked once each way and cancels, so only
-// the lower and upper contours and the silhouettes remain. Their non-zero fill is the union
-// of the projections, and Clipper sees a few hundred edges instead of every facet. Sorting,
-// not hashing: the edges are sorted once by their ends to cancel pairs, then by their start
-// to walk them.
-ClipperLib::Paths chain_boundary(const std::vector<ClipperLib::Path>& facets) {
-  struct Edge {
-    IntPoint lo, hi;  // lo before hi
-    int direction;    // +1: walked lo -> hi
-  };
-  std::vector<Edge> edges;
-  for (const ClipperLib::Path& f : facets) {
-    for (std::size_t i = 0, n = f.size(); i < n; ++i) {
-      const IntPoint a = f[i], b = f[(i + 1) % n];
-      if (a == b) continue;
-      edges.push_back(before(a, b) ? Edge{a, b, 1} : Edge{b, a, -1});
-    }
+// One edge of a facet's projection, its ends sorted.
+struct Edge {
+  IntPoint lo, hi;  // lo before hi
+  int direction;    // +1: walked lo -> hi
+};
+
+void add_edges(const ClipperLib::Path& facet, std::vector<Edge>& edges) {
+  for (std::size_t i = 0, n = facet.size(); i < n; ++i) {
+    const IntPoint a = facet[i], b = facet[i + 1 == n ? 0 : i + 1];
+    if (a == b) continue;
+    edges.push_back(before(a, b) ? Edge{a, b, 1} : Edge{b, a, -1});
   }
+}
+
+// The boundary of the facets' projections taken as a 2-chain (each facet counter-clockwise,
+// weight one; `edges` are their edges, add_edges), as closed paths: a shared edge is walked
+// once each way and cancels, so only the lower and upper contours and the silhouettes remain.
+// Their non-zero fill is the union of the projections, and Clipper sees a few hundred edges
+// instead of every facet. Sorting, not hashing: the edges are sorted once by their ends to
+// cancel pairs, then by their start to walk them.
+ClipperLib::Paths chain_boundary(std::vector<Edge>& edges) {
   std::sort(edges.begin(), edges.end(), [](const Edge& x, const Edge& y) {
     return before(x.lo, y.lo) || (x.lo == y.lo && before(x.hi, y.hi));
   });
@@ -260,6 +262,91 @@ void chain_segments(const ClipperLib::Paths& edge_on, ClipperLib::Paths& open,
 
 namespace {
 
+// The closed loops of a union (outer loops counter-clockwise, holes clockwise), grown by delta
+// > 0 with mitred joins, as raw paths whose positive fill is the grown set: the paths
+// ClipperOffset (jtMiter, miter limit 2, Clipper 6.4) hands to its union, to the bit, except
+// at concave corners. There ClipperOffset puts the corner itself between the two shifted
+// edges, a small self-crossing loop at every concave corner that its union must then resolve
+// (two intersections each: most of the offset's cost on a slab's ragged contours). Here the
+// two shifted edges meet at their intersection instead, the point that union finds, where
+// that point lies within the first half of both edges, so that neighbouring corners cannot
+// cross; elsewhere (a spike, a very short edge) the corner is built as ClipperOffset builds
+// it. The same arithmetic as ClipperOffset matters: a wall's ring (offset by ClipperOffset)
+// lies exactly on the grown loop beside it, and a nanometre between the two would leave a
+// zigzag of extra vertices in the footprint.
+void add_grown(const ClipperLib::Paths& loops, double delta, ClipperLib::Paths& out) {
+  const auto round = [](double v) { return static_cast<cInt>(v < 0 ? v - 0.5 : v + 0.5); };
+  struct Normal {
+    double x, y, length;
+  };
+  std::vector<Normal> normals;
+  for (const ClipperLib::Path& loop : loops) {
+    const std::size_t n = loop.size();
+    if (n < 3) continue;
+    normals.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {  // edge i: from vertex i to i + 1, outward normal
+      const IntPoint a = loop[i], b = loop[i + 1 == n ? 0 : i + 1];
+      double dx = double(b.X - a.X), dy = double(b.Y - a.Y);
+      const double length = std::sqrt(dx * dx + dy * dy);
+      if (length == 0) {
+        normals[i] = {0, 0, 0};
+        continue;
+      }
+      const double f = 1.0 / length;  // as ClipperLib's GetUnitNormal
+      dx *= f;
+      dy *= f;
+      normals[i] = {dy, -dx, length};
+    }
+    ClipperLib::Path grown;
+    grown.reserve(n + n / 4 + 4);
+    const auto shifted = [&](IntPoint p, double x, double y) {
+      grown.push_back({round(double(p.X) + x * delta), round(double(p.Y) + y * delta)});
+    };
+    std::size_t k = n - 1;  // the edge the last join was made from
+    for (std::size_t j = 0; j < n; ++j) {
+      const Normal& nk = normals[k];
+      const Normal& nj = normals[j];
+      const IntPoint p = loop[j];
+      double sin_a = nk.x * nj.y - nj.x * nk.y;
+      const double cos_a = nk.x * nj.x + nj.y * nk.y;
+      if (std::abs(sin_a * delta) < 1.0) {
+        if (cos_a > 0) {  // straight on, to within a unit; k stays (as ClipperOffset)
+          shifted(p, nk.x, nk.y);
+          continue;
+        }
+      } else {
+        sin_a = std::clamp(sin_a, -1.0, 1.0);
+      }
+      const double r = 1 + cos_a;
+      if (sin_a * delta < 0) {  // concave
+        // The shifted edges meet |sin| / (1 + cos) * delta back along the edge in and as far
+        // on along the edge out.
+        const bool adjacent = k + 1 == j || (j == 0 && k == n - 1);
+        const double reach = r > 0 ? std::abs(sin_a) / r * delta : HUGE_VAL;
+        if (adjacent && 2 * reach <= std::min(nk.length, nj.length)) {
+          const double q = delta / r;
+          grown.push_back({round(double(p.X) + (nk.x + nj.x) * q), round(double(p.Y) + (nk.y + nj.y) * q)});
+        } else {
+          shifted(p, nk.x, nk.y);
+          grown.push_back(p);
+          shifted(p, nj.x, nj.y);
+        }
+      } else if (r >= 0.5) {  // convex, mitred (miter limit 2)
+        const double q = delta / r;
+        grown.push_back({round(double(p.X) + (nk.x + nj.x) * q), round(double(p.Y) + (nk.y + nj.y) * q)});
+      } else {  // convex and sharp: squared off
+        const double t = std::tan(std::atan2(sin_a, cos_a) / 4);
+        grown.push_back({round(double(p.X) + delta * (nk.x - nk.y * t)),
+                         round(double(p.Y) + delta * (nk.y + nk.x * t))});
+        grown.push_back({round(double(p.X) + delta * (nj.x + nj.y * t)),
+                         round(double(p.Y) + delta * (nj.y - nj.x * t))});
+      }
+      k = j;
+    }
+    out.push_back(std::move(grown));
+  }
+}
+
 // The footprint as Clipper's nesting (the tree must be the caller's: a PolyTree cannot be
 // copied).
 void footprint_tree(const Slab& slab, double margin, ClipperLib::PolyTree& tree) {
@@ -267,13 +354,15 @@ void footprint_tree(const Slab& slab, double margin, ClipperLib::PolyTree& tree)
   // growing each facet first (the Minkowski sum distributes over the union). Facets seen
   // edge-on (vertical walls) project to segments of no area and join the offset as open
   // paths.
-  std::vector<ClipperLib::Path> seen;
+  std::vector<Edge> edges;
+  edges.reserve(3 * slab.facets.size());
   ClipperLib::Paths edge_on;
-  seen.reserve(slab.facets.size());
+  ClipperLib::Path projected;
   for (const auto& facet : slab.facets) {
-    ClipperLib::Path projected;
+    projected.clear();
     for (const Vec3& v : facet) {
-      const IntPoint p = to_clipper(Vec2{v.x, v.y});
+      const IntPoint p{static_cast<cInt>(std::llround(v.x * kClipperScale)),
+                       static_cast<cInt>(std::llround(v.y * kClipperScale))};  // to_clipper
       if (projected.empty() || !(p == projected.back())) projected.push_back(p);
     }
     while (projected.size() > 1 && projected.front() == projected.back()) projected.pop_back();
@@ -281,32 +370,50 @@ void footprint_tree(const Slab& slab, double margin, ClipperLib::PolyTree& tree)
     // vertical face; as a polygon such a sliver would vanish in the union.
     double longest2 = 0;
     for (std::size_t i = 0, n = projected.size(); i < n; ++i) {
-      const IntPoint a = projected[i], b = projected[(i + 1) % n];
+      const IntPoint a = projected[i], b = projected[i + 1 == n ? 0 : i + 1];
       const double dx = double(b.X - a.X), dy = double(b.Y - a.Y);
       longest2 = std::max(longest2, dx * dx + dy * dy);
     }
     constexpr double kEdgeOnWidth = 10;  // nm; area > width * longest / 2, squared
     const double twice_area = 2 * ClipperLib::Area(projected);
     if (projected.size() >= 3 && twice_area * twice_area > kEdgeOnWidth * kEdgeOnWidth * longest2) {
-      if (!ClipperLib::Orientation(projected)) ClipperLib::ReversePath(projected);
-      seen.push_back(std::move(projected));
+      if (twice_area < 0) std::reverse(projected.begin(), projected.end());
+      add_edges(projected, edges);
     } else if (!projected.empty()) {
-      edge_on.push_back(std::move(projected));
+      edge_on.push_back(projected);
     }
   }
   ClipperLib::Clipper clipper;
-  clipper.AddPaths(chain_boundary(seen), ClipperLib::ptSubject, true);
+  clipper.AddPaths(chain_boundary(edges), ClipperLib::ptSubject, true);
   ClipperLib::Paths covered;
   clipper.Execute(ClipperLib::ctUnion, covered, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
   const double delta = std::max(margin, 0.0) * kClipperScale;
   if (delta > 0) {
-    ClipperLib::ClipperOffset offset;
-    offset.AddPaths(covered, ClipperLib::jtMiter, ClipperLib::etClosedPolygon);
-    ClipperLib::Paths open_lines, closed_lines;
-    chain_segments(edge_on, open_lines, closed_lines);
-    offset.AddPaths(open_lines, ClipperLib::jtMiter, ClipperLib::etOpenSquare);
-    offset.AddPaths(closed_lines, ClipperLib::jtMiter, ClipperLib::etClosedLine);
-    offset.Execute(tree, delta);
+    ClipperLib::Paths grown;
+    add_grown(covered, delta, grown);
+    if (!edge_on.empty()) {
+      ClipperLib::Paths open_lines, closed_lines;
+      chain_segments(edge_on, open_lines, closed_lines);
+      if (!open_lines.empty()) {  // squared ends: left to ClipperOffset (rare: a wall's loose end)
+        ClipperLib::ClipperOffset offset;
+        offset.AddPaths(open_lines, ClipperLib::jtMiter, ClipperLib::etOpenSquare);
+        ClipperLib::Paths ends;
+        offset.Execute(ends, delta);
+        grown.insert(grown.end(), ends.begin(), ends.end());
+      }
+      // A closed line (a wall's loop) grows to both sides: the loop counter-clockwise and
+      // clockwise, each grown as a polygon (ClipperOffset's etClosedLine).
+      for (ClipperLib::Path& line : closed_lines) {
+        if (!ClipperLib::Orientation(line)) ClipperLib::ReversePath(line);
+        ClipperLib::Paths sides{line};
+        ClipperLib::ReversePath(line);
+        sides.push_back(std::move(line));
+        add_grown(sides, delta, grown);
+      }
+    }
+    ClipperLib::Clipper unite;
+    unite.AddPaths(grown, ClipperLib::ptSubject, true);
+    unite.Execute(ClipperLib::ctUnion, tree, ClipperLib::pftPositive, ClipperLib::pftPositive);
   } else {
     ClipperLib::Clipper normalise;
     normalise.AddPaths(covered, ClipperLib::ptSubject, true);
@@ -326,6 +433,12 @@ Footprint slab_footprint_with_islands(const Slab& slab, double margin) {
   ClipperLib::PolyTree tree;
   footprint_tree(slab, margin, tree);
   return {from_clipper(tree), boundary_pairs(tree)};
+}
+
+std::vector<BoundaryPair> slab_islands(const Slab& slab, double margin) {
+  ClipperLib::PolyTree tree;
+  footprint_tree(slab, margin, tree);
+  return boundary_pairs(tree);
 }
 
 }  // namespace geometry

@@ -62,4 +62,8 @@ struct Footprint {
 };
 Footprint slab_footprint_with_islands(const Slab& slab, double margin = kFootprintMargin);
 
+// Only the islands: boundary_pairs(slab_footprint(slab, margin)) from Clipper's nesting of the
+// offset, without the Region and without the second union boundary_pairs(Region) runs.
+std::vector<BoundaryPair> slab_islands(const Slab& slab, double margin = kFootprintMargin);
+
 }  // namespace geometry
