@@ -120,7 +120,7 @@ struct Sample {
   std::uint32_t segment = 0;  // the loop's edge from vertex `segment` to the next
 };
 
-double length(Vec2 v) { return std::hypot(v.x, v.y); }
+double length(Vec2 v) { return std::sqrt(v.x * v.x + v.y * v.y); }  // mm: no overflow to guard
 
 std::vector<Sample> sample_loops(const std::vector<const Loop*>& loops, const MaOptions& options) {
   std::size_t vertices = 0;
@@ -165,6 +165,7 @@ double squared_distance_to_segment(Vec2 p, Vec2 a, Vec2 b) {
 
 // Distance from x to the loop, searched from edge `segment` along the loop while it gets no
 // worse; `segment` is updated to the nearest edge found, as the hint for the next query.
+// (Called a few million times per model: the walk wraps round without a division.)
 double distance_near(const Loop& loop, std::uint32_t& segment, Vec2 x) {
   const std::size_t n = loop.size();
   if (n == 0) return std::numeric_limits<double>::infinity();
@@ -172,16 +173,24 @@ double distance_near(const Loop& loop, std::uint32_t& segment, Vec2 x) {
     return squared_distance_to_segment(x, loop[j], loop[j + 1 == n ? 0 : j + 1]);
   };
   double best = at(segment);
-  for (int direction : {1, -1}) {
-    std::size_t j = segment;
-    for (std::size_t step = 1; step < n; ++step) {
-      j = (j + n + direction) % n;
-      const double d = at(j);
-      if (d > best) break;
-      if (d < best) {
-        best = d;
-        segment = static_cast<std::uint32_t>(j);
-      }
+  std::size_t j = segment;
+  for (std::size_t step = 1; step < n; ++step) {  // forwards
+    j = j + 1 == n ? 0 : j + 1;
+    const double d = at(j);
+    if (d > best) break;
+    if (d < best) {
+      best = d;
+      segment = static_cast<std::uint32_t>(j);
+    }
+  }
+  j = segment;
+  for (std::size_t step = 1; step < n; ++step) {  // backwards
+    j = j == 0 ? n - 1 : j - 1;
+    const double d = at(j);
+    if (d > best) break;
+    if (d < best) {
+      best = d;
+      segment = static_cast<std::uint32_t>(j);
     }
   }
   return std::sqrt(best);
@@ -218,13 +227,16 @@ struct AxisQuery {
 };
 
 // How exactly fairing places a point on the axis, mm: far below kFairingTolerance, and each
-// step of the solver costs a walk along up to six loops.
+// step of the solver costs a walk along up to six loops. A point is on the axis when it is
+// within this of it along the line searched, or when its distances to the two sides agree to
+// within this (f is such an imbalance: the first step of regula falsi nearly always lands
+// there, where the bracket alone would take two or three more walks to close).
 constexpr double kAxisSolveTolerance = 1e-5;
 
 // The root of f between lo and hi, where f(lo) = f_lo and f(hi) = f_hi have opposite signs, to
-// within `tolerance` in the argument. f is close to linear where fairing asks (an imbalance of
-// distances along a short segment), so regula falsi with the Illinois step converges in a few
-// evaluations where bisection would take twenty.
+// within `tolerance` in the argument or kAxisSolveTolerance in the value. f is close to linear
+// where fairing asks (an imbalance of distances along a short segment), so regula falsi with
+// the Illinois step converges in a few evaluations where bisection would take twenty.
 template <class F>
 double regula_falsi(F&& f, double lo, double hi, double f_lo, double f_hi, double tolerance) {
   double t = 0.5 * (lo + hi);
@@ -232,7 +244,7 @@ double regula_falsi(F&& f, double lo, double hi, double f_lo, double f_hi, doubl
   for (int it = 0; it < 60 && std::abs(hi - lo) > tolerance; ++it) {
     t = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
     const double value = f(t);
-    if (value == 0) break;
+    if (std::abs(value) <= kAxisSolveTolerance) break;
     if ((value > 0) == (f_hi > 0)) {
       hi = t;
       f_hi = value;
@@ -417,7 +429,18 @@ IslandAxis island_axis(const BoundaryPair& pair, std::span<const char> solid,
   for (std::uint32_t i = 0; i < samples.size(); ++i) {
     const std::uint32_t next =
         i + 1 < samples.size() && samples[i + 1].loop == samples[i].loop ? i + 1 : first_of_loop[samples[i].loop];
-    if (vertex_of[i] != vertex_of[next]) triangulation.insert_constraint(vertex_of[i], vertex_of[next]);
+    const Vertex a = vertex_of[i], b = vertex_of[next];
+    if (a == b) continue;
+    // Nearly always the edge is there already: mark it (what insert_constraint does then,
+    // after a search for vertices on the segment and a std::stack per call).
+    Face f;
+    int k = 0;
+    if (triangulation.dimension() == 2 && triangulation.is_edge(a, b, f, k)) {
+      f->set_constraint(k, true);
+      f->neighbor(k)->set_constraint(triangulation.mirror_index(f, k), true);
+    } else {
+      triangulation.insert_constraint(a, b);
+    }
   }
   for (Face f : triangulation.all_face_handles()) f->info() = FaceInfo{};
 
