@@ -15,51 +15,86 @@ namespace {
 using ClipperLib::cInt;
 using ClipperLib::IntPoint;
 
+// A polygon of at most kMaxCorners corners, on the stack: each cut at most doubles the corners
+// (a triangle cut by two planes has at most twelve; a face of a mesh, convex, five), and
+// slab_of cuts every face of the model (one allocation per facet, not four).
+constexpr std::size_t kMaxCorners = 12;
+struct SmallPolygon {
+  std::array<Vec3, kMaxCorners> at;
+  std::size_t size = 0;
+};
+
 // Keeps the part of a convex polygon on the side where side * (z - plane) >= 0.
-std::vector<Vec3> clip_half(const std::vector<Vec3>& in, double plane, double side) {
+void clip_half(const SmallPolygon& in, double plane, double side, SmallPolygon& out) {
   const auto keep = [&](double z) { return side * (z - plane); };
-  std::vector<Vec3> out;
-  if (in.empty()) return out;
-  out.reserve(in.size() + 1);
-  for (std::size_t i = 0, n = in.size(); i < n; ++i) {
-    const Vec3 a = in[i], b = in[(i + 1) % n];
+  out.size = 0;
+  for (std::size_t i = 0, n = in.size; i < n; ++i) {
+    const Vec3 a = in.at[i], b = in.at[i + 1 == n ? 0 : i + 1];
     const double ka = keep(a.z), kb = keep(b.z);
-    if (ka >= 0) out.push_back(a);
-    if ((ka < 0 && kb > 0) || (ka > 0 && kb < 0)) {
+    if (ka >= 0 && out.size < kMaxCorners) out.at[out.size++] = a;
+    if (((ka < 0 && kb > 0) || (ka > 0 && kb < 0)) && out.size < kMaxCorners) {
       // From the lower end, so the face on the other side of this edge, which walks it the
       // other way, computes the very same point, and the footprint's shared edges cancel.
       const Vec3 lo = a.z < b.z ? a : b, hi = a.z < b.z ? b : a;
       Vec3 p = lo + ((plane - lo.z) / (hi.z - lo.z)) * (hi - lo);
       p.z = plane;  // exactly, so later tests against the plane are exact
-      out.push_back(p);
+      out.at[out.size++] = p;
     }
   }
-  return out;
 }
+
+bool same_point(Vec3 a, Vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
 
 }  // namespace
 
 std::vector<Vec3> clip_to_slab(std::span<const Vec3> polygon, double z_lo, double z_hi) {
-  std::vector<Vec3> piece(polygon.begin(), polygon.end());
-  piece = clip_half(piece, z_lo, 1.0);
-  piece = clip_half(piece, z_hi, -1.0);
-  std::vector<Vec3> merged;
-  merged.reserve(piece.size());
-  for (const Vec3& p : piece) {
-    if (merged.empty() || p.x != merged.back().x || p.y != merged.back().y ||
-        p.z != merged.back().z) {
-      merged.push_back(p);
+  if (polygon.size() > 3) {  // not a mesh face: clipped on the heap
+    std::vector<Vec3> piece(polygon.begin(), polygon.end());
+    for (int pass = 0; pass < 2; ++pass) {
+      const double plane = pass == 0 ? z_lo : z_hi, side = pass == 0 ? 1.0 : -1.0;
+      std::vector<Vec3> out;
+      for (std::size_t i = 0, n = piece.size(); i < n; ++i) {
+        const Vec3 a = piece[i], b = piece[(i + 1) % n];
+        const double ka = side * (a.z - plane), kb = side * (b.z - plane);
+        if (ka >= 0) out.push_back(a);
+        if ((ka < 0 && kb > 0) || (ka > 0 && kb < 0)) {
+          const Vec3 lo = a.z < b.z ? a : b, hi = a.z < b.z ? b : a;
+          Vec3 p = lo + ((plane - lo.z) / (hi.z - lo.z)) * (hi - lo);
+          p.z = plane;
+          out.push_back(p);
+        }
+      }
+      piece = std::move(out);
     }
+    std::vector<Vec3> merged;
+    for (const Vec3& p : piece) {
+      if (merged.empty() || !same_point(p, merged.back())) merged.push_back(p);
+    }
+    while (merged.size() > 1 && same_point(merged.front(), merged.back())) merged.pop_back();
+    if (merged.size() < 3) return {};
+    const bool on_lo = std::all_of(merged.begin(), merged.end(), [&](Vec3 p) { return p.z == z_lo; });
+    const bool on_hi = std::all_of(merged.begin(), merged.end(), [&](Vec3 p) { return p.z == z_hi; });
+    if (on_lo || on_hi) return {};
+    return merged;
   }
-  while (merged.size() > 1 && merged.front().x == merged.back().x &&
-         merged.front().y == merged.back().y && merged.front().z == merged.back().z) {
-    merged.pop_back();
+  SmallPolygon piece, above, inside;
+  for (const Vec3& p : polygon) piece.at[piece.size++] = p;
+  clip_half(piece, z_lo, 1.0, above);
+  clip_half(above, z_hi, -1.0, inside);
+  // Repeated points merged, the first and last too.
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < inside.size; ++i) {
+    if (n == 0 || !same_point(inside.at[i], inside.at[n - 1])) inside.at[n++] = inside.at[i];
   }
-  if (merged.size() < 3) return {};
-  const bool on_lo = std::all_of(merged.begin(), merged.end(), [&](Vec3 p) { return p.z == z_lo; });
-  const bool on_hi = std::all_of(merged.begin(), merged.end(), [&](Vec3 p) { return p.z == z_hi; });
+  while (n > 1 && same_point(inside.at[0], inside.at[n - 1])) --n;
+  if (n < 3) return {};
+  bool on_lo = true, on_hi = true;
+  for (std::size_t i = 0; i < n; ++i) {
+    on_lo = on_lo && inside.at[i].z == z_lo;
+    on_hi = on_hi && inside.at[i].z == z_hi;
+  }
   if (on_lo || on_hi) return {};
-  return merged;
+  return {inside.at.begin(), inside.at.begin() + static_cast<std::ptrdiff_t>(n)};
 }
 
 Slab slab_of(const Mesh& mesh, std::span<const std::uint32_t> faces, double z_lo, double z_hi) {
