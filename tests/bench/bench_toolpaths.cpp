@@ -10,9 +10,18 @@
 // and extrusion length produced, and the process's peak resident memory. The machine is
 // shared: CPU time is the steadier figure; wall time shows the two threads at work.
 // With `repeat` > 1 the plan is made that many times (figures per plan): under a profiler
-// the planner then outweighs the contour stage it starts from.
+// the planner then outweighs the contour stage it starts from. Under
+//   valgrind --tool=callgrind --instr-atstart=no build*/tests/bench/bench_toolpaths ...
+// only the plans are counted (all threads): the instruction count is the figure to compare
+// on a busy machine, where even CPU time moves by 10%.
 #include <sys/resource.h>
 #include <tbb/parallel_for.h>
+#if __has_include(<valgrind/callgrind.h>)
+#include <valgrind/callgrind.h>
+#else
+#define CALLGRIND_START_INSTRUMENTATION
+#define CALLGRIND_STOP_INSTRUMENTATION
+#endif
 
 #include <algorithm>
 #include <chrono>
@@ -91,7 +100,9 @@ int main(int argc, char** argv) {
   start = std::chrono::steady_clock::now();
   const double cpu_start = cpu_seconds();
   std::vector<LayerToolpaths> plan;
+  CALLGRIND_START_INSTRUMENTATION;
   for (int k = 0; k < repeat; ++k) plan = plan_toolpaths(regions, stack.layers(), ToolpathOptions{});
+  CALLGRIND_STOP_INSTRUMENTATION;
   const double t_plan = seconds_since(start) / repeat;
   const double cpu_plan = (cpu_seconds() - cpu_start) / repeat;
 
