@@ -24,19 +24,24 @@ struct CtlOptions {
   std::string job;
 };
 
-// --job takes the socket, the journal or the job's name.
+// --job takes the socket, the journal or the job's name. No job, or several, to choose from
+// is a usage matter (exit 2): the line says what to run.
 std::string socket_for(const std::string& job) {
   if (job.empty()) {
     const std::vector<std::string> running = running_jobs();
     if (running.empty()) {
-      throw printer::LinkError(fmt::format(
-          "no running mahost job found in {}; give --job with the job's journal", printer::job_directory()));
+      throw printer::ConfigError(fmt::format(
+          "no running mahost job in {}: start one with mahost print, or give --job JOURNAL for "
+          "a job kept elsewhere or one that ended",
+          printer::job_directory()));
     }
     if (running.size() > 1) {
-      std::string names;
-      for (const std::string& r : running) names += " " + fs::path(r).stem().string();
-      throw printer::ConfigError(fmt::format("{} jobs are running:{}; choose one with --job NAME",
-                                             running.size(), names));
+      std::string journals;
+      for (const std::string& r : running) {
+        journals += (journals.empty() ? " " : ", ") + fs::path(r).replace_extension(".journal").string();
+      }
+      throw printer::ConfigError(fmt::format("{} jobs are running; choose one with --job PATH:{}",
+                                             running.size(), journals));
     }
     return running.front();
   }
@@ -91,6 +96,14 @@ void run_ctl(const CtlOptions& options) {
     if (const auto record = journal_beside(socket)) {
       report_ended_job(options, socket, *record);
       return;
+    }
+    std::error_code error;
+    if (!fs::exists(socket, error)) {
+      // A --job that names nothing: a usage matter, like no job at all.
+      throw printer::ConfigError(fmt::format(
+          "--job {}: no such mahost job (neither {} nor its journal exists); give the journal "
+          "mahost print named, or leave --job out for the one job running",
+          options.job, socket));
     }
     throw;
   }

@@ -21,6 +21,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -174,29 +175,42 @@ class JobFiles {
 
 std::string duration_text(double seconds) { return printer::format_duration(seconds); }
 
-// What the job did, on stdout: outcome, time, filament, what the link went through.
+// "1 pause", "3 pauses".
+std::string count_text(long n, const char* one, const char* many) {
+  return fmt::format("{} {}", n, n == 1 ? one : many);
+}
+
+// What the job did, on stdout: outcome, time, filament, what the link went through. The print
+// time is what the print took, pauses not counted (what the same print takes unpaused);
+// how long it stood paused is said beside it. A resume's estimate is that of the part it
+// printed, from the interrupted layer on.
 void print_summary(const printer::JobResult& result, const printer::GcodeFile& file,
                    const OpenLink& link, const printer::LineProtocol& protocol,
-                   double estimated_seconds, const printer::Profiles* sliced_for,
+                   double estimated_seconds, bool resumed, const printer::Profiles* sliced_for,
                    std::chrono::steady_clock::duration wall) {
   const auto& stats = protocol.stats();
   const double elapsed = std::chrono::duration<double>(result.elapsed).count();
+  const double paused = std::chrono::duration<double>(result.paused).count();
+  const std::string paused_note =
+      result.pauses > 0 ? fmt::format(" ({} paused, not counted)", duration_text(paused)) : "";
+  const std::string estimate = fmt::format("estimated {}{}", duration_text(estimated_seconds),
+                                           resumed ? " for the layers resumed" : "");
   std::string where;
   std::string time;
   if (link.sim != nullptr) {
     sim::Printer& printer = link.sim->printer();
     const double job_start = std::chrono::duration<double>(link.link->now()).count() - elapsed;
     printer.finish();  // the moves still in the planner run out
-    const double seconds = std::max(elapsed, printer.motion_end_time() - job_start);
+    const double seconds = std::max(elapsed, printer.motion_end_time() - job_start) - paused;
     where = "dry run on the simulated printer";
-    time = fmt::format("print time {} on the simulated printer's clock: {} of motion (estimated "
-                       "{}), the rest heating and waiting",
-                       duration_text(seconds), duration_text(printer.motion_time()),
-                       duration_text(estimated_seconds));
+    time = fmt::format("print time {} on the simulated printer's clock{}: {} of motion ({}), "
+                       "the rest heating and waiting",
+                       duration_text(seconds), paused_note, duration_text(printer.motion_time()),
+                       estimate);
   } else {
     where = fmt::format("on {}", link.link->name());
-    time = fmt::format("print time {} (estimated {} of motion; heating not counted)",
-                       duration_text(elapsed), duration_text(estimated_seconds));
+    time = fmt::format("print time {}{} ({} of motion; heating not counted)",
+                       duration_text(elapsed - paused), paused_note, estimate);
   }
   std::string filament = fmt::format("filament {:.2f} m", result.filament_mm / 1000.0);
   if (sliced_for != nullptr) {
@@ -210,9 +224,10 @@ void print_summary(const printer::JobResult& result, const printer::GcodeFile& f
              result.commands_done, file.size(), file.layers.size());
   fmt::print("{}; {}\n", time, filament);
   fmt::print("link: {} lines sent, {} resent after {} resend requests ({} stale ignored), {} "
-             "timeouts probed with M105, {} duplicate oks, {} firmware errors; {} pauses\n",
+             "timeouts probed with M105, {} duplicate oks, {} firmware errors; {}\n",
              stats.lines_sent, stats.lines_resent, stats.resend_requests, stats.stale_resends,
-             stats.probes, stats.duplicate_oks, stats.recoverable_errors, result.pauses);
+             stats.probes, stats.duplicate_oks, stats.recoverable_errors,
+             count_text(result.pauses, "pause", "pauses"));
   if (link.sim != nullptr) {
     const sim::Printer& printer = link.sim->printer();
     if (printer.config().faults.any()) {
@@ -223,6 +238,14 @@ void print_summary(const printer::JobResult& result, const printer::GcodeFile& f
   }
 }
 
+// A dry run's wait while paused: real time, and the simulated clock runs no longer than that
+// (see printer::JobOptions::paused_wait).
+std::chrono::milliseconds wait_real_time() {
+  const auto before = std::chrono::steady_clock::now();
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - before);
+}
+
 printer::JobResult run_job(printer::LineProtocol& protocol, const printer::GcodeFile& file,
                            OpenLink& link, printer::JobOptions job_options,
                            const std::string& socket_path, const std::string& journal_note,
@@ -231,6 +254,8 @@ printer::JobResult run_job(printer::LineProtocol& protocol, const printer::Gcode
   install_print_signals();
   PrintUi ui;
   ControlSocket control(socket_path);
+  if (link.sim != nullptr) job_options.paused_wait = wait_real_time;
+  const bool resumed = job_options.first_command > 0;
   printer::Job job(protocol, file, std::move(job_options));
   job.on_event = [&](const std::string& line) { ui.event(line); };
   job.on_tick = [&](printer::Job& j) {
@@ -244,7 +269,7 @@ printer::JobResult run_job(printer::LineProtocol& protocol, const printer::Gcode
                                    fs::path(socket_path).stem().string()));
   const printer::JobResult result = job.run();
   ui.finish();
-  print_summary(result, file, link, protocol, job.estimated_seconds(), sliced_for,
+  print_summary(result, file, link, protocol, job.estimated_seconds(), resumed, sliced_for,
                 std::chrono::steady_clock::now() - wall_start);
   return result;
 }
@@ -276,6 +301,8 @@ void run_print(const PrintOptions& options) {
         "-o: {} is G-code, already sliced; -o names where to keep the G-code sliced from an STL",
         options.input));
   }
+  // A port that is not there is news before minutes of slicing, not after.
+  if (!options.link.dry_run) printer::check_serial_port(options.link.port);
   // The printer the job is for: an STL is sliced for it, and its motion limits time the job
   // (and are what a dry run simulates).
   const printer::Profiles profiles = load_slice_profiles(options.slice);
@@ -465,8 +492,9 @@ void add_link_options(CLI::App& command, LinkOptions& link, const std::string& b
                                   "(see mahost ports; no default: give --port or --dry-run)")
                    ->group(kLinkGroup);
   auto* dry = command.add_flag("--dry-run", link.dry_run,
-                               "print on the in-process simulated printer, at full speed, "
-                               "instead of a port (default: off; give --port or --dry-run)")
+                               "print on the in-process simulated printer, at full speed "
+                               "(a pause waits in real time), instead of a port (default: "
+                               "off; give --port or --dry-run)")
                   ->group(kLinkGroup);
   port->excludes(dry);
   command.add_option("--baud", link.baud, "serial speed, bit/s (default: " + baud_default + ")")

@@ -13,6 +13,14 @@ namespace {
 using std::chrono::nanoseconds;
 
 constexpr nanoseconds kTick = std::chrono::milliseconds(100);
+// While paused nothing else comes from the printer: ask for its temperatures this often, so
+// `mahost ctl status` and the progress line show the heaters as they are (OctoPrint polls
+// an idle printer every 2 s too).
+constexpr nanoseconds kPausedReportEvery = std::chrono::seconds(2);
+
+// Which heater's target a command sets: M104/M109 the hotend's, M140/M190 the bed's.
+bool sets_hotend_target(std::string_view c) { return c.starts_with("M104 ") || c.starts_with("M109 "); }
+bool sets_bed_target(std::string_view c) { return c.starts_with("M140 ") || c.starts_with("M190 "); }
 
 }  // namespace
 
@@ -35,7 +43,10 @@ Job::Job(LineProtocol& protocol, const GcodeFile& file, JobOptions options)
   layer_sequence_.assign(file_.layers.size(), -1);
   layer_state_.assign(file_.layers.size(), PrintState{});
   done_ = std::min(options_.first_command, file_.size());
-  if (options_.recover_from) state_ = *options_.recover_from;
+  if (options_.recover_from) {
+    state_ = *options_.recover_from;
+    hotend_target_set_ = bed_target_set_ = true;  // the journal's, which recovery sets
+  }
   layer_ = file_.layer_index_of(done_);
   // A resume starts at a layer start; a failure while it recovers, before start_layer runs,
   // journals that layer again, with the state the recovery restores.
@@ -77,6 +88,14 @@ JobProgress Job::progress() const {
       std::chrono::duration<double>(eta_.remaining(done_, done_at, printing)));
   p.fraction = eta_.fraction(done_);
   p.temperatures = protocol_.temperatures();
+  // The last report may be old (a printer reports only when asked, and the job asks while
+  // paused only), but the targets are what the file's commands set: those sent are in state_.
+  if (hotend_target_set_ || bed_target_set_) {
+    Temperatures t = p.temperatures.value_or(Temperatures{});
+    if (hotend_target_set_) t.hotend_target = state_.hotend_target;
+    if (bed_target_set_) t.bed_target = state_.bed_target;
+    p.temperatures = t;
+  }
   if (pause_requested_) p.pause_before_layer = layer_ + 2;
   return p;
 }
@@ -147,6 +166,8 @@ void Job::pause_here(int layer) {
   event(fmt::format("pausing before layer {}/{}: finishing the moves in the printer's queue",
                     layer + 1, file_.layers.size()));
   const PausePoint point = pause_print(protocol_, state_, options_.pause);
+  // Counted once the printer stands paused: a pause the job is cancelled in is one too.
+  ++pauses_;
   job_state_ = JobState::paused;
   write_journal_now("paused", layer, file_.layers[static_cast<std::size_t>(layer)].first_command,
                     state_);
@@ -156,17 +177,29 @@ void Job::pause_here(int layer) {
       layer + 1, file_.layers.size(), point.state.x, point.state.y, point.state.z,
       point.reported ? "" : " (the printer did not report its position; the file's is used)",
       point.lifted_z, state_.hotend_target, state_.bed_target));
+  // The first report at once: the last one may date from the first layer's heat-up.
+  std::optional<nanoseconds> last_report;
   while (!resume_requested_ && !cancel_requested_) {
-    protocol_.poll(std::chrono::duration_cast<std::chrono::milliseconds>(kTick));
+    if (!last_report || protocol_.link().now() - *last_report >= kPausedReportEvery) {
+      protocol_.send("M105");
+      last_report = protocol_.link().now();
+    }
+    const auto wait = options_.paused_wait
+                          ? options_.paused_wait()
+                          : std::chrono::duration_cast<std::chrono::milliseconds>(kTick);
+    protocol_.poll(wait);
     tick();
   }
-  if (cancel_requested_) return;
+  if (cancel_requested_) {
+    stood_paused_ += protocol_.link().now() - point.stopped_at;
+    return;
+  }
   resume_requested_ = false;
   event("resuming: re-heating if needed, returning to the part");
   resume_print(protocol_, point, options_.pause);
+  stood_paused_ += protocol_.link().now() - point.stopped_at;
   paused_for_ += protocol_.link().now() - began;
   paused_since_.reset();
-  ++pauses_;
   job_state_ = JobState::printing;
   write_journal_now("printing", layer, file_.layers[static_cast<std::size_t>(layer)].first_command,
                     state_);
@@ -218,6 +251,8 @@ JobResult Job::run() {
       const std::string_view command = file_.command(i);
       protocol_.send(command);
       apply(state_, command);
+      if (sets_hotend_target(command)) hotend_target_set_ = true;
+      if (sets_bed_target(command)) bed_target_set_ = true;
       done_ = i + 1;
       done_at_ = printing_time(protocol_.link().now());
       eta_.command_done(done_, std::chrono::duration<double>(done_at_).count());
@@ -285,6 +320,7 @@ JobResult Job::run() {
   result.commands_done = done_;
   result.elapsed = protocol_.link().now() - start_;
   result.pauses = pauses_;
+  result.paused = stood_paused_;
   result.filament_mm = state_.filament_fed;
   return result;
 }

@@ -39,6 +39,9 @@ struct JobProgress {
   // heating and pauses to come are not in it.
   std::optional<std::chrono::nanoseconds> remaining;
   double fraction = 0;             // share of the file's modelled print time done, 0..1
+  // Current temperatures from the printer's last report (while paused the job asks for one
+  // every 2 s of link time); targets as the file's commands last set them (the report's until
+  // the file sets one: a printer heated by hand).
   std::optional<Temperatures> temperatures;
   int pause_before_layer = 0;      // a requested pause waits for this layer (from 1), 0: none
 };
@@ -57,14 +60,23 @@ struct JobOptions {
   std::size_t first_command = 0;
   std::optional<PrintState> recover_from;  // state at first_command; set = run recover_print
   bool printer_restarted = false;          // the printer forgot its position
+  // While paused, how the job waits between two looks at the user and the printer; returns
+  // how far the link's clock may run meanwhile. Unset: one tick (100 ms) of the link's clock,
+  // right for a real printer, whose clock is the wall clock. A simulated printer at full
+  // speed would race through a pause of seconds in hours; a dry run waits real time here and
+  // lets the simulated clock run as long as it waited, never longer.
+  std::function<std::chrono::milliseconds()> paused_wait;
 };
 
 struct JobResult {
   JobState state = JobState::completed;
   std::string reason;                    // for cancelled and stopped
   std::size_t commands_done = 0;
-  std::chrono::nanoseconds elapsed{0};
-  int pauses = 0;
+  std::chrono::nanoseconds elapsed{0};   // link time from start to end, pauses included
+  int pauses = 0;                        // pauses begun, also one the job was cancelled in
+  // Link time the printer stood paused: from its queue running empty at the pause to the
+  // return to the part. Not printing time: elapsed - paused is what the print took.
+  std::chrono::nanoseconds paused{0};
   double filament_mm = 0;                // fed by the file's commands
 };
 
@@ -77,8 +89,9 @@ class Job {
   void request(JobRequest request);
   JobProgress progress() const;
   const std::string& journal_path() const { return options_.journal_path; }
-  // The motion model's time for the whole file (its print-time estimate), s.
-  double estimated_seconds() const { return eta_.total(); }
+  // The motion model's time for the commands this job sends (the whole file, or from a
+  // resume's first command on), s: the print-time estimate to hold its motion against.
+  double estimated_seconds() const { return eta_.total() - eta_.at(options_.first_command); }
 
   // Called while the job streams and waits, about every 100 ms of link time: the UI draws
   // and reads keys, the control socket answers; either may call request().
@@ -121,6 +134,8 @@ class Job {
   int layers_reached_ = 0;
   PrintEta eta_;
   int pauses_ = 0;
+  std::chrono::nanoseconds stood_paused_{0};  // JobResult::paused
+  bool hotend_target_set_ = false, bed_target_set_ = false;  // by the file (or the journal)
 };
 
 }  // namespace printer

@@ -86,6 +86,7 @@ PausePoint pause_print(LineProtocol& protocol, const PrintState& state, const Pa
     point.state.z = resolve(state.z, reported->z);
     point.state.e = resolve(state.e, reported->e);
   }
+  point.stopped_at = protocol.link().now();
   point.lifted_z = lifted(point.state.z, options.lift, options.max_z);
   send_all(protocol, leave_part(point.lifted_z, options));
   protocol.wait_acknowledged();

@@ -16,6 +16,8 @@
 // Units: mm, mm/min, °C.
 #pragma once
 
+#include <chrono>
+
 #include "printer/line_protocol.h"
 #include "printer/print_state.h"
 
@@ -36,6 +38,9 @@ struct PausePoint {
   PrintState state;          // the stream's state at the pause, position resolved as above
   bool reported = false;     // M114 answered
   double lifted_z = 0;       // where the nozzle waits, mm
+  // Link time when the printer's queue had run empty (M400 answered): the print stood still
+  // from here; the moves before were still printing the part.
+  std::chrono::nanoseconds stopped_at{0};
 };
 
 PausePoint pause_print(LineProtocol& protocol, const PrintState& state, const PauseOptions& options);

@@ -4,6 +4,7 @@
 #include <poll.h>
 #include <sys/file.h>
 #include <sys/ioctl.h>
+#include <sys/stat.h>
 #include <termios.h>
 #include <unistd.h>
 
@@ -44,6 +45,16 @@ std::string open_failure(const std::string& path, int error) {
 }
 
 }  // namespace
+
+void check_serial_port(const std::string& path) {
+  struct stat info{};
+  if (::stat(path.c_str(), &info) != 0) throw LinkError(open_failure(path, errno));
+  if (!S_ISCHR(info.st_mode)) {
+    throw LinkError(fmt::format(
+        "{}: is not a serial port or terminal: `mahost ports` lists the ports found", path));
+  }
+  if (::access(path.c_str(), R_OK | W_OK) != 0) throw LinkError(open_failure(path, errno));
+}
 
 SerialLink::SerialLink(std::string path, int baud) : path_(std::move(path)) {
   if (baud <= 0) throw ConfigError(fmt::format("--baud {}: give a positive rate such as 115200 or 250000", baud));

@@ -41,6 +41,11 @@ class SerialLink : public Link {
   int fd_ = -1;  // the termios path, when libserialport does not know the device
 };
 
+// Checks, without opening it, that `path` is a device this user may open: throws the
+// LinkError opening it would (no such port, permission denied), naming the port. Cheap, so a
+// job checks its port before slicing for minutes; opening would reset many boards (DTR).
+void check_serial_port(const std::string& path);
+
 struct SerialPortInfo {
   std::string path;         // /dev/ttyUSB0
   std::string description;  // libserialport's description ("USB2.0-Serial")

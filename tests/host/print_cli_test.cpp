@@ -80,6 +80,19 @@ class Background {
     }
     return buffer_.substr(0, buffer_.find('\n'));
   }
+  // All of stdout once the process closes it, waiting up to `timeout`.
+  std::string all_output(std::chrono::seconds timeout) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (std::chrono::steady_clock::now() < deadline) {
+      pollfd p{out_, POLLIN, 0};
+      if (poll(&p, 1, 100) <= 0) continue;
+      char chunk[4096];
+      const ssize_t n = read(out_, chunk, sizeof chunk);
+      if (n <= 0) break;
+      buffer_.append(chunk, static_cast<std::size_t>(n));
+    }
+    return buffer_;
+  }
   void signal(int sig) { kill(pid_, sig); }
   // Exit code (128 + signal when killed); waits up to `timeout`, then kills.
   int wait(std::chrono::seconds timeout) {
@@ -208,9 +221,16 @@ TEST_CASE("bad_print_invocations_give_one_line_and_a_code") {
   CHECK(r.exit_code == 2);
   CHECK(r.err.find("is not a mahost job journal") != std::string::npos);
 
+  // No job to steer is a usage matter: exit 2 and what to do.
   r = run_mahost({"ctl", "pause"});
-  CHECK(r.exit_code == 3);
-  CHECK(r.err.starts_with("mahost: no running mahost job found in "));
+  CHECK(r.exit_code == 2);
+  CHECK(r.err.starts_with("mahost: no running mahost job in "));
+  CHECK(r.err.find(": start one with mahost print, or give --job JOURNAL") != std::string::npos);
+  CHECK(count_lines(r.err) == 1);
+  r = run_mahost({"ctl", "status", "--job", dir + "/nothing.journal"});
+  CHECK(r.exit_code == 2);
+  CHECK(r.err.starts_with("mahost: --job " + dir + "/nothing.journal: no such mahost job"));
+  CHECK(count_lines(r.err) == 1);
 
   r = run_mahost({"ctl", "dance"});
   CHECK(r.exit_code == 2);
@@ -284,8 +304,8 @@ TEST_CASE("ctl_pauses_and_resumes_a_print_without_a_terminal") {
   CHECK(r.exit_code == 2);
   CHECK(r.err.starts_with("mahost: ring: the job is not running: completed, 30 layers"));
   r = run_mahost({"ctl", "status"});
-  CHECK(r.exit_code == 3);
-  CHECK(r.err.starts_with("mahost: no running mahost job found in "));
+  CHECK(r.exit_code == 2);
+  CHECK(r.err.starts_with("mahost: no running mahost job in "));
 }
 
 TEST_CASE("a_completed_print_removes_its_own_journal") {
@@ -432,6 +452,84 @@ TEST_CASE("killed_host_resumes_and_reprints_only_the_interrupted_layer") {
   CHECK(all_same);
   MESSAGE("interrupted at layer " << interrupted->layer_index + 1 << ", " << k - s
                                   << " moves of it printed twice");
+}
+
+TEST_CASE("a_missing_port_is_reported_before_slicing") {
+  const std::string dir = test_support::scratch_dir("print_missing_port");
+  const std::string runtime = use_runtime_dir(dir);
+  const std::string stl = dir + "/cube.stl";
+  geometry::write_stl_binary(stl, solids::cube(8).mesh);
+  const auto r = run_mahost({"print", stl, "--units", "mm", "--port", "/dev/ttyUSB97", "-o",
+                             dir + "/cube.gcode"});
+  CHECK(r.exit_code == 3);
+  CHECK(r.err == "mahost: /dev/ttyUSB97: no such serial port: is the printer plugged in? "
+                 "`mahost ports` lists the ports found\n");
+  // Nothing was sliced: no summary, no G-code, no job files.
+  CHECK(r.out.find("sliced") == std::string::npos);
+  CHECK_FALSE(fs::exists(dir + "/cube.gcode"));
+  CHECK((!fs::exists(runtime + "/mahost") || fs::is_empty(runtime + "/mahost")));
+  // A file that is not a device is refused the same way.
+  const auto not_a_port = run_mahost({"print", stl, "--units", "mm", "--port", stl});
+  CHECK(not_a_port.exit_code == 3);
+  CHECK(not_a_port.err == "mahost: " + stl + ": is not a serial port or terminal: `mahost ports` "
+                          "lists the ports found\n");
+}
+
+TEST_CASE("dry_runs_paused_show_targets_count_a_cancelled_pause_and_ctl_asks_which_job") {
+  // Two dry runs of a ring printed at 250/105 °C on its first layer and 245/100 °C after,
+  // both paused before layer 4, waiting (a dry run waits in real time while paused).
+  const std::string dir = test_support::scratch_dir("print_dry_run_paused");
+  const std::string runtime = use_runtime_dir(dir);
+  std::string program = test_support::ring_program(8, 40);
+  const std::string heat = "M140 S60\nM104 S210\nM190 S60\nM109 S210\n";
+  program.replace(program.find(heat), heat.size(), "M140 S105\nM104 S250\nM190 S105\nM109 S250\n");
+  program.replace(program.find(";LAYER:1\n"), 9, ";LAYER:1\nM104 S245\nM140 S100\n");
+  const std::string gcode = write_file(dir, "ring.gcode", program);
+  fs::create_directories(runtime + "/mahost");
+  const std::string a = runtime + "/mahost/a.journal", b = runtime + "/mahost/b.journal";
+  Background first({"print", gcode, "--dry-run", "--journal", a, "--pause-at-layer", "4"});
+  Background second({"print", gcode, "--dry-run", "--journal", b, "--pause-at-layer", "4"});
+  for (const std::string& journal : {a, b}) {
+    REQUIRE(wait_for([&] { return journal_of(journal) && journal_of(journal)->state == "paused"; }, 60s));
+  }
+
+  // Two jobs: ctl asks which, listing them.
+  auto r = run_mahost({"ctl", "status"});
+  CHECK(r.exit_code == 2);
+  CHECK(r.err.starts_with("mahost: 2 jobs are running; choose one with --job PATH: "));
+  CHECK(r.err.find(a) != std::string::npos);  // oldest first: the two started together
+  CHECK(r.err.find(b) != std::string::npos);
+  CHECK(count_lines(r.err) == 1);
+
+  // The targets the file set last, not the first layer's; and the simulated clock has not
+  // raced through the pause (at full speed it would make hours of each second).
+  r = run_mahost({"ctl", "status", "--job", a});
+  CHECK(r.exit_code == 0);
+  CHECK(r.out.starts_with("paused  layer 4/8  "));
+  CHECK(r.out.find("/245 °C  bed ") != std::string::npos);
+  CHECK(r.out.find("/100 °C") != std::string::npos);
+  CHECK(r.out.find("hotend 250.0/") == std::string::npos);  // a report made while paused
+  CHECK(r.out.find("elapsed 0:0") != std::string::npos);  // under 10 minutes
+  MESSAGE(r.out);
+
+  // Cancelled while paused: the pause counts.
+  r = run_mahost({"ctl", "cancel", "--job", a});
+  CHECK(r.exit_code == 0);
+  const std::string out = first.all_output(60s);
+  CHECK(first.wait(60s) == 4);
+  CHECK(out.starts_with("cancelled: dry run on the simulated printer, "));
+  CHECK(out.find(" on the simulated printer's clock (") != std::string::npos);
+  CHECK(out.find(" paused, not counted): ") != std::string::npos);
+  CHECK(out.find("; 1 pause\n") != std::string::npos);
+  MESSAGE(out);
+
+  // Resumed: one pause, and the print time leaves it out.
+  r = run_mahost({"ctl", "resume", "--job", b});
+  CHECK(r.exit_code == 0);
+  const std::string resumed = second.all_output(60s);
+  CHECK(second.wait(60s) == 0);
+  CHECK(resumed.starts_with("completed: dry run on the simulated printer, "));
+  CHECK(resumed.find("; 1 pause\n") != std::string::npos);
 }
 
 TEST_CASE("ports_lists_or_says_none") {

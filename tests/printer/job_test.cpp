@@ -331,3 +331,134 @@ TEST_CASE("a_link_lost_while_recovering_keeps_the_journals_resume_point") {
   CHECK(journal.state_at_resume.hotend_target == at.hotend_target);
   CHECK(journal.state_at_resume.bed_target == at.bed_target);
 }
+
+namespace {
+
+// A ring whose first layer is printed hotter, as slicers do: 250/105 °C, then 245/100 °C from
+// the second layer on.
+std::string hotter_first_layer_program(int layers) {
+  std::string g = test_support::ring_program(layers, 40);
+  const std::string heat = "M140 S60\nM104 S210\nM190 S60\nM109 S210\n";
+  g.replace(g.find(heat), heat.size(), "M140 S105\nM104 S250\nM190 S105\nM109 S250\n");
+  g.replace(g.find(";LAYER:1\n"), 9, ";LAYER:1\nM104 S245\nM140 S100\n");
+  return g;
+}
+
+}  // namespace
+
+TEST_CASE("status_while_paused_shows_the_targets_the_file_set_last_and_a_fresh_report") {
+  const GcodeFile file = parse_gcode(hotter_first_layer_program(6), "ring.gcode");
+  JobOptions options;
+  options.pause_at_layers = {4};
+  std::optional<JobProgress> after_5s;
+  int ticks = 0;
+  sim::SimLink link{sim::Config{}};
+  LineProtocol protocol(link);
+  protocol.connect();
+  Job job(protocol, file, options);
+  job.on_tick = [&](Job& j) {
+    if (j.progress().state != JobState::paused) return;
+    if (++ticks == 50) {  // 5 s of pause on the sim clock
+      after_5s = j.progress();
+      j.request(JobRequest::resume);
+    }
+  };
+  CHECK(job.run().state == JobState::completed);
+  REQUIRE(after_5s);
+  REQUIRE(after_5s->temperatures);
+  const Temperatures& t = *after_5s->temperatures;
+  CHECK(t.hotend_target == 245.0);
+  CHECK(t.bed_target == 100.0);
+  // The current temperatures come from a report made while paused, not the first layer's
+  // last one (250/105 °C): the heaters have cooled to their new targets since.
+  REQUIRE(t.hotend);
+  REQUIRE(t.bed);
+  CHECK(*t.hotend < 249.0);
+  CHECK(*t.bed < 104.0);
+}
+
+TEST_CASE("a_pause_leaves_the_print_time_as_unpaused_and_the_clock_runs_as_paused_wait_says") {
+  const GcodeFile file = parse_gcode(test_support::ring_program(12, 60), "ring.gcode");
+  sim::SimLink plain_link{sim::Config{}};
+  LineProtocol plain_protocol(plain_link);
+  plain_protocol.connect();
+  const JobResult plain = Job(plain_protocol, file, {}).run();
+  CHECK(plain.pauses == 0);
+  CHECK(plain.paused.count() == 0);
+
+  // A dry run's host waits real time while paused and lets the simulated clock run that long:
+  // here 300 waits of 10 ms, 3 s, where one tick each (100 ms) would have made 30 s.
+  JobOptions options;
+  options.pause_at_layers = {6};
+  int waits = 0;
+  options.paused_wait = [&waits] {
+    ++waits;
+    return std::chrono::milliseconds(10);
+  };
+  sim::SimLink link{sim::Config{}};
+  LineProtocol protocol(link);
+  protocol.connect();
+  Job job(protocol, file, options);
+  job.on_tick = [&](Job& j) {
+    if (j.progress().state == JobState::paused && waits >= 300) j.request(JobRequest::resume);
+  };
+  const JobResult paused = job.run();
+  CHECK(paused.state == JobState::completed);
+  CHECK(paused.pauses == 1);
+  CHECK(waits >= 300);
+  CHECK(waits <= 310);  // the resume takes effect at the next look
+  const double stood = std::chrono::duration<double>(paused.paused).count();
+  // 3 s of waiting, plus parking, the M105 exchanges and the way back: well under 30 s.
+  CHECK(stood >= 3.0);
+  CHECK(stood < 10.0);
+  // Less the pause, the print took what the unpaused one did, to the few seconds of the
+  // moves back to the part (not counted as paused: the printer runs them after the resume).
+  const double plain_seconds = std::chrono::duration<double>(plain.elapsed).count();
+  const double paused_seconds = std::chrono::duration<double>(paused.elapsed).count() - stood;
+  CHECK(paused_seconds >= plain_seconds - 0.5);
+  CHECK(paused_seconds < plain_seconds + 5.0);
+}
+
+TEST_CASE("a_pause_the_job_is_cancelled_in_counts_as_a_pause") {
+  const GcodeFile file = parse_gcode(test_support::ring_program(8, 40), "ring.gcode");
+  JobOptions options;
+  options.pause_at_layers = {3};
+  int paused_ticks = 0;
+  const Printed cancelled = print(file, sim::Config{}, options, {}, [&](Job& job) {
+    if (job.progress().state == JobState::paused && ++paused_ticks == 20) {
+      job.request(JobRequest::cancel);
+    }
+  });
+  CHECK(cancelled.result.state == JobState::cancelled);
+  CHECK(cancelled.result.pauses == 1);
+  // It stood paused the 2 s until the cancel (20 ticks of 100 ms), and a little more.
+  const double stood = std::chrono::duration<double>(cancelled.result.paused).count();
+  CHECK(stood >= 2.0);
+  CHECK(stood < 5.0);
+}
+
+TEST_CASE("a_resumed_jobs_estimate_is_that_of_the_layers_it_prints") {
+  const GcodeFile file = parse_gcode(test_support::ring_program(30, 60), "ring.gcode");
+  const std::size_t start = file.layers[20].first_command;
+  PrintState at;
+  for (std::size_t i = 0; i < start; ++i) apply(at, file.command(i));
+  JobOptions resume;
+  resume.first_command = start;
+  resume.recover_from = at;
+  resume.printer_restarted = true;
+  sim::SimLink link{sim::Config{}};
+  LineProtocol protocol(link);
+  protocol.connect();
+  Job job(protocol, file, resume);
+  const double whole = PrintEta(file, MotionLimits{}).total();
+  CHECK(job.run().state == JobState::completed);
+  link.printer().finish();
+  // The last 10 layers of 30 ring layers of about the same size: about a third of the whole.
+  CHECK(job.estimated_seconds() > 0.25 * whole);
+  CHECK(job.estimated_seconds() < 0.40 * whole);
+  // And like with like: the simulated printer's motion for the resume (the 10 layers, the
+  // lift, homing X and Y and the way back) is that estimate and a few seconds.
+  const double motion = link.printer().motion_time();
+  CHECK(motion >= 0.98 * job.estimated_seconds());
+  CHECK(motion < job.estimated_seconds() + 15.0);
+}
