@@ -12,6 +12,7 @@
 #include <map>
 #include <unordered_map>
 
+#include "geometry/boundary_grid.h"
 #include "geometry/clipper_bridge.h"
 #include "geometry/toolpath_clipper.h"
 
@@ -422,78 +423,6 @@ std::vector<ExtrusionPath> side_by_side(const ExtrusionPath& run, const tc::Path
   return pair;
 }
 
-namespace {
-
-// A region's edges bucketed in a uniform grid, to ask whether a point is within a distance
-// of any of them without measuring to all of them (an island has thousands of edges; a gap
-// fill asks at each of its lines' ends).
-class EdgeGrid {
- public:
-  explicit EdgeGrid(const Region& region) {
-    for (const Loop& loop : region.loops) {
-      for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
-        edges_.push_back({loop[i], loop[(i + 1) % n]});
-      }
-    }
-    if (edges_.empty()) return;
-    low_ = high_ = edges_[0].a;
-    for (const Edge& e : edges_) {
-      for (Vec2 p : {e.a, e.b}) {
-        low_ = {std::min(low_.x, p.x), std::min(low_.y, p.y)};
-        high_ = {std::max(high_.x, p.x), std::max(high_.y, p.y)};
-      }
-    }
-    const double side = std::max({high_.x - low_.x, high_.y - low_.y, 1e-9});
-    cells_ = std::clamp<std::size_t>(
-        static_cast<std::size_t>(std::sqrt(static_cast<double>(edges_.size()))), 1, 256);
-    cell_ = side / static_cast<double>(cells_) * (1 + 1e-9);
-    buckets_.resize(cells_ * cells_);
-    for (std::size_t k = 0; k < edges_.size(); ++k) {
-      const Edge& e = edges_[k];
-      const std::size_t x0 = cell(std::min(e.a.x, e.b.x), low_.x);
-      const std::size_t x1 = cell(std::max(e.a.x, e.b.x), low_.x);
-      const std::size_t y0 = cell(std::min(e.a.y, e.b.y), low_.y);
-      const std::size_t y1 = cell(std::max(e.a.y, e.b.y), low_.y);
-      for (std::size_t y = y0; y <= y1; ++y)
-        for (std::size_t x = x0; x <= x1; ++x) buckets_[y * cells_ + x].push_back(k);
-    }
-  }
-
-  // Whether some edge passes closer to q than radius.
-  bool within(Vec2 q, double radius) const {
-    if (edges_.empty()) return false;
-    if (q.x + radius < low_.x || q.x - radius > high_.x || q.y + radius < low_.y ||
-        q.y - radius > high_.y)
-      return false;
-    const std::size_t x0 = cell(q.x - radius, low_.x), x1 = cell(q.x + radius, low_.x);
-    const std::size_t y0 = cell(q.y - radius, low_.y), y1 = cell(q.y + radius, low_.y);
-    for (std::size_t y = y0; y <= y1; ++y) {
-      for (std::size_t x = x0; x <= x1; ++x) {
-        for (std::size_t k : buckets_[y * cells_ + x]) {
-          if (geometry::distance_to_segment(q, edges_[k].a, edges_[k].b) < radius) return true;
-        }
-      }
-    }
-    return false;
-  }
-
- private:
-  struct Edge {
-    Vec2 a, b;
-  };
-  std::size_t cell(double v, double lo) const {
-    const double c = std::floor((v - lo) / cell_);
-    return static_cast<std::size_t>(std::clamp(c, 0.0, static_cast<double>(cells_ - 1)));
-  }
-  std::vector<Edge> edges_;
-  Vec2 low_{0, 0}, high_{0, 0};
-  std::size_t cells_ = 1;
-  double cell_ = 1;
-  std::vector<std::vector<std::size_t>> buckets_;
-};
-
-}  // namespace
-
 // Free ends (an end no other path shares) carried on by half their width along their last
 // piece, where the bead then still lies inside `within`: the centre line stops where its
 // bead's round end meets the edge, but a bead laid against another bead or a wall, not the
@@ -509,18 +438,12 @@ void reach_on(std::vector<ExtrusionPath>& paths, const Region& within) {
   bool any_free = false;
   for (const auto& [end, count] : ends) any_free = any_free || count == 1;
   if (!any_free) return;
-  const tc::Paths area = to_clipper(within);
-  std::vector<bool> outer(area.size());
-  for (std::size_t l = 0; l < area.size(); ++l) outer[l] = ClipperLib::Orientation(area[l]);
-  const EdgeGrid edges(within);
+  // The grid answers both from the few edges around q (an island has thousands of edges).
+  const BoundaryGrid edges(within);
   auto room = [&](Vec2 q, double radius) {
-    // Near an edge first: the grid answers that from the few edges around q.
-    if (edges.within(q, radius)) return false;
-    int winding = 0;
-    for (std::size_t l = 0; l < area.size(); ++l) {
-      if (ClipperLib::PointInPolygon(to_clipper(q), area[l]) != 0) winding += outer[l] ? 1 : -1;
-    }
-    return winding > 0;
+    // Clear of every edge by the bead's half width, then inside: q is off the boundary, so
+    // its winding number is defined.
+    return !(edges.nearest_distance(q) < radius) && edges.winding_number(q) > 0;
   };
   for (ExtrusionPath& path : paths) {
     auto& p = path.points;

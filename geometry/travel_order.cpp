@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <tuple>
+
+#include "geometry/boundary_grid.h"
 
 namespace geometry {
 
@@ -75,80 +78,17 @@ bool segments_meet(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
   return on(a, b, c, d1) || on(a, b, d, d2) || on(c, d, a, d3) || on(c, d, b, d4);
 }
 
-// The region's boundary edges bucketed in a uniform grid, so that a short travel is tested
-// against the few edges near it rather than all of them.
-class BoundaryGrid {
- public:
-  explicit BoundaryGrid(const Region& region) {
-    for (const Loop& loop : region.loops) {
-      for (std::size_t i = 0, n = loop.size(); i < n && n > 1; ++i) {
-        edges_.push_back({loop[i], loop[(i + 1) % n]});
-      }
-    }
-    if (edges_.empty()) return;
-    min_ = max_ = edges_[0].a;
-    for (const Edge& e : edges_) {
-      for (Vec2 p : {e.a, e.b}) {
-        min_ = {std::min(min_.x, p.x), std::min(min_.y, p.y)};
-        max_ = {std::max(max_.x, p.x), std::max(max_.y, p.y)};
-      }
-    }
-    const double side = std::max({max_.x - min_.x, max_.y - min_.y, 1e-9});
-    cells_ = std::clamp<std::size_t>(
-        static_cast<std::size_t>(std::sqrt(static_cast<double>(edges_.size()))), 1, 256);
-    cell_ = side / static_cast<double>(cells_) * (1 + 1e-9);
-    buckets_.resize(cells_ * cells_);
-    for (std::size_t k = 0; k < edges_.size(); ++k) {
-      const auto [x0, y0, x1, y1] = cell_range(edges_[k].a, edges_[k].b);
-      for (std::size_t y = y0; y <= y1; ++y)
-        for (std::size_t x = x0; x <= x1; ++x) buckets_[y * cells_ + x].push_back(k);
-    }
-    seen_.assign(edges_.size(), 0);
-  }
-
-  bool crossed(Vec2 a, Vec2 b) {
-    if (edges_.empty()) return false;
-    if (std::max(a.x, b.x) < min_.x || std::min(a.x, b.x) > max_.x ||
-        std::max(a.y, b.y) < min_.y || std::min(a.y, b.y) > max_.y)
-      return false;
-    ++stamp_;
-    const auto [x0, y0, x1, y1] = cell_range(a, b);
-    for (std::size_t y = y0; y <= y1; ++y) {
-      for (std::size_t x = x0; x <= x1; ++x) {
-        for (std::size_t k : buckets_[y * cells_ + x]) {
-          if (seen_[k] == stamp_) continue;
-          seen_[k] = stamp_;
-          if (segments_meet(a, b, edges_[k].a, edges_[k].b)) return true;
-        }
-      }
-    }
-    return false;
-  }
-
- private:
-  struct Edge {
-    Vec2 a, b;
-  };
-  struct Range {
-    std::size_t x0, y0, x1, y1;
-  };
-  std::size_t cell(double v, double lo) const {
-    const double c = std::floor((v - lo) / cell_);
-    return static_cast<std::size_t>(std::clamp(c, 0.0, static_cast<double>(cells_ - 1)));
-  }
-  Range cell_range(Vec2 a, Vec2 b) const {
-    return {cell(std::min(a.x, b.x), min_.x), cell(std::min(a.y, b.y), min_.y),
-            cell(std::max(a.x, b.x), min_.x), cell(std::max(a.y, b.y), min_.y)};
-  }
-
-  std::vector<Edge> edges_;
-  Vec2 min_, max_;
-  std::size_t cells_ = 1;
-  double cell_ = 1;
-  std::vector<std::vector<std::size_t>> buckets_;
-  std::vector<unsigned> seen_;
-  unsigned stamp_ = 0;
-};
+// Whether the travel a-b crosses an edge of the grid's region; only the edges near the
+// travel's box are tested.
+bool crosses(const BoundaryGrid& boundary, Vec2 a, Vec2 b) {
+  bool met = false;
+  boundary.for_each_near({std::min(a.x, b.x), std::min(a.y, b.y)},
+                         {std::max(a.x, b.x), std::max(a.y, b.y)}, [&](std::uint32_t k) {
+                           const Segment2& edge = boundary.segments()[k];
+                           met = met || segments_meet(a, b, edge.a, edge.b);
+                         });
+  return met;
+}
 
 }  // namespace
 
@@ -299,14 +239,14 @@ void append_nearest_first(std::vector<ExtrusionPath> paths, SeamPosition seam, V
 
 void mark_retractions(std::vector<ExtrusionPath>& paths, const Region& region,
                       double min_travel) {
-  BoundaryGrid boundary(region);
+  const BoundaryGrid boundary(region);
   for (std::size_t i = 0; i < paths.size(); ++i) {
     if (i == 0 || paths[i].points.empty() || paths[i - 1].points.empty()) {
       paths[i].retract_before = true;
       continue;
     }
     const Vec2 from = paths[i - 1].points.back(), to = paths[i].points.front();
-    paths[i].retract_before = distance(from, to) > min_travel && boundary.crossed(from, to);
+    paths[i].retract_before = distance(from, to) > min_travel && crosses(boundary, from, to);
   }
 }
 
