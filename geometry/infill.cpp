@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 
 #include "geometry/clipper_bridge.h"
 #include "geometry/thin_walls.h"
@@ -30,18 +29,8 @@ constexpr double kArc = 0.005;
 // How much less than half a bead solid lines keep from the edge (mm): see solid_infill.
 constexpr double kGraze = 0.001;
 
-// Rotation by -angle takes the area into a frame where the lines run along +X.
-struct Frame {
-  double c, s;
-  explicit Frame(double angle_degrees)
-      : c(std::cos(angle_degrees * std::numbers::pi / 180)),
-        s(std::sin(angle_degrees * std::numbers::pi / 180)) {}
-  Vec2 into(Vec2 p) const { return {p.x * c + p.y * s, -p.x * s + p.y * c}; }
-  Vec2 out(Vec2 p) const { return {p.x * c - p.y * s, p.x * s + p.y * c}; }
-};
-
 // Lines at heights first + k * spacing (k = 0, 1, ...) in the rotated frame, clipped to area.
-std::vector<ExtrusionPath> lines(const Frame& frame, double first, double spacing,
+std::vector<ExtrusionPath> lines(const ScanFrame& frame, double first, double spacing,
                                  double y_max, double x_min, double x_max,
                                  const tc::Paths& rotated, PathRole role, double width) {
   // More lines than this means a spacing no printer can lay down (nanometres over a bed).
@@ -76,7 +65,7 @@ struct Rotated {
   bool empty() const { return paths.empty(); }
 };
 
-Rotated rotate(const Region& area, const Frame& frame) {
+Rotated rotate(const Region& area, const ScanFrame& frame) {
   Rotated r;
   bool any = false;
   for (const Loop& loop : area.loops) {
@@ -94,7 +83,7 @@ Rotated rotate(const Region& area, const Frame& frame) {
   return r;
 }
 
-std::vector<ExtrusionPath> lines_across(const Frame& frame, double first, double spacing,
+std::vector<ExtrusionPath> lines_across(const ScanFrame& frame, double first, double spacing,
                                         const Rotated& r, PathRole role, double width) {
   return lines(frame, first, spacing, r.y_max, r.x_min, r.x_max, r.paths, role, width);
 }
@@ -162,7 +151,7 @@ std::optional<InfillPattern> parse_infill_pattern(std::string_view name) {
 std::vector<ExtrusionPath> hatch(const Region& area, double spacing, double angle,
                                  PathRole role, double width) {
   if (!(spacing > 0) || !(width > 0)) return {};
-  const Frame frame(angle);
+  const ScanFrame frame(angle);
   const Rotated r = rotate(area, frame);
   if (r.empty()) return {};
   const double first = std::ceil(r.y_min / spacing) * spacing;
@@ -222,7 +211,7 @@ std::vector<ExtrusionPath> solid_infill(const std::vector<SolidPiece>& pieces, d
   const tc::Paths whole = pieces.size() == 1 ? tc::union_of(piece_paths[0]) : tc::union_of(all);
   if (whole.empty()) return {};
   const double layer_angle = angle + (layer_index % 2 ? 90 : 0);
-  const Frame frame(layer_angle);
+  const ScanFrame frame(layer_angle);
   const Rotated r = rotate(from_clipper(whole), frame);
   if (r.empty()) return {};
   const double extent = r.y_max - r.y_min;

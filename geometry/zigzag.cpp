@@ -3,23 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
-#include <numbers>
 #include <optional>
 
 namespace geometry {
 
 namespace {
-
-// Rotation by -angle takes the area into a frame where the lines run along +X at heights
-// offset + k * spacing.
-struct Frame {
-  double c, s;
-  explicit Frame(double angle_degrees)
-      : c(std::cos(angle_degrees * std::numbers::pi / 180)),
-        s(std::sin(angle_degrees * std::numbers::pi / 180)) {}
-  Vec2 into(Vec2 p) const { return {p.x * c + p.y * s, -p.x * s + p.y * c}; }
-  Vec2 out(Vec2 p) const { return {p.x * c - p.y * s, p.x * s + p.y * c}; }
-};
 
 // A line shorter than this is where a scan line grazes a corner: nothing to print.
 constexpr double kMinLine = 1e-3;  // mm
@@ -45,7 +33,7 @@ struct Segment {
 
 class Scan {
  public:
-  Scan(const Region& area, const ScanLines& lines, const Frame& frame) {
+  Scan(const Region& area, const ScanLines& lines, const ScanFrame& frame) {
     for (const Loop& loop : area.loops) {
       if (loop.size() < 3) continue;
       Loop rotated;
@@ -176,7 +164,7 @@ class Scan {
 // Where the scan lines meet the edge of the area to fill, to carry free line ends on to it.
 class Edge {
  public:
-  Edge(const Region& area, const ScanLines& lines, const Frame& frame, long first_line)
+  Edge(const Region& area, const ScanLines& lines, const ScanFrame& frame, long first_line)
       : first_(first_line) {
     for (const Loop& loop : area.loops) {
       for (std::size_t i = 0, n = loop.size(); i < n && n >= 3; ++i) {
@@ -294,7 +282,7 @@ std::vector<ExtrusionPath> zigzag(const Region& centre_area, const ScanLines& li
   if (!(lines.spacing > 0) || !std::isfinite(lines.offset) || !std::isfinite(lines.angle)) {
     return paths;
   }
-  const Frame frame(lines.angle);
+  const ScanFrame frame(lines.angle);
   Scan scan(centre_area, lines, frame);
   std::optional<Edge> fill;
   if (fill_area) fill.emplace(*fill_area, lines, frame, scan.first_line());

@@ -21,6 +21,8 @@
 // Total: empty area, spacing <= 0 or more than a million lines give no paths.
 #pragma once
 
+#include <cmath>
+#include <numbers>
 #include <vector>
 
 #include "geometry/polygon.h"
@@ -32,6 +34,18 @@ struct ScanLines {
   double angle = 0;    // direction, degrees from +X
   double spacing = 1;  // mm between neighbouring lines
   double offset = 0;   // mm: where line 0 lies across the direction
+};
+
+// The frame of lines at `angle_degrees`: into() turns a point by -angle, so that the lines
+// run along +X at heights offset + k * spacing; out() turns it back. Shared by zig-zags and
+// the separate lines of infill.cpp.
+struct ScanFrame {
+  double c, s;
+  explicit ScanFrame(double angle_degrees)
+      : c(std::cos(angle_degrees * std::numbers::pi / 180)),
+        s(std::sin(angle_degrees * std::numbers::pi / 180)) {}
+  Vec2 into(Vec2 p) const { return {p.x * c + p.y * s, -p.x * s + p.y * c}; }
+  Vec2 out(Vec2 p) const { return {p.x * c - p.y * s, p.x * s + p.y * c}; }
 };
 
 std::vector<ExtrusionPath> zigzag(const Region& centre_area, const ScanLines& lines,
