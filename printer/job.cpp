@@ -18,10 +18,6 @@ constexpr nanoseconds kTick = std::chrono::milliseconds(100);
 // an idle printer every 2 s too).
 constexpr nanoseconds kPausedReportEvery = std::chrono::seconds(2);
 
-// Which heater's target a command sets: M104/M109 the hotend's, M140/M190 the bed's.
-bool sets_hotend_target(std::string_view c) { return c.starts_with("M104 ") || c.starts_with("M109 "); }
-bool sets_bed_target(std::string_view c) { return c.starts_with("M140 ") || c.starts_with("M190 "); }
-
 }  // namespace
 
 std::string_view to_string(JobState state) {
@@ -45,7 +41,7 @@ Job::Job(LineProtocol& protocol, const GcodeFile& file, JobOptions options)
   done_ = std::min(options_.first_command, file_.size());
   if (options_.recover_from) {
     state_ = *options_.recover_from;
-    hotend_target_set_ = bed_target_set_ = true;  // the journal's, which recovery sets
+    state_.hotend_target_set = state_.bed_target_set = true;  // the journal's, which recovery sets
   }
   layer_ = file_.layer_index_of(done_);
   // A resume starts at a layer start; a failure while it recovers, before start_layer runs,
@@ -90,10 +86,10 @@ JobProgress Job::progress() const {
   p.temperatures = protocol_.temperatures();
   // The last report may be old (a printer reports only when asked, and the job asks while
   // paused only), but the targets are what the file's commands set: those sent are in state_.
-  if (hotend_target_set_ || bed_target_set_) {
+  if (state_.hotend_target_set || state_.bed_target_set) {
     Temperatures t = p.temperatures.value_or(Temperatures{});
-    if (hotend_target_set_) t.hotend_target = state_.hotend_target;
-    if (bed_target_set_) t.bed_target = state_.bed_target;
+    if (state_.hotend_target_set) t.hotend_target = state_.hotend_target;
+    if (state_.bed_target_set) t.bed_target = state_.bed_target;
     p.temperatures = t;
   }
   if (pause_requested_) p.pause_before_layer = layer_ + 2;
@@ -251,8 +247,6 @@ JobResult Job::run() {
       const std::string_view command = file_.command(i);
       protocol_.send(command);
       apply(state_, command);
-      if (sets_hotend_target(command)) hotend_target_set_ = true;
-      if (sets_bed_target(command)) bed_target_set_ = true;
       done_ = i + 1;
       done_at_ = printing_time(protocol_.link().now());
       eta_.command_done(done_, std::chrono::duration<double>(done_at_).count());

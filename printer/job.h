@@ -135,7 +135,6 @@ class Job {
   PrintEta eta_;
   int pauses_ = 0;
   std::chrono::nanoseconds stood_paused_{0};  // JobResult::paused
-  bool hotend_target_set_ = false, bed_target_set_ = false;  // by the file (or the journal)
 };
 
 }  // namespace printer

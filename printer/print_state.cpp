@@ -55,8 +55,18 @@ void apply(PrintState& s, const GcodeCommand& c) {
     switch (c.code) {
       case 82: s.relative_e = false; break;
       case 83: s.relative_e = true; break;
-      case 104: case 109: if (const auto t = c.get('S')) s.hotend_target = *t; break;
-      case 140: case 190: if (const auto t = c.get('S')) s.bed_target = *t; break;
+      case 104: case 109:
+        if (const auto t = c.get('S')) {
+          s.hotend_target = *t;
+          s.hotend_target_set = true;
+        }
+        break;
+      case 140: case 190:
+        if (const auto t = c.get('S')) {
+          s.bed_target = *t;
+          s.bed_target_set = true;
+        }
+        break;
       case 106: s.fan = static_cast<int>(std::lround(c.get('S').value_or(255))); break;
       case 107: s.fan = 0; break;
       default: break;

@@ -22,6 +22,9 @@ struct PrintState {
   bool relative_xyz = false;          // G91
   bool relative_e = false;            // M83 or G91
   double hotend_target = 0, bed_target = 0;  // °C
+  // Whether a command has set each target (M104/M109 S, M140/M190 S): until then the
+  // targets above are not the file's, and a printer's own report is the better word.
+  bool hotend_target_set = false, bed_target_set = false;
   int fan = 0;                        // 0-255
   double filament_fed = 0;            // mm of filament fed, net of retractions, in total
 };
