@@ -58,8 +58,7 @@ void check_serial_port(const std::string& path) {
 
 SerialLink::SerialLink(std::string path, int baud) : path_(std::move(path)) {
   if (baud <= 0) throw ConfigError(fmt::format("--baud {}: give a positive rate such as 115200 or 250000", baud));
-  std::error_code exists_error;
-  if (!std::filesystem::exists(path_, exists_error)) throw LinkError(open_failure(path_, ENOENT));
+  check_serial_port(path_);
   if (sp_get_port_by_name(path_.c_str(), &port_) != SP_OK) {
     port_ = nullptr;
     open_terminal(baud);
