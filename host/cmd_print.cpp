@@ -82,8 +82,8 @@ struct OpenLink {
 };
 
 // A dry run simulates the printer the job is for: its motion limits and filament.
-OpenLink open_link(const LinkOptions& options, const printer::PrinterProfile& machine,
-                   int default_baud) {
+// `baud`: the rate a real port opens at (--baud, else the journal's or the profile's).
+OpenLink open_link(const LinkOptions& options, const printer::PrinterProfile& machine, int baud) {
   OpenLink open;
   if (options.dry_run) {
     sim::Config config;
@@ -103,8 +103,7 @@ OpenLink open_link(const LinkOptions& options, const printer::PrinterProfile& ma
           "--advanced-ok: only a --dry-run printer can be told to report ADVANCED_OK; a real "
           "one says so itself");
     }
-    open.link = std::make_unique<printer::SerialLink>(
-        options.port, options.baud > 0 ? options.baud : default_baud);
+    open.link = std::make_unique<printer::SerialLink>(options.port, baud);
   }
   return open;
 }
@@ -173,8 +172,6 @@ class JobFiles {
   bool kept_ = false;
 };
 
-std::string duration_text(double seconds) { return printer::format_duration(seconds); }
-
 // "1 pause", "3 pauses".
 std::string count_text(long n, const char* one, const char* many) {
   return fmt::format("{} {}", n, n == 1 ? one : many);
@@ -192,8 +189,8 @@ void print_summary(const printer::JobResult& result, const printer::GcodeFile& f
   const double elapsed = std::chrono::duration<double>(result.elapsed).count();
   const double paused = std::chrono::duration<double>(result.paused).count();
   const std::string paused_note =
-      result.pauses > 0 ? fmt::format(" ({} paused, not counted)", duration_text(paused)) : "";
-  const std::string estimate = fmt::format("estimated {}{}", duration_text(estimated_seconds),
+      result.pauses > 0 ? fmt::format(" ({} paused, not counted)", printer::format_duration(paused)) : "";
+  const std::string estimate = fmt::format("estimated {}{}", printer::format_duration(estimated_seconds),
                                            resumed ? " for the layers resumed" : "");
   std::string where;
   std::string time;
@@ -205,12 +202,12 @@ void print_summary(const printer::JobResult& result, const printer::GcodeFile& f
     where = "dry run on the simulated printer";
     time = fmt::format("print time {} on the simulated printer's clock{}: {} of motion ({}), "
                        "the rest heating and waiting",
-                       duration_text(seconds), paused_note, duration_text(printer.motion_time()),
+                       printer::format_duration(seconds), paused_note, printer::format_duration(printer.motion_time()),
                        estimate);
   } else {
     where = fmt::format("on {}", link.link->name());
     time = fmt::format("print time {}{} ({} of motion; heating not counted)",
-                       duration_text(elapsed - paused), paused_note, estimate);
+                       printer::format_duration(elapsed - paused), paused_note, estimate);
   }
   std::string filament = fmt::format("filament {:.2f} m", result.filament_mm / 1000.0);
   if (sliced_for != nullptr) {
@@ -346,7 +343,8 @@ void run_print(const PrintOptions& options) {
                                              stl ? options.input : gcode_path, file.layers.size()));
     }
   }
-  OpenLink link = open_link(options.link, profiles.printer, profiles.printer.baud);
+  const int baud = options.link.baud > 0 ? options.link.baud : profiles.printer.baud;
+  OpenLink link = open_link(options.link, profiles.printer, baud);
   printer::LineProtocol protocol(*link.link, protocol_options(options.link));
   connect(protocol, link);
   if (options.link.window > 1 && !protocol.advanced_ok()) {
@@ -369,7 +367,7 @@ void run_print(const PrintOptions& options) {
   job_options.journal.gcode_hash = file.hash;
   job_options.journal.printer = fs::absolute(profiles.printer.source).string();
   job_options.journal.port = dry_run ? "" : options.link.port;
-  job_options.journal.baud = dry_run ? 0 : (options.link.baud > 0 ? options.link.baud : profiles.printer.baud);
+  job_options.journal.baud = dry_run ? 0 : baud;
   std::string note;
   if (!dry_run) {
     job_options.resume_command = fmt::format("mahost resume {} --port {}", journal, options.link.port);
@@ -441,7 +439,10 @@ void run_resume(const ResumeOptions& options) {
         record.gcode_path, record.gcode_hash, file.hash));
   }
   const printer::PrinterProfile machine = resume_profile(record);
-  OpenLink link = open_link(options.link, machine, record.baud > 0 ? record.baud : machine.baud);
+  const int baud = options.link.baud > 0   ? options.link.baud
+                   : record.baud > 0       ? record.baud
+                                           : machine.baud;
+  OpenLink link = open_link(options.link, machine, baud);
   printer::LineProtocol protocol(*link.link, protocol_options(options.link));
   connect(protocol, link);
 
@@ -467,7 +468,7 @@ void run_resume(const ResumeOptions& options) {
     job_options.journal_path = journal;
     job_options.journal = record;
     job_options.journal.port = options.link.port;
-    job_options.journal.baud = options.link.baud > 0 ? options.link.baud : (record.baud > 0 ? record.baud : machine.baud);
+    job_options.journal.baud = baud;
     job_options.journal.pid = 0;
     job_options.resume_command = fmt::format("mahost resume {} --port {}", journal, options.link.port);
     note = fmt::format("journal: {} (if the print is interrupted again: {})", journal,
