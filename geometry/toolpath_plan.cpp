@@ -64,9 +64,10 @@ struct Island {
 
 // The paths of an island laid out by shares `share` wide (see plan_island); the infill
 // overlap is a fraction of the bead's width.
-void plan_shares(const tc::Paths& island, std::size_t layer, double share, double width,
-                 const ToolpathOptions& o, const Region* core, const Region* below,
-                 const Region* above, Island& result) {
+Island plan_shares(const tc::Paths& island, std::size_t layer, double share, double width,
+                   const ToolpathOptions& o, const Region* core, const Region* below,
+                   const Region* above) {
+  Island result;
   Perimeters walls = perimeters(island, share, o.perimeters);
   // Innermost wall first, outer wall last: the outer surface is laid against walls already
   // there, so it stays where the model says.
@@ -104,6 +105,7 @@ void plan_shares(const tc::Paths& island, std::size_t layer, double share, doubl
                                           o.infill_pattern, angle, layer, o.infill_lines));
   }
   std::erase_if(result.groups, [](const auto& group) { return group.empty(); });
+  return result;
 }
 
 // The island's paths for beads `width` wide on a layer `height` thick. Everything is laid
@@ -114,11 +116,10 @@ void plan_shares(const tc::Paths& island, std::size_t layer, double share, doubl
 Island plan_island(const tc::Paths& island, std::size_t layer, double width, double height,
                    const ToolpathOptions& o, const Region* core, const Region* below,
                    const Region* above) {
-  Island result;
   const double share = bead_spacing(width, height);
   const double sides = width - share;  // the rounded sides' reach past the share, both sides
   const tc::Paths shared = sides > 0 ? tc::offset(island, -sides / 2) : island;
-  plan_shares(shared, layer, share, width, o, core, below, above, result);
+  Island result = plan_shares(shared, layer, share, width, o, core, below, above);
   for (auto& group : result.groups) {
     for (ExtrusionPath& path : group) {
       // A whole share is a whole bead, exactly as wide as the profile says.
