@@ -15,86 +15,67 @@ namespace {
 using ClipperLib::cInt;
 using ClipperLib::IntPoint;
 
-// A polygon of at most kMaxCorners corners, on the stack: each cut at most doubles the corners
-// (a triangle cut by two planes has at most twelve; a face of a mesh, convex, five), and
-// slab_of cuts every face of the model (one allocation per facet, not four).
+// A polygon of at most kMaxCorners corners, on the stack: a convex polygon of n corners cut
+// by two planes has at most n + 2, so a mesh face (a triangle) and anything up to ten corners
+// is clipped without allocating, and slab_of cuts every face of the model (one allocation per
+// facet, not four). Larger polygons take a std::vector through the same code.
 constexpr std::size_t kMaxCorners = 12;
 struct SmallPolygon {
   std::array<Vec3, kMaxCorners> at;
-  std::size_t size = 0;
+  std::size_t count = 0;
+  void clear() { count = 0; }
+  void push_back(Vec3 p) { at[count++] = p; }
+  std::size_t size() const { return count; }
+  const Vec3* data() const { return at.data(); }
 };
 
 // Keeps the part of a convex polygon on the side where side * (z - plane) >= 0.
-void clip_half(const SmallPolygon& in, double plane, double side, SmallPolygon& out) {
+template <class Corners>
+void clip_half(std::span<const Vec3> in, double plane, double side, Corners& out) {
   const auto keep = [&](double z) { return side * (z - plane); };
-  out.size = 0;
-  for (std::size_t i = 0, n = in.size; i < n; ++i) {
-    const Vec3 a = in.at[i], b = in.at[i + 1 == n ? 0 : i + 1];
+  out.clear();
+  for (std::size_t i = 0, n = in.size(); i < n; ++i) {
+    const Vec3 a = in[i], b = in[i + 1 == n ? 0 : i + 1];
     const double ka = keep(a.z), kb = keep(b.z);
-    if (ka >= 0 && out.size < kMaxCorners) out.at[out.size++] = a;
-    if (((ka < 0 && kb > 0) || (ka > 0 && kb < 0)) && out.size < kMaxCorners) {
+    if (ka >= 0) out.push_back(a);
+    if ((ka < 0 && kb > 0) || (ka > 0 && kb < 0)) {
       // From the lower end, so the face on the other side of this edge, which walks it the
       // other way, computes the very same point, and the footprint's shared edges cancel.
       const Vec3 lo = a.z < b.z ? a : b, hi = a.z < b.z ? b : a;
       Vec3 p = lo + ((plane - lo.z) / (hi.z - lo.z)) * (hi - lo);
       p.z = plane;  // exactly, so later tests against the plane are exact
-      out.at[out.size++] = p;
+      out.push_back(p);
     }
   }
 }
 
 bool same_point(Vec3 a, Vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
 
+template <class Corners>
+std::vector<Vec3> clip_with(std::span<const Vec3> polygon, double z_lo, double z_hi) {
+  Corners above, inside;
+  clip_half(polygon, z_lo, 1.0, above);
+  clip_half(std::span<const Vec3>(above.data(), above.size()), z_hi, -1.0, inside);
+  // Repeated points merged, the first and last too.
+  std::vector<Vec3> merged;
+  merged.reserve(inside.size());
+  for (std::size_t i = 0; i < inside.size(); ++i) {
+    const Vec3 p = inside.data()[i];
+    if (merged.empty() || !same_point(p, merged.back())) merged.push_back(p);
+  }
+  while (merged.size() > 1 && same_point(merged.front(), merged.back())) merged.pop_back();
+  if (merged.size() < 3) return {};
+  const bool on_lo = std::all_of(merged.begin(), merged.end(), [&](Vec3 p) { return p.z == z_lo; });
+  const bool on_hi = std::all_of(merged.begin(), merged.end(), [&](Vec3 p) { return p.z == z_hi; });
+  if (on_lo || on_hi) return {};
+  return merged;
+}
+
 }  // namespace
 
 std::vector<Vec3> clip_to_slab(std::span<const Vec3> polygon, double z_lo, double z_hi) {
-  if (polygon.size() > 3) {  // not a mesh face: clipped on the heap
-    std::vector<Vec3> piece(polygon.begin(), polygon.end());
-    for (int pass = 0; pass < 2; ++pass) {
-      const double plane = pass == 0 ? z_lo : z_hi, side = pass == 0 ? 1.0 : -1.0;
-      std::vector<Vec3> out;
-      for (std::size_t i = 0, n = piece.size(); i < n; ++i) {
-        const Vec3 a = piece[i], b = piece[(i + 1) % n];
-        const double ka = side * (a.z - plane), kb = side * (b.z - plane);
-        if (ka >= 0) out.push_back(a);
-        if ((ka < 0 && kb > 0) || (ka > 0 && kb < 0)) {
-          const Vec3 lo = a.z < b.z ? a : b, hi = a.z < b.z ? b : a;
-          Vec3 p = lo + ((plane - lo.z) / (hi.z - lo.z)) * (hi - lo);
-          p.z = plane;
-          out.push_back(p);
-        }
-      }
-      piece = std::move(out);
-    }
-    std::vector<Vec3> merged;
-    for (const Vec3& p : piece) {
-      if (merged.empty() || !same_point(p, merged.back())) merged.push_back(p);
-    }
-    while (merged.size() > 1 && same_point(merged.front(), merged.back())) merged.pop_back();
-    if (merged.size() < 3) return {};
-    const bool on_lo = std::all_of(merged.begin(), merged.end(), [&](Vec3 p) { return p.z == z_lo; });
-    const bool on_hi = std::all_of(merged.begin(), merged.end(), [&](Vec3 p) { return p.z == z_hi; });
-    if (on_lo || on_hi) return {};
-    return merged;
-  }
-  SmallPolygon piece, above, inside;
-  for (const Vec3& p : polygon) piece.at[piece.size++] = p;
-  clip_half(piece, z_lo, 1.0, above);
-  clip_half(above, z_hi, -1.0, inside);
-  // Repeated points merged, the first and last too.
-  std::size_t n = 0;
-  for (std::size_t i = 0; i < inside.size; ++i) {
-    if (n == 0 || !same_point(inside.at[i], inside.at[n - 1])) inside.at[n++] = inside.at[i];
-  }
-  while (n > 1 && same_point(inside.at[0], inside.at[n - 1])) --n;
-  if (n < 3) return {};
-  bool on_lo = true, on_hi = true;
-  for (std::size_t i = 0; i < n; ++i) {
-    on_lo = on_lo && inside.at[i].z == z_lo;
-    on_hi = on_hi && inside.at[i].z == z_hi;
-  }
-  if (on_lo || on_hi) return {};
-  return {inside.at.begin(), inside.at.begin() + static_cast<std::ptrdiff_t>(n)};
+  return polygon.size() + 2 <= kMaxCorners ? clip_with<SmallPolygon>(polygon, z_lo, z_hi)
+                                           : clip_with<std::vector<Vec3>>(polygon, z_lo, z_hi);
 }
 
 Slab slab_of(const Mesh& mesh, std::span<const std::uint32_t> faces, double z_lo, double z_hi) {

@@ -59,6 +59,25 @@ TEST_CASE("clip_to_slab_cuts_a_triangle_through_both_planes_into_a_pentagon") {
   CHECK(dot(normal(piece), normal(triangle)) > 0);
 }
 
+// A face of many corners (clipped on the heap) is cut as a small one (on the stack): the
+// rectangle x in [0, 1], z in [-1, 2] in the plane y = 0, with extra corners along its sides,
+// cut to [0, 1] is the unit square with the corners at z = 0.5 kept: six corners, area 1.
+TEST_CASE("clip_to_slab_cuts_a_many_cornered_face_as_a_few_cornered_one") {
+  const std::vector<Vec3> ten{{0, 0, -1},  {1, 0, -1}, {1, 0, -0.5}, {1, 0, 0.5}, {1, 0, 1.5},
+                              {1, 0, 2},   {0, 0, 2},  {0, 0, 1.5},  {0, 0, 0.5}, {0, 0, -0.5}};
+  std::vector<Vec3> eleven = ten;
+  eleven.insert(eleven.begin() + 1, Vec3{0.5, 0, -1});
+  const std::vector<Vec3> expected{{1, 0, 0}, {1, 0, 0.5}, {1, 0, 1},
+                                   {0, 0, 1}, {0, 0, 0.5}, {0, 0, 0}};
+  for (const std::vector<Vec3>& face : {ten, eleven}) {
+    CAPTURE(face.size());
+    const std::vector<Vec3> piece = clip_to_slab(face, 0, 1);
+    REQUIRE(piece.size() == expected.size());
+    for (std::size_t k = 0; k < expected.size(); ++k) CHECK(same(piece[k], expected[k]));
+    CHECK(area3(piece) == doctest::Approx(1.0));
+  }
+}
+
 TEST_CASE("clip_to_slab_keeps_what_lies_inside_and_drops_what_bounds_it") {
   const std::vector<Vec3> inside{{0, 0, 0.2}, {1, 0, 0.3}, {0, 1, 0.8}};
   CHECK(clip_to_slab(inside, 0, 1).size() == 3);
