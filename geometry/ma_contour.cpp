@@ -72,6 +72,7 @@
 #include <utility>
 
 #include "geometry/boundary_grid.h"
+#include "geometry/douglas_peucker.h"
 #include "geometry/clipper_bridge.h"
 
 namespace geometry {
@@ -273,45 +274,16 @@ Vec2 equidistant_on(AxisQuery& query, Vec2 s, Vec2 e) {
   return s + t * (e - s);
 }
 
-// Douglas-Peucker on a closed loop: the vertices kept are within `tolerance` of the edges
-// that replace the dropped ones. A faired contour has a vertex wherever the triangulation
-// crosses the axis, two or three per sample, most of them on straight stretches.
+// The loop straightened within `tolerance` (douglas_peucker.h). A faired contour has a
+// vertex wherever the triangulation crosses the axis, two or three per sample, most of them
+// on straight stretches.
 Loop simplified(const Loop& loop, double tolerance) {
   const std::size_t n = loop.size();
   if (n <= 4) return loop;
-  // Split at vertex 0 and the vertex farthest from it; each half is an open polyline.
-  std::size_t far = 0;
-  double far2 = -1;
-  for (std::size_t i = 1; i < n; ++i) {
-    const Vec2 d = loop[i] - loop[0];
-    if (dot(d, d) > far2) {
-      far2 = dot(d, d);
-      far = i;
-    }
-  }
-  std::vector<char> keep(n, 0);
-  keep[0] = keep[far] = 1;
-  const double tolerance2 = tolerance * tolerance;
-  std::vector<std::pair<std::size_t, std::size_t>> stack{{0, far}, {far, n}};
-  while (!stack.empty()) {
-    const auto [first, last] = stack.back();  // last may be n: vertex 0 again
-    stack.pop_back();
-    const Vec2 a = loop[first], b = loop[last % n];
-    double worst = -1;
-    std::size_t at = first;
-    for (std::size_t i = first + 1; i < last; ++i) {
-      const double d2 = squared_distance_to_segment(loop[i], a, b);
-      if (d2 > worst) {
-        worst = d2;
-        at = i;
-      }
-    }
-    if (worst > tolerance2) {
-      keep[at] = 1;
-      stack.push_back({first, at});
-      stack.push_back({at, last});
-    }
-  }
+  const std::vector<char> keep =
+      douglas_peucker_keep(n, tolerance * tolerance, [&](std::size_t i, std::size_t a, std::size_t b) {
+        return squared_distance_to_segment(loop[i], loop[a], loop[b]);
+      });
   Loop out;
   for (std::size_t i = 0; i < n; ++i) {
     if (keep[i]) out.push_back(loop[i]);

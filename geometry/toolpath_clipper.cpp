@@ -1,6 +1,7 @@
 #include "geometry/toolpath_clipper.h"
 
 #include "geometry/clipper_bridge.h"
+#include "geometry/douglas_peucker.h"
 
 #include <cmath>
 
@@ -116,32 +117,10 @@ Paths simplified(const Paths& region, double tolerance) {
   for (const Path& path : region) {
     const std::size_t n = path.size();
     if (n < 3) continue;
-    // Split the loop at vertex 0 and the vertex farthest from it; simplify both chains.
-    std::size_t far = 0;
-    double far2 = -1;
-    for (std::size_t i = 1; i < n; ++i) {
-      const double d = distance2(path[i], path[0], path[0]);
-      if (d > far2) { far2 = d; far = i; }
-    }
-    std::vector<bool> keep(n, false);
-    keep[0] = keep[far] = true;
-    std::vector<std::pair<std::size_t, std::size_t>> stack{{0, far}, {far, n}};
-    while (!stack.empty()) {
-      const auto [from, to] = stack.back();  // chain from..to, index n meaning vertex 0
-      stack.pop_back();
-      const ClipperLib::IntPoint& a = path[from];
-      const ClipperLib::IntPoint& b = path[to % n];
-      std::size_t worst = from;
-      double worst2 = limit2;
-      for (std::size_t i = from + 1; i < to; ++i) {
-        const double d = distance2(path[i], a, b);
-        if (d > worst2) { worst2 = d; worst = i; }
-      }
-      if (worst == from) continue;
-      keep[worst] = true;
-      stack.push_back({from, worst});
-      stack.push_back({worst, to});
-    }
+    const std::vector<char> keep =
+        douglas_peucker_keep(n, limit2, [&](std::size_t i, std::size_t a, std::size_t b) {
+          return distance2(path[i], path[a], path[b]);
+        });
     Path kept;
     for (std::size_t i = 0; i < n; ++i) {
       if (keep[i]) kept.push_back(path[i]);
