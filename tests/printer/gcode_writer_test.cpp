@@ -419,6 +419,53 @@ TEST_CASE("written_numbers_reread_exactly") {
   CHECK(std::abs(program.filament - per_mm * length) <= 1e-5);
 }
 
+TEST_CASE("numbers_are_written_in_shortest_fixed_form") {
+  // Every word's number: an optional minus, digits, and a fraction only if it is not zero,
+  // without trailing zeros, never "-0"; and it is the value the reader sees (3 decimals for
+  // X, Y, Z; 5 for E; whole for F). Relative E on generic-marlin writes negative E words.
+  LayerToolpaths layer;
+  layer.z_lo = 0;
+  layer.z_hi = 0.3;
+  std::vector<Vec2> zigzag;
+  for (int i = 0; i <= 300; ++i) zigzag.push_back({-20.0004 + 0.1300049 * i, (i % 7) * -0.1000005});
+  layer.paths.push_back({PathRole::thin_wall, zigzag, 0.5, true});
+  layer.paths.push_back({PathRole::outer_wall, square_loop(3.0000005), 0.5, true});
+  for (const char* printer : {"up-plus-2", "generic-marlin"}) {
+    const auto lines = lines_of(write({layer, square_layer(0.3, 0.5, 20, 0.5)},
+                                      profiles(printer, printer == std::string("up-plus-2") ? "abs" : "pla")));
+    int words = 0, negative = 0;
+    for (const std::string& line : lines) {
+      // Moves the writer makes (the profile's start G-code is copied as written).
+      if (!line.starts_with("G0 ") && !line.starts_with("G1 ")) continue;
+      if (line.find(';') != std::string::npos) continue;
+      std::istringstream in(line.substr(3));
+      for (std::string word; in >> word;) {
+        const std::string number = word.substr(1);
+        INFO(line);
+        REQUIRE(!number.empty());
+        const bool minus = number[0] == '-';
+        negative += minus;
+        const std::string digits = number.substr(minus ? 1 : 0);
+        const std::size_t dot = digits.find('.');
+        CHECK(digits.find_first_not_of("0123456789.") == std::string::npos);
+        CHECK(digits.find('.', dot == std::string::npos ? 0 : dot + 1) == std::string::npos);
+        if (dot != std::string::npos) {
+          CHECK(dot > 0);
+          CHECK(digits.back() != '0');
+          CHECK(digits.back() != '.');
+        }
+        CHECK(number != "-0");
+        const int decimals = word[0] == 'E' ? 5 : word[0] == 'F' ? 0 : 3;
+        const std::size_t fraction = dot == std::string::npos ? 0 : digits.size() - dot - 1;
+        CHECK(fraction <= std::size_t(decimals));
+        ++words;
+      }
+    }
+    CHECK(words > 500);
+    if (printer == std::string("generic-marlin")) CHECK(negative > 0);
+  }
+}
+
 TEST_CASE("format_duration_reads_as_hours_minutes_seconds") {
   CHECK(format_duration(0) == "0 s");
   CHECK(format_duration(59.6) == "1 min 0 s");
