@@ -1,8 +1,8 @@
-// The G-code writer (see gcode_writer.h). The program is generated twice by the same code:
-// once into a PrintClock, to learn the print time and each layer's start time (the header and
-// the M73 progress lines need them before the body is written), and once into text. Both runs
-// see the same rounded numbers, so the estimate is exactly what re-reading the text gives, and
-// nothing but the output buffer is held in memory.
+// The G-code writer (see gcode_writer.h). The program is generated twice by the same code, at
+// the same time on two threads: once into a PrintClock, to learn the print time and each
+// layer's start time, and once into text held in memory, into which the header and the M73
+// progress lines, which need those times, are put when both are done. Both runs see the same
+// rounded numbers, so the estimate is exactly what re-reading the text gives.
 #include "printer/gcode_writer.h"
 
 #include <algorithm>
@@ -17,6 +17,7 @@
 
 #include <fmt/core.h>
 #include <fmt/format.h>
+#include <tbb/parallel_invoke.h>
 
 #include "printer/bead_model.h"
 #include "printer/error.h"
@@ -86,12 +87,11 @@ class ClockSink final : public Sink {
   std::vector<double> layer_times_;
 };
 
+// The program's text, held in memory: each layer's M73 progress line needs the print time
+// up to that layer and in all, which the clock run, going on beside this one, learns only at
+// its end. The places for them are kept, and write() puts them in.
 class TextSink final : public Sink {
  public:
-  TextSink(std::ostream& out, double total_seconds, std::vector<double> layer_times)
-      : out_(out), total_(total_seconds), layer_times_(std::move(layer_times)) {}
-  ~TextSink() override { flush(); }
-
   void command(std::string_view line) override { write_line(line); }
   void comment(std::string_view text) override {
     buffer_.push_back(';');
@@ -108,27 +108,41 @@ class TextSink final : public Sink {
     end_line();
   }
   void layer_start(std::size_t layer, double z) override {
-    const double at = layer < layer_times_.size() ? layer_times_[layer] : total_;
-    const int percent = total_ > 0 ? static_cast<int>(std::floor(100.0 * at / total_)) : 0;
-    const int minutes_left = static_cast<int>(std::ceil(std::max(0.0, total_ - at) / 60.0));
     fmt::format_to(std::back_inserter(buffer_), ";LAYER:{}\n;Z:", layer);
     number(z, 3);
     end_line();
-    fmt::format_to(std::back_inserter(buffer_), "M73 P{} R{}", std::clamp(percent, 0, 100),
-                   minutes_left);
-    end_line();
+    progress_at_.push_back(buffer_.size());
+    ++lines_;
   }
 
   void write_line(std::string_view line) {
     buffer_.append(line.data(), line.data() + line.size());
     end_line();
   }
-  void flush() {
-    out_.write(buffer_.data(), static_cast<std::streamsize>(buffer_.size()));
-    bytes_ += buffer_.size();
-    buffer_.clear();
+  // Writes the text with layer k's progress line saying how much of `total_seconds` is done
+  // when it starts (layer_times[k]; a layer past them: all). Returns the bytes written.
+  std::size_t write(std::ostream& out, double total_seconds, const std::vector<double>& layer_times) {
+    std::size_t from = 0, bytes = 0;
+    auto put = [&](const char* data, std::size_t n) {
+      out.write(data, static_cast<std::streamsize>(n));
+      bytes += n;
+    };
+    for (std::size_t layer = 0; layer < progress_at_.size(); ++layer) {
+      put(buffer_.data() + from, progress_at_[layer] - from);
+      from = progress_at_[layer];
+      const double at = layer < layer_times.size() ? layer_times[layer] : total_seconds;
+      const int percent =
+          total_seconds > 0 ? static_cast<int>(std::floor(100.0 * at / total_seconds)) : 0;
+      const int minutes_left =
+          static_cast<int>(std::ceil(std::max(0.0, total_seconds - at) / 60.0));
+      char line[64];
+      const auto written = fmt::format_to_n(line, sizeof line, "M73 P{} R{}\n",
+                                            std::clamp(percent, 0, 100), minutes_left);
+      put(line, std::min(written.size, sizeof line));
+    }
+    put(buffer_.data() + from, buffer_.size() - from);
+    return bytes;
   }
-  std::size_t bytes() { flush(); return bytes_; }
   std::size_t lines() const { return lines_; }
 
  private:
@@ -197,14 +211,11 @@ class TextSink final : public Sink {
   void end_line() {
     buffer_.push_back('\n');
     ++lines_;
-    if (buffer_.size() > (1u << 20)) flush();
   }
 
-  std::ostream& out_;
-  double total_;
-  std::vector<double> layer_times_;
   fmt::memory_buffer buffer_;
-  std::size_t bytes_ = 0, lines_ = 0;
+  std::vector<std::size_t> progress_at_;  // where each layer's M73 line goes
+  std::size_t lines_ = 0;
 };
 
 double feature_speed(const FeatureSpeeds& s, PathRole role) {
@@ -523,16 +534,18 @@ GcodeSummary write_gcode(std::ostream& out, const std::vector<LayerToolpaths>& l
   const Vec2 offset{profiles.printer.bed_x / 2, profiles.printer.bed_y / 2};
   check_build_volume(layers, profiles.printer, offset);
 
+  // The two runs side by side: the clock's and the text's.
   ClockSink clock(profiles.printer.motion);
   Emitter timing(profiles, options, offset, clock);
-  timing.program(layers);
-  const double seconds = clock.finish();
-
-  TextSink text(out, seconds, clock.layer_times());
-  write_header(text, layers, profiles, options, seconds, timing.filament());
-  Emitter writing(profiles, options, offset, text);
+  TextSink body;
+  Emitter writing(profiles, options, offset, body);
   writing.on_layer(on_layer);
-  writing.program(layers);
+  double seconds = 0;
+  tbb::parallel_invoke([&] { timing.program(layers); seconds = clock.finish(); },
+                       [&] { writing.program(layers); });
+
+  TextSink header;
+  write_header(header, layers, profiles, options, seconds, timing.filament());
 
   GcodeSummary summary;
   summary.layers = layers.size();
@@ -540,8 +553,9 @@ GcodeSummary write_gcode(std::ostream& out, const std::vector<LayerToolpaths>& l
   summary.filament_mm = writing.filament();
   summary.filament_grams = filament_weight(summary.filament_mm, profiles.printer.filament_diameter,
                                            profiles.material.density);
-  summary.lines = text.lines();
-  summary.bytes = text.bytes();
+  summary.lines = header.lines() + body.lines();
+  summary.bytes = header.write(out, seconds, {});
+  summary.bytes += body.write(out, seconds, clock.layer_times());
   return summary;
 }
 
