@@ -8,6 +8,8 @@
 # wall time, CPU time and peak memory of the slicing run.
 #
 # Usage: tests/bench/compare_slicers.sh [BUILD_DIR]   (default: build; mahost must be built)
+#        REPEAT=N tests/bench/compare_slicers.sh   runs each slicer N times (default 3) and
+#        reports the run with the median wall time.
 #
 # All three slice the same placed, repaired mesh (mahost info --export), so the geometry is
 # identical. CuraEngine needs Cura's JSON machine definitions, which Debian ships only in the
@@ -20,6 +22,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 build=${1:-build}
+repeat=${REPEAT:-3}
+[[ $repeat =~ ^[1-9][0-9]*$ ]] || { echo "compare_slicers: REPEAT must be a whole number >= 1" >&2; exit 2; }
 mahost=$build/mahost
 [[ -x $mahost ]] || { echo "compare_slicers: $mahost not found; build first (scripts/build)" >&2; exit 2; }
 for tool in CuraEngine prusa-slicer /usr/bin/time; do
@@ -51,10 +55,18 @@ export CURA_ENGINE_SEARCH_PATH=$cura_resources/definitions:$cura_resources/extru
 model=$work/bunny50.stl
 "$mahost" info data/bunny.stl --up y --units m --height 50 --export "$model" >/dev/null 2>&1
 
-# Runs a command under /usr/bin/time; leaves "wall_s cpu_s peak_kib" in $work/time (CPU time,
-# user + system over all threads, is what a busy machine does not inflate).
-timed() { /usr/bin/time -f "%e %U %S %M" -o "$work/time" "$@" >"$work/log" 2>&1 || {
-  echo "compare_slicers: failed: $*" >&2; tail -5 "$work/log" >&2; exit 1; }; }
+# Runs a command $repeat times under /usr/bin/time; leaves the figures "wall_s user_s sys_s
+# peak_kib" of the run with the median wall time in $work/time (CPU time, user + system over
+# all threads, is what a busy machine does not inflate).
+timed() {
+  : >"$work/times"
+  for ((run = 0; run < repeat; run++)); do
+    /usr/bin/time -f "%e %U %S %M" -o "$work/time" "$@" >"$work/log" 2>&1 || {
+      echo "compare_slicers: failed: $*" >&2; tail -5 "$work/log" >&2; exit 1; }
+    cat "$work/time" >>"$work/times"
+  done
+  sort -n "$work/times" | sed -n "$(((repeat + 1) / 2))p" >"$work/time"
+}
 
 # Net filament (mm) of a program: E travelled forward, across G92 resets, either E mode.
 filament_of() {
@@ -69,9 +81,11 @@ filament_of() {
 hms() { awk -v s="$1" 'BEGIN { printf "%dh %02dm %02ds", s / 3600, (s % 3600) / 60, s % 60 }'; }
 
 rows=()
+declare -A walls  # "slicer layer" -> wall seconds
 row() {  # slicer layer layers seconds filament_mm (then the run's figures from $work/time)
   local wall user sys peak
   read -r wall user sys peak <"$work/time"
+  walls["$1 $2"]=$wall
   rows+=("$(printf '%-22s %5s %7s %13s %9.2f m %8.2f s %8.2f s %7.1f MiB' "$1" "$2" "$3" "$(hms "$4")" \
     "$(awk -v f="$5" 'BEGIN { print f / 1000 }')" "$wall" "$(awk -v u="$user" -v s="$sys" 'BEGIN { print u + s }')" \
     "$(awk -v k="$peak" 'BEGIN { print k / 1024 }')")")
@@ -187,5 +201,10 @@ EOF
 done
 
 echo "bunny 50 mm, UP Plus 2 settings; each slicer's own print-time estimate; same machine, same run"
+echo "wall, cpu and peak RSS: the run with the median wall time of $repeat"
 printf '%-22s %5s %7s %13s %11s %10s %10s %11s\n' slicer layer layers "est. time" filament wall cpu "peak RSS"
 printf '%s\n' "${rows[@]}"
+for layer in 0.15 0.2; do
+  awk -v ma="${walls["mahost (ma) $layer"]}" -v cura="${walls["CuraEngine 4.13 $layer"]}" -v l="$layer" \
+    'BEGIN { printf "mahost (ma) wall / CuraEngine wall at %s mm: %.2f\n", l, ma / cura }'
+done
