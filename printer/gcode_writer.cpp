@@ -144,6 +144,17 @@ class TextSink final : public Sink {
     return bytes;
   }
   std::size_t lines() const { return lines_; }
+  // Room for the program of `layers` at once: a move line is at most about 40 bytes, and a
+  // buffer grown step by step would copy itself and hold half as much again unused. Pages
+  // reserved and never written are not resident.
+  void reserve(const std::vector<LayerToolpaths>& layers) {
+    std::size_t points = 0;
+    for (const LayerToolpaths& layer : layers) {
+      for (const ExtrusionPath& path : layer.paths) points += path.points.size() + 4;
+    }
+    buffer_.reserve(48 * points + 256 * layers.size() + 4096);
+    progress_at_.reserve(layers.size());
+  }
 
  private:
   void word(char letter, const std::optional<double>& value, int decimals) {
@@ -538,6 +549,7 @@ GcodeSummary write_gcode(std::ostream& out, const std::vector<LayerToolpaths>& l
   ClockSink clock(profiles.printer.motion);
   Emitter timing(profiles, options, offset, clock);
   TextSink body;
+  body.reserve(layers);
   Emitter writing(profiles, options, offset, body);
   writing.on_layer(on_layer);
   double seconds = 0;
