@@ -3,7 +3,9 @@
 #include "geometry/clipper_bridge.h"
 #include "geometry/douglas_peucker.h"
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace geometry::toolpath_clipper {
 
@@ -27,20 +29,174 @@ Paths boolean(const Paths& a, const Paths& b, ClipperLib::ClipType type) {
 
 }  // namespace
 
+namespace {
+
+struct Normal {
+  double x, y;
+};
+
+// The unit normal on the right of the edge a -> b: outward on a CCW loop.
+Normal unit_normal(const ClipperLib::IntPoint& a, const ClipperLib::IntPoint& b) {
+  const double dx = double(b.X - a.X), dy = double(b.Y - a.Y);
+  const double length = std::hypot(dx, dy);
+  return length > 0 ? Normal{dy / length, -dx / length} : Normal{0, 0};
+}
+
+// How one offset makes its joins; distances in units (nm).
+struct Joins {
+  ClipperLib::JoinType type;
+  double delta;
+  double miter_min;  // a mitre where 1 + cos(turn) is at least this, else a square end
+  double steps_per_radian, step_sin, step_cos;  // round joins: the arc's chords
+};
+
+Joins joins_for(ClipperLib::JoinType type, double delta, double miter_limit) {
+  Joins j{type, delta, miter_limit > 2 ? 2 / (miter_limit * miter_limit) : 0.5, 0, 0, 0};
+  // Chords of the arc within the arc tolerance (a quarter of the radius at most), and no
+  // more of them than the radius in units times pi.
+  const double radius = std::abs(delta);
+  const double tolerance = std::min(kArcTolerance * kClipperScale, radius / 4);
+  const double steps = std::min(std::numbers::pi / std::acos(1 - tolerance / radius),
+                                radius * std::numbers::pi);
+  j.steps_per_radian = steps / (2 * std::numbers::pi);
+  j.step_sin = std::sin(2 * std::numbers::pi / steps) * (delta < 0 ? -1 : 1);
+  j.step_cos = std::cos(2 * std::numbers::pi / steps);
+  return j;
+}
+
+ClipperLib::IntPoint moved(const ClipperLib::IntPoint& p, double dx, double dy) {
+  return {p.X + std::llround(dx), p.Y + std::llround(dy)};
+}
+
+// Appends the raw offset of one closed loop (no repeated points, at least 3) to `out`, as
+// Clipper's offsetter draws it: each edge moved along its normal, joined round the vertices
+// the offset turns away from, and, where the moved edges cross (the offset's inner side of
+// a vertex), back through the vertex, a small loop the union with the positive (growing) or
+// negative (shrinking) fill rule removes. Except where the moved edges cross within the
+// first half of each: there they are joined at their crossing (the mitre point), which is
+// what that union makes of the loop, without the crossing and two points per vertex it
+// costs the union to find out. (A curved edge of n vertices has n such crossings, on the
+// inner side of every offset.)
+void raw_offset(const Path& loop, const Joins& j, Path& out) {
+  const std::size_t n = loop.size();
+  std::vector<Normal> normal(n);
+  std::vector<double> length(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& a = loop[i];
+    const auto& b = loop[(i + 1) % n];
+    normal[i] = unit_normal(a, b);
+    length[i] = std::hypot(double(b.X - a.X), double(b.Y - a.Y));
+  }
+  const double delta = j.delta;
+  for (std::size_t v = 0, e = n - 1; v < n; e = v, ++v) {  // vertex v, edge e before it
+    const ClipperLib::IntPoint& p = loop[v];
+    const Normal a = normal[e], b = normal[v];
+    double sin_turn = a.x * b.y - b.x * a.y;
+    const double cos_turn = a.x * b.x + a.y * b.y;
+    if (std::abs(sin_turn * delta) < 1) {
+      if (cos_turn > 0) {  // straight on, within a unit
+        out.push_back(moved(p, a.x * delta, a.y * delta));
+        continue;
+      }
+    } else {
+      sin_turn = std::clamp(sin_turn, -1.0, 1.0);
+    }
+    const double r = 1 + cos_turn;
+    if (sin_turn * delta < 0) {
+      // The moved edges cross at the mitre point, cut back by this from their ends.
+      const double cut = std::abs(delta * sin_turn) / r;
+      if (r > 0 && 2 * cut <= std::min(length[e], length[v])) {
+        out.push_back(moved(p, (a.x + b.x) * delta / r, (a.y + b.y) * delta / r));
+      } else {
+        out.push_back(moved(p, a.x * delta, a.y * delta));
+        out.push_back(p);
+        out.push_back(moved(p, b.x * delta, b.y * delta));
+      }
+      continue;
+    }
+    const double angle = std::atan2(sin_turn, cos_turn);
+    if (j.type == ClipperLib::jtRound) {
+      const int steps = std::max(static_cast<int>(std::llround(j.steps_per_radian *
+                                                               std::abs(angle))), 1);
+      double x = a.x, y = a.y;
+      for (int s = 0; s < steps; ++s) {
+        out.push_back(moved(p, x * delta, y * delta));
+        const double x0 = x;
+        x = x * j.step_cos - j.step_sin * y;
+        y = x0 * j.step_sin + y * j.step_cos;
+      }
+      out.push_back(moved(p, b.x * delta, b.y * delta));
+    } else if (j.type == ClipperLib::jtMiter && r >= j.miter_min) {
+      out.push_back(moved(p, (a.x + b.x) * delta / r, (a.y + b.y) * delta / r));
+    } else {  // square: cut across at delta from the vertex
+      const double t = std::tan(angle / 4);
+      out.push_back(moved(p, delta * (a.x - a.y * t), delta * (a.y + a.x * t)));
+      out.push_back(moved(p, delta * (b.x + b.y * t), delta * (b.y - b.x * t)));
+    }
+  }
+}
+
+}  // namespace
+
 Paths offset(const Paths& region, double delta, ClipperLib::JoinType join, double miter_limit) {
   if (region.empty()) return {};
-  ClipperLib::ClipperOffset offsetter(miter_limit, kArcTolerance * kClipperScale);
-  // ClipperOffset takes the orientation of the loop with the lowest vertex for that of every
-  // outer loop: a loop of next to no area there (a union leaves such slivers where two
-  // pieces touch at the edge), if it runs the other way, turns the whole region inside out.
-  // Such loops are nothing to offset.
+  // Loops are taken as they come, outer loops positive and holes negative (ClipperOffset
+  // turns them all over when the loop with the lowest vertex runs the other way: after a
+  // simplification a speck of a hole can lie there, outside the outer loop, and the region
+  // came out inside out). Left out: loops of next to no area, and loops the offset closes
+  // (holes when growing, outer loops when shrinking) that are no more than twice the
+  // distance across, so that no disc of that radius fits in them. Inside the region they
+  // would make nothing; a speck of a hole outside it, turned inside out by growing, would
+  // add its own speck.
+  const double units = delta * kClipperScale;
+  Paths loops;
+  loops.reserve(region.size());
   for (const Path& path : region) {
-    if (std::abs(ClipperLib::Area(path)) >= kNoArea) {
-      offsetter.AddPath(path, join, ClipperLib::etClosedPolygon);
+    const double area = ClipperLib::Area(path);
+    if (std::abs(area) < kNoArea) continue;
+    if ((area < 0) == (units > 0)) {
+      const auto [x0, x1] = std::minmax_element(path.begin(), path.end(),
+                                                [](const auto& p, const auto& q) { return p.X < q.X; });
+      const auto [y0, y1] = std::minmax_element(path.begin(), path.end(),
+                                                [](const auto& p, const auto& q) { return p.Y < q.Y; });
+      if (double(std::min(x1->X - x0->X, y1->Y - y0->Y)) <= 2 * std::abs(units)) continue;
+    }
+    Path loop;
+    loop.reserve(path.size());
+    for (const auto& p : path) {
+      if (loop.empty() || !(p == loop.back())) loop.push_back(p);
+    }
+    while (loop.size() > 1 && loop.front() == loop.back()) loop.pop_back();
+    if (loop.size() >= 3) loops.push_back(std::move(loop));
+  }
+  if (loops.empty()) return {};
+  ClipperLib::Clipper clipper;
+  if (units == 0) {
+    clipper.AddPaths(loops, ClipperLib::ptSubject, true);
+  } else {
+    const Joins joins = joins_for(join, units, miter_limit);
+    Path raw;
+    for (const Path& loop : loops) {
+      raw.clear();
+      raw.reserve(2 * loop.size());
+      raw_offset(loop, joins, raw);
+      clipper.AddPath(raw, ClipperLib::ptSubject, true);
     }
   }
   Paths result;
-  offsetter.Execute(result, delta * kClipperScale);
+  if (units >= 0) {
+    clipper.Execute(ClipperLib::ctUnion, result, ClipperLib::pftPositive, ClipperLib::pftPositive);
+    return result;
+  }
+  // Shrinking: the union of the negative winding inside a frame round it all (-1), whose
+  // holes, where the raw loops (+1) cancel the frame, are the offset.
+  const ClipperLib::IntRect r = clipper.GetBounds();
+  clipper.AddPath({{r.left - 10, r.bottom + 10}, {r.right + 10, r.bottom + 10},
+                   {r.right + 10, r.top - 10}, {r.left - 10, r.top - 10}},
+                  ClipperLib::ptSubject, true);
+  clipper.ReverseSolution(true);
+  clipper.Execute(ClipperLib::ctUnion, result, ClipperLib::pftNegative, ClipperLib::pftNegative);
+  if (!result.empty()) result.erase(result.begin());
   return result;
 }
 
