@@ -76,10 +76,12 @@ TEST_CASE("offset_takes_outer_loops_ccw_and_holes_cw_whatever_loop_is_lowest") {
   CHECK(tc::area_mm2(grown) == doctest::Approx(144).epsilon(1e-9));
 }
 
-// Wavy islands with a wavy hole, some waves shorter than the distance (where the moved
-// edges cross beyond their halves and the offset goes back through the vertex), some parts
-// narrower than twice the distance (which a shrink removes): the same region as Clipper's
-// offsetter gives, to a few nanometres along the edges, for every join.
+// Regions Clipper's offsetter is the reference for, every join, growing and shrinking:
+// wavy islands with a wavy hole, some waves shorter than the distance (where the moved edges
+// cross beyond their halves and the offset goes back through the vertex), some parts
+// narrower than twice the distance (which a shrink removes); a thin ring, whose loops pass
+// each other when shrunk without crossing (its hole's loop then holds the outer one); two
+// discs that merge when grown. The same region to a few nanometres along the edges.
 TEST_CASE("offset_gives_the_region_clippers_offsetter_gives") {
   const Loop outer = round_loop(0, 0, 400, [](double a) {
     return 10 + 1.5 * std::sin(7 * a) + 0.4 * std::sin(61 * a) + 0.05 * std::sin(173 * a);
@@ -87,16 +89,27 @@ TEST_CASE("offset_gives_the_region_clippers_offsetter_gives") {
   Loop hole = round_loop(1, 0, 150, [](double a) { return 4 + 0.8 * std::sin(5 * a); });
   std::reverse(hole.begin(), hole.end());
   const Loop sliver{{20, 0}, {30, 0.3}, {30, 0.5}, {20, 1}, {19.5, 0.4}};  // 0.5 to 1 mm wide
-  const tc::Paths region = geometry::to_clipper(Region{{outer, hole, sliver}});
-  for (auto [join, limit] : {std::pair{ClipperLib::jtMiter, 2.0}, std::pair{ClipperLib::jtMiter, 3.0},
-                             std::pair{ClipperLib::jtSquare, 2.0}, std::pair{ClipperLib::jtRound, 2.0}}) {
-    for (double d : {-1.0, -0.3, -0.05, 0.05, 0.3, 1.0}) {
-      CAPTURE(int(join));
-      CAPTURE(d);
-      const tc::Paths ours = tc::offset(region, d, join, limit);
-      const tc::Paths theirs = clipper_offset(region, d, join, limit);
-      CHECK(tc::area_mm2(ours) == doctest::Approx(tc::area_mm2(theirs)).epsilon(1e-6));
-      CHECK(difference_area(ours, theirs) < 1e-4);
+  Loop ring_hole = round_loop(0, 0, 300, [](double) { return 9.5; });
+  std::reverse(ring_hole.begin(), ring_hole.end());
+  const Region regions[] = {
+      Region{{outer, hole, sliver}},
+      Region{{round_loop(0, 0, 300, [](double) { return 10.0; }), ring_hole}},
+      Region{{round_loop(0, 0, 200, [](double) { return 2.0; }),
+              round_loop(4.4, 0, 200, [](double) { return 2.0; })}}};
+  for (const Region& r : regions) {
+    const tc::Paths region = geometry::to_clipper(r);
+    for (auto [join, limit] : {std::pair{ClipperLib::jtMiter, 2.0}, std::pair{ClipperLib::jtMiter, 3.0},
+                               std::pair{ClipperLib::jtSquare, 2.0}, std::pair{ClipperLib::jtRound, 2.0}}) {
+      for (double d : {-1.0, -0.3, -0.2, -0.05, 0.05, 0.2, 0.3, 1.0}) {
+        CAPTURE(r.loops.size());
+        CAPTURE(int(join));
+        CAPTURE(d);
+        const tc::Paths ours = tc::offset(region, d, join, limit);
+        const tc::Paths theirs = clipper_offset(region, d, join, limit);
+        CHECK(tc::area_mm2(ours) == doctest::Approx(tc::area_mm2(theirs)).epsilon(1e-6));
+        CHECK(difference_area(ours, theirs) < 1e-4);
+        CHECK(ours.size() == theirs.size());
+      }
     }
   }
 }
