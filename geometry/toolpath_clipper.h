@@ -15,8 +15,11 @@ using ClipperLib::Path;
 using ClipperLib::Paths;
 
 // Offset of a filled region by delta mm (negative shrinks). Sharp joins are mitred up to
-// miter_limit times delta; round joins follow the arc within 5 um. Loops of less than a
-// square micrometre are dropped first (they would confuse Clipper's orientation check).
+// miter_limit times delta; round joins follow the arc within 5 um. The loops' orientation
+// is taken as it is (outer loops CCW, holes CW; a stray speck of a hole outside the outer
+// loop changes nothing). Loops of less than a square micrometre are dropped first, and so
+// are those the offset closes, holes when growing and islands when shrinking, that are no
+// more than 2 |delta| across.
 Paths offset(const Paths& region, double delta, ClipperLib::JoinType join = ClipperLib::jtMiter,
              double miter_limit = 3.0);
 

@@ -149,14 +149,14 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
                                            const LayerDone& on_layer_done) {
   const ToolpathOptions o = sane(options);
   const std::size_t n = layers.size();
-  // Every layer's region, simplified and cleaned (non-zero union), split into islands: a
-  // layer past the given regions is empty.
+  // Every layer's region, simplified, then cleaned and split into islands by one non-zero
+  // union (simplifying first: the union has half the vertices to sweep): a layer past the
+  // given regions is empty.
   std::vector<std::vector<tc::Paths>> island_paths(n);
   std::vector<Region> region(n), outline(n);
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
     if (i >= regions.size()) return;
-    island_paths[i] = tc::islands(
-        tc::simplified(tc::union_of(to_clipper(regions[i])), kSimplifyTolerance));
+    island_paths[i] = tc::islands(tc::simplified(to_clipper(regions[i]), kSimplifyTolerance));
     tc::Paths all;
     for (const tc::Paths& island : island_paths[i]) {
       for (const auto& path : island) {
