@@ -57,6 +57,7 @@
 #include "geometry/ma_contour.h"
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Spatial_sort_traits_adapter_2.h>
 #include <CGAL/Triangulation_face_base_with_info_2.h>
@@ -97,6 +98,9 @@ using FaceBase = CGAL::Constrained_triangulation_face_base_2<
     Kernel, CGAL::Triangulation_face_base_with_info_2<FaceInfo, Kernel>>;
 using Tds = CGAL::Triangulation_data_structure_2<VertexBase, FaceBase>;
 using Delaunay = CGAL::Constrained_Delaunay_triangulation_2<Kernel, Tds, CGAL::Exact_predicates_tag>;
+// The same triangulation without constraints: points go in here (a third faster than into
+// Delaunay, whose flips keep constraint flags up to date), then its faces are handed over.
+using PlainDelaunay = CGAL::Delaunay_triangulation_2<Kernel, Tds>;
 using Face = Delaunay::Face_handle;
 using Vertex = Delaunay::Vertex_handle;
 
@@ -384,14 +388,21 @@ IslandAxis island_axis(const BoundaryPair& pair, std::span<const char> solid,
       Kernel, CGAL::Pointer_property_map<Kernel::Point_2>::const_type>;
   const std::vector<Kernel::Point_2>& sorted_points = points;
   CGAL::spatial_sort(order.begin(), order.end(), SortTraits(CGAL::make_property_map(sorted_points)));
+  // With no constraint yet, the constrained triangulation of the points is their Delaunay
+  // triangulation (both break ties by the same symbolic perturbation): it is built as a plain
+  // one and its data structure moved into the constrained one (handles stay valid).
   Delaunay triangulation;
   std::vector<Vertex> vertex_of(samples.size());
-  Face hint;
-  for (std::size_t i : order) {
-    const Vertex v = triangulation.insert(points[i], hint);
-    if (v->info().index == SampleRef::kNone) v->info().index = static_cast<std::uint32_t>(i);
-    vertex_of[i] = v;
-    hint = v->face();
+  {
+    PlainDelaunay plain;
+    Face hint;
+    for (std::size_t i : order) {
+      const Vertex v = plain.insert(points[i], hint);
+      if (v->info().index == SampleRef::kNone) v->info().index = static_cast<std::uint32_t>(i);
+      vertex_of[i] = v;
+      hint = v->face();
+    }
+    static_cast<PlainDelaunay::Triangulation&>(plain).swap(triangulation);
   }
   // The loops' edges as constraints: where the strip is thinner than the sample spacing (a
   // vertical wall's strip is 4 um wide) a plain Delaunay edge may jump from one side of the
