@@ -220,14 +220,32 @@ struct AxisQuery {
     }
     if (count < 3) side[count++] = {loop, segment};
   }
-  static double nearest(std::array<Near, 3>& side, int count, Vec2 x) {
+  // From x to the side's loops. With `on` set, x is a sample on edge *on of the side's first
+  // loop, which is then its nearest edge: that edge's distance (0 or a rounding error), and
+  // the hint moved there, without a walk. The other loops are walked as always.
+  static double nearest(std::array<Near, 3>& side, int count, Vec2 x,
+                        const std::uint32_t* on = nullptr) {
     double best = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < count; ++k) best = std::min(best, distance_near(*side[k].loop, side[k].segment, x));
+    if (on) {
+      const Loop& loop = *side[0].loop;
+      const std::size_t j = side[0].segment = *on;
+      best = std::sqrt(squared_distance_to_segment(x, loop[j], loop[j + 1 == loop.size() ? 0 : j + 1]));
+    }
+    for (int k = on ? 1 : 0; k < count; ++k) {
+      best = std::min(best, distance_near(*side[k].loop, side[k].segment, x));
+    }
     return best;
   }
   // Positive when x is nearer the empty side than the solid one.
   double imbalance(Vec2 x) {
     return nearest(solid_side, solid_count, x) - nearest(empty_side, empty_count, x);
+  }
+  // The same at a sample on edge `segment` of the first solid loop, or of the first empty one.
+  double imbalance_at_solid_sample(Vec2 x, std::uint32_t segment) {
+    return nearest(solid_side, solid_count, x, &segment) - nearest(empty_side, empty_count, x);
+  }
+  double imbalance_at_empty_sample(Vec2 x, std::uint32_t segment) {
+    return nearest(solid_side, solid_count, x) - nearest(empty_side, empty_count, x, &segment);
   }
 };
 
@@ -265,9 +283,12 @@ double regula_falsi(F&& f, double lo, double hi, double f_lo, double f_hi, doubl
   return t;
 }
 
-// The point of [s, e] (s on the solid loop, e on the empty one) equidistant from both loops.
-Vec2 equidistant_on(AxisQuery& query, Vec2 s, Vec2 e) {
-  const double f_lo = query.imbalance(s), f_hi = query.imbalance(e);
+// The point of [s, e] equidistant from both loops: s a sample of the query's first solid loop,
+// e one of its first empty loop.
+Vec2 equidistant_on(AxisQuery& query, const Sample& solid, const Sample& empty) {
+  const Vec2 s = solid.at, e = empty.at;
+  const double f_lo = query.imbalance_at_solid_sample(s, solid.segment);
+  const double f_hi = query.imbalance_at_empty_sample(e, empty.segment);
   double t = 0.5;
   if (f_lo < 0 && f_hi > 0) {
     t = regula_falsi([&](double u) { return query.imbalance(s + u * (e - s)); }, 0, 1, f_lo, f_hi,
@@ -472,7 +493,7 @@ IslandAxis island_axis(const BoundaryPair& pair, std::span<const char> solid,
           const Sample& sw = samples[w->info().index];
           query.add(label(w), loops[sw.loop], sw.segment);
         }
-        const Vec2 at = options.fairing ? equidistant_on(query, s.at, e.at) : 0.5 * (s.at + e.at);
+        const Vec2 at = options.fairing ? equidistant_on(query, s, e) : 0.5 * (s.at + e.at);
         chain.push_back({at, query});
       }
       f = f->neighbor(out);
