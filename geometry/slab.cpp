@@ -377,8 +377,7 @@ void footprint_tree(const Slab& slab, double margin, ClipperLib::PolyTree& tree)
   for (const auto& facet : slab.facets) {
     projected.clear();
     for (const Vec3& v : facet) {
-      const IntPoint p{static_cast<cInt>(std::llround(v.x * kClipperScale)),
-                       static_cast<cInt>(std::llround(v.y * kClipperScale))};  // to_clipper
+      const IntPoint p = to_clipper(Vec2{v.x, v.y});
       if (projected.empty() || !(p == projected.back())) projected.push_back(p);
     }
     while (projected.size() > 1 && projected.front() == projected.back()) projected.pop_back();
