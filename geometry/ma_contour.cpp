@@ -70,6 +70,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <utility>
 
 #include "geometry/boundary_grid.h"
@@ -878,7 +879,9 @@ Region ma_contour(const Slab& slab, std::span<const BoundaryPair> pairs,
   // Pockets (paper §3.4's non-contributing points): where a pocket's samples are farther from
   // the walls than every contributing sample of the island, and the mid section's walls are
   // nearer to them, the pocket takes the mid section.
-  const BoundaryGrid walls(with_features), middle_walls(middle);
+  // The mid section's grid only if some pocket gets as far as asking it (two layers in five).
+  const BoundaryGrid walls(with_features);
+  std::optional<BoundaryGrid> middle_walls;
   ClipperLib::Paths zone = feature_zone;
   std::vector<double> worst;
   for (const IslandAxis& axis : axes) {
@@ -899,10 +902,11 @@ Region ma_contour(const Slab& slab, std::span<const BoundaryPair> pairs,
     for (std::size_t k = 0; k < axis.pockets.size(); ++k) {
       const Pocket& pocket = axis.pockets[k];
       if (worst[k] <= level + kRefineTolerance) continue;
+      if (!middle_walls) middle_walls.emplace(middle);
       double now = 0, with_middle = 0;
       for (Vec2 p : pocket.corners) {
         now = std::max(now, walls.nearest_distance(p));
-        with_middle = std::max(with_middle, middle_walls.nearest_distance(p));
+        with_middle = std::max(with_middle, middle_walls->nearest_distance(p));
       }
       if (with_middle >= now - kRefineTolerance) continue;
       zone.insert(zone.end(), pocket.triangles.begin(), pocket.triangles.end());
