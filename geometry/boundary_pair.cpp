@@ -14,24 +14,6 @@ Loop oriented(const ClipperLib::Path& path, bool counter_clockwise) {
   return from_clipper(copy);
 }
 
-// Winding number of a closed loop around p (0 outside); points on the loop give 1 or -1.
-int winding(const Loop& loop, Vec2 p) {
-  int w = 0;
-  for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
-    const Vec2 a = loop[i], b = loop[(i + 1) % n];
-    const double side = cross(b - a, p - a);
-    if (side == 0 && distance_to_segment(p, a, b) == 0) {
-      return signed_area(loop) >= 0 ? 1 : -1;
-    }
-    if (a.y <= p.y) {
-      if (b.y > p.y && side > 0) ++w;
-    } else if (b.y <= p.y && side < 0) {
-      --w;
-    }
-  }
-  return w;
-}
-
 }  // namespace
 
 std::vector<BoundaryPair> boundary_pairs(const Region& footprint) {
@@ -64,9 +46,26 @@ std::vector<const Loop*> loops_of(const BoundaryPair& pair) {
   return loops;
 }
 
+int winding_number(const Loop& loop, Vec2 p) {
+  int w = 0;
+  for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
+    const Vec2 a = loop[i], b = loop[i + 1 == n ? 0 : i + 1];
+    const double side = cross(b - a, p - a);
+    if (side == 0 && distance_to_segment(p, a, b) == 0) {
+      return signed_area(loop) >= 0 ? 1 : -1;
+    }
+    if (a.y <= p.y) {
+      if (b.y > p.y && side > 0) ++w;
+    } else if (b.y <= p.y && side < 0) {
+      --w;
+    }
+  }
+  return w;
+}
+
 bool point_in_region(const Region& region, Vec2 p) {
   int w = 0;
-  for (const Loop& loop : region.loops) w += winding(loop, p);
+  for (const Loop& loop : region.loops) w += winding_number(loop, p);
   return w != 0;
 }
 

@@ -781,6 +781,41 @@ Region mid_inside(const ClipperLib::Paths& region, const ClipperLib::Paths& midd
   return from_clipper(united_tree(joined, tree));
 }
 
+// Whether add_floating_features can find a feature in the island, read off the mid section's
+// loops as they are, without the union that nests them: a loop inside the island's ring whose
+// face (inside it, outside the loops nested in it) holds none of the island's boundary points.
+// The section's loops lie on the surface inside the slab, so each lies inside one island's
+// ring, at least the footprint margin from its edge; they are nested, never crossing, and
+// the innermost holding a point is the one of least area that holds it. (One case reads
+// differently: a section loop touching itself at a vertex exactly at mid height, which the
+// union could split in two. That is answered as the loop, not as its two halves.)
+bool may_float(const BoundaryPair& pair, const Region& middle) {
+  const std::vector<const Loop*> boundaries = loops_of(pair);
+  const std::size_t n = middle.loops.size();
+  std::vector<char> anchored(n, 0);
+  for (const Loop* boundary : boundaries) {
+    const Vec2 p = (*boundary)[0];
+    std::size_t innermost = n;
+    double least = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < n; ++k) {
+      if (winding_number(middle.loops[k], p) == 0) continue;
+      const double a = std::abs(signed_area(middle.loops[k]));
+      if (a < least) {
+        least = a;
+        innermost = k;
+      }
+    }
+    if (innermost < n) anchored[innermost] = 1;
+  }
+  for (std::size_t k = 0; k < n; ++k) {
+    if (anchored[k] || middle.loops[k].size() < 3) continue;
+    int in_ring = 0;
+    for (const Loop* boundary : boundaries) in_ring += winding_number(*boundary, middle.loops[k][0]);
+    if (in_ring != 0) return true;
+  }
+  return false;
+}
+
 // Floating features of an island (see the top of the file): the faces of the mid section
 // (solid: an outer loop less its holes; empty: a hole less the outer loops inside it) that are
 // bounded by a loop inside the island's footprint and hold none of the island's loops (a loop
@@ -839,8 +874,8 @@ Region ma_contour(const Slab& slab, std::span<const BoundaryPair> pairs,
   // Every loop has the solid on its left, so summing winding numbers over all islands gives
   // 1 exactly on the layer's region, also for islands nested in another's holes.
   ClipperLib::Paths paths, features;
-  ClipperLib::PolyTree middle_nesting;
-  if (options.floating_features) united_tree(to_clipper(middle), middle_nesting);
+  ClipperLib::PolyTree middle_nesting;  // built for the first island that may have a feature
+  bool nested = false;
   std::vector<IslandAxis> axes;
   for (const BoundaryPair& pair : pairs) {
     const std::vector<char> solid = solid_beside(pair, middle);
@@ -857,7 +892,11 @@ Region ma_contour(const Slab& slab, std::span<const BoundaryPair> pairs,
     } else {
       axes.push_back(island_axis(pair, solid, options, stats, options.pockets));
       for (const Loop& loop : axes.back().loops) island.push_back(to_clipper(loop));
-      if (options.floating_features) add_floating_features(pair, middle_nesting, features, stats);
+      if (options.floating_features && may_float(pair, middle)) {
+        if (!nested) united_tree(to_clipper(middle), middle_nesting);
+        nested = true;
+        add_floating_features(pair, middle_nesting, features, stats);
+      }
     }
     paths.insert(paths.end(), island.begin(), island.end());
   }
