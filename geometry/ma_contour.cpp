@@ -674,12 +674,11 @@ bool is_wall(const BoundaryPair& pair) {
   return clipper_area(clip(grown(outline, -reach), {hole}, ClipperLib::ctDifference)) <= kSquareMicrometre;
 }
 
-// A section's part inside the island's outline, as paths to add with positive winding: where
-// the island is solid all round, the outline reversed takes that solid away first.
-ClipperLib::Paths section_in_island(const Region& section, const BoundaryPair& pair,
+// A section's part inside the island's outline (`paths`, clipped to `outline`) as paths to add
+// with positive winding: where the island is solid all round, the outline reversed takes that
+// solid away first.
+ClipperLib::Paths section_in_island(ClipperLib::Paths paths, const ClipperLib::Path& outline,
                                     bool solid_outside) {
-  const ClipperLib::Path outline = to_clipper(pair.outer);
-  ClipperLib::Paths paths = clip(to_clipper(section), {outline}, ClipperLib::ctIntersection);
   if (solid_outside) {
     ClipperLib::Path reversed = outline;
     ClipperLib::ReversePath(reversed);
@@ -688,18 +687,27 @@ ClipperLib::Paths section_in_island(const Region& section, const BoundaryPair& p
   return paths;
 }
 
+// The same from the whole section.
+ClipperLib::Paths section_in_island(const Region& section, const BoundaryPair& pair,
+                                    bool solid_outside) {
+  const ClipperLib::Path outline = to_clipper(pair.outer);
+  return section_in_island(clip(to_clipper(section), {outline}, ClipperLib::ctIntersection),
+                           outline, solid_outside);
+}
+
 // A cap: the mid section inside it; if the feature does not reach the middle (nothing of an
 // empty-beside cap there, all of a solid-beside one, a cavity), the section half-way through
 // the feature's own height range inside the slab.
 ClipperLib::Paths cap_contour(const Slab& slab, const BoundaryPair& pair, bool solid_outside,
                               const Region& middle,
                               const std::function<Region(double z)>& cross_section) {
-  const double island = ClipperLib::Area(to_clipper(pair.outer));
-  const double inside = clipper_area(clip(to_clipper(middle), {to_clipper(pair.outer)},
-                                          ClipperLib::ctIntersection));
+  const ClipperLib::Path outline = to_clipper(pair.outer);
+  const double island = ClipperLib::Area(outline);
+  ClipperLib::Paths middle_inside = clip(to_clipper(middle), {outline}, ClipperLib::ctIntersection);
+  const double inside = clipper_area(middle_inside);
   const bool reaches_middle = solid_outside ? std::abs(inside - island) > kSquareMicrometre
                                             : inside > kSquareMicrometre;
-  if (reaches_middle) return section_in_island(middle, pair, solid_outside);
+  if (reaches_middle) return section_in_island(std::move(middle_inside), outline, solid_outside);
   Region ring{{pair.outer}};
   ring.loops.insert(ring.loops.end(), pair.inner.begin(), pair.inner.end());
   double lo = slab.z_hi, hi = slab.z_lo;
