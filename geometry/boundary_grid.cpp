@@ -45,7 +45,8 @@ void BoundaryGrid::build() {
   for (const Segment2& s : segments_) {
     lo = {std::min({lo.x, s.a.x, s.b.x}), std::min({lo.y, s.a.y, s.b.y})};
     hi = {std::max({hi.x, s.a.x, s.b.x}), std::max({hi.y, s.a.y, s.b.y})};
-    total_length += std::hypot(s.b.x - s.a.x, s.b.y - s.a.y);
+    const Vec2 d = s.b - s.a;
+    total_length += std::sqrt(dot(d, d));  // mm: no overflow for std::hypot to guard
   }
   const double width = std::max(hi.x - lo.x, 1e-9), height = std::max(hi.y - lo.y, 1e-9);
   // About two segments per occupied cell, but never more than ~4 cells per segment overall,
