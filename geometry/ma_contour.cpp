@@ -81,10 +81,12 @@ namespace geometry {
 
 namespace {
 
-// Which sample a vertex is; a vertex CGAL made where two constraints cross has none.
+// Which sample a vertex is (a vertex CGAL made where two constraints cross has none), and its
+// label, set once the triangulation is complete: 1 where the free face beside it is solid.
 struct SampleRef {
   static constexpr std::uint32_t kNone = 0xffffffffu;
   std::uint32_t index = kNone;
+  char solid = 0;
 };
 
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
@@ -449,14 +451,14 @@ IslandAxis island_axis(const BoundaryPair& pair, std::span<const char> solid,
   }
   for (Face f : triangulation.all_face_handles()) f->info() = FaceInfo{};
 
-  const char outside = solid[0] != 0;
-  const auto known = [&](Vertex v) {
-    return !triangulation.is_infinite(v) && v->info().index != SampleRef::kNone;
-  };
+  // The infinite vertex is no sample either.
+  const auto known = [](Vertex v) { return v->info().index != SampleRef::kNone; };
   // A crossing vertex (two loops touching) takes the outside's label: any labelling closes.
-  const auto label = [&](Vertex v) -> char {
-    return known(v) ? solid[samples[v->info().index].loop] != 0 : outside;
-  };
+  const char outside = solid[0] != 0;
+  for (Vertex v : triangulation.all_vertex_handles()) {
+    v->info().solid = known(v) ? solid[samples[v->info().index].loop] != 0 : outside;
+  }
+  const auto label = [](Vertex v) { return v->info().solid; };
   const auto mixed = [&](Face f) {
     const char l0 = label(f->vertex(0));
     return label(f->vertex(1)) != l0 || label(f->vertex(2)) != l0;
