@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <utility>
 
@@ -114,7 +115,7 @@ bool before(IntPoint a, IntPoint b) { return a.X < b.X || (a.X == b.X && a.Y < b
 // One edge of a facet's projection, its ends sorted.
 struct Edge {
   IntPoint lo, hi;  // lo before hi
-  int direction;    // +1: walked lo -> hi
+  int direction;    // +1: walked lo -> hi (summed: the net number of times)
 };
 
 void add_edges(const ClipperLib::Path& facet, std::vector<Edge>& edges) {
@@ -125,27 +126,56 @@ void add_edges(const ClipperLib::Path& facet, std::vector<Edge>& edges) {
   }
 }
 
+// The edges summed by their ends: each distinct segment once, with the net number of times
+// it is walked from lo to hi (an open-addressing table; most segments are shared by two
+// facets walking it opposite ways and sum to 0). Then the segments left, sorted by their ends.
+std::vector<Edge> net_edges(const std::vector<Edge>& edges) {
+  std::size_t size = 16;
+  while (size < 2 * edges.size()) size *= 2;
+  const auto hash = [](const Edge& e) {
+    std::uint64_t h = 0;
+    for (const cInt v : {e.lo.X, e.lo.Y, e.hi.X, e.hi.Y}) {
+      h = (h ^ static_cast<std::uint64_t>(v)) * 0x9e3779b97f4a7c15ull;
+    }
+    return h ^ (h >> 32);
+  };
+  std::vector<Edge> summed;
+  summed.reserve(edges.size());
+  std::vector<std::uint32_t> slots(size, 0);  // 1 + the index in summed of the ends there
+  for (const Edge& e : edges) {
+    for (std::size_t k = hash(e) & (size - 1);; k = (k + 1) & (size - 1)) {
+      if (slots[k] == 0) {
+        summed.push_back(e);
+        slots[k] = static_cast<std::uint32_t>(summed.size());
+        break;
+      }
+      Edge& same = summed[slots[k] - 1];
+      if (same.lo == e.lo && same.hi == e.hi) {
+        same.direction += e.direction;
+        break;
+      }
+    }
+  }
+  summed.erase(std::remove_if(summed.begin(), summed.end(), [](const Edge& e) { return e.direction == 0; }),
+               summed.end());
+  std::sort(summed.begin(), summed.end(), [](const Edge& x, const Edge& y) {
+    return before(x.lo, y.lo) || (x.lo == y.lo && before(x.hi, y.hi));
+  });
+  return summed;
+}
+
 // The boundary of the facets' projections taken as a 2-chain (each facet counter-clockwise,
 // weight one; `edges` are their edges, add_edges), as closed paths: a shared edge is walked
 // once each way and cancels, so only the lower and upper contours and the silhouettes remain.
 // Their non-zero fill is the union of the projections, and Clipper sees a few hundred edges
-// instead of every facet. Sorting, not hashing: the edges are sorted once by their ends to
-// cancel pairs, then by their start to walk them.
-ClipperLib::Paths chain_boundary(std::vector<Edge>& edges) {
-  std::sort(edges.begin(), edges.end(), [](const Edge& x, const Edge& y) {
-    return before(x.lo, y.lo) || (x.lo == y.lo && before(x.hi, y.hi));
-  });
+// instead of every facet. The edges are summed by their ends (net_edges), then sorted by
+// their start to walk them.
+ClipperLib::Paths chain_boundary(const std::vector<Edge>& edges) {
   std::vector<std::pair<IntPoint, IntPoint>> remaining;  // directed, after cancelling
-  for (std::size_t i = 0; i < edges.size();) {
-    std::size_t j = i;
-    int net = 0;
-    for (; j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi; ++j) {
-      net += edges[j].direction;
+  for (const Edge& e : net_edges(edges)) {
+    for (int k = 0; k < std::abs(e.direction); ++k) {
+      remaining.push_back(e.direction > 0 ? std::pair{e.lo, e.hi} : std::pair{e.hi, e.lo});
     }
-    for (int k = 0; k < std::abs(net); ++k) {
-      remaining.push_back(net > 0 ? std::pair{edges[i].lo, edges[i].hi} : std::pair{edges[i].hi, edges[i].lo});
-    }
-    i = j;
   }
   std::sort(remaining.begin(), remaining.end(),
             [](const auto& x, const auto& y) { return before(x.first, y.first); });
