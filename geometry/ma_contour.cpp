@@ -20,7 +20,9 @@
 //      two boundary polygons (not their samples, so sampling aliasing is gone), then resamples
 //      locally: where the middle of a contour edge is off the medial axis by more than
 //      kFairingTolerance, a new vertex is put on the axis there, recursively;
-//   5. Clipper unions all loops (positive winding) into a valid Region.
+//   5. the loops are the layer's Region as they stand, rounded to Clipper's nanometre grid
+//      (simple, disjoint, solid on their left); with a cap or a wall in the layer, Clipper
+//      unions all islands' paths (positive winding) into a valid Region.
 // A vertical wall's strip (lower contour = upper contour: a ring a few margins wide) gives the
 // mid section inside it, that very contour, without a triangulation.
 // Caps (a feature beginning or ending inside the slab: an island whose free faces are all
@@ -750,6 +752,30 @@ ClipperLib::Paths united(const ClipperLib::Paths& paths) {
   return result;
 }
 
+// The union of paths of positive winding, as a Region (outer loops CCW, holes CW).
+Region united_region(const ClipperLib::Paths& paths) {
+  ClipperLib::Clipper clipper;
+  clipper.AddPaths(paths, ClipperLib::ptSubject, true);
+  ClipperLib::PolyTree tree;
+  clipper.Execute(ClipperLib::ctUnion, tree, ClipperLib::pftPositive, ClipperLib::pftPositive);
+  return from_clipper(tree);
+}
+
+// Whether axis loops on Clipper's grid are a Region as they stand: loops that are simple,
+// pairwise disjoint and have the solid on their left (medial_axis_loops), from disjoint
+// islands, which their union would only renumber. The rounding must not have merged two
+// vertices (a union would drop one). On the bunny the union gave back the very same vertices
+// on each of the 325 layers whose islands all have their axis.
+bool on_grid_as_they_are(const ClipperLib::Paths& loops) {
+  for (const ClipperLib::Path& loop : loops) {
+    if (loop.size() < 3) return false;
+    for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
+      if (loop[i] == loop[i + 1 == n ? 0 : i + 1]) return false;
+    }
+  }
+  return true;
+}
+
 // `region` with the mid section taking its place inside `zone`: (region \ zone) ∪ (mid ∩ zone),
 // in one Clipper operation, so that the two parts meet exactly along the zone's edges (two
 // operations round their crossings apart and leave nanometre cracks there). Each input has
@@ -886,17 +912,20 @@ Region ma_contour(const Slab& slab, std::span<const BoundaryPair> pairs,
   ClipperLib::Paths paths, features;
   ClipperLib::PolyTree middle_nesting;  // built for the first island that may have a feature
   bool nested = false;
+  bool only_axes = true;  // no cap, no wall
   std::vector<IslandAxis> axes;
   for (const BoundaryPair& pair : pairs) {
     const std::vector<char> solid = solid_beside(pair, middle);
     const bool cap = std::all_of(solid.begin(), solid.end(), [&](char s) { return s == solid[0]; });
     ClipperLib::Paths island;
     if (cap) {
+      only_axes = false;
       if (stats) ++stats->caps;
       island = cap_contour(slab, pair, solid[0] != 0, middle, cross_section);
     } else if (is_wall(pair)) {
       // Lower contour = upper contour: the contour is that section, exactly (the axis of the
       // ring would be it to a fraction of the margin), without a triangulation.
+      only_axes = false;
       if (stats) ++stats->walls;
       island = section_in_island(middle, pair, solid[0] != 0);
     } else {
@@ -910,15 +939,11 @@ Region ma_contour(const Slab& slab, std::span<const BoundaryPair> pairs,
     }
     paths.insert(paths.end(), island.begin(), island.end());
   }
-  ClipperLib::Clipper clipper;
-  clipper.AddPaths(paths, ClipperLib::ptSubject, true);
-  ClipperLib::PolyTree tree;
-  clipper.Execute(ClipperLib::ctUnion, tree, ClipperLib::pftPositive, ClipperLib::pftPositive);
+  Region basic = only_axes && on_grid_as_they_are(paths) ? from_clipper(paths) : united_region(paths);
   bool any_pocket = false;
   for (const IslandAxis& axis : axes) any_pocket = any_pocket || !axis.pockets.empty();
-  if (features.empty() && !any_pocket) return from_clipper(tree);
+  if (features.empty() && !any_pocket) return basic;
 
-  Region basic = from_clipper(tree);
   const ClipperLib::Paths basic_paths = to_clipper(basic);
   const ClipperLib::Paths middle_paths = to_clipper(middle);
   const ClipperLib::Paths feature_zone = united(features);
