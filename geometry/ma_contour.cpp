@@ -781,21 +781,35 @@ bool on_grid_as_they_are(const ClipperLib::Paths& loops) {
 // operations round their crossings apart and leave nanometre cracks there). Each input has
 // winding 1 inside and 0 outside. Subject: region - zone > 0; clip: mid + zone - box > 0,
 // the box reversed round everything.
-Region mid_inside(const ClipperLib::Paths& region, const ClipperLib::Paths& middle,
+Region mid_inside(const ClipperLib::Paths& region, const ClipperLib::Paths& all_middle,
                   const ClipperLib::Paths& zone) {
-  ClipperLib::cInt lo_x = 0, lo_y = 0, hi_x = 0, hi_y = 0;
-  bool first = true;
-  for (const ClipperLib::Paths* paths : {&middle, &zone}) {
-    for (const auto& path : *paths) {
+  struct Box {
+    ClipperLib::cInt lo_x, lo_y, hi_x, hi_y;
+    void add(const ClipperLib::Path& path) {
       for (const auto& p : path) {
-        lo_x = first ? p.X : std::min(lo_x, p.X);
-        lo_y = first ? p.Y : std::min(lo_y, p.Y);
-        hi_x = first ? p.X : std::max(hi_x, p.X);
-        hi_y = first ? p.Y : std::max(hi_y, p.Y);
-        first = false;
+        lo_x = std::min(lo_x, p.X);
+        lo_y = std::min(lo_y, p.Y);
+        hi_x = std::max(hi_x, p.X);
+        hi_y = std::max(hi_y, p.Y);
       }
     }
+    bool meets(const Box& other) const {
+      return lo_x <= other.hi_x && other.lo_x <= hi_x && lo_y <= other.hi_y && other.lo_y <= hi_y;
+    }
+  };
+  constexpr auto kMax = std::numeric_limits<ClipperLib::cInt>::max();
+  constexpr Box kEmpty{kMax, kMax, -kMax, -kMax};
+  Box bounds = kEmpty;
+  for (const auto& path : zone) bounds.add(path);
+  // Only the section's loops whose box meets the zone's: the others add no winding inside it.
+  ClipperLib::Paths middle;
+  for (const auto& path : all_middle) {
+    Box own = kEmpty;
+    own.add(path);
+    if (own.meets(bounds)) middle.push_back(path);
   }
+  for (const auto& path : middle) bounds.add(path);
+  const ClipperLib::cInt lo_x = bounds.lo_x, lo_y = bounds.lo_y, hi_x = bounds.hi_x, hi_y = bounds.hi_y;
   ClipperLib::Clipper clipper;
   clipper.AddPaths(region, ClipperLib::ptSubject, true);
   for (ClipperLib::Path path : zone) {
