@@ -74,9 +74,9 @@ std::vector<char> solid_beside(const BoundaryPair& pair, const Region& section) 
   for (const Loop* loop : loops_of(pair)) {
     const std::size_t n = loop->size();
     const std::size_t votes = std::min<std::size_t>(5, n);
-    std::size_t inside = 0;
-    for (std::size_t k = 0; k < votes; ++k) {
-      if (point_in_region(section, (*loop)[k * n / votes])) ++inside;
+    std::size_t inside = 0, outside = 0;  // votes counted until they make a majority
+    for (std::size_t k = 0; k < votes && 2 * inside <= votes && 2 * outside < votes; ++k) {
+      ++(point_in_region(section, (*loop)[k * n / votes]) ? inside : outside);
     }
     solid.push_back(2 * inside > votes ? 1 : 0);
   }
