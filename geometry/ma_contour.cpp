@@ -132,17 +132,31 @@ struct Sample {
 
 double length(Vec2 v) { return std::sqrt(v.x * v.x + v.y * v.y); }  // mm: no overflow to guard
 
+// At least the loop's perimeter, mm: the sum of |dx| + |dy|, without a square root.
+double perimeter_bound(const Loop& loop) {
+  double bound = 0;
+  for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
+    const Vec2 d = loop[i + 1 == n ? 0 : i + 1] - loop[i];
+    bound += std::abs(d.x) + std::abs(d.y);
+  }
+  return bound;
+}
+
 std::vector<Sample> sample_loops(const std::vector<const Loop*>& loops, const MaOptions& options) {
   std::size_t vertices = 0;
-  double total = 0;
+  double total = 0;  // the loops' length, or a bound on it while that keeps under the cap
   for (const Loop* loop : loops) {
     vertices += loop->size();
-    total += perimeter(*loop);
+    total += perimeter_bound(*loop);
   }
   const std::size_t cap = std::max<std::size_t>(options.max_points, 16);
   // Over the cap even with vertices alone: keep every stride-th vertex.
   const std::size_t stride = vertices > cap ? (vertices + cap - 1) / cap : 1;
   double spacing = options.spacing > 0 ? options.spacing : kDefaultSpacing;
+  if (stride == 1 && vertices + total / spacing > cap) {
+    total = 0;
+    for (const Loop* loop : loops) total += perimeter(*loop);
+  }
   if (stride == 1 && vertices + total / spacing > cap) {
     spacing = total / static_cast<double>(cap - vertices + 1);
   }
@@ -664,9 +678,12 @@ ClipperLib::Paths grown(const ClipperLib::Path& filled, double delta) {
 bool is_wall(const BoundaryPair& pair) {
   if (pair.inner.size() != 1) return false;
   // First the cheap test that rejects nearly every real strip: a wall's ring is on average
-  // two margins wide (its area over its mean perimeter).
-  const double mean_length = 0.5 * (perimeter(pair.outer) + perimeter(pair.inner[0]));
+  // two margins wide (its area over its mean perimeter), and most rings are so much wider
+  // that a bound on the perimeter tells.
   const double ring_area = signed_area(pair.outer) + signed_area(pair.inner[0]);
+  const double length_bound = 0.5 * (perimeter_bound(pair.outer) + perimeter_bound(pair.inner[0]));
+  if (ring_area > 3 * kFootprintMargin * length_bound) return false;
+  const double mean_length = 0.5 * (perimeter(pair.outer) + perimeter(pair.inner[0]));
   if (!(mean_length > 0) || ring_area > 3 * kFootprintMargin * mean_length) return false;
   const double reach = 4 * kFootprintMargin * kClipperScale;
   const ClipperLib::Path outline = to_clipper(pair.outer);
