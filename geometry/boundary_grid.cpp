@@ -24,6 +24,9 @@ double distance_squared_to_segment(Vec2 p, const Segment2& s) {
 }  // namespace
 
 BoundaryGrid::BoundaryGrid(const Region& region) {
+  std::size_t corners = 0;
+  for (const Loop& loop : region.loops) corners += loop.size();
+  segments_.reserve(corners);
   for (const Loop& loop : region.loops) {
     for (std::size_t i = 0, n = loop.size(); i < n && n > 1; ++i) {
       const Vec2 a = loop[i], b = loop[(i + 1) % n];
