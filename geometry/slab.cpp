@@ -52,9 +52,10 @@ void clip_half(std::span<const Vec3> in, double plane, double side, Corners& out
 
 bool same_point(Vec3 a, Vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
 
+// `above` and `inside` are scratch space, so that a caller clipping many faces makes them once.
 template <class Corners>
-std::vector<Vec3> clip_with(std::span<const Vec3> polygon, double z_lo, double z_hi) {
-  Corners above, inside;
+std::vector<Vec3> clip_with(std::span<const Vec3> polygon, double z_lo, double z_hi,
+                            Corners& above, Corners& inside) {
   clip_half(polygon, z_lo, 1.0, above);
   clip_half(std::span<const Vec3>(above.data(), above.size()), z_hi, -1.0, inside);
   // Repeated points merged, the first and last too.
@@ -75,14 +76,19 @@ std::vector<Vec3> clip_with(std::span<const Vec3> polygon, double z_lo, double z
 }  // namespace
 
 std::vector<Vec3> clip_to_slab(std::span<const Vec3> polygon, double z_lo, double z_hi) {
-  return polygon.size() + 2 <= kMaxCorners ? clip_with<SmallPolygon>(polygon, z_lo, z_hi)
-                                           : clip_with<std::vector<Vec3>>(polygon, z_lo, z_hi);
+  if (polygon.size() + 2 <= kMaxCorners) {
+    SmallPolygon above, inside;
+    return clip_with(polygon, z_lo, z_hi, above, inside);
+  }
+  std::vector<Vec3> above, inside;
+  return clip_with(polygon, z_lo, z_hi, above, inside);
 }
 
 Slab slab_of(const Mesh& mesh, std::span<const std::uint32_t> faces, double z_lo, double z_hi) {
   Slab slab{z_lo, z_hi, {}};
   if (!(z_lo < z_hi)) return slab;
   slab.facets.reserve(faces.size());
+  SmallPolygon above, inside;  // a triangle's pieces
   for (std::uint32_t f : faces) {
     if (f >= mesh.faces.size()) continue;
     const auto& face = mesh.faces[f];
@@ -95,7 +101,7 @@ Slab slab_of(const Mesh& mesh, std::span<const std::uint32_t> faces, double z_lo
     const double lo = std::min({corners[0].z, corners[1].z, corners[2].z});
     const double hi = std::max({corners[0].z, corners[1].z, corners[2].z});
     if (hi < z_lo || lo > z_hi) continue;
-    std::vector<Vec3> piece = clip_to_slab(corners, z_lo, z_hi);
+    std::vector<Vec3> piece = clip_with(std::span<const Vec3>(corners), z_lo, z_hi, above, inside);
     if (!piece.empty()) slab.facets.push_back(std::move(piece));
   }
   return slab;
