@@ -242,8 +242,10 @@ struct AxisQuery {
   // From x to the side's loops. With `on` set, x is a sample on edge *on of the side's first
   // loop, which is then its nearest edge: that edge's distance (0 or a rounding error), and
   // the hint moved there, without a walk. The other loops are walked as always.
-  static double nearest(std::array<Near, 3>& side, int count, Vec2 x,
-                        const std::uint32_t* on = nullptr) {
+  // Always inlined (GCC kept it a call): fairing asks it about three million times per model,
+  // and inlined into each caller the walks cost a tenth fewer instructions.
+  [[gnu::always_inline]] static double nearest(std::array<Near, 3>& side, int count, Vec2 x,
+                                               const std::uint32_t* on = nullptr) {
     double best = std::numeric_limits<double>::infinity();
     if (on) {
       const Loop& loop = *side[0].loop;
