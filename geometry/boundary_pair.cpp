@@ -50,6 +50,8 @@ int winding_number(const Loop& loop, Vec2 p) {
   int w = 0;
   for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
     const Vec2 a = loop[i], b = loop[i + 1 == n ? 0 : i + 1];
+    // Wholly above or below p: the edge neither crosses p's ray nor holds p.
+    if ((a.y < p.y && b.y < p.y) || (a.y > p.y && b.y > p.y)) continue;
     const double side = cross(b - a, p - a);
     if (side == 0 && distance_to_segment(p, a, b) == 0) {
       return signed_area(loop) >= 0 ? 1 : -1;
