@@ -69,8 +69,18 @@ void finish_loop(Loop& loop, Region& region) {
   loop.erase(std::unique(loop.begin(), loop.end()), loop.end());
   while (loop.size() > 1 && loop.front() == loop.back()) loop.pop_back();
   if (loop.size() < 3) return;
-  const double length = perimeter(loop);
-  if (std::abs(signed_area(loop)) <= 1e-12 * length * length) return;
+  // Of no area: |area| <= 1e-12 perimeter^2. Most loops have far more than that even against
+  // a bound on the perimeter (the sum of |dx| + |dy|), which needs no square roots.
+  const double area = std::abs(signed_area(loop));
+  double bound = 0;
+  for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
+    const Vec2 d = loop[i + 1 == n ? 0 : i + 1] - loop[i];
+    bound += std::abs(d.x) + std::abs(d.y);
+  }
+  if (!(area > 1e-12 * bound * bound)) {
+    const double length = perimeter(loop);
+    if (area <= 1e-12 * length * length) return;
+  }
   region.loops.push_back(std::move(loop));
 }
 
