@@ -331,6 +331,7 @@ Loop simplified(const Loop& loop, double tolerance) {
         return squared_distance_to_segment(loop[i], loop[a], loop[b]);
       });
   Loop out;
+  out.reserve(static_cast<std::size_t>(std::count(keep.begin(), keep.end(), 1)));
   for (std::size_t i = 0; i < n; ++i) {
     if (keep[i]) out.push_back(loop[i]);
   }
@@ -491,9 +492,10 @@ IslandAxis island_axis(const BoundaryPair& pair, std::span<const char> solid,
     return label(f->vertex(odd)) ? (odd + 1) % 3 : (odd + 2) % 3;
   };
 
+  std::vector<ContourVertex> chain;  // one loop's, before fairing
   for (Face start : triangulation.all_face_handles()) {
     if (start->info().visited || exit_edge(start) < 0) continue;
-    std::vector<ContourVertex> chain;
+    chain.clear();
     Face f = start;
     do {
       f->info().visited = 1;
