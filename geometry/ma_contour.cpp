@@ -1003,10 +1003,16 @@ Region ma_contour(const Slab& slab, std::span<const BoundaryPair> pairs,
     }
     // Θ of §3.4, the largest distance of a contributing sample to the walls; only needed up
     // to the farthest pocket sample (most pockets are a sharp corner's few samples).
+    // Visited a sixteenth at a time, spread along the loops, so that where some sample is
+    // farther than every pocket sample it is found early (the decisions come out the same in
+    // any order: all pockets pass when one is, else level is the maximum).
     double level = 0;
-    for (Vec2 p : axis.contributing) {
-      level = std::max(level, walls.nearest_distance(p));
-      if (level > farthest) break;
+    const std::size_t count = axis.contributing.size();
+    constexpr std::size_t kStride = 16;
+    for (std::size_t first = 0; first < kStride && level <= farthest; ++first) {
+      for (std::size_t i = first; i < count && level <= farthest; i += kStride) {
+        level = std::max(level, walls.nearest_distance(axis.contributing[i]));
+      }
     }
     for (std::size_t k = 0; k < axis.pockets.size(); ++k) {
       const Pocket& pocket = axis.pockets[k];
