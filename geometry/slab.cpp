@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <initializer_list>
 #include <numbers>
 #include <utility>
 
@@ -132,19 +133,20 @@ void add_edges(const ClipperLib::Path& facet, std::vector<Edge>& edges) {
   }
 }
 
+// A hash of a few coordinates, for open-addressing tables indexed by its low bits.
+std::uint64_t hash_of(std::initializer_list<cInt> values) {
+  std::uint64_t h = 0;
+  for (const cInt v : values) h = (h ^ static_cast<std::uint64_t>(v)) * 0x9e3779b97f4a7c15ull;
+  return h ^ (h >> 32);
+}
+
 // The edges summed by their ends: each distinct segment once, with the net number of times
 // it is walked from lo to hi (an open-addressing table; most segments are shared by two
 // facets walking it opposite ways and sum to 0). Then the segments left, sorted by their ends.
 std::vector<Edge> net_edges(const std::vector<Edge>& edges) {
   std::size_t size = 16;
   while (size < 2 * edges.size()) size *= 2;
-  const auto hash = [](const Edge& e) {
-    std::uint64_t h = 0;
-    for (const cInt v : {e.lo.X, e.lo.Y, e.hi.X, e.hi.Y}) {
-      h = (h ^ static_cast<std::uint64_t>(v)) * 0x9e3779b97f4a7c15ull;
-    }
-    return h ^ (h >> 32);
-  };
+  const auto hash = [](const Edge& e) { return hash_of({e.lo.X, e.lo.Y, e.hi.X, e.hi.Y}); };
   std::vector<Edge> summed;
   summed.reserve(edges.size());
   std::vector<std::uint32_t> slots(size, 0);  // 1 + the index in summed of the ends there
@@ -191,12 +193,22 @@ ClipperLib::Paths chain_boundary(const std::vector<Edge>& edges) {
   for (std::size_t i = 0; i < remaining.size(); ++i) {
     cursor[i] = i > 0 && remaining[i].first == remaining[i - 1].first ? cursor[i - 1] : i;
   }
+  // Where the edges out of each point begin in `remaining`: 1 + that index, by the point.
+  std::size_t size = 16;
+  while (size < 2 * remaining.size()) size *= 2;
+  std::vector<std::uint32_t> starts(size, 0);
+  const auto slot_of = [&](IntPoint at) {
+    std::size_t k = hash_of({at.X, at.Y}) & (size - 1);
+    while (starts[k] != 0 && !(remaining[starts[k] - 1].first == at)) k = (k + 1) & (size - 1);
+    return k;
+  };
+  for (std::size_t i = 0; i < remaining.size(); ++i) {
+    if (cursor[i] == i) starts[slot_of(remaining[i].first)] = static_cast<std::uint32_t>(i + 1);
+  }
   const auto take_from = [&](IntPoint at) -> std::size_t {
-    const auto it = std::lower_bound(remaining.begin(), remaining.end(), at,
-                                     [](const auto& e, IntPoint p) { return before(e.first, p); });
-    if (it == remaining.end() || !(it->first == at)) return remaining.size();
-    const std::size_t first = static_cast<std::size_t>(it - remaining.begin());
-    std::size_t& next = cursor[first];
+    const std::uint32_t start = starts[slot_of(at)];
+    if (start == 0) return remaining.size();
+    std::size_t& next = cursor[start - 1];
     while (next < remaining.size() && remaining[next].first == at && used[next]) ++next;
     if (next >= remaining.size() || !(remaining[next].first == at)) return remaining.size();
     return next;
