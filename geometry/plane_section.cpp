@@ -117,6 +117,21 @@ Region plane_section(const Mesh& mesh, std::span<const std::uint32_t> faces, dou
   for (std::size_t i = 0; i < segments.size(); ++i) ends[i] = segments[i].end;
   std::sort(ends.begin(), ends.end());
 
+  // Where the segments from each node begin, by an open-addressing table on the node:
+  // 1 + that index.
+  std::size_t size = 16;
+  while (size < 2 * segments.size()) size *= 2;
+  std::vector<std::uint32_t> starts(size, 0);
+  const auto slot_of = [&](Node node) {
+    std::size_t k = ((node ^ (node >> 29)) * 0x9e3779b97f4a7c15ull >> 20) & (size - 1);
+    while (starts[k] != 0 && segments[starts[k] - 1].start != node) k = (k + 1) & (size - 1);
+    return k;
+  };
+  for (std::size_t i = 0; i < segments.size(); ++i) {
+    if (i == 0 || segments[i].start != segments[i - 1].start) {
+      starts[slot_of(segments[i].start)] = static_cast<std::uint32_t>(i + 1);
+    }
+  }
   std::vector<char> used(segments.size(), 0);
   Region region;
   const auto walk = [&](std::size_t first) {
@@ -127,8 +142,8 @@ Region plane_section(const Mesh& mesh, std::span<const std::uint32_t> faces, dou
     for (;;) {
       const Node wanted = segments[current].end;
       if (wanted == segments[first].start) break;  // closed
-      auto it = std::lower_bound(segments.begin(), segments.end(), wanted,
-                                 [](const Segment& s, Node node) { return s.start < node; });
+      const std::uint32_t start = starts[slot_of(wanted)];
+      auto it = start == 0 ? segments.end() : segments.begin() + (start - 1);
       // An edge starts one segment; a vertex on the plane (or a non-manifold edge) may start
       // several, and any unused one continues a valid loop.
       while (it != segments.end() && it->start == wanted && used[it - segments.begin()]) ++it;
