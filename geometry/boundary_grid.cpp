@@ -24,6 +24,9 @@ double distance_squared_to_segment(Vec2 p, const Segment2& s) {
 }  // namespace
 
 BoundaryGrid::BoundaryGrid(const Region& region) {
+  std::size_t corners = 0;
+  for (const Loop& loop : region.loops) corners += loop.size();
+  segments_.reserve(corners);
   for (const Loop& loop : region.loops) {
     for (std::size_t i = 0, n = loop.size(); i < n && n > 1; ++i) {
       const Vec2 a = loop[i], b = loop[(i + 1) % n];
@@ -45,7 +48,8 @@ void BoundaryGrid::build() {
   for (const Segment2& s : segments_) {
     lo = {std::min({lo.x, s.a.x, s.b.x}), std::min({lo.y, s.a.y, s.b.y})};
     hi = {std::max({hi.x, s.a.x, s.b.x}), std::max({hi.y, s.a.y, s.b.y})};
-    total_length += std::hypot(s.b.x - s.a.x, s.b.y - s.a.y);
+    const Vec2 d = s.b - s.a;
+    total_length += std::sqrt(dot(d, d));  // mm: no overflow for std::hypot to guard
   }
   const double width = std::max(hi.x - lo.x, 1e-9), height = std::max(hi.y - lo.y, 1e-9);
   // About two segments per occupied cell, but never more than ~4 cells per segment overall,
@@ -62,13 +66,12 @@ void BoundaryGrid::build() {
 
   const std::size_t cells = static_cast<std::size_t>(nx_) * ny_;
   std::vector<std::uint32_t> count(cells + 1, 0);
-  const auto span_of = [&](const Segment2& s) {
-    auto [x0, y0] = cell_of({std::min(s.a.x, s.b.x), std::min(s.a.y, s.b.y)});
-    auto [x1, y1] = cell_of({std::max(s.a.x, s.b.x), std::max(s.a.y, s.b.y)});
-    return std::array<int, 4>{x0, y0, x1, y1};
-  };
-  for (const Segment2& s : segments_) {
-    const auto [x0, y0, x1, y1] = span_of(s);
+  std::vector<std::array<int, 4>> spans(segments_.size());  // each segment's block of cells
+  for (std::size_t id = 0; id < segments_.size(); ++id) {
+    const Segment2& s = segments_[id];
+    const auto [x0, y0] = cell_of({std::min(s.a.x, s.b.x), std::min(s.a.y, s.b.y)});
+    const auto [x1, y1] = cell_of({std::max(s.a.x, s.b.x), std::max(s.a.y, s.b.y)});
+    spans[id] = {x0, y0, x1, y1};
     for (int y = y0; y <= y1; ++y)
       for (int x = x0; x <= x1; ++x) ++count[static_cast<std::size_t>(y) * nx_ + x + 1];
   }
@@ -76,7 +79,7 @@ void BoundaryGrid::build() {
   cell_start_ = count;
   ids_.resize(cell_start_[cells]);
   for (std::uint32_t id = 0; id < segments_.size(); ++id) {
-    const auto [x0, y0, x1, y1] = span_of(segments_[id]);
+    const auto [x0, y0, x1, y1] = spans[id];
     for (int y = y0; y <= y1; ++y)
       for (int x = x0; x <= x1; ++x) ids_[count[static_cast<std::size_t>(y) * nx_ + x]++] = id;
   }

@@ -14,24 +14,6 @@ Loop oriented(const ClipperLib::Path& path, bool counter_clockwise) {
   return from_clipper(copy);
 }
 
-// Winding number of a closed loop around p (0 outside); points on the loop give 1 or -1.
-int winding(const Loop& loop, Vec2 p) {
-  int w = 0;
-  for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
-    const Vec2 a = loop[i], b = loop[(i + 1) % n];
-    const double side = cross(b - a, p - a);
-    if (side == 0 && distance_to_segment(p, a, b) == 0) {
-      return signed_area(loop) >= 0 ? 1 : -1;
-    }
-    if (a.y <= p.y) {
-      if (b.y > p.y && side > 0) ++w;
-    } else if (b.y <= p.y && side < 0) {
-      --w;
-    }
-  }
-  return w;
-}
-
 }  // namespace
 
 std::vector<BoundaryPair> boundary_pairs(const Region& footprint) {
@@ -64,9 +46,28 @@ std::vector<const Loop*> loops_of(const BoundaryPair& pair) {
   return loops;
 }
 
+int winding_number(const Loop& loop, Vec2 p) {
+  int w = 0;
+  for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
+    const Vec2 a = loop[i], b = loop[i + 1 == n ? 0 : i + 1];
+    // Wholly above or below p: the edge neither crosses p's ray nor holds p.
+    if ((a.y < p.y && b.y < p.y) || (a.y > p.y && b.y > p.y)) continue;
+    const double side = cross(b - a, p - a);
+    if (side == 0 && distance_to_segment(p, a, b) == 0) {
+      return signed_area(loop) >= 0 ? 1 : -1;
+    }
+    if (a.y <= p.y) {
+      if (b.y > p.y && side > 0) ++w;
+    } else if (b.y <= p.y && side < 0) {
+      --w;
+    }
+  }
+  return w;
+}
+
 bool point_in_region(const Region& region, Vec2 p) {
   int w = 0;
-  for (const Loop& loop : region.loops) w += winding(loop, p);
+  for (const Loop& loop : region.loops) w += winding_number(loop, p);
   return w != 0;
 }
 
@@ -75,9 +76,9 @@ std::vector<char> solid_beside(const BoundaryPair& pair, const Region& section) 
   for (const Loop* loop : loops_of(pair)) {
     const std::size_t n = loop->size();
     const std::size_t votes = std::min<std::size_t>(5, n);
-    std::size_t inside = 0;
-    for (std::size_t k = 0; k < votes; ++k) {
-      if (point_in_region(section, (*loop)[k * n / votes])) ++inside;
+    std::size_t inside = 0, outside = 0;  // votes counted until they make a majority
+    for (std::size_t k = 0; k < votes && 2 * inside <= votes && 2 * outside < votes; ++k) {
+      ++(point_in_region(section, (*loop)[k * n / votes]) ? inside : outside);
     }
     solid.push_back(2 * inside > votes ? 1 : 0);
   }

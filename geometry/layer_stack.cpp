@@ -55,7 +55,8 @@ struct LayerStack::Index {
   double bucket_height = 1;
   std::size_t buckets = 0;
   std::vector<std::size_t> bucket_begin;     // faces of bucket b: bucket_faces[begin[b], begin[b+1])
-  std::vector<std::uint32_t> bucket_faces;
+  std::vector<std::uint32_t> bucket_faces;   // ascending within each bucket
+  std::vector<std::uint32_t> first_bucket;   // of every indexed face
   std::vector<double> face_low, face_high;   // z-range of every face (NaN: not indexed)
   std::vector<double> vertex_heights;        // sorted, distinct
 
@@ -121,10 +122,11 @@ LayerStack::LayerStack(const Mesh& mesh, std::vector<Layer> layers)
 
   // Counting sort of (bucket, face) pairs into one flat array.
   index.bucket_begin.assign(buckets + 1, 0);
+  index.first_bucket.assign(face_count, 0);
   for (std::size_t f = 0; f < face_count; ++f) {
     if (std::isnan(index.face_low[f])) continue;
-    for (std::size_t b = index.bucket(index.face_low[f]), e = index.bucket(index.face_high[f]);
-         b <= e; ++b) {
+    index.first_bucket[f] = static_cast<std::uint32_t>(index.bucket(index.face_low[f]));
+    for (std::size_t b = index.first_bucket[f], e = index.bucket(index.face_high[f]); b <= e; ++b) {
       ++index.bucket_begin[b + 1];
     }
   }
@@ -133,8 +135,7 @@ LayerStack::LayerStack(const Mesh& mesh, std::vector<Layer> layers)
   std::vector<std::size_t> fill(index.bucket_begin.begin(), index.bucket_begin.end() - 1);
   for (std::size_t f = 0; f < face_count; ++f) {
     if (std::isnan(index.face_low[f])) continue;
-    for (std::size_t b = index.bucket(index.face_low[f]), e = index.bucket(index.face_high[f]);
-         b <= e; ++b) {
+    for (std::size_t b = index.first_bucket[f], e = index.bucket(index.face_high[f]); b <= e; ++b) {
       index.bucket_faces[fill[b]++] = static_cast<std::uint32_t>(f);
     }
   }
@@ -166,15 +167,17 @@ std::vector<std::uint32_t> LayerStack::faces_between(double z_lo, double z_hi) c
   const std::size_t first = index.bucket(z_lo), last = index.bucket(z_hi);
   std::vector<std::uint32_t> faces;
   for (std::size_t b = first; b <= last; ++b) {
+    const std::size_t run = faces.size();
     for (std::size_t i = index.bucket_begin[b]; i < index.bucket_begin[b + 1]; ++i) {
       const std::uint32_t f = index.bucket_faces[i];
       if (!(index.face_low[f] <= z_hi && index.face_high[f] >= z_lo)) continue;
       // A face listed in several buckets of the range is taken from the first of them only.
-      if (b != std::max(first, index.bucket(index.face_low[f]))) continue;
+      if (b != std::max<std::size_t>(first, index.first_bucket[f])) continue;
       faces.push_back(f);
     }
+    // Each bucket's faces are ascending: merged into those of the buckets before.
+    std::inplace_merge(faces.begin(), faces.begin() + static_cast<std::ptrdiff_t>(run), faces.end());
   }
-  std::sort(faces.begin(), faces.end());
   return faces;
 }
 

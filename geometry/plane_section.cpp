@@ -69,8 +69,18 @@ void finish_loop(Loop& loop, Region& region) {
   loop.erase(std::unique(loop.begin(), loop.end()), loop.end());
   while (loop.size() > 1 && loop.front() == loop.back()) loop.pop_back();
   if (loop.size() < 3) return;
-  const double length = perimeter(loop);
-  if (std::abs(signed_area(loop)) <= 1e-12 * length * length) return;
+  // Of no area: |area| <= 1e-12 perimeter^2. Most loops have far more than that even against
+  // a bound on the perimeter (the sum of |dx| + |dy|), which needs no square roots.
+  const double area = std::abs(signed_area(loop));
+  double bound = 0;
+  for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
+    const Vec2 d = loop[i + 1 == n ? 0 : i + 1] - loop[i];
+    bound += std::abs(d.x) + std::abs(d.y);
+  }
+  if (!(area > 1e-12 * bound * bound)) {
+    const double length = perimeter(loop);
+    if (area <= 1e-12 * length * length) return;
+  }
   region.loops.push_back(std::move(loop));
 }
 
@@ -107,6 +117,21 @@ Region plane_section(const Mesh& mesh, std::span<const std::uint32_t> faces, dou
   for (std::size_t i = 0; i < segments.size(); ++i) ends[i] = segments[i].end;
   std::sort(ends.begin(), ends.end());
 
+  // Where the segments from each node begin, by an open-addressing table on the node:
+  // 1 + that index.
+  std::size_t size = 16;
+  while (size < 2 * segments.size()) size *= 2;
+  std::vector<std::uint32_t> starts(size, 0);
+  const auto slot_of = [&](Node node) {
+    std::size_t k = ((node ^ (node >> 29)) * 0x9e3779b97f4a7c15ull >> 20) & (size - 1);
+    while (starts[k] != 0 && segments[starts[k] - 1].start != node) k = (k + 1) & (size - 1);
+    return k;
+  };
+  for (std::size_t i = 0; i < segments.size(); ++i) {
+    if (i == 0 || segments[i].start != segments[i - 1].start) {
+      starts[slot_of(segments[i].start)] = static_cast<std::uint32_t>(i + 1);
+    }
+  }
   std::vector<char> used(segments.size(), 0);
   Region region;
   const auto walk = [&](std::size_t first) {
@@ -117,8 +142,8 @@ Region plane_section(const Mesh& mesh, std::span<const std::uint32_t> faces, dou
     for (;;) {
       const Node wanted = segments[current].end;
       if (wanted == segments[first].start) break;  // closed
-      auto it = std::lower_bound(segments.begin(), segments.end(), wanted,
-                                 [](const Segment& s, Node node) { return s.start < node; });
+      const std::uint32_t start = starts[slot_of(wanted)];
+      auto it = start == 0 ? segments.end() : segments.begin() + (start - 1);
       // An edge starts one segment; a vertex on the plane (or a non-manifold edge) may start
       // several, and any unused one continues a valid loop.
       while (it != segments.end() && it->start == wanted && used[it - segments.begin()]) ++it;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <initializer_list>
 #include <numbers>
 #include <utility>
 
@@ -51,9 +53,10 @@ void clip_half(std::span<const Vec3> in, double plane, double side, Corners& out
 
 bool same_point(Vec3 a, Vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
 
+// `above` and `inside` are scratch space, so that a caller clipping many faces makes them once.
 template <class Corners>
-std::vector<Vec3> clip_with(std::span<const Vec3> polygon, double z_lo, double z_hi) {
-  Corners above, inside;
+std::vector<Vec3> clip_with(std::span<const Vec3> polygon, double z_lo, double z_hi,
+                            Corners& above, Corners& inside) {
   clip_half(polygon, z_lo, 1.0, above);
   clip_half(std::span<const Vec3>(above.data(), above.size()), z_hi, -1.0, inside);
   // Repeated points merged, the first and last too.
@@ -74,14 +77,19 @@ std::vector<Vec3> clip_with(std::span<const Vec3> polygon, double z_lo, double z
 }  // namespace
 
 std::vector<Vec3> clip_to_slab(std::span<const Vec3> polygon, double z_lo, double z_hi) {
-  return polygon.size() + 2 <= kMaxCorners ? clip_with<SmallPolygon>(polygon, z_lo, z_hi)
-                                           : clip_with<std::vector<Vec3>>(polygon, z_lo, z_hi);
+  if (polygon.size() + 2 <= kMaxCorners) {
+    SmallPolygon above, inside;
+    return clip_with(polygon, z_lo, z_hi, above, inside);
+  }
+  std::vector<Vec3> above, inside;
+  return clip_with(polygon, z_lo, z_hi, above, inside);
 }
 
 Slab slab_of(const Mesh& mesh, std::span<const std::uint32_t> faces, double z_lo, double z_hi) {
   Slab slab{z_lo, z_hi, {}};
   if (!(z_lo < z_hi)) return slab;
   slab.facets.reserve(faces.size());
+  SmallPolygon above, inside;  // a triangle's pieces
   for (std::uint32_t f : faces) {
     if (f >= mesh.faces.size()) continue;
     const auto& face = mesh.faces[f];
@@ -94,7 +102,7 @@ Slab slab_of(const Mesh& mesh, std::span<const std::uint32_t> faces, double z_lo
     const double lo = std::min({corners[0].z, corners[1].z, corners[2].z});
     const double hi = std::max({corners[0].z, corners[1].z, corners[2].z});
     if (hi < z_lo || lo > z_hi) continue;
-    std::vector<Vec3> piece = clip_to_slab(corners, z_lo, z_hi);
+    std::vector<Vec3> piece = clip_with(std::span<const Vec3>(corners), z_lo, z_hi, above, inside);
     if (!piece.empty()) slab.facets.push_back(std::move(piece));
   }
   return slab;
@@ -114,7 +122,7 @@ bool before(IntPoint a, IntPoint b) { return a.X < b.X || (a.X == b.X && a.Y < b
 // One edge of a facet's projection, its ends sorted.
 struct Edge {
   IntPoint lo, hi;  // lo before hi
-  int direction;    // +1: walked lo -> hi
+  int direction;    // +1: walked lo -> hi (summed: the net number of times)
 };
 
 void add_edges(const ClipperLib::Path& facet, std::vector<Edge>& edges) {
@@ -125,27 +133,57 @@ void add_edges(const ClipperLib::Path& facet, std::vector<Edge>& edges) {
   }
 }
 
+// A hash of a few coordinates, for open-addressing tables indexed by its low bits.
+std::uint64_t hash_of(std::initializer_list<cInt> values) {
+  std::uint64_t h = 0;
+  for (const cInt v : values) h = (h ^ static_cast<std::uint64_t>(v)) * 0x9e3779b97f4a7c15ull;
+  return h ^ (h >> 32);
+}
+
+// The edges summed by their ends: each distinct segment once, with the net number of times
+// it is walked from lo to hi (an open-addressing table; most segments are shared by two
+// facets walking it opposite ways and sum to 0). Then the segments left, sorted by their ends.
+std::vector<Edge> net_edges(const std::vector<Edge>& edges) {
+  std::size_t size = 16;
+  while (size < 2 * edges.size()) size *= 2;
+  const auto hash = [](const Edge& e) { return hash_of({e.lo.X, e.lo.Y, e.hi.X, e.hi.Y}); };
+  std::vector<Edge> summed;
+  summed.reserve(edges.size());
+  std::vector<std::uint32_t> slots(size, 0);  // 1 + the index in summed of the ends there
+  for (const Edge& e : edges) {
+    for (std::size_t k = hash(e) & (size - 1);; k = (k + 1) & (size - 1)) {
+      if (slots[k] == 0) {
+        summed.push_back(e);
+        slots[k] = static_cast<std::uint32_t>(summed.size());
+        break;
+      }
+      Edge& same = summed[slots[k] - 1];
+      if (same.lo == e.lo && same.hi == e.hi) {
+        same.direction += e.direction;
+        break;
+      }
+    }
+  }
+  summed.erase(std::remove_if(summed.begin(), summed.end(), [](const Edge& e) { return e.direction == 0; }),
+               summed.end());
+  std::sort(summed.begin(), summed.end(), [](const Edge& x, const Edge& y) {
+    return before(x.lo, y.lo) || (x.lo == y.lo && before(x.hi, y.hi));
+  });
+  return summed;
+}
+
 // The boundary of the facets' projections taken as a 2-chain (each facet counter-clockwise,
 // weight one; `edges` are their edges, add_edges), as closed paths: a shared edge is walked
 // once each way and cancels, so only the lower and upper contours and the silhouettes remain.
 // Their non-zero fill is the union of the projections, and Clipper sees a few hundred edges
-// instead of every facet. Sorting, not hashing: the edges are sorted once by their ends to
-// cancel pairs, then by their start to walk them.
-ClipperLib::Paths chain_boundary(std::vector<Edge>& edges) {
-  std::sort(edges.begin(), edges.end(), [](const Edge& x, const Edge& y) {
-    return before(x.lo, y.lo) || (x.lo == y.lo && before(x.hi, y.hi));
-  });
+// instead of every facet. The edges are summed by their ends (net_edges), then sorted by
+// their start to walk them.
+ClipperLib::Paths chain_boundary(const std::vector<Edge>& edges) {
   std::vector<std::pair<IntPoint, IntPoint>> remaining;  // directed, after cancelling
-  for (std::size_t i = 0; i < edges.size();) {
-    std::size_t j = i;
-    int net = 0;
-    for (; j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi; ++j) {
-      net += edges[j].direction;
+  for (const Edge& e : net_edges(edges)) {
+    for (int k = 0; k < std::abs(e.direction); ++k) {
+      remaining.push_back(e.direction > 0 ? std::pair{e.lo, e.hi} : std::pair{e.hi, e.lo});
     }
-    for (int k = 0; k < std::abs(net); ++k) {
-      remaining.push_back(net > 0 ? std::pair{edges[i].lo, edges[i].hi} : std::pair{edges[i].hi, edges[i].lo});
-    }
-    i = j;
   }
   std::sort(remaining.begin(), remaining.end(),
             [](const auto& x, const auto& y) { return before(x.first, y.first); });
@@ -155,12 +193,22 @@ ClipperLib::Paths chain_boundary(std::vector<Edge>& edges) {
   for (std::size_t i = 0; i < remaining.size(); ++i) {
     cursor[i] = i > 0 && remaining[i].first == remaining[i - 1].first ? cursor[i - 1] : i;
   }
+  // Where the edges out of each point begin in `remaining`: 1 + that index, by the point.
+  std::size_t size = 16;
+  while (size < 2 * remaining.size()) size *= 2;
+  std::vector<std::uint32_t> starts(size, 0);
+  const auto slot_of = [&](IntPoint at) {
+    std::size_t k = hash_of({at.X, at.Y}) & (size - 1);
+    while (starts[k] != 0 && !(remaining[starts[k] - 1].first == at)) k = (k + 1) & (size - 1);
+    return k;
+  };
+  for (std::size_t i = 0; i < remaining.size(); ++i) {
+    if (cursor[i] == i) starts[slot_of(remaining[i].first)] = static_cast<std::uint32_t>(i + 1);
+  }
   const auto take_from = [&](IntPoint at) -> std::size_t {
-    const auto it = std::lower_bound(remaining.begin(), remaining.end(), at,
-                                     [](const auto& e, IntPoint p) { return before(e.first, p); });
-    if (it == remaining.end() || !(it->first == at)) return remaining.size();
-    const std::size_t first = static_cast<std::size_t>(it - remaining.begin());
-    std::size_t& next = cursor[first];
+    const std::uint32_t start = starts[slot_of(at)];
+    if (start == 0) return remaining.size();
+    std::size_t& next = cursor[start - 1];
     while (next < remaining.size() && remaining[next].first == at && used[next]) ++next;
     if (next >= remaining.size() || !(remaining[next].first == at)) return remaining.size();
     return next;
@@ -377,8 +425,7 @@ void footprint_tree(const Slab& slab, double margin, ClipperLib::PolyTree& tree)
   for (const auto& facet : slab.facets) {
     projected.clear();
     for (const Vec3& v : facet) {
-      const IntPoint p{static_cast<cInt>(std::llround(v.x * kClipperScale)),
-                       static_cast<cInt>(std::llround(v.y * kClipperScale))};  // to_clipper
+      const IntPoint p = to_clipper(Vec2{v.x, v.y});
       if (projected.empty() || !(p == projected.back())) projected.push_back(p);
     }
     while (projected.size() > 1 && projected.front() == projected.back()) projected.pop_back();
