@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -39,6 +39,66 @@ struct CornerHash {
     h ^= (k.y + 0x632BE59BD9B4E019ull + (h << 6) + (h >> 2));
     h ^= (k.z + 0x85157AF5ull + (h << 6) + (h >> 2));
     return static_cast<std::size_t>(h ^ (h >> 29));
+  }
+};
+
+// Open-addressing hash map (linear probing, no erase) for the corners, facets and edges of a
+// mesh: one flat allocation instead of a node per key, which the hundreds of thousands of
+// keys of a scanned model would each cost.
+template <typename Key, typename Value, typename Hash>
+class FlatMap {
+ public:
+  explicit FlatMap(std::size_t expected) { rehash(expected); }
+
+  // The value stored under `key`, or `value` stored there first; second says it was new.
+  std::pair<Value*, bool> try_emplace(const Key& key, const Value& value) {
+    if (2 * (size_ + 1) > slots_.size()) rehash(size_ + 1);
+    std::size_t i = Hash{}(key) & mask_;
+    while (slots_[i].used) {
+      if (slots_[i].key == key) return {&slots_[i].value, false};
+      i = (i + 1) & mask_;
+    }
+    slots_[i] = {key, value, true};
+    ++size_;
+    return {&slots_[i].value, true};
+  }
+
+  template <typename F>
+  void for_each_value(F&& f) const {
+    for (const Slot& s : slots_) {
+      if (s.used) f(s.value);
+    }
+  }
+
+ private:
+  struct Slot {
+    Key key{};
+    Value value{};
+    bool used = false;
+  };
+
+  // Room for `count` keys at most half full; the stored keys move to their new slots.
+  void rehash(std::size_t count) {
+    std::size_t capacity = 16;
+    while (capacity < 2 * count) capacity *= 2;
+    if (capacity <= slots_.size()) capacity = 2 * slots_.size();
+    std::vector<Slot> old = std::exchange(slots_, std::vector<Slot>(capacity));
+    mask_ = capacity - 1;
+    size_ = 0;
+    for (const Slot& s : old) {
+      if (s.used) try_emplace(s.key, s.value);
+    }
+  }
+
+  std::vector<Slot> slots_;
+  std::size_t mask_ = 0;
+  std::size_t size_ = 0;
+};
+
+struct EdgeHash {
+  std::size_t operator()(std::uint64_t k) const {
+    const std::uint64_t h = k * 0x9E3779B97F4A7C15ull;
+    return static_cast<std::size_t>(h ^ (h >> 32));
   }
 };
 
@@ -140,16 +200,16 @@ Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
   std::vector<Polygon> polygons;
   polygons.reserve(facets.size());
   {
-    std::unordered_map<CornerKey, std::size_t, CornerHash> index;
-    index.reserve(facets.size() * 3 / 5 + 16);  // closed meshes have about F/2 vertices
+    // Closed meshes have about F/2 vertices.
+    FlatMap<CornerKey, std::size_t, CornerHash> index(facets.size() * 3 / 5 + 16);
     for (const Triangle& t : facets) {
       Polygon p;
       for (int i = 0; i < 3; ++i) {
         const Vec3& v = t.v[i];
-        const auto [it, inserted] =
+        const auto [number, inserted] =
             index.try_emplace(CornerKey{bits(v.x), bits(v.y), bits(v.z)}, points.size());
         if (inserted) points.push_back(v);
-        p[i] = it->second;
+        p[i] = *number;
       }
       polygons.push_back(p);
     }
@@ -160,8 +220,7 @@ Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
   {
     std::vector<Polygon> kept;
     kept.reserve(polygons.size());
-    std::unordered_map<CornerKey, char, CornerHash> seen;  // sorted corner triple
-    seen.reserve(polygons.size());
+    FlatMap<CornerKey, char, CornerHash> seen(polygons.size());  // sorted corner triple
     for (const Polygon& p : polygons) {
       if (p[0] == p[1] || p[1] == p[2] || p[0] == p[2] ||
           CGAL::collinear(to_point(points[p[0]]), to_point(points[p[1]]),
@@ -209,8 +268,7 @@ Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
       std::size_t first_slot = 0;
       bool first_forward = false;
     };
-    std::unordered_map<std::uint64_t, EdgeUse> uses;
-    uses.reserve(polygons.size() * 3 / 2 + 16);
+    FlatMap<std::uint64_t, EdgeUse, EdgeHash> uses(polygons.size() * 3 / 2 + 16);
     // Corners around a vertex that are joined across shared edges form one fan; a vertex
     // with two fans is non-manifold (two surfaces touching in a point).
     std::vector<std::size_t> fan(polygons.size() * 3);
@@ -224,7 +282,7 @@ Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
       const Polygon& p = polygons[f];
       for (std::size_t c = 0; c < 3; ++c) {
         const std::size_t a = p[c], b = p[(c + 1) % 3];
-        EdgeUse& use = uses[edge_key(a, b)];
+        EdgeUse& use = *uses.try_emplace(edge_key(a, b), EdgeUse{}).first;
         const bool forward = a < b;
         if (++use.count == 1) {
           use.first_slot = 3 * f + c;
@@ -241,10 +299,10 @@ Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
         join(3 * f + (c + 1) % 3, 3 * other + other_c);         // corners at b
       }
     }
-    for (const auto& [edge, use] : uses) {
+    uses.for_each_value([&report](const EdgeUse& use) {
       if (use.count == 1) ++report.open_edges_before;
       if (use.count > 2) ++report.non_manifold_edges;
-    }
+    });
     if (oriented_manifold) {
       std::vector<std::size_t> fan_of_vertex(points.size(), SIZE_MAX);
       for (std::size_t slot = 0; slot < fan.size() && oriented_manifold; ++slot) {
@@ -276,6 +334,8 @@ Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
   }
 
   SurfaceMesh mesh;
+  // A closed surface has 3F/2 edges; hole filling adds a little on top.
+  mesh.reserve(points.size(), polygons.size() * 3 / 2 + 16, polygons.size());
   for (const Vec3& v : points) mesh.add_vertex(to_point(v));
   std::vector<std::size_t> face_polygon;  // Surface_mesh face index -> polygon
   face_polygon.reserve(polygons.size());
