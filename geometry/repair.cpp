@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <utility>
 #include <vector>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -42,55 +41,54 @@ struct CornerHash {
   }
 };
 
-// Open-addressing hash map (linear probing, no erase) for the corners, facets and edges of a
-// mesh: one flat allocation instead of a node per key, which the hundreds of thousands of
-// keys of a scanned model would each cost.
-template <typename Key, typename Value, typename Hash>
-class FlatMap {
+// Open-addressing hash table (linear probing, no erase) of item numbers, each item's key
+// given by `key_of(number)`: for the corners, facets and edges of a mesh, one flat array
+// of 4 bytes a slot instead of a heap node per key. Kept that small on purpose: the fresh
+// pages a larger table touches cost more time than its hashing saves.
+template <typename Key, typename Hash>
+class NumberTable {
  public:
-  explicit FlatMap(std::size_t expected) { rehash(expected); }
+  explicit NumberTable(std::size_t expected) { resize(expected); }
 
-  // The value stored under `key`, or `value` stored there first; second says it was new.
-  std::pair<Value*, bool> try_emplace(const Key& key, const Value& value) {
-    if (2 * (size_ + 1) > slots_.size()) rehash(size_ + 1);
-    std::size_t i = Hash{}(key) & mask_;
-    while (slots_[i].used) {
-      if (slots_[i].key == key) return {&slots_[i].value, false};
-      i = (i + 1) & mask_;
+  // The number of the item with `key`; if there is none, `number` is stored as that item
+  // and returned. key_of must give the key of every number stored so far.
+  template <typename KeyOf>
+  std::uint32_t find_or_insert(const Key& key, std::uint32_t number, const KeyOf& key_of) {
+    if (2 * (size_ + 1) > slots_.size()) {
+      std::vector<std::uint32_t> old = std::move(slots_);
+      resize(size_ + 1);
+      for (std::uint32_t n : old) {
+        if (n != kEmpty) place(key_of(n), n, key_of);
+      }
     }
-    slots_[i] = {key, value, true};
-    ++size_;
-    return {&slots_[i].value, true};
-  }
-
-  template <typename F>
-  void for_each_value(F&& f) const {
-    for (const Slot& s : slots_) {
-      if (s.used) f(s.value);
-    }
+    return place(key, number, key_of);
   }
 
  private:
-  struct Slot {
-    Key key{};
-    Value value{};
-    bool used = false;
-  };
+  static constexpr std::uint32_t kEmpty = UINT32_MAX;
 
-  // Room for `count` keys at most half full; the stored keys move to their new slots.
-  void rehash(std::size_t count) {
-    std::size_t capacity = 16;
-    while (capacity < 2 * count) capacity *= 2;
-    if (capacity <= slots_.size()) capacity = 2 * slots_.size();
-    std::vector<Slot> old = std::exchange(slots_, std::vector<Slot>(capacity));
-    mask_ = capacity - 1;
-    size_ = 0;
-    for (const Slot& s : old) {
-      if (s.used) try_emplace(s.key, s.value);
+  template <typename KeyOf>
+  std::uint32_t place(const Key& key, std::uint32_t number, const KeyOf& key_of) {
+    for (std::size_t i = Hash{}(key) & mask_;; i = (i + 1) & mask_) {
+      if (slots_[i] == kEmpty) {
+        slots_[i] = number;
+        ++size_;
+        return number;
+      }
+      if (key_of(slots_[i]) == key) return slots_[i];
     }
   }
 
-  std::vector<Slot> slots_;
+  // Room for `count` items at most half full, all slots empty.
+  void resize(std::size_t count) {
+    std::size_t capacity = 16;
+    while (capacity < 2 * count) capacity *= 2;
+    slots_.assign(capacity, kEmpty);
+    mask_ = capacity - 1;
+    size_ = 0;
+  }
+
+  std::vector<std::uint32_t> slots_;
   std::size_t mask_ = 0;
   std::size_t size_ = 0;
 };
@@ -107,6 +105,15 @@ std::uint64_t bits(double value) {
   std::uint64_t out;
   std::memcpy(&out, &value, sizeof out);
   return out;
+}
+
+CornerKey corner_key(const Vec3& v) { return {bits(v.x), bits(v.y), bits(v.z)}; }
+
+// A facet's corners in increasing order: the same for every copy of the facet.
+CornerKey facet_key(const Polygon& p) {
+  Polygon sorted = p;
+  std::sort(sorted.begin(), sorted.end());
+  return {sorted[0], sorted[1], sorted[2]};
 }
 
 Point to_point(const Vec3& v) { return {v.x, v.y, v.z}; }
@@ -201,15 +208,14 @@ Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
   polygons.reserve(facets.size());
   {
     // Closed meshes have about F/2 vertices.
-    FlatMap<CornerKey, std::size_t, CornerHash> index(facets.size() * 3 / 5 + 16);
+    NumberTable<CornerKey, CornerHash> index(facets.size() * 3 / 5 + 16);
+    const auto key_of_point = [&points](std::uint32_t n) { return corner_key(points[n]); };
     for (const Triangle& t : facets) {
       Polygon p;
       for (int i = 0; i < 3; ++i) {
-        const Vec3& v = t.v[i];
-        const auto [number, inserted] =
-            index.try_emplace(CornerKey{bits(v.x), bits(v.y), bits(v.z)}, points.size());
-        if (inserted) points.push_back(v);
-        p[i] = *number;
+        const auto next = static_cast<std::uint32_t>(points.size());
+        p[i] = index.find_or_insert(corner_key(t.v[i]), next, key_of_point);
+        if (p[i] == next) points.push_back(t.v[i]);
       }
       polygons.push_back(p);
     }
@@ -220,7 +226,8 @@ Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
   {
     std::vector<Polygon> kept;
     kept.reserve(polygons.size());
-    FlatMap<CornerKey, char, CornerHash> seen(polygons.size());  // sorted corner triple
+    NumberTable<CornerKey, CornerHash> seen(polygons.size());  // of kept facets
+    const auto key_of_kept = [&kept](std::uint32_t n) { return facet_key(kept[n]); };
     for (const Polygon& p : polygons) {
       if (p[0] == p[1] || p[1] == p[2] || p[0] == p[2] ||
           CGAL::collinear(to_point(points[p[0]]), to_point(points[p[1]]),
@@ -228,9 +235,8 @@ Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
         ++report.degenerate_faces_dropped;
         continue;
       }
-      Polygon sorted = p;
-      std::sort(sorted.begin(), sorted.end());
-      if (!seen.try_emplace(CornerKey{sorted[0], sorted[1], sorted[2]}, 1).second) {
+      const auto next = static_cast<std::uint32_t>(kept.size());
+      if (seen.find_or_insert(facet_key(p), next, key_of_kept) != next) {
         ++report.duplicate_faces_dropped;
         continue;
       }
@@ -264,11 +270,15 @@ Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
     // Per undirected edge: how many facets use it, and the corner slot (3 * facet + corner)
     // of the first facet's start of that edge, to join corners of facets across the edge.
     struct EdgeUse {
+      std::uint64_t key = 0;
       std::uint32_t count = 0;
       std::size_t first_slot = 0;
       bool first_forward = false;
     };
-    FlatMap<std::uint64_t, EdgeUse, EdgeHash> uses(polygons.size() * 3 / 2 + 16);
+    std::vector<EdgeUse> uses;  // in order of first use
+    uses.reserve(polygons.size() * 3 / 2 + 16);
+    NumberTable<std::uint64_t, EdgeHash> edge_number(uses.capacity());
+    const auto key_of_edge = [&uses](std::uint32_t n) { return uses[n].key; };
     // Corners around a vertex that are joined across shared edges form one fan; a vertex
     // with two fans is non-manifold (two surfaces touching in a point).
     std::vector<std::size_t> fan(polygons.size() * 3);
@@ -282,7 +292,11 @@ Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
       const Polygon& p = polygons[f];
       for (std::size_t c = 0; c < 3; ++c) {
         const std::size_t a = p[c], b = p[(c + 1) % 3];
-        EdgeUse& use = *uses.try_emplace(edge_key(a, b), EdgeUse{}).first;
+        const std::uint64_t key = edge_key(a, b);
+        const auto next = static_cast<std::uint32_t>(uses.size());
+        const std::uint32_t number = edge_number.find_or_insert(key, next, key_of_edge);
+        if (number == next) uses.push_back({key});
+        EdgeUse& use = uses[number];
         const bool forward = a < b;
         if (++use.count == 1) {
           use.first_slot = 3 * f + c;
@@ -299,10 +313,10 @@ Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
         join(3 * f + (c + 1) % 3, 3 * other + other_c);         // corners at b
       }
     }
-    uses.for_each_value([&report](const EdgeUse& use) {
+    for (const EdgeUse& use : uses) {
       if (use.count == 1) ++report.open_edges_before;
       if (use.count > 2) ++report.non_manifold_edges;
-    });
+    }
     if (oriented_manifold) {
       std::vector<std::size_t> fan_of_vertex(points.size(), SIZE_MAX);
       for (std::size_t slot = 0; slot < fan.size() && oriented_manifold; ++slot) {
