@@ -272,7 +272,7 @@ Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
     struct EdgeUse {
       std::uint64_t key = 0;
       std::uint32_t count = 0;
-      std::size_t first_slot = 0;
+      std::uint32_t first_slot = 0;
       bool first_forward = false;
     };
     std::vector<EdgeUse> uses;  // in order of first use
@@ -281,13 +281,15 @@ Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
     const auto key_of_edge = [&uses](std::uint32_t n) { return uses[n].key; };
     // Corners around a vertex that are joined across shared edges form one fan; a vertex
     // with two fans is non-manifold (two surfaces touching in a point).
-    std::vector<std::size_t> fan(polygons.size() * 3);
-    for (std::size_t i = 0; i < fan.size(); ++i) fan[i] = i;
-    const auto find = [&fan](std::size_t i) {
+    std::vector<std::uint32_t> fan(polygons.size() * 3);  // corner slots fit the mesh's 32 bits
+    for (std::size_t i = 0; i < fan.size(); ++i) fan[i] = static_cast<std::uint32_t>(i);
+    const auto find = [&fan](std::uint32_t i) {
       while (fan[i] != i) i = fan[i] = fan[fan[i]];
       return i;
     };
-    const auto join = [&](std::size_t a, std::size_t b) { fan[find(a)] = find(b); };
+    const auto join = [&](std::size_t a, std::size_t b) {
+      fan[find(static_cast<std::uint32_t>(a))] = find(static_cast<std::uint32_t>(b));
+    };
     for (std::size_t f = 0; f < polygons.size(); ++f) {
       const Polygon& p = polygons[f];
       for (std::size_t c = 0; c < 3; ++c) {
@@ -299,7 +301,7 @@ Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
         EdgeUse& use = uses[number];
         const bool forward = a < b;
         if (++use.count == 1) {
-          use.first_slot = 3 * f + c;
+          use.first_slot = static_cast<std::uint32_t>(3 * f + c);
           use.first_forward = forward;
           continue;
         }
@@ -318,11 +320,11 @@ Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
       if (use.count > 2) ++report.non_manifold_edges;
     }
     if (oriented_manifold) {
-      std::vector<std::size_t> fan_of_vertex(points.size(), SIZE_MAX);
+      std::vector<std::uint32_t> fan_of_vertex(points.size(), UINT32_MAX);
       for (std::size_t slot = 0; slot < fan.size() && oriented_manifold; ++slot) {
         const std::size_t v = polygons[slot / 3][slot % 3];
-        const std::size_t root = find(slot);
-        if (fan_of_vertex[v] == SIZE_MAX) {
+        const std::uint32_t root = find(static_cast<std::uint32_t>(slot));
+        if (fan_of_vertex[v] == UINT32_MAX) {
           fan_of_vertex[v] = root;
         } else if (fan_of_vertex[v] != root) {
           oriented_manifold = false;
