@@ -136,6 +136,11 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
 
   const std::vector<geometry::Layer> layers =
       geometry::uniform_layers(size.z, result.layer_thickness, machine.first_layer_height);
+  // The last layer is a whole layer thick, so it can end above the part: refused now rather
+  // than when the G-code is checked against the build volume after all the slicing.
+  if (!layers.empty()) {
+    printer::check_layer_tops_fit(machine, size.z, layers.back().z_hi, result.layer_thickness);
+  }
   const std::size_t count = layers.size();
   const geometry::LayerStack stack(mesh, layers);
 

@@ -663,6 +663,26 @@ void check_part_fits(const PrinterProfile& printer, double size_x, double size_y
                                 printer.name, printer.bed_x, printer.bed_y, printer.bed_z));
 }
 
+void check_layer_tops_fit(const PrinterProfile& printer, double part_z, double top_z,
+                          double thickness) {
+  constexpr double kTolerance = 1e-6;
+  const double hop = printer.retraction.length > 0 ? printer.retraction.z_hop : 0;
+  if (top_z + hop <= printer.bed_z + kTolerance) return;
+  // A whole number of layers after the first, up to the build height less the hop.
+  const double room = printer.bed_z - hop - printer.first_layer_height;
+  const double tallest =
+      room >= 0 && thickness > 0
+          ? printer.first_layer_height + std::floor(room / thickness + 1e-9) * thickness
+          : 0;
+  std::string lift;
+  if (hop > 0) lift = fmt::format(" and travels lift {:g} mm more", hop);
+  throw ConfigError(fmt::format(
+      "the part is {:.2f} mm tall, but its last layer of {:g} mm ends at {:.2f} mm{}, above the "
+      "{}'s build height of {:g} mm; make the part at most {:.2f} mm tall (--height {:.2f}), "
+      "or choose a bigger printer (--printer)",
+      part_z, thickness, top_z, lift, printer.name, printer.bed_z, tallest, tallest));
+}
+
 std::string expand_placeholders(std::string_view text, const Profiles& profiles,
                                 const PlaceholderValues& values, std::string_view key) {
   const PrinterProfile& p = profiles.printer;

@@ -129,6 +129,13 @@ void check_layer_thickness(const PrinterProfile& printer, double thickness);
 // (mm) fits.
 void check_part_fits(const PrinterProfile& printer, double size_x, double size_y, double size_z);
 
+// Throws ConfigError unless the top of the last layer, `top_z` (mm; a whole layer above the
+// one before, so up to a layer above the part's `part_z`), plus a retracted travel's z-hop,
+// is within the build height. The error names the tallest part whose layers of `thickness`
+// after the printer's first layer fit.
+void check_layer_tops_fit(const PrinterProfile& printer, double part_z, double top_z,
+                          double thickness);
+
 // Values for the {placeholders} of start and end G-code.
 struct PlaceholderValues {
   double layer_height = 0.2;

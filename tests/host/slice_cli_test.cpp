@@ -231,6 +231,28 @@ TEST_CASE("layer_not_allowed_by_the_printer_is_refused_with_the_list") {
   CHECK_FALSE(std::filesystem::exists(dir + "/cube.gcode"));
 }
 
+TEST_CASE("part_whose_last_layer_ends_above_the_build_height_is_refused_before_slicing") {
+  // The UP Plus 2 builds 135 mm high; a 135 mm cube in 0.2 mm layers after a 0.3 mm first
+  // layer needs 673.5 of them, so its last layer ends at 135.1 mm. 134.9 mm is the tallest
+  // part whose layers fit (0.3 + 673 x 0.2).
+  const std::string dir = test_support::scratch_dir("slice_last_layer_too_high");
+  const std::string stl = dir + "/cube.stl";
+  geometry::write_stl_binary(stl, solids::cube(10).mesh);
+  const auto result = run_mahost({"slice", stl, "-o", dir + "/cube.gcode", "--height", "135"});
+  CHECK(result.exit_code == 2);
+  CHECK(result.err == "mahost: the part is 135.00 mm tall, but its last layer of 0.2 mm ends at "
+                      "135.10 mm, above the UP Plus 2's build height of 135 mm; make the part at "
+                      "most 134.90 mm tall (--height 134.90), or choose a bigger printer "
+                      "(--printer)\n");
+  CHECK_FALSE(std::filesystem::exists(dir + "/cube.gcode"));
+  // With a z-hop the travels over the last layer must fit too.
+  const auto hop = run_mahost({"slice", stl, "-o", dir + "/cube.gcode", "--height", "134.9",
+                               "--set", "retraction.z_hop=0.5"});
+  CHECK(hop.exit_code == 2);
+  CHECK(hop.err.find("ends at 134.90 mm and travels lift 0.5 mm more") != std::string::npos);
+  CHECK(hop.err.find("(--height 134.50)") != std::string::npos);
+}
+
 TEST_CASE("bad_set_is_refused_naming_the_key") {
   const std::string dir = test_support::scratch_dir("slice_bad_set");
   const std::string stl = dir + "/cube.stl";
