@@ -2,20 +2,8 @@
 
 namespace geometry {
 
-namespace {
-
-// std::llround (halves away from zero), without the library call: v minus its truncation is
-// exact for |v| < 2^53, so the comparisons with 0.5 decide as llround does.
-ClipperLib::cInt rounded(double v) {
-  const auto whole = static_cast<ClipperLib::cInt>(v);
-  const double rest = v - static_cast<double>(whole);
-  return rest >= 0.5 ? whole + 1 : (rest <= -0.5 ? whole - 1 : whole);
-}
-
-}  // namespace
-
 ClipperLib::IntPoint to_clipper(Vec2 p) {
-  return {rounded(p.x * kClipperScale), rounded(p.y * kClipperScale)};
+  return {rounded_units(p.x * kClipperScale), rounded_units(p.y * kClipperScale)};
 }
 
 Vec2 from_clipper(const ClipperLib::IntPoint& p) {

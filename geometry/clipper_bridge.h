@@ -12,6 +12,16 @@ namespace geometry {
 
 inline constexpr double kClipperScale = 1e6;
 
+// A length or coordinate already in units, rounded to the nearest unit, halves away from
+// zero (std::llround's result) without the library call: v minus its truncation is exact
+// for |v| < 2^53, so the comparisons with 0.5 decide as llround does. Inline: the offsets
+// round every point they make.
+inline ClipperLib::cInt rounded_units(double v) {
+  const auto whole = static_cast<ClipperLib::cInt>(v);
+  const double rest = v - static_cast<double>(whole);
+  return rest >= 0.5 ? whole + 1 : (rest <= -0.5 ? whole - 1 : whole);
+}
+
 ClipperLib::IntPoint to_clipper(Vec2 p);
 Vec2 from_clipper(const ClipperLib::IntPoint& p);
 

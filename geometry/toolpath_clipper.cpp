@@ -58,14 +58,8 @@ Joins joins_for(ClipperLib::JoinType type, double delta, double miter_limit) {
   return j;
 }
 
-// Rounded half away from zero (as Clipper rounds), inline: a library call per point costs
-// as much as the rest of the offset's arithmetic.
-ClipperLib::cInt rounded(double v) {
-  return static_cast<ClipperLib::cInt>(v < 0 ? v - 0.5 : v + 0.5);
-}
-
 ClipperLib::IntPoint moved(const ClipperLib::IntPoint& p, double dx, double dy) {
-  return {p.X + rounded(dx), p.Y + rounded(dy)};
+  return {p.X + rounded_units(dx), p.Y + rounded_units(dy)};
 }
 
 // Appends the raw offset of one closed loop (no repeated points, at least 3) to `out`, as
