@@ -490,7 +490,7 @@ void check_build_volume(const std::vector<LayerToolpaths>& layers, const Printer
   }
   if (!(max_x >= min_x)) return;  // nothing to print
   constexpr double kTolerance = 1e-6;
-  const double hop = printer.retraction.length > 0 ? printer.retraction.z_hop : 0;
+  const double hop = travel_lift(printer);
   const bool fits = min_x + offset.x >= -kTolerance && max_x + offset.x <= printer.bed_x + kTolerance &&
                     min_y + offset.y >= -kTolerance && max_y + offset.y <= printer.bed_y + kTolerance &&
                     top + hop <= printer.bed_z + kTolerance;

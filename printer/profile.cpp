@@ -663,10 +663,14 @@ void check_part_fits(const PrinterProfile& printer, double size_x, double size_y
                                 printer.name, printer.bed_x, printer.bed_y, printer.bed_z));
 }
 
+double travel_lift(const PrinterProfile& printer) {
+  return printer.retraction.length > 0 ? printer.retraction.z_hop : 0;
+}
+
 void check_layer_tops_fit(const PrinterProfile& printer, double part_z, double top_z,
                           double thickness) {
   constexpr double kTolerance = 1e-6;
-  const double hop = printer.retraction.length > 0 ? printer.retraction.z_hop : 0;
+  const double hop = travel_lift(printer);
   if (top_z + hop <= printer.bed_z + kTolerance) return;
   // A whole number of layers after the first, up to the build height less the hop.
   const double room = printer.bed_z - hop - printer.first_layer_height;

@@ -129,6 +129,10 @@ void check_layer_thickness(const PrinterProfile& printer, double thickness);
 // (mm) fits.
 void check_part_fits(const PrinterProfile& printer, double size_x, double size_y, double size_z);
 
+// How far a retracted travel lifts the nozzle above the layer (mm): the z-hop, or 0 where
+// the profile does not retract.
+double travel_lift(const PrinterProfile& printer);
+
 // Throws ConfigError unless the top of the last layer, `top_z` (mm; a whole layer above the
 // one before, so up to a layer above the part's `part_z`), plus a retracted travel's z-hop,
 // is within the build height. The error names the tallest part whose layers of `thickness`
