@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <utility>
 #include <vector>
+
+#include "geometry/number_table.h"
 
 namespace geometry {
 
@@ -13,6 +16,12 @@ namespace {
 // it lies on, or, when the edge's lower vertex v lies exactly at z, that vertex itself
 // (encoded as the edge (v, v)), since every edge of v that crosses the plane crosses it there.
 using Node = std::uint64_t;
+
+struct NodeHash {
+  std::size_t operator()(Node node) const {
+    return (node ^ (node >> 29)) * 0x9e3779b97f4a7c15ull >> 20;
+  }
+};
 
 Node node_of(const Mesh& mesh, std::uint32_t a, std::uint32_t b, double z) {
   const std::uint32_t below = mesh.vertices[a].z <= z ? a : b;
@@ -117,19 +126,13 @@ Region plane_section(const Mesh& mesh, std::span<const std::uint32_t> faces, dou
   for (std::size_t i = 0; i < segments.size(); ++i) ends[i] = segments[i].end;
   std::sort(ends.begin(), ends.end());
 
-  // Where the segments from each node begin, by an open-addressing table on the node:
-  // 1 + that index.
-  std::size_t size = 16;
-  while (size < 2 * segments.size()) size *= 2;
-  std::vector<std::uint32_t> starts(size, 0);
-  const auto slot_of = [&](Node node) {
-    std::size_t k = ((node ^ (node >> 29)) * 0x9e3779b97f4a7c15ull >> 20) & (size - 1);
-    while (starts[k] != 0 && segments[starts[k] - 1].start != node) k = (k + 1) & (size - 1);
-    return k;
-  };
+  // Where the segments from each node begin, by the node.
+  using Starts = NumberTable<Node, NodeHash>;
+  Starts starts(segments.size());
+  const auto start_of = [&](std::uint32_t i) { return segments[i].start; };
   for (std::size_t i = 0; i < segments.size(); ++i) {
     if (i == 0 || segments[i].start != segments[i - 1].start) {
-      starts[slot_of(segments[i].start)] = static_cast<std::uint32_t>(i + 1);
+      starts.find_or_insert(segments[i].start, static_cast<std::uint32_t>(i), start_of);
     }
   }
   std::vector<char> used(segments.size(), 0);
@@ -142,8 +145,8 @@ Region plane_section(const Mesh& mesh, std::span<const std::uint32_t> faces, dou
     for (;;) {
       const Node wanted = segments[current].end;
       if (wanted == segments[first].start) break;  // closed
-      const std::uint32_t start = starts[slot_of(wanted)];
-      auto it = start == 0 ? segments.end() : segments.begin() + (start - 1);
+      const std::uint32_t start = starts.find(wanted, start_of);
+      auto it = start == Starts::kNone ? segments.end() : segments.begin() + start;
       // An edge starts one segment; a vertex on the plane (or a non-manifold edge) may start
       // several, and any unused one continues a valid loop.
       while (it != segments.end() && it->start == wanted && used[it - segments.begin()]) ++it;

@@ -16,6 +16,7 @@
 #include <fmt/core.h>
 
 #include "geometry/error.h"
+#include "geometry/number_table.h"
 
 namespace geometry {
 namespace {
@@ -39,58 +40,6 @@ struct CornerHash {
     h ^= (k.z + 0x85157AF5ull + (h << 6) + (h >> 2));
     return static_cast<std::size_t>(h ^ (h >> 29));
   }
-};
-
-// Open-addressing hash table (linear probing, no erase) of item numbers, each item's key
-// given by `key_of(number)`: for the corners, facets and edges of a mesh, one flat array
-// of 4 bytes a slot instead of a heap node per key. Kept that small on purpose: the fresh
-// pages a larger table touches cost more time than its hashing saves.
-template <typename Key, typename Hash>
-class NumberTable {
- public:
-  explicit NumberTable(std::size_t expected) { resize(expected); }
-
-  // The number of the item with `key`; if there is none, `number` is stored as that item
-  // and returned. key_of must give the key of every number stored so far.
-  template <typename KeyOf>
-  std::uint32_t find_or_insert(const Key& key, std::uint32_t number, const KeyOf& key_of) {
-    if (2 * (size_ + 1) > slots_.size()) {
-      std::vector<std::uint32_t> old = std::move(slots_);
-      resize(size_ + 1);
-      for (std::uint32_t n : old) {
-        if (n != kEmpty) place(key_of(n), n, key_of);
-      }
-    }
-    return place(key, number, key_of);
-  }
-
- private:
-  static constexpr std::uint32_t kEmpty = UINT32_MAX;
-
-  template <typename KeyOf>
-  std::uint32_t place(const Key& key, std::uint32_t number, const KeyOf& key_of) {
-    for (std::size_t i = Hash{}(key) & mask_;; i = (i + 1) & mask_) {
-      if (slots_[i] == kEmpty) {
-        slots_[i] = number;
-        ++size_;
-        return number;
-      }
-      if (key_of(slots_[i]) == key) return slots_[i];
-    }
-  }
-
-  // Room for `count` items at most half full, all slots empty.
-  void resize(std::size_t count) {
-    std::size_t capacity = 16;
-    while (capacity < 2 * count) capacity *= 2;
-    slots_.assign(capacity, kEmpty);
-    mask_ = capacity - 1;
-    size_ = 0;
-  }
-
-  std::vector<std::uint32_t> slots_;
-  std::size_t mask_ = 0;
-  std::size_t size_ = 0;
 };
 
 struct EdgeHash {

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "geometry/clipper_bridge.h"
+#include "geometry/number_table.h"
 
 namespace geometry {
 
@@ -140,28 +141,31 @@ std::uint64_t hash_of(std::initializer_list<cInt> values) {
   return h ^ (h >> 32);
 }
 
+struct PointHash {
+  std::size_t operator()(const IntPoint& p) const { return hash_of({p.X, p.Y}); }
+};
+using Ends = std::pair<IntPoint, IntPoint>;
+struct EndsHash {
+  std::size_t operator()(const Ends& e) const {
+    return hash_of({e.first.X, e.first.Y, e.second.X, e.second.Y});
+  }
+};
+
 // The edges summed by their ends: each distinct segment once, with the net number of times
-// it is walked from lo to hi (an open-addressing table; most segments are shared by two
-// facets walking it opposite ways and sum to 0). Then the segments left, sorted by their ends.
+// it is walked from lo to hi (most segments are shared by two facets walking it opposite
+// ways and sum to 0). Then the segments left, sorted by their ends.
 std::vector<Edge> net_edges(const std::vector<Edge>& edges) {
-  std::size_t size = 16;
-  while (size < 2 * edges.size()) size *= 2;
-  const auto hash = [](const Edge& e) { return hash_of({e.lo.X, e.lo.Y, e.hi.X, e.hi.Y}); };
   std::vector<Edge> summed;
   summed.reserve(edges.size());
-  std::vector<std::uint32_t> slots(size, 0);  // 1 + the index in summed of the ends there
+  NumberTable<Ends, EndsHash> index(edges.size());
+  const auto ends_of = [&](std::uint32_t n) { return Ends{summed[n].lo, summed[n].hi}; };
   for (const Edge& e : edges) {
-    for (std::size_t k = hash(e) & (size - 1);; k = (k + 1) & (size - 1)) {
-      if (slots[k] == 0) {
-        summed.push_back(e);
-        slots[k] = static_cast<std::uint32_t>(summed.size());
-        break;
-      }
-      Edge& same = summed[slots[k] - 1];
-      if (same.lo == e.lo && same.hi == e.hi) {
-        same.direction += e.direction;
-        break;
-      }
+    const auto number = static_cast<std::uint32_t>(summed.size());
+    const std::uint32_t same = index.find_or_insert(Ends{e.lo, e.hi}, number, ends_of);
+    if (same == number) {
+      summed.push_back(e);
+    } else {
+      summed[same].direction += e.direction;
     }
   }
   summed.erase(std::remove_if(summed.begin(), summed.end(), [](const Edge& e) { return e.direction == 0; }),
@@ -193,22 +197,17 @@ ClipperLib::Paths chain_boundary(const std::vector<Edge>& edges) {
   for (std::size_t i = 0; i < remaining.size(); ++i) {
     cursor[i] = i > 0 && remaining[i].first == remaining[i - 1].first ? cursor[i - 1] : i;
   }
-  // Where the edges out of each point begin in `remaining`: 1 + that index, by the point.
-  std::size_t size = 16;
-  while (size < 2 * remaining.size()) size *= 2;
-  std::vector<std::uint32_t> starts(size, 0);
-  const auto slot_of = [&](IntPoint at) {
-    std::size_t k = hash_of({at.X, at.Y}) & (size - 1);
-    while (starts[k] != 0 && !(remaining[starts[k] - 1].first == at)) k = (k + 1) & (size - 1);
-    return k;
-  };
+  // Where the edges out of each point begin in `remaining`, by the point.
+  using Starts = NumberTable<IntPoint, PointHash>;
+  Starts starts(remaining.size());
+  const auto start_of = [&](std::uint32_t i) { return remaining[i].first; };
   for (std::size_t i = 0; i < remaining.size(); ++i) {
-    if (cursor[i] == i) starts[slot_of(remaining[i].first)] = static_cast<std::uint32_t>(i + 1);
+    if (cursor[i] == i) starts.find_or_insert(remaining[i].first, static_cast<std::uint32_t>(i), start_of);
   }
   const auto take_from = [&](IntPoint at) -> std::size_t {
-    const std::uint32_t start = starts[slot_of(at)];
-    if (start == 0) return remaining.size();
-    std::size_t& next = cursor[start - 1];
+    const std::uint32_t start = starts.find(at, start_of);
+    if (start == Starts::kNone) return remaining.size();
+    std::size_t& next = cursor[start];
     while (next < remaining.size() && remaining[next].first == at && used[next]) ++next;
     if (next >= remaining.size() || !(remaining[next].first == at)) return remaining.size();
     return next;
