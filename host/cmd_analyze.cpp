@@ -5,7 +5,7 @@
 //  [--thicknesses 0.15,0.2,...] [--share 95] [--json F]`
 //
 // analyze (paper §4, Fig. 22-26): slices the model into uniform layers, makes each layer's
-// region with every strategy asked for, measures each region exactly (geometry/layer_metrics.h)
+// region with every strategy asked for, measures each region exactly (geometry/metrics/layer_metrics.h)
 // and prints one summary row per strategy, then how every strategy compares with lower (the
 // paper's baseline) and with mid (what PrusaSlicer, Slic3r and CuraEngine print). Optional
 // outputs: a CSV row per layer and strategy, a JSON summary, SVG charts (D per layer, ΔV per
@@ -32,15 +32,15 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "geometry/boundary_pair.h"
-#include "geometry/contour_strategy.h"
-#include "geometry/error.h"
-#include "geometry/extruded_layers.h"
-#include "geometry/layer_analysis.h"
-#include "geometry/layer_stack.h"
-#include "geometry/mesh.h"
-#include "geometry/slab.h"
-#include "geometry/stl_io.h"
+#include "geometry/slab/boundary_pair.h"
+#include "geometry/contour/contour_strategy.h"
+#include "geometry/core/error.h"
+#include "geometry/metrics/extruded_layers.h"
+#include "geometry/analysis/layer_analysis.h"
+#include "geometry/slicing/layer_stack.h"
+#include "geometry/mesh/mesh.h"
+#include "geometry/slab/slab.h"
+#include "geometry/mesh/stl_io.h"
 #include "host/commands.h"
 #include "host/model_input.h"
 #include "host/plots.h"

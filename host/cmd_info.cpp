@@ -8,8 +8,8 @@
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
-#include "geometry/mesh.h"
-#include "geometry/stl_io.h"
+#include "geometry/mesh/mesh.h"
+#include "geometry/mesh/stl_io.h"
 #include "host/commands.h"
 #include "host/model_input.h"
 

@@ -7,7 +7,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
-#include "geometry/error.h"
+#include "geometry/core/error.h"
 #include "host/commands.h"
 #include "printer/error.h"
 

@@ -7,9 +7,9 @@
 
 #include <fmt/core.h>
 
-#include "geometry/error.h"
-#include "geometry/placement.h"
-#include "geometry/stl_io.h"
+#include "geometry/core/error.h"
+#include "geometry/mesh/placement.h"
+#include "geometry/mesh/stl_io.h"
 
 namespace host {
 namespace {

@@ -6,9 +6,9 @@
 
 #include <CLI/CLI.hpp>
 
-#include "geometry/mesh.h"
-#include "geometry/polygon.h"
-#include "geometry/repair.h"
+#include "geometry/mesh/mesh.h"
+#include "geometry/core/polygon.h"
+#include "geometry/mesh/repair.h"
 
 namespace host {
 

@@ -14,7 +14,7 @@
 #include <fmt/core.h>
 #include <fmt/format.h>
 
-#include "geometry/error.h"
+#include "geometry/core/error.h"
 
 namespace host {
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "geometry/polygon.h"
+#include "geometry/core/polygon.h"
 
 namespace host {
 

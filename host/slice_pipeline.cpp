@@ -8,10 +8,10 @@
 #include <fmt/core.h>
 #include <tbb/parallel_for.h>
 
-#include "geometry/contour_strategy.h"
-#include "geometry/layer_stack.h"
-#include "geometry/mesh.h"
-#include "geometry/toolpath_plan.h"
+#include "geometry/contour/contour_strategy.h"
+#include "geometry/slicing/layer_stack.h"
+#include "geometry/mesh/mesh.h"
+#include "geometry/toolpaths/toolpath_plan.h"
 #include "host/progress.h"
 
 namespace host {

@@ -13,7 +13,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "geometry/polygon.h"
+#include "geometry/core/polygon.h"
 #include "host/model_input.h"
 #include "printer/gcode_writer.h"
 #include "printer/profile.h"

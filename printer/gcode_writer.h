@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "geometry/toolpaths.h"
+#include "geometry/toolpaths/toolpaths.h"
 #include "printer/profile.h"
 
 namespace printer {

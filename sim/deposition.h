@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "geometry/polygon.h"
+#include "geometry/core/polygon.h"
 
 namespace sim {
 

@@ -12,7 +12,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Triangulation_face_base_with_info_2.h>
 
-#include "geometry/polygon.h"
+#include "geometry/core/polygon.h"
 
 namespace sim {
 

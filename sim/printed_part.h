@@ -8,7 +8,7 @@
 // its volume is the sum of the layers' area x height. An empty record gives an empty mesh.
 #pragma once
 
-#include "geometry/mesh.h"
+#include "geometry/mesh/mesh.h"
 #include "sim/deposition.h"
 
 namespace sim {

@@ -9,7 +9,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "geometry/stl_io.h"
+#include "geometry/mesh/stl_io.h"
 #include "printer/error.h"
 #include "sim/printed_part.h"
 

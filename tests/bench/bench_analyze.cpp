@@ -20,15 +20,15 @@
 #include <string>
 #include <vector>
 
-#include "geometry/layer_analysis.h"
-#include "geometry/layer_stack.h"
-#include "geometry/missed_features.h"
-#include "geometry/slab.h"
-#include "geometry/volume_deviation.h"
-#include "geometry/volume_limit.h"
-#include "geometry/placement.h"
-#include "geometry/repair.h"
-#include "geometry/stl_io.h"
+#include "geometry/analysis/layer_analysis.h"
+#include "geometry/slicing/layer_stack.h"
+#include "geometry/metrics/missed_features.h"
+#include "geometry/slab/slab.h"
+#include "geometry/metrics/volume_deviation.h"
+#include "geometry/metrics/volume_limit.h"
+#include "geometry/mesh/placement.h"
+#include "geometry/mesh/repair.h"
+#include "geometry/mesh/stl_io.h"
 
 using namespace geometry;
 using Clock = std::chrono::steady_clock;

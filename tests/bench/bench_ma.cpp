@@ -24,15 +24,15 @@
 #include <string>
 #include <vector>
 
-#include "geometry/boundary_grid.h"
-#include "geometry/clipper_bridge.h"
-#include "geometry/distance_error.h"
-#include "geometry/layer_stack.h"
-#include "geometry/missed_features.h"
-#include "geometry/ma_contour.h"
-#include "geometry/placement.h"
-#include "geometry/repair.h"
-#include "geometry/stl_io.h"
+#include "geometry/core/boundary_grid.h"
+#include "geometry/core/clipper_bridge.h"
+#include "geometry/metrics/distance_error.h"
+#include "geometry/slicing/layer_stack.h"
+#include "geometry/metrics/missed_features.h"
+#include "geometry/contour/ma_contour.h"
+#include "geometry/mesh/placement.h"
+#include "geometry/mesh/repair.h"
+#include "geometry/mesh/stl_io.h"
 
 using namespace geometry;
 using Clock = std::chrono::steady_clock;

@@ -35,7 +35,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "geometry/mesh.h"
+#include "geometry/mesh/mesh.h"
 #include "printer/gcode_line.h"
 #include "printer/profile.h"
 #include "sim/printed_part.h"

@@ -18,12 +18,12 @@
 
 #include <fmt/format.h>
 
-#include "geometry/error.h"
-#include "geometry/layer_stack.h"
-#include "geometry/placement.h"
-#include "geometry/repair.h"
-#include "geometry/slicer.h"
-#include "geometry/stl_io.h"
+#include "geometry/core/error.h"
+#include "geometry/slicing/layer_stack.h"
+#include "geometry/mesh/placement.h"
+#include "geometry/mesh/repair.h"
+#include "geometry/slicing/slicer.h"
+#include "geometry/mesh/stl_io.h"
 
 namespace {
 

@@ -19,12 +19,12 @@
 #include <fmt/core.h>
 #include <tbb/parallel_for.h>
 
-#include "geometry/layer_stack.h"
-#include "geometry/ma_contour.h"
-#include "geometry/placement.h"
-#include "geometry/repair.h"
-#include "geometry/stl_io.h"
-#include "geometry/toolpath_plan.h"
+#include "geometry/slicing/layer_stack.h"
+#include "geometry/contour/ma_contour.h"
+#include "geometry/mesh/placement.h"
+#include "geometry/mesh/repair.h"
+#include "geometry/mesh/stl_io.h"
+#include "geometry/toolpaths/toolpath_plan.h"
 #include "printer/gcode_writer.h"
 #include "printer/profile.h"
 

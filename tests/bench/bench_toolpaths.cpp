@@ -30,12 +30,12 @@
 #include <fstream>
 #include <string>
 
-#include "geometry/contour_strategy.h"
-#include "geometry/layer_stack.h"
-#include "geometry/placement.h"
-#include "geometry/repair.h"
-#include "geometry/stl_io.h"
-#include "geometry/toolpath_plan.h"
+#include "geometry/contour/contour_strategy.h"
+#include "geometry/slicing/layer_stack.h"
+#include "geometry/mesh/placement.h"
+#include "geometry/mesh/repair.h"
+#include "geometry/mesh/stl_io.h"
+#include "geometry/toolpaths/toolpath_plan.h"
 
 namespace {
 

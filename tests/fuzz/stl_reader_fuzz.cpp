@@ -1,4 +1,4 @@
-// libFuzzer entry for the STL reader (geometry/stl_io.cpp): any bytes must give facets with
+// libFuzzer entry for the STL reader (geometry/mesh/stl_io.cpp): any bytes must give facets with
 // finite corners or one geometry::InputError with a one-line message naming the file. Any
 // other exception, a crash, a sanitizer report or a hang is a bug.
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <cstdlib>
 #include <string_view>
 
-#include "geometry/stl_io.h"
+#include "geometry/mesh/stl_io.h"
 
 namespace {
 

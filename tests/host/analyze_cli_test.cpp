@@ -1,5 +1,5 @@
 // `mahost analyze` and `mahost advise` as a user runs them, on an n-gon cone whose errors are
-// known in closed form (tests/geometry/distance_error_test.cpp): radius r = 10, height h = 15,
+// known in closed form (tests/geometry/metrics/distance_error_test.cpp): radius r = 10, height h = 15,
 // n = 64. Over a layer of thickness t below the apex,
 //   lower: D = t r cos(pi/n) / h,   mid: D = t r / (2h).
 #include <doctest/doctest.h>
@@ -15,7 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "geometry/stl_io.h"
+#include "geometry/mesh/stl_io.h"
 #include "support/run_command.h"
 #include "support/solids.h"
 

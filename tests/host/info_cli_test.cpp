@@ -8,8 +8,8 @@
 #include <random>
 #include <string>
 
-#include "geometry/mesh.h"
-#include "geometry/stl_io.h"
+#include "geometry/mesh/mesh.h"
+#include "geometry/mesh/stl_io.h"
 #include "support/run_command.h"
 
 using test_support::run_mahost;

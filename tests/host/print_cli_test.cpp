@@ -19,7 +19,7 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
-#include "geometry/stl_io.h"
+#include "geometry/mesh/stl_io.h"
 #include "printer/gcode_file.h"
 #include "printer/journal.h"
 #include "printer/test_program.h"

@@ -11,11 +11,11 @@
 
 #include <doctest/doctest.h>
 
-#include "geometry/layer_stack.h"
-#include "geometry/ma_contour.h"
-#include "geometry/placement.h"
-#include "geometry/repair.h"
-#include "geometry/stl_io.h"
+#include "geometry/slicing/layer_stack.h"
+#include "geometry/contour/ma_contour.h"
+#include "geometry/mesh/placement.h"
+#include "geometry/mesh/repair.h"
+#include "geometry/mesh/stl_io.h"
 #include "printer/print_time.h"
 #include "printer/profile.h"
 #include "support/gcode_beads.h"

@@ -4,7 +4,7 @@
 
 #include <doctest/doctest.h>
 
-#include "geometry/bead_spacing.h"
+#include "geometry/toolpaths/bead_spacing.h"
 #include "printer/bead_model.h"
 
 using namespace printer;
@@ -50,7 +50,7 @@ TEST_CASE("filament_weight_from_density") {
   CHECK(filament_weight(1000, 1.75, 1.04) == doctest::Approx(2.5015).epsilon(1e-4));
 }
 
-// geometry lays beads out by shares (geometry/bead_spacing.h) without depending on printer/;
+// geometry lays beads out by shares (geometry/toolpaths/bead_spacing.h) without depending on printer/;
 // the share times the height must be the cross-section the G-code writer extrudes.
 TEST_CASE("geometry_bead_spacing_fills_the_writers_bead_cross_section") {
   for (double h : {0.1, 0.2, 0.35}) {

@@ -10,8 +10,8 @@
 
 #include <doctest/doctest.h>
 
-#include "geometry/polygon.h"
-#include "geometry/toolpaths.h"
+#include "geometry/core/polygon.h"
+#include "geometry/toolpaths/toolpaths.h"
 #include "printer/bead_model.h"
 #include "printer/error.h"
 #include "printer/gcode_line.h"

@@ -5,8 +5,8 @@
 #include <map>
 #include <utility>
 
-#include "geometry/mesh.h"
-#include "geometry/polygon.h"
+#include "geometry/mesh/mesh.h"
+#include "geometry/core/polygon.h"
 #include "printer/bead_model.h"
 #include "sim/deposition.h"
 #include "sim/printed_part.h"

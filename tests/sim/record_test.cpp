@@ -5,7 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "geometry/stl_io.h"
+#include "geometry/mesh/stl_io.h"
 #include "printer/error.h"
 #include "sim/record.h"
 #include "support/run_command.h"

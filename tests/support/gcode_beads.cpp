@@ -6,7 +6,7 @@
 #include <fmt/core.h>
 #include <polyclipping/clipper.hpp>
 
-#include "geometry/clipper_bridge.h"
+#include "geometry/core/clipper_bridge.h"
 #include "printer/bead_model.h"
 #include "printer/gcode_line.h"
 

@@ -18,7 +18,7 @@
 #include <string_view>
 #include <vector>
 
-#include "geometry/polygon.h"
+#include "geometry/core/polygon.h"
 
 namespace test_support {
 

@@ -25,8 +25,8 @@
 #include <functional>
 #include <vector>
 
-#include "geometry/mesh.h"
-#include "geometry/polygon.h"
+#include "geometry/mesh/mesh.h"
+#include "geometry/core/polygon.h"
 
 namespace solids {
 

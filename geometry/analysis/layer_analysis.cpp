@@ -1,0 +1,138 @@
+#include "geometry/analysis/layer_analysis.h"
+
+#include <tbb/parallel_for.h>
+#include <time.h>
+
+#include <algorithm>
+#include <atomic>
+#include <limits>
+
+#include "geometry/contour/ma_contour.h"
+
+namespace geometry {
+
+namespace {
+
+// CPU time of the calling thread: what a layer costs, whatever else shares the cores.
+double thread_seconds() {
+  timespec now{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
+}
+
+}  // namespace
+
+LayerAnalysis analyze_layer(const LayerStack& stack, std::size_t layer,
+                            std::span<const ContourKind> kinds, const AnalysisOptions& options) {
+  LayerAnalysis analysis;
+  if (layer >= stack.size()) return analysis;
+  analysis.layer = stack.layers()[layer];
+  double start = thread_seconds();
+  const LayerReference reference = layer_reference(stack, layer, options.metrics);
+  analysis.reference_seconds = thread_seconds() - start;
+  for (ContourKind kind : kinds) {
+    StrategyLayer result;
+    result.kind = kind;
+    start = thread_seconds();
+    switch (kind) {
+      case ContourKind::lower:
+        result.region = stack.lower(layer);
+        result.height = analysis.layer.z_lo;
+        break;
+      case ContourKind::mid:
+        result.region = stack.mid(layer);
+        result.height = analysis.layer.z_mid();
+        break;
+      case ContourKind::optimal_height: {
+        // Without volume metrics the reference has no columns; the search needs them.
+        const SlabColumns columns = options.metrics.volumes
+                                        ? SlabColumns{}
+                                        : slab_columns(reference.slab, stack.lower(layer));
+        OptimalHeight best = optimal_height(stack, layer,
+                                            options.metrics.volumes ? reference.columns : columns,
+                                            options.optimal);
+        result.region = std::move(best.section);
+        result.height = best.height;
+        break;
+      }
+      case ContourKind::ma:
+        // The slab is clipped and its islands found already: hand them over.
+        result.region = ma_contour(
+            reference.slab, reference.islands,
+            [&stack](double z) { return stack.cross_section(z); }, options.contour.ma);
+        result.height = analysis.layer.z_mid();
+        break;
+    }
+    result.contour_seconds = thread_seconds() - start;
+    start = thread_seconds();
+    result.metrics = layer_metrics(reference, result.region, options.metrics);
+    result.metric_seconds = thread_seconds() - start;
+    if (!options.keep_regions) result.region = {};
+    analysis.strategies.push_back(std::move(result));
+  }
+  return analysis;
+}
+
+std::vector<LayerAnalysis> analyze_layers(const LayerStack& stack,
+                                          std::span<const ContourKind> kinds,
+                                          const AnalysisOptions& options,
+                                          const std::function<void(std::size_t)>& progress) {
+  std::vector<LayerAnalysis> layers(stack.size());
+  std::atomic<std::size_t> done{0};
+  tbb::parallel_for(std::size_t{0}, stack.size(), [&](std::size_t i) {
+    layers[i] = analyze_layer(stack, i, kinds, options);
+    const std::size_t finished = ++done;
+    if (progress) progress(finished);
+  });
+  return layers;
+}
+
+std::vector<StrategySummary> summarize(std::span<const LayerAnalysis> layers,
+                                       double distance_tolerance) {
+  std::vector<StrategySummary> summaries;
+  if (layers.empty()) return summaries;
+  const auto& first = layers.front().strategies;
+  const auto index_of = [&](ContourKind kind) -> int {
+    for (std::size_t k = 0; k < first.size(); ++k)
+      if (first[k].kind == kind) return static_cast<int>(k);
+    return -1;
+  };
+  const int lower = index_of(ContourKind::lower), mid = index_of(ContourKind::mid);
+  for (std::size_t k = 0; k < first.size(); ++k) {
+    StrategySummary s;
+    s.kind = first[k].kind;
+    for (const LayerAnalysis& layer : layers) {
+      if (k >= layer.strategies.size()) continue;
+      const StrategyLayer& r = layer.strategies[k];
+      const LayerMetrics& m = r.metrics;
+      ++s.layers;
+      s.mean_distance += m.distance;
+      s.max_distance = std::max(s.max_distance, m.distance);
+      s.mean_hausdorff += m.hausdorff;
+      s.max_hausdorff = std::max(s.max_hausdorff, m.hausdorff);
+      s.total_deviation += m.volume_deviation;
+      s.total_limit += m.volume_limit;
+      s.missed_features += m.missed_features;
+      s.contour_seconds += r.contour_seconds;
+      s.max_contour_seconds = std::max(s.max_contour_seconds, r.contour_seconds);
+      if (lower >= 0 && m.distance > layer.strategies[lower].metrics.distance + distance_tolerance)
+        ++s.worse_than_lower;
+      if (mid >= 0 && m.distance > layer.strategies[mid].metrics.distance + distance_tolerance)
+        ++s.worse_than_mid;
+    }
+    if (s.layers > 0) {
+      s.mean_distance /= s.layers;
+      s.mean_hausdorff /= s.layers;
+      s.mean_deviation = s.total_deviation / s.layers;
+    }
+    // A part of vertical walls has no limit to speak of (1e-13 mm^3): a percentage of it
+    // would be noise, so there is none.
+    s.above_limit_percent = s.total_limit > kNegligibleVolume * s.layers
+                                ? (s.total_deviation - s.total_limit) / s.total_limit * 100
+                                : std::numeric_limits<double>::quiet_NaN();
+    summaries.push_back(s);
+  }
+  return summaries;
+}
+
+}  // namespace geometry

@@ -1,0 +1,82 @@
+// Comparing contour strategies layer by layer (paper §4; DESIGN.md §2-3): for every layer,
+// each strategy's region and its metrics (layer_metrics.h), and per strategy the part's
+// summary the paper reports, with mid-plane slicing (what PrusaSlicer, Slic3r and CuraEngine
+// print) as a second baseline beside the paper's lower contour.
+//
+// Input: a layer stack, the strategies to compare, options. Layers are independent and run in
+// parallel (TBB); `progress` (if set) is called with the number of layers done, from any thread.
+// Output: one LayerAnalysis per layer, in order, and one StrategySummary per strategy:
+//   mean and max D over layers (the paper's "average" and "maximum distance error"), mean
+//   and max Hausdorff distance, total and mean ΔV, the total volume limit, ΔV above the limit
+//   in %, missed features, and the defect cases: layers whose D exceeds lower's, and mid's,
+//   on the same layer by more than the distance tolerance. Units mm, mm^3, s; times are the
+//   CPU seconds of the thread that did the work, so they do not grow when others share the
+//   cores.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "geometry/contour/contour_strategy.h"
+#include "geometry/metrics/layer_metrics.h"
+#include "geometry/slicing/layer_stack.h"
+#include "geometry/contour/optimal_height.h"
+
+namespace geometry {
+
+struct AnalysisOptions {
+  ContourOptions contour;
+  OptimalHeightOptions optimal;
+  MetricOptions metrics;
+  bool keep_regions = true;  // false: drop each region once measured (saves memory)
+};
+
+struct StrategyLayer {
+  ContourKind kind = ContourKind::lower;
+  Region region;
+  LayerMetrics metrics;
+  double height = 0;            // optimal-height: the height chosen; others: where they cut
+  double contour_seconds = 0;   // making the region
+  double metric_seconds = 0;    // measuring it
+};
+
+struct LayerAnalysis {
+  Layer layer;
+  std::vector<StrategyLayer> strategies;  // in the order asked
+  double reference_seconds = 0;           // slab, footprint, columns, surface, limit
+};
+
+LayerAnalysis analyze_layer(const LayerStack& stack, std::size_t layer,
+                            std::span<const ContourKind> kinds, const AnalysisOptions& options = {});
+
+std::vector<LayerAnalysis> analyze_layers(const LayerStack& stack,
+                                          std::span<const ContourKind> kinds,
+                                          const AnalysisOptions& options = {},
+                                          const std::function<void(std::size_t)>& progress = {});
+
+// Volumes below this per layer (mm^3, a cube of 10 um) are rounding, not deviation: ratios to
+// them mean nothing.
+inline constexpr double kNegligibleVolume = 1e-6;
+
+struct StrategySummary {
+  ContourKind kind = ContourKind::lower;
+  std::size_t layers = 0;
+  double mean_distance = 0, max_distance = 0;
+  double mean_hausdorff = 0, max_hausdorff = 0;
+  double total_deviation = 0, mean_deviation = 0;
+  double total_limit = 0;
+  double above_limit_percent = 0;      // (total ΔV - total limit) / total limit * 100; NaN
+                                       // when the limit is negligible (vertical walls only)
+  std::size_t missed_features = 0;
+  std::size_t worse_than_lower = 0;    // layers with D above lower's (if lower was analysed)
+  std::size_t worse_than_mid = 0;      // ... above mid's (if mid was analysed)
+  double contour_seconds = 0;          // summed over layers (CPU time, not wall time)
+  double max_contour_seconds = 0;      // the slowest layer
+};
+
+std::vector<StrategySummary> summarize(std::span<const LayerAnalysis> layers,
+                                       double distance_tolerance = DistanceOptions{}.tolerance);
+
+}  // namespace geometry

@@ -1,0 +1,253 @@
+#include "geometry/contour/optimal_height.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "geometry/slab/slab.h"
+#include "geometry/metrics/volume_deviation.h"
+
+namespace geometry {
+
+namespace {
+
+// A convex polygon of a few corners, on the stack: a facet has at most 5 (a triangle cut by
+// both planes), one cut adds 1, an intersection with a facet of 5 at most 5 more.
+struct SmallPolygon {
+  std::array<Vec2, 16> at;
+  int size = 0;
+};
+
+SmallPolygon small(const std::vector<Vec2>& polygon) {
+  SmallPolygon out;
+  for (Vec2 p : polygon) {
+    if (out.size == 16) break;
+    out.at[out.size++] = p;
+  }
+  return out;
+}
+
+// The part where f0 + fx (x - o.x) + fy (y - o.y) >= 0 (slab_columns.h's clip_to_half_plane).
+SmallPolygon cut(const SmallPolygon& polygon, Vec2 o, double f0, double fx, double fy) {
+  SmallPolygon out;
+  const auto at = [&](Vec2 p) { return f0 + fx * (p.x - o.x) + fy * (p.y - o.y); };
+  for (int i = 0, n = polygon.size; i < n && out.size < 15; ++i) {
+    const Vec2 a = polygon.at[i], b = polygon.at[(i + 1) % n];
+    const double fa = at(a), fb = at(b);
+    if (fa >= 0) out.at[out.size++] = a;
+    if ((fa >= 0) != (fb >= 0)) out.at[out.size++] = a + (fa / (fa - fb)) * (b - a);
+  }
+  return out;
+}
+
+SmallPolygon intersect(SmallPolygon polygon, const SmallPolygon& by) {
+  for (int k = 0; k < by.size && polygon.size >= 3; ++k) {
+    const Vec2 p = by.at[k], d = by.at[(k + 1) % by.size] - p;
+    polygon = cut(polygon, p, 0, -d.y, d.x);
+  }
+  return polygon;
+}
+
+// Area of a polygon and ∫ over it of w0 + wx (x - o.x) + wy (y - o.y).
+struct Integrals {
+  double area = 0, integral = 0;
+};
+Integrals integrals(const SmallPolygon& polygon, Vec2 o, double w0, double wx, double wy) {
+  double area = 0, mx = 0, my = 0;
+  for (int i = 0, n = polygon.size; i < n && n >= 3; ++i) {
+    const Vec2 p = polygon.at[i] - o, q = polygon.at[(i + 1) % n] - o;
+    const double c = cross(p, q);
+    area += c / 2;
+    mx += c * (p.x + q.x) / 6;
+    my += c * (p.y + q.y) / 6;
+  }
+  return {area, w0 * area + wx * mx + wy * my};
+}
+
+}  // namespace
+
+struct SectionDeviation::Facet {
+  SmallPolygon outline;
+  Vec2 o;
+  double w0 = 0, wx = 0, wy = 0;
+  int sign = 0;
+  double z_min = 0, z_max = 0;
+  int lower = 0;                 // its projection: 1 inside C(z_lo), 0 outside, -1 crossing it
+  std::vector<int> partners;     // facets it overlaps seen from above (folds)
+  std::vector<Vec2> loop;        // the outline again, for moments_of_intersection
+  // While wholly below h: its share of the section's area and of ∫ over C(h) of occ.
+  double area = 0, occupied = 0;
+};
+
+SectionDeviation::SectionDeviation(const SlabColumns& columns)
+    : lower_grid_(columns.lower), lower_(&columns.lower), z_hi_(columns.z_hi),
+      thickness_(columns.thickness()), volume_(columns.volume) {
+  const double t = thickness_;
+  const std::vector<std::vector<int>>& overlapping = columns.overlapping;
+  facets_.resize(columns.facets.size());
+  for (std::size_t a = 0; a < overlapping.size(); ++a) {
+    for (int b : overlapping[a]) {
+      facets_[a].partners.push_back(b);
+      facets_[b].partners.push_back(static_cast<int>(a));
+    }
+  }
+  lower_area_ = columns.lower_area;
+  occupied_lower_ = t * columns.lower_area;
+  for (std::size_t i = 0; i < columns.facets.size(); ++i) {
+    const ColumnFacet& f = columns.facets[i];
+    Facet& facet = facets_[i];
+    facet.outline = small(f.outline);
+    facet.loop = f.outline;
+    facet.o = f.outline[0];
+    facet.w0 = f.w0;
+    facet.wx = f.wx;
+    facet.wy = f.wy;
+    facet.sign = f.sign;
+    double w_min = f.w0, w_max = f.w0;
+    for (Vec2 p : f.outline) {
+      const double w = f.w0 + f.wx * (p.x - facet.o.x) + f.wy * (p.y - facet.o.y);
+      w_min = std::min(w_min, w);
+      w_max = std::max(w_max, w);
+    }
+    facet.z_min = columns.z_hi - w_max;
+    facet.z_max = columns.z_hi - w_min;
+    const Integrals whole = integrals(facet.outline, facet.o, f.w0, f.wx, f.wy);
+    const AreaMoments in_lower = moments_of_intersection(f.outline, facet.o, lower_grid_, columns.lower);
+    occupied_lower_ += f.sign * (f.w0 * in_lower.area + f.wx * in_lower.mx + f.wy * in_lower.my);
+    // Inside or outside C(z_lo) to a billionth of its area (a facet with an edge on the lower
+    // contour is either), else the lower contour crosses it (a fold).
+    const double slack = 1e-9 * std::abs(whole.area) + 1e-15;
+    facet.lower = std::abs(in_lower.area - whole.area) <= slack ? 1
+                  : std::abs(in_lower.area) <= slack           ? 0
+                                                                : -1;
+    facet.area = f.sign * whole.area;
+    facet.occupied = t * f.sign * in_lower.area + whole.integral;
+  }
+  for (Facet& facet : facets_) {
+    for (int g : facet.partners) {
+      const Facet& other = facets_[g];
+      facet.occupied += facet.sign * other.sign *
+                        integrals(intersect(facet.outline, other.outline), other.o, other.w0, other.wx, other.wy).integral;
+    }
+  }
+  // Facets wholly below h are a prefix of the facets by z_max: their sums are kept per prefix.
+  by_top_.resize(facets_.size());
+  by_bottom_.resize(facets_.size());
+  for (std::size_t i = 0; i < facets_.size(); ++i) by_top_[i] = by_bottom_[i] = static_cast<int>(i);
+  std::sort(by_top_.begin(), by_top_.end(), [&](int a, int b) { return facets_[a].z_max < facets_[b].z_max; });
+  std::sort(by_bottom_.begin(), by_bottom_.end(), [&](int a, int b) { return facets_[a].z_min < facets_[b].z_min; });
+  prefix_area_.assign(facets_.size() + 1, 0);
+  prefix_occupied_.assign(facets_.size() + 1, 0);
+  for (std::size_t k = 0; k < by_top_.size(); ++k) {
+    prefix_area_[k + 1] = prefix_area_[k] + facets_[by_top_[k]].area;
+    prefix_occupied_[k + 1] = prefix_occupied_[k] + facets_[by_top_[k]].occupied;
+  }
+}
+
+SectionDeviation::~SectionDeviation() = default;
+SectionDeviation::SectionDeviation(SectionDeviation&&) noexcept = default;
+
+double SectionDeviation::operator()(double h) const {
+  const double t = thickness_;
+  const std::size_t below = static_cast<std::size_t>(
+      std::upper_bound(by_top_.begin(), by_top_.end(), h,
+                       [&](double value, int f) { return value < facets_[f].z_max; }) -
+      by_top_.begin());
+  double area = lower_area_ + prefix_area_[below];
+  double occupied = occupied_lower_ + prefix_occupied_[below];
+  // The facets h cuts: begun below h, ended above it.
+  for (int i : by_bottom_) {
+    const Facet& facet = facets_[i];
+    if (facet.z_min > h) break;
+    if (facet.z_max <= h) continue;
+    // The part where z_f <= h, i.e. w_f >= z_hi - h.
+    const SmallPolygon part = cut(facet.outline, facet.o, facet.w0 - (z_hi_ - h), facet.wx, facet.wy);
+    if (part.size < 3) continue;
+    const Integrals own = integrals(part, facet.o, facet.w0, facet.wx, facet.wy);
+    area += facet.sign * own.area;
+    double in_lower = 0;
+    if (facet.lower == 1) {
+      in_lower = own.area;
+    } else if (facet.lower == -1) {
+      const std::vector<Vec2> loop(part.at.begin(), part.at.begin() + part.size);
+      in_lower = moments_of_intersection(loop, loop[0], lower_grid_, *lower_).area;
+    }
+    occupied += t * facet.sign * in_lower + own.integral;
+    for (int g : facet.partners) {
+      const Facet& other = facets_[g];
+      occupied += facet.sign * other.sign *
+                  integrals(intersect(part, other.outline), other.o, other.w0, other.wx, other.wy).integral;
+    }
+  }
+  return std::max(volume_ + t * area - 2 * occupied, 0.0);
+}
+
+OptimalHeight optimal_height(const LayerStack& stack, std::size_t layer,
+                             const SlabColumns& columns, const OptimalHeightOptions& options) {
+  OptimalHeight best;
+  if (layer >= stack.size()) return best;
+  const Layer bounds = stack.layers()[layer];
+  const SectionDeviation deviation_at(columns);
+  // At z_hi the section from above differs from the sum's (from below) only by faces lying in
+  // that plane, which need a vertex there; if there is one, it is built, not summed.
+  const bool face_on_top = !stack.vertex_heights_between(bounds.z_hi, bounds.z_hi).empty();
+  const auto try_height = [&](double h) {
+    const double deviation = h < bounds.z_hi || !face_on_top
+                                 ? deviation_at(std::min(h, bounds.z_hi))
+                                 : volume_deviation(columns, stack.cross_section(h));
+    ++best.evaluations;
+    if (best.evaluations == 1 || deviation < best.volume_deviation) {
+      best.height = h;
+      best.volume_deviation = deviation;
+    }
+    return deviation;
+  };
+  if (!(bounds.thickness() > 0)) {
+    best.height = bounds.z_lo;
+    best.section = stack.cross_section(bounds.z_lo);
+    best.volume_deviation = volume_deviation(columns, best.section);
+    best.evaluations = 1;
+    return best;
+  }
+  const int samples = std::max(options.coarse_samples, 3);
+  const double step = bounds.thickness() / (samples - 1);
+  std::vector<double> deviation(samples);
+  int best_sample = 0;
+  for (int k = 0; k < samples; ++k) {
+    deviation[k] = try_height(k + 1 == samples ? bounds.z_hi : bounds.z_lo + k * step);
+    if (deviation[k] < deviation[best_sample]) best_sample = k;
+  }
+  // Golden section inside the bracket of the best sample.
+  double a = bounds.z_lo + std::max(best_sample - 1, 0) * step;
+  double b = std::min(bounds.z_lo + (best_sample + 1) * step, bounds.z_hi);
+  constexpr double kInvPhi = 0.6180339887498949;
+  double c = b - kInvPhi * (b - a), d = a + kInvPhi * (b - a);
+  double fc = try_height(c), fd = try_height(d);
+  const double tolerance = std::max(options.tolerance, 1e-9);
+  while (b - a > tolerance) {
+    if (fc <= fd) {
+      b = d;
+      d = c;
+      fd = fc;
+      c = b - kInvPhi * (b - a);
+      fc = try_height(c);
+    } else {
+      a = c;
+      c = d;
+      fc = fd;
+      d = a + kInvPhi * (b - a);
+      fd = try_height(d);
+    }
+  }
+  best.section = stack.cross_section(best.height);
+  return best;
+}
+
+OptimalHeight optimal_height(const LayerStack& stack, std::size_t layer,
+                             const OptimalHeightOptions& options) {
+  if (layer >= stack.size()) return {};
+  const SlabColumns columns = slab_columns(slab_of(stack, layer), stack.lower(layer));
+  return optimal_height(stack, layer, columns, options);
+}
+
+}  // namespace geometry

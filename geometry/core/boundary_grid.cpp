@@ -1,0 +1,163 @@
+#include "geometry/core/boundary_grid.h"
+
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace geometry {
+
+namespace {
+
+Vec2 foot_on_segment(Vec2 p, const Segment2& s) {
+  const Vec2 ab = s.b - s.a;
+  const double length2 = dot(ab, ab);
+  double t = length2 > 0 ? dot(p - s.a, ab) / length2 : 0.0;
+  t = std::clamp(t, 0.0, 1.0);
+  return s.a + t * ab;
+}
+
+double distance_squared_to_segment(Vec2 p, const Segment2& s) {
+  const Vec2 d = p - foot_on_segment(p, s);
+  return dot(d, d);
+}
+
+}  // namespace
+
+BoundaryGrid::BoundaryGrid(const Region& region) {
+  std::size_t corners = 0;
+  for (const Loop& loop : region.loops) corners += loop.size();
+  segments_.reserve(corners);
+  for (const Loop& loop : region.loops) {
+    for (std::size_t i = 0, n = loop.size(); i < n && n > 1; ++i) {
+      const Vec2 a = loop[i], b = loop[(i + 1) % n];
+      if (!(a == b)) segments_.push_back({a, b});
+    }
+  }
+  build();
+}
+
+BoundaryGrid::BoundaryGrid(std::vector<Segment2> segments) : segments_(std::move(segments)) {
+  build();
+}
+
+void BoundaryGrid::build() {
+  if (segments_.empty()) return;
+  Vec2 lo{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  Vec2 hi{-lo.x, -lo.y};
+  double total_length = 0;
+  for (const Segment2& s : segments_) {
+    lo = {std::min({lo.x, s.a.x, s.b.x}), std::min({lo.y, s.a.y, s.b.y})};
+    hi = {std::max({hi.x, s.a.x, s.b.x}), std::max({hi.y, s.a.y, s.b.y})};
+    const Vec2 d = s.b - s.a;
+    total_length += std::sqrt(dot(d, d));  // mm: no overflow for std::hypot to guard
+  }
+  const double width = std::max(hi.x - lo.x, 1e-9), height = std::max(hi.y - lo.y, 1e-9);
+  // About two segments per occupied cell, but never more than ~4 cells per segment overall,
+  // so that a long thin layer does not allocate a huge empty grid.
+  const double mean = total_length / segments_.size();
+  double cell = std::max(2.0 * mean, 1e-6);
+  const double max_cells = 4.0 * segments_.size() + 16;
+  if (width / cell * (height / cell) > max_cells) cell = std::sqrt(width * height / max_cells);
+  cell_ = cell;
+  inverse_cell_ = 1 / cell;
+  origin_ = lo;
+  nx_ = std::max(1, static_cast<int>(std::ceil(width / cell_)));
+  ny_ = std::max(1, static_cast<int>(std::ceil(height / cell_)));
+
+  const std::size_t cells = static_cast<std::size_t>(nx_) * ny_;
+  std::vector<std::uint32_t> count(cells + 1, 0);
+  std::vector<std::array<int, 4>> spans(segments_.size());  // each segment's block of cells
+  for (std::size_t id = 0; id < segments_.size(); ++id) {
+    const Segment2& s = segments_[id];
+    const auto [x0, y0] = cell_of({std::min(s.a.x, s.b.x), std::min(s.a.y, s.b.y)});
+    const auto [x1, y1] = cell_of({std::max(s.a.x, s.b.x), std::max(s.a.y, s.b.y)});
+    spans[id] = {x0, y0, x1, y1};
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) ++count[static_cast<std::size_t>(y) * nx_ + x + 1];
+  }
+  for (std::size_t c = 0; c < cells; ++c) count[c + 1] += count[c];
+  cell_start_ = count;
+  ids_.resize(cell_start_[cells]);
+  for (std::uint32_t id = 0; id < segments_.size(); ++id) {
+    const auto [x0, y0, x1, y1] = spans[id];
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) ids_[count[static_cast<std::size_t>(y) * nx_ + x]++] = id;
+  }
+  stamp_.assign(segments_.size(), 0);
+}
+
+double BoundaryGrid::nearest_distance(Vec2 p) const { return nearest(p).distance; }
+
+BoundaryGrid::Nearest BoundaryGrid::nearest(Vec2 p) const {
+  Nearest found{std::numeric_limits<double>::infinity(), Nearest::npos, p};
+  if (segments_.empty()) return found;
+  const auto [cx, cy] = cell_of(p);
+  double best2 = std::numeric_limits<double>::infinity();
+  for (int r = 0;; ++r) {
+    const int x0 = cx - r, x1 = cx + r, y0 = cy - r, y1 = cy + r;
+    // The ring of cells at Chebyshev distance r from (cx, cy), clipped to the grid.
+    const auto visit_cell = [&](int x, int y) {
+      if (x < 0 || y < 0 || x >= nx_ || y >= ny_) return;
+      const std::size_t c = static_cast<std::size_t>(y) * nx_ + x;
+      for (std::uint32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
+        const double d2 = distance_squared_to_segment(p, segments_[ids_[k]]);
+        if (d2 < best2) {
+          best2 = d2;
+          found.segment = ids_[k];
+        }
+      }
+    };
+    for (int x = x0; x <= x1; ++x) {
+      visit_cell(x, y0);
+      if (y1 != y0) visit_cell(x, y1);
+    }
+    for (int y = y0 + 1; y < y1; ++y) {
+      visit_cell(x0, y);
+      if (x1 != x0) visit_cell(x1, y);
+    }
+    // Everything beyond ring r is outside the block of cells around p's (clamped) cell: at
+    // least r cells away, and as far as p is from the block's sides when p is inside it.
+    const double left = p.x - (origin_.x + x0 * cell_), right = origin_.x + (x1 + 1) * cell_ - p.x;
+    const double below = p.y - (origin_.y + y0 * cell_), above = origin_.y + (y1 + 1) * cell_ - p.y;
+    const double reach = std::max(r * cell_, std::min({left, right, below, above}));
+    if (best2 <= reach * reach) break;
+    if (x0 <= 0 && y0 <= 0 && x1 >= nx_ - 1 && y1 >= ny_ - 1) break;
+  }
+  found.distance = std::sqrt(best2);
+  found.foot = foot_on_segment(p, segments_[found.segment]);
+  return found;
+}
+
+int BoundaryGrid::winding_number(Vec2 p, double* clearance) const {
+  if (clearance) *clearance = cell_;
+  if (segments_.empty()) return 0;
+  const auto [cx, cy] = cell_of(p);
+  if (clearance) {
+    double best2 = cell_ * cell_;
+    for_each_in_cells(std::max(cx - 1, 0), std::max(cy - 1, 0), std::min(cx + 1, nx_ - 1),
+                      std::min(cy + 1, ny_ - 1), [&](std::uint32_t id) {
+                        best2 = std::min(best2, distance_squared_to_segment(p, segments_[id]));
+                      });
+    *clearance = std::sqrt(best2);
+  }
+  int winding = 0;
+  const std::size_t row = static_cast<std::size_t>(cy) * nx_;
+  for (int x = cx; x < nx_; ++x) {
+    const std::size_t c = row + x;
+    for (std::uint32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
+      const Segment2& s = segments_[ids_[k]];
+      const bool a_above = s.a.y > p.y, b_above = s.b.y > p.y;
+      if (a_above == b_above) continue;
+      const double t = (p.y - s.a.y) / (s.b.y - s.a.y);
+      const double cross_x = s.a.x + t * (s.b.x - s.a.x);
+      if (!(cross_x > p.x)) continue;
+      // A segment spanning several cells is listed in each: count it in the cell holding its
+      // crossing (cell_of clamps, so crossings left or right of the grid land in its ends).
+      if (cell_of({cross_x, p.y}).first != x) continue;
+      winding += b_above ? 1 : -1;
+    }
+  }
+  return winding;
+}
+
+}  // namespace geometry

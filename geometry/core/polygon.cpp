@@ -1,0 +1,45 @@
+#include "geometry/core/polygon.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace geometry {
+
+double signed_area(const Loop& loop) {
+  double twice = 0;
+  for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
+    twice += cross(loop[i], loop[(i + 1) % n]);
+  }
+  return twice / 2.0;
+}
+
+double area(const Region& region) {
+  double total = 0;
+  for (const Loop& loop : region.loops) total += signed_area(loop);
+  return total;
+}
+
+double perimeter(const Loop& loop) {
+  double length = 0;
+  for (std::size_t i = 0, n = loop.size(); i < n && n > 1; ++i) {
+    const Vec2 d = loop[(i + 1) % n] - loop[i];
+    length += std::hypot(d.x, d.y);
+  }
+  return length;
+}
+
+double perimeter(const Region& region) {
+  double length = 0;
+  for (const Loop& loop : region.loops) length += perimeter(loop);
+  return length;
+}
+
+double distance_to_segment(Vec2 p, Vec2 a, Vec2 b) {
+  const Vec2 ab = b - a;
+  const double length2 = dot(ab, ab);
+  const double t = length2 > 0 ? std::clamp(dot(p - a, ab) / length2, 0.0, 1.0) : 0.0;
+  const Vec2 d = p - (a + t * ab);
+  return std::hypot(d.x, d.y);
+}
+
+}  // namespace geometry

@@ -1,0 +1,436 @@
+#include "geometry/core/toolpath_clipper.h"
+
+#include "geometry/core/clipper_bridge.h"
+#include "geometry/core/douglas_peucker.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+
+namespace geometry::toolpath_clipper {
+
+namespace {
+
+// Round joins within this distance of the true arc: finer than any printer resolves, coarse
+// enough that a 0.2 mm arc has a dozen points rather than thousands of nanometre steps.
+constexpr double kArcTolerance = 0.005;  // mm
+
+// A loop with less area than a micrometre square is a sliver of rounding, in nm^2.
+constexpr double kNoArea = 1e6;
+
+Paths boolean(const Paths& a, const Paths& b, ClipperLib::ClipType type) {
+  ClipperLib::Clipper clipper;
+  clipper.AddPaths(a, ClipperLib::ptSubject, true);
+  clipper.AddPaths(b, ClipperLib::ptClip, true);
+  Paths result;
+  clipper.Execute(type, result, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+  return result;
+}
+
+}  // namespace
+
+namespace {
+
+struct Normal {
+  double x, y;
+};
+
+// How one offset makes its joins; distances in units (nm).
+struct Joins {
+  ClipperLib::JoinType type;
+  double delta;
+  double miter_min;  // a mitre where 1 + cos(turn) is at least this, else a square end
+  double steps_per_radian, step_sin, step_cos;  // round joins: the arc's chords
+};
+
+Joins joins_for(ClipperLib::JoinType type, double delta, double miter_limit) {
+  Joins j{type, delta, miter_limit > 2 ? 2 / (miter_limit * miter_limit) : 0.5, 0, 0, 0};
+  // Chords of the arc within the arc tolerance (a quarter of the radius at most), and no
+  // more of them than the radius in units times pi.
+  const double radius = std::abs(delta);
+  const double tolerance = std::min(kArcTolerance * kClipperScale, radius / 4);
+  const double steps = std::min(std::numbers::pi / std::acos(1 - tolerance / radius),
+                                radius * std::numbers::pi);
+  j.steps_per_radian = steps / (2 * std::numbers::pi);
+  j.step_sin = std::sin(2 * std::numbers::pi / steps) * (delta < 0 ? -1 : 1);
+  j.step_cos = std::cos(2 * std::numbers::pi / steps);
+  return j;
+}
+
+ClipperLib::IntPoint moved(const ClipperLib::IntPoint& p, double dx, double dy) {
+  return {p.X + rounded_units(dx), p.Y + rounded_units(dy)};
+}
+
+// Appends the raw offset of one closed loop (no repeated points, at least 3) to `out`, as
+// Clipper's offsetter draws it: each edge moved along its normal, joined round the vertices
+// the offset turns away from, and, where the moved edges cross (the offset's inner side of
+// a vertex), back through the vertex, a small loop the union with the positive (growing) or
+// negative (shrinking) fill rule removes. Except where the moved edges cross within the
+// first half of each: there they are joined at their crossing (the mitre point), which is
+// what that union makes of the loop, without the crossing and two points per vertex it
+// costs the union to find out. (A curved edge of n vertices has n such crossings, on the
+// inner side of every offset.) Returns whether it went back through a vertex anywhere.
+bool raw_offset(const Path& loop, const Joins& j, Path& out) {
+  const std::size_t n = loop.size();
+  // Each edge's length and unit normal on its right (outward on a CCW loop).
+  std::vector<Normal> normal(n);
+  std::vector<double> length(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& a = loop[i];
+    const auto& b = loop[i + 1 < n ? i + 1 : 0];
+    const double dx = double(b.X - a.X), dy = double(b.Y - a.Y);
+    length[i] = std::sqrt(dx * dx + dy * dy);  // no overflow: nm on a bed
+    normal[i] = length[i] > 0 ? Normal{dy / length[i], -dx / length[i]} : Normal{0, 0};
+  }
+  const double delta = j.delta;
+  bool back = false;
+  for (std::size_t v = 0, e = n - 1; v < n; e = v, ++v) {  // vertex v, edge e before it
+    const ClipperLib::IntPoint& p = loop[v];
+    const Normal a = normal[e], b = normal[v];
+    double sin_turn = a.x * b.y - b.x * a.y;
+    const double cos_turn = a.x * b.x + a.y * b.y;
+    if (std::abs(sin_turn * delta) < 1) {
+      if (cos_turn > 0) {  // straight on, within a unit
+        out.push_back(moved(p, a.x * delta, a.y * delta));
+        continue;
+      }
+    } else {
+      sin_turn = std::clamp(sin_turn, -1.0, 1.0);
+    }
+    const double r = 1 + cos_turn;
+    if (sin_turn * delta < 0) {
+      // The moved edges cross at the mitre point, cut back by this from their ends.
+      const double cut = std::abs(delta * sin_turn) / r;
+      if (r > 0 && 2 * cut <= std::min(length[e], length[v])) {
+        out.push_back(moved(p, (a.x + b.x) * delta / r, (a.y + b.y) * delta / r));
+      } else {
+        out.push_back(moved(p, a.x * delta, a.y * delta));
+        out.push_back(p);
+        out.push_back(moved(p, b.x * delta, b.y * delta));
+        back = true;
+      }
+      continue;
+    }
+    const double angle = std::atan2(sin_turn, cos_turn);
+    if (j.type == ClipperLib::jtRound) {
+      const int steps = std::max(static_cast<int>(std::llround(j.steps_per_radian *
+                                                               std::abs(angle))), 1);
+      double x = a.x, y = a.y;
+      for (int s = 0; s < steps; ++s) {
+        out.push_back(moved(p, x * delta, y * delta));
+        const double x0 = x;
+        x = x * j.step_cos - j.step_sin * y;
+        y = x0 * j.step_sin + y * j.step_cos;
+      }
+      out.push_back(moved(p, b.x * delta, b.y * delta));
+    } else if (j.type == ClipperLib::jtMiter && r >= j.miter_min) {
+      out.push_back(moved(p, (a.x + b.x) * delta / r, (a.y + b.y) * delta / r));
+    } else {  // square: cut across at delta from the vertex
+      const double t = std::tan(angle / 4);
+      out.push_back(moved(p, delta * (a.x - a.y * t), delta * (a.y + a.x * t)));
+      out.push_back(moved(p, delta * (b.x + b.y * t), delta * (b.y - b.x * t)));
+    }
+  }
+  return back;
+}
+
+
+// Exact side of c from the line a -> b: 1 left, -1 right, 0 on it.
+int side(const ClipperLib::IntPoint& a, const ClipperLib::IntPoint& b,
+         const ClipperLib::IntPoint& c) {
+  const __int128 v = static_cast<__int128>(b.X - a.X) * (c.Y - a.Y) -
+                     static_cast<__int128>(b.Y - a.Y) * (c.X - a.X);
+  return (v > 0) - (v < 0);
+}
+
+// Whether c, on the line through a and b, lies on the segment [a, b].
+bool within(const ClipperLib::IntPoint& a, const ClipperLib::IntPoint& b,
+            const ClipperLib::IntPoint& c) {
+  return std::min(a.X, b.X) <= c.X && c.X <= std::max(a.X, b.X) && std::min(a.Y, b.Y) <= c.Y &&
+         c.Y <= std::max(a.Y, b.Y);
+}
+
+// Whether the segments [a, b] and [c, d] have a point in common.
+bool meet(const ClipperLib::IntPoint& a, const ClipperLib::IntPoint& b,
+          const ClipperLib::IntPoint& c, const ClipperLib::IntPoint& d) {
+  const int s1 = side(a, b, c), s2 = side(a, b, d), s3 = side(c, d, a), s4 = side(c, d, b);
+  if (s1 * s2 < 0 && s3 * s4 < 0) return true;
+  return (s1 == 0 && within(a, b, c)) || (s2 == 0 && within(a, b, d)) ||
+         (s3 == 0 && within(c, d, a)) || (s4 == 0 && within(c, d, b));
+}
+
+// Winding number of the loop round p, which is not on it.
+int winding(const Path& loop, const ClipperLib::IntPoint& p) {
+  int w = 0;
+  for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
+    const auto& a = loop[i];
+    const auto& b = loop[(i + 1) % n];
+    if (a.Y <= p.Y) {
+      if (b.Y > p.Y && side(a, b, p) > 0) ++w;
+    } else if (b.Y <= p.Y && side(a, b, p) < 0) {
+      --w;
+    }
+  }
+  return w;
+}
+
+// Whether loops (no repeated points, at least 3 each) are a region as they stand: no two
+// edges meet but neighbours at their common end, each loop runs the way `outer` says (CCW
+// for an outer loop), and outer loops lie where the others wind 0 times, holes where they
+// wind once. Then the union of their positive winding is the loops themselves. Edges are
+// compared only with those sharing a cell of a grid about one edge per cell.
+bool already_a_region(const Paths& loops, const std::vector<char>& outer) {
+  std::size_t edges = 0;
+  ClipperLib::IntRect box{loops[0][0].X, loops[0][0].Y, loops[0][0].X, loops[0][0].Y};
+  std::vector<ClipperLib::IntRect> boxes;
+  boxes.reserve(loops.size());
+  for (std::size_t l = 0; l < loops.size(); ++l) {
+    const Path& loop = loops[l];
+    if ((ClipperLib::Area(loop) > 0) != bool(outer[l])) return false;
+    ClipperLib::IntRect b{loop[0].X, loop[0].Y, loop[0].X, loop[0].Y};
+    for (const auto& p : loop) {
+      b.left = std::min(b.left, p.X); b.right = std::max(b.right, p.X);
+      b.top = std::min(b.top, p.Y); b.bottom = std::max(b.bottom, p.Y);
+    }
+    box = {std::min(box.left, b.left), std::min(box.top, b.top), std::max(box.right, b.right),
+           std::max(box.bottom, b.bottom)};
+    boxes.push_back(b);
+    edges += loop.size();
+  }
+  const double w = double(box.right - box.left) + 1, h = double(box.bottom - box.top) + 1;
+  const double cell = std::max(std::sqrt(w * h / double(edges)), 1.0);
+  const auto columns = static_cast<std::int64_t>(w / cell) + 1;
+  auto column = [&](ClipperLib::cInt x) {
+    return static_cast<std::int64_t>(double(x - box.left) / cell);
+  };
+  auto row = [&](ClipperLib::cInt y) { return static_cast<std::int64_t>(double(y - box.top) / cell); };
+  struct Entry {
+    std::int64_t cell;
+    std::uint32_t loop, edge;
+  };
+  std::vector<Entry> entries;
+  entries.reserve(2 * edges);
+  for (std::uint32_t l = 0; l < loops.size(); ++l) {
+    const Path& loop = loops[l];
+    for (std::uint32_t i = 0; i < loop.size(); ++i) {
+      const auto& a = loop[i];
+      const auto& b = loop[(i + 1) % loop.size()];
+      const auto c0 = column(std::min(a.X, b.X)), c1 = column(std::max(a.X, b.X));
+      const auto r0 = row(std::min(a.Y, b.Y)), r1 = row(std::max(a.Y, b.Y));
+      if ((c1 - c0 + 1) * (r1 - r0 + 1) > 64) return false;  // a long edge: left to the union
+      for (auto r = r0; r <= r1; ++r) {
+        for (auto c = c0; c <= c1; ++c) entries.push_back({r * columns + c, l, i});
+      }
+    }
+  }
+  std::sort(entries.begin(), entries.end(),
+            [](const Entry& x, const Entry& y) { return x.cell < y.cell; });
+  for (std::size_t first = 0; first < entries.size();) {
+    std::size_t last = first;
+    while (last < entries.size() && entries[last].cell == entries[first].cell) ++last;
+    for (std::size_t i = first; i < last; ++i) {
+      const Path& p = loops[entries[i].loop];
+      const auto& a = p[entries[i].edge];
+      const auto& b = p[(entries[i].edge + 1) % p.size()];
+      for (std::size_t k = i + 1; k < last; ++k) {
+        const Path& q = loops[entries[k].loop];
+        const std::uint32_t e = entries[k].edge, n = static_cast<std::uint32_t>(q.size());
+        const auto& c = q[e];
+        const auto& d = q[(e + 1) % n];
+        const std::uint32_t f = entries[i].edge;
+        if (entries[k].loop == entries[i].loop && ((f + 1) % n == e || (e + 1) % n == f)) {
+          // Neighbours share an end; they meet elsewhere only folding back along a line:
+          // in line, the shared end not between the other two.
+          const bool f_first = (f + 1) % n == e;
+          const auto& from = f_first ? a : c;
+          const auto& shared = f_first ? b : d;
+          const auto& to = f_first ? d : b;
+          if (side(from, shared, to) == 0 && !within(from, to, shared)) return false;
+          continue;
+        }
+        if (meet(a, b, c, d)) return false;
+      }
+    }
+    first = last;
+  }
+  for (std::size_t l = 0; l < loops.size(); ++l) {
+    const ClipperLib::IntPoint& p = loops[l][0];
+    int w = 0;
+    for (std::size_t m = 0; m < loops.size(); ++m) {
+      const ClipperLib::IntRect& b = boxes[m];
+      if (m == l || p.X < b.left || p.X > b.right || p.Y < b.top || p.Y > b.bottom) continue;
+      w += winding(loops[m], p);
+    }
+    if (w != (outer[l] ? 0 : 1)) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+Paths offset(const Paths& region, double delta, ClipperLib::JoinType join, double miter_limit) {
+  if (region.empty()) return {};
+  // Loops are taken as they come, outer loops positive and holes negative (ClipperOffset
+  // turns them all over when the loop with the lowest vertex runs the other way: after a
+  // simplification a speck of a hole can lie there, outside the outer loop, and the region
+  // came out inside out). Left out: loops of next to no area, and loops the offset closes
+  // (holes when growing, outer loops when shrinking) that are no more than twice the
+  // distance across, so that no disc of that radius fits in them. Inside the region they
+  // would make nothing; a speck of a hole outside it, turned inside out by growing, would
+  // add its own speck.
+  const double units = delta * kClipperScale;
+  Paths loops;
+  loops.reserve(region.size());
+  for (const Path& path : region) {
+    const double area = ClipperLib::Area(path);
+    if (std::abs(area) < kNoArea) continue;
+    if ((area < 0) == (units > 0)) {
+      const auto [x0, x1] = std::minmax_element(path.begin(), path.end(),
+                                                [](const auto& p, const auto& q) { return p.X < q.X; });
+      const auto [y0, y1] = std::minmax_element(path.begin(), path.end(),
+                                                [](const auto& p, const auto& q) { return p.Y < q.Y; });
+      if (double(std::min(x1->X - x0->X, y1->Y - y0->Y)) <= 2 * std::abs(units)) continue;
+    }
+    Path loop;
+    loop.reserve(path.size());
+    for (const auto& p : path) {
+      if (loop.empty() || !(p == loop.back())) loop.push_back(p);
+    }
+    while (loop.size() > 1 && loop.front() == loop.back()) loop.pop_back();
+    if (loop.size() >= 3) loops.push_back(std::move(loop));
+  }
+  if (loops.empty()) return {};
+  ClipperLib::Clipper clipper;
+  if (units == 0) {
+    clipper.AddPaths(loops, ClipperLib::ptSubject, true);
+  } else {
+    // Where no loop went back through a vertex, the raw loops are often the offset as they
+    // stand (a region with no narrow part the offset closes): checked, that costs a
+    // fraction of the union.
+    const Joins joins = joins_for(join, units, miter_limit);
+    Paths raw(loops.size());
+    std::vector<char> outer(loops.size());
+    bool back = false;
+    for (std::size_t l = 0; l < loops.size(); ++l) {
+      outer[l] = ClipperLib::Area(loops[l]) > 0;
+      Path& out = raw[l];
+      out.reserve(2 * loops[l].size());
+      back = raw_offset(loops[l], joins, out) || back;
+      out.erase(std::unique(out.begin(), out.end()), out.end());
+      while (out.size() > 1 && out.front() == out.back()) out.pop_back();
+      back = back || out.size() < 3;
+    }
+    if (!back && already_a_region(raw, outer)) return raw;
+    clipper.AddPaths(raw, ClipperLib::ptSubject, true);
+  }
+  Paths result;
+  if (units >= 0) {
+    clipper.Execute(ClipperLib::ctUnion, result, ClipperLib::pftPositive, ClipperLib::pftPositive);
+    return result;
+  }
+  // Shrinking: the union of the negative winding inside a frame round it all (-1), whose
+  // holes, where the raw loops (+1) cancel the frame, are the offset.
+  const ClipperLib::IntRect r = clipper.GetBounds();
+  clipper.AddPath({{r.left - 10, r.bottom + 10}, {r.right + 10, r.bottom + 10},
+                   {r.right + 10, r.top - 10}, {r.left - 10, r.top - 10}},
+                  ClipperLib::ptSubject, true);
+  clipper.ReverseSolution(true);
+  clipper.Execute(ClipperLib::ctUnion, result, ClipperLib::pftNegative, ClipperLib::pftNegative);
+  if (!result.empty()) result.erase(result.begin());
+  return result;
+}
+
+Paths opening(const Paths& region, double radius) {
+  return offset(offset(region, -radius), radius);
+}
+
+Paths intersection(const Paths& a, const Paths& b) {
+  if (a.empty() || b.empty()) return {};
+  return boolean(a, b, ClipperLib::ctIntersection);
+}
+
+Paths difference(const Paths& a, const Paths& b) {
+  if (a.empty()) return {};
+  if (b.empty()) return a;
+  return boolean(a, b, ClipperLib::ctDifference);
+}
+
+Paths union_of(const Paths& a, const Paths& b) { return boolean(a, b, ClipperLib::ctUnion); }
+
+Paths clip_open(const Paths& lines, const Paths& region) {
+  if (lines.empty() || region.empty()) return {};
+  ClipperLib::Clipper clipper;
+  clipper.AddPaths(lines, ClipperLib::ptSubject, false);
+  clipper.AddPaths(region, ClipperLib::ptClip, true);
+  ClipperLib::PolyTree tree;
+  clipper.Execute(ClipperLib::ctIntersection, tree, ClipperLib::pftNonZero,
+                  ClipperLib::pftNonZero);
+  Paths result;
+  ClipperLib::OpenPathsFromPolyTree(tree, result);
+  return result;
+}
+
+std::vector<Paths> islands(const Paths& region) {
+  std::vector<Paths> result;
+  if (region.empty()) return result;
+  ClipperLib::Clipper clipper;
+  clipper.AddPaths(region, ClipperLib::ptSubject, true);
+  ClipperLib::PolyTree tree;
+  clipper.Execute(ClipperLib::ctUnion, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+  for (const ClipperLib::PolyNode* node = tree.GetFirst(); node; node = node->GetNext()) {
+    if (node->IsHole() || node->IsOpen()) continue;
+    Paths island{node->Contour};
+    if (!ClipperLib::Orientation(island.front())) ClipperLib::ReversePath(island.front());
+    for (const ClipperLib::PolyNode* hole : node->Childs) {
+      island.push_back(hole->Contour);
+      if (ClipperLib::Orientation(island.back())) ClipperLib::ReversePath(island.back());
+    }
+    result.push_back(std::move(island));
+  }
+  return result;
+}
+
+namespace {
+
+// Squared distance from p to the segment [a, b], in units^2 (doubles: nm^2 overflows int64).
+double distance2(const ClipperLib::IntPoint& p, const ClipperLib::IntPoint& a,
+                 const ClipperLib::IntPoint& b) {
+  const double abx = double(b.X - a.X), aby = double(b.Y - a.Y);
+  const double apx = double(p.X - a.X), apy = double(p.Y - a.Y);
+  const double length2 = abx * abx + aby * aby;
+  double t = length2 > 0 ? (apx * abx + apy * aby) / length2 : 0;
+  t = t < 0 ? 0 : t > 1 ? 1 : t;
+  const double dx = apx - t * abx, dy = apy - t * aby;
+  return dx * dx + dy * dy;
+}
+
+}  // namespace
+
+Paths simplified(const Paths& region, double tolerance) {
+  const double limit2 = tolerance * kClipperScale * tolerance * kClipperScale;
+  Paths result;
+  result.reserve(region.size());
+  for (const Path& path : region) {
+    const std::size_t n = path.size();
+    if (n < 3) continue;
+    const std::vector<char> keep =
+        douglas_peucker_keep(n, limit2, [&](std::size_t i, std::size_t a, std::size_t b) {
+          return distance2(path[i], path[a], path[b]);
+        });
+    Path kept;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (keep[i]) kept.push_back(path[i]);
+    }
+    if (kept.size() >= 3) result.push_back(std::move(kept));
+  }
+  return result;
+}
+
+double area_mm2(const Paths& region) {
+  double total = 0;
+  for (const Path& path : region) total += ClipperLib::Area(path);
+  return total / (kClipperScale * kClipperScale);
+}
+
+}  // namespace geometry::toolpath_clipper

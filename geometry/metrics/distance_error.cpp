@@ -1,0 +1,376 @@
+#include "geometry/metrics/distance_error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace geometry {
+
+namespace {
+
+constexpr double kInvSqrt3 = 0.57735026918962576;
+
+// Squared distances in the inner loops: std::hypot's overflow care costs more than the
+// rest of the search, and the coordinates here are millimetres.
+double squared_distance_to(Vec2 p, const Segment2& s) {
+  const Vec2 ab = s.b - s.a;
+  const double l2 = dot(ab, ab);
+  const double t = l2 > 0 ? std::clamp(dot(p - s.a, ab) / l2, 0.0, 1.0) : 0.0;
+  const Vec2 d = p - (s.a + t * ab);
+  return dot(d, d);
+}
+
+double length(Vec2 a, Vec2 b) {
+  const Vec2 d = b - a;
+  return std::sqrt(dot(d, d));
+}
+
+using Nearest = BoundaryGrid::Nearest;
+
+// The nearby walls of one piece of surface: every segment whose box meets [lo, hi].
+void walls_near(const BoundaryGrid& grid, Vec2 lo, Vec2 hi, std::vector<std::uint32_t>& near) {
+  near.clear();
+  grid.for_each_near(lo, hi, [&](std::uint32_t id) { near.push_back(id); });
+}
+
+Nearest nearest_of(Vec2 p, const BoundaryGrid& grid, const std::vector<std::uint32_t>& near) {
+  Nearest found{std::numeric_limits<double>::infinity(), Nearest::npos, p};
+  for (std::uint32_t id : near) {
+    const double d2 = squared_distance_to(p, grid.segments()[id]);
+    if (d2 < found.distance) {
+      found.distance = d2;
+      found.segment = id;
+    }
+  }
+  if (found.segment != Nearest::npos) {
+    found.distance = std::sqrt(found.distance);
+    const Segment2& s = grid.segments()[found.segment];
+    const Vec2 ab = s.b - s.a;
+    const double l2 = dot(ab, ab);
+    found.foot = s.a + std::clamp(l2 > 0 ? dot(p - s.a, ab) / l2 : 0.0, 0.0, 1.0) * ab;
+  }
+  return found;
+}
+
+// Every wall point bounds the distance from above: d(x) <= |x - foot| for the feet (nearest
+// wall points) of a piece's corners. The largest value over a convex polygon of the distance
+// to the nearest of a few points is at a corner, where a bisector of two points crosses an
+// edge, or at the points' circumcentre: few candidates, an exact maximum, a sound bound.
+template <std::size_t N, std::size_t F>
+double feet_bound(const std::array<Vec2, N>& corners, const std::array<Vec2, F>& feet) {
+  const Vec2 o = corners[0];
+  const auto value = [&](Vec2 x) {
+    double d2 = std::numeric_limits<double>::infinity();
+    for (Vec2 f : feet) d2 = std::min(d2, dot(x - f, x - f));
+    return d2;
+  };
+  double best = 0;  // squared until the end
+  for (Vec2 c : corners) best = std::max(best, value(c));
+  const std::size_t edges = N == 2 ? 1 : N;
+  for (std::size_t i = 0; i < F; ++i) {
+    for (std::size_t j = i + 1; j < F; ++j) {
+      // Bisector: (fj - fi) . (x - o) = (|fj - o|^2 - |fi - o|^2) / 2.
+      const Vec2 fi = feet[i] - o, fj = feet[j] - o, n = fj - fi;
+      if (n == Vec2{0, 0}) continue;
+      const double c = (dot(fj, fj) - dot(fi, fi)) / 2;
+      for (std::size_t k = 0; k < edges; ++k) {
+        const Vec2 a = corners[k] - o, b = corners[(k + 1) % N] - o;
+        const double ga = dot(n, a) - c, gb = dot(n, b) - c;
+        if ((ga < 0) == (gb < 0) || ga == gb) continue;
+        best = std::max(best, value(o + a + (ga / (ga - gb)) * (b - a)));
+      }
+    }
+  }
+  if constexpr (N == 3 && F == 3) {
+    const Vec2 a = feet[0] - corners[0], b = feet[1] - corners[0], c = feet[2] - corners[0];
+    const double den = 2 * cross(b - a, c - a);
+    if (std::abs(den) > 1e-300) {
+      const double ab2 = dot(b, b) - dot(a, a), ac2 = dot(c, c) - dot(a, a);
+      // Solve 2 (b - a) . x = |b|^2 - |a|^2, 2 (c - a) . x = |c|^2 - |a|^2.
+      const Vec2 ba = b - a, ca = c - a;
+      const Vec2 x{(ab2 * ca.y - ac2 * ba.y) / den, (ac2 * ba.x - ab2 * ca.x) / den};
+      const Vec2 centre = corners[0] + x;
+      bool inside = true;
+      const double orientation = cross(corners[1] - corners[0], corners[2] - corners[0]);
+      for (std::size_t k = 0; k < 3 && inside; ++k) {
+        const double side = cross(corners[(k + 1) % 3] - corners[k], centre - corners[k]);
+        inside = orientation >= 0 ? side >= 0 : side <= 0;
+      }
+      if (inside) best = std::max(best, value(centre));
+    }
+  }
+  return std::sqrt(best);
+}
+
+// max over the triangle of the distance to the nearest wall, raising `best` (see the header).
+// The three corners' nearest walls are given. Where all three share one wall segment the
+// distance is convex on the piece (distance to one segment), so its maximum is a corner's.
+void search_triangle(const std::array<Vec2, 3>& corners, const std::array<Nearest, 3>& at,
+                     const BoundaryGrid& grid, double tolerance, double& best,
+                     std::vector<std::uint32_t>& near) {
+  struct Piece {
+    std::array<Vec2, 3> p;
+    std::array<Nearest, 3> n;
+  };
+  const auto longest = [](const std::array<Vec2, 3>& p) {
+    return std::max({length(p[0], p[1]), length(p[1], p[2]), length(p[2], p[0])});
+  };
+  const auto upper_bound = [&](const Piece& piece, double low) {
+    if (piece.n[0].segment == piece.n[1].segment && piece.n[1].segment == piece.n[2].segment)
+      return low;
+    const double lipschitz = low + longest(piece.p) * kInvSqrt3;
+    if (lipschitz <= best + tolerance) return lipschitz;
+    return std::min(lipschitz, feet_bound(piece.p, std::array<Vec2, 3>{piece.n[0].foot, piece.n[1].foot,
+                                                                        piece.n[2].foot}));
+  };
+  Piece first{corners, at};
+  const double first_low = std::max({at[0].distance, at[1].distance, at[2].distance});
+  best = std::max(best, first_low);
+  const double reach = upper_bound(first, first_low);
+  if (reach <= best + tolerance) return;
+  // Every point's nearest wall lies within `reach` of it, hence in this box.
+  Vec2 lo = corners[0], hi = corners[0];
+  for (Vec2 p : corners) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
+  }
+  walls_near(grid, {lo.x - reach, lo.y - reach}, {hi.x + reach, hi.y + reach}, near);
+  if (near.empty()) return;
+  std::vector<Piece> stack{first};
+  while (!stack.empty()) {
+    const Piece piece = stack.back();
+    stack.pop_back();
+    const double low = std::max({piece.n[0].distance, piece.n[1].distance, piece.n[2].distance});
+    best = std::max(best, low);
+    if (upper_bound(piece, low) <= best + tolerance) continue;
+    const Vec2 m01 = 0.5 * (piece.p[0] + piece.p[1]), m12 = 0.5 * (piece.p[1] + piece.p[2]),
+               m20 = 0.5 * (piece.p[2] + piece.p[0]);
+    const Nearest n01 = nearest_of(m01, grid, near), n12 = nearest_of(m12, grid, near),
+                  n20 = nearest_of(m20, grid, near);
+    best = std::max({best, n01.distance, n12.distance, n20.distance});
+    stack.push_back({{piece.p[0], m01, m20}, {piece.n[0], n01, n20}});
+    stack.push_back({{m01, piece.p[1], m12}, {n01, piece.n[1], n12}});
+    stack.push_back({{m20, m12, piece.p[2]}, {n20, n12, piece.n[2]}});
+    stack.push_back({{m01, m12, m20}, {n01, n12, n20}});
+  }
+}
+
+// max over the segment [a, b] of the distance to the nearest segment of `grid`, raising `best`.
+void search_segment(Vec2 a, Vec2 b, const Nearest& at_a, const Nearest& at_b,
+                    const BoundaryGrid& grid, double tolerance, double& best,
+                    std::vector<std::uint32_t>& near) {
+  struct Piece {
+    Vec2 a, b;
+    Nearest na, nb;
+  };
+  const auto upper_bound = [&](const Piece& piece, double low) {
+    if (piece.na.segment == piece.nb.segment) return low;
+    const double lipschitz = low + length(piece.a, piece.b) / 2;
+    if (lipschitz <= best + tolerance) return lipschitz;
+    return std::min(lipschitz, feet_bound(std::array<Vec2, 2>{piece.a, piece.b},
+                                          std::array<Vec2, 2>{piece.na.foot, piece.nb.foot}));
+  };
+  const Piece first{a, b, at_a, at_b};
+  const double first_low = std::max(at_a.distance, at_b.distance);
+  best = std::max(best, first_low);
+  const double reach = upper_bound(first, first_low);
+  if (reach <= best + tolerance) return;
+  const Vec2 lo{std::min(a.x, b.x) - reach, std::min(a.y, b.y) - reach};
+  const Vec2 hi{std::max(a.x, b.x) + reach, std::max(a.y, b.y) + reach};
+  walls_near(grid, lo, hi, near);
+  if (near.empty()) return;
+  std::vector<Piece> stack{first};
+  while (!stack.empty()) {
+    const Piece piece = stack.back();
+    stack.pop_back();
+    const double low = std::max(piece.na.distance, piece.nb.distance);
+    best = std::max(best, low);
+    if (upper_bound(piece, low) <= best + tolerance) continue;
+    const Vec2 m = 0.5 * (piece.a + piece.b);
+    const Nearest nm = nearest_of(m, grid, near);
+    best = std::max(best, nm.distance);
+    stack.push_back({piece.a, m, piece.na, nm});
+    stack.push_back({m, piece.b, nm, piece.nb});
+  }
+}
+
+double forward_distance(const SlabSurface& surface, const BoundaryGrid& walls,
+                        std::span<const BoundaryPair> missed, double tolerance) {
+  if (surface.triangles.empty()) return 0;
+  // Surface inside a missed island is measured to the island's outline (see the header).
+  Region outlines;
+  for (const BoundaryPair& island : missed) outlines.loops.push_back(island.outer);
+  const BoundaryGrid outline_grid(outlines);
+  std::vector<const BoundaryGrid*> grid_of(surface.triangles.size(), &walls);
+  if (!outline_grid.empty()) {
+    for (std::size_t i = 0; i < surface.triangles.size(); ++i) {
+      const auto& p = surface.triangles[i];
+      const Vec2 centre = (1.0 / 3) * (p[0] + p[1] + p[2]);
+      if (outline_grid.winding_number(centre) != 0) grid_of[i] = &outline_grid;
+    }
+  }
+  std::vector<std::array<Nearest, 3>> corner(surface.triangles.size());
+  double best = 0;
+  const bool indexed = surface.corners.size() == surface.triangles.size();
+  std::vector<Nearest> at_point(indexed ? surface.points.size() : 0);
+  std::vector<char> found(at_point.size(), 0);
+  for (std::size_t i = 0; i < surface.triangles.size(); ++i) {
+    if (grid_of[i]->empty()) continue;
+    for (int k = 0; k < 3; ++k) {
+      if (indexed && grid_of[i] == &walls) {
+        const std::uint32_t p = surface.corners[i][k];
+        if (!found[p]) {
+          at_point[p] = walls.nearest(surface.points[p]);
+          found[p] = 1;
+        }
+        corner[i][k] = at_point[p];
+      } else {
+        corner[i][k] = grid_of[i]->nearest(surface.triangles[i][k]);
+      }
+      best = std::max(best, corner[i][k].distance);
+    }
+  }
+  const auto top = [&](std::uint32_t i) {
+    return std::max({corner[i][0].distance, corner[i][1].distance, corner[i][2].distance});
+  };
+  // Most promising first, so the bound prunes the rest.
+  std::vector<std::uint32_t> order;
+  order.reserve(surface.triangles.size());
+  for (std::uint32_t i = 0; i < surface.triangles.size(); ++i)
+    if (!grid_of[i]->empty()) order.push_back(i);
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return top(a) > top(b); });
+  std::vector<std::uint32_t> near;
+  for (std::uint32_t i : order) {
+    const auto& p = surface.triangles[i];
+    // A vertical facet, or a flat face's edge, projects to a segment: search it as one, since
+    // splitting a flat triangle in four only copies the segment.
+    const double twice_area = std::abs(cross(p[1] - p[0], p[2] - p[0]));
+    const double l01 = length(p[0], p[1]), l12 = length(p[1], p[2]), l20 = length(p[2], p[0]);
+    const double longest = std::max({l01, l12, l20});
+    if (twice_area <= 1e-9 * longest * longest) {
+      const int a = l01 >= l12 && l01 >= l20 ? 0 : l12 >= l20 ? 1 : 2, b = (a + 1) % 3;
+      search_segment(p[a], p[b], corner[i][a], corner[i][b], *grid_of[i], tolerance, best, near);
+      continue;
+    }
+    search_triangle(p, corner[i], *grid_of[i], tolerance, best, near);
+  }
+  return best;
+}
+
+double reverse_distance(const SlabSurface& surface, const BoundaryGrid& walls, double tolerance) {
+  double best = 0;
+  std::vector<std::uint32_t> near;
+  const auto& segments = walls.segments();
+  std::vector<std::array<Nearest, 2>> ends(segments.size());
+  for (const BoundaryGrid& level : surface.levels) {
+    for (std::size_t i = 0; i < segments.size(); ++i) {
+      // Consecutive segments of a loop share a point: reuse its distance.
+      ends[i][0] = i > 0 && segments[i].a == segments[i - 1].b ? ends[i - 1][1]
+                                                               : level.nearest(segments[i].a);
+      ends[i][1] = level.nearest(segments[i].b);
+      best = std::max({best, ends[i][0].distance, ends[i][1].distance});
+    }
+    for (std::size_t i = 0; i < segments.size(); ++i) {
+      search_segment(segments[i].a, segments[i].b, ends[i][0], ends[i][1], level, tolerance, best,
+                     near);
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+std::vector<Segment2> surface_at(const Slab& slab, double z, bool from_above) {
+  std::vector<Segment2> segments;
+  for (const auto& facet : slab.facets) {
+    Vec2 found[2];
+    int count = 0;
+    for (std::size_t i = 0, n = facet.size(); i < n && count < 2; ++i) {
+      const Vec3 a = facet[i], b = facet[(i + 1) % n];
+      const bool a_below = from_above ? a.z <= z : a.z < z;
+      const bool b_below = from_above ? b.z <= z : b.z < z;
+      if (a_below == b_below) continue;
+      const double t = (z - a.z) / (b.z - a.z);
+      found[count++] = {a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
+    }
+    if (count == 2 && !(found[0] == found[1])) segments.push_back({found[0], found[1]});
+  }
+  return segments;
+}
+
+SlabSurface slab_surface(const Slab& slab, const DistanceOptions& options) {
+  SlabSurface surface;
+  surface.z_lo = slab.z_lo;
+  surface.z_hi = slab.z_hi;
+  struct FlatEdge {
+    double z;
+    Vec2 a, b;
+  };
+  std::vector<FlatEdge> flat_edges;
+  for (const auto& facet : slab.facets) {
+    if (facet.size() < 3) continue;
+    const bool horizontal = std::all_of(facet.begin(), facet.end(),
+                                        [&](const Vec3& v) { return v.z == facet[0].z; });
+    const auto flat = [](const Vec3& v) { return Vec2{v.x, v.y}; };
+    if (horizontal) {
+      for (std::size_t i = 0, n = facet.size(); i < n; ++i) {
+        flat_edges.push_back({facet[i].z, flat(facet[i]), flat(facet[(i + 1) % n])});
+      }
+      continue;
+    }
+    for (std::size_t i = 1; i + 1 < facet.size(); ++i) {
+      surface.triangles.push_back({flat(facet[0]), flat(facet[i]), flat(facet[i + 1])});
+    }
+  }
+  // A flat face is usually several facets: only the edges of the flat region count, not the
+  // diagonals between its facets (an edge met in both directions at the same height).
+  const auto key = [](const FlatEdge& e) {
+    const bool swap = e.b.x < e.a.x || (e.b.x == e.a.x && e.b.y < e.a.y);
+    const Vec2 lo = swap ? e.b : e.a, hi = swap ? e.a : e.b;
+    return std::array<double, 5>{e.z, lo.x, lo.y, hi.x, hi.y};
+  };
+  std::sort(flat_edges.begin(), flat_edges.end(),
+            [&](const FlatEdge& x, const FlatEdge& y) { return key(x) < key(y); });
+  for (std::size_t i = 0; i < flat_edges.size();) {
+    std::size_t j = i + 1;
+    while (j < flat_edges.size() && key(flat_edges[j]) == key(flat_edges[i])) ++j;
+    if (j - i == 1) surface.triangles.push_back({flat_edges[i].a, flat_edges[i].b, flat_edges[i].b});
+    i = j;
+  }
+  // Index the corners: sort them, give equal points one number.
+  std::vector<std::pair<Vec2, std::uint32_t>> all;
+  all.reserve(3 * surface.triangles.size());
+  for (std::uint32_t i = 0; i < surface.triangles.size(); ++i) {
+    for (std::uint32_t k = 0; k < 3; ++k) all.push_back({surface.triangles[i][k], 3 * i + k});
+  }
+  std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) {
+    return a.first.x < b.first.x || (a.first.x == b.first.x && a.first.y < b.first.y);
+  });
+  surface.corners.resize(surface.triangles.size());
+  for (std::size_t j = 0; j < all.size(); ++j) {
+    if (j == 0 || !(all[j].first == all[j - 1].first)) surface.points.push_back(all[j].first);
+    surface.corners[all[j].second / 3][all[j].second % 3] =
+        static_cast<std::uint32_t>(surface.points.size() - 1);
+  }
+  const int levels = options.reverse ? std::max(options.reverse_levels, 2) : 0;
+  const double t = slab.z_hi - slab.z_lo;
+  for (int j = 0; j < levels && t > 0; ++j) {
+    const double z = j + 1 == levels ? slab.z_hi : slab.z_lo + t * j / (levels - 1);
+    std::vector<Segment2> segments = surface_at(slab, z, j + 1 < levels);
+    if (!segments.empty()) surface.levels.emplace_back(std::move(segments));
+  }
+  return surface;
+}
+
+DistanceError distance_error(const SlabSurface& surface, const BoundaryGrid& walls,
+                             std::span<const BoundaryPair> missed,
+                             const DistanceOptions& options) {
+  DistanceError error;
+  const double tolerance = std::max(options.tolerance, 1e-9);
+  error.forward = forward_distance(surface, walls, missed, tolerance);
+  error.reverse = walls.empty() || !options.reverse ? 0 : reverse_distance(surface, walls, tolerance);
+  error.hausdorff = std::max(error.forward, error.reverse);
+  return error;
+}
+
+}  // namespace geometry

@@ -1,0 +1,86 @@
+// Distance error of a layer (paper §3.4; DESIGN.md §3): how far, horizontally, the printed
+// layer's walls stand from the model's surface.
+//
+// forward (the paper's D_i): the largest horizontal distance from a point of the model's
+//   surface inside the slab to the walls ∂R_i x [z_lo, z_hi]. A surface point's distance to
+//   the walls is the 2D distance from its projection to ∂R_i, so D_i is the maximum of the
+//   distance to ∂R_i over the projected facets. It can lie inside a facet (near-horizontal
+//   facets, caps), so each facet is searched by branch and bound: a lower bound from its
+//   corners, an upper bound min over nearby walls s of max over corners of dist(corner, s)
+//   (the distance to one segment is convex, so its maximum over a triangle is at a corner),
+//   and subdivision where the nearest wall changes inside the facet, until the bounds are
+//   within `tolerance`. The result is never above the true maximum and at most `tolerance`
+//   below it. Walls are found through a grid over ∂R_i (boundary_grid.h), not through the
+//   Voronoi diagram of §3.4, so any strategy's region can be judged.
+// reverse: the largest distance from a wall point at height z to the model's surface at that
+//   height, the section boundary ∂C(z), over heights z in the slab. Measured at
+//   `reverse_levels` heights: z_lo (the limit from above), z_hi (from below) and equally
+//   spaced ones between; at each, exactly (to `tolerance`) by the same bounds along ∂R_i.
+//   Heights where the model has no section are skipped (what a wall there overbuilds is
+//   volume deviation, not distance). This direction is sampled in z; the forward one is not.
+// hausdorff: max(forward, reverse).
+//
+// Decisions where the measure is undefined:
+// - An exactly horizontal facet (a step strictly inside the slab) is judged by its edges: its
+//   inside is parallel to the layer's top and bottom faces, where a horizontal distance means
+//   nothing; the paper measures the slice mesh's vertices, which are on those edges.
+// - Surface in an island of the slab's footprint that the region does not touch (a missed
+//   feature, missed_features.h) is measured to that island's own outer outline, as if the
+//   walls had shrunk onto the feature: a cone's tip left out is as bad as the radius at its
+//   base, a bump left out as bad as its half-width. Measuring it to the nearest wall of some
+//   other island instead would make one missed tail tip 18 mm "wrong" and drown every other
+//   layer's figure; the miss itself is counted under missed features. An empty region
+//   misses every island. reverse is 0 when there are no walls.
+// - An empty slab: forward 0; reverse 0.
+// Units: mm.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "geometry/core/boundary_grid.h"
+#include "geometry/slab/boundary_pair.h"
+#include "geometry/core/polygon.h"
+#include "geometry/slab/slab.h"
+
+namespace geometry {
+
+struct DistanceOptions {
+  double tolerance = 1e-3;  // mm
+  int reverse_levels = 5;   // heights for the reverse direction, both ends included (>= 2)
+  bool reverse = true;      // false: forward only (no levels built; reverse 0, Hausdorff = forward)
+};
+
+struct DistanceError {
+  double forward = 0, reverse = 0, hausdorff = 0;
+};
+
+// What the distances are measured against, prepared once per slab and reused for every region.
+struct SlabSurface {
+  double z_lo = 0, z_hi = 0;
+  // The surface seen from above: facets fanned into triangles; a horizontal facet's edges as
+  // triangles of zero area (a, b, b).
+  std::vector<std::array<Vec2, 3>> triangles;
+  // Their corners once each (neighbouring facets share them), and each triangle's corners as
+  // indices into it: the nearest wall is searched once per point.
+  std::vector<Vec2> points;
+  std::vector<std::array<std::uint32_t, 3>> corners;
+  // ∂C(z) at each measured height, as segments (empty heights left out).
+  std::vector<BoundaryGrid> levels;
+};
+
+SlabSurface slab_surface(const Slab& slab, const DistanceOptions& options = {});
+
+// `walls`: a grid over the region's boundary (BoundaryGrid(region)); `missed`: the islands of
+// the slab's footprint the region does not touch (missed_features.h).
+DistanceError distance_error(const SlabSurface& surface, const BoundaryGrid& walls,
+                             std::span<const BoundaryPair> missed,
+                             const DistanceOptions& options = {});
+
+// The level segments of the slab's facets at height z: from above (z_lo's convention) or from
+// below (for z_hi). A facet lying in the plane z gives none.
+std::vector<Segment2> surface_at(const Slab& slab, double z, bool from_above);
+
+}  // namespace geometry

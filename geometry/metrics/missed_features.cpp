@@ -1,0 +1,70 @@
+#include "geometry/metrics/missed_features.h"
+
+#include <cmath>
+#include <limits>
+
+#include "geometry/core/clipper_bridge.h"
+
+namespace geometry {
+
+namespace {
+
+// Winding number of an island's loops around p, and p's distance to them.
+int winding_of(const BoundaryPair& island, Vec2 p, double& clearance) {
+  int winding = 0;
+  clearance = std::numeric_limits<double>::infinity();
+  const auto visit = [&](const Loop& loop) {
+    for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
+      const Vec2 a = loop[i], b = loop[(i + 1) % n];
+      clearance = std::min(clearance, distance_to_segment(p, a, b));
+      if ((a.y > p.y) == (b.y > p.y)) continue;
+      const double x = a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
+      if (x > p.x) winding += b.y > a.y ? 1 : -1;
+    }
+  };
+  visit(island.outer);
+  for (const Loop& hole : island.inner) visit(hole);
+  return winding;
+}
+
+}  // namespace
+
+std::vector<BoundaryPair> missed_features(const std::vector<BoundaryPair>& islands,
+                                          const Region& region) {
+  std::vector<BoundaryPair> missed;
+  const ClipperLib::Paths walls = to_clipper(region);
+  for (const BoundaryPair& island : islands) {
+    // Quick yes: a vertex of the region well inside the island means their insides overlap
+    // around it (a region's loop has area on one side of every vertex). Otherwise Clipper.
+    bool touched = false;
+    for (const Loop& loop : region.loops) {
+      if (loop.empty()) continue;
+      double clearance = 0;
+      if (winding_of(island, loop[0], clearance) != 0 && clearance > 1e-3) {
+        touched = true;
+        break;
+      }
+    }
+    if (touched) continue;
+    double overlap = 0;
+    if (!walls.empty()) {
+      ClipperLib::Clipper clipper;
+      clipper.AddPath(to_clipper(island.outer), ClipperLib::ptSubject, true);
+      for (const Loop& hole : island.inner) clipper.AddPath(to_clipper(hole), ClipperLib::ptSubject, true);
+      clipper.AddPaths(walls, ClipperLib::ptClip, true);
+      ClipperLib::Paths common;
+      clipper.Execute(ClipperLib::ctIntersection, common, ClipperLib::pftNonZero,
+                      ClipperLib::pftNonZero);
+      for (const auto& path : common) overlap += ClipperLib::Area(path);
+      overlap /= kClipperScale * kClipperScale;
+    }
+    if (!(std::abs(overlap) > kTouchArea)) missed.push_back(island);
+  }
+  return missed;
+}
+
+std::vector<BoundaryPair> missed_features(const Region& footprint, const Region& region) {
+  return missed_features(boundary_pairs(footprint), region);
+}
+
+}  // namespace geometry

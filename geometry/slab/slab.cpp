@@ -1,0 +1,506 @@
+#include "geometry/slab/slab.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <initializer_list>
+#include <numbers>
+#include <utility>
+
+#include "geometry/core/clipper_bridge.h"
+#include "geometry/core/number_table.h"
+
+namespace geometry {
+
+namespace {
+
+using ClipperLib::cInt;
+using ClipperLib::IntPoint;
+
+// A polygon of at most kMaxCorners corners, on the stack: a convex polygon of n corners cut
+// by two planes has at most n + 2, so a mesh face (a triangle) and anything up to ten corners
+// is clipped without allocating, and slab_of cuts every face of the model (one allocation per
+// facet, not four). Larger polygons take a std::vector through the same code.
+constexpr std::size_t kMaxCorners = 12;
+struct SmallPolygon {
+  std::array<Vec3, kMaxCorners> at;
+  std::size_t count = 0;
+  void clear() { count = 0; }
+  void push_back(Vec3 p) { at[count++] = p; }
+  std::size_t size() const { return count; }
+  const Vec3* data() const { return at.data(); }
+};
+
+// Keeps the part of a convex polygon on the side where side * (z - plane) >= 0.
+template <class Corners>
+void clip_half(std::span<const Vec3> in, double plane, double side, Corners& out) {
+  const auto keep = [&](double z) { return side * (z - plane); };
+  out.clear();
+  for (std::size_t i = 0, n = in.size(); i < n; ++i) {
+    const Vec3 a = in[i], b = in[i + 1 == n ? 0 : i + 1];
+    const double ka = keep(a.z), kb = keep(b.z);
+    if (ka >= 0) out.push_back(a);
+    if ((ka < 0 && kb > 0) || (ka > 0 && kb < 0)) {
+      // From the lower end, so the face on the other side of this edge, which walks it the
+      // other way, computes the very same point, and the footprint's shared edges cancel.
+      const Vec3 lo = a.z < b.z ? a : b, hi = a.z < b.z ? b : a;
+      Vec3 p = lo + ((plane - lo.z) / (hi.z - lo.z)) * (hi - lo);
+      p.z = plane;  // exactly, so later tests against the plane are exact
+      out.push_back(p);
+    }
+  }
+}
+
+bool same_point(Vec3 a, Vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
+
+// `above` and `inside` are scratch space, so that a caller clipping many faces makes them once.
+template <class Corners>
+std::vector<Vec3> clip_with(std::span<const Vec3> polygon, double z_lo, double z_hi,
+                            Corners& above, Corners& inside) {
+  clip_half(polygon, z_lo, 1.0, above);
+  clip_half(std::span<const Vec3>(above.data(), above.size()), z_hi, -1.0, inside);
+  // Repeated points merged, the first and last too.
+  std::vector<Vec3> merged;
+  merged.reserve(inside.size());
+  for (std::size_t i = 0; i < inside.size(); ++i) {
+    const Vec3 p = inside.data()[i];
+    if (merged.empty() || !same_point(p, merged.back())) merged.push_back(p);
+  }
+  while (merged.size() > 1 && same_point(merged.front(), merged.back())) merged.pop_back();
+  if (merged.size() < 3) return {};
+  const bool on_lo = std::all_of(merged.begin(), merged.end(), [&](Vec3 p) { return p.z == z_lo; });
+  const bool on_hi = std::all_of(merged.begin(), merged.end(), [&](Vec3 p) { return p.z == z_hi; });
+  if (on_lo || on_hi) return {};
+  return merged;
+}
+
+}  // namespace
+
+std::vector<Vec3> clip_to_slab(std::span<const Vec3> polygon, double z_lo, double z_hi) {
+  if (polygon.size() + 2 <= kMaxCorners) {
+    SmallPolygon above, inside;
+    return clip_with(polygon, z_lo, z_hi, above, inside);
+  }
+  std::vector<Vec3> above, inside;
+  return clip_with(polygon, z_lo, z_hi, above, inside);
+}
+
+Slab slab_of(const Mesh& mesh, std::span<const std::uint32_t> faces, double z_lo, double z_hi) {
+  Slab slab{z_lo, z_hi, {}};
+  if (!(z_lo < z_hi)) return slab;
+  slab.facets.reserve(faces.size());
+  SmallPolygon above, inside;  // a triangle's pieces
+  for (std::uint32_t f : faces) {
+    if (f >= mesh.faces.size()) continue;
+    const auto& face = mesh.faces[f];
+    if (face[0] >= mesh.vertices.size() || face[1] >= mesh.vertices.size() ||
+        face[2] >= mesh.vertices.size()) {
+      continue;
+    }
+    const std::array<Vec3, 3> corners{mesh.vertices[face[0]], mesh.vertices[face[1]],
+                                      mesh.vertices[face[2]]};
+    const double lo = std::min({corners[0].z, corners[1].z, corners[2].z});
+    const double hi = std::max({corners[0].z, corners[1].z, corners[2].z});
+    if (hi < z_lo || lo > z_hi) continue;
+    std::vector<Vec3> piece = clip_with(std::span<const Vec3>(corners), z_lo, z_hi, above, inside);
+    if (!piece.empty()) slab.facets.push_back(std::move(piece));
+  }
+  return slab;
+}
+
+Slab slab_of(const LayerStack& stack, std::size_t layer) {
+  if (layer >= stack.size()) return {};
+  const Layer& bounds = stack.layers()[layer];
+  const std::vector<std::uint32_t> faces = stack.faces_between(bounds.z_lo, bounds.z_hi);
+  return slab_of(stack.mesh(), faces, bounds.z_lo, bounds.z_hi);
+}
+
+namespace {
+
+bool before(IntPoint a, IntPoint b) { return a.X < b.X || (a.X == b.X && a.Y < b.Y); }
+
+// One edge of a facet's projection, its ends sorted.
+struct Edge {
+  IntPoint lo, hi;  // lo before hi
+  int direction;    // +1: walked lo -> hi (summed: the net number of times)
+};
+
+void add_edges(const ClipperLib::Path& facet, std::vector<Edge>& edges) {
+  for (std::size_t i = 0, n = facet.size(); i < n; ++i) {
+    const IntPoint a = facet[i], b = facet[i + 1 == n ? 0 : i + 1];
+    if (a == b) continue;
+    edges.push_back(before(a, b) ? Edge{a, b, 1} : Edge{b, a, -1});
+  }
+}
+
+// A hash of a few coordinates, for open-addressing tables indexed by its low bits.
+std::uint64_t hash_of(std::initializer_list<cInt> values) {
+  std::uint64_t h = 0;
+  for (const cInt v : values) h = (h ^ static_cast<std::uint64_t>(v)) * 0x9e3779b97f4a7c15ull;
+  return h ^ (h >> 32);
+}
+
+struct PointHash {
+  std::size_t operator()(const IntPoint& p) const { return hash_of({p.X, p.Y}); }
+};
+using Ends = std::pair<IntPoint, IntPoint>;
+struct EndsHash {
+  std::size_t operator()(const Ends& e) const {
+    return hash_of({e.first.X, e.first.Y, e.second.X, e.second.Y});
+  }
+};
+
+// The edges summed by their ends: each distinct segment once, with the net number of times
+// it is walked from lo to hi (most segments are shared by two facets walking it opposite
+// ways and sum to 0). Then the segments left, sorted by their ends.
+std::vector<Edge> net_edges(const std::vector<Edge>& edges) {
+  std::vector<Edge> summed;
+  summed.reserve(edges.size());
+  NumberTable<Ends, EndsHash> index(edges.size());
+  const auto ends_of = [&](std::uint32_t n) { return Ends{summed[n].lo, summed[n].hi}; };
+  for (const Edge& e : edges) {
+    const auto number = static_cast<std::uint32_t>(summed.size());
+    const std::uint32_t same = index.find_or_insert(Ends{e.lo, e.hi}, number, ends_of);
+    if (same == number) {
+      summed.push_back(e);
+    } else {
+      summed[same].direction += e.direction;
+    }
+  }
+  summed.erase(std::remove_if(summed.begin(), summed.end(), [](const Edge& e) { return e.direction == 0; }),
+               summed.end());
+  std::sort(summed.begin(), summed.end(), [](const Edge& x, const Edge& y) {
+    return before(x.lo, y.lo) || (x.lo == y.lo && before(x.hi, y.hi));
+  });
+  return summed;
+}
+
+// The boundary of the facets' projections taken as a 2-chain (each facet counter-clockwise,
+// weight one; `edges` are their edges, add_edges), as closed paths: a shared edge is walked
+// once each way and cancels, so only the lower and upper contours and the silhouettes remain.
+// Their non-zero fill is the union of the projections, and Clipper sees a few hundred edges
+// instead of every facet. The edges are summed by their ends (net_edges), then sorted by
+// their start to walk them.
+ClipperLib::Paths chain_boundary(const std::vector<Edge>& edges) {
+  std::vector<std::pair<IntPoint, IntPoint>> remaining;  // directed, after cancelling
+  for (const Edge& e : net_edges(edges)) {
+    for (int k = 0; k < std::abs(e.direction); ++k) {
+      remaining.push_back(e.direction > 0 ? std::pair{e.lo, e.hi} : std::pair{e.hi, e.lo});
+    }
+  }
+  std::sort(remaining.begin(), remaining.end(),
+            [](const auto& x, const auto& y) { return before(x.first, y.first); });
+  std::vector<char> used(remaining.size(), 0);
+  // The first unused edge out of `at`, or remaining.size().
+  std::vector<std::size_t> cursor(remaining.size());
+  for (std::size_t i = 0; i < remaining.size(); ++i) {
+    cursor[i] = i > 0 && remaining[i].first == remaining[i - 1].first ? cursor[i - 1] : i;
+  }
+  // Where the edges out of each point begin in `remaining`, by the point.
+  using Starts = NumberTable<IntPoint, PointHash>;
+  Starts starts(remaining.size());
+  const auto start_of = [&](std::uint32_t i) { return remaining[i].first; };
+  for (std::size_t i = 0; i < remaining.size(); ++i) {
+    if (cursor[i] == i) starts.find_or_insert(remaining[i].first, static_cast<std::uint32_t>(i), start_of);
+  }
+  const auto take_from = [&](IntPoint at) -> std::size_t {
+    const std::uint32_t start = starts.find(at, start_of);
+    if (start == Starts::kNone) return remaining.size();
+    std::size_t& next = cursor[start];
+    while (next < remaining.size() && remaining[next].first == at && used[next]) ++next;
+    if (next >= remaining.size() || !(remaining[next].first == at)) return remaining.size();
+    return next;
+  };
+  ClipperLib::Paths paths;
+  for (std::size_t s = 0; s < remaining.size(); ++s) {
+    if (used[s]) continue;
+    used[s] = 1;
+    const IntPoint start = remaining[s].first;
+    ClipperLib::Path path{start};
+    IntPoint at = remaining[s].second;
+    // Every vertex has as many edges in as out, so the walk ends where it began; should
+    // rounding ever break that, the walk stops and the path closes itself.
+    while (!(at == start)) {
+      path.push_back(at);
+      const std::size_t next = take_from(at);
+      if (next == remaining.size()) break;
+      used[next] = 1;
+      at = remaining[next].second;
+    }
+    if (path.size() >= 3) paths.push_back(std::move(path));
+  }
+  return paths;
+}
+
+// Edge-on facets as few polylines: each facet's projection reduced to its longest chord
+// (the segment it lies on), duplicates dropped (a wall's two triangles give the same one),
+// and segments joined end to end where exactly two meet. Offsetting a wall loop as one
+// closed line gives a clean ring; offsetting its hundreds of segments one by one gives the
+// same set through thousands of overlapping rectangles.
+void chain_segments(const ClipperLib::Paths& edge_on, ClipperLib::Paths& open,
+                    ClipperLib::Paths& closed) {
+  const auto before = [](IntPoint a, IntPoint b) { return a.X < b.X || (a.X == b.X && a.Y < b.Y); };
+  std::vector<std::pair<IntPoint, IntPoint>> segments;
+  for (const ClipperLib::Path& path : edge_on) {
+    std::pair<IntPoint, IntPoint> longest{path[0], path[0]};
+    double best = -1;
+    for (std::size_t i = 0; i < path.size(); ++i) {
+      for (std::size_t j = i + 1; j < path.size(); ++j) {
+        const double dx = double(path[j].X - path[i].X), dy = double(path[j].Y - path[i].Y);
+        if (dx * dx + dy * dy > best) {
+          best = dx * dx + dy * dy;
+          longest = before(path[i], path[j]) ? std::pair{path[i], path[j]} : std::pair{path[j], path[i]};
+        }
+      }
+    }
+    segments.push_back(longest);
+  }
+  const auto pair_before = [&](const auto& a, const auto& b) {
+    return before(a.first, b.first) || (a.first == b.first && before(a.second, b.second));
+  };
+  std::sort(segments.begin(), segments.end(), pair_before);
+  segments.erase(std::unique(segments.begin(), segments.end()), segments.end());
+  std::vector<IntPoint> ends;
+  for (const auto& [a, b] : segments) {
+    ends.push_back(a);
+    ends.push_back(b);
+  }
+  std::sort(ends.begin(), ends.end(), before);
+  ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
+  const auto index = [&](IntPoint p) {
+    return static_cast<std::size_t>(std::lower_bound(ends.begin(), ends.end(), p, before) - ends.begin());
+  };
+  std::vector<std::vector<std::size_t>> touching(ends.size());
+  for (std::size_t k = 0; k < segments.size(); ++k) {
+    if (segments[k].first == segments[k].second) continue;  // a point: kept below as a path
+    touching[index(segments[k].first)].push_back(k);
+    touching[index(segments[k].second)].push_back(k);
+  }
+  std::vector<char> used(segments.size(), 0);
+  const auto walk = [&](std::size_t from, bool& is_closed) {
+    ClipperLib::Path path{ends[from]};
+    std::size_t at = from;
+    is_closed = false;
+    for (;;) {
+      std::size_t next = segments.size();
+      for (std::size_t k : touching[at]) {
+        if (!used[k]) {
+          next = k;
+          break;
+        }
+      }
+      if (next == segments.size()) break;
+      used[next] = 1;
+      at = index(segments[next].first == ends[at] ? segments[next].second : segments[next].first);
+      if (at == from) {
+        is_closed = true;
+        break;
+      }
+      path.push_back(ends[at]);
+      if (touching[at].size() != 2) break;
+    }
+    return path;
+  };
+  // Paths start where they end or branch; what is left after that are closed loops.
+  for (int pass = 0; pass < 2; ++pass) {
+    for (std::size_t c = 0; c < ends.size(); ++c) {
+      if (pass == 0 && touching[c].size() == 2) continue;
+      for (;;) {
+        bool any = false;
+        for (std::size_t k : touching[c]) any = any || !used[k];
+        if (!any) break;
+        bool is_closed = false;
+        ClipperLib::Path path = walk(c, is_closed);
+        (is_closed && path.size() >= 3 ? closed : open).push_back(std::move(path));
+      }
+    }
+  }
+  for (std::size_t k = 0; k < segments.size(); ++k) {
+    if (segments[k].first == segments[k].second) open.push_back({segments[k].first});
+  }
+}
+
+}  // namespace
+
+namespace {
+
+// The closed loops of a union (outer loops counter-clockwise, holes clockwise), grown by delta
+// > 0 with mitred joins, as raw paths whose positive fill is the grown set: the paths
+// ClipperOffset (jtMiter, miter limit 2, Clipper 6.4) hands to its union, to the bit, except
+// at concave corners. There ClipperOffset puts the corner itself between the two shifted
+// edges, a small self-crossing loop at every concave corner that its union must then resolve
+// (two intersections each: most of the offset's cost on a slab's ragged contours). Here the
+// two shifted edges meet at their intersection instead, the point that union finds, where
+// that point lies within the first half of both edges, so that neighbouring corners cannot
+// cross; elsewhere (a spike, a very short edge) the corner is built as ClipperOffset builds
+// it. The same arithmetic as ClipperOffset matters: a wall's ring (offset by ClipperOffset)
+// lies exactly on the grown loop beside it, and a nanometre between the two would leave a
+// zigzag of extra vertices in the footprint.
+void add_grown(const ClipperLib::Paths& loops, double delta, ClipperLib::Paths& out) {
+  const auto round = [](double v) { return static_cast<cInt>(v < 0 ? v - 0.5 : v + 0.5); };
+  struct Normal {
+    double x, y, length;
+  };
+  std::vector<Normal> normals;
+  for (const ClipperLib::Path& loop : loops) {
+    const std::size_t n = loop.size();
+    if (n < 3) continue;
+    normals.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {  // edge i: from vertex i to i + 1, outward normal
+      const IntPoint a = loop[i], b = loop[i + 1 == n ? 0 : i + 1];
+      double dx = double(b.X - a.X), dy = double(b.Y - a.Y);
+      const double length = std::sqrt(dx * dx + dy * dy);
+      if (length == 0) {
+        normals[i] = {0, 0, 0};
+        continue;
+      }
+      const double f = 1.0 / length;  // as ClipperLib's GetUnitNormal
+      dx *= f;
+      dy *= f;
+      normals[i] = {dy, -dx, length};
+    }
+    ClipperLib::Path grown;
+    grown.reserve(n + n / 4 + 4);
+    const auto shifted = [&](IntPoint p, double x, double y) {
+      grown.push_back({round(double(p.X) + x * delta), round(double(p.Y) + y * delta)});
+    };
+    std::size_t k = n - 1;  // the edge the last join was made from
+    for (std::size_t j = 0; j < n; ++j) {
+      const Normal& nk = normals[k];
+      const Normal& nj = normals[j];
+      const IntPoint p = loop[j];
+      double sin_a = nk.x * nj.y - nj.x * nk.y;
+      const double cos_a = nk.x * nj.x + nj.y * nk.y;
+      if (std::abs(sin_a * delta) < 1.0) {
+        if (cos_a > 0) {  // straight on, to within a unit; k stays (as ClipperOffset)
+          shifted(p, nk.x, nk.y);
+          continue;
+        }
+      } else {
+        sin_a = std::clamp(sin_a, -1.0, 1.0);
+      }
+      const double r = 1 + cos_a;
+      if (sin_a * delta < 0) {  // concave
+        // The shifted edges meet |sin| / (1 + cos) * delta back along the edge in and as far
+        // on along the edge out.
+        const bool adjacent = k + 1 == j || (j == 0 && k == n - 1);
+        const double reach = r > 0 ? std::abs(sin_a) / r * delta : HUGE_VAL;
+        if (adjacent && 2 * reach <= std::min(nk.length, nj.length)) {
+          const double q = delta / r;
+          grown.push_back({round(double(p.X) + (nk.x + nj.x) * q), round(double(p.Y) + (nk.y + nj.y) * q)});
+        } else {
+          shifted(p, nk.x, nk.y);
+          grown.push_back(p);
+          shifted(p, nj.x, nj.y);
+        }
+      } else if (r >= 0.5) {  // convex, mitred (miter limit 2)
+        const double q = delta / r;
+        grown.push_back({round(double(p.X) + (nk.x + nj.x) * q), round(double(p.Y) + (nk.y + nj.y) * q)});
+      } else {  // convex and sharp: squared off
+        const double t = std::tan(std::atan2(sin_a, cos_a) / 4);
+        grown.push_back({round(double(p.X) + delta * (nk.x - nk.y * t)),
+                         round(double(p.Y) + delta * (nk.y + nk.x * t))});
+        grown.push_back({round(double(p.X) + delta * (nj.x + nj.y * t)),
+                         round(double(p.Y) + delta * (nj.y - nj.x * t))});
+      }
+      k = j;
+    }
+    out.push_back(std::move(grown));
+  }
+}
+
+// The footprint as Clipper's nesting (the tree must be the caller's: a PolyTree cannot be
+// copied).
+void footprint_tree(const Slab& slab, double margin, ClipperLib::PolyTree& tree) {
+  // The union of the projections, then grown by the margin in one offset: the same set as
+  // growing each facet first (the Minkowski sum distributes over the union). Facets seen
+  // edge-on (vertical walls) project to segments of no area and join the offset as open
+  // paths.
+  std::vector<Edge> edges;
+  edges.reserve(3 * slab.facets.size());
+  ClipperLib::Paths edge_on;
+  ClipperLib::Path projected;
+  for (const auto& facet : slab.facets) {
+    projected.clear();
+    for (const Vec3& v : facet) {
+      const IntPoint p = to_clipper(Vec2{v.x, v.y});
+      if (projected.empty() || !(p == projected.back())) projected.push_back(p);
+    }
+    while (projected.size() > 1 && projected.front() == projected.back()) projected.pop_back();
+    // Edge-on: thinner than 10 nm across, which rounding to whole nanometres can leave of a
+    // vertical face; as a polygon such a sliver would vanish in the union.
+    double longest2 = 0;
+    for (std::size_t i = 0, n = projected.size(); i < n; ++i) {
+      const IntPoint a = projected[i], b = projected[i + 1 == n ? 0 : i + 1];
+      const double dx = double(b.X - a.X), dy = double(b.Y - a.Y);
+      longest2 = std::max(longest2, dx * dx + dy * dy);
+    }
+    constexpr double kEdgeOnWidth = 10;  // nm; area > width * longest / 2, squared
+    const double twice_area = 2 * ClipperLib::Area(projected);
+    if (projected.size() >= 3 && twice_area * twice_area > kEdgeOnWidth * kEdgeOnWidth * longest2) {
+      if (twice_area < 0) std::reverse(projected.begin(), projected.end());
+      add_edges(projected, edges);
+    } else if (!projected.empty()) {
+      edge_on.push_back(projected);
+    }
+  }
+  ClipperLib::Clipper clipper;
+  clipper.AddPaths(chain_boundary(edges), ClipperLib::ptSubject, true);
+  ClipperLib::Paths covered;
+  clipper.Execute(ClipperLib::ctUnion, covered, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+  const double delta = std::max(margin, 0.0) * kClipperScale;
+  if (delta > 0) {
+    ClipperLib::Paths grown;
+    add_grown(covered, delta, grown);
+    if (!edge_on.empty()) {
+      ClipperLib::Paths open_lines, closed_lines;
+      chain_segments(edge_on, open_lines, closed_lines);
+      if (!open_lines.empty()) {  // squared ends: left to ClipperOffset (rare: a wall's loose end)
+        ClipperLib::ClipperOffset offset;
+        offset.AddPaths(open_lines, ClipperLib::jtMiter, ClipperLib::etOpenSquare);
+        ClipperLib::Paths ends;
+        offset.Execute(ends, delta);
+        grown.insert(grown.end(), ends.begin(), ends.end());
+      }
+      // A closed line (a wall's loop) grows to both sides: the loop counter-clockwise and
+      // clockwise, each grown as a polygon (ClipperOffset's etClosedLine).
+      for (ClipperLib::Path& line : closed_lines) {
+        if (!ClipperLib::Orientation(line)) ClipperLib::ReversePath(line);
+        ClipperLib::Paths sides{line};
+        ClipperLib::ReversePath(line);
+        sides.push_back(std::move(line));
+        add_grown(sides, delta, grown);
+      }
+    }
+    ClipperLib::Clipper unite;
+    unite.AddPaths(grown, ClipperLib::ptSubject, true);
+    unite.Execute(ClipperLib::ctUnion, tree, ClipperLib::pftPositive, ClipperLib::pftPositive);
+  } else {
+    ClipperLib::Clipper normalise;
+    normalise.AddPaths(covered, ClipperLib::ptSubject, true);
+    normalise.Execute(ClipperLib::ctUnion, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+  }
+}
+
+}  // namespace
+
+Region slab_footprint(const Slab& slab, double margin) {
+  ClipperLib::PolyTree tree;
+  footprint_tree(slab, margin, tree);
+  return from_clipper(tree);
+}
+
+Footprint slab_footprint_with_islands(const Slab& slab, double margin) {
+  ClipperLib::PolyTree tree;
+  footprint_tree(slab, margin, tree);
+  return {from_clipper(tree), boundary_pairs(tree)};
+}
+
+std::vector<BoundaryPair> slab_islands(const Slab& slab, double margin) {
+  ClipperLib::PolyTree tree;
+  footprint_tree(slab, margin, tree);
+  return boundary_pairs(tree);
+}
+
+}  // namespace geometry

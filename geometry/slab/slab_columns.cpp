@@ -1,0 +1,358 @@
+#include "geometry/slab/slab_columns.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+
+#include "geometry/core/clipper_bridge.h"
+
+namespace geometry {
+
+namespace {
+
+// Green's theorem contributions of the directed segment p -> q (coordinates relative to the
+// origin) to the integrals of 1, x and y over the region it bounds.
+inline void add_segment(AreaMoments& m, Vec2 p, Vec2 q) {
+  const double c = cross(p, q);
+  m.area += c / 2;
+  m.mx += c * (p.x + q.x) / 6;
+  m.my += c * (p.y + q.y) / 6;
+}
+
+AreaMoments moments_of_paths(const ClipperLib::Paths& paths, Vec2 origin) {
+  AreaMoments m;
+  for (const auto& path : paths) {
+    for (std::size_t i = 0, n = path.size(); i < n; ++i) {
+      add_segment(m, from_fine_clipper(path[i]) - origin, from_fine_clipper(path[(i + 1) % n]) - origin);
+    }
+  }
+  return m;
+}
+
+// The robust slow path: Clipper's integer intersection of the polygon with the whole region.
+AreaMoments moments_by_clipper(const std::vector<Vec2>& convex, Vec2 origin,
+                               const Region& region) {
+  ClipperLib::Clipper clipper;
+  clipper.AddPath(to_fine_clipper(convex), ClipperLib::ptSubject, true);
+  clipper.AddPaths(to_fine_clipper(region), ClipperLib::ptClip, true);
+  ClipperLib::Paths result;
+  clipper.Execute(ClipperLib::ctIntersection, result, ClipperLib::pftNonZero,
+                  ClipperLib::pftNonZero);
+  return moments_of_paths(result, origin);
+}
+
+// How far outside a corner the no-crossing case judges the polygon (the infinitesimal margin of
+// step 1), and how clear of the region's boundary that point must be, mm: both far below the
+// 1e-10 mm of the generic move below, far above double rounding at bed coordinates (1e-13).
+constexpr double kProbe = 1e-13;
+constexpr double kClearance = 1e-12;
+
+struct Crossing {
+  double position;  // edge index + parameter along the polygon's edge
+  bool entry;       // the region's boundary enters the polygon here
+  Vec2 point;
+};
+
+}  // namespace
+
+ClipperLib::Path to_fine_clipper(const std::vector<Vec2>& loop) {
+  ClipperLib::Path path;
+  path.reserve(loop.size());
+  for (Vec2 p : loop) {
+    path.push_back({static_cast<ClipperLib::cInt>(std::llround(p.x * kFineClipperScale)),
+                    static_cast<ClipperLib::cInt>(std::llround(p.y * kFineClipperScale))});
+  }
+  return path;
+}
+
+ClipperLib::Paths to_fine_clipper(const Region& region) {
+  ClipperLib::Paths paths;
+  paths.reserve(region.loops.size());
+  for (const Loop& loop : region.loops) paths.push_back(to_fine_clipper(loop));
+  return paths;
+}
+
+Vec2 from_fine_clipper(const ClipperLib::IntPoint& p) {
+  return {static_cast<double>(p.X) / kFineClipperScale,
+          static_cast<double>(p.Y) / kFineClipperScale};
+}
+
+AreaMoments moments_of_loop(const std::vector<Vec2>& loop, Vec2 origin) {
+  AreaMoments m;
+  for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
+    add_segment(m, loop[i] - origin, loop[(i + 1) % n] - origin);
+  }
+  return m;
+}
+
+double integrate_linear(const std::vector<Vec2>& loop, Vec2 origin, double w0, double wx,
+                        double wy) {
+  const AreaMoments m = moments_of_loop(loop, origin);
+  return w0 * m.area + wx * m.mx + wy * m.my;
+}
+
+namespace {
+
+// The moments of (convex ∩ region) by Green's theorem, or nothing where the configuration is
+// degenerate (the region's boundary through a corner of the polygon or along its edge).
+std::optional<AreaMoments> crossing_moments(const std::vector<Vec2>& convex, Vec2 origin,
+                                            const BoundaryGrid& region_grid) {
+  const std::size_t n = convex.size();
+  AreaMoments m;
+  Vec2 lo = convex[0], hi = convex[0];
+  for (Vec2 p : convex) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
+  }
+
+  // 1. The region's boundary inside the polygon (Cyrus-Beck against each edge's half-plane).
+  // A boundary point exactly on an edge's line counts as inside: the polygon is treated as
+  // grown by an infinitesimal margin, and step 2 judges its edges at that margin too, so both
+  // steps see the same configuration. Each vertex's side of each line is computed by the same
+  // expression wherever it appears, so neighbouring boundary segments agree on it.
+  // Reused: this runs for every facet and region, and a fresh vector each time was a malloc.
+  thread_local std::vector<Crossing> crossings;
+  crossings.clear();
+  const auto& segments = region_grid.segments();
+  region_grid.for_each_near(lo, hi, [&](std::uint32_t id) {
+    const Segment2& s = segments[id];
+    double t0 = 0, t1 = 1;
+    int k0 = -1, k1 = -1;
+    for (std::size_t k = 0; k < n; ++k) {
+      const Vec2 p = convex[k], d = convex[(k + 1) % n] - p;
+      const double sa = cross(d, s.a - p), sb = cross(d, s.b - p);
+      if (sa < 0 && sb < 0) return;
+      if (sa >= 0 && sb >= 0) continue;
+      const double t = sa / (sa - sb);
+      // Entering crossings have t in (0, 1], leaving ones t in [0, 1).
+      if (sa < 0) {
+        if (t > t0) { t0 = t; k0 = static_cast<int>(k); }
+      } else if (t < t1) {
+        t1 = t;
+        k1 = static_cast<int>(k);
+      }
+    }
+    if (t0 > t1) return;
+    const Vec2 ab = s.b - s.a;
+    const Vec2 a = s.a + t0 * ab, b = s.a + t1 * ab;
+    add_segment(m, a - origin, b - origin);
+    const auto position = [&](int k, Vec2 x) {
+      const Vec2 p = convex[k], d = convex[(k + 1) % n] - p;
+      return k + std::clamp(dot(x - p, d) / dot(d, d), 0.0, 1.0);
+    };
+    if (k0 >= 0) crossings.push_back({position(k0, a), true, a});
+    if (k1 >= 0) crossings.push_back({position(k1, b), false, b});
+  });
+
+  // 2. The polygon's boundary inside the region.
+  if (crossings.empty()) {
+    // No crossing: the boundary is all in or all out. Judge a point just outside a corner
+    // (the infinitesimal margin of step 1), unless the region's boundary passes too close to
+    // tell, which only a degenerate configuration does.
+    Vec2 centre{0, 0};
+    for (Vec2 p : convex) centre = centre + p;
+    centre = (1.0 / n) * centre;
+    const Vec2 out = convex[0] - centre;
+    const double length = std::hypot(out.x, out.y);
+    const Vec2 probe = length > 0 ? convex[0] + (kProbe / length) * out : convex[0];
+    double clearance = 0;
+    const int winding = region_grid.winding_number(probe, &clearance);
+    if (clearance < kClearance) return std::nullopt;
+    if (winding != 0) {
+      for (std::size_t k = 0; k < n; ++k) add_segment(m, convex[k] - origin, convex[(k + 1) % n] - origin);
+    }
+    return m;
+  }
+  std::sort(crossings.begin(), crossings.end(),
+            [](const Crossing& a, const Crossing& b) { return a.position < b.position; });
+  const std::size_t count = crossings.size();
+  // Walking the polygon's boundary, the region's boundary alternately leaves and enters it;
+  // anything else (or two crossings too close to order) is a degenerate configuration.
+  for (std::size_t i = 0; i < count; ++i) {
+    const Crossing& a = crossings[i];
+    const Crossing& b = crossings[(i + 1) % count];
+    const double gap = i + 1 < count ? b.position - a.position : b.position + n - a.position;
+    if (a.entry == b.entry || gap < 1e-12) return std::nullopt;
+  }
+  // From every exit, the polygon's boundary runs inside the region up to the next entry.
+  for (std::size_t i = 0; i < count; ++i) {
+    const Crossing& exit = crossings[i];
+    if (exit.entry) continue;
+    const Crossing& entry = crossings[(i + 1) % count];
+    Vec2 at = exit.point;
+    std::size_t k = static_cast<std::size_t>(std::min(exit.position, n - 1e-9));
+    const std::size_t last = static_cast<std::size_t>(std::min(entry.position, n - 1e-9));
+    const bool wraps = entry.position < exit.position;
+    if (!(k == last && !wraps)) {
+      // Corners from the exit's edge round to the entry's edge.
+      std::size_t steps = (last + n - k) % n;
+      if (steps == 0) steps = n;  // entry behind the exit on the same edge: full turn
+      for (std::size_t s = 0; s < steps; ++s) {
+        const Vec2 corner = convex[(k + 1) % n];
+        add_segment(m, at - origin, corner - origin);
+        at = corner;
+        k = (k + 1) % n;
+      }
+    }
+    add_segment(m, at - origin, entry.point - origin);
+  }
+  return m;
+}
+
+}  // namespace
+
+AreaMoments moments_of_intersection(const std::vector<Vec2>& convex, Vec2 origin,
+                                    const BoundaryGrid& region_grid, const Region& region) {
+  if (convex.size() < 3 || region_grid.empty()) return {};
+  if (const auto m = crossing_moments(convex, origin, region_grid)) return *m;
+  // Degenerate: a section through the polygon's corners, the lower contour along a facet's
+  // bottom edge. Moved by 0.1 pm in a generic direction the polygon meets the region
+  // generically, and its moments move by less than 1e-10 mm times its perimeter (times the
+  // integrand): far below the 1 pm grid of the Clipper fallback, which runs over the whole
+  // region (Clipper only if both moves still degenerate).
+  for (const Vec2 shift : {Vec2{7.548776662e-11, 5.698402910e-11}, Vec2{-4.301597090e-11, 9.127451e-11}}) {
+    std::vector<Vec2> moved = convex;
+    for (Vec2& p : moved) p = p + shift;
+    if (const auto m = crossing_moments(moved, origin, region_grid)) return *m;
+  }
+  return moments_by_clipper(convex, origin, region);
+}
+
+std::vector<Vec2> clip_to_half_plane(const std::vector<Vec2>& polygon, Vec2 o, double f0,
+                                     double fx, double fy) {
+  const auto at = [&](Vec2 p) { return f0 + fx * (p.x - o.x) + fy * (p.y - o.y); };
+  std::vector<Vec2> out;
+  for (std::size_t i = 0, n = polygon.size(); i < n; ++i) {
+    const Vec2 a = polygon[i], b = polygon[(i + 1) % n];
+    const double fa = at(a), fb = at(b);
+    if (fa >= 0) out.push_back(a);
+    if ((fa >= 0) != (fb >= 0)) out.push_back(a + (fa / (fa - fb)) * (b - a));
+  }
+  return out;
+}
+
+std::vector<Vec2> convex_intersection(std::vector<Vec2> polygon, const std::vector<Vec2>& by) {
+  for (std::size_t k = 0, n = by.size(); k < n && polygon.size() >= 3; ++k) {
+    const Vec2 p = by[k], d = by[(k + 1) % n] - p;
+    // Left of p -> p + d: cross(d, x - p) >= 0.
+    polygon = clip_to_half_plane(polygon, p, 0, -d.y, d.x);
+  }
+  return polygon;
+}
+
+std::vector<std::vector<int>> overlapping_facets(const SlabColumns& columns) {
+  const std::size_t n = columns.facets.size();
+  std::vector<std::vector<int>> overlapping(n);
+  std::vector<Segment2> boxes;
+  boxes.reserve(n);
+  for (const ColumnFacet& facet : columns.facets) boxes.push_back({facet.lo, facet.hi});
+  // A segment's box is the facet's box, so the grid finds facets whose boxes meet.
+  const BoundaryGrid grid(std::move(boxes));
+  const auto overlap = [&](std::size_t a, std::size_t b) {
+    const std::vector<Vec2> common =
+        convex_intersection(columns.facets[a].outline, columns.facets[b].outline);
+    return common.size() >= 3 && signed_area(common) > kFoldArea;
+  };
+  // First the facets of folds (an up-facing facet over a down-facing one), then every pair
+  // among them whatever its facing (an S-fold stacks two up-facing sheets round a
+  // down-facing one).
+  std::vector<char> folded(n, 0);
+  bool any = false;
+  for (std::size_t u = 0; u < n; ++u) {
+    if (columns.facets[u].sign > 0) continue;
+    grid.for_each_near(columns.facets[u].lo, columns.facets[u].hi, [&](std::uint32_t d) {
+      if (columns.facets[d].sign < 0 || (folded[u] && folded[d]) || !overlap(u, d)) return;
+      folded[u] = folded[d] = 1;
+      any = true;
+    });
+  }
+  if (!any) return overlapping;
+  for (std::size_t a = 0; a < n; ++a) {
+    if (!folded[a]) continue;
+    grid.for_each_near(columns.facets[a].lo, columns.facets[a].hi, [&](std::uint32_t b) {
+      if (b > a && folded[b] && overlap(a, b)) overlapping[a].push_back(static_cast<int>(b));
+    });
+    std::sort(overlapping[a].begin(), overlapping[a].end());
+  }
+  return overlapping;
+}
+
+SlabColumns slab_columns(const Slab& slab, const Region& lower_section) {
+  SlabColumns columns;
+  columns.z_lo = slab.z_lo;
+  columns.z_hi = slab.z_hi;
+  columns.lower = lower_section;
+  columns.lower_area = area(lower_section);
+  const double t = slab.z_hi - slab.z_lo;
+  double volume = t * columns.lower_area;
+  for (const auto& facet : slab.facets) {
+    if (facet.size() < 3) continue;
+    // Newell's normal: exact for planar polygons, robust to the clip's near-repeated points.
+    Vec3 normal{};
+    for (std::size_t i = 0, n = facet.size(); i < n; ++i) {
+      const Vec3 a = facet[i], b = facet[(i + 1) % n];
+      normal.x += (a.y - b.y) * (a.z + b.z);
+      normal.y += (a.z - b.z) * (a.x + b.x);
+      normal.z += (a.x - b.x) * (a.y + b.y);
+    }
+    const double length = std::sqrt(dot(normal, normal));
+    // A (nearly) vertical facet covers no area seen from above; dropping one whose normal is
+    // within 1e-9 of horizontal changes a column integral by under 1e-9 of its area times t.
+    if (!(length > 0) || std::abs(normal.z) <= 1e-9 * length) continue;
+    ColumnFacet column;
+    column.sign = normal.z > 0 ? -1 : 1;
+    column.outline.reserve(facet.size());
+    for (const Vec3& v : facet) column.outline.push_back({v.x, v.y});
+    if (column.sign > 0) std::reverse(column.outline.begin(), column.outline.end());
+    const Vec3 first = facet[column.sign > 0 ? facet.size() - 1 : 0];
+    // z_f(x, y) = first.z - (n.x (x - x0) + n.y (y - y0)) / n.z, so w = z_hi - z_f has:
+    column.w0 = slab.z_hi - first.z;
+    column.wx = normal.x / normal.z;
+    column.wy = normal.y / normal.z;
+    column.lo = column.hi = column.outline[0];
+    for (Vec2 p : column.outline) {
+      column.lo = {std::min(column.lo.x, p.x), std::min(column.lo.y, p.y)};
+      column.hi = {std::max(column.hi.x, p.x), std::max(column.hi.y, p.y)};
+    }
+    volume += column.sign * integrate_linear(column.outline, column.outline[0], column.w0,
+                                             column.wx, column.wy);
+    columns.facets.push_back(std::move(column));
+  }
+  columns.volume = volume;
+  columns.overlapping = overlapping_facets(columns);
+  return columns;
+}
+
+double intersection_area(const Region& a, const Region& b) {
+  if (a.loops.empty() || b.loops.empty()) return 0;
+  ClipperLib::Clipper clipper;
+  clipper.AddPaths(to_fine_clipper(a), ClipperLib::ptSubject, true);
+  clipper.AddPaths(to_fine_clipper(b), ClipperLib::ptClip, true);
+  ClipperLib::Paths result;
+  clipper.Execute(ClipperLib::ctIntersection, result, ClipperLib::pftNonZero,
+                  ClipperLib::pftNonZero);
+  // Summed in the plane's own units: a loop's area in pm^2 can exceed a double's exact range
+  // but not its relative precision, which is all an area needs.
+  double total = 0;
+  for (const auto& path : result) total += moments_of_paths({path}, {0, 0}).area;
+  return total;
+}
+
+double occupied_volume_inside(const SlabColumns& columns, const Region& region,
+                              const BoundaryGrid& region_grid) {
+  if (region.loops.empty()) return 0;
+  double volume = columns.thickness() * intersection_area(columns.lower, region);
+  for (const ColumnFacet& facet : columns.facets) {
+    const Vec2 origin = facet.outline[0];
+    const AreaMoments m = moments_of_intersection(facet.outline, origin, region_grid, region);
+    volume += facet.sign * (facet.w0 * m.area + facet.wx * m.mx + facet.wy * m.my);
+  }
+  return volume;
+}
+
+double occupied_volume_inside(const SlabColumns& columns, const Region& region) {
+  return occupied_volume_inside(columns, region, BoundaryGrid(region));
+}
+
+}  // namespace geometry

@@ -1,0 +1,181 @@
+#include "geometry/slicing/plane_section.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "geometry/core/number_table.h"
+
+namespace geometry {
+
+namespace {
+
+// The identity of a crossing point, from the mesh alone: the undirected edge (a, b), a < b,
+// it lies on, or, when the edge's lower vertex v lies exactly at z, that vertex itself
+// (encoded as the edge (v, v)), since every edge of v that crosses the plane crosses it there.
+using Node = std::uint64_t;
+
+struct NodeHash {
+  std::size_t operator()(Node node) const {
+    return (node ^ (node >> 29)) * 0x9e3779b97f4a7c15ull >> 20;
+  }
+};
+
+Node node_of(const Mesh& mesh, std::uint32_t a, std::uint32_t b, double z) {
+  const std::uint32_t below = mesh.vertices[a].z <= z ? a : b;
+  if (mesh.vertices[below].z == z) return (Node{below} << 32) | below;
+  if (a > b) std::swap(a, b);
+  return (Node{a} << 32) | b;
+}
+
+bool is_vertex(Node node) { return (node >> 32) == (node & 0xffffffffu); }
+
+Vec2 crossing_point(const Mesh& mesh, Node node, double z) {
+  Vec3 below = mesh.vertices[node >> 32];
+  Vec3 above = mesh.vertices[node & 0xffffffffu];
+  if (below.z > above.z) std::swap(below, above);
+  if (below.z == z) return {below.x, below.y};
+  const double t = (z - below.z) / (above.z - below.z);
+  return {below.x + t * (above.x - below.x), below.y + t * (above.y - below.y)};
+}
+
+// One face's piece of the section, directed so that the solid lies on its left.
+struct Segment {
+  Node start, end;
+};
+
+// Segments that have zero width in the limit from above cancel: one of zero length (a face
+// touching the plane at one vertex), and a pair u -> v, v -> u (the two sides of a slit, as
+// where a notch's tip or a ring of vertices touches the plane from above).
+void cancel_zero_width(std::vector<Segment>& segments) {
+  std::erase_if(segments, [](const Segment& s) { return s.start == s.end; });
+  const auto undirected = [](const Segment& s) {
+    return std::pair{std::min(s.start, s.end), std::max(s.start, s.end)};
+  };
+  std::sort(segments.begin(), segments.end(), [&](const Segment& a, const Segment& b) {
+    return undirected(a) < undirected(b);
+  });
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < segments.size();) {
+    std::size_t j = i, forward = 0;
+    while (j < segments.size() && undirected(segments[j]) == undirected(segments[i])) {
+      forward += segments[j].start < segments[j].end;
+      ++j;
+    }
+    const std::size_t backward = (j - i) - forward;
+    const auto [lo, hi] = undirected(segments[i]);
+    for (std::size_t k = forward; k > backward; --k) segments[kept++] = {lo, hi};
+    for (std::size_t k = backward; k > forward; --k) segments[kept++] = {hi, lo};
+    i = j;
+  }
+  segments.resize(kept);
+}
+
+void finish_loop(Loop& loop, Region& region) {
+  // Distinct nodes rarely share coordinates (an unmerged duplicate vertex); drop such repeats.
+  loop.erase(std::unique(loop.begin(), loop.end()), loop.end());
+  while (loop.size() > 1 && loop.front() == loop.back()) loop.pop_back();
+  if (loop.size() < 3) return;
+  // Of no area: |area| <= 1e-12 perimeter^2. Most loops have far more than that even against
+  // a bound on the perimeter (the sum of |dx| + |dy|), which needs no square roots.
+  const double area = std::abs(signed_area(loop));
+  double bound = 0;
+  for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
+    const Vec2 d = loop[i + 1 == n ? 0 : i + 1] - loop[i];
+    bound += std::abs(d.x) + std::abs(d.y);
+  }
+  if (!(area > 1e-12 * bound * bound)) {
+    const double length = perimeter(loop);
+    if (area <= 1e-12 * length * length) return;
+  }
+  region.loops.push_back(std::move(loop));
+}
+
+}  // namespace
+
+Region plane_section(const Mesh& mesh, std::span<const std::uint32_t> faces, double z) {
+  std::vector<Segment> segments;
+  segments.reserve(faces.size());
+  bool on_plane = false;
+  for (std::uint32_t f : faces) {
+    const auto& face = mesh.faces[f];
+    bool below[3];
+    for (int i = 0; i < 3; ++i) below[i] = mesh.vertices[face[i]].z <= z;
+    if (below[0] == below[1] && below[1] == below[2]) continue;
+    // Walking the face counter-clockwise (seen from outside), the edge that goes down through
+    // the plane is where the section enters this face with the solid on its left.
+    Segment segment{};
+    for (int i = 0; i < 3; ++i) {
+      const int j = (i + 1) % 3;
+      if (!below[i] && below[j]) segment.start = node_of(mesh, face[i], face[j], z);
+      if (below[i] && !below[j]) segment.end = node_of(mesh, face[i], face[j], z);
+    }
+    segments.push_back(segment);
+    on_plane |= is_vertex(segment.start) || is_vertex(segment.end);
+  }
+  // Zero width needs a vertex exactly on the plane (in a manifold mesh two faces share at
+  // most one edge), so a plane that meets none, the usual case, skips the search for it.
+  if (on_plane) cancel_zero_width(segments);
+  if (segments.empty()) return {};
+
+  std::sort(segments.begin(), segments.end(),
+            [](const Segment& a, const Segment& b) { return a.start < b.start; });
+  std::vector<Node> ends(segments.size());
+  for (std::size_t i = 0; i < segments.size(); ++i) ends[i] = segments[i].end;
+  std::sort(ends.begin(), ends.end());
+
+  // Where the segments from each node begin, by the node.
+  using Starts = NumberTable<Node, NodeHash>;
+  Starts starts(segments.size());
+  const auto start_of = [&](std::uint32_t i) { return segments[i].start; };
+  for (std::size_t i = 0; i < segments.size(); ++i) {
+    if (i == 0 || segments[i].start != segments[i - 1].start) {
+      starts.find_or_insert(segments[i].start, static_cast<std::uint32_t>(i), start_of);
+    }
+  }
+  std::vector<char> used(segments.size(), 0);
+  Region region;
+  const auto walk = [&](std::size_t first) {
+    Loop loop;
+    std::size_t current = first;
+    used[current] = 1;
+    loop.push_back(crossing_point(mesh, segments[current].start, z));
+    for (;;) {
+      const Node wanted = segments[current].end;
+      if (wanted == segments[first].start) break;  // closed
+      const std::uint32_t start = starts.find(wanted, start_of);
+      auto it = start == Starts::kNone ? segments.end() : segments.begin() + start;
+      // An edge starts one segment; a vertex on the plane (or a non-manifold edge) may start
+      // several, and any unused one continues a valid loop.
+      while (it != segments.end() && it->start == wanted && used[it - segments.begin()]) ++it;
+      if (it == segments.end() || it->start != wanted) {
+        loop.push_back(crossing_point(mesh, wanted, z));  // open chain: ends at an open edge
+        break;
+      }
+      current = static_cast<std::size_t>(it - segments.begin());
+      used[current] = 1;
+      loop.push_back(crossing_point(mesh, it->start, z));
+    }
+    finish_loop(loop, region);
+  };
+  // Open chains first, from the nodes where more segments leave than arrive, so that none is
+  // picked up in its middle; what is left are closed loops.
+  for (std::size_t i = 0; i < segments.size();) {
+    std::size_t j = i;
+    while (j < segments.size() && segments[j].start == segments[i].start) ++j;
+    const auto [in_lo, in_hi] = std::equal_range(ends.begin(), ends.end(), segments[i].start);
+    std::ptrdiff_t surplus = static_cast<std::ptrdiff_t>(j - i) - (in_hi - in_lo);
+    for (std::size_t k = i; k < j && surplus > 0; ++k) {
+      if (!used[k]) walk(k), --surplus;
+    }
+    i = j;
+  }
+  for (std::size_t i = 0; i < segments.size(); ++i) {
+    if (!used[i]) walk(i);
+  }
+  return region;
+}
+
+}  // namespace geometry

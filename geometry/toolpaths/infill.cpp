@@ -1,0 +1,268 @@
+#include "geometry/toolpaths/infill.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "geometry/core/clipper_bridge.h"
+#include "geometry/toolpaths/thin_walls.h"
+#include "geometry/core/toolpath_clipper.h"
+#include "geometry/toolpaths/zigzag.h"
+
+namespace geometry {
+
+namespace {
+
+namespace tc = toolpath_clipper;
+
+// Longest connector of sparse and of solid infill, in line spacings (see infill.h).
+constexpr double kSparseConnector = 3;
+constexpr double kSolidConnector = 2;
+// Beads are taken this much wider when finding what they leave bare (mm): where they fill
+// the area, their edge then does not run along its edge, which would cost the difference
+// a crossing at every vertex.
+constexpr double kCoverTolerance = 0.01;
+// Sparse infill's area is straightened within this first (mm).
+constexpr double kSparseTolerance = 0.025;
+// Round joins within this of the arc (mm).
+constexpr double kArc = 0.005;
+// How much less than half a bead solid lines keep from the edge (mm): see solid_infill.
+constexpr double kGraze = 0.001;
+
+// Lines at heights first + k * spacing (k = 0, 1, ...) in the rotated frame, clipped to area.
+std::vector<ExtrusionPath> lines(const ScanFrame& frame, double first, double spacing,
+                                 double y_max, double x_min, double x_max,
+                                 const tc::Paths& rotated, PathRole role, double width) {
+  // More lines than this means a spacing no printer can lay down (nanometres over a bed).
+  constexpr double kMaxLines = 1e6;
+  if ((y_max - first) / spacing > kMaxLines) return {};
+  tc::Paths scan;
+  for (std::size_t k = 0;; ++k) {
+    const double y = first + static_cast<double>(k) * spacing;
+    if (y > y_max) break;
+    scan.push_back({to_clipper(Vec2{x_min - 1, y}), to_clipper(Vec2{x_max + 1, y})});
+  }
+  std::vector<ExtrusionPath> result;
+  for (const auto& piece : tc::clip_open(scan, rotated)) {
+    if (piece.size() < 2) continue;
+    ExtrusionPath path;
+    path.role = role;
+    path.width = width;
+    for (const auto& p : piece) path.points.push_back(frame.out(from_clipper(p)));
+    result.push_back(std::move(path));
+  }
+  // Clipper returns pieces in no promised order; sort so the output never depends on it.
+  std::sort(result.begin(), result.end(), [&](const ExtrusionPath& a, const ExtrusionPath& b) {
+    const Vec2 pa = frame.into(a.points.front()), pb = frame.into(b.points.front());
+    return pa.y != pb.y ? pa.y < pb.y : pa.x < pb.x;
+  });
+  return result;
+}
+
+struct Rotated {
+  tc::Paths paths;
+  double x_min = 0, x_max = 0, y_min = 0, y_max = 0;
+  bool empty() const { return paths.empty(); }
+};
+
+Rotated rotate(const Region& area, const ScanFrame& frame) {
+  Rotated r;
+  bool any = false;
+  for (const Loop& loop : area.loops) {
+    if (loop.size() < 3) continue;
+    ClipperLib::Path path;
+    for (Vec2 p : loop) {
+      const Vec2 q = frame.into(p);
+      if (!any) { r.x_min = r.x_max = q.x; r.y_min = r.y_max = q.y; any = true; }
+      r.x_min = std::min(r.x_min, q.x); r.x_max = std::max(r.x_max, q.x);
+      r.y_min = std::min(r.y_min, q.y); r.y_max = std::max(r.y_max, q.y);
+      path.push_back(to_clipper(q));
+    }
+    r.paths.push_back(std::move(path));
+  }
+  return r;
+}
+
+std::vector<ExtrusionPath> lines_across(const ScanFrame& frame, double first, double spacing,
+                                        const Rotated& r, PathRole role, double width) {
+  return lines(frame, first, spacing, r.y_max, r.x_min, r.x_max, r.paths, role, width);
+}
+
+// The piece (by index) whose area contains p, or the first one.
+PathRole role_at(Vec2 p, const std::vector<SolidPiece>& pieces,
+                 const std::vector<tc::Paths>& piece_paths) {
+  const ClipperLib::IntPoint q = to_clipper(p);
+  for (std::size_t i = 0; i < pieces.size(); ++i) {
+    int winding = 0;
+    for (const auto& loop : piece_paths[i]) {
+      if (ClipperLib::PointInPolygon(q, loop) != 0) winding += ClipperLib::Orientation(loop) ? 1 : -1;
+    }
+    if (winding > 0) return pieces[i].role;
+  }
+  return pieces.front().role;
+}
+
+// Paths cut where they pass from one piece into another, each piece's part with its role.
+std::vector<ExtrusionPath> split_by_piece(const std::vector<ExtrusionPath>& paths,
+                                          const std::vector<SolidPiece>& pieces,
+                                          const std::vector<tc::Paths>& piece_paths) {
+  tc::Paths open;
+  for (const ExtrusionPath& path : paths) {
+    ClipperLib::Path line;
+    for (Vec2 p : path.points) line.push_back(to_clipper(p));
+    open.push_back(std::move(line));
+  }
+  const double width = paths.empty() ? 0 : paths.front().width;
+  std::vector<ExtrusionPath> result;
+  for (std::size_t i = 0; i < pieces.size(); ++i) {
+    for (const auto& piece : tc::clip_open(open, piece_paths[i])) {
+      if (piece.size() < 2) continue;
+      ExtrusionPath path;
+      path.role = pieces[i].role;
+      path.width = width;
+      path.points = from_clipper(piece);
+      result.push_back(std::move(path));
+    }
+  }
+  // Clipper returns pieces in no promised order; sort so the output never depends on it.
+  std::sort(result.begin(), result.end(), [](const ExtrusionPath& a, const ExtrusionPath& b) {
+    const Vec2 pa = a.points.front(), pb = b.points.front();
+    return pa.x != pb.x ? pa.x < pb.x : pa.y < pb.y;
+  });
+  return result;
+}
+
+}  // namespace
+
+std::string_view infill_pattern_name(InfillPattern pattern) {
+  switch (pattern) {
+    case InfillPattern::rectilinear: return "rectilinear";
+    case InfillPattern::grid: return "grid";
+  }
+  return "grid";
+}
+
+std::optional<InfillPattern> parse_infill_pattern(std::string_view name) {
+  if (name == "rectilinear") return InfillPattern::rectilinear;
+  if (name == "grid") return InfillPattern::grid;
+  return std::nullopt;
+}
+
+std::vector<ExtrusionPath> hatch(const Region& area, double spacing, double angle,
+                                 PathRole role, double width) {
+  if (!(spacing > 0) || !(width > 0)) return {};
+  const ScanFrame frame(angle);
+  const Rotated r = rotate(area, frame);
+  if (r.empty()) return {};
+  const double first = std::ceil(r.y_min / spacing) * spacing;
+  return lines(frame, first, spacing, r.y_max, r.x_min, r.x_max, r.paths, role, width);
+}
+
+std::vector<ExtrusionPath> sparse_infill(const Region& area, double width, double density,
+                                         InfillPattern pattern, double angle,
+                                         std::size_t layer_index, InfillLines lines) {
+  density = std::min(density, 100.0);
+  if (!(density > 0) || !(width > 0)) return {};
+  const double spacing = width * 100 / density;
+  // Rectilinear: one set of lines, turning every layer; grid: both sets, twice as far apart.
+  std::vector<double> angles{angle + (layer_index % 2 ? 90 : 0)};
+  double set_spacing = spacing;
+  if (pattern == InfillPattern::grid) {
+    angles = {angle, angle + 90};
+    set_spacing = 2 * spacing;
+  }
+  std::vector<ExtrusionPath> result;
+  if (lines == InfillLines::separate) {
+    for (double a : angles) {
+      auto set = hatch(area, set_spacing, a, PathRole::sparse_infill, width);
+      result.insert(result.end(), set.begin(), set.end());
+    }
+    return result;
+  }
+  // The lines are far apart: where exactly they end and their connectors run matters to
+  // tens of micrometres at most, so the area is straightened within 25 um first (a third of
+  // the vertices to offset).
+  const Region centres =
+      from_clipper(tc::offset(tc::simplified(to_clipper(area), kSparseTolerance), -width / 2));
+  for (double a : angles) {
+    auto set = zigzag(centres, ScanLines{a, set_spacing, 0}, kSparseConnector * set_spacing,
+                      &area, PathRole::sparse_infill, width);
+    result.insert(result.end(), set.begin(), set.end());
+  }
+  return result;
+}
+
+std::vector<ExtrusionPath> solid_infill(const Region& area, double width, double angle,
+                                        std::size_t layer_index, PathRole role,
+                                        InfillLines lines) {
+  return solid_infill(std::vector<SolidPiece>{{area, role}}, width, angle, layer_index, lines);
+}
+
+std::vector<ExtrusionPath> solid_infill(const std::vector<SolidPiece>& pieces, double width,
+                                        double angle, std::size_t layer_index,
+                                        InfillLines lines) {
+  if (!(width > 0) || pieces.empty()) return {};
+  std::vector<tc::Paths> piece_paths;
+  tc::Paths all;
+  for (const SolidPiece& piece : pieces) {
+    piece_paths.push_back(to_clipper(piece.area));
+    all.insert(all.end(), piece_paths.back().begin(), piece_paths.back().end());
+  }
+  const tc::Paths whole = pieces.size() == 1 ? tc::union_of(piece_paths[0]) : tc::union_of(all);
+  if (whole.empty()) return {};
+  const double layer_angle = angle + (layer_index % 2 ? 90 : 0);
+  const ScanFrame frame(layer_angle);
+  const Rotated r = rotate(from_clipper(whole), frame);
+  if (r.empty()) return {};
+  const double extent = r.y_max - r.y_min;
+  const double count = std::max(1.0, std::round(extent / width));
+  const double spacing = extent > 0 ? extent / count : width;
+  // Beads as wide as the lines are apart tile the area; a single line in a strip narrower
+  // than a bead is a thin wall's business, kept to a printable width.
+  const double bead = std::clamp(spacing, width / 4, 1.5 * width);
+  const PathRole first_role = pieces.front().role;
+
+  std::vector<ExtrusionPath> result;
+  if (lines == InfillLines::separate) {
+    result = lines_across(frame, r.y_min + spacing / 2, spacing, r, first_role, bead);
+  } else {
+    // Centre lines run half a bead inside; a micrometre less, so that the first and last
+    // lines, which lie exactly on the shrunk area's extremes, are not lost to rounding.
+    const Region centres = from_clipper(tc::offset(whole, -(bead / 2 - kGraze)));
+    const Region fill = from_clipper(whole);
+    result = zigzag(centres, ScanLines{layer_angle, spacing, r.y_min + spacing / 2},
+                    kSolidConnector * spacing, &fill, first_role, bead);
+  }
+  if (pieces.size() > 1) result = split_by_piece(result, pieces, piece_paths);
+
+  // What the lines leave bare, up to a bead wide, gets centre lines of its own width. (The
+  // beads are taken with square ends and corners: as much as round ones but for specks.)
+  ClipperLib::ClipperOffset beads(2.0, kArc * kClipperScale);
+  for (const ExtrusionPath& line : result) {
+    ClipperLib::Path path;
+    for (Vec2 p : line.points) path.push_back(to_clipper(p));
+    beads.AddPath(path, ClipperLib::jtSquare, ClipperLib::etOpenSquare);
+  }
+  tc::Paths covered;
+  beads.Execute(covered, (bead / 2 + kCoverTolerance) * kClipperScale);
+  tc::Paths bare = tc::difference(whole, covered);
+  // A piece under an eighth of a bead's square is a notch a round bead leaves at a turn of
+  // the zig-zag or at a corner (two notches of (1 - pi/4) w^2/4 where turns meet): a bead
+  // there would be a dab laid beside beads that nearly fill it already.
+  const double speck = width * width / 8 * kClipperScale * kClipperScale;
+  auto drop_specks = [&] {
+    std::erase_if(bare, [&](const auto& path) { return std::abs(ClipperLib::Area(path)) < speck; });
+  };
+  drop_specks();
+  bare = tc::opening(bare, width / 8);
+  drop_specks();  // the opening cuts a bare edge into the notches along it
+  const Region fill_area = from_clipper(whole);
+  for (ExtrusionPath& gap : thin_walls(from_clipper(bare), width / 4, width,
+                                       std::numeric_limits<double>::infinity(), &fill_area)) {
+    gap.role = role_at(gap.points[gap.points.size() / 2], pieces, piece_paths);
+    result.push_back(std::move(gap));
+  }
+  return result;
+}
+
+}  // namespace geometry

@@ -1,0 +1,115 @@
+// toolpath_clipper's offset (toolpath_clipper.h): worked by hand, and against Clipper's own
+// offsetter on clean, wavy regions.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "geometry/core/clipper_bridge.h"
+#include "geometry/core/polygon.h"
+#include "geometry/core/toolpath_clipper.h"
+
+namespace tc = geometry::toolpath_clipper;
+using geometry::Loop;
+using geometry::Region;
+using geometry::Vec2;
+
+namespace {
+
+// A loop of n vertices round (cx, cy) at radius r(angle), CCW (reverse it for a hole).
+template <class Radius>
+Loop round_loop(double cx, double cy, int n, Radius r) {
+  Loop loop;
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * std::numbers::pi * i / n;
+    loop.push_back({cx + r(a) * std::cos(a), cy + r(a) * std::sin(a)});
+  }
+  return loop;
+}
+
+// Area of the symmetric difference, mm^2.
+double difference_area(const tc::Paths& a, const tc::Paths& b) {
+  return tc::area_mm2(tc::difference(a, b)) + tc::area_mm2(tc::difference(b, a));
+}
+
+tc::Paths clipper_offset(const tc::Paths& region, double delta, ClipperLib::JoinType join,
+                         double miter_limit) {
+  ClipperLib::ClipperOffset offsetter(miter_limit, 0.005 * geometry::kClipperScale);
+  offsetter.AddPaths(region, join, ClipperLib::etClosedPolygon);
+  tc::Paths result;
+  offsetter.Execute(result, delta * geometry::kClipperScale);
+  return result;
+}
+
+}  // namespace
+
+// A regular 720-gon of circumradius 10: every vertex turns by half a degree, so a grown
+// loop is mitred at each and a shrunk one meets its moved edges where they cross; either
+// way the offset is the 720-gon whose apothem is d more or less, of area n a^2 tan(pi/n).
+TEST_CASE("offset_of_a_fine_polygon_moves_every_edge_by_the_distance") {
+  constexpr int n = 720;
+  const Region circle{{round_loop(0, 0, n, [](double) { return 10.0; })}};
+  const double apothem = 10 * std::cos(std::numbers::pi / n);
+  for (double d : {-2.0, -0.2, 0.2, 2.0}) {
+    CAPTURE(d);
+    const tc::Paths result = tc::offset(geometry::to_clipper(circle), d);
+    REQUIRE(result.size() == 1);
+    CHECK(result[0].size() == n);
+    const double a = apothem + d;
+    CHECK(tc::area_mm2(result) == doctest::Approx(n * a * a * std::tan(std::numbers::pi / n))
+                                      .epsilon(1e-6));
+  }
+}
+
+// A 10 mm square shrunk by 1 mm is the 8 mm square, also beside a speck of a hole that a
+// simplification left outside it, past its largest y. (Clipper's offsetter takes the
+// orientation of the loop with the vertex of largest y for every outer loop's: it turned
+// this region inside out and shrank it to nothing.)
+TEST_CASE("offset_takes_outer_loops_ccw_and_holes_cw_whatever_loop_is_lowest") {
+  const Loop square{{0, 0}, {10, 0}, {10, 10}, {0, 10}};
+  const Loop speck{{5, 10.5}, {5.1, 10.6}, {5.2, 10.5}};  // CW, 0.01 mm^2
+  const tc::Paths shrunk = tc::offset(geometry::to_clipper(Region{{square, speck}}), -1);
+  CHECK(tc::area_mm2(shrunk) == doctest::Approx(64).epsilon(1e-9));
+  // Growing closes the speck, a hole 0.2 mm across (turned inside out, it would add a speck
+  // of its own).
+  const tc::Paths grown = tc::offset(geometry::to_clipper(Region{{square, speck}}), 1);
+  CHECK(tc::area_mm2(grown) == doctest::Approx(144).epsilon(1e-9));
+}
+
+// Regions Clipper's offsetter is the reference for, every join, growing and shrinking:
+// wavy islands with a wavy hole, some waves shorter than the distance (where the moved edges
+// cross beyond their halves and the offset goes back through the vertex), some parts
+// narrower than twice the distance (which a shrink removes); a thin ring, whose loops pass
+// each other when shrunk without crossing (its hole's loop then holds the outer one); two
+// discs that merge when grown. The same region to a few nanometres along the edges.
+TEST_CASE("offset_gives_the_region_clippers_offsetter_gives") {
+  const Loop outer = round_loop(0, 0, 400, [](double a) {
+    return 10 + 1.5 * std::sin(7 * a) + 0.4 * std::sin(61 * a) + 0.05 * std::sin(173 * a);
+  });
+  Loop hole = round_loop(1, 0, 150, [](double a) { return 4 + 0.8 * std::sin(5 * a); });
+  std::reverse(hole.begin(), hole.end());
+  const Loop sliver{{20, 0}, {30, 0.3}, {30, 0.5}, {20, 1}, {19.5, 0.4}};  // 0.5 to 1 mm wide
+  Loop ring_hole = round_loop(0, 0, 300, [](double) { return 9.5; });
+  std::reverse(ring_hole.begin(), ring_hole.end());
+  const Region regions[] = {
+      Region{{outer, hole, sliver}},
+      Region{{round_loop(0, 0, 300, [](double) { return 10.0; }), ring_hole}},
+      Region{{round_loop(0, 0, 200, [](double) { return 2.0; }),
+              round_loop(4.4, 0, 200, [](double) { return 2.0; })}}};
+  for (const Region& r : regions) {
+    const tc::Paths region = geometry::to_clipper(r);
+    for (auto [join, limit] : {std::pair{ClipperLib::jtMiter, 2.0}, std::pair{ClipperLib::jtMiter, 3.0},
+                               std::pair{ClipperLib::jtSquare, 2.0}, std::pair{ClipperLib::jtRound, 2.0}}) {
+      for (double d : {-1.0, -0.3, -0.2, -0.05, 0.05, 0.2, 0.3, 1.0}) {
+        CAPTURE(r.loops.size());
+        CAPTURE(int(join));
+        CAPTURE(d);
+        const tc::Paths ours = tc::offset(region, d, join, limit);
+        const tc::Paths theirs = clipper_offset(region, d, join, limit);
+        CHECK(tc::area_mm2(ours) == doctest::Approx(tc::area_mm2(theirs)).epsilon(1e-6));
+        CHECK(difference_area(ours, theirs) < 1e-4);
+        CHECK(ours.size() == theirs.size());
+      }
+    }
+  }
+}

@@ -1,0 +1,125 @@
+// Distance error against closed forms. An n-gon cone (base circumradius r, height h) has
+// concentric similar n-gon sections: circumradius rho(z) = r (1 - z/h), apothem
+// a(z) = rho(z) cos(pi/n). From a smaller section to a larger one every point is at the apothem
+// difference (the flank's slope across a face); from a larger one to a smaller one the
+// farthest points are the corners, at the circumradius difference (the slope along the ridge
+// edges, tan(alpha) = h / r). So over a layer of thickness t:
+//   lower: forward (surface inside the walls) t r cos(pi/n) / h, reverse t r / h;
+//   mid:   both t r / (2h), the corners of the sections below the mid-plane;
+// lower's Hausdorff distance is twice mid's, as for the smooth cone's t / (2 tan(alpha)).
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "geometry/metrics/distance_error.h"
+#include "geometry/slicing/layer_stack.h"
+#include "geometry/metrics/missed_features.h"
+#include "geometry/slab/slab.h"
+#include "support/solids.h"
+
+using geometry::DistanceError;
+using geometry::LayerStack;
+using geometry::Region;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kTolerance = 1e-4;
+// Regions from Clipper sit on the 1 nm grid: 0.71 nm from the exact sections.
+constexpr double kRounding = 1e-6;
+
+DistanceError distance_of(const LayerStack& stack, std::size_t layer, const Region& region,
+                          int levels = 5) {
+  const geometry::Slab slab = geometry::slab_of(stack, layer);
+  geometry::DistanceOptions options;
+  options.tolerance = kTolerance;
+  options.reverse_levels = levels;
+  const geometry::SlabSurface surface = geometry::slab_surface(slab, options);
+  const auto missed = geometry::missed_features(geometry::slab_footprint(slab), region);
+  return geometry::distance_error(surface, geometry::BoundaryGrid(region), missed, options);
+}
+
+}  // namespace
+
+TEST_CASE("cone_distance_of_lower_is_twice_that_of_mid") {
+  const int n = 48;
+  const double r = 10, h = 15;
+  const solids::Solid cone = solids::cone(r, h, n);
+  const LayerStack stack(cone.mesh, geometry::uniform_layers(h, 0.25));
+  for (std::size_t i : {0u, 20u, 45u}) {
+    CAPTURE(i);
+    const double t = stack.layers()[i].thickness();
+    const DistanceError lower = distance_of(stack, i, stack.lower(i));
+    const DistanceError mid = distance_of(stack, i, stack.mid(i));
+    const double bound = kTolerance + kRounding;
+    CHECK(std::abs(lower.forward - t * r * std::cos(kPi / n) / h) <= bound);
+    CHECK(std::abs(lower.reverse - t * r / h) <= bound);
+    CHECK(std::abs(mid.forward - t * r / (2 * h)) <= bound);
+    CHECK(std::abs(mid.reverse - t * r / (2 * h)) <= bound);
+    CHECK(mid.hausdorff == std::max(mid.forward, mid.reverse));
+    CHECK(std::abs(lower.hausdorff - 2 * mid.hausdorff) <= 3 * bound);
+  }
+}
+
+TEST_CASE("cylinder_distance_of_its_section_is_zero") {
+  const solids::Solid cylinder = solids::cylinder(6, 8, 40);
+  const LayerStack stack(cylinder.mesh, geometry::uniform_layers(8, 0.2));
+  for (std::size_t i : {0u, 17u, 39u}) {
+    const DistanceError d = distance_of(stack, i, stack.mid(i));
+    CHECK(d.forward <= kRounding);
+    CHECK(d.reverse <= kRounding);
+  }
+}
+
+TEST_CASE("distance_maximum_inside_a_facet_is_found") {
+  // A prism lying along x whose top face slopes gently (z 1.0 at y = 0 to 1.05 at y = 6)
+  // covers the rectangle [0, 10] x [0, 6] seen from above: its two triangles have their
+  // corners on the rectangle's boundary (distance 0), while the distance to the lower
+  // section's walls peaks at 3 along y = 3, inside the facets.
+  const solids::Solid wedge = solids::lying_prism({{0, 0}, {6, 0}, {6, 1.05}, {0, 1.0}}, 0, 10);
+  const LayerStack stack(wedge.mesh, geometry::uniform_layers(1.05, 0.3));
+  const std::size_t top = 3;  // [0.9, 1.2]
+  const DistanceError d = distance_of(stack, top, stack.lower(top));
+  CHECK(d.forward <= 3 + kRounding);
+  CHECK(d.forward >= 3 - kTolerance - kRounding);
+}
+
+TEST_CASE("horizontal_facet_is_judged_by_its_edges") {
+  // The same prism with a flat top at 1.0: the top face is parallel to the layer's faces, so
+  // only its edges count, and they lie on the walls.
+  const solids::Solid block = solids::lying_prism({{0, 0}, {6, 0}, {6, 1.0}, {0, 1.0}}, 0, 10);
+  const LayerStack stack(block.mesh, geometry::uniform_layers(1.0, 0.3));
+  const std::size_t top = 3;  // [0.9, 1.2], the top face at 1.0 strictly inside
+  const DistanceError d = distance_of(stack, top, stack.lower(top));
+  CHECK(d.forward <= kRounding);
+}
+
+TEST_CASE("empty_region_is_measured_to_the_footprint_outline") {
+  // The cone's top layer holds the apex: with nothing printed, the apex is as far from the
+  // walls shrunk onto the footprint as the base's apothem (plus the footprint's 2 um margin).
+  const int n = 48;
+  const solids::Solid cone = solids::cone(10, 15, n);
+  const LayerStack stack(cone.mesh, geometry::uniform_layers(15, 0.25));
+  const std::size_t top = stack.size() - 1;
+  const double apothem = 10 * (1 - stack.layers()[top].z_lo / 15) * std::cos(kPi / n);
+  const DistanceError d = distance_of(stack, top, Region{});
+  CHECK(d.forward >= apothem - kTolerance);
+  CHECK(d.forward <= apothem + 2.2 * geometry::kFootprintMargin);
+  CHECK(d.reverse == 0);
+}
+
+TEST_CASE("missed_feature_is_measured_to_its_own_outline") {
+  // A box and, 5 mm away, a cone of the same height: in the top layer [1.5, 2] the region is
+  // the box's section only, so the cone's tip is a missed feature. It is measured to its own
+  // outline (the apothem of its section at 1.5), not to the box's wall 5 mm away.
+  const int n = 64;
+  const solids::Solid both = solids::combine(solids::box({-10, -3, 0}, {0, 3, 2}),
+                                             solids::cone(2, 2, n, {7, 0, 0}));
+  const LayerStack stack(both.mesh, geometry::uniform_layers(2, 0.5));
+  const Region box_only{{{{-10, -3}, {0, -3}, {0, 3}, {-10, 3}}}};
+  const DistanceError d = distance_of(stack, 3, box_only);
+  const double apothem = 2 * (1 - 1.5 / 2) * std::cos(kPi / n);
+  CHECK(d.forward >= apothem - kTolerance);
+  CHECK(d.forward <= apothem + 2.2 * geometry::kFootprintMargin);
+}

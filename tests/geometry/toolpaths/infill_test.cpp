@@ -1,0 +1,252 @@
+// infill: line spacing from the density, angles, the fixed grid, solid fill.
+#include "geometry/toolpaths/infill.h"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "geometry/toolpaths/bead_coverage.h"
+#include "geometry/toolpaths/toolpath_shapes.h"
+
+using namespace geometry;
+using namespace toolpath_shapes;
+
+namespace {
+
+constexpr double w = 0.45;
+
+// Direction of a line in degrees, in [0, 180).
+double direction(const ExtrusionPath& line) {
+  const Vec2 d = line.points.back() - line.points.front();
+  double a = std::atan2(d.y, d.x) * 180 / std::numbers::pi;
+  if (a < 0) a += 180;
+  if (a >= 180 - 1e-9) a -= 180;
+  return a;
+}
+
+// Distance of a line from the origin, measured across lines of direction `angle`.
+double offset_across(const ExtrusionPath& line, double angle) {
+  const double a = angle * std::numbers::pi / 180;
+  const Vec2 p = line.points.front();
+  return -p.x * std::sin(a) + p.y * std::cos(a);
+}
+
+}  // namespace
+
+TEST_CASE("sparse_line_length_is_area_times_density_over_width") {
+  // Lines d/100/w per mm across the area: length = area d / (100 w), give or take one line
+  // (the grid is fixed, so the area may hold one line more or less than the ratio).
+  const Region disc{{circle({0, 0}, 30, 720)}};
+  const double a = area(disc), longest = 60;
+  for (InfillPattern pattern : {InfillPattern::rectilinear, InfillPattern::grid}) {
+    for (double density : {10.0, 20.0, 50.0}) {
+      CAPTURE(density);
+      const auto lines = sparse_infill(disc, w, density, pattern, 45, 0, InfillLines::separate);
+      const double expected = a * density / 100 / w;
+      CHECK(std::abs(length(lines) - expected) <= (pattern == InfillPattern::grid ? 2 : 1) * longest);
+      for (const auto& l : lines) CHECK(l.role == PathRole::sparse_infill);
+    }
+  }
+}
+
+TEST_CASE("rectilinear_turns_90_degrees_every_layer") {
+  const Region square{{rectangle(0, 0, 20, 20)}};
+  for (std::size_t layer : {0u, 1u, 2u, 3u}) {
+    const auto lines = sparse_infill(square, w, 20, InfillPattern::rectilinear, 30, layer,
+                                     InfillLines::separate);
+    REQUIRE(!lines.empty());
+    for (const auto& l : lines) {
+      CHECK(direction(l) == doctest::Approx(layer % 2 ? 120 : 30).epsilon(1e-6));
+    }
+  }
+}
+
+TEST_CASE("grid_lays_both_directions_every_layer") {
+  const Region square{{rectangle(0, 0, 20, 20)}};
+  const auto lines = sparse_infill(square, w, 20, InfillPattern::grid, 45, 1, InfillLines::separate);
+  int along = 0, across = 0;
+  for (const auto& l : lines) {
+    const double d = direction(l);
+    if (std::abs(d - 45) < 1e-6) ++along;
+    else if (std::abs(d - 135) < 1e-6) ++across;
+  }
+  CHECK(along > 0);
+  CHECK(across > 0);
+  CHECK(along + across == static_cast<int>(lines.size()));
+}
+
+TEST_CASE("sparse_lines_lie_on_a_grid_fixed_in_the_part_so_layers_stack") {
+  // Every line is a whole number of spacings from the origin; the same area two layers up
+  // gets the very same lines.
+  const Region blob{{circle({7, 3}, 12, 90)}};
+  const double spacing = w * 100 / 25;
+  const auto lines = sparse_infill(blob, w, 25, InfillPattern::rectilinear, 0, 0);
+  REQUIRE(!lines.empty());
+  for (const auto& l : lines) {
+    const double k = offset_across(l, 0) / spacing;
+    CHECK(k == doctest::Approx(std::round(k)).epsilon(1e-6));
+  }
+  const auto again = sparse_infill(blob, w, 25, InfillPattern::rectilinear, 0, 2);
+  REQUIRE(again.size() == lines.size());
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    CHECK(again[i].points.front() == lines[i].points.front());
+    CHECK(again[i].points.back() == lines[i].points.back());
+  }
+}
+
+TEST_CASE("solid_infill_spans_a_rectangle_with_whole_lines_edge_to_edge") {
+  // A 10 x 2.25 mm area is exactly 5 beads tall: 5 lines at y = 0.225 + 0.45 k, end to end.
+  const Region strip{{rectangle(0, 0, 10, 2.25)}};
+  const auto lines = solid_infill(strip, w, 0, 0, PathRole::top_skin, InfillLines::separate);
+  REQUIRE(lines.size() == 5);
+  for (std::size_t k = 0; k < 5; ++k) {
+    CHECK(lines[k].role == PathRole::top_skin);
+    CHECK(lines[k].width == doctest::Approx(w).epsilon(1e-9));
+    CHECK(lines[k].points.front().y == doctest::Approx(0.225 + 0.45 * k).epsilon(1e-9));
+    CHECK(length(lines[k].points) == doctest::Approx(10).epsilon(1e-9));
+  }
+  // Odd layers run across: 10 / 0.45 = 22.2 -> 22 lines 10/22 mm apart and as wide, each
+  // 2.25 long.
+  const auto across = solid_infill(strip, w, 0, 1, PathRole::solid_infill, InfillLines::separate);
+  REQUIRE(across.size() == 22);
+  for (const auto& l : across) {
+    CHECK(length(l.points) == doctest::Approx(2.25).epsilon(1e-9));
+    CHECK(l.width == doctest::Approx(10.0 / 22).epsilon(1e-9));
+  }
+}
+
+TEST_CASE("connected_solid_infill_is_one_zigzag_that_fills_a_rectangle") {
+  // The same 5 lines, now half a bead in from the ends (x = 0.225 .. 9.775) and joined by
+  // 0.45 mm connectors up alternate ends; the free ends reach the edge. Length: area / w
+  // (a micrometre more per joined end: solid lines keep that much closer to the edge). The
+  // beads fill the rectangle but for the notches a round bead leaves at the outside of each
+  // turn, (1 - pi/4) (w/2)^2 each, too small to fill: 4 at each end of the rectangle (two
+  // turns there, whose notches next to each other merge; the free ends fill their corners).
+  const Region strip{{rectangle(0, 0, 10, 2.25)}};
+  const auto paths = solid_infill(strip, w, 0, 0, PathRole::top_skin);
+  REQUIRE(paths.size() == 1);
+  const auto& p = paths[0].points;
+  REQUIRE(p.size() == 10);
+  CHECK(p.front().x == doctest::Approx(0).epsilon(1e-9));
+  CHECK(p.back().x == doctest::Approx(10).epsilon(1e-9));
+  for (std::size_t k = 0; k < 5; ++k) {
+    CHECK(p[2 * k].y == doctest::Approx(0.225 + 0.45 * k).epsilon(1e-9));
+    CHECK(p[2 * k + 1].y == doctest::Approx(0.225 + 0.45 * k).epsilon(1e-9));
+  }
+  CHECK(length(p) == doctest::Approx(22.5 / w + 8 * 0.001).epsilon(1e-9));
+  const auto c = bead_coverage::coverage(strip, paths);
+  const double notch = (1 - std::numbers::pi / 4) * (w / 2) * (w / 2) / 22.5;
+  CHECK(c.inside == doctest::Approx(1 - 8 * notch).epsilon(2e-4));
+  CHECK(c.double_coverage <= 1e-3);
+}
+
+TEST_CASE("solid_infill_fills_the_strip_an_edge_between_lines_leaves") {
+  // An L: 10 x 2.3 with a 3 x 3 block on its left end. Lines span the 3 mm height 3/7 mm
+  // apart; the step edge at y = 2.3 falls between the lines at 1.93 and 2.36, leaving a strip
+  // about 0.16 mm wide and 7 mm long that only a centre line fills.
+  const Region l_shape{{Loop{{0, 0}, {10, 0}, {10, 2.3}, {3, 2.3}, {3, 3}, {0, 3}}}};
+  const auto lines = solid_infill(l_shape, w, 0, 0, PathRole::top_skin);
+  int along_the_step = 0;
+  for (const auto& p : lines) {
+    CHECK(p.role == PathRole::top_skin);
+    along_the_step += p.points.front().y > 2.14 && p.points.front().y < 2.3 &&
+                      std::abs(p.points.front().x - p.points.back().x) > 5;
+  }
+  CHECK(along_the_step == 1);
+  const auto c = bead_coverage::coverage(l_shape, lines);
+  INFO("inside " << c.inside << " outside " << c.outside);
+  CHECK(c.inside >= 0.98);  // (the round ends stick out of the area: in a plan, into walls)
+  for (const auto& p : lines) {
+    for (Vec2 v : p.points) CHECK(ClipperLib::PointInPolygon(to_clipper(v), to_clipper(l_shape.loops[0])) != 0);
+  }
+}
+
+TEST_CASE("solid_pieces_of_different_roles_share_one_set_of_lines") {
+  // A 10 x 4.5 mm area, its left half top skin and its right half solid infill, lines
+  // along X: the 10 lines run across both halves and are cut at x = 5, each half taking its
+  // role. Where the halves meet, the beads meet end to end: no gap and no overlap there.
+  const Region left{{rectangle(0, 0, 5, 4.5)}}, right{{rectangle(5, 0, 10, 4.5)}};
+  const auto paths = solid_infill({{left, PathRole::top_skin}, {right, PathRole::solid_infill}},
+                                  w, 0, 0, InfillLines::separate);
+  REQUIRE(paths.size() == 20);
+  for (const auto& p : paths) {
+    const double x = 0.5 * (p.points.front().x + p.points.back().x);
+    CHECK(p.role == (x < 5 ? PathRole::top_skin : PathRole::solid_infill));
+    CHECK(length(p.points) == doctest::Approx(5).epsilon(1e-6));
+  }
+  const Region whole{{rectangle(0, 0, 10, 4.5)}};
+  const auto connected =
+      solid_infill({{left, PathRole::top_skin}, {right, PathRole::solid_infill}}, w, 0, 0);
+  const auto c = bead_coverage::coverage(whole, connected);
+  INFO("inside " << c.inside << " double " << c.double_coverage);
+  CHECK(c.inside >= 0.995);
+  CHECK(c.double_coverage <= 0.005);
+  for (const auto& p : connected) {
+    for (Vec2 v : p.points) {
+      const bool left_side = v.x < 5 - 1e-6, right_side = v.x > 5 + 1e-6;
+      if (p.role == PathRole::top_skin) CHECK(!right_side);
+      if (p.role == PathRole::solid_infill) CHECK(!left_side);
+    }
+  }
+}
+
+TEST_CASE("solid_infill_length_is_area_over_width") {
+  const Region disc{{circle({0, 0}, 10, 360)}};
+  const auto lines = solid_infill(disc, w, 45, 0, PathRole::bottom_skin);
+  CHECK(length(lines) == doctest::Approx(area(disc) / w).epsilon(0.02));
+}
+
+TEST_CASE("infill_lines_stay_inside_a_holed_area") {
+  const Region holed{{rectangle(0, 0, 20, 20), reversed(rectangle(5, 5, 15, 15))}};
+  for (InfillLines mode : {InfillLines::separate, InfillLines::connected}) {
+    for (const auto& l : sparse_infill(holed, w, 40, InfillPattern::grid, 45, 0, mode)) {
+      for (std::size_t i = 0; i + 1 < l.points.size(); ++i) {
+        const Vec2 mid = 0.5 * (l.points[i] + l.points[i + 1]);
+        CHECK(!(mid.x > 5 + 1e-6 && mid.x < 15 - 1e-6 && mid.y > 5 + 1e-6 && mid.y < 15 - 1e-6));
+      }
+      for (Vec2 p : l.points) {
+        CHECK(p.x >= -1e-6);
+        CHECK(p.x <= 20 + 1e-6);
+      }
+    }
+  }
+}
+
+TEST_CASE("connected_sparse_lines_zigzag_inside_half_a_bead_from_the_edge") {
+  // 20 mm square, 20% rectilinear along X: lines 2.25 mm apart on the fixed grid, at y =
+  // 2.25 ... 18 (8 lines), running between x = w/2 and 20 - w/2, joined by 2.25 mm pieces of
+  // the shrunk square's sides; the two free ends reach on to the square's edge.
+  const Region square{{rectangle(0, 0, 20, 20)}};
+  const auto paths = sparse_infill(square, w, 20, InfillPattern::rectilinear, 0, 0);
+  REQUIRE(paths.size() == 1);
+  const auto& p = paths[0].points;
+  REQUIRE(p.size() == 16);
+  for (std::size_t k = 0; k < 8; ++k) {
+    CAPTURE(k);
+    const double y = 2.25 * static_cast<double>(k + 1);
+    CHECK(p[2 * k].y == doctest::Approx(y).epsilon(1e-9));
+    CHECK(p[2 * k + 1].y == doctest::Approx(y).epsilon(1e-9));
+    const bool rightwards = k % 2 == 0;
+    const double start = rightwards ? w / 2 : 20 - w / 2;
+    if (k > 0) CHECK(p[2 * k].x == doctest::Approx(start).epsilon(1e-9));
+    if (k < 7) CHECK(p[2 * k + 1].x == doctest::Approx(20 - start).epsilon(1e-9));
+  }
+  CHECK(p.front().x == doctest::Approx(0).epsilon(1e-9));
+  CHECK(p.back().x == doctest::Approx(0).epsilon(1e-9));
+  CHECK(length(p) == doctest::Approx(8 * (20 - w) + 7 * 2.25 + w).epsilon(1e-9));
+}
+
+TEST_CASE("no_area_or_no_density_gives_no_lines") {
+  CHECK(sparse_infill(Region{}, w, 20, InfillPattern::grid, 45, 0).empty());
+  CHECK(sparse_infill(Region{{rectangle(0, 0, 5, 5)}}, w, 0, InfillPattern::grid, 45, 0).empty());
+  CHECK(solid_infill(Region{}, w, 45, 0, PathRole::top_skin).empty());
+  CHECK(hatch(Region{{rectangle(0, 0, 5, 5)}}, 0, 0, PathRole::top_skin, w).empty());
+}
+
+TEST_CASE("infill_pattern_names_round_trip") {
+  for (InfillPattern p : {InfillPattern::rectilinear, InfillPattern::grid}) {
+    CHECK(parse_infill_pattern(infill_pattern_name(p)) == p);
+  }
+  CHECK(!parse_infill_pattern("honeycomb"));
+}

@@ -1,0 +1,122 @@
+// skins: which part of each layer is solid (top, bottom, between) and which sparse.
+#include "geometry/toolpaths/skins.h"
+
+#include <doctest/doctest.h>
+
+#include "geometry/toolpaths/toolpath_shapes.h"
+
+using namespace geometry;
+using namespace toolpath_shapes;
+
+namespace {
+
+constexpr double w = 0.45;
+
+// Layers 0-9 one square, layers 10-19 another, both with a corner at the origin.
+std::vector<Region> two_steps(double lower_side, double upper_side) {
+  std::vector<Region> regions(20);
+  for (int i = 0; i < 20; ++i) {
+    const double side = i < 10 ? lower_side : upper_side;
+    regions[i] = Region{{rectangle(0, 0, side, side)}};
+  }
+  return regions;
+}
+
+Skins skins_of(const std::vector<Region>& regions,
+               const std::vector<std::optional<Region>>& cores, std::size_t i) {
+  const Region nothing;
+  const Region* below = i > 0 ? &regions[i - 1] : &nothing;
+  const Region* above = i + 1 < regions.size() ? &regions[i + 1] : &nothing;
+  return split_skins(regions[i], cores[i] ? &*cores[i] : nullptr, below, above, w);
+}
+
+}  // namespace
+
+TEST_CASE("top_of_lower_step_gets_top_skin_and_solid_below_it") {
+  // 20 mm square under a 10 mm one, 3 top and 3 bottom layers: on layer 9 the 300 mm^2 not
+  // under the upper step is top skin; layers 7 and 8 are solid there; layer 6 is sparse.
+  const auto regions = two_steps(20, 10);
+  const auto cores = sparse_cores(regions, 3, 3);
+  REQUIRE(cores.size() == 20);
+  const Skins l9 = skins_of(regions, cores, 9);
+  CHECK(area(l9.top) == doctest::Approx(300));
+  CHECK(area(l9.bottom) == doctest::Approx(0));
+  CHECK(area(l9.solid) == doctest::Approx(0));
+  CHECK(area(l9.sparse) == doctest::Approx(100));
+  for (std::size_t i : {7u, 8u}) {
+    const Skins s = skins_of(regions, cores, i);
+    CHECK(area(s.top) == doctest::Approx(0));
+    CHECK(area(s.solid) == doctest::Approx(300));
+    CHECK(area(s.sparse) == doctest::Approx(100));
+  }
+  const Skins l6 = skins_of(regions, cores, 6);
+  CHECK(area(l6.sparse) == doctest::Approx(400));
+  CHECK(area(l6.solid) + area(l6.top) + area(l6.bottom) == doctest::Approx(0));
+  // The upper step stands on the lower one: no bottom skin at its start, top skin at its end.
+  const Skins l10 = skins_of(regions, cores, 10);
+  CHECK(area(l10.bottom) == doctest::Approx(0));
+  CHECK(area(l10.sparse) == doctest::Approx(100));
+  CHECK(area(skins_of(regions, cores, 19).top) == doctest::Approx(100));
+  CHECK(area(skins_of(regions, cores, 17).solid) == doctest::Approx(100));
+}
+
+TEST_CASE("layer_over_an_overhang_gets_bottom_skin_above_open_air") {
+  // 10 mm square under a 20 mm one: layer 10's 300 mm^2 over nothing is bottom skin, and
+  // layers 11 and 12 are solid there.
+  const auto regions = two_steps(10, 20);
+  const auto cores = sparse_cores(regions, 3, 3);
+  const Skins l10 = skins_of(regions, cores, 10);
+  CHECK(area(l10.bottom) == doctest::Approx(300));
+  CHECK(area(l10.top) == doctest::Approx(0));
+  CHECK(area(l10.sparse) == doctest::Approx(100));
+  for (std::size_t i : {11u, 12u}) {
+    const Skins s = skins_of(regions, cores, i);
+    CHECK(area(s.bottom) == doctest::Approx(0));
+    CHECK(area(s.solid) == doctest::Approx(300));
+  }
+  CHECK(area(skins_of(regions, cores, 13).sparse) == doctest::Approx(400));
+  // Under the overhang the small column's top is covered: no top skin on layer 9.
+  CHECK(area(skins_of(regions, cores, 9).top) == doctest::Approx(0));
+}
+
+TEST_CASE("first_and_last_layers_are_solid") {
+  const auto regions = two_steps(10, 10);
+  const auto cores = sparse_cores(regions, 2, 4);
+  CHECK(area(skins_of(regions, cores, 0).bottom) == doctest::Approx(100));
+  for (std::size_t i : {1u, 2u, 3u}) CHECK(area(skins_of(regions, cores, i).solid) == doctest::Approx(100));
+  CHECK(area(skins_of(regions, cores, 4).sparse) == doctest::Approx(100));
+  CHECK(area(skins_of(regions, cores, 17).sparse) == doctest::Approx(100));
+  CHECK(area(skins_of(regions, cores, 18).solid) == doctest::Approx(100));
+  CHECK(area(skins_of(regions, cores, 19).top) == doctest::Approx(100));
+}
+
+TEST_CASE("no_skin_layers_make_everything_sparse") {
+  const auto regions = two_steps(20, 10);
+  const auto cores = sparse_cores(regions, 0, 0);
+  REQUIRE(cores.size() == 20);
+  for (const auto& core : cores) CHECK(!core);
+  const Skins s = split_skins(regions[9], nullptr, nullptr, nullptr, w);
+  CHECK(area(s.sparse) == doctest::Approx(400));
+}
+
+TEST_CASE("wall_moving_by_microns_between_layers_makes_no_skin") {
+  // A side drifting 1 um per layer (a slightly sloped wall) leaves slivers far narrower than
+  // a bead: they stay sparse.
+  std::vector<Region> regions;
+  for (int i = 0; i < 12; ++i) regions.push_back(Region{{rectangle(0, 0, 20 - 0.001 * i, 20)}});
+  const auto cores = sparse_cores(regions, 3, 3);
+  const Skins s = skins_of(regions, cores, 6);
+  CHECK(area(s.sparse) == doctest::Approx(area(regions[6])));
+  CHECK(s.top.loops.empty());
+  CHECK(s.solid.loops.empty());
+}
+
+TEST_CASE("skins_of_nothing_are_nothing") {
+  CHECK(sparse_cores({}, 3, 3).empty());
+  const Region square{{rectangle(0, 0, 5, 5)}};
+  const Skins s = split_skins(Region{}, &square, &square, &square, w);
+  CHECK(s.bottom.loops.empty());
+  CHECK(s.top.loops.empty());
+  CHECK(s.solid.loops.empty());
+  CHECK(s.sparse.loops.empty());
+}

@@ -1,0 +1,26 @@
+// role_name: the ;TYPE: words of the G-code, one per role.
+#include "geometry/toolpaths/toolpaths.h"
+
+#include <doctest/doctest.h>
+
+#include <set>
+#include <string>
+
+using namespace geometry;
+
+TEST_CASE("role_names_are_cura_words_and_distinct") {
+  CHECK(role_name(PathRole::skirt) == "SKIRT");
+  CHECK(role_name(PathRole::outer_wall) == "WALL-OUTER");
+  CHECK(role_name(PathRole::inner_wall) == "WALL-INNER");
+  CHECK(role_name(PathRole::sparse_infill) == "FILL");
+  std::set<std::string> names;
+  for (PathRole r : {PathRole::skirt, PathRole::outer_wall, PathRole::inner_wall,
+                     PathRole::thin_wall, PathRole::bottom_skin, PathRole::top_skin,
+                     PathRole::solid_infill, PathRole::sparse_infill}) {
+    const std::string name(role_name(r));
+    CHECK(!name.empty());
+    CHECK(name.find(' ') == std::string::npos);
+    names.insert(name);
+  }
+  CHECK(names.size() == 8);
+}
