@@ -18,11 +18,19 @@ namespace {
 // Heights closer than this are one height, mm (far below any printer's step).
 constexpr double kSameHeight = 1e-7;
 
-bool allowed_thickness(double t, const LayerThicknesses& allowed) {
-  if (t < allowed.min - kSameHeight || t > allowed.max + kSameHeight) return false;
-  if (!(allowed.step > 0)) return true;
-  const double steps = (t - allowed.min) / allowed.step;
-  return std::abs(steps - std::round(steps)) * allowed.step < kSameHeight;
+long long nanometres(double mm) { return std::llround(mm * 1e6); }
+
+// The spacing of every height the thicknesses reach from the first layer's top, mm: the
+// greatest common divisor of the allowed thicknesses (the step's and min's for a range);
+// 0 for a continuous range.
+double reach_unit(const AllowedThicknesses& allowed) {
+  long long common = 0;
+  if (!allowed.listed.empty()) {
+    for (double t : allowed.listed) common = std::gcd(common, nanometres(t));
+  } else if (allowed.step > 0) {
+    common = std::gcd(nanometres(allowed.min), nanometres(allowed.step));
+  }
+  return static_cast<double>(common) * 1e-6;
 }
 
 // The flat levels a plan should put on boundaries: above the bed, not above the top.
@@ -60,17 +68,36 @@ std::vector<FlatPlacement> placements(std::span<const double> flats,
 
 }  // namespace
 
+double AllowedThicknesses::thinnest() const {
+  return listed.empty() ? min : *std::min_element(listed.begin(), listed.end());
+}
+
+double AllowedThicknesses::thickest() const {
+  return listed.empty() ? max : *std::max_element(listed.begin(), listed.end());
+}
+
+bool AllowedThicknesses::allows(double t) const {
+  if (!listed.empty()) {
+    return std::any_of(listed.begin(), listed.end(),
+                       [&](double l) { return std::abs(l - t) <= kSameHeight; });
+  }
+  if (t < min - kSameHeight || t > max + kSameHeight) return false;
+  if (!(step > 0)) return true;
+  const double steps = (t - min) / step;
+  return std::abs(steps - std::round(steps)) * step < kSameHeight;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Uniform
 
-UniformPlan uniform_plan(double part_height, double thickness, const LayerThicknesses& allowed,
+UniformPlan uniform_plan(double part_height, double thickness, const AllowedThicknesses& allowed,
                          std::span<const FlatLevel> flat_levels) {
   UniformPlan plan;
   plan.layers = uniform_layers(part_height, thickness, allowed.first);
   if (plan.layers.empty()) return plan;
   const std::vector<double> flats = flat_heights(flat_levels, part_height);
   const double first = plan.layers.front().z_hi;
-  const double step = allowed.step > 0 ? allowed.step : 0;
+  const double step = reach_unit(allowed);  // 0: any thickness in the range
 
   // Boundaries the layers must reach, in order; each segment between two of them gets whole
   // layers of `thickness`, adjusted a step at a time (the layers just under the flat level)
@@ -81,11 +108,11 @@ UniformPlan uniform_plan(double part_height, double thickness, const LayerThickn
   for (double level : flats) {
     double z = level;
     const double gap = z - bottom;
-    if (gap < allowed.min - kSameHeight) continue;  // too close to the one before
+    if (gap < allowed.thinnest() - kSameHeight) continue;  // too close to the one before
     std::size_t count = static_cast<std::size_t>(std::max(1.0, std::round(gap / thickness)));
     // Enough layers that none must be thicker than allowed, few enough that none is thinner.
-    while (gap / static_cast<double>(count) > allowed.max + kSameHeight) ++count;
-    while (count > 1 && gap / static_cast<double>(count) < allowed.min - kSameHeight) --count;
+    while (gap / static_cast<double>(count) > allowed.thickest() + kSameHeight) ++count;
+    while (count > 1 && gap / static_cast<double>(count) < allowed.thinnest() - kSameHeight) --count;
     std::vector<double> extra(count, 0);  // added to each layer of the segment, mm
     if (step > 0) {
       // A level between two reachable heights lands on the nearer one (8.03 mm on 8.05).
@@ -94,8 +121,10 @@ UniformPlan uniform_plan(double part_height, double thickness, const LayerThickn
       const double reached = bottom + static_cast<double>(count) * thickness +
                              static_cast<double>(units) * step;
       if (std::abs(reached - level) > kSameHeight) z = reached;
-      const long room_up = std::lround(std::floor((allowed.max - thickness) / step + 1e-9));
-      const long room_down = std::lround(std::floor((thickness - allowed.min) / step + 1e-9));
+      // How many steps a layer may grow or shrink and stay allowed.
+      long room_up = 0, room_down = 0;
+      while (allowed.allows(thickness + static_cast<double>(room_up + 1) * step)) ++room_up;
+      while (allowed.allows(thickness - static_cast<double>(room_down + 1) * step)) ++room_down;
       // One step per layer from the top of the segment down, again while steps are left.
       std::vector<long> taken(count, 0);
       for (long pass = 0; units != 0 && pass <= std::max(room_up, room_down); ++pass) {
@@ -110,7 +139,8 @@ UniformPlan uniform_plan(double part_height, double thickness, const LayerThickn
       // Any thickness: the difference on the top layers, as few as stay within range.
       double left = gap - static_cast<double>(count) * thickness;
       for (std::size_t k = count; k-- > 0 && std::abs(left) > kSameHeight;) {
-        const double room = left > 0 ? allowed.max - thickness : allowed.min - thickness;
+        const double room =
+            left > 0 ? allowed.thickest() - thickness : allowed.thinnest() - thickness;
         extra[k] = left > 0 ? std::min(left, room) : std::max(left, room);
         left -= extra[k];
       }
@@ -158,21 +188,15 @@ struct HeightGrid {
   std::vector<char> edge_thinnest;        // the thinnest thickness (or the fixed first layer)
 };
 
-long long nanometres(double mm) { return std::llround(mm * 1e6); }
-
-HeightGrid height_grid(double top, const LayerThicknesses& allowed, std::span<const double> flats,
+HeightGrid height_grid(double top, const AllowedThicknesses& allowed, std::span<const double> flats,
                        double grid) {
   HeightGrid g;
-  double unit = grid;
-  if (allowed.step > 0) {
-    // Every reachable height is the first layer plus whole multiples of gcd(min, step).
-    const long long common = std::gcd(nanometres(allowed.min), nanometres(allowed.step));
-    unit = std::max(1e-3, static_cast<double>(common) * 1e-6);
-  }
+  // Every reachable height is the first layer's top plus whole multiples of the unit.
+  const double unit = reach_unit(allowed) > 0 ? std::max(1e-3, reach_unit(allowed)) : grid;
   const double first = allowed.first > 0 ? allowed.first : 0;
   // Heights counted in whole nanometres, so that 0.3 + 74 x 0.05 is 4.0, not 3.9999999999999996.
   const long long first_nm = nanometres(first), unit_nm = std::max(1LL, nanometres(unit));
-  const long long last_nm = nanometres(top + allowed.max);
+  const long long last_nm = nanometres(top + allowed.thickest());
   g.z.push_back(0);
   for (long long k = first > 0 ? 0 : 1; first_nm + k * unit_nm <= last_nm; ++k) {
     g.z.push_back(static_cast<double>(first_nm + k * unit_nm) * 1e-6);
@@ -206,13 +230,13 @@ HeightGrid height_grid(double top, const LayerThicknesses& allowed, std::span<co
       continue;
     }
     const auto lo = std::lower_bound(g.z.begin() + static_cast<long>(i) + 1, g.z.end(),
-                                     g.z[i] + allowed.min - kSameHeight);
-    for (auto it = lo; it != g.z.end() && *it <= g.z[i] + allowed.max + kSameHeight; ++it) {
+                                     g.z[i] + allowed.thinnest() - kSameHeight);
+    for (auto it = lo; it != g.z.end() && *it <= g.z[i] + allowed.thickest() + kSameHeight; ++it) {
       const double t = *it - g.z[i];
-      if (!allowed_thickness(t, allowed)) continue;
+      if (!allowed.allows(t)) continue;
       g.edge_to.push_back(static_cast<std::uint32_t>(it - g.z.begin()));
       g.edge_from.push_back(static_cast<std::uint32_t>(i));
-      g.edge_thinnest.push_back(t <= allowed.min + kSameHeight);
+      g.edge_thinnest.push_back(t <= allowed.thinnest() + kSameHeight);
     }
   }
   g.edge_begin[n] = static_cast<std::uint32_t>(g.edge_to.size());
@@ -226,12 +250,12 @@ constexpr Cost kUnreached{std::numeric_limits<std::size_t>::max(), 0, 0};
 
 class LazyPlanner {
  public:
-  LazyPlanner(const LayerStack& stack, double top, const LayerThicknesses& allowed,
+  LazyPlanner(const LayerStack& stack, double top, const AllowedThicknesses& allowed,
               std::span<const double> flats, const AdaptiveOptions& options,
               const PlanProgress& progress)
       : stack_(stack), top_(top), flats_(flats), options_(options), progress_(progress),
         grid_(height_grid(top, allowed, flats, options.grid)), meter_(stack, options.error),
-        max_thickness_(allowed.max) {
+        max_thickness_(allowed.thickest()) {
     const std::size_t edges = grid_.edge_to.size();
     const SlabSpreadEstimate estimate(stack.mesh());
     estimate_.resize(edges);
@@ -333,24 +357,22 @@ class LazyPlanner {
     if (progress_) progress_(measured_);
   }
 
-  // A section contour measured on [a, b] proves D >= d on the slabs that cut the same section
-  // and hold all of [a, b]'s surface: the same region, more surface to measure (islands only
-  // grow, so a piece measured to its own outline here is measured at least as far there).
-  // mid: the slabs [a - s, b + s]; lower: [a, b + s].
+  // A section contour measured on [a, b] proves D >= d on every slab that holds [a, b] and
+  // cuts the same section: the same region, more surface to measure (and islands only grow,
+  // so what is measured to its own outline here is measured at least as far there). For mid
+  // that is [a - s, b + s], for lower [a, b + s].
   void widen(std::uint32_t e, double d) {
-    if (options_.contours.size() != 1) return;
-    const ContourKind kind = options_.contours.front();
-    if (kind != ContourKind::mid && kind != ContourKind::lower) return;
+    if (options_.contours.size() != 1 || !options_.contours.front()->cuts_at) return;
+    const auto cuts_at = options_.contours.front()->cuts_at;
     const double a = grid_.z[grid_.edge_from[e]], b = grid_.z[grid_.edge_to[e]];
+    const double h = cuts_at({a, b});
     const auto first = std::lower_bound(grid_.z.begin(), grid_.z.end(),
-                                        a - 0.5 * max_thickness_ - kSameHeight);
+                                        b - max_thickness_ - kSameHeight);
     for (auto i = static_cast<std::uint32_t>(first - grid_.z.begin());
          i < grid_.z.size() && grid_.z[i] <= a + kSameHeight; ++i) {
-      if (kind == ContourKind::lower && std::abs(grid_.z[i] - a) > kSameHeight) continue;
       for (std::uint32_t f = grid_.edge_begin[i]; f < grid_.edge_begin[i + 1]; ++f) {
-        const double a2 = grid_.z[i], b2 = grid_.z[grid_.edge_to[f]];
-        if (b2 < b - kSameHeight) continue;
-        if (kind == ContourKind::mid && std::abs((a2 + b2) - (a + b)) > 2 * kSameHeight) continue;
+        const Layer wider{grid_.z[i], grid_.z[grid_.edge_to[f]]};
+        if (wider.z_hi < b - kSameHeight || std::abs(cuts_at(wider) - h) > kSameHeight) continue;
         if (std::isnan(exact_[f])) estimate_[f] = std::max(estimate_[f], d);
       }
     }
@@ -372,12 +394,12 @@ class LazyPlanner {
 
 // Where each flat level should land: itself, or with a printer's fixed steps the nearest
 // height they reach from the first layer (8.03 mm on 8.05 at 0.3 + k x 0.05).
-std::vector<double> flat_targets(std::span<const double> flats, const LayerThicknesses& allowed) {
+std::vector<double> flat_targets(std::span<const double> flats, const AllowedThicknesses& allowed) {
   std::vector<double> targets;
   for (double z : flats) {
     double target = z;
-    if (allowed.step > 0) {
-      const long long unit = std::gcd(nanometres(allowed.min), nanometres(allowed.step));
+    if (reach_unit(allowed) > 0) {
+      const long long unit = nanometres(reach_unit(allowed));
       const long long first = nanometres(std::max(0.0, allowed.first));
       const long long k = std::llround(static_cast<double>(nanometres(z) - first) / static_cast<double>(unit));
       target = static_cast<double>(first + std::max(0LL, k) * unit) * 1e-6;
@@ -393,10 +415,12 @@ std::vector<double> flat_targets(std::span<const double> flats, const LayerThick
 }  // namespace
 
 AdaptivePlan adaptive_plan(const LayerStack& stack, double part_height,
-                           const LayerThicknesses& allowed, std::span<const FlatLevel> flat_levels,
+                           const AllowedThicknesses& allowed, std::span<const FlatLevel> flat_levels,
                            const AdaptiveOptions& options, const PlanProgress& progress) {
   AdaptivePlan plan;
-  if (!(part_height > 0) || !(allowed.min > 0) || !(allowed.max >= allowed.min)) return plan;
+  if (!(part_height > 0) || !(allowed.thinnest() > 0) || !(allowed.thickest() >= allowed.thinnest())) {
+    return plan;
+  }
   const std::vector<double> flats = flat_heights(flat_levels, part_height);
   const std::vector<double> targets = flat_targets(flats, allowed);
   LazyPlanner planner(stack, part_height, allowed, targets, options, progress);

@@ -40,11 +40,15 @@
 
 namespace geometry {
 
-// What the printer allows, mm: thicknesses min, min + step, ..., max (step 0: any in
-// [min, max]); the first layer `first` thick (0: any allowed thickness).
-struct LayerThicknesses {
+// What the printer allows, mm: the thicknesses `listed`, or if none are listed min, min +
+// step, ..., max (step 0: any in [min, max]); the first layer `first` thick (0: any allowed).
+struct AllowedThicknesses {
+  std::vector<double> listed;
   double min = 0.15, max = 0.4, step = 0.05;
   double first = 0;
+  double thinnest() const;
+  double thickest() const;
+  bool allows(double thickness) const;  // within 0.1 nm
 };
 
 // Where a flat level ended up: on a boundary, or not (unreachable by the allowed thicknesses,
@@ -60,7 +64,7 @@ struct UniformPlan {
   std::vector<FlatPlacement> flats;  // every flat level above z = 0 and not above the top
 };
 
-UniformPlan uniform_plan(double part_height, double thickness, const LayerThicknesses& allowed,
+UniformPlan uniform_plan(double part_height, double thickness, const AllowedThicknesses& allowed,
                          std::span<const FlatLevel> flats);
 
 struct AdaptiveOptions {
@@ -68,7 +72,7 @@ struct AdaptiveOptions {
   std::size_t max_layers = 0;   // > 0: the least tolerance with at most this many layers instead
   // The contours a layer may print; a layer meets the tolerance when one of them does (one
   // kind for a plain strategy; mid, ma and optimal-height for `best`). Cheapest first.
-  std::vector<ContourKind> contours{ContourKind::mid};
+  std::vector<const ContourStrategy*> contours{&contour_strategy("mid")};
   double grid = 0.02;           // planning resolution when the printer's step is 0, mm
   bool measure_all = false;     // measure every candidate first (to check the lazy search)
   SlabErrorOptions error;
@@ -92,7 +96,7 @@ struct AdaptivePlan {
 using PlanProgress = std::function<void(std::size_t measured)>;
 
 AdaptivePlan adaptive_plan(const LayerStack& stack, double part_height,
-                           const LayerThicknesses& allowed, std::span<const FlatLevel> flats,
+                           const AllowedThicknesses& allowed, std::span<const FlatLevel> flats,
                            const AdaptiveOptions& options, const PlanProgress& progress = {});
 
 }  // namespace geometry

@@ -5,8 +5,7 @@
 #include <limits>
 #include <unordered_map>
 
-#include "geometry/contour/ma_contour.h"
-#include "geometry/contour/optimal_height.h"
+#include "geometry/metrics/layer_metrics.h"
 #include "geometry/core/boundary_grid.h"
 #include "geometry/metrics/missed_features.h"
 #include "geometry/slab/slab.h"
@@ -15,13 +14,6 @@ namespace geometry {
 namespace {
 
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
-
-// The height a section contour cuts at, or NaN for the others.
-double section_height(ContourKind kind, double z_lo, double z_hi) {
-  if (kind == ContourKind::lower) return z_lo;
-  if (kind == ContourKind::mid) return 0.5 * (z_lo + z_hi);
-  return NAN;
-}
 
 }  // namespace
 
@@ -94,49 +86,46 @@ bool SlabMeter::every_piece_crosses(std::span<const std::uint32_t> faces, double
   return true;
 }
 
-SlabError SlabMeter::operator()(double z_lo, double z_hi, std::span<const ContourKind> kinds,
+SlabError SlabMeter::operator()(double z_lo, double z_hi, std::span<const ContourStrategy* const> strategies,
                                 double enough) const {
-  return (*this)(z_lo, z_hi, kinds, enough, options_.distance.tolerance);
+  return (*this)(z_lo, z_hi, strategies, enough, options_.distance.tolerance);
 }
 
-SlabError SlabMeter::operator()(double z_lo, double z_hi, std::span<const ContourKind> kinds,
+SlabError SlabMeter::operator()(double z_lo, double z_hi, std::span<const ContourStrategy* const> strategies,
                                 double enough, double tolerance) const {
   SlabError error;
   error.z_lo = z_lo;
   error.z_hi = z_hi;
   const LayerStack view(stack_, {Layer{z_lo, z_hi}});
   const std::vector<std::uint32_t> faces = stack_.faces_between(z_lo, z_hi);
-  const Slab slab = slab_of(stack_.mesh(), faces, z_lo, z_hi);
   DistanceOptions distance = options_.distance;
   distance.tolerance = tolerance;
   distance.reverse = false;
-  const SlabSurface surface = slab_surface(slab, distance);
-  // The footprint's islands, built the first time a strategy needs them.
-  std::vector<BoundaryPair> islands;
+  // What the strategies may use (contour_input.h): the slab and its surface now, the
+  // footprint's islands the first time one needs them; no columns (optimal-height builds its
+  // own).
+  LayerReference reference;
+  reference.layer = {z_lo, z_hi};
+  reference.slab = slab_of(stack_.mesh(), faces, z_lo, z_hi);
+  reference.surface = slab_surface(reference.slab, distance);
   bool have_islands = false;
   const auto need_islands = [&]() -> const std::vector<BoundaryPair>& {
-    if (!have_islands) islands = slab_islands(slab), have_islands = true;
-    return islands;
+    if (!have_islands) reference.islands = slab_islands(reference.slab), have_islands = true;
+    return reference.islands;
   };
-  for (ContourKind kind : kinds) {
+  for (const ContourStrategy* strategy : strategies) {
     SlabTrial trial;
-    trial.kind = kind;
-    const double h = section_height(kind, z_lo, z_hi);
-    if (kind == ContourKind::ma) {
-      trial.region = ma_contour(slab, need_islands(),
-                                [&](double z) { return stack_.cross_section(z); },
-                                options_.contour.ma);
-    } else if (!std::isnan(h)) {
-      trial.region = stack_.cross_section(h);
-    } else {
-      trial.region = layer_contour(view, 0, kind, options_.contour);
-    }
+    trial.strategy = strategy;
+    const bool section = strategy->cuts_at != nullptr;
+    if (!section) need_islands();
+    trial.region = strategy->contour({view, 0, options_.contour, &reference}).region;
     const BoundaryGrid walls(trial.region);
-    if (!have_islands && !std::isnan(h) && every_piece_crosses(faces, z_lo, z_hi, h)) {
-      trial.distance = distance_error(surface, walls, {}, distance).forward;
+    if (section && !have_islands &&
+        every_piece_crosses(faces, z_lo, z_hi, strategy->cuts_at(reference.layer))) {
+      trial.distance = distance_error(reference.surface, walls, {}, distance).forward;
     } else {
       const std::vector<BoundaryPair> missed = missed_features(need_islands(), trial.region);
-      trial.distance = distance_error(surface, walls, missed, distance).forward;
+      trial.distance = distance_error(reference.surface, walls, missed, distance).forward;
     }
     error.trials.push_back(std::move(trial));
     const std::size_t last = error.trials.size() - 1;
@@ -147,9 +136,9 @@ SlabError SlabMeter::operator()(double z_lo, double z_hi, std::span<const Contou
 }
 
 SlabError slab_error(const LayerStack& stack, double z_lo, double z_hi,
-                     std::span<const ContourKind> kinds, double enough,
+                     std::span<const ContourStrategy* const> strategies, double enough,
                      const SlabErrorOptions& options) {
-  return SlabMeter(stack, options)(z_lo, z_hi, kinds, enough);
+  return SlabMeter(stack, options)(z_lo, z_hi, strategies, enough);
 }
 
 }  // namespace geometry

@@ -33,7 +33,7 @@
 namespace geometry {
 
 struct SlabTrial {
-  ContourKind kind = ContourKind::mid;
+  const ContourStrategy* strategy = nullptr;
   double distance = 0;  // D, mm
   Region region;
 };
@@ -55,10 +55,10 @@ class SlabMeter {
   // Finds each face's neighbours across its edges once; the stack must outlive the meter.
   explicit SlabMeter(const LayerStack& stack, SlabErrorOptions options = {});
 
-  SlabError operator()(double z_lo, double z_hi, std::span<const ContourKind> kinds,
+  SlabError operator()(double z_lo, double z_hi, std::span<const ContourStrategy* const> strategies,
                        double enough = 0) const;
   // The same with another distance tolerance (a search may measure coarsely, then exactly).
-  SlabError operator()(double z_lo, double z_hi, std::span<const ContourKind> kinds,
+  SlabError operator()(double z_lo, double z_hi, std::span<const ContourStrategy* const> strategies,
                        double enough, double tolerance) const;
 
  private:
@@ -72,7 +72,7 @@ class SlabMeter {
 };
 
 SlabError slab_error(const LayerStack& stack, double z_lo, double z_hi,
-                     std::span<const ContourKind> kinds, double enough = 0,
+                     std::span<const ContourStrategy* const> strategies, double enough = 0,
                      const SlabErrorOptions& options = {});
 
 }  // namespace geometry

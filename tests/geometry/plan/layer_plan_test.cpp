@@ -21,22 +21,21 @@
 
 using geometry::AdaptiveOptions;
 using geometry::AdaptivePlan;
-using geometry::ContourKind;
 using geometry::Layer;
-using geometry::LayerThicknesses;
+using geometry::AllowedThicknesses;
 
 namespace {
 
 // The UP Plus 2: 0.15 to 0.4 mm in steps of 0.05, a first layer of 0.3.
-const LayerThicknesses kUpPlus2{.min = 0.15, .max = 0.4, .step = 0.05, .first = 0.3};
+const AllowedThicknesses kUpPlus2{.min = 0.15, .max = 0.4, .step = 0.05, .first = 0.3};
 
-bool allowed(double t, const LayerThicknesses& a) {
+bool allowed(double t, const AllowedThicknesses& a) {
   if (t < a.min - 1e-9 || t > a.max + 1e-9) return false;
   const double steps = (t - a.min) / a.step;
   return std::abs(steps - std::round(steps)) < 1e-6;
 }
 
-void check_thicknesses(const std::vector<Layer>& layers, const LayerThicknesses& a) {
+void check_thicknesses(const std::vector<Layer>& layers, const AllowedThicknesses& a) {
   REQUIRE(!layers.empty());
   CHECK(layers.front().z_lo == 0);
   CHECK(layers.front().z_hi == doctest::Approx(a.first).epsilon(1e-12));
@@ -77,7 +76,7 @@ double mid_distance(const std::function<double(double)>& rho, std::span<const do
 // thickest allowed whose D meets the tolerance (the thinnest where none does). A valid plan,
 // so the optimum has no more layers.
 std::size_t greedy_layers(const std::function<double(double, double)>& distance, double top,
-                          double tolerance, const LayerThicknesses& a) {
+                          double tolerance, const AllowedThicknesses& a) {
   std::size_t count = 1;
   for (double z = a.first; z < top - 1e-9; ++count) {
     double chosen = a.min;
@@ -93,8 +92,9 @@ std::size_t greedy_layers(const std::function<double(double, double)>& distance,
 }
 
 AdaptivePlan plan_for(const geometry::Mesh& mesh, double tolerance,
-                      const LayerThicknesses& allowed_thicknesses = kUpPlus2,
-                      std::vector<ContourKind> contours = {ContourKind::mid}) {
+                      const AllowedThicknesses& allowed_thicknesses = kUpPlus2,
+                      std::vector<const geometry::ContourStrategy*> contours = {
+                          &geometry::contour_strategy("mid")}) {
   const geometry::LayerStack stack(mesh, {});
   AdaptiveOptions options;
   options.tolerance = tolerance;
@@ -307,10 +307,12 @@ TEST_CASE("adaptive_plan_with_a_layer_budget_finds_the_least_tolerance") {
 
 TEST_CASE("adaptive_plan_distance_is_what_analyze_measures") {
   const solids::Solid ball = solids::sphere(8, 48, 24, {0, 0, 8});
-  const AdaptivePlan plan = plan_for(ball.mesh, 0.15, kUpPlus2, {ContourKind::mid, ContourKind::ma});
+  const AdaptivePlan plan = plan_for(ball.mesh, 0.15, kUpPlus2,
+                                   {&geometry::contour_strategy("mid"), &geometry::contour_strategy("ma")});
   const geometry::LayerStack stack(ball.mesh, plan.layers);
-  const ContourKind kinds[] = {ContourKind::mid, ContourKind::ma};
-  const auto analysis = geometry::analyze_layers(stack, kinds);
+  const geometry::ContourStrategy* strategies[] = {&geometry::contour_strategy("mid"),
+                                                   &geometry::contour_strategy("ma")};
+  const auto analysis = geometry::analyze_layers(stack, strategies);
   REQUIRE(analysis.size() == plan.layers.size());
   for (std::size_t i = 0; i < analysis.size(); ++i) {
     // The first contour within the tolerance (mid), else the lesser of the two.
@@ -318,5 +320,39 @@ TEST_CASE("adaptive_plan_distance_is_what_analyze_measures") {
     const double best = mid <= 0.15 ? mid : std::min(mid, analysis[i].strategies[1].metrics.distance);
     // The same measure, to its tolerance (1 um: the search may stop anywhere within it).
     CHECK(std::abs(plan.distance[i] - best) <= 1e-3);
+  }
+}
+
+TEST_CASE("plans_on_a_printer_of_any_thickness_in_a_range_land_flat_levels_exactly") {
+  // generic-marlin: 0.05 to 0.3 mm, any value, first layer 0.2 mm; steps at 4.013 and 7.5.
+  const AllowedThicknesses range{.min = 0.05, .max = 0.3, .step = 0, .first = 0.2};
+  const solids::Solid block = solids::stepped_box({20, 20}, 4.013, {10, 10}, 3.487);
+  const auto flats = geometry::flat_levels(block.mesh);
+  const auto uniform = geometry::uniform_plan(7.5, 0.2, range, flats);
+  const AdaptivePlan adaptive = plan_for(block.mesh, 0.05, range);
+  for (const auto* layers : {&uniform.layers, &adaptive.layers}) {
+    REQUIRE(!layers->empty());
+    CHECK(layers->front().z_hi == doctest::Approx(0.2));
+    for (std::size_t i = 1; i < layers->size(); ++i) {
+      CHECK((*layers)[i].thickness() >= 0.05 - 1e-9);
+      CHECK((*layers)[i].thickness() <= 0.3 + 1e-9);
+    }
+    CHECK(has_boundary(*layers, 4.013));
+    CHECK(layers->back().z_hi == 7.5);
+  }
+  CHECK(adaptive.unmet == 0);
+  // Vertical walls: the thickest layers but where the steps need a shorter one.
+  CHECK(adaptive.layers.size() <= 1 + 13 + 12 + 2);
+}
+
+TEST_CASE("plans_with_a_listed_set_of_thicknesses_use_only_those") {
+  const AllowedThicknesses listed{.listed = {0.1, 0.2, 0.3}, .first = 0.2};
+  const solids::Solid block = solids::stepped_box({20, 20}, 4, {10, 10}, 3.5);
+  const auto flats = geometry::flat_levels(block.mesh);
+  for (const auto& layers : {geometry::uniform_plan(7.5, 0.2, listed, flats).layers,
+                             plan_for(block.mesh, 0.05, listed).layers}) {
+    for (std::size_t i = 1; i < layers.size(); ++i) CHECK(listed.allows(layers[i].thickness()));
+    CHECK(has_boundary(layers, 4.0));
+    CHECK(layers.back().z_hi == 7.5);
   }
 }
