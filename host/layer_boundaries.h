@@ -20,9 +20,9 @@ struct BoundaryLayers {
 // The layers of a part `part_height` mm tall (its bottom at z = 0) from the --boundaries
 // argument. Layers that would start at or above the part's top are dropped (they would be
 // empty). A stack may end below the part's top (a peer rounds its last layer down where we
-// round up) by less than `max_uncovered` mm (slice and print: the printer's thinnest layer;
-// analyze: any, it judges what the boundaries cover), reported in `uncovered` and on stderr;
-// more is refused with ConfigError.
+// round up, or leaves out a tip too small to print) by less than `max_uncovered` mm (slice
+// and print: the printer's thickest layer; analyze: any, it judges what the boundaries
+// cover), reported in `uncovered` and on stderr; more is refused with ConfigError.
 BoundaryLayers boundary_layers(const std::string& argument, double part_height,
                                double max_uncovered);
 

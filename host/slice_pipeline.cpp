@@ -136,11 +136,13 @@ std::vector<geometry::Layer> plan_layers(const SliceOptions& options,
   std::vector<geometry::Layer> layers;
   double thickness = 0;  // for the build-height message: the layers after the first
   if (!options.boundaries.empty()) {
-    const double thinnest = machine.layer.allowed.empty()
-                                ? machine.layer.min
-                                : *std::min_element(machine.layer.allowed.begin(),
+    // A peer may end a layer or so below the top (rounding it down, or leaving out a tip too
+    // small to print): up to the printer's thickest layer is taken, with a note.
+    const double thickest = machine.layer.allowed.empty()
+                                ? machine.layer.max
+                                : *std::max_element(machine.layer.allowed.begin(),
                                                     machine.layer.allowed.end());
-    layers = boundary_layers(options.boundaries, part_height, thinnest).layers;
+    layers = boundary_layers(options.boundaries, part_height, thickest + 1e-6).layers;
     std::vector<double> tops;
     for (const geometry::Layer& layer : layers) tops.push_back(layer.z_hi);
     try {
