@@ -53,7 +53,10 @@ std::vector<double> mixed_tops() {
 
 std::string joined(const std::vector<double>& tops) {
   std::string text;
-  for (double z : tops) text += (text.empty() ? "" : ",") + fmt::format("{:g}", std::round(z * 1e6) / 1e6);
+  for (double z : tops) {
+    if (!text.empty()) text += ',';
+    text += fmt::format("{:g}", std::round(z * 1e6) / 1e6);
+  }
   return text;
 }
 

@@ -112,6 +112,7 @@ TEST_CASE("percentile_by_height_weighs_layers_by_thickness_outside_the_excluded_
     geometry::LayerAnalysis a;
     a.layer = {z_lo, z_hi};
     geometry::StrategyLayer s;
+    s.strategy = &geometry::contour_strategy("mid");
     s.metrics.distance = d;
     a.strategies.push_back(s);
     layers.push_back(a);
