@@ -44,6 +44,7 @@ source tests/bench/cura_definitions.sh
 timing_printer=(--printer up-plus-2 --set layer.step=0 --set layer.min=0.05 --set layer.max=0.45)
 
 rows=()
+notes=()
 # judge NAME MODEL_ARGS... -- GCODE CONTOUR: one row from a plan's G-code.
 judge() {
   local name=$1 model=$2 place=$3 excl=$4 gcode=$5 contour=$6
@@ -52,12 +53,16 @@ judge() {
   "$mahost" analyze "$model" $place --boundaries "$gcode" --contours "$contour" \
     ${excl:+--exclude-z $excl} --json "$json" >"$work/analyze.log" 2>&1 ||
     { echo "adaptive_layers: analyze failed for $name:" >&2; tail -3 "$work/analyze.log" >&2; return 1; }
+  # A plan ending more than a layer below the part's top (CuraEngine leaves out a tip too
+  # small to print) is not sliced: no time, and the reason under the table.
+  local seconds=-1
   # shellcheck disable=SC2086
-  "$mahost" slice "$model" $place --boundaries "$gcode" --contour "$contour" "${timing_printer[@]}" \
-    -o "$timed" >"$work/slice.log" 2>&1 ||
-    { echo "adaptive_layers: slice failed for $name:" >&2; tail -3 "$work/slice.log" >&2; return 1; }
-  local seconds
-  seconds=$(grep -m1 '^;PRINT_TIME_S:' "$timed" | cut -d: -f2)
+  if "$mahost" slice "$model" $place --boundaries "$gcode" --contour "$contour" "${timing_printer[@]}" \
+    -o "$timed" >"$work/slice.log" 2>&1; then
+    seconds=$(grep -m1 '^;PRINT_TIME_S:' "$timed" | cut -d: -f2)
+  else
+    notes+=("$name: not timed: $(tail -1 "$work/slice.log" | sed 's/^mahost: --boundaries [^:]*: //')")
+  fi
   rows+=("$(python3 - "$json" "$name" "$seconds" <<'PY'
 import json, sys
 j = json.load(open(sys.argv[1]))
@@ -65,8 +70,9 @@ s = j["strategies"][0]
 t = float(sys.argv[3])
 p95 = s["p95_distance_by_height"]
 print(f'{sys.argv[2]:<34} {j["layers"]:6d} {j["layer_thickness_min"]:5.3f}-{j["layer_thickness_max"]:5.3f} '
+      f'{j["layers_top"]:6.2f} '
       f'{s["mean_distance"]:7.4f} {s["max_distance"]:7.4f} {p95:7.4f} {s["total_volume_deviation"]:9.2f} '
-      f'{int(t // 3600)}:{int(t % 3600 // 60):02d}:{int(t % 60):02d}')
+      + (f'{int(t // 3600)}:{int(t % 3600 // 60):02d}:{int(t % 60):02d}' if t >= 0 else '       -'))
 PY
 )")
 }
@@ -145,6 +151,8 @@ done
 
 echo "layer plans judged by mahost analyze --boundaries (exact D and ΔV of the contour printed);"
 echo "P95h D: the D within which layers covering 95% of the height stay (bunny: z < 2.25 mm left out);"
+echo "top: where the plan's last layer ends (the part above it is not printed, nor judged);"
 echo "time: mahost's estimate of the plan sliced with that contour on the UP Plus 2 (step lifted for timing)"
-printf '%-34s %6s %11s %7s %7s %7s %9s %8s\n' run layers "t, mm" "mean D" "max D" "P95h D" "ΔV, mm³" time
+printf '%-34s %6s %11s %6s %7s %7s %7s %9s %8s\n' run layers "t, mm" top "mean D" "max D" "P95h D" "ΔV, mm³" time
 printf '%s\n' "${rows[@]}"
+((${#notes[@]})) && printf '%s\n' "${notes[@]}"
