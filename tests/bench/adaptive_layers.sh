@@ -105,7 +105,7 @@ for model_name in $models; do
   # LEAD: the adaptive plans go here, e.g. for T in 0.05 0.1 0.2 0.3:
   #   "$mahost" slice "$model" $place --adaptive --tolerance "$T" --contour best -o "$out"
   #   judge "mahost adaptive $T best" "$model" "$place" "$excl" "$out" best
-  # (analyze must then know --contours best.)
+  # (best is in the strategy table, so analyze --contours best judges it.)
 
   # CuraEngine 4.13, adaptive layers.
   for threshold in $cura_thresholds; do
