@@ -1,10 +1,11 @@
-// `mahost analyze MODEL.stl [placement] [--layer 0.15] [--contours lower,mid,optimal-height,ma]
-//  [--csv F] [--json F] [--plots DIR] [--thick 0.2,0.25] [--layer-index N]
-//  [--export-layers F.stl --contour K]`
+// `mahost analyze MODEL.stl [placement] [--layer 0.15 | --boundaries FILE|z1,z2,...]
+//  [--contours lower,mid,optimal-height,ma] [--exclude-z LO:HI] [--csv F] [--json F]
+//  [--plots DIR] [--thick 0.2,0.25] [--layer-index N] [--export-layers F.stl --contour K]`
 // `mahost advise MODEL.stl [placement] [--printer up-plus-2] [--contour ma]
-//  [--thicknesses 0.15,0.2,...] [--share 95] [--json F]`
+//  [--thicknesses 0.15,0.2,...] [--boundaries FILE|z1,z2,...] [--share 95] [--json F]`
 //
-// analyze (paper §4, Fig. 22-26): slices the model into uniform layers, makes each layer's
+// analyze (paper §4, Fig. 22-26): slices the model into uniform layers (or the layers of
+// --boundaries: any plan, a peer's read from its G-code, no printer asked), makes each layer's
 // region with every strategy asked for, measures each region exactly (geometry/metrics/layer_metrics.h)
 // and prints one summary row per strategy, then how every strategy compares with lower (the
 // paper's baseline) and with mid (what PrusaSlicer, Slic3r and CuraEngine print). Optional
@@ -15,12 +16,15 @@
 // advise (paper §4): takes lower's distance error at the printer's thinnest layer as the
 // benchmark and, for every layer thickness the printer allows, reports the share of the
 // contour's layers whose D stays within the benchmark at the same heights, the layer count,
-// and the largest thickness that keeps at least --share percent of layers within it.
+// and the largest thickness that keeps at least --share percent of layers within it. Advise
+// compares thicknesses, so a plan of mixed ones (--boundaries) is one more row beside them,
+// judged against the same benchmark, not a candidate for the advice.
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <numeric>
 #include <sstream>
@@ -42,6 +46,7 @@
 #include "geometry/slab/slab.h"
 #include "geometry/mesh/stl_io.h"
 #include "host/commands.h"
+#include "host/layer_boundaries.h"
 #include "host/model_input.h"
 #include "host/plots.h"
 #include "host/progress.h"
@@ -58,6 +63,8 @@ using geometry::StrategySummary;
 struct AnalyzeOptions {
   ModelOptions model;
   double layer = 0.15;
+  std::string boundaries;  // explicit layer tops instead of --layer
+  std::string exclude_z;   // "LO:HI", mm: left out of the by-height percentile
   std::string contours = geometry::contour_names(",");  // all of them
   std::string csv, json, plots, export_layers;
   std::string contour = "ma";  // for --export-layers
@@ -67,6 +74,7 @@ struct AnalyzeOptions {
 
 struct AdviseOptions {
   ModelOptions model;
+  std::string boundaries;  // a layer plan to judge beside the uniform thicknesses
   std::string printer = "up-plus-2";
   std::string contour = "ma";
   std::string thicknesses;
@@ -121,6 +129,36 @@ std::ofstream open_output(const std::string& path, const std::string& flag) {
 double part_height(const geometry::Mesh& mesh) {
   const geometry::Box3 box = geometry::bounding_box(mesh);
   return box.max.z - box.min.z;
+}
+
+// "0:2.25" -> [0, 2.25] mm.
+geometry::ZRange parse_z_range(const std::string& text) {
+  geometry::ZRange range;
+  const std::size_t colon = text.find(':');
+  bool fine = colon != std::string::npos;
+  if (fine) {
+    const std::string lo = text.substr(0, colon), hi = text.substr(colon + 1);
+    char* end = nullptr;
+    range.lo = std::strtod(lo.c_str(), &end);
+    fine = !lo.empty() && *end == '\0';
+    range.hi = std::strtod(hi.c_str(), &end);
+    fine = fine && !hi.empty() && *end == '\0' && std::isfinite(range.lo) &&
+           std::isfinite(range.hi) && range.hi > range.lo;
+  }
+  if (!fine) {
+    throw geometry::InputError(fmt::format(
+        "--exclude-z {}: give a height range LO:HI in mm with LO below HI, e.g. 0:2.25", text));
+  }
+  return range;
+}
+
+// The layers analyze judges: --boundaries (any thicknesses: a peer's plan need not suit our
+// printer; the part above its last layer, if any, is not judged), else uniform --layer from
+// the bed.
+std::vector<geometry::Layer> analysis_layers(const std::string& boundaries, double layer,
+                                             double height) {
+  if (boundaries.empty()) return geometry::uniform_layers(height, layer);
+  return boundary_layers(boundaries, height, std::numeric_limits<double>::infinity()).layers;
 }
 
 // Analyses every layer with the given strategies, with a progress line on stderr. Where only
@@ -313,35 +351,40 @@ void run_analyze(const AnalyzeOptions& options) {
     }
   }
 
+  const geometry::ZRange excluded =
+      options.exclude_z.empty() ? geometry::ZRange{} : parse_z_range(options.exclude_z);
   const geometry::Mesh mesh = load_model(options.model);
   const double height = part_height(mesh);
-  const geometry::LayerStack stack(mesh, geometry::uniform_layers(height, options.layer));
+  const geometry::LayerStack stack(mesh, analysis_layers(options.boundaries, options.layer, height));
   if (stack.size() == 0) {
     throw geometry::InputError(fmt::format("{}: the model has no height to slice",
                                            options.model.path));
   }
+  const std::string layers_text = describe_layers(stack.layers());
   if (options.layer_index >= static_cast<int>(stack.size())) {
-    throw geometry::InputError(fmt::format(
-        "--layer-index {}: the part has {} layers of {:g} mm (indices 0 to {})",
-        options.layer_index, stack.size(), options.layer, stack.size() - 1));
+    throw geometry::InputError(fmt::format("--layer-index {}: the part has {} (indices 0 to {})",
+                                           options.layer_index, layers_text, stack.size() - 1));
   }
 
   const std::vector<LayerAnalysis> layers = run_analysis(stack, kinds, exporting, "analyze");
-  const std::vector<StrategySummary> summaries = geometry::summarize(layers);
+  const std::vector<StrategySummary> summaries =
+      geometry::summarize(layers, geometry::DistanceOptions{}.tolerance, excluded);
 
   double total_limit = 0;
   for (const LayerAnalysis& layer : layers)
     if (!layer.strategies.empty()) total_limit += layer.strategies[0].metrics.volume_limit;
-  fmt::print("{}: {:.2f} mm tall, {} layers of {:g} mm; volume limit {:.3f} mm³ (the least ΔV "
-             "any extruded layers can have)\n",
-             options.model.path, height, stack.size(), options.layer, total_limit);
-  fmt::print("{:<15} {:>8} {:>8} {:>8} {:>10} {:>9} {:>9} {:>7} {:>7} {:>5} {:>10}\n",
-             "strategy", "mean D", "max D", "mean H", "total ΔV", "mean ΔV", "ΔV>limit", "missed",
-             ">lower", ">mid", "ms/layer");
+  fmt::print("{}: {:.2f} mm tall, {}; volume limit {:.3f} mm³ (the least ΔV any extruded "
+             "layers can have)\n",
+             options.model.path, height, layers_text, total_limit);
+  fmt::print("{:<15} {:>8} {:>8} {:>8} {:>8} {:>10} {:>9} {:>9} {:>7} {:>7} {:>5} {:>10}\n",
+             "strategy", "mean D", "max D", "P95h D", "mean H", "total ΔV", "mean ΔV", "ΔV>limit",
+             "missed", ">lower", ">mid", "ms/layer");
   const int lower = index_of(kinds, "lower"), mid = index_of(kinds, "mid");
   for (const StrategySummary& s : summaries) {
-    fmt::print("{:<15} {:8.4f} {:8.4f} {:8.4f} {:10.3f} {:9.5f} {:>9} {:7} {:>7} {:>5} {:10.2f}\n",
-               name_of(s.strategy), s.mean_distance, s.max_distance, s.mean_hausdorff,
+    fmt::print("{:<15} {:8.4f} {:8.4f} {:8.4f} {:8.4f} {:10.3f} {:9.5f} {:>9} {:7} {:>7} {:>5} "
+               "{:10.2f}\n",
+               name_of(s.strategy), s.mean_distance, s.max_distance, s.p95_distance_by_height,
+               s.mean_hausdorff,
                s.total_deviation, s.mean_deviation,
                std::isnan(s.above_limit_percent) ? std::string("n/a")
                                                  : fmt::format("{:.1f}%", s.above_limit_percent),
@@ -350,8 +393,11 @@ void run_analyze(const AnalyzeOptions& options) {
                mid >= 0 ? std::to_string(s.worse_than_mid) : "-",
                1e3 * s.contour_seconds / std::max<std::size_t>(s.layers, 1));
   }
-  fmt::print("(D: distance error surface to walls, H: Hausdorff, mm; ΔV mm³; >lower, >mid: layers "
-             "whose D exceeds that strategy's; ms/layer: CPU time to make the contour)\n");
+  fmt::print("(D: distance error surface to walls, H: Hausdorff, mm; P95h D: the D within which "
+             "layers covering 95% of the height stay{}; ΔV mm³; >lower, >mid: layers whose D "
+             "exceeds that strategy's; ms/layer: CPU time to make the contour)\n",
+             excluded.empty() ? std::string()
+                              : fmt::format(", z {:g} to {:g} mm left out", excluded.lo, excluded.hi));
   nlohmann::json comparisons = nlohmann::json::array();
   for (std::size_t k = 0; k < kinds.size(); ++k) {
     if (lower >= 0 && static_cast<int>(k) != lower)
@@ -482,14 +528,29 @@ void run_analyze(const AnalyzeOptions& options) {
     nlohmann::json j;
     j["model"] = options.model.path;
     j["height"] = height;
-    j["layer_thickness"] = options.layer;
+    j["layer_thickness"] = options.boundaries.empty() ? nlohmann::json(options.layer)
+                                                      : nlohmann::json(nullptr);
+    if (!options.boundaries.empty()) j["boundaries"] = options.boundaries;
     j["layers"] = stack.size();
+    double thinnest = layers.front().layer.thickness(), thickest = thinnest;
+    for (const LayerAnalysis& layer : layers) {
+      thinnest = std::min(thinnest, layer.layer.thickness());
+      thickest = std::max(thickest, layer.layer.thickness());
+    }
+    j["layer_thickness_min"] = thinnest;
+    j["layer_thickness_max"] = thickest;
+    j["layers_top"] = layers.empty() ? 0.0 : layers.back().layer.z_hi;
+    j["percentile_excluded_z"] = excluded.empty() ? nlohmann::json(nullptr)
+                                                  : nlohmann::json::array({excluded.lo, excluded.hi});
     j["volume_limit"] = total_limit;
     j["strategies"] = nlohmann::json::array();
     for (const StrategySummary& s : summaries) {
       j["strategies"].push_back({{"strategy", name_of(s.strategy)},
                                  {"mean_distance", s.mean_distance},
                                  {"max_distance", s.max_distance},
+                                 {"p95_distance_by_height", std::isnan(s.p95_distance_by_height)
+                                                                ? nlohmann::json(nullptr)
+                                                                : nlohmann::json(s.p95_distance_by_height)},
                                  {"mean_hausdorff", s.mean_hausdorff},
                                  {"max_hausdorff", s.max_hausdorff},
                                  {"total_volume_deviation", s.total_deviation},
@@ -584,6 +645,26 @@ void run_advise(const AdviseOptions& options) {
                     {"within_benchmark_percent", share},
                     {"fewer_layers_percent", saving}});
   }
+  // A layer plan (--boundaries) is judged as one more row, against the same benchmark.
+  nlohmann::json plan_row(nullptr);
+  if (!options.boundaries.empty()) {
+    const geometry::LayerStack stack(mesh, analysis_layers(options.boundaries, 0, height));
+    const auto layers = run_analysis(stack, kinds, false,
+                                     fmt::format("{} at the boundaries", name_of(kind)), true);
+    const auto summary = geometry::summarize(layers);
+    const double share = share_within(layers, 0, benchmark, 0, geometry::DistanceOptions{}.tolerance);
+    const double saving = 100.0 * (1.0 - static_cast<double>(stack.size()) / bench_stack.size());
+    fmt::print("{:>9} {:7} {:8.4f} {:8.4f} {:7.1f}% {:11.1f}%   ({})\n", "plan", stack.size(),
+               summary.empty() ? 0.0 : summary[0].mean_distance,
+               summary.empty() ? 0.0 : summary[0].max_distance, share, saving,
+               describe_layers(stack.layers()));
+    plan_row = {{"boundaries", options.boundaries},
+                {"layers", stack.size()},
+                {"mean_distance", summary.empty() ? 0.0 : summary[0].mean_distance},
+                {"max_distance", summary.empty() ? 0.0 : summary[0].max_distance},
+                {"within_benchmark_percent", share},
+                {"fewer_layers_percent", saving}};
+  }
   if (best > 0) {
     fmt::print("advice: {} at {:g} mm keeps at least {:g}% of layers within lower's distance error "
                "at {:g} mm\n",
@@ -599,6 +680,7 @@ void run_advise(const AdviseOptions& options) {
                      {"benchmark_thickness", thinnest},
                      {"share_required_percent", options.share},
                      {"thicknesses", rows},
+                     {"plan", plan_row},
                      {"advised_thickness", best > 0 ? nlohmann::json(best) : nlohmann::json(nullptr)}};
     std::ofstream out = open_output(options.json, "--json");
     out << j.dump(2) << "\n";
@@ -616,9 +698,19 @@ void add_analyze_command(CLI::App& app) {
       "(the paper's D, reverse, Hausdorff), the volume limit, missed features; CSV, JSON, "
       "SVG plots, a layer's contours, the layered part as STL.");
   add_model_options(*analyze, options->model);
-  analyze->add_option("--layer", options->layer, "layer thickness, mm")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
+  CLI::Option* layer = analyze->add_option("--layer", options->layer, "layer thickness, mm")
+                           ->check(CLI::PositiveNumber)
+                           ->capture_default_str();
+  analyze->add_option("--boundaries", options->boundaries,
+                      "judge these layers instead of --layer: layer tops as a comma list in mm "
+                      "(0.3,0.5,...), a file with one top per line (# comments), or a G-code file "
+                      "of CuraEngine, PrusaSlicer, Slic3r or mahost, whose layer heights are "
+                      "used; any thicknesses (no printer is checked)")
+      ->excludes(layer);
+  analyze->add_option("--exclude-z", options->exclude_z,
+                      "leave this height range out of the by-height 95th percentile of D "
+                      "(P95h D), LO:HI in mm, e.g. 0:2.25 for the bunny's hole-filled base "
+                      "(default: none)");
   analyze->add_option("--contours", options->contours,
                       fmt::format("strategies to compare, comma-separated: {}",
                                   contour_strategies_help()))
@@ -649,6 +741,11 @@ void add_analyze_command(CLI::App& app) {
       "Which layer thickness can the contour strategy print while its distance error stays "
       "within lower's at the printer's thinnest layer (paper §4)?");
   add_model_options(*advise, advise_options->model);
+  advise->add_option("--boundaries", advise_options->boundaries,
+                     "also judge this layer plan against the benchmark, as one more row "
+                     "(\"plan\"): layer tops as a comma list in mm, a file with one top per "
+                     "line, or a G-code file of CuraEngine, PrusaSlicer, Slic3r or mahost "
+                     "(default: none)");
   advise->add_option("--printer", advise_options->printer,
                      "printer profile whose layer thicknesses to try (a name or a .toml path)")
       ->capture_default_str();

@@ -14,6 +14,7 @@
 #include <CLI/CLI.hpp>
 
 #include "geometry/core/polygon.h"
+#include "geometry/slicing/layer_stack.h"
 #include "host/model_input.h"
 #include "printer/gcode_writer.h"
 #include "printer/profile.h"
@@ -29,6 +30,7 @@ struct SliceOptions {
   std::string printer = "up-plus-2";
   std::string material;    // "": the printer's
   double layer = 0;        // mm; 0: the printer's layer.default
+  std::string boundaries;  // --boundaries FILE|z1,z2,...: explicit layer tops instead
   std::string contour = "ma";
   int perimeters = -1;     // -1: the printer profile's print.perimeters
   double infill = -1;      // percent; -1: the profile's print.infill_density
@@ -37,7 +39,7 @@ struct SliceOptions {
 
 // Adds the slice options to a command: the model's placement (--units, --scale, --height,
 // --up, --ignore-normals; not the MODEL argument itself), --printer, --material, --layer,
-// --contour, --perimeters, --infill, --set. They are listed under `group` in the command's
+// --boundaries, --contour, --perimeters, --infill, --set. They are listed under `group` in the command's
 // help ("" leaves them among its other options).
 void add_slice_options(CLI::App& command, SliceOptions& options, const std::string& group = {});
 
@@ -59,6 +61,15 @@ const std::vector<std::string>& model_only_slice_options();
 // applied. Throws printer::ConfigError naming the profile, key or value that is wrong.
 printer::Profiles load_slice_profiles(const SliceOptions& options);
 
+// The layers the part is printed in, bottom up, from z = 0 to at least the part's top (the
+// layer plan of DESIGN.md §1; every stage after it takes each layer's own thickness): the
+// --boundaries given, else uniform layers of --layer (or the printer's default) after the
+// printer's first layer. Every thickness is checked against the printer (ConfigError naming
+// the layer and what is allowed), and the last layer must end within the build height.
+std::vector<geometry::Layer> plan_layers(const SliceOptions& options,
+                                         const printer::PrinterProfile& machine,
+                                         double part_height);
+
 // The pipeline's stages, in order; progress is reported per stage.
 enum class SliceStage { contours, toolpaths, writing };
 std::string_view stage_name(SliceStage stage);  // "contours", "toolpaths", "writing"
@@ -70,7 +81,8 @@ using SliceProgress = std::function<void(SliceStage stage, std::size_t done, std
 struct SliceResult {
   printer::Profiles profiles;      // as used, overrides applied
   geometry::Vec3 part_size;        // mm, after placement
-  double layer_thickness = 0;      // mm, the layers after the first
+  double layer_thickness = 0;      // mm, the layers after the first (uniform); 0 for --boundaries
+  std::vector<geometry::Layer> layers;  // as printed
   printer::GcodeSummary summary;   // layers, estimated seconds, filament, bytes
 };
 
