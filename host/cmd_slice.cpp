@@ -24,6 +24,7 @@ void run_slice(const SliceCommandOptions& options) {
   const SliceResult result =
       slice_to_gcode(options.slice, options.output, slice_progress_bars(options.slice.contour));
   fmt::print("{}: {}\n", options.output, slice_summary_text(result));
+  if (const std::string plan = slice_plan_text(result); !plan.empty()) fmt::print("{}\n", plan);
 }
 
 }  // namespace

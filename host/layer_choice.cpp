@@ -9,7 +9,8 @@
 
 namespace host {
 
-void add_adaptive_options(CLI::App& command, AdaptiveRequest& request, const std::string& group) {
+std::vector<CLI::Option*> add_adaptive_options(CLI::App& command, AdaptiveRequest& request,
+                                               const std::string& group) {
   std::vector<CLI::Option*> added;
   added.push_back(command.add_flag(
       "--adaptive", request.adaptive,
@@ -33,6 +34,7 @@ void add_adaptive_options(CLI::App& command, AdaptiveRequest& request, const std
   if (!group.empty()) {
     for (CLI::Option* option : added) option->group(group);
   }
+  return added;
 }
 
 geometry::AllowedThicknesses allowed_thicknesses(const printer::PrinterProfile& machine) {

@@ -30,9 +30,9 @@ struct AdaptiveRequest {
 inline constexpr double kDefaultTolerance = 0.3;
 
 // Adds --adaptive, --tolerance and --max-layers, listed under `group` ("" leaves them with the
-// command's other options).
-void add_adaptive_options(CLI::App& command, AdaptiveRequest& request,
-                          const std::string& group = {});
+// command's other options); returns them, for the caller's excludes.
+std::vector<CLI::Option*> add_adaptive_options(CLI::App& command, AdaptiveRequest& request,
+                                               const std::string& group = {});
 
 // The printer's thicknesses as the planner takes them (the first layer its own).
 geometry::AllowedThicknesses allowed_thicknesses(const printer::PrinterProfile& machine);
