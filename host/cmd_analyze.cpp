@@ -26,6 +26,7 @@
 #include <fstream>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <numeric>
 #include <sstream>
 #include <string>
@@ -45,6 +46,7 @@
 #include "geometry/mesh/mesh.h"
 #include "geometry/slab/slab.h"
 #include "geometry/mesh/stl_io.h"
+#include "geometry/plan/flat_levels.h"
 #include "host/commands.h"
 #include "host/layer_boundaries.h"
 #include "host/model_input.h"
@@ -67,9 +69,11 @@ struct AnalyzeOptions {
   std::string exclude_z;   // "LO:HI", mm: left out of the by-height percentile
   std::string contours = geometry::contour_names(",");  // all of them
   std::string csv, json, plots, export_layers;
-  std::string contour = "ma";  // for --export-layers
+  std::string contour = "ma";  // for --export-layers, and the contour --adaptive plans for
   std::string thick = "0.2,0.25";
   int layer_index = -1;
+  AdaptiveRequest adaptive;        // --adaptive: the layers of a plan, not uniform
+  std::string printer = "up-plus-2";  // whose thicknesses an adaptive plan uses
 };
 
 struct AdviseOptions {
@@ -80,6 +84,7 @@ struct AdviseOptions {
   std::string thicknesses;
   double share = 95;
   std::string json;
+  AdaptiveRequest adaptive;  // --adaptive: the plan as one more row
 };
 
 using Strategies = std::vector<const ContourStrategy*>;
@@ -159,6 +164,23 @@ std::vector<geometry::Layer> analysis_layers(const std::string& boundaries, doub
                                              double height) {
   if (boundaries.empty()) return geometry::uniform_layers(height, layer);
   return boundary_layers(boundaries, height, std::numeric_limits<double>::infinity()).layers;
+}
+
+// The adaptive plan analyze and advise judge: for `printed`, on the printer's thicknesses
+// (its first layer too), with a progress line while it measures candidate layers.
+LayerChoice adaptive_choice(const AdaptiveRequest& request, const std::string& printer_name,
+                            const geometry::Mesh& mesh, double height,
+                            const ContourStrategy& printed) {
+  const printer::PrinterProfile profile =
+      printer::load_printer_profile(printer_name, printer::config_directory(MAHOST_CONFIG_DIR));
+  const geometry::LayerStack index(mesh, {});
+  Progress bar("planning layers", 0);
+  LayerChoice choice = choose_layers(request, profile, index, height, 0, printed,
+                                     [&](std::size_t measured) {
+                                       bar.update(measured, fmt::format("{} candidate layers measured", measured));
+                                     });
+  bar.finish();
+  return choice;
 }
 
 // Analyses every layer with the given strategies, with a progress line on stderr. Where only
@@ -326,6 +348,67 @@ void draw_layer(const geometry::LayerStack& stack, std::size_t index,
   fmt::print("wrote {}\n", path);
 }
 
+// An adaptive plan beside uniform layers of the printer's thinnest thickness and of about as
+// many layers: each layer's thickness against height (adaptive-thickness.svg) and the printed
+// contour's D against height with the tolerance (adaptive-distance.svg).
+template <typename PathOf>
+void write_plan_charts(const LayerChoice& plan, const std::vector<LayerAnalysis>& layers,
+                       const Strategies& kinds, const ContourStrategy& printed,
+                       const std::string& printer_name, const geometry::Mesh& mesh, double height,
+                       const PathOf& path_of) {
+  const printer::PrinterProfile profile =
+      printer::load_printer_profile(printer_name, printer::config_directory(MAHOST_CONFIG_DIR));
+  const geometry::AllowedThicknesses allowed = allowed_thicknesses(profile);
+  const std::size_t count = plan.layers.size();
+  double same = allowed.thinnest();
+  if (count > 1) {
+    // The allowed thickness nearest to the plan's mean after the first layer.
+    const double mean = (plan.layers.back().z_hi - plan.layers.front().z_hi) / static_cast<double>(count - 1);
+    for (double t = allowed.thinnest(); t <= allowed.thickest() + 1e-9;
+         t += allowed.step > 0 ? allowed.step : 0.01) {
+      if (allowed.allows(t) && std::abs(t - mean) < std::abs(same - mean)) same = t;
+    }
+  }
+  const auto flats = geometry::flat_levels(mesh);
+  const Strategies printed_only{&printed};
+  Chart thickness{"Layer thickness: adaptive against uniform", "height, mm", "thickness, mm", {}};
+  Chart distance{fmt::format("Distance error of {}: adaptive (D within {:.3g} mm) against uniform",
+                             printed.name, plan.plan.tolerance),
+                 "height, mm", "distance error D, mm", {}};
+  const auto add = [&](const std::vector<LayerAnalysis>& judged, std::size_t k,
+                       const std::string& title, const std::string& style,
+                       const std::string& colour) {
+    Series t{title, {}, {}, style == "points" ? "steps lw 2" : "lines lw 1", colour};
+    for (const LayerAnalysis& layer : judged) {
+      t.x.push_back(layer.layer.z_lo);
+      t.y.push_back(layer.layer.thickness());
+    }
+    thickness.series.push_back(t);
+    Series d = per_layer_series(judged, k, true, title);
+    d.colour = colour;
+    if (style != "points") d.style = "points pt 6 ps 0.4";
+    distance.series.push_back(d);
+  };
+  add(layers, static_cast<std::size_t>(index_of(kinds, printed.name)),
+      fmt::format("adaptive, {} layers", count), "points", "#d62728");
+  const char* colours[] = {"#1f77b4", "#2ca02c"};
+  int c = 0;
+  for (double t : {allowed.thinnest(), same}) {
+    if (c == 1 && std::abs(t - allowed.thinnest()) < 1e-9) break;
+    const geometry::LayerStack uniform(mesh, geometry::uniform_plan(height, t, allowed, flats).layers);
+    const auto judged = run_analysis(uniform, printed_only, false,
+                                     fmt::format("{} at {:g} mm", printed.name, t), true);
+    add(judged, 0, fmt::format("uniform {:g} mm, {} layers", t, uniform.size()), "lines", colours[c++]);
+  }
+  Series limit{fmt::format("tolerance {:.3g} mm", plan.plan.tolerance), {0, height},
+               {plan.plan.tolerance, plan.plan.tolerance}, "lines lw 1 dt 2", "#000000"};
+  distance.series.push_back(limit);
+  fit_y_axis(distance);
+  write_chart_svg(path_of("adaptive-thickness.svg"), thickness);
+  write_chart_svg(path_of("adaptive-distance.svg"), distance);
+  fmt::print("wrote {}, {}\n", path_of("adaptive-thickness.svg"), path_of("adaptive-distance.svg"));
+}
+
 void run_analyze(const AnalyzeOptions& options) {
   Strategies kinds;
   for (const std::string& name : split_list(options.contours)) {
@@ -338,7 +421,11 @@ void run_analyze(const AnalyzeOptions& options) {
   }
   const bool exporting = !options.export_layers.empty();
   const ContourStrategy& export_kind = contour_strategy_option(options.contour, "--contour");
-  if (exporting && index_of(kinds, export_kind.name) < 0) kinds.push_back(&export_kind);
+  const bool adaptive_plan = options.adaptive.adaptive || options.adaptive.tolerance > 0 ||
+                             options.adaptive.max_layers > 0;
+  if ((exporting || adaptive_plan) && index_of(kinds, export_kind.name) < 0) {
+    kinds.push_back(&export_kind);
+  }
   const std::vector<double> thick = options.plots.empty() ? std::vector<double>{}
                                                           : thickness_list(options.thick, "--thick");
   if (!options.plots.empty()) {
@@ -355,7 +442,12 @@ void run_analyze(const AnalyzeOptions& options) {
       options.exclude_z.empty() ? geometry::ZRange{} : parse_z_range(options.exclude_z);
   const geometry::Mesh mesh = load_model(options.model);
   const double height = part_height(mesh);
-  const geometry::LayerStack stack(mesh, analysis_layers(options.boundaries, options.layer, height));
+  std::optional<LayerChoice> plan;
+  if (adaptive_plan) {
+    plan = adaptive_choice(options.adaptive, options.printer, mesh, height, export_kind);
+  }
+  const geometry::LayerStack stack(
+      mesh, plan ? plan->layers : analysis_layers(options.boundaries, options.layer, height));
   if (stack.size() == 0) {
     throw geometry::InputError(fmt::format("{}: the model has no height to slice",
                                            options.model.path));
@@ -376,6 +468,7 @@ void run_analyze(const AnalyzeOptions& options) {
   fmt::print("{}: {:.2f} mm tall, {}; volume limit {:.3f} mm³ (the least ΔV any extruded "
              "layers can have)\n",
              options.model.path, height, layers_text, total_limit);
+  if (plan) fmt::print("{}\n", describe_choice(*plan));
   fmt::print("{:<15} {:>8} {:>8} {:>8} {:>8} {:>10} {:>9} {:>9} {:>7} {:>7} {:>5} {:>10}\n",
              "strategy", "mean D", "max D", "P95h D", "mean H", "total ΔV", "mean ΔV", "ΔV>limit",
              "missed", ">lower", ">mid", "ms/layer");
@@ -469,9 +562,11 @@ void run_analyze(const AnalyzeOptions& options) {
     const auto path_of = [&](const std::string& name) {
       return (std::filesystem::path(options.plots) / name).string();
     };
-    Chart all{fmt::format("Distance error per layer at {:g} mm", options.layer), "height, mm",
+    const std::string at =
+        plan ? std::string("of the adaptive plan") : fmt::format("at {:g} mm", options.layer);
+    Chart all{fmt::format("Distance error per layer {}", at), "height, mm",
               "distance error D, mm", {}};
-    Chart volume{fmt::format("Volume deviation per layer at {:g} mm", options.layer), "height, mm",
+    Chart volume{fmt::format("Volume deviation per layer {}", at), "height, mm",
                  "volume deviation, mm³", {}};
     for (std::size_t k = 0; k < kinds.size(); ++k) {
       all.series.push_back(per_layer_series(layers, k, true, name_of(kinds[k])));
@@ -488,6 +583,7 @@ void run_analyze(const AnalyzeOptions& options) {
     write_chart_svg(path_of("distance.svg"), all);
     write_chart_svg(path_of("volume.svg"), volume);
     fmt::print("wrote {}, {}\n", path_of("distance.svg"), path_of("volume.svg"));
+    if (plan) write_plan_charts(*plan, layers, kinds, export_kind, options.printer, mesh, height, path_of);
     // Fig. 22: two strategies per chart, each against the medial-axis contour.
     const int ma = index_of(kinds, "ma");
     for (int base : {lower, mid}) {
@@ -647,18 +743,26 @@ void run_advise(const AdviseOptions& options) {
   }
   // A layer plan (--boundaries) is judged as one more row, against the same benchmark.
   nlohmann::json plan_row(nullptr);
-  if (!options.boundaries.empty()) {
-    const geometry::LayerStack stack(mesh, analysis_layers(options.boundaries, 0, height));
+  const bool adaptive = options.adaptive.adaptive || options.adaptive.tolerance > 0 ||
+                        options.adaptive.max_layers > 0;
+  if (!options.boundaries.empty() || adaptive) {
+    std::optional<LayerChoice> plan;
+    if (adaptive) plan = adaptive_choice(options.adaptive, options.printer, mesh, height, *kind);
+    const geometry::LayerStack stack(
+        mesh, plan ? plan->layers : analysis_layers(options.boundaries, 0, height));
     const auto layers = run_analysis(stack, kinds, false,
                                      fmt::format("{} at the boundaries", name_of(kind)), true);
     const auto summary = geometry::summarize(layers);
     const double share = share_within(layers, 0, benchmark, 0, geometry::DistanceOptions{}.tolerance);
     const double saving = 100.0 * (1.0 - static_cast<double>(stack.size()) / bench_stack.size());
-    fmt::print("{:>9} {:7} {:8.4f} {:8.4f} {:7.1f}% {:11.1f}%   ({})\n", "plan", stack.size(),
+    fmt::print("{:>9} {:7} {:8.4f} {:8.4f} {:7.1f}% {:11.1f}%   ({})\n",
+               plan ? "adaptive" : "plan", stack.size(),
                summary.empty() ? 0.0 : summary[0].mean_distance,
                summary.empty() ? 0.0 : summary[0].max_distance, share, saving,
                describe_layers(stack.layers()));
-    plan_row = {{"boundaries", options.boundaries},
+    if (plan) fmt::print("          {}\n", describe_choice(*plan));
+    plan_row = {{"boundaries", plan ? std::string("adaptive") : options.boundaries},
+                {"tolerance", plan ? nlohmann::json(plan->plan.tolerance) : nlohmann::json(nullptr)},
                 {"layers", stack.size()},
                 {"mean_distance", summary.empty() ? 0.0 : summary[0].mean_distance},
                 {"max_distance", summary.empty() ? 0.0 : summary[0].max_distance},
@@ -729,8 +833,15 @@ void add_analyze_command(CLI::App& app) {
       ->check(CLI::NonNegativeNumber);
   analyze->add_option("--export-layers", options->export_layers,
                       "write the layered part (each layer's region extruded) as an STL file");
+  for (CLI::Option* option : add_adaptive_options(*analyze, options->adaptive)) {
+    option->excludes("--layer")->excludes("--boundaries");
+  }
+  analyze->add_option("--printer", options->printer,
+                      "with --adaptive: the printer whose layer thicknesses the plan uses "
+                      "(default: up-plus-2)");
   analyze->add_option("--contour", options->contour,
-                      fmt::format("with --export-layers: which strategy's layers ({})",
+                      fmt::format("with --export-layers: which strategy's layers; with "
+                                  "--adaptive: the contour the plan is made for ({})",
                                   geometry::contour_names()))
       ->capture_default_str();
   analyze->callback([options] { run_analyze(*options); });
@@ -746,6 +857,9 @@ void add_analyze_command(CLI::App& app) {
                      "(\"plan\"): layer tops as a comma list in mm, a file with one top per "
                      "line, or a G-code file of CuraEngine, PrusaSlicer, Slic3r or mahost "
                      "(default: none)");
+  for (CLI::Option* option : add_adaptive_options(*advise, advise_options->adaptive)) {
+    option->excludes("--boundaries");
+  }
   advise->add_option("--printer", advise_options->printer,
                      "printer profile whose layer thicknesses to try (a name or a .toml path)")
       ->capture_default_str();
