@@ -190,55 +190,63 @@ GridRegion snap_region(const Region& region, double scale) {
 bool touches_itself(const GridRegion& region, std::int64_t reach) {
   struct Piece { GridPoint a, b; std::size_t loop, index; };
   std::vector<Piece> pieces;
-  std::int64_t longest = 1;
+  double total = 0;
   for (std::size_t l = 0; l < region.size(); ++l) {
     const GridLoop& loop = region[l];
     for (std::size_t i = 0; i < loop.size(); ++i) {
       const GridPoint a = loop[i], b = loop[(i + 1) % loop.size()];
       pieces.push_back({a, b, l, i});
-      longest = std::max({longest, std::abs(b[0] - a[0]), std::abs(b[1] - a[1])});
+      total += std::hypot(double(b[0] - a[0]), double(b[1] - a[1]));
     }
   }
-  // Cells as large as the longest piece: a piece meets at most the 3 x 3 cells around its
-  // start's cell.
-  const std::int64_t cell = longest + 2 * reach;
+  if (pieces.empty()) return false;
+  // Cells of twice the mean piece; each piece is listed in the cells around samples every half
+  // cell along it, so a vertex within `reach` of it finds it in the vertex's own cell.
+  const std::int64_t cell = std::max<std::int64_t>(
+      64 + 2 * reach, static_cast<std::int64_t>(2 * total / double(pieces.size())));
   const auto floor_div = [](std::int64_t v, std::int64_t d) { return v >= 0 ? v / d : -((-v + d - 1) / d); };
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> by_cell;
+  std::vector<std::uint64_t> cells;
   for (std::uint32_t k = 0; k < pieces.size(); ++k) {
-    by_cell[key_of({floor_div(pieces[k].a[0], cell), floor_div(pieces[k].a[1], cell)})].push_back(k);
+    const Piece& p = pieces[k];
+    const double dx = double(p.b[0] - p.a[0]), dy = double(p.b[1] - p.a[1]);
+    const auto steps = static_cast<std::int64_t>(std::ceil(2 * std::hypot(dx, dy) / double(cell))) + 1;
+    cells.clear();
+    for (std::int64_t s = 0; s <= steps; ++s) {
+      const double t = double(s) / double(steps);
+      const std::int64_t cx = floor_div(std::llround(double(p.a[0]) + t * dx), cell);
+      const std::int64_t cy = floor_div(std::llround(double(p.a[1]) + t * dy), cell);
+      for (std::int64_t i = -1; i <= 1; ++i)
+        for (std::int64_t j = -1; j <= 1; ++j) cells.push_back(key_of({cx + i, cy + j}));
+    }
+    std::sort(cells.begin(), cells.end());
+    cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+    for (std::uint64_t c : cells) by_cell[c].push_back(k);
   }
   for (std::size_t l = 0; l < region.size(); ++l) {
     const GridLoop& loop = region[l];
     for (std::size_t vi = 0; vi < loop.size(); ++vi) {
       const GridPoint v = loop[vi];
       const std::size_t before = (vi + loop.size() - 1) % loop.size();
-      const std::int64_t cx = floor_div(v[0], cell), cy = floor_div(v[1], cell);
-      for (std::int64_t i = -1; i <= 1; ++i) {
-        for (std::int64_t j = -1; j <= 1; ++j) {
-          const auto it = by_cell.find(key_of({cx + i, cy + j}));
-          if (it == by_cell.end()) continue;
-          for (std::uint32_t k : it->second) {
-            const Piece& p = pieces[k];
-            // Not the two pieces the vertex joins; any other that comes this near touches.
-            if (p.loop == l && (p.index == vi || p.index == before)) continue;
-            // Squared distance from v to the piece, exactly (in wide integers).
-            const Wide dx = p.b[0] - p.a[0], dy = p.b[1] - p.a[1];
-            const Wide wx = v[0] - p.a[0], wy = v[1] - p.a[1];
-            const Wide along = dx * wx + dy * wy, length2 = dx * dx + dy * dy;
-            Wide d2;
-            if (along <= 0) {
-              d2 = wx * wx + wy * wy;
-            } else if (along >= length2) {
-              const Wide ex = v[0] - p.b[0], ey = v[1] - p.b[1];
-              d2 = ex * ex + ey * ey;
-            } else {
-              const Wide c = dx * wy - dy * wx;
-              // c^2 / length2 <= reach^2
-              if (c * c <= Wide(reach) * reach * length2) return true;
-              continue;
-            }
-            if (d2 <= Wide(reach) * reach) return true;
-          }
+      const auto it = by_cell.find(key_of({floor_div(v[0], cell), floor_div(v[1], cell)}));
+      if (it == by_cell.end()) continue;
+      for (std::uint32_t k : it->second) {
+        const Piece& p = pieces[k];
+        // Not the two pieces the vertex joins; any other that comes this near touches.
+        if (p.loop == l && (p.index == vi || p.index == before)) continue;
+        // Squared distance from v to the piece, exactly (in wide integers).
+        const Wide dx = p.b[0] - p.a[0], dy = p.b[1] - p.a[1];
+        const Wide wx = v[0] - p.a[0], wy = v[1] - p.a[1];
+        const Wide along = dx * wx + dy * wy, length2 = dx * dx + dy * dy;
+        const Wide limit = Wide(reach) * reach;
+        if (along <= 0) {
+          if (wx * wx + wy * wy <= limit) return true;
+        } else if (along >= length2) {
+          const Wide ex = v[0] - p.b[0], ey = v[1] - p.b[1];
+          if (ex * ex + ey * ey <= limit) return true;
+        } else {
+          const Wide c = dx * wy - dy * wx;  // distance c / |piece|
+          if (c * c <= limit * length2) return true;
         }
       }
     }
