@@ -21,14 +21,17 @@ std::vector<CLI::Option*> add_adaptive_options(CLI::App& command, AdaptiveReques
                   kDefaultTolerance)));
   added.push_back(command
                       .add_option("--tolerance", request.tolerance,
-                                  "with --adaptive: the largest D a layer may have, mm (implies "
-                                  "--adaptive); layers where even the thinnest thickness "
-                                  "exceeds it are printed thinnest and counted")
+                                  fmt::format("with --adaptive: the largest D a layer may "
+                                              "have, mm (implies --adaptive); layers where "
+                                              "even the thinnest thickness exceeds it are "
+                                              "printed thinnest and counted (default: {:g} "
+                                              "with --adaptive, none without)",
+                                              kDefaultTolerance))
                       ->check(CLI::PositiveNumber));
   added.push_back(command
                       .add_option("--max-layers", request.max_layers,
                                   "with --adaptive: at most this many layers, with the least "
-                                  "tolerance that allows it (implies --adaptive)")
+                                  "tolerance that allows it (implies --adaptive; default: none)")
                       ->check(CLI::Range(std::size_t{1}, std::size_t{100000})));
   added[1]->excludes(added[2]);
   if (!group.empty()) {
