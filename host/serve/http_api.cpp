@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <ctime>
@@ -886,8 +887,14 @@ void HttpApi::get_profiles(const Request&, Response& res) {
   for (const std::string& id : printer::available_profiles(config_dir, "printers")) {
     try {
       const printer::PrinterProfile p = printer::load_printer_profile(id, config_dir);
+      // The thicknesses the page offers: the profile's list, or its range in its steps.
       json allowed = json::array();
       for (double t : p.layer.allowed) allowed.push_back(t);
+      if (p.layer.allowed.empty() && p.layer.step > 0) {
+        for (int i = 0; p.layer.min + i * p.layer.step <= p.layer.max + 1e-9 && i < 200; ++i) {
+          allowed.push_back(std::round((p.layer.min + i * p.layer.step) * 1e6) / 1e6);
+        }
+      }
       printers.push_back({{"id", id}, {"name", p.name}, {"layers", allowed},
                           {"minLayer", p.layer.min}, {"maxLayer", p.layer.max},
                           {"defaultLayer", p.layer.default_thickness},

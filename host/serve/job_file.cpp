@@ -74,7 +74,8 @@ JobFile load_job_file(std::string_view bytes, const std::string& name) {
     const printer::GcodeCommand command = printer::parse_gcode_line(file.gcode.command(i));
     const printer::PrintState before = state;
     printer::apply(state, command);
-    if (is_move(command) && state.filament_fed > before.filament_fed &&
+    // The part's extent: extrusions inside layers (a prime line before the first is not part).
+    if (next_layer > 0 && is_move(command) && state.filament_fed > before.filament_fed &&
         (state.x != before.x || state.y != before.y)) {
       if (!any) {
         file.min_x = file.max_x = before.x;

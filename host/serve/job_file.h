@@ -25,8 +25,8 @@ struct JobFile {
   std::vector<std::uint64_t> command_end;
   // The state before each layer's first command (index as gcode.layers).
   std::vector<printer::PrintState> layer_start;
-  // Where the file extrudes, over all layers: {min x, min y, max x, max y}; all 0 for a file
-  // that extrudes nothing.
+  // Where the file extrudes inside its layers (a prime line before the first layer mark is
+  // left out): {min x, min y, max x, max y}; all 0 for a file that extrudes nothing there.
   double min_x = 0, min_y = 0, max_x = 0, max_y = 0;
 
   // Bytes of the file taken by the first `commands` commands (0 for none).

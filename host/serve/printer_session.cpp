@@ -1,5 +1,7 @@
 #include "host/serve/printer_session.h"
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -360,6 +362,15 @@ Outcome PrinterSession::resume_interrupted() {
   }
   pending_start_ = JobStart{fs::path(record.gcode_path).filename().string(), record,
                             status_.interrupted->journal};
+  // The job names its file, in the folder or (a `mahost print` job's) beside its journal.
+  StoredFile file;
+  file.name = pending_start_->name;
+  struct stat info {};
+  if (::stat(record.gcode_path.c_str(), &info) == 0) {
+    file.size = static_cast<std::uint64_t>(info.st_size);
+    file.date = info.st_mtim.tv_sec;
+  }
+  status_.selected = file;
   status_.interrupted.reset();
   status_.job_active = true;
   status_.cancel_requested = false;
@@ -382,6 +393,7 @@ Outcome PrinterSession::discard_interrupted() {
 Outcome PrinterSession::slice(SliceRequest request) {
   {
     std::lock_guard lock(mutex_);
+    if (shutting_down_) return {503, "the server is shutting down"};
     if (slicing_) return {409, "a model is being sliced: wait until it is done"};
     if (status_.job_active && job_file_name_ == request.gcode) {
       return {409, fmt::format("{} is being printed: slice to another name", request.gcode)};
@@ -542,16 +554,7 @@ void PrinterSession::connect_printer() {
     link_ = open_link(options_.link, options_.profiles.printer, options_.baud);
   }
   protocol_ = std::make_unique<printer::LineProtocol>(*link_.link, protocol_options(options_.link));
-  protocol_->on_wait = [this] {
-    bool stop = false;
-    {
-      std::lock_guard lock(mutex_);
-      stop = stop_now_;
-      stop_now_ = false;
-    }
-    if (stop) protocol_->emergency("M112");
-    sample_temperatures(protocol_->temperatures());
-  };
+  install_idle_hook();
   host::connect(*protocol_, link_);
   autoreport_ = protocol_->firmware().autoreport_temperature;
   if (autoreport_) {
@@ -574,6 +577,21 @@ void PrinterSession::connect_printer() {
   }
   add_event(fmt::format("connected to {}{}", link_.link->name(),
                         protocol_->firmware().name.empty() ? "" : " (" + protocol_->firmware().name + ")"));
+}
+
+void PrinterSession::install_idle_hook() {
+  // While a command of the user's runs (a G28, an M109 of minutes): an emergency stop goes out
+  // at once, and the temperatures stay fresh. A job sets its own hook and clears it.
+  protocol_->on_wait = [this] {
+    bool stop = false;
+    {
+      std::lock_guard lock(mutex_);
+      stop = stop_now_;
+      stop_now_ = false;
+    }
+    if (stop) protocol_->emergency("M112");
+    sample_temperatures(protocol_->temperatures());
+  };
 }
 
 void PrinterSession::find_interrupted() {
@@ -601,14 +619,14 @@ void PrinterSession::find_interrupted() {
     job.layers = static_cast<int>(record.layers);
     if (!best || job.updated > best->updated) best = job;
   }
-  std::lock_guard lock(mutex_);
-  status_.interrupted = best;
-  publish();
+  {
+    std::lock_guard lock(mutex_);
+    status_.interrupted = best;
+    publish();
+  }
   if (best) {
-    events_.push_back(Event{next_event_++, unix_now(),
-                            fmt::format("found an interrupted job: {} at layer {}/{} ({}): resume or discard it",
-                                        fs::path(best->file).filename().string(), best->layer,
-                                        best->layers, best->state)});
+    add_event(fmt::format("found an interrupted job: {} at layer {}/{} ({}): finish or discard it",
+                          fs::path(best->file).filename().string(), best->layer, best->layers, best->state));
   }
 }
 
@@ -808,6 +826,7 @@ void PrinterSession::run_job(const JobStart& start) {
   printer::JobResult result;
   try {
     result = job.run();
+    install_idle_hook();
   } catch (const printer::LinkError& e) {
     end_job(printer::JobState::failed, e.what());
     throw;

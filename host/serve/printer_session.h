@@ -174,6 +174,7 @@ class PrinterSession {
   void run_commands(const std::vector<std::string>& commands);
   void stop_pending_start();
   void find_interrupted();
+  void install_idle_hook();
   void slice_worker(SliceRequest request);
   void publish(bool force = false);
   void publish_job(printer::Job& job);

@@ -234,7 +234,10 @@ function addTemperature(t, tool, bed) {
 
 function drawChart() {
   const points = state.temps;
-  const width = 600, height = 170, top = 8, bottom = 18;
+  const chart = $("chart");
+  // Drawn in the chart's own pixels, so its lines and labels keep their shape at any width.
+  const width = Math.max(200, Math.round(chart.clientWidth || 600)), height = 170, top = 16, bottom = 6;
+  chart.setAttribute("viewBox", `0 0 ${width} ${height}`);
   let max = 60;
   for (const p of points) max = Math.max(max, p.hotend || 0, p.hotendTarget || 0, p.bed || 0, p.bedTarget || 0);
   max = Math.ceil((max + 10) / 50) * 50;
@@ -257,7 +260,7 @@ function drawChart() {
     l.setAttribute("y1", y(v)); l.setAttribute("y2", y(v));
     const label = document.createElementNS(ns, "text");
     label.setAttribute("class", "gridlabel");
-    label.setAttribute("x", 4); label.setAttribute("y", y(v) - 3);
+    label.setAttribute("x", 4); label.setAttribute("y", y(v) - 4);
     label.textContent = `${v}°`;
     grid.append(l, label);
   }

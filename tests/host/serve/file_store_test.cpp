@@ -89,9 +89,11 @@ TEST_CASE("filepos_is_the_byte_after_each_command_line_as_parse_gcode_counts_com
 TEST_CASE("a_layer_is_drawn_from_its_own_start_state_split_where_the_print_is") {
   // Layer 1 starts at X10 Y0 with E 2 (absolute): its moves are known without layer 0.
   const std::string text =
-      "G90\nM82\nG92 E0\n;LAYER:0\nG1 X0 Y0\nG1 X10 Y0 E1\nG1 E2\n;LAYER:1\nG1 X10 Y10 E3\nG0 X0 Y10\nG1 X0 Y0 E4\n";
+      "G90\nM82\nG92 E0\nG1 X-50 Y-50 E0.5\nG92 E0\n;LAYER:0\nG1 X0 Y0\nG1 X10 Y0 E1\nG1 E2\n;LAYER:1\nG1 X10 Y10 E3\n"
+      "G0 X0 Y10\nG1 X0 Y0 E4\n";
   const JobFile file = load_job_file(text, "l.gcode");
-  CHECK(file.min_x == 0);
+  CHECK(file.min_x == 0);  // the prime line to -50 before the first layer is not the part
+  CHECK(file.min_y == 0);
   CHECK(file.max_x == 10);
   CHECK(file.max_y == 10);
   const auto moves = layer_moves(file, 1);
@@ -103,9 +105,9 @@ TEST_CASE("a_layer_is_drawn_from_its_own_start_state_split_where_the_print_is") 
   CHECK(moves[2].extrudes);
   CHECK(svg_path(moves, true, 0, SIZE_MAX) == "M10.00 0.00L10.00 10.00M0.00 10.00L0.00 0.00");
   CHECK(svg_path(moves, false, 0, SIZE_MAX) == "M10.00 10.00L0.00 10.00");
-  // Done through layer 1's first extrusion (command 6, so 7 done): the rest still to print.
-  CHECK(svg_path(moves, true, 0, 7) == "M10.00 0.00L10.00 10.00");
-  CHECK(svg_path(moves, true, 7, SIZE_MAX) == "M0.00 10.00L0.00 0.00");
+  // Done through layer 1's first extrusion (command 8, so 9 done): the rest still to print.
+  CHECK(svg_path(moves, true, 0, 9) == "M10.00 0.00L10.00 10.00");
+  CHECK(svg_path(moves, true, 9, SIZE_MAX) == "M0.00 10.00L0.00 0.00");
   CHECK(layer_moves(file, 2).empty());
   CHECK(layer_moves(file, -1).empty());
 }
