@@ -8,6 +8,7 @@
 // events and refusals on stderr. Ctrl-C (or SIGTERM) cancels a running print safely and
 // exits; a second one stops the printer at once (M112).
 #include <signal.h>
+#include <sys/socket.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -156,9 +157,23 @@ void run_serve(const ServeOptions& options) {
   server.set_read_timeout(10);
   server.set_write_timeout(10);
   server.set_payload_max_length(limits.max_upload + (1u << 20));
+  // httplib writes a response's head and body apart: without this the body of a kept-alive
+  // connection waits for the client's delayed ack (40 ms on Linux).
+  server.set_tcp_nodelay(true);
   api.install(server);
+  // httplib's default lets a second server share the port (SO_REUSEPORT), splitting the
+  // requests between two printers: only SO_REUSEADDR here, so a port in use is an error. And a
+  // listening queue deeper than its 5, so a burst of new connections is not dropped (a client
+  // whose SYN is dropped waits a second before it tries again).
+  int listening = -1;
+  server.set_socket_options([&listening](int sock) {
+    int yes = 1;
+    setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+    listening = sock;
+  });
   const int port = address.port == 0 ? server.bind_to_any_port(address.host)
                                      : (server.bind_to_port(address.host, address.port) ? address.port : -1);
+  if (port >= 0 && listening >= 0) ::listen(listening, 128);
   if (port < 0) {
     throw printer::ConfigError(fmt::format(
         "--listen {}: cannot listen there (another program on the port, or not an address of "

@@ -136,7 +136,9 @@ GcodeAnalysis FileStore::analyse(const std::string& path) const {
     bytes << in.rdbuf();
     const std::string text = bytes.str();
     const printer::GcodeFile file = printer::parse_gcode(text, fs::path(path).filename().string());
-    if (file.size() == 0) throw printer::ConfigError("the file has no G-code commands");
+    if (file.size() == 0) {
+      throw printer::ConfigError(fmt::format("{}: the file has no G-code commands", fs::path(path).filename().string()));
+    }
     a.commands = file.size();
     a.layers = file.layers.size();
     a.estimated_seconds = printer::PrintEta(file, motion_).total();
@@ -177,6 +179,14 @@ std::optional<StoredFile> FileStore::stat_file(const std::string& name) {
     file.analysis = std::move(analysis);
   }
   return file;
+}
+
+void FileStore::remember(const std::string& name, const GcodeAnalysis& analysis) {
+  struct stat info {};
+  if (!is_clean_name(name) || ::lstat(path_of(name).c_str(), &info) != 0) return;
+  const std::int64_t mtime_ns = info.st_mtim.tv_sec * 1'000'000'000LL + info.st_mtim.tv_nsec;
+  std::lock_guard lock(mutex_);
+  cache_[name] = Cached{static_cast<std::uint64_t>(info.st_size), mtime_ns, analysis};
 }
 
 std::vector<StoredFile> FileStore::list() {

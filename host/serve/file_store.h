@@ -98,6 +98,8 @@ class FileStore {
 
   // Analyses G-code bytes (as the upload check and list() do).
   GcodeAnalysis analyse(const std::string& path) const;
+  // Keeps the analysis of a file just stored, so it is not read again.
+  void remember(const std::string& name, const GcodeAnalysis& analysis);
 
  private:
   struct Cached {

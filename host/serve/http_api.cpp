@@ -282,8 +282,9 @@ SliceRequest slice_request(const json& body, const std::string& name, const prin
   }
   const std::string contour = string_field(body, "contour");
   if (!contour.empty()) {
-    if (contour != "ma" && contour != "mid" && contour != "lower" && contour != "optimal-height") {
-      throw Refusal{400, "contour must be ma, mid, lower or optimal-height"};
+    const std::vector<std::string> known = contour_strategy_names();
+    if (std::find(known.begin(), known.end(), contour) == known.end()) {
+      throw Refusal{400, fmt::format("contour must be one of {}", names_of(known))};
     }
     o.contour = contour;
   }
@@ -637,19 +638,28 @@ void HttpApi::upload(const Request& req, Response& res, const httplib::ContentRe
   const std::string& name = clean.name;
   if (session_.printing_file(name)) throw Refusal{409, fmt::format("{} is being printed: upload it under another name", name)};
   const FileKind kind = *kind_of(name);
+  GcodeAnalysis analysis;
   if (kind == FileKind::gcode) {
-    const GcodeAnalysis analysis = files_.analyse(file->temporary_path());
-    if (!analysis.error.empty()) throw Refusal{415, analysis.error};
+    analysis = files_.analyse(file->temporary_path());
+    if (!analysis.error.empty()) {
+      const std::size_t colon = analysis.error.find(": ");
+      throw Refusal{415, fmt::format("{}: {}", name, colon == std::string::npos ? analysis.error : analysis.error.substr(colon + 2))};
+    }
   } else {
     try {
       geometry::StlReadOptions options;
       options.check_normals = false;  // slicing says so, with what to do
       geometry::read_stl(file->temporary_path(), options);
     } catch (const geometry::InputError& e) {
-      throw Refusal{415, fmt::format("{}: not a readable STL file: {}", name, e.what())};
+      // The reader names the temporary file; the client knows it by its own name.
+      const std::string what = e.what();
+      const std::string temp = file->temporary_path() + ": ";
+      throw Refusal{415, fmt::format("{}: not a readable STL file: {}", name,
+                                     what.rfind(temp, 0) == 0 ? what.substr(temp.size()) : what)};
     }
   }
   if (!file->commit(name)) throw Refusal{500, fmt::format("{}: the upload could not be stored", name)};
+  if (kind == FileKind::gcode) files_.remember(name, analysis);
   session_.file_changed(name);
 
   const bool print = truthy(fields["print"]);
@@ -913,7 +923,7 @@ void HttpApi::get_profiles(const Request&, Response& res) {
   const printer::Profiles& serving = session_.profiles();
   send_json(res, {{"printers", printers},
                   {"materials", materials},
-                  {"contours", json::array({"ma", "mid", "lower", "optimal-height"})},
+                  {"contours", contour_strategy_names()},
                   {"serving",
                    {{"printer", fs::path(serving.printer.source).stem().string()},
                     {"printerName", serving.printer.name},

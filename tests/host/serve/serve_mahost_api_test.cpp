@@ -1,5 +1,7 @@
 // mahost's own endpoints beside OctoPrint's: an STL upload sliced on the host and printed, the
 // live-update stream the page reads, the profiles it offers, the layer drawing, restart.
+#include <set>
+
 #include <doctest/doctest.h>
 
 #include "geometry/mesh/stl_io.h"
@@ -126,7 +128,10 @@ TEST_CASE("profiles_layer_drawing_and_restart_serve_the_page") {
     }
   }
   CHECK(up);
-  CHECK(profiles["contours"] == json::array({"ma", "mid", "lower", "optimal-height"}));
+  // The slicer's table of strategies, as --contour takes them.
+  std::set<std::string> contours;
+  for (const json& c : profiles["contours"]) contours.insert(c.get<std::string>());
+  for (const char* c : {"ma", "mid", "lower", "optimal-height"}) CHECK(contours.count(c) == 1);
   auto c = serve.client();
   CHECK(c.Get("/api/mahost/layer")->status == 404);  // nothing printed yet
 

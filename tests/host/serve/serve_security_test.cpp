@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 
 #include <doctest/doctest.h>
+#include <fmt/core.h>
 
 #include "serve_fixture.h"
 
@@ -294,6 +295,14 @@ TEST_CASE("serve_invocations_that_cannot_work_say_so_in_one_line") {
   CHECK(r.err.find("--time-scale fast: give a speed-up factor") != std::string::npos);
   r = run({"--port", "/dev/no-such-port", "--files", dirs.files});
   CHECK(r.exit_code == 3);
+  // A port in use is an error, not a second server sharing it.
+  {
+    Serve first(dirs, {"--time-scale", "max"});
+    r = run({"--dry-run", "--listen", fmt::format("127.0.0.1:{}", first.port), "--files", dirs.files});
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find("cannot listen there") != std::string::npos);
+    CHECK(first.stop() == 0);
+  }
   // Beyond this machine: served, with a warning.
   Serve wide(dirs, {"--time-scale", "max", "--listen", "0.0.0.0:0"});
   CHECK(wide.log().find("warning: listening on 0.0.0.0:") != std::string::npos);
