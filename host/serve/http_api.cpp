@@ -362,6 +362,7 @@ const Route kRoutes[] = {
     {"GET", "/api/mahost/profiles", &HttpApi::get_profiles},
     {"POST", "/api/mahost/interrupted", &HttpApi::post_interrupted},
     {"POST", "/api/mahost/stop", &HttpApi::post_stop},
+    {"POST", "/api/mahost/pause-at", &HttpApi::post_pause_at},
 };
 
 }  // namespace
@@ -943,5 +944,19 @@ void HttpApi::post_interrupted(const Request& req, Response& res) {
 }
 
 void HttpApi::post_stop(const Request&, Response& res) { send_outcome(res, session_.emergency_stop()); }
+
+void HttpApi::post_pause_at(const Request& req, Response& res) {
+  const json body = json_body(req);
+  const auto it = body.find("layers");
+  if (it == body.end() || !it->is_array() || it->size() > 1000) {
+    throw Refusal{400, "give \"layers\": a list of layer numbers (from 1) to pause before"};
+  }
+  std::vector<int> layers;
+  for (const json& l : *it) {
+    if (!l.is_number_integer()) throw Refusal{400, "\"layers\" must be whole numbers"};
+    layers.push_back(l.get<int>());
+  }
+  send_outcome(res, session_.set_pause_at(std::move(layers)));
+}
 
 }  // namespace host::serve

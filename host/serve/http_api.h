@@ -71,6 +71,7 @@ class HttpApi {
   void get_profiles(const httplib::Request&, httplib::Response&);
   void post_interrupted(const httplib::Request&, httplib::Response&);
   void post_stop(const httplib::Request&, httplib::Response&);
+  void post_pause_at(const httplib::Request&, httplib::Response&);
   void upload(const httplib::Request&, httplib::Response&, const httplib::ContentReader&);
 
  private:

@@ -240,6 +240,7 @@ json page_status_json(const Status& s, const std::vector<Event>& events) {
   j["connection"] = connection;
   j["version"] = s.version;
   j["journal"] = s.journal;
+  j["pauseAt"] = s.pause_at;
   if (s.slicing) {
     const SliceStatus& sl = *s.slicing;
     j["slicing"] = {{"model", sl.model}, {"gcode", sl.gcode}, {"stage", sl.stage},

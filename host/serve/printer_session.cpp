@@ -275,6 +275,18 @@ Outcome PrinterSession::restart_job() {
   return {};
 }
 
+Outcome PrinterSession::set_pause_at(std::vector<int> layers) {
+  for (int layer : layers) {
+    if (layer < 1) return {400, fmt::format("layer {}: layers count from 1", layer)};
+  }
+  std::sort(layers.begin(), layers.end());
+  layers.erase(std::unique(layers.begin(), layers.end()), layers.end());
+  std::lock_guard lock(mutex_);
+  status_.pause_at = std::move(layers);
+  publish();
+  return {};
+}
+
 Outcome PrinterSession::emergency_stop() {
   std::lock_guard lock(mutex_);
   if (status_.connection != Connection::operational) {
@@ -567,16 +579,14 @@ void PrinterSession::connect_printer() {
   protocol_->wait_acknowledged();
   last_m105_ = protocol_->link().now();
   sample_temperatures(protocol_->temperatures());
-  {
-    std::lock_guard lock(mutex_);
-    status_.connection = Connection::operational;
-    status_.error.clear();
-    status_.firmware = protocol_->firmware().name;
-    status_.link = link_.link->name();
-    publish();
-  }
   add_event(fmt::format("connected to {}{}", link_.link->name(),
                         protocol_->firmware().name.empty() ? "" : " (" + protocol_->firmware().name + ")"));
+  std::lock_guard lock(mutex_);
+  status_.connection = Connection::operational;
+  status_.error.clear();
+  status_.firmware = protocol_->firmware().name;
+  status_.link = link_.link->name();
+  publish();
 }
 
 void PrinterSession::install_idle_hook() {
@@ -702,6 +712,22 @@ void PrinterSession::run_commands(const std::vector<std::string>& commands) {
                                  : fmt::format("sent {} commands, {} first", commands.size(), commands.front()));
 }
 
+void PrinterSession::take_planned_pause(printer::Job& job) {
+  // A pause asked for while layer n prints takes effect before layer n + 1: so the pause
+  // before layer N is asked for while N - 1 prints (or before the first, for N = 1).
+  const printer::JobProgress p = job.progress();
+  if (p.state != printer::JobState::printing || p.pause_before_layer > 0) return;
+  std::lock_guard lock(mutex_);
+  auto& planned = status_.pause_at;
+  // Layers already behind are dropped: the print has passed them.
+  while (!planned.empty() && planned.front() <= p.layer) planned.erase(planned.begin());
+  if (!planned.empty() && planned.front() == p.layer + 1) {
+    planned.erase(planned.begin());
+    job.request(printer::JobRequest::pause);
+    publish();
+  }
+}
+
 void PrinterSession::publish_job(printer::Job& job) {
   const printer::JobProgress p = job.progress();
   sample_temperatures(p.temperatures);
@@ -803,6 +829,7 @@ void PrinterSession::run_job(const JobStart& start) {
       requests.swap(job_requests_);
     }
     for (printer::JobRequest r : requests) j.request(r);
+    take_planned_pause(j);
     if (control) control->serve(j);
     publish_job(j);
   };

@@ -88,6 +88,9 @@ struct Status {
 
   std::optional<SliceStatus> slicing;
   std::optional<InterruptedJob> interrupted;
+  // Layers (from 1) a print pauses before, as `mahost print --pause-at-layer`; kept for the
+  // next job too, each taken once it is reached.
+  std::vector<int> pause_at;
 };
 
 // What a request came to, as an HTTP status and a one-line message for the client.
@@ -147,6 +150,8 @@ class PrinterSession {
   Outcome pause_job(PauseAction action);
   Outcome restart_job();
   Outcome emergency_stop();
+  // The layers to pause before (from 1; replaces the list). 400 for a layer below 1.
+  Outcome set_pause_at(std::vector<int> layers);
   // G-code lines for the printer: taken when no job runs; while one runs only M112 (which
   // stops it at once) is taken.
   Outcome send_commands(const std::vector<std::string>& commands);
@@ -178,6 +183,7 @@ class PrinterSession {
   void slice_worker(SliceRequest request);
   void publish(bool force = false);
   void publish_job(printer::Job& job);
+  void take_planned_pause(printer::Job& job);
   void sample_temperatures(const std::optional<printer::Temperatures>& temperatures);
   void add_event(const std::string& text);
   void write_record() const;

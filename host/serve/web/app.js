@@ -166,6 +166,9 @@ function render(s) {
   $("cancel").disabled = !active || text === "Cancelling";
   $("stop").disabled = !operational;
 
+  const planned = s.pauseAt || [];
+  $("pause-at-now").textContent = planned.length ? `pausing before ${planned.join(", ")}` : "";
+
   const t = s.temperature || {};
   const tool = t.tool0 || {}, bed = t.bed || {};
   $("t-hotend").textContent = degrees(tool.actual);
@@ -463,6 +466,17 @@ $("upload-form").addEventListener("submit", (event) => {
 });
 
 // ---- controls --------------------------------------------------------------------------
+
+$("pause-at-form").addEventListener("submit", (event) => {
+  event.preventDefault();
+  const text = $("pause-at-input").value.trim();
+  const layers = text ? text.split(/[\s,;]+/).filter(Boolean).map(Number) : [];
+  if (layers.some((n) => !Number.isInteger(n) || n < 1)) {
+    addLocalEvent("pause before layers: give whole layer numbers from 1, e.g. 20, 45");
+    return;
+  }
+  act("POST", "/api/mahost/pause-at", { layers }).then(() => { $("pause-at-input").value = ""; });
+});
 
 $("start").addEventListener("click", () => act("POST", "/api/job", { command: "start" }));
 $("pause").addEventListener("click", () => act("POST", "/api/job", { command: "pause", action: "pause" }));

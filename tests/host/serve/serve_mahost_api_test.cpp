@@ -3,6 +3,7 @@
 #include <set>
 
 #include <doctest/doctest.h>
+#include <fmt/core.h>
 
 #include "geometry/mesh/stl_io.h"
 #include "serve_fixture.h"
@@ -163,5 +164,26 @@ TEST_CASE("profiles_layer_drawing_and_restart_serve_the_page") {
   REQUIRE(wait_for([&] { return serve.get_json("/api/job")["mahost"]["jobState"] == "cancelled"; }, 60s));
   const std::string log = serve.log();
   CHECK(log.find("cancelled ring.gcode") != std::string::npos);
+  CHECK(serve.stop() == 0);
+}
+
+TEST_CASE("planned_pauses_stop_before_their_layers_as_print_pause_at_layer_does") {
+  ServeDirs dirs("serve_pause_at");
+  Serve serve(dirs, {"--time-scale", "40"});
+  CHECK(serve.post_json("/api/mahost/pause-at", {{"layers", {0}}}) == 400);
+  CHECK(serve.post_json("/api/mahost/pause-at", {{"layers", "4"}}) == 400);
+  CHECK(serve.post_json("/api/mahost/pause-at", {{"layers", {7, 4, 4}}}) == 204);
+  CHECK(serve.get_json("/api/mahost/status")["pauseAt"] == json::array({4, 7}));
+  REQUIRE(serve.upload("ring.gcode", ring_gcode(10), {{"print", "true"}})->status == 201);
+  for (int layer : {4, 7}) {
+    CAPTURE(layer);
+    REQUIRE(serve.wait_state("Paused", 120s));
+    CHECK(serve.get_json("/api/job")["mahost"]["layer"] == layer);  // stopped before it, not in it
+    CHECK(serve.log().find(fmt::format("paused before layer {}/10", layer)) != std::string::npos);
+    CHECK(serve.post_json("/api/job", {{"command", "pause"}, {"action", "resume"}}) == 204);
+    REQUIRE(wait_for([&] { return serve.state() != "Paused"; }, 60s));
+  }
+  REQUIRE(wait_for([&] { return serve.get_json("/api/job")["mahost"]["jobState"] == "completed"; }, 120s));
+  CHECK(serve.get_json("/api/mahost/status")["pauseAt"].empty());  // each taken once
   CHECK(serve.stop() == 0);
 }

@@ -28,6 +28,7 @@ const std::vector<std::pair<std::string, std::string>> kEndpoints = {
     {"GET", "/api/mahost/status"},    {"GET", "/api/mahost/events"},
     {"GET", "/api/mahost/layer"},     {"GET", "/api/mahost/profiles"},
     {"POST", "/api/mahost/interrupted"}, {"POST", "/api/mahost/stop"},
+    {"POST", "/api/mahost/pause-at"},
     {"GET", "/api/no/such/endpoint"},
 };
 
