@@ -214,6 +214,12 @@ int admit(const Request& req, Response& res, const std::string& key, const Serve
     }
   }
   if (req.method == "POST" || req.method == "PUT" || req.method == "PATCH" || req.method == "DELETE") {
+    // A compressed body is not taken: its announced length says nothing of what it unpacks to.
+    const std::string encoding = req.get_header_value("Content-Encoding");
+    if (!encoding.empty() && encoding != "identity") {
+      send_error(res, 415, fmt::format("request bodies are taken uncompressed, not as {}", encoding));
+      return 415;
+    }
     const bool upload = is_upload_path(req.path);
     const std::uint64_t limit = upload ? limits.max_upload + (1u << 20) : limits.max_json;
     if (req.has_header("Content-Length")) {

@@ -242,3 +242,27 @@ TEST_CASE("gcode_commands_reach_an_idle_printer_and_are_refused_while_a_job_runs
   CHECK(serve.post_json("/api/printer/command", {{"command", "G28"}}) == 204);
   CHECK(serve.stop() == 0);
 }
+
+TEST_CASE("a_link_that_fails_mid_print_is_reopened_and_the_job_is_offered_to_finish") {
+  ServeDirs dirs("serve_link_failure");
+  Serve serve(dirs, {"--time-scale", "max", "--faults", "disconnect-at-line=400"});
+  const std::string gcode = ring_gcode(12);
+  REQUIRE(serve.upload("ring.gcode", gcode, {{"print", "true"}})->status == 201);
+  // The job fails with the link; its journal stays; serve reopens the link by itself.
+  REQUIRE(wait_for([&] { return serve.get_json("/api/job")["mahost"]["jobState"] == "failed"; }, 60s));
+  const json failed = serve.get_json("/api/job");
+  CHECK(failed["error"].get<std::string>().find("disconnected at line 400") != std::string::npos);
+  REQUIRE(wait_for([&] {
+    const json s = serve.get_json("/api/mahost/status");
+    return s["state"] == "Operational" && !s["interrupted"].is_null();
+  }, 60s));
+  const json status = serve.get_json("/api/mahost/status");
+  CHECK(status["interrupted"]["state"] == "failed");
+  CHECK(serve.post_json("/api/mahost/interrupted", {{"command", "resume"}}) == 204);
+  REQUIRE(wait_for([&] { return serve.get_json("/api/job")["mahost"]["jobState"] == "completed"; }, 120s));
+  CHECK(serve.stop() == 0);
+  const std::vector<std::string> printed = printed_commands(json::parse(read_text(dirs.record)));
+  const std::vector<std::string> file = file_commands(gcode);
+  REQUIRE(printed.size() > file.size());  // the lines before the failure, then the rest again
+  CHECK(std::equal(printed.end() - 200, printed.end(), file.end() - 200));
+}

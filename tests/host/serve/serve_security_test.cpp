@@ -235,6 +235,13 @@ TEST_CASE("a_truncated_multipart_body_and_garbage_bytes_are_refused_and_the_serv
   CHECK(c.Post("/api/job", "{not json", "application/json")->status == 400);
   CHECK(c.Post("/api/job", "[1,2,3]", "application/json")->status == 400);
   CHECK(c.Post("/api/job", std::string(70000, ' '), "application/json")->status == 413);
+  {
+    // A compressed body could unpack to any size: refused from its header.
+    RawConnection raw(serve.port);
+    REQUIRE(raw.send("POST /api/job HTTP/1.1\r\nHost: x\r\nX-Api-Key: " + std::string(kKey) +
+                     "\r\nContent-Type: application/json\r\nContent-Encoding: gzip\r\nContent-Length: 4\r\n\r\n\x1f\x8b\x08\x00"));
+    CHECK(status_of(raw.receive(10s)) == 415);
+  }
   CHECK(fs::is_empty(dirs.files));
   // Still serving, and each refusal logged.
   CHECK(serve.get_json("/api/version")["api"] == "0.1");
