@@ -69,7 +69,7 @@ struct AnalyzeOptions {
   std::string exclude_z;   // "LO:HI", mm: left out of the by-height percentile
   std::string contours = geometry::contour_names(",");  // all of them
   std::string csv, json, plots, export_layers;
-  std::string contour = "ma";  // for --export-layers, and the contour --adaptive plans for
+  std::string contour = "best";  // for --export-layers, and the contour --adaptive plans for
   std::string thick = "0.2,0.25";
   int layer_index = -1;
   AdaptiveRequest adaptive;        // --adaptive: the layers of a plan, not uniform
