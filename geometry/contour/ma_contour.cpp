@@ -78,7 +78,7 @@
 #include "geometry/contour/contour_strategy.h"
 #include "geometry/core/boundary_grid.h"
 #include "geometry/core/douglas_peucker.h"
-#include "geometry/core/clipper_bridge.h"
+#include "geometry/core/clipper.h"
 
 namespace geometry {
 
@@ -653,30 +653,6 @@ namespace {
 
 constexpr double kSquareMicrometre = 1e6;  // Clipper areas are in nm^2
 
-double clipper_area(const ClipperLib::Paths& paths) {
-  double a = 0;
-  for (const auto& p : paths) a += ClipperLib::Area(p);
-  return a;
-}
-
-ClipperLib::Paths clip(const ClipperLib::Paths& subject, const ClipperLib::Paths& by,
-                       ClipperLib::ClipType operation) {
-  ClipperLib::Clipper clipper;
-  clipper.AddPaths(subject, ClipperLib::ptSubject, true);
-  clipper.AddPaths(by, ClipperLib::ptClip, true);
-  ClipperLib::Paths result;
-  clipper.Execute(operation, result, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
-  return result;
-}
-
-ClipperLib::Paths grown(const ClipperLib::Path& filled, double delta) {
-  ClipperLib::ClipperOffset offset(2.0, std::abs(delta) / 8);
-  offset.AddPath(filled, ClipperLib::jtRound, ClipperLib::etClosedPolygon);
-  ClipperLib::Paths result;
-  offset.Execute(result, delta);
-  return result;
-}
-
 // A vertical wall's strip: one outer loop, one hole, and every point of the ring within four
 // margins of both (a wall's ring is two margins wide). Checked as: the outline lies inside
 // the hole grown by that much, and the outline shrunk by it inside the hole.
@@ -690,14 +666,21 @@ bool is_wall(const BoundaryPair& pair) {
   if (ring_area > 3 * kFootprintMargin * length_bound) return false;
   const double mean_length = 0.5 * (perimeter(pair.outer) + perimeter(pair.inner[0]));
   if (!(mean_length > 0) || ring_area > 3 * kFootprintMargin * mean_length) return false;
-  const double reach = 4 * kFootprintMargin * kClipperScale;
+  const double reach = 4 * kFootprintMargin;
   const ClipperLib::Path outline = to_clipper(pair.outer);
   ClipperLib::Path hole = to_clipper(pair.inner[0]);
   ClipperLib::ReversePath(hole);  // as a filled polygon
-  if (clipper_area(clip({outline}, grown(hole, reach), ClipperLib::ctDifference)) > kSquareMicrometre) {
+  // Round joins within an eighth of the reach (ClipperOffset's, its very points).
+  const auto grown = [](const ClipperLib::Path& filled, double delta) {
+    return clipper::library_offset({filled}, delta, ClipperLib::jtRound,
+                                   ClipperLib::etClosedPolygon, std::abs(delta) / 8);
+  };
+  if (clipper::area_units2(clipper::difference({outline}, grown(hole, reach))) >
+      kSquareMicrometre) {
     return false;
   }
-  return clipper_area(clip(grown(outline, -reach), {hole}, ClipperLib::ctDifference)) <= kSquareMicrometre;
+  return clipper::area_units2(clipper::difference(grown(outline, -reach), {hole})) <=
+         kSquareMicrometre;
 }
 
 // A section's part inside the island's outline (`paths`, clipped to `outline`) as paths to add
@@ -717,8 +700,8 @@ ClipperLib::Paths section_in_island(ClipperLib::Paths paths, const ClipperLib::P
 ClipperLib::Paths section_in_island(const Region& section, const BoundaryPair& pair,
                                     bool solid_outside) {
   const ClipperLib::Path outline = to_clipper(pair.outer);
-  return section_in_island(clip(to_clipper(section), {outline}, ClipperLib::ctIntersection),
-                           outline, solid_outside);
+  return section_in_island(clipper::intersection(to_clipper(section), {outline}), outline,
+                           solid_outside);
 }
 
 // A cap: the mid section inside it; if the feature does not reach the middle (nothing of an
@@ -729,8 +712,8 @@ ClipperLib::Paths cap_contour(const Slab& slab, const BoundaryPair& pair, bool s
                               const std::function<Region(double z)>& cross_section) {
   const ClipperLib::Path outline = to_clipper(pair.outer);
   const double island = ClipperLib::Area(outline);
-  ClipperLib::Paths middle_inside = clip(to_clipper(middle), {outline}, ClipperLib::ctIntersection);
-  const double inside = clipper_area(middle_inside);
+  ClipperLib::Paths middle_inside = clipper::intersection(to_clipper(middle), {outline});
+  const double inside = clipper::area_units2(middle_inside);
   const bool reaches_middle = solid_outside ? std::abs(inside - island) > kSquareMicrometre
                                             : inside > kSquareMicrometre;
   if (reaches_middle) return section_in_island(std::move(middle_inside), outline, solid_outside);
@@ -756,32 +739,8 @@ namespace {
 // metric's own tolerance (distance_error.h).
 constexpr double kRefineTolerance = 0.001;
 
-// 10 nm, in Clipper units (clipper_bridge.h).
+// 10 nm, in Clipper units (clipper.h).
 constexpr double kCleanDistance = 10;
-
-ClipperLib::PolyTree& united_tree(const ClipperLib::Paths& paths, ClipperLib::PolyTree& tree) {
-  ClipperLib::Clipper clipper;
-  clipper.AddPaths(paths, ClipperLib::ptSubject, true);
-  clipper.Execute(ClipperLib::ctUnion, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
-  return tree;
-}
-
-ClipperLib::Paths united(const ClipperLib::Paths& paths) {
-  ClipperLib::Clipper clipper;
-  clipper.AddPaths(paths, ClipperLib::ptSubject, true);
-  ClipperLib::Paths result;
-  clipper.Execute(ClipperLib::ctUnion, result, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
-  return result;
-}
-
-// The union of paths of positive winding, as a Region (outer loops CCW, holes CW).
-Region united_region(const ClipperLib::Paths& paths) {
-  ClipperLib::Clipper clipper;
-  clipper.AddPaths(paths, ClipperLib::ptSubject, true);
-  ClipperLib::PolyTree tree;
-  clipper.Execute(ClipperLib::ctUnion, tree, ClipperLib::pftPositive, ClipperLib::pftPositive);
-  return from_clipper(tree);
-}
 
 // Whether axis loops on Clipper's grid are a Region as they stand: loops that are simple,
 // pairwise disjoint and have the solid on their left (medial_axis_loops), from disjoint
@@ -832,25 +791,22 @@ Region mid_inside(const ClipperLib::Paths& region, const ClipperLib::Paths& all_
   }
   for (const auto& path : middle) bounds.add(path);
   const ClipperLib::cInt lo_x = bounds.lo_x, lo_y = bounds.lo_y, hi_x = bounds.hi_x, hi_y = bounds.hi_y;
-  ClipperLib::Clipper clipper;
-  clipper.AddPaths(region, ClipperLib::ptSubject, true);
+  ClipperLib::Paths subject = region;
   for (ClipperLib::Path path : zone) {
     ClipperLib::ReversePath(path);
-    clipper.AddPath(path, ClipperLib::ptSubject, true);
+    subject.push_back(std::move(path));
   }
-  clipper.AddPaths(middle, ClipperLib::ptClip, true);
-  clipper.AddPaths(zone, ClipperLib::ptClip, true);
-  const ClipperLib::Path box{{lo_x - 1, lo_y - 1}, {lo_x - 1, hi_y + 1}, {hi_x + 1, hi_y + 1},
-                             {hi_x + 1, lo_y - 1}};  // clockwise
-  clipper.AddPath(box, ClipperLib::ptClip, true);
-  ClipperLib::Paths joined;
-  clipper.Execute(ClipperLib::ctUnion, joined, ClipperLib::pftPositive, ClipperLib::pftPositive);
+  ClipperLib::Paths clip = middle;
+  clip.insert(clip.end(), zone.begin(), zone.end());
+  clip.push_back({{lo_x - 1, lo_y - 1}, {lo_x - 1, hi_y + 1}, {hi_x + 1, hi_y + 1},
+                  {hi_x + 1, lo_y - 1}});  // the box, clockwise
+  ClipperLib::Paths joined = clipper::union_positive(subject, clip);
   // Where the mid section's walls meet the zone's edges a few nanometres from another vertex,
   // the crossing leaves edges of a nanometre or two: nothing a printer or a metric sees, but
   // slivers for a mesh made from the region (extruded_layers.h, CGAL's corefinement).
   ClipperLib::CleanPolygons(joined, kCleanDistance);
   ClipperLib::PolyTree tree;
-  return from_clipper(united_tree(joined, tree));
+  return from_clipper(clipper::union_nonzero_tree(joined, tree));
 }
 
 // Whether add_floating_features can find a feature in the island, read off the mid section's
@@ -968,21 +924,24 @@ Region ma_contour(const Slab& slab, std::span<const BoundaryPair> pairs,
       axes.push_back(island_axis(pair, solid, options, stats, options.pockets));
       for (const Loop& loop : axes.back().loops) island.push_back(to_clipper(loop));
       if (options.floating_features && may_float(pair, middle)) {
-        if (!nested) united_tree(to_clipper(middle), middle_nesting);
+        if (!nested) clipper::union_nonzero_tree(to_clipper(middle), middle_nesting);
         nested = true;
         add_floating_features(pair, middle_nesting, features, stats);
       }
     }
     paths.insert(paths.end(), island.begin(), island.end());
   }
-  Region basic = only_axes && on_grid_as_they_are(paths) ? from_clipper(paths) : united_region(paths);
+  ClipperLib::PolyTree united;
+  Region basic = only_axes && on_grid_as_they_are(paths)
+                     ? from_clipper(paths)
+                     : from_clipper(clipper::union_positive_tree(paths, united));
   bool any_pocket = false;
   for (const IslandAxis& axis : axes) any_pocket = any_pocket || !axis.pockets.empty();
   if (features.empty() && !any_pocket) return basic;
 
   const ClipperLib::Paths basic_paths = to_clipper(basic);
   const ClipperLib::Paths middle_paths = to_clipper(middle);
-  const ClipperLib::Paths feature_zone = united(features);
+  const ClipperLib::Paths feature_zone = clipper::union_nonzero(features);
   const Region with_features =
       feature_zone.empty() ? std::move(basic) : mid_inside(basic_paths, middle_paths, feature_zone);
   if (!any_pocket) return with_features;
@@ -1030,7 +989,7 @@ Region ma_contour(const Slab& slab, std::span<const BoundaryPair> pairs,
     }
   }
   if (zone.size() == feature_zone.size()) return with_features;
-  return mid_inside(basic_paths, middle_paths, united(zone));
+  return mid_inside(basic_paths, middle_paths, clipper::union_nonzero(zone));
 }
 
 Region ma_contour(const LayerStack& stack, std::size_t layer, const MaOptions& options,

@@ -5,7 +5,7 @@
 #include <limits>
 #include <optional>
 
-#include "geometry/core/clipper_bridge.h"
+#include "geometry/core/clipper.h"
 
 namespace geometry {
 
@@ -33,13 +33,8 @@ AreaMoments moments_of_paths(const ClipperLib::Paths& paths, Vec2 origin) {
 // The robust slow path: Clipper's integer intersection of the polygon with the whole region.
 AreaMoments moments_by_clipper(const std::vector<Vec2>& convex, Vec2 origin,
                                const Region& region) {
-  ClipperLib::Clipper clipper;
-  clipper.AddPath(to_fine_clipper(convex), ClipperLib::ptSubject, true);
-  clipper.AddPaths(to_fine_clipper(region), ClipperLib::ptClip, true);
-  ClipperLib::Paths result;
-  clipper.Execute(ClipperLib::ctIntersection, result, ClipperLib::pftNonZero,
-                  ClipperLib::pftNonZero);
-  return moments_of_paths(result, origin);
+  return moments_of_paths(
+      clipper::intersection({to_fine_clipper(convex)}, to_fine_clipper(region)), origin);
 }
 
 // How far outside a corner the no-crossing case judges the polygon (the infinitesimal margin of
@@ -55,28 +50,6 @@ struct Crossing {
 };
 
 }  // namespace
-
-ClipperLib::Path to_fine_clipper(const std::vector<Vec2>& loop) {
-  ClipperLib::Path path;
-  path.reserve(loop.size());
-  for (Vec2 p : loop) {
-    path.push_back({static_cast<ClipperLib::cInt>(std::llround(p.x * kFineClipperScale)),
-                    static_cast<ClipperLib::cInt>(std::llround(p.y * kFineClipperScale))});
-  }
-  return path;
-}
-
-ClipperLib::Paths to_fine_clipper(const Region& region) {
-  ClipperLib::Paths paths;
-  paths.reserve(region.loops.size());
-  for (const Loop& loop : region.loops) paths.push_back(to_fine_clipper(loop));
-  return paths;
-}
-
-Vec2 from_fine_clipper(const ClipperLib::IntPoint& p) {
-  return {static_cast<double>(p.X) / kFineClipperScale,
-          static_cast<double>(p.Y) / kFineClipperScale};
-}
 
 AreaMoments moments_of_loop(const std::vector<Vec2>& loop, Vec2 origin) {
   AreaMoments m;
@@ -326,12 +299,7 @@ SlabColumns slab_columns(const Slab& slab, const Region& lower_section) {
 
 double intersection_area(const Region& a, const Region& b) {
   if (a.loops.empty() || b.loops.empty()) return 0;
-  ClipperLib::Clipper clipper;
-  clipper.AddPaths(to_fine_clipper(a), ClipperLib::ptSubject, true);
-  clipper.AddPaths(to_fine_clipper(b), ClipperLib::ptClip, true);
-  ClipperLib::Paths result;
-  clipper.Execute(ClipperLib::ctIntersection, result, ClipperLib::pftNonZero,
-                  ClipperLib::pftNonZero);
+  const ClipperLib::Paths result = clipper::intersection(to_fine_clipper(a), to_fine_clipper(b));
   // Summed in the plane's own units: a loop's area in pm^2 can exceed a double's exact range
   // but not its relative precision, which is all an area needs.
   double total = 0;

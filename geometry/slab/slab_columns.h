@@ -24,8 +24,6 @@
 #include <array>
 #include <vector>
 
-#include <polyclipping/clipper.hpp>
-
 #include "geometry/core/boundary_grid.h"
 #include "geometry/core/polygon.h"
 #include "geometry/slab/slab.h"
@@ -71,16 +69,11 @@ double occupied_volume_inside(const SlabColumns& columns, const Region& region);
 double occupied_volume_inside(const SlabColumns& columns, const Region& region,
                               const BoundaryGrid& region_grid);
 
-// Clipper on a picometre grid, not clipper_bridge.h's nanometres: these intersections feed
-// volume integrals that should be exact, and a nanometre grid would move them by up to
-// 0.7 nm times the boundary's length times t (1e-5 mm^3 on a bunny layer). Coordinates stay
-// far below Clipper's limit (2^62 pm, 4600 km); above 2^30 pm (1 mm) it uses 128-bit
-// products, about twice as slow, which these few calls per layer can afford.
-inline constexpr double kFineClipperScale = 1e9;
-ClipperLib::Path to_fine_clipper(const std::vector<Vec2>& loop);
-ClipperLib::Paths to_fine_clipper(const Region& region);
-Vec2 from_fine_clipper(const ClipperLib::IntPoint& p);
-
+// Clipper on the picometre grid (clipper.h's to_fine_clipper), not the nanometre one: these
+// intersections feed volume integrals that should be exact, and a nanometre grid would move
+// them by up to 0.7 nm times the boundary's length times t (1e-5 mm^3 on a bunny layer).
+// Coordinates stay far below Clipper's limit (2^62 pm, 4600 km); above 2^30 pm (1 mm) it uses
+// 128-bit products, about twice as slow, which these few calls per layer can afford.
 // Area of the intersection of two regions (Clipper on the 1 pm grid), mm^2.
 double intersection_area(const Region& a, const Region& b);
 

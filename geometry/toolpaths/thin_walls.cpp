@@ -13,15 +13,13 @@
 #include <unordered_map>
 
 #include "geometry/core/boundary_grid.h"
-#include "geometry/core/clipper_bridge.h"
-#include "geometry/core/toolpath_clipper.h"
+#include "geometry/core/clipper.h"
 
 namespace geometry {
 
 namespace {
 
 namespace bp = boost::polygon;
-namespace tc = toolpath_clipper;
 using VoronoiPoint = bp::point_data<std::int32_t>;
 using VoronoiSegment = bp::segment_data<std::int32_t>;
 using Diagram = bp::voronoi_diagram<double>;
@@ -144,6 +142,9 @@ double length(Vec2d a, Vec2d b) { return std::hypot(a.x - b.x, a.y - b.y); }
 // A run of a centre line is printed at one width while the strip's width stays within this
 // fraction of the run's mean: a bead wider than the strip lays its excess outside it.
 constexpr double kRunTolerance = 0.1;
+
+// Round bead ends and joins within this of the arc, mm.
+constexpr double kBeadArcTolerance = 0.005;
 
 // A corner sharper than this is a tapering wall, and its bisector is a centre line to print
 // (down to the narrowest bead); a blunter corner's bisector only runs into the corner.
@@ -274,7 +275,6 @@ std::vector<std::vector<std::size_t>> chains(const Axis& axis) {
   return result;
 }
 
-
 std::vector<ExtrusionPath> centre_lines(const Region& region, double min_width,
                                         double max_width) {
   std::vector<ExtrusionPath> paths;
@@ -342,7 +342,7 @@ std::vector<ExtrusionPath> centre_lines(const Region& region, double min_width,
 
 // One line through a compact piece along its long axis (the principal axis of its area),
 // as long as the piece less a bead's round ends, as wide as the piece's area over its chord.
-std::optional<ExtrusionPath> long_axis_line(const tc::Paths& piece, double min_width,
+std::optional<ExtrusionPath> long_axis_line(const clipper::Paths& piece, double min_width,
                                             double max_width) {
   // Area moments about the first vertex (keeps the sums small), then about the centroid.
   const ClipperLib::IntPoint o = piece.front().front();
@@ -372,11 +372,11 @@ std::optional<ExtrusionPath> long_axis_line(const tc::Paths& piece, double min_w
   for (const auto& path : piece) {
     for (const auto& p : path) reach = std::max(reach, std::abs(dot(from_clipper(p) - centre, along)));
   }
-  const tc::Paths chord_line{{to_clipper(centre + (-reach - 1) * along),
+  const clipper::Paths chord_line{{to_clipper(centre + (-reach - 1) * along),
                               to_clipper(centre + (reach + 1) * along)}};
   double chord = 0;
   Vec2 from = centre, to = centre;
-  for (const auto& part : tc::clip_open(chord_line, piece)) {
+  for (const auto& part : clipper::clip_open(chord_line, piece)) {
     const Vec2 p = from_clipper(part.front()), q = from_clipper(part.back());
     const double length = std::hypot(q.x - p.x, q.y - p.y);
     if (length > chord) { chord = length; from = p; to = q; }
@@ -399,17 +399,14 @@ std::optional<ExtrusionPath> long_axis_line(const tc::Paths& piece, double min_w
 // wide would), as closed paths half its width wide. The outline is kept a quarter width
 // inside the region (the pair's beads stay in it where the run's mean width is more than
 // the strip's there, or the centre line runs off-centre past a corner of the edge).
-std::vector<ExtrusionPath> side_by_side(const ExtrusionPath& run, const tc::Paths& region) {
+std::vector<ExtrusionPath> side_by_side(const ExtrusionPath& run, const clipper::Paths& region) {
   const bool closed = run.points.size() > 2 && run.points.front() == run.points.back();
-  ClipperLib::Path line;
-  for (Vec2 p : run.points) line.push_back(to_clipper(p));
+  ClipperLib::Path line = to_clipper(run.points);
   if (closed) line.pop_back();
-  ClipperLib::ClipperOffset offset(2.0, 0.005 * kClipperScale);
-  offset.AddPath(line, ClipperLib::jtRound, closed ? ClipperLib::etClosedLine
-                                                    : ClipperLib::etOpenRound);
-  tc::Paths outline;
-  offset.Execute(outline, run.width / 4 * kClipperScale);
-  outline = tc::intersection(outline, tc::offset(region, -run.width / 4));
+  clipper::Paths outline = clipper::library_offset(
+      {line}, run.width / 4, ClipperLib::jtRound,
+      closed ? ClipperLib::etClosedLine : ClipperLib::etOpenRound, kBeadArcTolerance);
+  outline = clipper::intersection(outline, clipper::offset(region, -run.width / 4));
   std::vector<ExtrusionPath> pair;
   for (const auto& path : outline) {
     if (path.size() < 3) continue;
@@ -468,8 +465,8 @@ std::vector<ExtrusionPath> thin_walls(const Region& region, double min_width, do
   // little or nothing, and it gets the one line along its long axis below without
   // building the Voronoi diagram.
   std::vector<ExtrusionPath> paths;
-  tc::Paths long_pieces;
-  for (const tc::Paths& piece : tc::islands(to_clipper(region))) {
+  clipper::Paths long_pieces;
+  for (const clipper::Paths& piece : clipper::islands(to_clipper(region))) {
     ClipperLib::cInt x0 = piece[0][0].X, x1 = x0, y0 = piece[0][0].Y, y1 = y0;
     for (const auto& p : piece[0]) {
       x0 = std::min(x0, p.X); x1 = std::max(x1, p.X);
@@ -477,7 +474,7 @@ std::vector<ExtrusionPath> thin_walls(const Region& region, double min_width, do
     }
     const double box = max_width * kClipperScale;
     if (static_cast<double>(x1 - x0) <= box && static_cast<double>(y1 - y0) <= box) {
-      for (const tc::Paths& core : tc::islands(tc::opening(piece, min_width / 2))) {
+      for (const clipper::Paths& core : clipper::islands(clipper::opening(piece, min_width / 2))) {
         if (auto line = long_axis_line(core, min_width, max_width)) paths.push_back(*line);
       }
     } else {
@@ -495,20 +492,17 @@ std::vector<ExtrusionPath> thin_walls(const Region& region, double min_width, do
   // A compact piece (an end of a thin feature, about as wide as it is long) has no centre
   // line once the medial axis' branches into its corners are gone: what the lines leave
   // bare, if a bead of the smallest width fits in it, gets one line along its long axis.
-  tc::Paths covered;  // each line's bead, at its own width
+  clipper::Paths covered;  // each line's bead, at its own width
   for (std::size_t i = blobs; i < paths.size(); ++i) {
     const ExtrusionPath& path = paths[i];
-    ClipperLib::ClipperOffset one(2.0, 0.005 * kClipperScale);
-    ClipperLib::Path line;
-    for (Vec2 p : path.points) line.push_back(to_clipper(p));
-    one.AddPath(line, ClipperLib::jtRound, ClipperLib::etOpenRound);
-    tc::Paths bead;
-    one.Execute(bead, path.width / 2 * kClipperScale);
+    const clipper::Paths bead =
+        clipper::library_offset({to_clipper(path.points)}, path.width / 2, ClipperLib::jtRound,
+                                ClipperLib::etOpenRound, kBeadArcTolerance);
     covered.insert(covered.end(), bead.begin(), bead.end());
   }
-  const tc::Paths bare =
-      tc::opening(tc::difference(long_pieces, tc::union_of(covered)), min_width / 2);
-  for (const tc::Paths& piece : tc::islands(bare)) {
+  const clipper::Paths bare =
+      clipper::opening(clipper::difference(long_pieces, clipper::union_nonzero(covered)), min_width / 2);
+  for (const clipper::Paths& piece : clipper::islands(bare)) {
     if (auto line = long_axis_line(piece, min_width, max_width)) paths.push_back(*line);
   }
   if (reach_within) reach_on(paths, *reach_within);

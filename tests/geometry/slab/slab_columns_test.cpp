@@ -6,9 +6,8 @@
 #include <cmath>
 #include <random>
 
-#include <polyclipping/clipper.hpp>
-
 #include "geometry/core/boundary_grid.h"
+#include "geometry/core/clipper.h"
 #include "geometry/slicing/layer_stack.h"
 #include "geometry/slab/slab.h"
 #include "geometry/slab/slab_columns.h"
@@ -22,11 +21,8 @@ namespace {
 
 // The reference: Clipper's intersection on the 1 pm grid, moments from its loops.
 AreaMoments clipper_moments(const std::vector<Vec2>& convex, Vec2 origin, const Region& region) {
-  ClipperLib::Clipper clipper;
-  clipper.AddPath(geometry::to_fine_clipper(convex), ClipperLib::ptSubject, true);
-  clipper.AddPaths(geometry::to_fine_clipper(region), ClipperLib::ptClip, true);
-  ClipperLib::Paths result;
-  clipper.Execute(ClipperLib::ctIntersection, result, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+  const ClipperLib::Paths result = geometry::clipper::intersection(
+      {geometry::to_fine_clipper(convex)}, geometry::to_fine_clipper(region));
   AreaMoments m;
   for (const auto& path : result) {
     std::vector<Vec2> loop;
