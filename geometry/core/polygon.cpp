@@ -34,6 +34,15 @@ double perimeter(const Region& region) {
   return length;
 }
 
+double perimeter_bound(const Loop& loop) {
+  double bound = 0;
+  for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
+    const Vec2 d = loop[i + 1 == n ? 0 : i + 1] - loop[i];
+    bound += std::abs(d.x) + std::abs(d.y);
+  }
+  return bound;
+}
+
 double distance_to_segment(Vec2 p, Vec2 a, Vec2 b) {
   const Vec2 ab = b - a;
   const double length2 = dot(ab, ab);
