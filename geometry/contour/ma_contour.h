@@ -25,6 +25,14 @@
 //     neck or septum merging inside the slab, a groove, a lobe; paper §3.4) whose samples are
 //     farther from the walls than every contributing sample takes the mid section inside its
 //     triangles where that brings them nearer.
+// Sibling: toolpaths/segment_medial_axis.h, the exact medial axis of a region from the
+// Voronoi diagram of its edges (Boost.Polygon), for thin walls. This one is sampled, as the
+// paper's is (§3.2.3), because what it needs is the axis between loops labelled solid and
+// empty (Observation 3.3.1 reads it off the Delaunay edges between samples of different loops),
+// closed loops only, and the Delaunay triangles round the non-contributing samples (§3.4);
+// fairing then moves it onto the loops' exact axis. That header says why the thin walls need
+// the other.
+//
 // ma_contour.cpp lists the paper's steps and the files of contour/ma/ that make them; their
 // headers have the details and the bunny's figures.
 #pragma once

@@ -1,6 +1,9 @@
 // The Clipper layer's conversions and booleans (clipper.h); its offset is clipper_offset.cpp.
 #include "geometry/core/clipper.h"
 
+#include <algorithm>
+#include <limits>
+
 #include "geometry/core/douglas_peucker.h"
 
 namespace geometry {
@@ -166,16 +169,9 @@ Paths library_offset(const Paths& paths, double delta, ClipperLib::JoinType join
 
 namespace {
 
-// Squared distance from p to the segment [a, b], in units^2 (doubles: nm^2 overflows int64).
-double distance2(const IntPoint& p, const IntPoint& a, const IntPoint& b) {
-  const double abx = double(b.X - a.X), aby = double(b.Y - a.Y);
-  const double apx = double(p.X - a.X), apy = double(p.Y - a.Y);
-  const double length2 = abx * abx + aby * aby;
-  double t = length2 > 0 ? (apx * abx + apy * aby) / length2 : 0;
-  t = t < 0 ? 0 : t > 1 ? 1 : t;
-  const double dx = apx - t * abx, dy = apy - t * aby;
-  return dx * dx + dy * dy;
-}
+// A point in units as doubles (exact below 2^53 units): squared distances in nm^2 overflow
+// int64.
+Vec2 in_units(const IntPoint& p) { return {double(p.X), double(p.Y)}; }
 
 }  // namespace
 
@@ -188,7 +184,8 @@ Paths simplified(const Paths& region, double tolerance) {
     if (n < 3) continue;
     const std::vector<char> keep =
         douglas_peucker_keep(n, limit2, [&](std::size_t i, std::size_t a, std::size_t b) {
-          return distance2(path[i], path[a], path[b]);
+          return squared_distance_to_segment(in_units(path[i]), in_units(path[a]),
+                                             in_units(path[b]));
         });
     Path kept;
     for (std::size_t i = 0; i < n; ++i) {
@@ -197,6 +194,29 @@ Paths simplified(const Paths& region, double tolerance) {
     if (kept.size() >= 3) result.push_back(std::move(kept));
   }
   return result;
+}
+
+ClipperLib::IntRect bounding_box(const Path& path) {
+  constexpr ClipperLib::cInt kMax = std::numeric_limits<ClipperLib::cInt>::max();
+  ClipperLib::IntRect box{kMax, kMax, -kMax, -kMax};
+  for (const IntPoint& p : path) {
+    box.left = std::min(box.left, p.X);
+    box.top = std::min(box.top, p.Y);
+    box.right = std::max(box.right, p.X);
+    box.bottom = std::max(box.bottom, p.Y);
+  }
+  return box;
+}
+
+ClipperLib::IntRect bounding_box(const Paths& paths) {
+  ClipperLib::IntRect box = bounding_box(Path{});
+  for (const Path& path : paths) add_to_box(box, bounding_box(path));
+  return box;
+}
+
+void add_to_box(ClipperLib::IntRect& box, const ClipperLib::IntRect& other) {
+  box = {std::min(box.left, other.left), std::min(box.top, other.top),
+         std::max(box.right, other.right), std::max(box.bottom, other.bottom)};
 }
 
 double area_units2(const Paths& paths) {

@@ -115,6 +115,16 @@ Paths library_offset(const Paths& paths, double delta, ClipperLib::JoinType join
 // re-unioned: run union_nonzero after it if the loops may now touch.
 Paths simplified(const Paths& region, double tolerance);
 
+// The smallest box holding the points, as ClipperLib's IntRect: x in [left, right], y in
+// [top, bottom] (top is the least y). No points: an empty box, left > right, which meets
+// nothing and which add_to_box grows from.
+ClipperLib::IntRect bounding_box(const Path& path);
+ClipperLib::IntRect bounding_box(const Paths& paths);
+void add_to_box(ClipperLib::IntRect& box, const ClipperLib::IntRect& other);
+inline bool boxes_meet(const ClipperLib::IntRect& a, const ClipperLib::IntRect& b) {
+  return a.left <= b.right && b.left <= a.right && a.top <= b.bottom && b.top <= a.bottom;
+}
+
 // Net area (outer loops minus holes, each loop's own sign), in units^2 of the paths' grid.
 double area_units2(const Paths& paths);
 // The same in mm^2, for paths on the nanometre grid.

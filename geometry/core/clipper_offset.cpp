@@ -166,20 +166,14 @@ int winding(const Path& loop, const ClipperLib::IntPoint& p) {
 // compared only with those sharing a cell of a grid about one edge per cell.
 bool already_a_region(const Paths& loops, const std::vector<char>& outer) {
   std::size_t edges = 0;
-  ClipperLib::IntRect box{loops[0][0].X, loops[0][0].Y, loops[0][0].X, loops[0][0].Y};
+  ClipperLib::IntRect box = bounding_box(Path{});
   std::vector<ClipperLib::IntRect> boxes;
   boxes.reserve(loops.size());
   for (std::size_t l = 0; l < loops.size(); ++l) {
     const Path& loop = loops[l];
     if ((ClipperLib::Area(loop) > 0) != bool(outer[l])) return false;
-    ClipperLib::IntRect b{loop[0].X, loop[0].Y, loop[0].X, loop[0].Y};
-    for (const auto& p : loop) {
-      b.left = std::min(b.left, p.X); b.right = std::max(b.right, p.X);
-      b.top = std::min(b.top, p.Y); b.bottom = std::max(b.bottom, p.Y);
-    }
-    box = {std::min(box.left, b.left), std::min(box.top, b.top), std::max(box.right, b.right),
-           std::max(box.bottom, b.bottom)};
-    boxes.push_back(b);
+    boxes.push_back(bounding_box(loop));
+    add_to_box(box, boxes.back());
     edges += loop.size();
   }
   const double w = double(box.right - box.left) + 1, h = double(box.bottom - box.top) + 1;
@@ -270,11 +264,8 @@ Paths offset(const Paths& region, double delta, ClipperLib::JoinType join, doubl
     const double area = ClipperLib::Area(path);
     if (std::abs(area) < kNoArea) continue;
     if ((area < 0) == (units > 0)) {
-      const auto [x0, x1] = std::minmax_element(path.begin(), path.end(),
-                                                [](const auto& p, const auto& q) { return p.X < q.X; });
-      const auto [y0, y1] = std::minmax_element(path.begin(), path.end(),
-                                                [](const auto& p, const auto& q) { return p.Y < q.Y; });
-      if (double(std::min(x1->X - x0->X, y1->Y - y0->Y)) <= 2 * std::abs(units)) continue;
+      const ClipperLib::IntRect b = bounding_box(path);
+      if (double(std::min(b.right - b.left, b.bottom - b.top)) <= 2 * std::abs(units)) continue;
     }
     Path loop;
     loop.reserve(path.size());

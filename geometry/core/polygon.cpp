@@ -43,12 +43,18 @@ double perimeter_bound(const Loop& loop) {
   return bound;
 }
 
-double distance_to_segment(Vec2 p, Vec2 a, Vec2 b) {
-  const Vec2 ab = b - a;
-  const double length2 = dot(ab, ab);
-  const double t = length2 > 0 ? std::clamp(dot(p - a, ab) / length2, 0.0, 1.0) : 0.0;
-  const Vec2 d = p - (a + t * ab);
-  return std::hypot(d.x, d.y);
+Box2 bounding_box(std::span<const Vec2> points) {
+  Box2 box;
+  for (Vec2 p : points) box.add(p);
+  return box;
+}
+
+AreaMoments moments_of_loop(const Loop& loop, Vec2 origin) {
+  AreaMoments m;
+  for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
+    add_edge_moments(m, loop[i] - origin, loop[(i + 1) % n] - origin);
+  }
+  return m;
 }
 
 }  // namespace geometry

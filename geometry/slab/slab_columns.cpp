@@ -11,20 +11,11 @@ namespace geometry {
 
 namespace {
 
-// Green's theorem contributions of the directed segment p -> q (coordinates relative to the
-// origin) to the integrals of 1, x and y over the region it bounds.
-inline void add_segment(AreaMoments& m, Vec2 p, Vec2 q) {
-  const double c = cross(p, q);
-  m.area += c / 2;
-  m.mx += c * (p.x + q.x) / 6;
-  m.my += c * (p.y + q.y) / 6;
-}
-
 AreaMoments moments_of_paths(const ClipperLib::Paths& paths, Vec2 origin) {
   AreaMoments m;
   for (const auto& path : paths) {
     for (std::size_t i = 0, n = path.size(); i < n; ++i) {
-      add_segment(m, from_fine_clipper(path[i]) - origin, from_fine_clipper(path[(i + 1) % n]) - origin);
+      add_edge_moments(m, from_fine_clipper(path[i]) - origin, from_fine_clipper(path[(i + 1) % n]) - origin);
     }
   }
   return m;
@@ -51,14 +42,6 @@ struct Crossing {
 
 }  // namespace
 
-AreaMoments moments_of_loop(const std::vector<Vec2>& loop, Vec2 origin) {
-  AreaMoments m;
-  for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
-    add_segment(m, loop[i] - origin, loop[(i + 1) % n] - origin);
-  }
-  return m;
-}
-
 double integrate_linear(const std::vector<Vec2>& loop, Vec2 origin, double w0, double wx,
                         double wy) {
   const AreaMoments m = moments_of_loop(loop, origin);
@@ -73,11 +56,8 @@ std::optional<AreaMoments> crossing_moments(const std::vector<Vec2>& convex, Vec
                                             const BoundaryGrid& region_grid) {
   const std::size_t n = convex.size();
   AreaMoments m;
-  Vec2 lo = convex[0], hi = convex[0];
-  for (Vec2 p : convex) {
-    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y)};
-    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
-  }
+  const Box2 box = bounding_box(convex);
+  const Vec2 lo = box.lo, hi = box.hi;
 
   // 1. The region's boundary inside the polygon (Cyrus-Beck against each edge's half-plane).
   // A boundary point exactly on an edge's line counts as inside: the polygon is treated as
@@ -109,7 +89,7 @@ std::optional<AreaMoments> crossing_moments(const std::vector<Vec2>& convex, Vec
     if (t0 > t1) return;
     const Vec2 ab = s.b - s.a;
     const Vec2 a = s.a + t0 * ab, b = s.a + t1 * ab;
-    add_segment(m, a - origin, b - origin);
+    add_edge_moments(m, a - origin, b - origin);
     const auto position = [&](int k, Vec2 x) {
       const Vec2 p = convex[k], d = convex[(k + 1) % n] - p;
       return k + std::clamp(dot(x - p, d) / dot(d, d), 0.0, 1.0);
@@ -133,7 +113,7 @@ std::optional<AreaMoments> crossing_moments(const std::vector<Vec2>& convex, Vec
     const int winding = region_grid.winding_number(probe, &clearance);
     if (clearance < kClearance) return std::nullopt;
     if (winding != 0) {
-      for (std::size_t k = 0; k < n; ++k) add_segment(m, convex[k] - origin, convex[(k + 1) % n] - origin);
+      for (std::size_t k = 0; k < n; ++k) add_edge_moments(m, convex[k] - origin, convex[(k + 1) % n] - origin);
     }
     return m;
   }
@@ -163,12 +143,12 @@ std::optional<AreaMoments> crossing_moments(const std::vector<Vec2>& convex, Vec
       if (steps == 0) steps = n;  // entry behind the exit on the same edge: full turn
       for (std::size_t s = 0; s < steps; ++s) {
         const Vec2 corner = convex[(k + 1) % n];
-        add_segment(m, at - origin, corner - origin);
+        add_edge_moments(m, at - origin, corner - origin);
         at = corner;
         k = (k + 1) % n;
       }
     }
-    add_segment(m, at - origin, entry.point - origin);
+    add_edge_moments(m, at - origin, entry.point - origin);
   }
   return m;
 }
@@ -283,11 +263,9 @@ SlabColumns slab_columns(const Slab& slab, const Region& lower_section) {
     column.w0 = slab.z_hi - first.z;
     column.wx = normal.x / normal.z;
     column.wy = normal.y / normal.z;
-    column.lo = column.hi = column.outline[0];
-    for (Vec2 p : column.outline) {
-      column.lo = {std::min(column.lo.x, p.x), std::min(column.lo.y, p.y)};
-      column.hi = {std::max(column.hi.x, p.x), std::max(column.hi.y, p.y)};
-    }
+    const Box2 box = bounding_box(column.outline);
+    column.lo = box.lo;
+    column.hi = box.hi;
     volume += column.sign * integrate_linear(column.outline, column.outline[0], column.w0,
                                              column.wx, column.wy);
     columns.facets.push_back(std::move(column));

@@ -57,10 +57,7 @@ SlabColumns slab_columns(const Slab& slab, const Region& lower_section);
 // the region's boundary (as a grid, whose segments must be those of `region`) clipped by
 // the polygon plus the polygon's boundary inside the region (Green's theorem). Degenerate
 // configurations (the region's boundary through a polygon corner, or exactly along it) fall
-// back to Clipper on the whole region (1 pm grid).
-struct AreaMoments {
-  double area = 0, mx = 0, my = 0;
-};
+// back to Clipper on the whole region (1 pm grid). AreaMoments: core/polygon.h.
 AreaMoments moments_of_intersection(const std::vector<Vec2>& convex, Vec2 origin,
                                     const BoundaryGrid& region_grid, const Region& region);
 
@@ -81,7 +78,6 @@ double intersection_area(const Region& a, const Region& b);
 // wy (y - o.y), from its boundary.
 double integrate_linear(const std::vector<Vec2>& loop, Vec2 origin, double w0, double wx,
                         double wy);
-AreaMoments moments_of_loop(const std::vector<Vec2>& loop, Vec2 origin);
 
 // The part of a polygon where the linear function f0 + fx (x - o.x) + fy (y - o.y) is >= 0
 // (Sutherland-Hodgman against one half-plane; a convex polygon stays convex, a non-convex one

@@ -10,14 +10,6 @@ namespace geometry::ma {
 
 namespace {
 
-double squared_distance_to_segment(Vec2 p, Vec2 a, Vec2 b) {
-  const Vec2 ab = b - a, ap = p - a;
-  const double length2 = dot(ab, ab);
-  const double t = length2 > 0 ? std::clamp(dot(ap, ab) / length2, 0.0, 1.0) : 0.0;
-  const Vec2 d = ap - t * ab;
-  return dot(d, d);
-}
-
 // Distance from x to the loop, searched from edge `segment` along the loop while it gets no
 // worse; `segment` is updated to the nearest edge found, as the hint for the next query.
 // (Called a few million times per model: the walk wraps round without a division.)

@@ -101,33 +101,15 @@ ClipperLib::Paths cap_contour(const Slab& slab, const BoundaryPair& pair, bool s
 // the box reversed round everything.
 Region mid_inside(const ClipperLib::Paths& region, const ClipperLib::Paths& all_middle,
                   const ClipperLib::Paths& zone) {
-  struct Box {
-    ClipperLib::cInt lo_x, lo_y, hi_x, hi_y;
-    void add(const ClipperLib::Path& path) {
-      for (const auto& p : path) {
-        lo_x = std::min(lo_x, p.X);
-        lo_y = std::min(lo_y, p.Y);
-        hi_x = std::max(hi_x, p.X);
-        hi_y = std::max(hi_y, p.Y);
-      }
-    }
-    bool meets(const Box& other) const {
-      return lo_x <= other.hi_x && other.lo_x <= hi_x && lo_y <= other.hi_y && other.lo_y <= hi_y;
-    }
-  };
-  constexpr auto kMax = std::numeric_limits<ClipperLib::cInt>::max();
-  constexpr Box kEmpty{kMax, kMax, -kMax, -kMax};
-  Box bounds = kEmpty;
-  for (const auto& path : zone) bounds.add(path);
+  ClipperLib::IntRect bounds = clipper::bounding_box(zone);
   // Only the section's loops whose box meets the zone's: the others add no winding inside it.
   ClipperLib::Paths middle;
   for (const auto& path : all_middle) {
-    Box own = kEmpty;
-    own.add(path);
-    if (own.meets(bounds)) middle.push_back(path);
+    if (clipper::boxes_meet(clipper::bounding_box(path), bounds)) middle.push_back(path);
   }
-  for (const auto& path : middle) bounds.add(path);
-  const ClipperLib::cInt lo_x = bounds.lo_x, lo_y = bounds.lo_y, hi_x = bounds.hi_x, hi_y = bounds.hi_y;
+  clipper::add_to_box(bounds, clipper::bounding_box(middle));
+  const ClipperLib::cInt lo_x = bounds.left, lo_y = bounds.top, hi_x = bounds.right,
+                         hi_y = bounds.bottom;
   ClipperLib::Paths subject = region;
   for (ClipperLib::Path path : zone) {
     ClipperLib::ReversePath(path);
