@@ -168,9 +168,29 @@ int index_of(const Strategies& kinds, std::string_view name) {
   return -1;
 }
 
-std::string percent_change(double value, double base) {
-  if (!(base > 0)) return "n/a";
-  return fmt::format("{:+.1f}%", 100.0 * (value - base) / base);
+// x with its sign and `decimals` decimals, but a value that rounds to zero as plain zero
+// ("0.0", never "-0.0" or "+0.0").
+std::string signed_text(double x, int decimals) {
+  const std::string text = fmt::format("{:+.{}f}", x, decimals);
+  return text.find_first_not_of("+-0.") == std::string::npos ? text.substr(1) : text;
+}
+
+// How `value` compares with `base`: in percent of the baseline, or where the baseline is at
+// most `negligible` (a distance error of 1e-15 mm on a part of vertical walls, whose lower
+// contour is exact) as the absolute difference in `unit`, since a percentage of rounding noise
+// says nothing.
+std::string change_text(double value, double base, double negligible, const char* unit,
+                        int decimals) {
+  if (!(std::abs(base) > negligible)) {
+    return fmt::format("{} {}", signed_text(value - base, decimals), unit);
+  }
+  return signed_text(100.0 * (value - base) / base, 1) + "%";
+}
+
+// The change in percent for the JSON, or null where change_text gives the absolute difference.
+nlohmann::json percent_or_null(double value, double base, double negligible) {
+  if (!(std::abs(base) > negligible)) return nullptr;
+  return 100 * (value - base) / base;
 }
 
 // How strategy k compares with baseline b: one line of text and its figures.
@@ -198,14 +218,16 @@ nlohmann::json compare(const std::vector<LayerAnalysis>& layers,
   nlohmann::json j;
   j["strategy"] = name_of(s.strategy);
   j["baseline"] = name_of(base.strategy);
-  j["mean_distance_change_percent"] =
-      base.mean_distance > 0 ? 100 * (s.mean_distance - base.mean_distance) / base.mean_distance : 0.0;
-  j["max_distance_change_percent"] =
-      base.max_distance > 0 ? 100 * (s.max_distance - base.max_distance) / base.max_distance : 0.0;
+  // Below the distance metric's tolerance a D is zero; below a 10 um cube per layer a ΔV is.
+  const double no_distance = tolerance;
+  const double no_volume = geometry::kNegligibleVolume * static_cast<double>(layers.size());
+  j["mean_distance_change_percent"] = percent_or_null(s.mean_distance, base.mean_distance, no_distance);
+  j["max_distance_change_percent"] = percent_or_null(s.max_distance, base.max_distance, no_distance);
   j["total_deviation_change_percent"] =
-      base.total_deviation > geometry::kNegligibleVolume * layers.size()
-          ? nlohmann::json(100 * (s.total_deviation - base.total_deviation) / base.total_deviation)
-          : nlohmann::json(nullptr);
+      percent_or_null(s.total_deviation, base.total_deviation, no_volume);
+  j["mean_distance_change"] = s.mean_distance - base.mean_distance;
+  j["max_distance_change"] = s.max_distance - base.max_distance;
+  j["total_deviation_change"] = s.total_deviation - base.total_deviation;
   j["per_layer_deviation_change_percent"] = counted ? 100 * per_layer / counted : 0.0;
   j["layers_compared_for_deviation"] = counted;
   j["per_layer_deviation_change_min_percent"] = 100 * lowest;
@@ -213,16 +235,16 @@ nlohmann::json compare(const std::vector<LayerAnalysis>& layers,
   j["layers_distance_better"] = better;
   j["layers_distance_worse"] = worse;
   const std::string per_layer_text =
-      counted ? fmt::format("ΔV per layer {:+.1f}% on average ({:+.0f}% to {:+.0f}%)",
-                            100 * per_layer / counted, 100 * lowest, 100 * highest)
+      counted ? fmt::format("ΔV per layer {}% on average ({}% to {}%)",
+                            signed_text(100 * per_layer / counted, 1), signed_text(100 * lowest, 0),
+                            signed_text(100 * highest, 0))
               : std::string("ΔV per layer: n/a (the baseline's is negligible)");
   fmt::print("{} vs {}: mean D {}, max D {}, total ΔV {}, {}; D better on {}, worse on {} of {} "
              "layers\n",
-             name_of(s.strategy), name_of(base.strategy), percent_change(s.mean_distance, base.mean_distance),
-             percent_change(s.max_distance, base.max_distance),
-             base.total_deviation > geometry::kNegligibleVolume * layers.size()
-                 ? percent_change(s.total_deviation, base.total_deviation)
-                 : std::string("n/a"),
+             name_of(s.strategy), name_of(base.strategy),
+             change_text(s.mean_distance, base.mean_distance, no_distance, "mm", 4),
+             change_text(s.max_distance, base.max_distance, no_distance, "mm", 4),
+             change_text(s.total_deviation, base.total_deviation, no_volume, "mm³", 3),
              per_layer_text, better, worse, layers.size());
   return j;
 }
