@@ -5,7 +5,8 @@
 //  [--thicknesses 0.15,0.2,...] [--share 95] [--json F]`
 //
 // analyze (paper §4, Fig. 22-26): slices the model into uniform layers, makes each layer's
-// region with every strategy asked for, measures each region exactly (geometry/metrics/layer_metrics.h)
+// region with every strategy asked for, measures each region (geometry/metrics/layer_metrics.h:
+// ΔV exactly, D to 1 um over the whole surface, H's reverse direction at 5 heights)
 // and prints one summary row per strategy, then how every strategy compares with lower (the
 // paper's baseline) and with mid (what PrusaSlicer, Slic3r and CuraEngine print). Optional
 // outputs: a CSV row per layer and strategy, a JSON summary, SVG charts (D per layer, ΔV per
@@ -635,8 +636,9 @@ void add_analyze_command(CLI::App& app) {
   CLI::App* analyze = app.add_subcommand(
       "analyze",
       "Compare contour strategies layer by layer: exact volume deviation, distance error "
-      "(the paper's D, reverse, Hausdorff), the volume limit, missed features; CSV, JSON, "
-      "SVG plots, a layer's contours, the layered part as STL.");
+      "(the paper's D, to 1 um; reverse and Hausdorff, sampled at 5 heights a layer), the "
+      "volume limit, missed features; CSV, JSON, SVG plots, a layer's contours, the layered "
+      "part as STL.");
   add_model_options(*analyze, options->model);
   analyze->add_option("--layer", options->layer, "layer thickness, mm")
       ->check(CLI::PositiveNumber)
