@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "geometry/contour/best_contour.h"
 #include "geometry/contour/ma_contour.h"
 #include "geometry/contour/optimal_height.h"
 #include "geometry/contour/section_contours.h"
@@ -11,15 +12,17 @@ namespace geometry {
 namespace {
 
 // The strategies: one entry each, in the order --help lists them. The colours are
-// matplotlib's first four (the paper's figures use the same family).
+// matplotlib's first five (the paper's figures use the same family).
 constexpr ContourStrategy kStrategies[] = {
     {"lower", "the section at the layer's bottom, the paper's baseline", "#1f77b4",
-     lower_strategy},
+     lower_strategy, [](const Layer& layer) { return layer.z_lo; }},
     {"mid", "the section at the layer's middle, as other slicers print", "#2ca02c",
-     mid_strategy},
+     mid_strategy, [](const Layer& layer) { return layer.z_mid(); }},
     {"optimal-height", "the section with the least volume deviation", "#ff7f0e",
      optimal_height_strategy},
     {"ma", "the paper's medial-axis contour of the slab", "#d62728", ma_strategy},
+    {"best", "per layer the least distance error of mid, optimal-height and ma", "#9467bd",
+     best_strategy},
 };
 
 bool same_name(std::string_view name, std::string_view asked) {

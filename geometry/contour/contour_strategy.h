@@ -9,6 +9,8 @@
 //   mid             cross-section at the layer's middle (PrusaSlicer, Slic3r, CuraEngine)
 //   optimal-height  the cross-section at the height minimising the volume deviation (§3.1)
 //   ma              the paper's medial-axis contour of the slab's boundary pair (§3.2-3.3)
+//   best            per layer, whichever of mid, optimal-height and ma has the least distance
+//                   error D (ties within 1 um broken by volume deviation): best_contour.h
 // Every strategy returns a valid Region (no self-intersections); an empty slab gives an
 // empty Region.
 #pragma once
@@ -36,6 +38,10 @@ struct ContourStrategy {
   std::string_view description;  // one line for --help: lower case, no full stop
   std::string_view colour;       // in analyze's plots and drawings, "#rrggbb"
   ContourFunction contour;       // makes the region (contour_input.h)
+  // For a strategy that prints the model's section at one height (lower, mid): that height
+  // for a layer; null for the others. The layer plan measures such regions more cheaply
+  // (plan/slab_error.h).
+  double (*cuts_at)(const Layer& layer) = nullptr;
 };
 
 // Every strategy, in the order --help lists them and analyze compares them by default.

@@ -49,11 +49,12 @@ TEST_CASE("contour_names_round_trip") {
   CHECK(table[1].name == "mid");
   CHECK(table[2].name == "optimal-height");
   CHECK(table[3].name == "ma");
+  CHECK(table[4].name == "best");
   CHECK(geometry::find_contour_strategy("optimal_height") == &table[2]);
   CHECK(geometry::find_contour_strategy("median") == nullptr);
   CHECK(geometry::find_contour_strategy("") == nullptr);
   CHECK_THROWS_AS(geometry::contour_strategy("median"), std::logic_error);
-  CHECK(geometry::contour_names() == "lower, mid, optimal-height, ma");
+  CHECK(geometry::contour_names() == "lower, mid, optimal-height, ma, best");
 }
 
 TEST_CASE("every_strategy_has_a_description_and_a_colour_of_its_own") {
