@@ -50,25 +50,20 @@ double integrate_linear(const std::vector<Vec2>& loop, Vec2 origin, double w0, d
 
 namespace {
 
-// The moments of (convex ∩ region) by Green's theorem, or nothing where the configuration is
-// degenerate (the region's boundary through a corner of the polygon or along its edge).
-std::optional<AreaMoments> crossing_moments(const std::vector<Vec2>& convex, Vec2 origin,
-                                            const BoundaryGrid& region_grid) {
+// Step 1 of crossing_moments: the region's boundary inside the polygon (Cyrus-Beck against
+// each edge's half-plane), its moments added to m, and where it crosses the polygon's
+// boundary (`crossings`, unordered). A boundary point exactly on an edge's line counts as
+// inside: the polygon is treated as grown by an infinitesimal margin, and step 2 judges its
+// edges at that margin too, so both steps see the same configuration. Each vertex's side of
+// each line is computed by the same expression wherever it appears, so neighbouring boundary
+// segments agree on it.
+void add_boundary_inside(const std::vector<Vec2>& convex, Vec2 origin,
+                         const BoundaryGrid& region_grid, AreaMoments& m,
+                         std::vector<Crossing>& crossings) {
   const std::size_t n = convex.size();
-  AreaMoments m;
   const Box2 box = bounding_box(convex);
-  const Vec2 lo = box.lo, hi = box.hi;
-
-  // 1. The region's boundary inside the polygon (Cyrus-Beck against each edge's half-plane).
-  // A boundary point exactly on an edge's line counts as inside: the polygon is treated as
-  // grown by an infinitesimal margin, and step 2 judges its edges at that margin too, so both
-  // steps see the same configuration. Each vertex's side of each line is computed by the same
-  // expression wherever it appears, so neighbouring boundary segments agree on it.
-  // Reused: this runs for every facet and region, and a fresh vector each time was a malloc.
-  thread_local std::vector<Crossing> crossings;
-  crossings.clear();
   const auto& segments = region_grid.segments();
-  region_grid.for_each_near(lo, hi, [&](std::uint32_t id) {
+  region_grid.for_each_near(box.lo, box.hi, [&](std::uint32_t id) {
     const Segment2& s = segments[id];
     double t0 = 0, t1 = 1;
     int k0 = -1, k1 = -1;
@@ -97,38 +92,42 @@ std::optional<AreaMoments> crossing_moments(const std::vector<Vec2>& convex, Vec
     if (k0 >= 0) crossings.push_back({position(k0, a), true, a});
     if (k1 >= 0) crossings.push_back({position(k1, b), false, b});
   });
+}
 
-  // 2. The polygon's boundary inside the region.
-  if (crossings.empty()) {
-    // No crossing: the boundary is all in or all out. Judge a point just outside a corner
-    // (the infinitesimal margin of step 1), unless the region's boundary passes too close to
-    // tell, which only a degenerate configuration does.
-    Vec2 centre{0, 0};
-    for (Vec2 p : convex) centre = centre + p;
-    centre = (1.0 / n) * centre;
-    const Vec2 out = convex[0] - centre;
-    const double length = std::hypot(out.x, out.y);
-    const Vec2 probe = length > 0 ? convex[0] + (kProbe / length) * out : convex[0];
-    double clearance = 0;
-    const int winding = region_grid.winding_number(probe, &clearance);
-    if (clearance < kClearance) return std::nullopt;
-    if (winding != 0) {
-      for (std::size_t k = 0; k < n; ++k) add_edge_moments(m, convex[k] - origin, convex[(k + 1) % n] - origin);
-    }
-    return m;
+// Step 2 with no crossing: the polygon's boundary is all in or all out. Judged at a point just
+// outside a corner (the infinitesimal margin of step 1), unless the region's boundary passes
+// too close to tell, which only a degenerate configuration does (false).
+bool add_polygon_if_inside(const std::vector<Vec2>& convex, Vec2 origin,
+                           const BoundaryGrid& region_grid, AreaMoments& m) {
+  const std::size_t n = convex.size();
+  Vec2 centre{0, 0};
+  for (Vec2 p : convex) centre = centre + p;
+  centre = (1.0 / n) * centre;
+  const Vec2 out = convex[0] - centre;
+  const double length = std::hypot(out.x, out.y);
+  const Vec2 probe = length > 0 ? convex[0] + (kProbe / length) * out : convex[0];
+  double clearance = 0;
+  const int winding = region_grid.winding_number(probe, &clearance);
+  if (clearance < kClearance) return false;
+  if (winding != 0) {
+    for (std::size_t k = 0; k < n; ++k) add_edge_moments(m, convex[k] - origin, convex[(k + 1) % n] - origin);
   }
-  std::sort(crossings.begin(), crossings.end(),
-            [](const Crossing& a, const Crossing& b) { return a.position < b.position; });
-  const std::size_t count = crossings.size();
-  // Walking the polygon's boundary, the region's boundary alternately leaves and enters it;
-  // anything else (or two crossings too close to order) is a degenerate configuration.
+  return true;
+}
+
+// Step 2 with crossings (sorted along the polygon's boundary): from every exit, the polygon's
+// boundary runs inside the region up to the next entry. Walking it, the region's boundary
+// alternately leaves and enters; anything else, or two crossings too close to order, is a
+// degenerate configuration (false).
+bool add_polygon_between_crossings(const std::vector<Vec2>& convex, Vec2 origin,
+                                   const std::vector<Crossing>& crossings, AreaMoments& m) {
+  const std::size_t n = convex.size(), count = crossings.size();
   for (std::size_t i = 0; i < count; ++i) {
     const Crossing& a = crossings[i];
     const Crossing& b = crossings[(i + 1) % count];
     const double gap = i + 1 < count ? b.position - a.position : b.position + n - a.position;
-    if (a.entry == b.entry || gap < 1e-12) return std::nullopt;
+    if (a.entry == b.entry || gap < 1e-12) return false;
   }
-  // From every exit, the polygon's boundary runs inside the region up to the next entry.
   for (std::size_t i = 0; i < count; ++i) {
     const Crossing& exit = crossings[i];
     if (exit.entry) continue;
@@ -150,6 +149,25 @@ std::optional<AreaMoments> crossing_moments(const std::vector<Vec2>& convex, Vec
     }
     add_edge_moments(m, at - origin, entry.point - origin);
   }
+  return true;
+}
+
+// The moments of (convex ∩ region) by Green's theorem, or nothing where the configuration is
+// degenerate (the region's boundary through a corner of the polygon or along its edge).
+std::optional<AreaMoments> crossing_moments(const std::vector<Vec2>& convex, Vec2 origin,
+                                            const BoundaryGrid& region_grid) {
+  AreaMoments m;
+  // Reused: this runs for every facet and region, and a fresh vector each time was a malloc.
+  thread_local std::vector<Crossing> crossings;
+  crossings.clear();
+  add_boundary_inside(convex, origin, region_grid, m, crossings);
+  if (crossings.empty()) {
+    if (!add_polygon_if_inside(convex, origin, region_grid, m)) return std::nullopt;
+    return m;
+  }
+  std::sort(crossings.begin(), crossings.end(),
+            [](const Crossing& a, const Crossing& b) { return a.position < b.position; });
+  if (!add_polygon_between_crossings(convex, origin, crossings, m)) return std::nullopt;
   return m;
 }
 
