@@ -60,6 +60,7 @@ std::vector<Loop> axis_loops(const SampleTriangulation& triangulation,
     do {
       visited[f] = 1;
       const int out = exit_edge(triangulation.faces[f], labels);
+      if (out < 0) break;  // never: the loop condition checked it (said for GCC's -Warray-bounds)
       if (axis_crossing(triangulation, labels, samples, loops, f, out, fairing, crossing)) {
         chain.push_back(crossing);
       }
