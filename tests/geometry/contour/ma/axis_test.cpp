@@ -43,7 +43,7 @@ TEST_CASE("axis_of_a_ring_is_one_loop_equidistant_from_both_loops") {
   geometry::MaOptions options;
   const auto samples = geometry::ma::sample_boundary_pair(loops, options);
   const SampleTriangulation t = geometry::ma::triangulate_samples(samples);
-  for (const std::vector<char> solid : {std::vector<char>{0, 1}, std::vector<char>{1, 0}}) {
+  for (const std::vector<char>& solid : {std::vector<char>{0, 1}, std::vector<char>{1, 0}}) {
     CAPTURE(int(solid[0]));
     const std::vector<char> labels = geometry::ma::vertex_labels(t, samples, solid);
     const auto axis = geometry::ma::axis_loops(t, labels, samples, loops, true);
