@@ -21,6 +21,11 @@
 // - replies: M105, M114, M115, M155, busy keepalive, unknown commands, `start`, kill().
 // Faults (sim/faults.h) are injected on top, from their seed.
 //
+// The parts, one concern each: the wire both ways (sim/wire.h), the RX buffer and line
+// assembly (sim/serial_line.h), the command queue (sim/command_queue.h), motion and deposition
+// (sim/motion.h), the heaters and their waits (sim/heaters.h), and where faults fire
+// (sim/fault_injector.h); printer.cpp runs the commands and ties the parts together.
+//
 // Commands it runs: G0-G3 (arcs in 1 mm chords), G4, G28 (homing moves through the motion
 // model, from where the head is; it powers on at 0,0,0), G90/G91 (both also set E, as
 // Marlin's do), G92, M0/M1 (until M108 or S/P), M17/M18/M84, M82/M83, M104/M109, M140/M190,

@@ -50,6 +50,49 @@ std::string LineAssembler::take() {
   return line;
 }
 
+SerialReceiver::Buffered SerialReceiver::buffer(char c) {
+  if (static_cast<int>(rx_.size() - rx_read_) < rx_size_) {
+    if (rx_read_ >= 4096) {  // bytes read stay until the buffer runs empty; not for ever
+      rx_.erase(0, rx_read_);
+      rx_read_ = 0;
+    }
+    rx_ += c;
+    dropping_ = false;
+    return Buffered::kept;
+  }
+  const bool first = !dropping_;
+  dropping_ = true;
+  return first ? Buffered::lost_first : Buffered::lost;
+}
+
+char SerialReceiver::take_buffered() {
+  const char c = rx_[rx_read_++];
+  if (rx_read_ == rx_.size()) {
+    rx_.clear();
+    rx_read_ = 0;
+  }
+  return c;
+}
+
+void SerialReceiver::discard_buffered() {
+  rx_.clear();
+  rx_read_ = 0;
+  dropping_ = false;
+}
+
+std::optional<std::string> SerialReceiver::read(char c, bool& cut) {
+  cut = false;
+  if (!is_line_end(c)) {
+    const bool was_cut = line_.cut();
+    line_.feed(c);
+    cut = line_.cut() && !was_cut;
+    return std::nullopt;
+  }
+  std::string raw = line_.take();
+  if (raw.empty()) return std::nullopt;
+  return raw;
+}
+
 LineCheck check_line(std::string_view command, long last_n) {
   while (!command.empty() && command.front() == ' ') command.remove_prefix(1);
   LineCheck check;
