@@ -370,10 +370,10 @@ void run_print(const PrintOptions& options) {
   job_options.journal.baud = dry_run ? 0 : baud;
   std::string note;
   if (!dry_run) {
-    job_options.resume_command = fmt::format("mahost resume {} --port {}", journal, options.link.port);
+    job_options.resume_command = printer::resume_command(journal, options.link.port);
     note = fmt::format("journal: {} (if the print is interrupted: {})", journal, *job_options.resume_command);
   } else if (keep) {
-    job_options.resume_command = fmt::format("mahost resume {} --dry-run", journal);
+    job_options.resume_command = printer::resume_command(journal, "");
     note = fmt::format("journal: {} (kept; if the dry run is interrupted: {})", journal,
                        *job_options.resume_command);
   } else {
@@ -424,7 +424,7 @@ void run_resume(const ResumeOptions& options) {
   check_link_choice(options.link, "resume");
   const std::string journal = fs::absolute(options.journal).string();
   const printer::JournalRecord record = printer::read_journal(journal);
-  if (record.state == "completed") {
+  if (record.state == printer::JobState::completed) {
     throw printer::ConfigError(fmt::format("{}: the job completed; there is nothing to resume", journal));
   }
   if (process_is_mahost(record.pid)) {
@@ -470,7 +470,7 @@ void run_resume(const ResumeOptions& options) {
     job_options.journal.port = options.link.port;
     job_options.journal.baud = baud;
     job_options.journal.pid = 0;
-    job_options.resume_command = fmt::format("mahost resume {} --port {}", journal, options.link.port);
+    job_options.resume_command = printer::resume_command(journal, options.link.port);
     note = fmt::format("journal: {} (if the print is interrupted again: {})", journal,
                        *job_options.resume_command);
   }

@@ -20,20 +20,6 @@ constexpr nanoseconds kPausedReportEvery = std::chrono::seconds(2);
 
 }  // namespace
 
-std::string_view to_string(JobState state) {
-  switch (state) {
-    case JobState::printing: return "printing";
-    case JobState::pausing: return "pausing";
-    case JobState::paused: return "paused";
-    case JobState::cancelling: return "cancelling";
-    case JobState::completed: return "completed";
-    case JobState::cancelled: return "cancelled";
-    case JobState::stopped: return "stopped";
-    case JobState::failed: return "failed";
-  }
-  return "unknown";
-}
-
 Job::Job(LineProtocol& protocol, const GcodeFile& file, JobOptions options)
     : protocol_(protocol), file_(file), options_(std::move(options)), eta_(file, options_.motion) {
   layer_sequence_.assign(file_.layers.size(), -1);
@@ -123,7 +109,7 @@ void Job::tick(bool force) {
   }
 }
 
-void Job::write_journal_now(const std::string& state, int layer, std::size_t command,
+void Job::write_journal_now(JobState state, int layer, std::size_t command,
                             const PrintState& at, const std::string& reason) {
   if (options_.journal_path.empty()) return;
   JournalRecord record = options_.journal;
@@ -146,7 +132,7 @@ void Job::start_layer(int layer, std::size_t command) {
   // recovery before the first are not in the model, and the printer's planner may still be
   // running them when the first layer's commands are acknowledged.
   if (layers_reached_++ > 0) eta_.arm_pace(command);
-  write_journal_now("printing", layer, command, state_);
+  write_journal_now(JobState::printing, layer, command, state_);
   const int counted = layer + 1;
   const bool planned = std::find(options_.pause_at_layers.begin(), options_.pause_at_layers.end(),
                                  counted) != options_.pause_at_layers.end();
@@ -165,7 +151,7 @@ void Job::pause_here(int layer) {
   // Counted once the printer stands paused: a pause the job is cancelled in is one too.
   ++pauses_;
   job_state_ = JobState::paused;
-  write_journal_now("paused", layer, file_.layers[static_cast<std::size_t>(layer)].first_command,
+  write_journal_now(JobState::paused, layer, file_.layers[static_cast<std::size_t>(layer)].first_command,
                     state_);
   event(fmt::format(
       "paused before layer {}/{} at X{:.2f} Y{:.2f} Z{:.2f}{}; nozzle parked at Z{:.2f}, "
@@ -197,7 +183,7 @@ void Job::pause_here(int layer) {
   paused_for_ += protocol_.link().now() - began;
   paused_since_.reset();
   job_state_ = JobState::printing;
-  write_journal_now("printing", layer, file_.layers[static_cast<std::size_t>(layer)].first_command,
+  write_journal_now(JobState::printing, layer, file_.layers[static_cast<std::size_t>(layer)].first_command,
                     state_);
   event(fmt::format("resumed at layer {}/{}", layer + 1, file_.layers.size()));
 }
@@ -219,26 +205,35 @@ int Job::resume_layer_after_failure() const {
   return layer < 0 ? layer_ : std::min(layer, layer_);
 }
 
+void Job::journal_interrupted(JobState state, const std::string& reason) {
+  const int layer = resume_layer_after_failure();
+  if (layer < 0) return;
+  write_journal_now(state, layer, file_.layers[static_cast<std::size_t>(layer)].first_command,
+                    layer_state_[static_cast<std::size_t>(layer)], reason);
+}
+
+std::string Job::resume_hint() const {
+  if (options_.resume_command) {
+    return options_.resume_command->empty() ? "" : "; to finish the part: " + *options_.resume_command;
+  }
+  if (options_.journal_path.empty()) return "";
+  return "; to finish the part: " + resume_command(options_.journal_path, kAnyPort);
+}
+
 JobResult Job::run() {
   start_ = protocol_.link().now();
   protocol_.on_wait = [this] { tick(); };
   JobResult result;
-  std::string hint;
-  if (options_.resume_command) {
-    if (!options_.resume_command->empty()) hint = "; to finish the part: " + *options_.resume_command;
-  } else if (!options_.journal_path.empty()) {
-    hint = fmt::format("; to finish the part: mahost resume {} --port PORT", options_.journal_path);
-  }
   try {
     if (options_.recover_from) {
       const int layer = file_.layer_index_of(done_);
-      write_journal_now("printing", layer, done_, state_);
+      write_journal_now(JobState::printing, layer, done_, state_);
       event(fmt::format("resuming at layer {}/{}: heating, lifting, homing X and Y{}", layer + 1,
                         file_.layers.size(),
                         options_.printer_restarted ? ", setting Z from the journal" : ""));
       recover_print(protocol_, state_, options_.printer_restarted, options_.pause);
     } else {
-      write_journal_now("printing", file_.layer_index_of(done_), done_, state_);
+      write_journal_now(JobState::printing, file_.layer_index_of(done_), done_, state_);
     }
     for (std::size_t i = done_; i < file_.size(); ++i) {
       if (const int layer = file_.layer_starting_at(i); layer >= 0) start_layer(layer, i);
@@ -256,14 +251,14 @@ JobResult Job::run() {
       job_state_ = JobState::cancelled;
       result.reason = fmt::format("cancelled at layer {}/{}", layer_ + 1, file_.layers.size());
       const int layer = std::max(layer_, 0);
-      write_journal_now("cancelled", layer_ < 0 ? -1 : layer,
+      write_journal_now(JobState::cancelled, layer_ < 0 ? -1 : layer,
                         layer_ < 0 ? 0 : file_.layers[static_cast<std::size_t>(layer)].first_command,
                         layer_ < 0 ? PrintState{} : layer_state_[static_cast<std::size_t>(layer)],
                         result.reason);
     } else {
       protocol_.wait_acknowledged();
       job_state_ = JobState::completed;
-      write_journal_now("completed", -1, file_.size(), state_);
+      write_journal_now(JobState::completed, -1, file_.size(), state_);
     }
   } catch (const StopNow&) {
     job_state_ = JobState::stopped;
@@ -280,34 +275,21 @@ JobResult Job::run() {
         "emergency stop (M112) at layer {}/{}: {}; reset it (power or M999) before the next job",
         layer_ + 1, file_.layers.size(),
         confirmed ? "the printer halted" : "the printer did not confirm the halt within 2 s");
-    const int layer = resume_layer_after_failure();
-    if (layer >= 0) {
-      write_journal_now("stopped", layer, file_.layers[static_cast<std::size_t>(layer)].first_command,
-                        layer_state_[static_cast<std::size_t>(layer)], result.reason);
-    }
+    journal_interrupted(JobState::stopped, result.reason);
   } catch (const PrinterError& e) {
-    if (stop_sent_) {
-      job_state_ = JobState::stopped;
-      result.reason = "emergency stop (M112): the printer is halted";
-    } else {
+    if (!stop_sent_) {
       job_state_ = JobState::failed;
-      const int layer = resume_layer_after_failure();
-      if (layer >= 0) {
-        write_journal_now("failed", layer, file_.layers[static_cast<std::size_t>(layer)].first_command,
-                          layer_state_[static_cast<std::size_t>(layer)], e.what());
-      }
+      journal_interrupted(JobState::failed, e.what());
       protocol_.on_wait = nullptr;
-      throw PrinterError(std::string(e.what()) + hint);
+      throw PrinterError(std::string(e.what()) + resume_hint());
     }
+    job_state_ = JobState::stopped;
+    result.reason = "emergency stop (M112): the printer is halted";
   } catch (const LinkError& e) {
     job_state_ = JobState::failed;
-    const int layer = resume_layer_after_failure();
-    if (layer >= 0) {
-      write_journal_now("failed", layer, file_.layers[static_cast<std::size_t>(layer)].first_command,
-                        layer_state_[static_cast<std::size_t>(layer)], e.what());
-    }
+    journal_interrupted(JobState::failed, e.what());
     protocol_.on_wait = nullptr;
-    throw LinkError(std::string(e.what()) + hint);
+    throw LinkError(std::string(e.what()) + resume_hint());
   }
   protocol_.on_wait = nullptr;
   result.state = job_state_;

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "printer/gcode_file.h"
+#include "printer/job_state.h"
 #include "printer/journal.h"
 #include "printer/line_protocol.h"
 #include "printer/motion_model.h"
@@ -27,8 +28,6 @@
 namespace printer {
 
 enum class JobRequest { pause, resume, cancel, stop };
-enum class JobState { printing, pausing, paused, cancelling, completed, cancelled, stopped, failed };
-std::string_view to_string(JobState state);
 
 struct JobProgress {
   JobState state = JobState::printing;
@@ -52,8 +51,8 @@ struct JobOptions {
   std::string journal_path;          // "" keeps no journal
   bool journal_durable = true;       // fsync each record (a dry run need not)
   JournalRecord journal;             // job, G-code path and hash, port, baud: copied into it
-  // What a failure's message tells the user to run to finish the part; unset: "mahost resume
-  // <journal> --port PORT"; empty: nothing (a journal that will not outlive the job).
+  // What a failure's message tells the user to run to finish the part; unset:
+  // resume_command(journal, kAnyPort); empty: nothing (a journal that will not outlive the job).
   std::optional<std::string> resume_command;
   MotionLimits motion;               // the printer's, for the remaining time (print_eta.h)
   // A resume: start at this command with the printer first brought back onto the part.
@@ -109,8 +108,12 @@ class Job {
   void start_layer(int layer, std::size_t command);
   void pause_here(int layer);
   void cancel_here();
-  void write_journal_now(const std::string& state, int layer, std::size_t command,
-                         const PrintState& at, const std::string& reason = {});
+  void write_journal_now(JobState state, int layer, std::size_t command, const PrintState& at,
+                         const std::string& reason = {});
+  // The journal of a job that ended early: the layer a resume reprints, with its state.
+  void journal_interrupted(JobState state, const std::string& reason);
+  // "; to finish the part: mahost resume ..." for a failure's message, or "".
+  std::string resume_hint() const;
   void event(const std::string& text);
   int resume_layer_after_failure() const;
   // Link time since the job started, less the time spent pausing or paused.

@@ -248,7 +248,7 @@ TEST_CASE("halt_fault_exits_3_with_the_reason_and_the_resume_command") {
   CHECK(r.err.find("; to finish the part: mahost resume " + journal + " --dry-run\n") != std::string::npos);
   const auto record = journal_of(journal);
   REQUIRE(record);
-  CHECK(record->state == "failed");
+  CHECK(record->state == printer::JobState::failed);
   CHECK(fs::exists(dir + "/job.journal"));  // a journal the user named stays
 
   // Rehearsing the resume on the simulated printer finishes the part there and leaves the
@@ -283,7 +283,7 @@ TEST_CASE("ctl_pauses_and_resumes_a_print_without_a_terminal") {
   auto r = run_mahost({"ctl", "pause"});  // found without --job: the one running job
   CHECK(r.exit_code == 0);
   CHECK(r.out.starts_with("pausing before layer "));
-  REQUIRE(wait_for([&] { return journal_of(journal) && journal_of(journal)->state == "paused"; }, 60s));
+  REQUIRE(wait_for([&] { return journal_of(journal) && journal_of(journal)->state == printer::JobState::paused; }, 60s));
   r = run_mahost({"ctl", "status", "--job", journal});
   CHECK(r.exit_code == 0);
   CHECK(r.out.starts_with("paused  layer "));
@@ -293,7 +293,7 @@ TEST_CASE("ctl_pauses_and_resumes_a_print_without_a_terminal") {
   r = run_mahost({"ctl", "resume"});
   CHECK(r.exit_code == 0);
   CHECK(print.wait(120s) == 0);
-  CHECK(journal_of(journal)->state == "completed");
+  CHECK(journal_of(journal)->state == printer::JobState::completed);
   CHECK_FALSE(fs::exists(runtime + "/mahost/ring.sock"));
 
   // The job has ended: ctl says what its journal says; it is not "running".
@@ -368,7 +368,7 @@ TEST_CASE("print_slices_an_stl_in_process_as_slice_does_and_a_dry_run_leaves_not
   CHECK(kept[1].ends_with(".journal"));
   const auto record = journal_of(kept[1]);
   REQUIRE(record);
-  CHECK(record->state == "completed");
+  CHECK(record->state == printer::JobState::completed);
   CHECK(record->gcode_path == kept[0]);
   CHECK(record->printer == MAHOST_SOURCE_DIR "/configs/printers/up-plus-2.toml");
 }
@@ -410,11 +410,11 @@ TEST_CASE("killed_host_resumes_and_reprints_only_the_interrupted_layer") {
   }
   const auto interrupted = journal_of(journal);
   REQUIRE(interrupted);
-  CHECK(interrupted->state == "printing");
+  CHECK(interrupted->state == printer::JobState::printing);
   const auto r = run_mahost({"resume", journal, "--port", pty}, {}, 300s);
   CHECK(r.exit_code == 0);
   CHECK(r.err.find("setting Z from the journal") != std::string::npos);  // the board reset on open
-  CHECK(journal_of(journal)->state == "completed");
+  CHECK(journal_of(journal)->state == printer::JobState::completed);
   sim.signal(SIGINT);
   CHECK(sim.wait(30s) == 0);
 
@@ -490,7 +490,7 @@ TEST_CASE("dry_runs_paused_show_targets_count_a_cancelled_pause_and_ctl_asks_whi
   Background first({"print", gcode, "--dry-run", "--journal", a, "--pause-at-layer", "4"});
   Background second({"print", gcode, "--dry-run", "--journal", b, "--pause-at-layer", "4"});
   for (const std::string& journal : {a, b}) {
-    REQUIRE(wait_for([&] { return journal_of(journal) && journal_of(journal)->state == "paused"; }, 60s));
+    REQUIRE(wait_for([&] { return journal_of(journal) && journal_of(journal)->state == printer::JobState::paused; }, 60s));
   }
 
   // Two jobs: ctl asks which, listing them.

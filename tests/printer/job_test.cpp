@@ -206,7 +206,7 @@ TEST_CASE("halt_fault_ends_the_job_with_the_reason_and_a_journal") {
   CHECK(message.find("mahost resume " + options.journal_path) != std::string::npos);
   CHECK(message.find('\n') == std::string::npos);
   const JournalRecord journal = read_journal(options.journal_path);
-  CHECK(journal.state == "failed");
+  CHECK(journal.state == printer::JobState::failed);
   CHECK(journal.layer_index >= 0);
   CHECK(journal.resume_command == file.layers[static_cast<std::size_t>(journal.layer_index)].first_command);
 }
@@ -234,7 +234,7 @@ TEST_CASE("disconnect_then_resume_reprints_only_the_interrupted_layer") {
     CHECK(message.find('\n') == std::string::npos);
   }
   const JournalRecord journal = read_journal(options.journal_path);
-  REQUIRE(journal.state == "failed");
+  REQUIRE(journal.state == printer::JobState::failed);
   const std::size_t before = link.printer().deposition().moves.size();
 
   link.reconnect();
@@ -322,7 +322,7 @@ TEST_CASE("a_link_lost_while_recovering_keeps_the_journals_resume_point") {
   CHECK_THROWS_AS(job.run(), LinkError);
 
   const JournalRecord journal = read_journal(resume.journal_path);
-  CHECK(journal.state == "failed");
+  CHECK(journal.state == printer::JobState::failed);
   CHECK(journal.layer_index == 10);
   CHECK(journal.resume_command == start);
   CHECK(journal.state_at_resume.x == at.x);
