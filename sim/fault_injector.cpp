@@ -68,6 +68,12 @@ bool FaultInjector::drop_ok() {
   return armed_ && spec_.drop_ok > 0 && chance(rng_drop_) < spec_.drop_ok;
 }
 
+bool FaultInjector::drop_blocking_ok() {
+  if (blocking_oks_dropped_ >= spec_.drop_blocking_ok) return false;
+  ++blocking_oks_dropped_;
+  return true;
+}
+
 bool FaultInjector::duplicate_ok() {
   return armed_ && spec_.dup_ok > 0 && chance(rng_dup_) < spec_.dup_ok;
 }

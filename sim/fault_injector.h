@@ -29,6 +29,8 @@ class FaultInjector {
   int corrupt(std::string& bytes);
   // drop-ok=p: whether this ok is lost. dup-ok=p: whether it is sent twice.
   bool drop_ok();
+  // drop-blocking-ok=N: whether the ok of this command, one that blocked, is lost.
+  bool drop_blocking_ok();
   bool duplicate_ok();
   // resend=p: whether an intact numbered line is answered as a checksum error.
   bool spurious_resend();
@@ -60,6 +62,7 @@ class FaultInjector {
   bool line_corrupted_ = false;  // this line (as it crosses the wire) already has its flip
   bool wire_line_start_ = true;  // the next non-blank byte on the wire starts a line
   bool disconnect_time_done_ = false;
+  std::uint64_t blocking_oks_dropped_ = 0;
 };
 
 }  // namespace sim

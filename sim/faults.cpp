@@ -13,8 +13,8 @@ namespace sim {
 namespace {
 
 constexpr std::string_view kKeys =
-    "corrupt, drop-ok, dup-ok, resend, delay, disconnect-at-line, disconnect-at-time, "
-    "halt-at-line, runaway-at-line, from-line, seed";
+    "corrupt, drop-ok, drop-blocking-ok, dup-ok, resend, delay, disconnect-at-line, "
+    "disconnect-at-time, halt-at-line, runaway-at-line, from-line, seed";
 
 [[noreturn]] void bad(std::string_view key, std::string_view value, std::string_view what) {
   throw printer::ConfigError(
@@ -76,7 +76,7 @@ std::string seconds_text(double s) {
 }  // namespace
 
 bool FaultSpec::any() const {
-  return corrupt > 0 || drop_ok > 0 || dup_ok > 0 || resend > 0 || delay > 0 ||
+  return corrupt > 0 || drop_ok > 0 || drop_blocking_ok > 0 || dup_ok > 0 || resend > 0 || delay > 0 ||
          disconnect_at_line || disconnect_at_time || halt_at_line || runaway_at_line;
 }
 
@@ -98,6 +98,8 @@ FaultSpec parse_fault_spec(std::string_view spec) {
       faults.corrupt = probability(key, value);
     } else if (key == "drop-ok") {
       faults.drop_ok = probability(key, value);
+    } else if (key == "drop-blocking-ok") {
+      faults.drop_blocking_ok = count(key, value, 0);
     } else if (key == "dup-ok") {
       faults.dup_ok = probability(key, value);
     } else if (key == "resend") {
@@ -132,6 +134,7 @@ std::string to_string(const FaultSpec& f) {
   };
   if (f.corrupt > 0) add(fmt::format("corrupt={:g}", f.corrupt));
   if (f.drop_ok > 0) add(fmt::format("drop-ok={:g}", f.drop_ok));
+  if (f.drop_blocking_ok > 0) add(fmt::format("drop-blocking-ok={}", f.drop_blocking_ok));
   if (f.dup_ok > 0) add(fmt::format("dup-ok={:g}", f.dup_ok));
   if (f.resend > 0) add(fmt::format("resend={:g}", f.resend));
   if (f.delay > 0) add("delay=" + seconds_text(f.delay));

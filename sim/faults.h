@@ -16,6 +16,9 @@
 //   checksum, so Marlin runs them as they arrive, changed or not; use from-line to keep a
 //   host's unnumbered handshake out of reach.
 // - drop-ok=p: an `ok` for an executed command is not sent.
+// - drop-blocking-ok=N: the oks of the first N commands that block the firmware until they
+//   end (G4, G28, M0/M1, M109, M190, M116, M400) are not sent: the worst time to lose one,
+//   since silence is expected while they run.
 // - dup-ok=p: an `ok` is sent twice.
 // - resend=p: a numbered line that arrived intact is answered as if its checksum were wrong
 //   (Error:checksum mismatch, Resend) and not executed: the host must send it again.
@@ -43,6 +46,7 @@ namespace sim {
 struct FaultSpec {
   double corrupt = 0;
   double drop_ok = 0;
+  std::uint64_t drop_blocking_ok = 0;
   double dup_ok = 0;
   double resend = 0;
   double delay = 0;  // s

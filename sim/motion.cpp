@@ -4,7 +4,6 @@
 #include <cmath>
 #include <numbers>
 
-#include <fmt/core.h>
 
 namespace sim {
 
@@ -189,13 +188,6 @@ void Motion::set_limits(const printer::GcodeCommand& c) {
     if (auto s = c.get('S'); s && *s >= 0) limits.min_feedrate = *s;
   }
   planner_.set_limits(limits);
-}
-
-std::string Motion::position_report() const {
-  const auto& steps = config_->steps_per_mm;
-  return fmt::format("X:{:.2f} Y:{:.2f} Z:{:.2f} E:{:.2f} Count X:{} Y:{} Z:{}", head_.x, head_.y,
-                     head_.z, head_.e, std::lround(head_.x * steps[0]),
-                     std::lround(head_.y * steps[1]), std::lround(head_.z * steps[2]));
 }
 
 }  // namespace sim

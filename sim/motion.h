@@ -4,8 +4,8 @@
 //
 // Input: G0-G3, G28, G92, G90/G91, M82/M83, M201-M205, M220/M221 as parsed commands, at sim
 // times (s). Output: when each move entered the planner (its ok is due then: a full planner
-// holds the ok until the oldest move runs out), when all moves end, the position M114 reports
-// and the extruding moves in the DepositionRecord. Arcs are cut into 1 mm chords (Marlin's
+// holds the ok until the oldest move runs out), when all moves end, the position and the
+// extruding moves in the DepositionRecord. Arcs are cut into 1 mm chords (Marlin's
 // MM_PER_ARC_SEGMENT); homing runs through the planner from where the head is.
 // Units: mm, mm/s, s.
 #pragma once
@@ -50,10 +50,8 @@ class Motion {
   // inside a move the head stopped: the position stays where the last command put it.
   void quickstop(double now);
 
-  // "X:0.00 Y:0.00 Z:0.00 E:0.00 Count X:0 Y:0 Z:0", Marlin's M114.
-  std::string position_report() const;
-
   const Head& head() const { return head_; }
+  double feedrate() const { return feedrate_; }  // mm/s, the last F
   int planner_free() const;
   double motion_time() const { return planner_.total_time(); }  // s of motion planned so far
   double end_time() const { return stepper_free_; }             // when the moves made final end

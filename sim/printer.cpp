@@ -8,6 +8,7 @@
 
 #include "printer/gcode_line.h"
 #include "sim/command_queue.h"
+#include "sim/dialect.h"
 #include "sim/fault_injector.h"
 #include "sim/heaters.h"
 #include "sim/motion.h"
@@ -25,7 +26,7 @@ constexpr std::string_view kVersion = "2.0.9.3";
 enum class Wait { none, planner, motion, hotend, bed, user };
 
 Config checked(Config config) {
-  config.queue_depth = std::max(config.queue_depth, 1);
+  config.queue_depth = traits(config.dialect).one_line_at_a_time ? 1 : std::max(config.queue_depth, 1);
   config.planner_depth = std::max(config.planner_depth, 1);
   config.rx_buffer_size = std::max(config.rx_buffer_size, 1);
   config.max_cmd_size = std::max(config.max_cmd_size, 2);
@@ -39,6 +40,7 @@ Config checked(Config config) {
 // motion.h, heaters.h, fault_injector.h); this is what ties them together, in Marlin's order.
 struct Printer::Firmware {
   Config cfg;
+  const DialectTraits& talk;  // how this firmware's dialect speaks (sim/dialect.h)
   double now = 0;
   PrinterState state = PrinterState::booting;
   std::string stop_reason;
@@ -69,9 +71,21 @@ struct Printer::Firmware {
   double autoreport_interval = 0, next_autoreport = kInfinity;
   double busy_interval = 2;
   double boot_done = 0;
+  int skips_left = 0;  // Repetier: lines in flight after a resend request it answers "skip"
+  // Ok-when-read dialects: what the command executing says, for its ok line (Teacup) or
+  // after it (Repetier).
+  std::vector<std::string> said;
+  bool saying = false;
+
+  // The firmware waiting for the host: since when (-1: busy), and whether the faults dropped
+  // an ok since it last heard from the host (the wait it causes is then a lost ok's).
+  double idle_since = -1;
+  bool ok_lost = false;
+  std::vector<double> lost_ok_waits;
 
   explicit Firmware(Config config)
       : cfg(checked(std::move(config))),
+        talk(traits(cfg.dialect)),
         faults(cfg.faults),
         wire(cfg.baud),
         receiver(cfg.rx_buffer_size, cfg.max_cmd_size),
@@ -110,9 +124,7 @@ struct Printer::Firmware {
 
   void finish_boot() {
     state = PrinterState::running;
-    emit("start");
-    emit(fmt::format("echo:Marlin {}", kVersion));
-    emit("echo: Last Updated: 2021-12-25 | Author: (mahost simulated printer)");
+    for (std::string& line : boot_banner(cfg.dialect, kVersion)) emit(std::move(line));
     last_activity = now;
   }
 
@@ -123,13 +135,28 @@ struct Printer::Firmware {
     counters.bytes_sent += replies.send(now + faults.reply_delay(), std::move(text));
   }
 
+  // What a command prints: at once, or, in an ok-when-read dialect, with its ok.
+  void say(std::string text) {
+    if (saying) {
+      said.push_back(std::move(text));
+    } else {
+      emit(std::move(text));
+    }
+  }
+
+  // Whether this ok is lost to a fault; `blocked`: the command blocked the firmware.
+  bool ok_dropped(bool blocked) {
+    const bool dropped = faults.drop_ok() || (blocked && faults.drop_blocking_ok());
+    if (!dropped) return false;
+    ++counters.faults_injected;
+    ok_lost = true;
+    return true;
+  }
+
   // The ok of an executed command; M105's carries the temperatures instead of ADVANCED_OK's
   // fields, since Marlin's M105 prints its own ok.
-  void send_ok(const QueuedCommand& command, bool with_temperatures) {
-    if (faults.drop_ok()) {
-      ++counters.faults_injected;
-      return;
-    }
+  void send_ok(const QueuedCommand& command, bool with_temperatures, bool blocked) {
+    if (ok_dropped(blocked)) return;
     std::string ok = "ok";
     if (with_temperatures) {
       ok += heaters.states();
@@ -151,7 +178,22 @@ struct Printer::Firmware {
     if (state == PrinterState::disconnected || bytes.empty()) return;
     std::string sent(bytes);
     counters.faults_injected += static_cast<std::uint64_t>(faults.corrupt(sent));
-    wire.send(now, std::move(sent), cfg.emergency_parser);
+    wire.send(now, std::move(sent), emergency_parser());
+  }
+
+  bool emergency_parser() const { return cfg.emergency_parser && talk.emergency_parser; }
+
+  // A byte from the host reached the firmware: the wait for it, if the firmware was idle, ends.
+  void heard_from_host() {
+    if (idle_since >= 0) {
+      const double waited = now - idle_since;
+      counters.longest_idle = std::max(counters.longest_idle, waited);
+      if (ok_lost) lost_ok_waits.push_back(waited);
+      idle_since = -1;
+    } else if (ok_lost) {
+      lost_ok_waits.push_back(0);  // the host sent on before the firmware ran dry
+    }
+    ok_lost = false;
   }
 
   // Bytes that have arrived by now go to the firmware: read at once while the queue has
@@ -164,6 +206,7 @@ struct Printer::Firmware {
     while (const auto arrived = wire.peek(now)) {
       if (arrived->emergency != Emergency::none && delivered > 0) return true;
       wire.pop();
+      if (delivered == 0) heard_from_host();
       const std::uint64_t clears = wire.clears();
       arrive(arrived->byte);
       if (wire.clears() != clears) return false;  // the line it ended disconnected the link
@@ -206,21 +249,38 @@ struct Printer::Firmware {
   }
 
   void line_done(const std::string& raw) {
-    const LineCheck check = check_line(raw, last_n);
+    const LineCheck check =
+        check_line(raw, last_n, LineRules{talk.takes_skipped_numbers, talk.requires_checksum});
     std::optional<long> number;
     if (check.verdict != LineVerdict::unnumbered) {
-      if (check.verdict != LineVerdict::accepted) return line_error(error_text(check.verdict));
+      if (check.verdict == LineVerdict::wrong_line_number && skips_left > 0) {
+        // Repetier: a line sent before its resend request reached the host.
+        --skips_left;
+        emit(fmt::format("skip {}", check.number));
+        emit("ok");
+        receiver.discard_buffered();
+        return;
+      }
+      if (check.verdict != LineVerdict::accepted) return line_error(check.verdict, raw);
       if (faults.spurious_resend()) {
         ++counters.faults_injected;
-        return line_error(error_text(LineVerdict::checksum_mismatch));
+        return line_error(LineVerdict::checksum_mismatch, raw);
       }
       last_n = check.number;
       number = check.number;
+      skips_left = 0;
       faults.line_accepted(check.number);
     }
 
     QueuedCommand queued{command_text(raw), number, ++counters.lines};
-    if (!cfg.emergency_parser && !number) {
+    if (cfg.dialect == Dialect::repetier && queued.text.starts_with("M112")) {
+      // Repetier stops the moment it reads M112 (checkAndPushCommand), without a word.
+      log.push_back("M112");
+      ++counters.commands;
+      kill("kill() by M112", false);
+      return;
+    }
+    if (cfg.dialect == Dialect::marlin && !emergency_parser() && !number) {
       // queue.cpp's early check of unnumbered lines.
       if (queued.text.starts_with("M108")) emergency(Emergency::m108);
       if (queued.text.starts_with("M112")) emergency(Emergency::m112);
@@ -228,20 +288,39 @@ struct Printer::Firmware {
       if (state != PrinterState::running) return;
     }
     last_activity = now;
+    if (talk.ok_at == OkAt::queued) ok_on_queueing(queued.text);
     queue.push(std::move(queued));
     if (faults.disconnects_at_line(counters.lines)) {
       disconnect(fmt::format("disconnected at line {} (fault disconnect-at-line)", counters.lines));
     }
   }
 
-  // gcode_line_error + flush_and_request_resend.
-  void line_error(std::string_view what) {
+  // Repetier's ok as it queues a line (checkAndPushCommand); the command's output comes when
+  // it runs.
+  void ok_on_queueing(const std::string& text) {
+    const printer::GcodeCommand c = printer::parse_gcode_line(text);
+    const bool blocks = c.is('G', 4) || c.is('G', 28) || c.is('M', 0) || c.is('M', 1) ||
+                        c.is('M', 109) || c.is('M', 190) || c.is('M', 116) || c.is('M', 400);
+    if (ok_dropped(blocks)) return;
+    const bool twice = faults.duplicate_ok();
+    emit("ok");
+    if (twice) {
+      ++counters.faults_injected;
+      emit("ok");
+    }
+  }
+
+  // Marlin's gcode_line_error + flush_and_request_resend, in this dialect's words.
+  void line_error(LineVerdict verdict, std::string_view raw) {
     ++counters.errors;
     ++counters.resends;
-    emit(fmt::format("Error:{}{}", what, last_n));
+    const std::vector<std::string> request =
+        resend_request(cfg.dialect, error_text(verdict), last_n + 1, received_checksum(raw));
+    emit(request.front());
     receiver.discard_buffered();
-    emit(fmt::format("Resend: {}", last_n + 1));
-    if (cfg.ok_after_resend) emit("ok");
+    for (std::size_t i = 1; i < request.size(); ++i) emit(request[i]);
+    if (talk.ok_after_resend.value_or(cfg.ok_after_resend)) emit("ok");
+    if (talk.skips_after_resend) skips_left = 14;  // Repetier's waitingForResend
   }
 
   void emergency(Emergency e) {
@@ -266,9 +345,10 @@ struct Printer::Firmware {
 
   // ---- faults and stops ------------------------------------------------------------------
 
-  void kill(std::string reason) {
+  // `say`: Marlin says so; Teacup freezes and Repetier resets without a word.
+  void kill(std::string reason, bool say = true) {
     heaters.all_off();
-    emit("Error:Printer halted. kill() called!");
+    if (say) emit("Error:Printer halted. kill() called!");
     if (state != PrinterState::disconnected) state = PrinterState::halted;
     stop_reason = std::move(reason);
     queue.clear();
@@ -300,10 +380,16 @@ struct Printer::Firmware {
   // M109/M190: wait_for_hotend / wait_for_bed. Reports at once and every second; done when
   // within the window for the residency time and at the target.
   void heat_wait(Heaters::Which which, bool wait_for_cooling) {
-    emit(heaters.wait_report(which, now));
+    heating_report(which);
     next_wait_report = now + 1;
     done_at = heaters.start_wait(which, wait_for_cooling, now);
     wait = which == Heaters::Which::hotend ? Wait::hotend : Wait::bed;
+  }
+
+  // The report a heating wait prints each second: Marlin's with "W:", Repetier's without.
+  void heating_report(Heaters::Which which) {
+    if (!talk.reports_while_heating) return;
+    emit(talk.wait_report_field ? heaters.wait_report(which, now) : heaters.states());
   }
 
   // ---- commands --------------------------------------------------------------------------
@@ -321,32 +407,69 @@ struct Printer::Firmware {
     wait = Wait::none;
     done_at = now;
     report_position_after = ok_with_temperatures = false;
-    next_busy = busy_interval > 0 ? now + busy_interval : kInfinity;
+    next_busy = talk.busy_keepalive && busy_interval > 0 ? now + busy_interval : kInfinity;
     if (faults.fails_heater_at(command.index)) {
       ++counters.faults_injected;
       heaters.fail_hotend(now);
     }
+    if (talk.ok_at != OkAt::start) {
+      execute(command);
+      return;
+    }
+    // Teacup writes "ok " before it runs the command and puts its output on the same line.
+    said.clear();
+    saying = true;
     execute(command);
+    saying = false;
+    if (state != PrinterState::running) return;  // M112 or a fault stopped it
+    const bool blocked = wait != Wait::none && wait != Wait::planner;
+    const bool dropped = ok_dropped(blocked);
+    const bool twice = !dropped && faults.duplicate_ok();
+    std::string ok = "ok";
+    if (talk.output_on_ok_line) {  // a lost ok loses what was on its line
+      for (const std::string& text : said) ok += " " + text;
+      said.clear();
+    }
+    if (!dropped) {
+      emit(ok);
+      if (twice) {
+        ++counters.faults_injected;
+        emit(ok);
+      }
+    }
+    for (std::string& text : said) emit(std::move(text));
+    said.clear();
   }
 
   void complete() {
+    const bool blocked = wait != Wait::none && wait != Wait::planner;
     executing = false;
     wait = Wait::none;
     next_busy = next_wait_report = kInfinity;
     heaters.end_wait();
     last_activity = now;
-    if (report_position_after) emit(motion.position_report());  // G28 ends with it
-    send_ok(queue.front(), ok_with_temperatures);
+    if (talk.ok_at == OkAt::done) {
+      if (report_position_after) emit(position_reply());  // G28 ends with it
+      send_ok(queue.front(), ok_with_temperatures, blocked);
+    }
     queue.pop();
   }
 
-  void unknown(const std::string& text) {
+  std::string position_reply() const {
+    const Motion::Head& h = motion.head();
+    const double steps[3] = {cfg.steps_per_mm[0], cfg.steps_per_mm[1], cfg.steps_per_mm[2]};
+    return sim::position_reply(cfg.dialect, {h.x, h.y, h.z, h.e}, motion.feedrate(), steps);
+  }
+
+  void unknown(const std::string& text, const printer::GcodeCommand& c) {
     ++counters.unknown_commands;
-    emit(fmt::format("echo:Unknown command: \"{}\"", text));
+    say(unknown_reply(cfg.dialect, text, c));
   }
 
   void execute(const QueuedCommand& command) {
     const printer::GcodeCommand c = printer::parse_gcode_line(command.text);
+    if (!knows(cfg.dialect, c)) return unknown(command.text, c);
+    if (cfg.dialect != Dialect::marlin && execute_other_dialect(c)) return;
     if (c.letter == 'G') {
       switch (c.code) {
         case 0:
@@ -401,7 +524,11 @@ struct Printer::Firmware {
           if (auto s = c.get('S')) heaters.set_hotend(*s, now);
           return;
         case 105:
-          ok_with_temperatures = true;
+          if (cfg.dialect == Dialect::marlin) {
+            ok_with_temperatures = true;
+          } else {
+            say(heaters.states());  // Repetier: a line after its ok
+          }
           return;
         case 106: fan = static_cast<int>(std::clamp(c.get('S').value_or(255), 0.0, 255.0)); return;
         case 107: fan = 0; return;
@@ -422,13 +549,13 @@ struct Printer::Firmware {
           if (auto n = c.get('N')) last_n = static_cast<long>(*n);
           return;
         case 112:
-          kill("kill() by M112");
+          kill("kill() by M112", cfg.dialect == Dialect::marlin);
           return;
         case 113:
           if (auto s = c.get('S')) busy_interval = std::clamp(*s, 0.0, 60.0);
           return;
         case 114:
-          emit(motion.position_report());
+          say(position_reply());
           return;
         case 115:
           report_firmware();
@@ -470,15 +597,52 @@ struct Printer::Firmware {
       if (c.code > 0) emit(fmt::format("echo:T{} Invalid extruder", c.code));
       return;
     }
-    unknown(command.text);
+    unknown(command.text, c);
+  }
+
+  // What Teacup and Repetier do differently from Marlin's switch; false: Marlin's way.
+  bool execute_other_dialect(const printer::GcodeCommand& c) {
+    if (c.is('M', 116)) {
+      // Wait for every heater with a target, in turn (Teacup's temp_achieved, Repetier's M116).
+      motion.finish(now);
+      done_at = now;
+      for (const Heaters::Which which : {Heaters::Which::bed, Heaters::Which::hotend}) {
+        const Heater& h = which == Heaters::Which::bed ? heaters.bed() : heaters.hotend();
+        if (h.target() > 0) done_at = std::max(done_at, heaters.start_wait(which, false, now));
+      }
+      wait = Wait::hotend;
+      next_wait_report = talk.reports_while_heating ? now + 1 : kInfinity;
+      return true;
+    }
+    if (cfg.dialect != Dialect::teacup) return false;
+    if (c.letter == 'G' && (c.code == 20 || c.code == 21)) return true;  // units: mm only here
+    if (c.letter != 'M') return false;
+    switch (c.code) {
+      case 0:
+      case 2:
+      case 84:
+        // Teacup's M0/M2/M84 (slic3r's end G-code): wait for the moves, heaters and motors off.
+        done_at = motion.finish(now);
+        wait = Wait::motion;
+        heaters.set_hotend(0, now);
+        heaters.set_bed(0);
+        return true;
+      case 105:
+        say(teacup_temperatures(heaters.hotend().temperature(), heaters.bed().temperature()));
+        return true;
+      case 110:
+        return true;  // "a no-op in Teacup": the line's own N set the count
+      case 115:
+        say(firmware_report(cfg.dialect, kVersion));
+        return true;
+      default:
+        return false;
+    }
   }
 
   void report_firmware() {
-    emit(fmt::format(
-        "FIRMWARE_NAME:Marlin {} (mahost simulated printer) "
-        "SOURCE_CODE_URL:github.com/MarlinFirmware/Marlin PROTOCOL_VERSION:1.0 "
-        "MACHINE_TYPE:mahost sim EXTRUDER_COUNT:1 UUID:cede2a2f-41a2-4748-9b12-c55c62f367ff",
-        kVersion));
+    say(firmware_report(cfg.dialect, kVersion));
+    if (cfg.dialect != Dialect::marlin) return;
     const std::pair<std::string_view, bool> caps[] = {
         {"SERIAL_XON_XOFF", false},   {"BINARY_FILE_TRANSFER", false},
         {"EEPROM", false},            {"VOLUMETRIC", false},
@@ -487,7 +651,7 @@ struct Printer::Firmware {
         {"RUNOUT", false},            {"Z_PROBE", false},
         {"LEVELING_DATA", false},     {"BUILD_PERCENT", true},
         {"SOFTWARE_POWER", false},    {"TOGGLE_LIGHTS", false},
-        {"CASE_LIGHT_BRIGHTNESS", false}, {"EMERGENCY_PARSER", cfg.emergency_parser},
+        {"CASE_LIGHT_BRIGHTNESS", false}, {"EMERGENCY_PARSER", emergency_parser()},
         {"PROMPT_SUPPORT", false},    {"SDCARD", false},
         {"REPEAT", false},            {"AUTOREPORT_SD_STATUS", false},
         {"LONG_FILENAME", false},     {"THERMAL_PROTECTION", true},
@@ -538,19 +702,26 @@ struct Printer::Firmware {
       next_busy = now + busy_interval;
     }
     if (executing && now >= next_wait_report) {
-      if (wait == Wait::hotend) emit(heaters.wait_report(Heaters::Which::hotend, now));
-      if (wait == Wait::bed) emit(heaters.wait_report(Heaters::Which::bed, now));
+      if (wait == Wait::hotend) heating_report(Heaters::Which::hotend);
+      if (wait == Wait::bed) heating_report(Heaters::Which::bed);
       next_wait_report = now + 1;
     }
     if (now >= next_autoreport) {
       emit(heaters.states());
       next_autoreport = now + autoreport_interval;
     }
-    if (cfg.idle_wait_interval > 0 && !executing && queue.empty() && !receiver.has_buffered() &&
-        now >= last_activity + cfg.idle_wait_interval) {
+    if (idle_wait_interval() > 0 && !executing && queue.empty() && !receiver.has_buffered() &&
+        now >= last_activity + idle_wait_interval()) {
       emit("wait");
       last_activity = now;
     }
+    if (state == PrinterState::running && idle() && idle_since < 0) idle_since = now;
+  }
+
+  // NO_TIMEOUTS' "wait"; Repetier says it each second by default (WAITING_IDENTIFIER).
+  double idle_wait_interval() const {
+    if (cfg.idle_wait_interval > 0) return cfg.idle_wait_interval;
+    return talk.says_wait_when_idle ? 1.0 : 0.0;
   }
 
   // The next time after now at which the firmware does something on its own. settle() has
@@ -580,8 +751,8 @@ struct Printer::Firmware {
     }
     consider(next_autoreport);
     consider(heaters.runaway_at());
-    if (cfg.idle_wait_interval > 0 && !executing && queue.empty()) {
-      consider(last_activity + cfg.idle_wait_interval);
+    if (idle_wait_interval() > 0 && !executing && queue.empty()) {
+      consider(last_activity + idle_wait_interval());
     }
     return next;
   }
@@ -636,6 +807,7 @@ PrinterState Printer::state() const { return firmware_->state; }
 bool Printer::idle() const { return firmware_->idle(); }
 const std::string& Printer::stop_reason() const { return firmware_->stop_reason; }
 const std::vector<std::string>& Printer::executed_commands() const { return firmware_->log; }
+const std::vector<double>& Printer::lost_ok_waits() const { return firmware_->lost_ok_waits; }
 const DepositionRecord& Printer::deposition() const { return firmware_->record; }
 const Counters& Printer::counters() const { return firmware_->counters; }
 const Config& Printer::config() const { return firmware_->cfg; }

@@ -5,7 +5,8 @@
 // own clock (seconds from power-on), so whoever drives it decides how fast time goes: SimLink
 // (in-process) jumps the clock, the pty front end follows the wall clock.
 //
-// What it emulates, each as Marlin 2.x does it (Marlin/src/gcode/queue.cpp and friends):
+// What it emulates, each as Marlin 2.x does it (Marlin/src/gcode/queue.cpp and friends), or
+// as Teacup or Repetier do where Config::dialect says so (sim/dialect.h):
 // - serial input: bytes arrive at the baud rate into an RX buffer of rx_buffer_size bytes;
 //   the firmware reads them only while its command queue (queue_depth) has room, so a host
 //   that does not wait for `ok` fills the RX buffer, and bytes arriving then are lost
@@ -63,6 +64,9 @@ struct Counters {
   std::uint64_t long_lines = 0;       // lines cut at max_cmd_size
   std::uint64_t unknown_commands = 0;
   std::uint64_t resets = 0;           // power-ons and resets, the first included
+  // The longest the firmware sat idle (nothing queued, running or arriving) before the host
+  // sent its next byte, s: the longest silence a host left it in (the end of the job aside).
+  double longest_idle = 0;
 };
 
 enum class PrinterState {
@@ -113,6 +117,10 @@ class Printer {
 
   // Commands in the order executed, without line number, checksum or comment ("G1 X10 Y5").
   const std::vector<std::string>& executed_commands() const;
+  // For each ok the faults dropped, how long the firmware then sat idle until the host sent
+  // its next byte, s (0 when the host sent on before it ran out of work): the time a lost ok
+  // cost.
+  const std::vector<double>& lost_ok_waits() const;
   const DepositionRecord& deposition() const;
   const Counters& counters() const;
   const Config& config() const;

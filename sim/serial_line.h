@@ -75,6 +75,16 @@ struct LineCheck {
   long number = 0;  // the N (for M110 lines, the N after M110 when given)
 };
 LineCheck check_line(std::string_view line, long last_n);
+// The same with another firmware's rules: Teacup takes any number from last_n + 1 up and a
+// numbered line without checksum.
+struct LineRules {
+  bool takes_skipped_numbers = false;
+  bool requires_checksum = true;
+};
+LineCheck check_line(std::string_view line, long last_n, LineRules rules);
+// The XOR of the bytes before the last '*' (all of them without one): the checksum a
+// firmware computes of what it received.
+int received_checksum(std::string_view line);
 
 // "Line Number is not Last Line Number+1, Last Line: " and so on, for an error verdict.
 std::string_view error_text(LineVerdict verdict);

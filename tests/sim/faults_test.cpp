@@ -101,9 +101,9 @@ TEST_CASE("bad_fault_spec_names_the_key_and_what_is_allowed") {
   CHECK(message_of("halt-at-line=0") == "fault spec 'halt-at-line=0': give a whole number of 1 or more");
   CHECK(message_of("seed=-1") == "fault spec 'seed=-1': give a whole number of 0 or more");
   CHECK(message_of("corrupt") ==
-        "fault spec 'corrupt': write key=value, e.g. corrupt=0.01 (keys: corrupt, drop-ok, dup-ok, "
-        "resend, delay, disconnect-at-line, disconnect-at-time, halt-at-line, runaway-at-line, "
-        "from-line, seed)");
+        "fault spec 'corrupt': write key=value, e.g. corrupt=0.01 (keys: corrupt, drop-ok, "
+        "drop-blocking-ok, dup-ok, resend, delay, disconnect-at-line, disconnect-at-time, "
+        "halt-at-line, runaway-at-line, from-line, seed)");
   CHECK(message_of("explode=1").starts_with("fault spec: unknown fault 'explode' (known: corrupt,"));
 }
 
