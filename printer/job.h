@@ -84,7 +84,8 @@ class Job {
   Job(LineProtocol& protocol, const GcodeFile& file, JobOptions options);
 
   // Takes effect at the next chance: pause at the next layer start, resume a pause, cancel
-  // after the lines in flight, stop (M112) at once.
+  // at once (within 10 s of link time however the link behaves: moves stopped, heaters off,
+  // lift, park; M112 if the printer does not confirm), stop (M112) at once.
   void request(JobRequest request);
   JobProgress progress() const;
   const std::string& journal_path() const { return options_.journal_path; }
@@ -99,15 +100,24 @@ class Job {
   std::function<void(const std::string&)> on_event;
 
   // Runs the job. A failed link or printer writes the journal and rethrows the LinkError or
-  // PrinterError with how to resume appended.
+  // PrinterError with how to resume appended; a CommandRefused (the firmware refused to heat,
+  // wait or home) turns the heaters off and is rethrown as it is: the file needs slicing again.
   JobResult run();
+  // What the job did so far: after run() returned, its result; after it threw, the same for
+  // the failed job (state failed, the commands the firmware accepted), for a summary.
+  JobResult result() const;
 
  private:
   struct StopNow {};
+  struct CancelNow {};      // leave whatever the job waits for: the user cancelled
+  struct CancelOverdue {};  // the cancel took longer than its bound
   void tick(bool force = false);
+  void ask_temperatures(std::chrono::nanoseconds now);
   void start_layer(int layer, std::size_t command);
   void pause_here(int layer);
-  void cancel_here();
+  // The safe end of a cancelled job, within kCancelBound; what went wrong, for the reason
+  // ("; the printer did not confirm ..."), or "".
+  std::string cancel_here();
   void write_journal_now(JobState state, int layer, std::size_t command, const PrintState& at,
                          const std::string& reason = {});
   // The journal of a job that ended early: the layer a resume reprints, with its state.
@@ -138,6 +148,9 @@ class Job {
   PrintEta eta_;
   int pauses_ = 0;
   std::chrono::nanoseconds stood_paused_{0};  // JobResult::paused
+  std::optional<std::chrono::nanoseconds> cancel_deadline_;  // set while cancelling
+  std::optional<std::chrono::nanoseconds> last_report_request_;
+  std::string reason_;  // JobResult::reason
 };
 
 }  // namespace printer

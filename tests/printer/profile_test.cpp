@@ -252,3 +252,13 @@ TEST_CASE("part_too_big_is_refused_with_both_sizes") {
         "the part is 150.0 x 80.2 x 40.0 mm but the UP Plus 2 builds at most 140 x 140 x 135 mm; "
         "scale it down (--scale, --height) or choose a bigger printer (--printer)");
 }
+
+TEST_CASE("firmware_key_names_the_dialect_the_gcode_is_written_for") {
+  printer::Profiles p;
+  p.printer = printer::load_printer_profile("generic-marlin", kConfigDir);
+  CHECK(p.printer.firmware == printer::Firmware::marlin);
+  printer::apply_override(p, "firmware=teacup");
+  CHECK(p.printer.firmware == printer::Firmware::teacup);
+  CHECK_THROWS_WITH_AS(printer::apply_override(p, "firmware=klipper"),
+                       doctest::Contains("one of marlin, teacup, repetier"), printer::ConfigError);
+}
