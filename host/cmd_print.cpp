@@ -27,6 +27,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
+#include "host/cli_checks.h"
 #include "host/commands.h"
 #include "host/control_socket.h"
 #include "host/print_ui.h"
@@ -59,6 +60,8 @@ struct LinkOptions {
   bool dry_run = false;
   std::string faults;          // dry run only: the simulated printer's faults
   bool advanced_ok = false;    // dry run only: the simulated firmware reports buffer space
+  std::string dialect;         // dry run only: the simulated firmware's dialect ("": marlin)
+  bool force = false;          // leave out lines that are not G-code instead of refusing
   std::size_t window = 1;
   double probe_after = 3;      // s
   std::vector<double> park;    // X,Y
@@ -89,6 +92,7 @@ OpenLink open_link(const LinkOptions& options, const printer::PrinterProfile& ma
     sim::Config config;
     config.faults = sim::parse_fault_spec(options.faults);
     config.advanced_ok = options.advanced_ok;
+    if (!options.dialect.empty()) config.dialect = *sim::parse_dialect(options.dialect);
     config.motion = machine.motion;
     config.filament_diameter = machine.filament_diameter;
     auto link = std::make_unique<sim::SimLink>(config);
@@ -103,16 +107,38 @@ OpenLink open_link(const LinkOptions& options, const printer::PrinterProfile& ma
           "--advanced-ok: only a --dry-run printer can be told to report ADVANCED_OK; a real "
           "one says so itself");
     }
+    if (!options.dialect.empty()) {
+      throw printer::ConfigError(
+          "--dialect: only a --dry-run printer can be told which firmware to speak as; a real "
+          "one says so itself in reply to M115");
+    }
     open.link = std::make_unique<printer::SerialLink>(options.port, baud);
   }
   return open;
 }
 
-printer::ProtocolOptions protocol_options(const LinkOptions& options) {
+// `machine`: the firmware its profile names is assumed where the firmware does not say.
+printer::ProtocolOptions protocol_options(const LinkOptions& options, const printer::PrinterProfile& machine) {
   printer::ProtocolOptions p;
   p.window = options.window;
   p.probe_after = std::chrono::milliseconds(static_cast<long>(options.probe_after * 1000));
+  p.assumed_firmware = machine.firmware;
   return p;
+}
+
+// Reads the job's G-code, checked line by line before anything is sent; with --force the
+// lines that are not G-code are left out, and said so.
+printer::GcodeFile read_job_gcode(const std::string& path, const LinkOptions& options) {
+  printer::GcodeFile file = printer::read_gcode_file(path, printer::GcodeReading{options.force});
+  if (file.skipped_lines > 0) {
+    std::string lines;
+    for (const std::size_t n : file.skipped_line_numbers) lines += (lines.empty() ? "" : ", ") + std::to_string(n);
+    fmt::print(stderr, "note: --force: left out {} line{} that {} not G-code (line{} {}{})\n",
+               file.skipped_lines, file.skipped_lines == 1 ? "" : "s",
+               file.skipped_lines == 1 ? "is" : "are", file.skipped_line_numbers.size() == 1 ? "" : "s",
+               lines, file.skipped_lines > file.skipped_line_numbers.size() ? ", ..." : "");
+  }
+  return file;
 }
 
 printer::PauseOptions pause_options(const LinkOptions& options, const printer::PrinterProfile& machine) {
@@ -221,10 +247,19 @@ void print_summary(const printer::JobResult& result, const printer::GcodeFile& f
              result.commands_done, file.size(), file.layers.size());
   fmt::print("{}; {}\n", time, filament);
   fmt::print("link: {} lines sent, {} resent after {} resend requests ({} stale ignored), {} "
-             "timeouts probed with M105, {} duplicate oks, {} firmware errors; {}\n",
+             "timeouts probed, {} duplicate oks, {} firmware errors, {} commands refused; longest "
+             "silence {:.1f} s; {}\n",
              stats.lines_sent, stats.lines_resent, stats.resend_requests, stats.stale_resends,
-             stats.probes, stats.duplicate_oks, stats.recoverable_errors,
+             stats.probes, stats.duplicate_oks, stats.recoverable_errors, stats.refused_commands,
+             std::chrono::duration<double>(stats.longest_silence).count(),
              count_text(result.pauses, "pause", "pauses"));
+  const printer::FirmwareInfo& firmware = protocol.firmware();
+  std::string refused;
+  for (const std::string& c : protocol.refused()) refused += (refused.empty() ? "" : ", ") + c;
+  fmt::print("firmware: {} ({} dialect){}\n",
+             firmware.name.empty() ? "did not name itself in reply to M115" : firmware.name,
+             protocol.dialect().name.empty() ? "unknown" : protocol.dialect().name,
+             refused.empty() ? "" : "; refused: " + refused);
   if (link.sim != nullptr) {
     const sim::Printer& printer = link.sim->printer();
     if (printer.config().faults.any()) {
@@ -264,7 +299,17 @@ printer::JobResult run_job(printer::LineProtocol& protocol, const printer::Gcode
                        "another terminal"
                      : fmt::format("control: mahost ctl pause|resume|cancel|stop|status --job {}",
                                    fs::path(socket_path).stem().string()));
-  const printer::JobResult result = job.run();
+  printer::JobResult result;
+  try {
+    result = job.run();
+  } catch (const std::runtime_error&) {
+    // A failed job says what the link went through too: often the reason is there.
+    ui.finish();
+    print_summary(job.result(), file, link, protocol, job.estimated_seconds(), resumed, sliced_for,
+                  std::chrono::steady_clock::now() - wall_start);
+    std::fflush(stdout);
+    throw;
+  }
   ui.finish();
   print_summary(result, file, link, protocol, job.estimated_seconds(), resumed, sliced_for,
                 std::chrono::steady_clock::now() - wall_start);
@@ -336,7 +381,7 @@ void run_print(const PrintOptions& options) {
     // loads the file, so the print's memory does not stack on the slicer's.
     ::malloc_trim(0);
   }
-  const printer::GcodeFile file = printer::read_gcode_file(gcode_path);
+  const printer::GcodeFile file = read_job_gcode(gcode_path, options.link);
   for (int layer : options.pause_at) {
     if (static_cast<std::size_t>(layer) > file.layers.size()) {
       throw printer::ConfigError(fmt::format("--pause-at-layer {}: {} has {} layers", layer,
@@ -345,7 +390,7 @@ void run_print(const PrintOptions& options) {
   }
   const int baud = options.link.baud > 0 ? options.link.baud : profiles.printer.baud;
   OpenLink link = open_link(options.link, profiles.printer, baud);
-  printer::LineProtocol protocol(*link.link, protocol_options(options.link));
+  printer::LineProtocol protocol(*link.link, protocol_options(options.link, profiles.printer));
   connect(protocol, link);
   if (options.link.window > 1 && !protocol.advanced_ok()) {
     fmt::print(stderr,
@@ -431,7 +476,7 @@ void run_resume(const ResumeOptions& options) {
     throw printer::ConfigError(fmt::format(
         "{}: the job is still running (process {}); steer it with mahost ctl", journal, record.pid));
   }
-  const printer::GcodeFile file = printer::read_gcode_file(record.gcode_path);
+  const printer::GcodeFile file = read_job_gcode(record.gcode_path, options.link);
   if (file.hash != record.gcode_hash || file.size() != record.commands) {
     throw printer::ConfigError(fmt::format(
         "{}: the file changed since the job started ({} then, {} now): resuming would print a "
@@ -443,7 +488,7 @@ void run_resume(const ResumeOptions& options) {
                    : record.baud > 0       ? record.baud
                                            : machine.baud;
   OpenLink link = open_link(options.link, machine, baud);
-  printer::LineProtocol protocol(*link.link, protocol_options(options.link));
+  printer::LineProtocol protocol(*link.link, protocol_options(options.link, machine));
   connect(protocol, link);
 
   const bool dry_run = options.link.dry_run;
@@ -498,8 +543,10 @@ void add_link_options(CLI::App& command, LinkOptions& link, const std::string& b
                                "off; give --port or --dry-run)")
                   ->group(kLinkGroup);
   port->excludes(dry);
-  command.add_option("--baud", link.baud, "serial speed, bit/s (default: " + baud_default + ")")
-      ->check(CLI::PositiveNumber)
+  command.add_option("--baud", link.baud,
+                     "serial speed, bit/s: one of " + printer::standard_baud_rates_text() +
+                         " (default: " + baud_default + ")")
+      ->check(standard_baud_rate())
       ->group(kLinkGroup);
   command.add_option("--window", link.window,
                      "lines in flight; more than 1 only when the firmware reports ADVANCED_OK "
@@ -518,6 +565,15 @@ void add_link_options(CLI::App& command, LinkOptions& link, const std::string& b
                    "the simulated firmware reports its buffer space (ADVANCED_OK), so --window "
                    "takes effect (default: off)")
       ->group(kDryRunGroup);
+  command.add_option("--dialect", link.dialect,
+                     "the firmware the simulated printer speaks as: " + sim::dialect_names() +
+                         " (default: marlin)")
+      ->check(CLI::IsMember({"marlin", "teacup", "repetier"}))
+      ->group(kDryRunGroup);
+  command.add_flag("--force", link.force,
+                   "leave out the file's lines that are not G-code, and say how many, instead "
+                   "of refusing the file (default: off)")
+      ->group(kJobGroup);
   command.add_option("--park", link.park, "where a pause parks the nozzle: X,Y, mm (default: 5,5)")
       ->delimiter(',')
       ->expected(2)

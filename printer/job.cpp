@@ -293,6 +293,8 @@ JobResult Job::run() {
   start_ = protocol_.link().now();
   protocol_.on_wait = [this] { tick(); };
   JobResult result;
+  // A firmware that keeps alive every second lets a lost ok be noticed in a second and a half.
+  protocol_.use_keepalive(std::chrono::seconds(1));
   try {
     try {
       if (options_.recover_from) {

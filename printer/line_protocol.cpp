@@ -32,6 +32,8 @@ constexpr int kBlockedProbes = 2;
 constexpr int kConnectTries = 5;
 // Refused commands remembered for the summary.
 constexpr std::size_t kRefusedKept = 20;
+// How late a keepalive may be before the firmware counts as idle (serial and USB latency).
+constexpr nanoseconds kKeepaliveMargin = std::chrono::milliseconds(500);
 
 double seconds(nanoseconds d) { return std::chrono::duration<double>(d).count(); }
 
@@ -325,6 +327,7 @@ void LineProtocol::handle(const Reply& reply) {
       throw PrinterError(fmt::format("{}: the printer stopped: {}", link_.name(), reply.text));
     case ReplyKind::busy:
       ++stats_.busy_reports;
+      if (keepalive_) keepalive_seen_ = true;
       answered();
       break;
     case ReplyKind::wait:
@@ -402,6 +405,7 @@ void LineProtocol::handle_refusal(std::string_view text, std::optional<long> ans
   }
   if (refused == nullptr) refused = line(answered_line.value_or(accepted_ + 1));
   const std::string what = refused != nullptr ? refused->command : std::string(text);
+  if (refused != nullptr && parse_gcode_line(refused->command).is('M', 113)) keepalive_.reset();
   if (refused_.size() < kRefusedKept) refused_.push_back(what);
   if (refused == nullptr) return;
   const GcodeCommand c = parse_gcode_line(refused->command);
@@ -562,7 +566,10 @@ void LineProtocol::check_silence() {
   }
   const nanoseconds quiet = now - std::max(last_write_, last_answer_);
   stats_.longest_silence = std::max(stats_.longest_silence, quiet);
-  const nanoseconds probe_after(options_.probe_after);
+  // A firmware that keeps alive at a known interval is idle once that interval passes
+  // without a word: a lost ok is probed for then, not after the full probe interval.
+  nanoseconds probe_after(options_.probe_after);
+  if (keepalive_ && keepalive_seen_) probe_after = std::min(probe_after, *keepalive_ + kKeepaliveMargin);
   const bool probe_out = probe_line_ > accepted_ && probe_line_ <= sent_;
   const Blocking running = blocking();
   const Blocking ahead_of_probe = probe_out ? blocking(probe_line_) : Blocking::none;
@@ -620,6 +627,13 @@ void LineProtocol::insert_engine_line(std::string command) {
   for (auto it = history_.insert(at, engine) + 1; it != history_.end(); ++it) ++it->number;
   ++assigned_;
   if (probe_line_ > sent_) ++probe_line_;
+}
+
+void LineProtocol::use_keepalive(std::chrono::seconds interval) {
+  if (dialect().firmware != Firmware::marlin || keepalive_) return;
+  insert_engine_line(fmt::format("M113 S{}", interval.count()));
+  keepalive_ = std::chrono::duration_cast<nanoseconds>(interval);
+  keepalive_seen_ = false;
 }
 
 bool LineProtocol::request_temperatures(std::chrono::seconds every) {
@@ -747,7 +761,8 @@ void LineProtocol::connect(milliseconds boot_wait) {
   probe_line_ = -1;
   probes_unanswered_ = 0;
   swallow_oks_ = 0;
-  m105_answer_next_ = idle_reported_ = autoreport_on_ = false;
+  m105_answer_next_ = idle_reported_ = autoreport_on_ = keepalive_seen_ = false;
+  keepalive_.reset();
   connected_ = true;
   last_write_ = last_answer_ = link_.now();
   firmware_ = FirmwareInfo{};

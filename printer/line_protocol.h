@@ -44,6 +44,9 @@
 //   Teacup and Repetier acknowledge on reading, so one of the last kBlockingReach lines).
 //   Keepalives restart it. One probe goes behind such a command anyway (harmless: it waits in
 //   the queue), so a lost ok of M109 costs `probe_after`, not the long timeout.
+// - On Marlin the job asks for the busy keepalive every second (M113 S1, use_keepalive()):
+//   once one has come, the firmware is known to say "busy:" whenever it is working, so quiet
+//   of a second and a half already means a lost ok, and the probe goes then.
 // - Without a blocking command, `max_probes` unanswered probes in a row (no ok, no resend, no
 //   keepalive between them) end the job with a LinkError: 30 s by default. Replies that are
 //   not answers (temperature auto-reports, echo lines) do not count as answers, so a firmware
@@ -143,6 +146,10 @@ class LineProtocol {
   // firmware reports AUTOREPORT_TEMP (then nothing more), else a numbered M105 after the
   // lines queued, answered in passing. Returns whether auto-reports are on.
   bool request_temperatures(std::chrono::seconds every = std::chrono::seconds(2));
+  // Asks a Marlin firmware for its busy keepalive every `interval` (M113 S<n>; OctoPrint asks
+  // for 2 s): once a keepalive has come, a lost ok is probed for after the interval and
+  // 0.5 s instead of `probe_after`. Nothing for other dialects, which have none.
+  void use_keepalive(std::chrono::seconds interval);
   bool autoreporting() const { return autoreport_on_; }
   // Link time of the last temperature report, if any.
   std::optional<std::chrono::nanoseconds> temperatures_at() const { return temperatures_at_; }
@@ -248,6 +255,8 @@ class LineProtocol {
   bool m105_answer_next_ = false;  // a bare "T:" line just came: the next ok may be M105's
   bool idle_reported_ = false;     // the firmware said `wait` with lines in flight
   bool autoreport_on_ = false;
+  std::optional<std::chrono::nanoseconds> keepalive_;  // the M113 interval asked for
+  bool keepalive_seen_ = false;                         // and a busy: line since
   std::optional<std::chrono::nanoseconds> temperatures_at_;
   std::vector<std::string> refused_;
   std::string partial_;        // bytes after the last line end

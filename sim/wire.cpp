@@ -36,16 +36,13 @@ void HostWire::clear(double now) {
   ++clears_;
 }
 
-std::size_t HostWire::arrived_in(const Chunk& chunk, double now) const {
-  if (byte_time_ <= 0) return chunk.bytes.size();
-  const double n = std::floor((now - chunk.start) / byte_time_ + 1e-9);
-  return n <= 0 ? 0 : std::min(chunk.bytes.size(), static_cast<std::size_t>(n));
-}
-
 std::optional<HostWire::Arrived> HostWire::peek(double now) const {
   if (chunks_.empty()) return std::nullopt;
   const Chunk& chunk = chunks_.front();
-  if (chunk.next >= arrived_in(chunk, now)) return std::nullopt;
+  // The same arithmetic as next_line_end(): the firmware's clock, set to a byte's arrival
+  // time, finds that byte arrived (dividing by the byte time instead would round it away
+  // after hours of sim time, and the sim would wait for it for ever).
+  if (chunk.next >= chunk.bytes.size() || arrival(chunk, chunk.next) > now) return std::nullopt;
   Arrived arrived{chunk.bytes[chunk.next], Emergency::none};
   if (!emergencies_.empty() && emergencies_.front().byte == bytes_taken_) {
     arrived.emergency = emergencies_.front().kind;

@@ -64,7 +64,6 @@ class HostWire {
   double arrival(const Chunk& chunk, std::size_t k) const {
     return chunk.start + byte_time_ * static_cast<double>(k + 1);
   }
-  std::size_t arrived_in(const Chunk& chunk, double now) const;
 
   double byte_time_ = 0;
   std::deque<Chunk> chunks_;

@@ -19,12 +19,15 @@ using namespace printer;
 
 namespace {
 
-// What the printer executed of the job: without the host's own M110, M115, M105 and M155.
+// What the printer executed of the job: without the host's own M110, M115, M105, M155, M113.
 std::vector<std::string> job_part(const std::vector<std::string>& executed) {
   std::vector<std::string> out;
   for (const std::string& c : executed) {
     const GcodeCommand parsed = parse_gcode_line(c);
-    if (parsed.is('M', 110) || parsed.is('M', 115) || parsed.is('M', 105) || parsed.is('M', 155)) continue;
+    if (parsed.is('M', 110) || parsed.is('M', 115) || parsed.is('M', 105) || parsed.is('M', 155) ||
+        parsed.is('M', 113)) {
+      continue;
+    }
     out.push_back(c);
   }
   return out;
