@@ -23,6 +23,7 @@ FirmwareDialect make_marlin() {
   d.display = "Marlin";
   d.ok_means = OkMeans::executed;
   d.temperatures = TemperatureReply::on_ok;
+  d.probe = LostOkProbe::skipped_number;
   d.has_m73 = true;
   d.emergency_m108_m410 = true;
   return d;

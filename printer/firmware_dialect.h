@@ -21,17 +21,21 @@
 // M107, M155          yes, Cap:AUTOREPORT     no (M106 S0), no           yes, no
 // emergency commands  M108 M410 M112 at once  M112 in order, no reply    M112 when read
 // keepalive           busy: every 2 s         none                       none ("wait" when idle)
-// lost-ok probe       N<next> M105            the oldest line again      the oldest line again
+// lost-ok probe       a number skipped        the oldest line again      the oldest line again
 //
-// Why the probe differs: Marlin refuses a line number that skips one, so a numbered M105
-// after a lost line draws a resend request, and after a lost ok its "ok T:" proves everything
-// before it arrived. Teacup takes any higher number, so an M105 after a lost line would
-// silently skip it; and Repetier's ok comes when a line is queued, before the M105's answer,
-// so an M105's bare ok would be taken for the lost one and leave the M105 itself unanswered
-// (the "probes for ever" of issue 14). Sending the unanswered line again is exact on both: if
-// it had arrived the firmware asks for the next one ("rs N<next>", "Resend:<next>"), if not it
-// runs it now and says ok. (Marlin 2.1 drops a repeat of its last line without a word, so
-// there the M105 it is.)
+// A probe must be answered by something that says exactly which lines the firmware has.
+// Marlin refuses a line whose number is not its last plus one with "Resend: <last + 1>": a
+// line numbered one past the next ("N<next + 1> M105", never stored or resent) draws exactly
+// that, whatever oks or lines were lost, and runs nothing. (A numbered M105 in the stream is
+// answered too, but its "ok T:" cannot say which of two M105s it answers once one answer is
+// lost: the host credited the older, was one behind for good and probed for ever; and Marlin
+// 2.1 drops a repeat of its last line without a word, so the line itself cannot be resent.)
+// Teacup takes any higher number, so there a skipped number, or an M105, would silently skip
+// a lost line; and Repetier's ok comes when a line is queued, before the M105's answer, so an
+// M105's bare ok would be taken for the lost one. Sending the unanswered line again is exact
+// on both: if it had arrived the firmware asks for the next one ("rs N<next>", "Resend:<n>"),
+// if not it runs it now and says ok. A firmware that does not name itself gets a numbered M105
+// first and a skipped number if that goes unanswered.
 #pragma once
 
 #include <optional>
@@ -45,7 +49,7 @@ enum class Firmware { unknown, marlin, teacup, repetier };
 
 enum class OkMeans { executed, received };
 enum class TemperatureReply { on_ok, after_ok, on_ok_or_before };
-enum class LostOkProbe { next_m105, same_line_again };
+enum class LostOkProbe { next_m105, skipped_number, same_line_again };
 
 struct FirmwareDialect {
   Firmware firmware = Firmware::unknown;

@@ -182,6 +182,7 @@ void LineProtocol::transmit(long number) {
     ++stats_.lines_resent;
   }
   sent_ = number;
+  if (number == last_resend_) resent_since_request_ = true;
   history_[static_cast<std::size_t>(number - history_.front().number)].oks_before = oks_read_;
   last_write_ = link_.now();
 }
@@ -318,7 +319,12 @@ void LineProtocol::handle(const Reply& reply) {
       last_answer_ = link_.now();
       break;
     case ReplyKind::error:
-      ++stats_.recoverable_errors;
+      // The refusal a skipped-number probe asked for is not the firmware's trouble.
+      if (own_errors_expected_ > 0 && reply.text.find("Line Number") != std::string::npos) {
+        --own_errors_expected_;
+      } else {
+        ++stats_.recoverable_errors;
+      }
       if (!connected_) connect_rejected_ = true;
       last_answer_ = link_.now();
       if (connected_ && reply.text.starts_with("E:")) handle_refusal(reply.text, std::nullopt);
@@ -536,7 +542,9 @@ void LineProtocol::handle_resend(long wanted) {
         link_.name(), wanted, kHistoryBehind));
   }
   if (wanted == last_resend_) {
-    if (++same_resend_count_ > options_.max_resends_of_one_line) {
+    // Only a request that answers the line sent again counts toward a loop: a probe is
+    // answered with the same request without anything having been resent.
+    if (resent_since_request_ && ++same_resend_count_ > options_.max_resends_of_one_line) {
       throw LinkError(fmt::format(
           "{}: the printer asked for line {} {} times in a row: the link corrupts nearly every "
           "line; check the cable and try a lower --baud",
@@ -546,6 +554,7 @@ void LineProtocol::handle_resend(long wanted) {
     last_resend_ = wanted;
     same_resend_count_ = 1;
   }
+  resent_since_request_ = false;
   ++stats_.resend_requests;
   // Lines written after `wanted` are rejected too, each with its own request for `wanted`.
   stale_left_ = static_cast<int>(std::max<long>(0, sent_ - wanted));
@@ -602,15 +611,27 @@ void LineProtocol::probe() {
   ++probes_unanswered_;
   ++stats_.probes;
   idle_reported_ = false;
-  if (dialect().probe == LostOkProbe::same_line_again && accepted_ + 1 == sent_) {
-    // Teacup takes any higher line number: the unanswered line again, with its own number, is
-    // answered "rs N<next>" if it arrived, and run now if it did not.
+  const LostOkProbe kind = dialect().probe;
+  if (kind == LostOkProbe::same_line_again && accepted_ + 1 == sent_) {
+    // Teacup and Repetier: the unanswered line again, with its own number, is answered with a
+    // request for the next one if it arrived, and run now if it did not.
     probe_line_ = sent_;
     transmit(sent_);
     return;
   }
-  // A numbered M105 right after the last line written: its answer says exactly that
-  // everything up to it was accepted. Lines not yet written move up one number.
+  const bool m105_out = probe_line_ > accepted_ && probe_line_ <= sent_;
+  if (kind == LostOkProbe::skipped_number || m105_out) {
+    // A line one number past the next: refused with "Resend: <the line the firmware wants>",
+    // which says exactly what it has. Not stored: it is a question, never a command.
+    const std::string framed = frame_line(sent_ + 2, "M105") + "\n";
+    link_.write(framed);
+    stats_.bytes_written += static_cast<long>(framed.size());
+    ++own_errors_expected_;
+    last_write_ = link_.now();
+    return;
+  }
+  // A numbered M105 right after the last line written: its "ok T:" says that everything up
+  // to it was accepted. Lines not yet written move up one number.
   insert_engine_line("M105");
   probe_line_ = sent_ + 1;
   transmit(sent_ + 1);
@@ -762,6 +783,7 @@ void LineProtocol::connect(milliseconds boot_wait) {
   probes_unanswered_ = 0;
   swallow_oks_ = 0;
   m105_answer_next_ = idle_reported_ = autoreport_on_ = keepalive_seen_ = false;
+  own_errors_expected_ = 0;
   keepalive_.reset();
   connected_ = true;
   last_write_ = last_answer_ = link_.now();
