@@ -14,22 +14,19 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cctype>
 #include <chrono>
-#include <ctime>
 #include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
-#include "host/cli_checks.h"
 #include "host/commands.h"
 #include "host/control_socket.h"
+#include "host/job_setup.h"
 #include "host/print_ui.h"
 #include "host/slice_pipeline.h"
 #include "printer/bead_model.h"
@@ -42,31 +39,16 @@
 #include "printer/profile.h"
 #include "printer/serial_link.h"
 #include "sim/faults.h"
-#include "sim/sim_link.h"
 
 namespace host {
 namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kLinkGroup = "Printer link";
-constexpr const char* kDryRunGroup = "Dry run (the in-process simulated printer)";
-constexpr const char* kJobGroup = "Job";
 constexpr const char* kSliceGroup = "Slicing (an STL model; see mahost slice --help)";
-
-struct LinkOptions {
-  std::string port;
-  int baud = 0;                // bit/s; 0: the printer profile's (print) or the journal's (resume)
-  bool dry_run = false;
-  std::string faults;          // dry run only: the simulated printer's faults
-  bool advanced_ok = false;    // dry run only: the simulated firmware reports buffer space
-  std::string dialect;         // dry run only: the simulated firmware's dialect ("": marlin)
-  bool force = false;          // leave out lines that are not G-code instead of refusing
-  std::size_t window = 1;
-  double probe_after = 3;      // s
-  std::vector<double> park;    // X,Y
-  double lift = 5, retract = 1;
-};
+constexpr const char* kDryRunHelp =
+    "print on the in-process simulated printer, at full speed (a pause waits in real time), "
+    "instead of a port (default: off; give --port or --dry-run)";
 
 struct PrintOptions {
   std::string input;
@@ -79,106 +61,8 @@ struct PrintOptions {
   std::vector<std::string> model_options_given;  // slice options that need an STL, as given
 };
 
-struct OpenLink {
-  std::unique_ptr<printer::Link> link;
-  sim::SimLink* sim = nullptr;  // set for a dry run
-};
-
-// A dry run simulates the printer the job is for: its motion limits and filament.
-// `baud`: the rate a real port opens at (--baud, else the journal's or the profile's).
-OpenLink open_link(const LinkOptions& options, const printer::PrinterProfile& machine, int baud) {
-  OpenLink open;
-  if (options.dry_run) {
-    sim::Config config;
-    config.faults = sim::parse_fault_spec(options.faults);
-    config.advanced_ok = options.advanced_ok;
-    if (!options.dialect.empty()) config.dialect = *sim::parse_dialect(options.dialect);
-    config.motion = machine.motion;
-    config.filament_diameter = machine.filament_diameter;
-    auto link = std::make_unique<sim::SimLink>(config);
-    open.sim = link.get();
-    open.link = std::move(link);
-  } else {
-    if (!options.faults.empty()) {
-      throw printer::ConfigError("--faults: only a --dry-run printer can be given faults");
-    }
-    if (options.advanced_ok) {
-      throw printer::ConfigError(
-          "--advanced-ok: only a --dry-run printer can be told to report ADVANCED_OK; a real "
-          "one says so itself");
-    }
-    if (!options.dialect.empty()) {
-      throw printer::ConfigError(
-          "--dialect: only a --dry-run printer can be told which firmware to speak as; a real "
-          "one says so itself in reply to M115");
-    }
-    open.link = std::make_unique<printer::SerialLink>(options.port, baud);
-  }
-  return open;
-}
-
-// `machine`: the firmware its profile names is assumed where the firmware does not say.
-printer::ProtocolOptions protocol_options(const LinkOptions& options, const printer::PrinterProfile& machine) {
-  printer::ProtocolOptions p;
-  p.window = options.window;
-  p.probe_after = std::chrono::milliseconds(static_cast<long>(options.probe_after * 1000));
-  p.assumed_firmware = machine.firmware;
-  return p;
-}
-
-// Reads the job's G-code, checked line by line before anything is sent; with --force the
-// lines that are not G-code are left out, and said so.
-printer::GcodeFile read_job_gcode(const std::string& path, const LinkOptions& options) {
-  printer::GcodeFile file = printer::read_gcode_file(path, printer::GcodeReading{options.force});
-  if (file.skipped_lines > 0) {
-    std::string lines;
-    for (const std::size_t n : file.skipped_line_numbers) lines += (lines.empty() ? "" : ", ") + std::to_string(n);
-    fmt::print(stderr, "note: --force: left out {} line{} that {} not G-code (line{} {}{})\n",
-               file.skipped_lines, file.skipped_lines == 1 ? "" : "s",
-               file.skipped_lines == 1 ? "is" : "are", file.skipped_line_numbers.size() == 1 ? "" : "s",
-               lines, file.skipped_lines > file.skipped_line_numbers.size() ? ", ..." : "");
-  }
-  return file;
-}
-
-printer::PauseOptions pause_options(const LinkOptions& options, const printer::PrinterProfile& machine) {
-  printer::PauseOptions p;
-  if (options.park.size() == 2) {
-    p.park_x = options.park[0];
-    p.park_y = options.park[1];
-  }
-  p.lift = options.lift;
-  p.retract = options.retract;
-  p.max_z = machine.bed_z;
-  return p;
-}
-
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-  return s;
-}
-
-std::string timestamp() {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  localtime_r(&t, &tm);
-  char text[32];
-  std::strftime(text, sizeof text, "%Y%m%d-%H%M%S", &tm);
-  return text;
-}
-
-bool is_stl(const std::string& path) { return lower(fs::path(path).extension().string()) == ".stl"; }
-
 bool in_job_directory(const std::string& path) {
   return fs::path(path).parent_path() == fs::path(printer::job_directory());
-}
-
-void remove_files(const std::vector<std::string>& paths) {
-  for (const std::string& path : paths) {
-    std::error_code ignored;
-    fs::remove(path, ignored);
-    fs::remove(path + ".tmp", ignored);  // a journal write cut short
-  }
 }
 
 // The files a job made for itself, removed when it ends unless kept (see the file comment).
@@ -270,14 +154,6 @@ void print_summary(const printer::JobResult& result, const printer::GcodeFile& f
   }
 }
 
-// A dry run's wait while paused: real time, and the simulated clock runs no longer than that
-// (see printer::JobOptions::paused_wait).
-std::chrono::milliseconds wait_real_time() {
-  const auto before = std::chrono::steady_clock::now();
-  std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - before);
-}
-
 printer::JobResult run_job(printer::LineProtocol& protocol, const printer::GcodeFile& file,
                            OpenLink& link, printer::JobOptions job_options,
                            const std::string& socket_path, const std::string& journal_note,
@@ -316,16 +192,6 @@ printer::JobResult run_job(printer::LineProtocol& protocol, const printer::Gcode
   return result;
 }
 
-void connect(printer::LineProtocol& protocol, const OpenLink& link) {
-  protocol.connect(link.sim != nullptr ? std::chrono::milliseconds(500) : std::chrono::milliseconds(3000));
-}
-
-void check_link_choice(const LinkOptions& link, const char* command) {
-  if (link.dry_run == !link.port.empty()) {
-    throw printer::ConfigError(fmt::format("{}: give either --port PORT or --dry-run", command));
-  }
-}
-
 void run_print(const PrintOptions& options) {
   check_link_choice(options.link, "print");
   for (int layer : options.pause_at) {
@@ -350,7 +216,7 @@ void run_print(const PrintOptions& options) {
   const printer::Profiles profiles = load_slice_profiles(options.slice);
 
   const std::string stem = fs::path(options.input).stem().string();
-  const std::string name = fmt::format("{}-{}-{}", stem.empty() ? "job" : stem, timestamp(), ::getpid());
+  const std::string name = job_name(stem);
   const bool named_journal = !options.journal.empty();
   const std::string journal = fs::absolute(
       named_journal ? fs::path(options.journal) : fs::path(printer::job_directory()) / (name + ".journal")).string();
@@ -376,6 +242,7 @@ void run_print(const PrintOptions& options) {
                options.output.empty() && !named_journal && !options.keep ? ""
                                                                           : " to " + gcode_path,
                slice_summary_text(*sliced));
+    if (const std::string plan = slice_plan_text(*sliced); !plan.empty()) fmt::print("{}\n", plan);
     std::fflush(stdout);
     // The slicer's meshes and toolpaths are freed; hand their pages back before the job
     // loads the file, so the print's memory does not stack on the slicer's.
@@ -401,18 +268,9 @@ void run_print(const PrintOptions& options) {
 
   const bool dry_run = options.link.dry_run;
   const bool keep = options.keep || named_journal;
-  printer::JobOptions job_options;
+  printer::JobOptions job_options =
+      job_options_for(file, gcode_path, profiles.printer, options.link, baud, journal);
   job_options.pause_at_layers = options.pause_at;
-  job_options.pause = pause_options(options.link, profiles.printer);
-  job_options.motion = profiles.printer.motion;
-  job_options.journal_path = journal;
-  job_options.journal_durable = !dry_run;
-  job_options.journal.job = fs::path(base).filename().string();
-  job_options.journal.gcode_path = fs::absolute(gcode_path).string();
-  job_options.journal.gcode_hash = file.hash;
-  job_options.journal.printer = fs::absolute(profiles.printer.source).string();
-  job_options.journal.port = dry_run ? "" : options.link.port;
-  job_options.journal.baud = dry_run ? 0 : baud;
   std::string note;
   if (!dry_run) {
     job_options.resume_command = printer::resume_command(journal, options.link.port);
@@ -446,14 +304,6 @@ struct ResumeOptions {
   LinkOptions link;
 };
 
-bool process_is_mahost(int pid) {
-  if (pid <= 0 || pid == ::getpid() || ::kill(pid, 0) != 0) return false;
-  std::error_code a, b;
-  const fs::path theirs = fs::read_symlink(fmt::format("/proc/{}/exe", pid), a);
-  const fs::path mine = fs::read_symlink("/proc/self/exe", b);
-  return !a && !b && theirs == mine;
-}
-
 // The printer profile the job was sliced and timed for; its motion limits time the rest.
 printer::PrinterProfile resume_profile(const printer::JournalRecord& record) {
   const std::string name = record.printer.empty() ? "up-plus-2" : record.printer;
@@ -472,7 +322,7 @@ void run_resume(const ResumeOptions& options) {
   if (record.state == printer::JobState::completed) {
     throw printer::ConfigError(fmt::format("{}: the job completed; there is nothing to resume", journal));
   }
-  if (process_is_mahost(record.pid)) {
+  if (other_mahost_running(record.pid)) {
     throw printer::ConfigError(fmt::format(
         "{}: the job is still running (process {}); steer it with mahost ctl", journal, record.pid));
   }
@@ -532,60 +382,6 @@ void run_resume(const ResumeOptions& options) {
   }
 }
 
-void add_link_options(CLI::App& command, LinkOptions& link, const std::string& baud_default) {
-  auto* port = command.add_option("--port", link.port,
-                                  "the printer's serial port, e.g. /dev/ttyUSB0 or /dev/pts/N "
-                                  "(see mahost ports; no default: give --port or --dry-run)")
-                   ->group(kLinkGroup);
-  auto* dry = command.add_flag("--dry-run", link.dry_run,
-                               "print on the in-process simulated printer, at full speed "
-                               "(a pause waits in real time), instead of a port (default: "
-                               "off; give --port or --dry-run)")
-                  ->group(kLinkGroup);
-  port->excludes(dry);
-  command.add_option("--baud", link.baud,
-                     "serial speed, bit/s: one of " + printer::standard_baud_rates_text() +
-                         " (default: " + baud_default + ")")
-      ->check(standard_baud_rate())
-      ->group(kLinkGroup);
-  command.add_option("--window", link.window,
-                     "lines in flight; more than 1 only when the firmware reports ADVANCED_OK "
-                     "(default: 1)")
-      ->check(CLI::Range(1, 32))
-      ->group(kLinkGroup);
-  command.add_option("--timeout", link.probe_after,
-                     "silence before the host probes the printer with M105, s (default: 3)")
-      ->check(CLI::Range(0.1, 600.0))
-      ->group(kLinkGroup);
-  command.add_option("--faults", link.faults,
-                     "faults of the simulated printer, e.g. corrupt=0.01,drop-ok=0.01,seed=3 "
-                     "(see mahost sim --help; default: none)")
-      ->group(kDryRunGroup);
-  command.add_flag("--advanced-ok", link.advanced_ok,
-                   "the simulated firmware reports its buffer space (ADVANCED_OK), so --window "
-                   "takes effect (default: off)")
-      ->group(kDryRunGroup);
-  command.add_option("--dialect", link.dialect,
-                     "the firmware the simulated printer speaks as: " + sim::dialect_names() +
-                         " (default: marlin)")
-      ->check(CLI::IsMember({"marlin", "teacup", "repetier"}))
-      ->group(kDryRunGroup);
-  command.add_flag("--force", link.force,
-                   "leave out the file's lines that are not G-code, and say how many, instead "
-                   "of refusing the file (default: off)")
-      ->group(kJobGroup);
-  command.add_option("--park", link.park, "where a pause parks the nozzle: X,Y, mm (default: 5,5)")
-      ->delimiter(',')
-      ->expected(2)
-      ->group(kJobGroup);
-  command.add_option("--lift", link.lift, "how far a pause lifts the nozzle, mm (default: 5)")
-      ->check(CLI::Range(0.0, 100.0))
-      ->group(kJobGroup);
-  command.add_option("--retract", link.retract, "filament a pause retracts, mm (default: 1)")
-      ->check(CLI::Range(0.0, 20.0))
-      ->group(kJobGroup);
-}
-
 }  // namespace
 
 void add_print_command(CLI::App& app) {
@@ -600,7 +396,7 @@ void add_print_command(CLI::App& app) {
   print->add_option("MODEL", options->input, "the STL model (sliced first) or G-code file to print")
       ->required()
       ->check(CLI::ExistingFile);
-  add_link_options(*print, options->link, "the printer profile's serial.baud");
+  add_link_options(*print, options->link, "the printer profile's serial.baud", kDryRunHelp);
   print->add_option("--pause-at-layer", options->pause_at,
                     "pause before these layers start, numbered from 1 as the progress line "
                     "shows them (layer n is the file's ;LAYER:n-1), e.g. 20,45 (default: none)")
@@ -637,7 +433,8 @@ void add_print_command(CLI::App& app) {
                      "the job's journal, as mahost print named it when it started")
       ->required()
       ->check(CLI::ExistingFile);
-  add_link_options(*resume, resume_options->link, "the journal's, else its printer profile's serial.baud");
+  add_link_options(*resume, resume_options->link, "the journal's, else its printer profile's serial.baud",
+                   kDryRunHelp);
   resume->callback([resume_options] { run_resume(*resume_options); });
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <unordered_map>
+#include <utility>
 
 #include "geometry/metrics/layer_metrics.h"
 #include "geometry/core/boundary_grid.h"
@@ -14,6 +15,20 @@ namespace geometry {
 namespace {
 
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+
+// The distance to the walls of the slab's corners on its bottom and top planes, up to the
+// first beyond `stop_above` (then that one's), mm.
+double farthest_end_point(const Slab& slab, const BoundaryGrid& walls, double stop_above) {
+  double farthest = 0;
+  for (const auto& facet : slab.facets) {
+    for (const Vec3& v : facet) {
+      if (v.z != slab.z_lo && v.z != slab.z_hi) continue;
+      farthest = std::max(farthest, walls.nearest_distance({v.x, v.y}));
+      if (farthest > stop_above) return farthest;
+    }
+  }
+  return farthest;
+}
 
 }  // namespace
 
@@ -43,27 +58,28 @@ SlabMeter::SlabMeter(const LayerStack& stack, SlabErrorOptions options)
 bool SlabMeter::every_piece_crosses(std::span<const std::uint32_t> faces, double z_lo,
                                     double z_hi, double h) const {
   const Mesh& mesh = stack_.mesh();
-  // Faces of the slab (a piece of positive height inside it, or flat strictly inside), and
-  // pieces joined where two faces share an edge that reaches into the open slab.
-  std::unordered_map<std::uint32_t, std::uint32_t> index;  // face -> position in `faces`
-  index.reserve(faces.size() * 2);
+  // Faces of the slab (a piece of positive height inside it, or flat strictly inside), found
+  // in `faces` (ascending) by bisection, and pieces joined where two faces share an edge that
+  // reaches into the open slab.
   const auto range = [&](std::uint32_t f) {
     const auto& face = mesh.faces[f];
     const double a = mesh.vertices[face[0]].z, b = mesh.vertices[face[1]].z,
                  c = mesh.vertices[face[2]].z;
     return std::pair{std::min({a, b, c}), std::max({a, b, c})};
   };
-  for (std::uint32_t i = 0; i < faces.size(); ++i) {
-    const auto [lo, hi] = range(faces[i]);
-    if (hi > z_lo && lo < z_hi) index.emplace(faces[i], i);
-  }
+  const auto position = [&](std::uint32_t f) -> std::size_t {
+    const auto it = std::lower_bound(faces.begin(), faces.end(), f);
+    if (it == faces.end() || *it != f) return faces.size();
+    const auto [lo, hi] = range(f);
+    return hi > z_lo && lo < z_hi ? static_cast<std::size_t>(it - faces.begin()) : faces.size();
+  };
   std::vector<char> seen(faces.size(), 0);
   std::vector<std::uint32_t> stack;
-  for (const auto& [start, position] : index) {
-    if (seen[position]) continue;
+  for (std::size_t start = 0; start < faces.size(); ++start) {
+    if (seen[start] || position(faces[start]) == faces.size()) continue;
     bool crosses = false;
-    seen[position] = 1;
-    stack.assign(1, start);
+    seen[start] = 1;
+    stack.assign(1, faces[start]);
     while (!stack.empty()) {
       const std::uint32_t f = stack.back();
       stack.pop_back();
@@ -75,9 +91,9 @@ bool SlabMeter::every_piece_crosses(std::span<const std::uint32_t> faces, double
         const double za = mesh.vertices[mesh.faces[f][k]].z;
         const double zb = mesh.vertices[mesh.faces[f][(k + 1) % 3]].z;
         if (!(std::max(za, zb) > z_lo && std::min(za, zb) < z_hi)) continue;
-        const auto it = index.find(g);
-        if (it == index.end() || seen[it->second]) continue;
-        seen[it->second] = 1;
+        const std::size_t at = position(g);
+        if (at == faces.size() || seen[at]) continue;
+        seen[at] = 1;
         stack.push_back(g);
       }
     }
@@ -86,29 +102,27 @@ bool SlabMeter::every_piece_crosses(std::span<const std::uint32_t> faces, double
   return true;
 }
 
-SlabError SlabMeter::operator()(double z_lo, double z_hi, std::span<const ContourStrategy* const> strategies,
-                                double enough) const {
-  return (*this)(z_lo, z_hi, strategies, enough, options_.distance.tolerance);
-}
-
-SlabError SlabMeter::operator()(double z_lo, double z_hi, std::span<const ContourStrategy* const> strategies,
-                                double enough, double tolerance) const {
+SlabError SlabMeter::operator()(double z_lo, double z_hi,
+                                std::span<const ContourStrategy* const> strategies, double enough,
+                                bool refute) const {
   SlabError error;
   error.z_lo = z_lo;
   error.z_hi = z_hi;
   const LayerStack view(stack_, {Layer{z_lo, z_hi}});
   const std::vector<std::uint32_t> faces = stack_.faces_between(z_lo, z_hi);
   DistanceOptions distance = options_.distance;
-  distance.tolerance = tolerance;
   distance.reverse = false;
+  if (refute && enough > 0) distance.stop_above = enough;
   // What the strategies may use (contour_input.h): the slab and its surface now, the
   // footprint's islands the first time one needs them; no columns (optimal-height builds its
   // own).
   LayerReference reference;
   reference.layer = {z_lo, z_hi};
   reference.slab = slab_of(stack_.mesh(), faces, z_lo, z_hi);
-  reference.surface = slab_surface(reference.slab, distance);
-  bool have_islands = false;
+  bool have_surface = false, have_islands = false;
+  const auto need_surface = [&] {
+    if (!have_surface) reference.surface = slab_surface(reference.slab, distance), have_surface = true;
+  };
   const auto need_islands = [&]() -> const std::vector<BoundaryPair>& {
     if (!have_islands) reference.islands = slab_islands(reference.slab), have_islands = true;
     return reference.islands;
@@ -117,16 +131,30 @@ SlabError SlabMeter::operator()(double z_lo, double z_hi, std::span<const Contou
     SlabTrial trial;
     trial.strategy = strategy;
     const bool section = strategy->cuts_at != nullptr;
-    if (!section) need_islands();
+    if (!section) need_islands(), need_surface();
     trial.region = strategy->contour({view, 0, options_.contour, &reference}).region;
     const BoundaryGrid walls(trial.region);
     if (section && !have_islands &&
         every_piece_crosses(faces, z_lo, z_hi, strategy->cuts_at(reference.layer))) {
-      trial.distance = distance_error(reference.surface, walls, {}, distance).forward;
+      // Every surface point then counts to the walls; the slab's two ends, where a section's
+      // walls stand farthest from the surface, first: one point past `enough` refuses the
+      // slab without the rest of the surface.
+      const double end_farthest =
+          std::isfinite(distance.stop_above)
+              ? farthest_end_point(reference.slab, walls, distance.stop_above)
+              : 0;
+      if (end_farthest > distance.stop_above) {
+        trial.distance = end_farthest;
+      } else {
+        need_surface();
+        trial.distance = distance_error(reference.surface, walls, {}, distance).forward;
+      }
     } else {
+      need_surface();
       const std::vector<BoundaryPair> missed = missed_features(need_islands(), trial.region);
       trial.distance = distance_error(reference.surface, walls, missed, distance).forward;
     }
+    trial.bounded = trial.distance > distance.stop_above;
     error.trials.push_back(std::move(trial));
     const std::size_t last = error.trials.size() - 1;
     if (error.trials[last].distance < error.trials[error.best].distance - 1e-3) error.best = last;
@@ -138,7 +166,7 @@ SlabError SlabMeter::operator()(double z_lo, double z_hi, std::span<const Contou
 SlabError slab_error(const LayerStack& stack, double z_lo, double z_hi,
                      std::span<const ContourStrategy* const> strategies, double enough,
                      const SlabErrorOptions& options) {
-  return SlabMeter(stack, options)(z_lo, z_hi, strategies, enough);
+  return SlabMeter(stack, options)(z_lo, z_hi, strategies, enough, false);
 }
 
 }  // namespace geometry
