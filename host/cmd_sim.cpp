@@ -152,7 +152,7 @@ void add_sim_command(CLI::App& app) {
       ->capture_default_str();
   sim->add_option("--faults", options->faults,
                   "faults to inject, e.g. corrupt=0.01,drop-ok=0.01,resend=0.01,delay=50ms,"
-                  "disconnect-at-line=5000,halt-at-line=N,runaway-at-line=N,seed=42");
+                  "disconnect-at-line=5000,halt-at-line=N,freeze-at-line=N,runaway-at-line=N,seed=42");
   sim->add_option("--time-scale", options->time_scale,
                   "sim time per wall time: 1 = real time, N = N times faster, max = no waiting")
       ->capture_default_str();

@@ -42,6 +42,9 @@ class FaultInjector {
   bool fails_heater_at(std::uint64_t line) const {
     return spec_.runaway_at_line && line == *spec_.runaway_at_line;
   }
+  bool freezes_at_line(std::uint64_t line) const {
+    return spec_.freeze_at_line && line == *spec_.freeze_at_line;
+  }
   bool disconnects_at_line(std::uint64_t line) const {
     return spec_.disconnect_at_line && line == *spec_.disconnect_at_line;
   }

@@ -26,6 +26,9 @@
 // - disconnect-at-line=N / disconnect-at-time=T: the link vanishes when line N is accepted or
 //   at sim time T (SimLink throws printer::LinkError; `mahost sim` closes the terminal).
 // - halt-at-line=N: kill() when line N is executed: "Error:Printer halted. kill() called!".
+// - freeze-at-line=N: the link stalls once line N is accepted: the port stays open, but the
+//   firmware reads nothing more (M112 included) and says nothing more, as a hung USB-serial
+//   bridge or a board locked up. What is queued still runs.
 // - runaway-at-line=N: the hotend heater fails when line N is executed; Marlin's thermal
 //   protection then stops the printer once the temperature has stayed more than the
 //   hysteresis below its target for the protection period.
@@ -53,6 +56,7 @@ struct FaultSpec {
   std::optional<std::uint64_t> disconnect_at_line;
   std::optional<double> disconnect_at_time;  // s on the sim clock
   std::optional<std::uint64_t> halt_at_line;
+  std::optional<std::uint64_t> freeze_at_line;
   std::optional<std::uint64_t> runaway_at_line;
   std::optional<long> from_line;
   std::uint64_t seed = 1;

@@ -81,6 +81,7 @@ struct Printer::Firmware {
   // an ok since it last heard from the host (the wait it causes is then a lost ok's).
   double idle_since = -1;
   bool ok_lost = false;
+  bool frozen = false;  // fault freeze-at-line: nothing read, nothing said, until a reset
   std::vector<double> lost_ok_waits;
 
   explicit Firmware(Config config)
@@ -107,6 +108,7 @@ struct Printer::Firmware {
     receiver = SerialReceiver(cfg.rx_buffer_size, cfg.max_cmd_size);
     last_n = 0;
     faults.power_on();
+    frozen = false;
     queue.clear();
     executing = false;
     wait = Wait::none;
@@ -131,7 +133,7 @@ struct Printer::Firmware {
   // ---- output ----------------------------------------------------------------------------
 
   void emit(std::string text) {
-    if (state == PrinterState::disconnected) return;
+    if (state == PrinterState::disconnected || frozen) return;
     counters.bytes_sent += replies.send(now + faults.reply_delay(), std::move(text));
   }
 
@@ -212,7 +214,7 @@ struct Printer::Firmware {
       if (wire.clears() != clears) return false;  // the line it ended disconnected the link
       ++delivered;
       if (arrived->emergency != Emergency::none) {
-        if (state == PrinterState::running) emergency(arrived->emergency);
+        if (state == PrinterState::running && !frozen) emergency(arrived->emergency);
         if (wire.clears() != clears) return false;
       }
     }
@@ -220,7 +222,7 @@ struct Printer::Firmware {
   }
 
   void arrive(char c) {
-    if (state == PrinterState::booting || state == PrinterState::halted) return;
+    if (state == PrinterState::booting || state == PrinterState::halted || frozen) return;
     if (!receiver.has_buffered() && !queue.full() && state == PrinterState::running) {
       ++counters.bytes_received;
       read_char(c);
@@ -290,6 +292,7 @@ struct Printer::Firmware {
     last_activity = now;
     if (talk.ok_at == OkAt::queued) ok_on_queueing(queued.text);
     queue.push(std::move(queued));
+    if (faults.freezes_at_line(counters.lines)) frozen = true;  // fault freeze-at-line
     if (faults.disconnects_at_line(counters.lines)) {
       disconnect(fmt::format("disconnected at line {} (fault disconnect-at-line)", counters.lines));
     }

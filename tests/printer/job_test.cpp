@@ -6,6 +6,7 @@
 #include <optional>
 
 #include <doctest/doctest.h>
+#include <fmt/core.h>
 
 #include "printer/error.h"
 #include "printer/gcode_line.h"
@@ -495,6 +496,65 @@ TEST_CASE("cancel_on_a_stalled_link_ends_within_ten_seconds_and_sends_m112") {
                            "heaters are off") != std::string::npos);
   CHECK(firmware.received.back() == "M112");
   CHECK(read_journal(options.journal_path).state == JobState::cancelled);
+}
+
+TEST_CASE("cancel_on_a_frozen_link_ends_within_ten_seconds_in_every_dialect") {
+  // The simulated printer of each dialect stops reading and answering at line 400 (fault
+  // freeze-at-line), the port left open; the job is cancelled as soon as it probes.
+  for (const sim::Dialect dialect : {sim::Dialect::marlin, sim::Dialect::teacup, sim::Dialect::repetier}) {
+    CAPTURE(sim::to_string(dialect));
+    const std::string dir = test_support::scratch_dir(fmt::format("cancel_frozen_{}", sim::to_string(dialect)));
+    std::string text = test_support::ring_program(20, 40);
+    if (dialect == sim::Dialect::teacup) text.replace(text.find("M190 S60\nM109 S210\n"), 19, "M116\n");
+    const GcodeFile file = parse_gcode(text, "ring.gcode");
+    sim::Config config;
+    config.dialect = dialect;
+    config.faults = sim::parse_fault_spec("freeze-at-line=400");
+    sim::SimLink link(config);
+    LineProtocol protocol(link);
+    protocol.connect();
+    JobOptions options;
+    options.journal_path = dir + "/job.journal";
+    Job job(protocol, file, options);
+    std::optional<std::chrono::nanoseconds> asked;
+    job.on_tick = [&](Job& j) {
+      if (!asked && protocol.stats().probes > 0 && link.printer().counters().lines >= 400) {
+        asked = link.now();
+        j.request(JobRequest::cancel);
+      }
+    };
+    const JobResult result = job.run();
+    REQUIRE(asked);
+    CHECK(result.state == JobState::cancelled);
+    CHECK(link.now() - *asked <= std::chrono::seconds(10) + std::chrono::milliseconds(200));
+    CHECK(result.reason.find("the printer did not confirm the cancel within 10 s") != std::string::npos);
+    CHECK(read_journal(options.journal_path).state == JobState::cancelled);
+    CHECK(link.printer().counters().lines == 400);  // nothing was read after the freeze
+  }
+}
+
+TEST_CASE("a_refused_m109_stops_the_job_before_anything_is_extruded") {
+  // Only the nozzle is waited for (no M190): Teacup refuses M109 as it refuses M190.
+  std::string text = test_support::ring_program(10, 40);
+  text.erase(text.find("M190 S60\n"), 9);
+  const GcodeFile file = parse_gcode(text, "ring.gcode");
+  sim::Config config;
+  config.dialect = sim::Dialect::teacup;
+  sim::SimLink link(config);
+  LineProtocol protocol(link);
+  protocol.connect();
+  Job job(protocol, file, {});
+  std::string message;
+  try {
+    job.run();
+  } catch (const CommandRefused& e) {
+    message = e.what();
+  }
+  CHECK(message.starts_with("simulated printer: the printer refused M109 S210 (\"E: Bad M-code 109\"), so the "
+                            "print stopped before anything was extruded"));
+  CHECK(link.printer().deposition().moves.empty());
+  CHECK(link.printer().hotend_target() == 0);
+  CHECK(job.result().state == JobState::failed);
 }
 
 TEST_CASE("cancel_right_after_a_lost_ok_ends_at_once_with_the_heaters_off") {
