@@ -131,10 +131,11 @@ void print_summary(const printer::JobResult& result, const printer::GcodeFile& f
              result.commands_done, file.size(), file.layers.size());
   fmt::print("{}; {}\n", time, filament);
   fmt::print("link: {} lines sent, {} resent after {} resend requests ({} stale ignored), {} "
-             "timeouts probed, {} duplicate oks, {} firmware errors, {} commands refused; longest "
+             "timeouts probed, {} duplicate oks, {} firmware errors, {}; longest "
              "silence {:.1f} s; {}\n",
              stats.lines_sent, stats.lines_resent, stats.resend_requests, stats.stale_resends,
-             stats.probes, stats.duplicate_oks, stats.recoverable_errors, stats.refused_commands,
+             stats.probes, stats.duplicate_oks, stats.recoverable_errors,
+             count_text(stats.refused_commands, "command refused", "commands refused"),
              std::chrono::duration<double>(stats.longest_silence).count(),
              count_text(result.pauses, "pause", "pauses"));
   const printer::FirmwareInfo& firmware = protocol.firmware();
