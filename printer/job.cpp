@@ -254,8 +254,10 @@ std::string Job::cancel_here() {
   } catch (const LinkError&) {
     return fmt::format("; {}, and the link is gone: check the heaters are off", trouble);
   }
-  return fmt::format("; {}: sent M112, so the heaters are off; reset the printer (power or "
-                     "M999) before the next job",
+  // Nothing says the M112 arrived on a link that stopped answering: say so.
+  return fmt::format("; {}: sent M112, which turns the heaters off if it reaches the printer: "
+                     "check they are off, and reset the printer (power or M999) before the next "
+                     "job",
                      trouble);
 }
 
