@@ -8,18 +8,15 @@
 #include <limits>
 
 #include "geometry/toolpaths/bead_spacing.h"
-#include "geometry/core/clipper_bridge.h"
+#include "geometry/core/clipper.h"
 #include "geometry/toolpaths/infill.h"
 #include "geometry/toolpaths/perimeters.h"
 #include "geometry/toolpaths/skins.h"
 #include "geometry/toolpaths/skirt.h"
-#include "geometry/core/toolpath_clipper.h"
 
 namespace geometry {
 
 namespace {
-
-namespace tc = toolpath_clipper;
 
 // Region edges are straightened within this: far finer than a printer's step (12.5 um at 80
 // steps/mm) or the bead, and it halves the vertices of a section of a fine mesh, which every
@@ -67,7 +64,7 @@ struct Island {
 
 // The paths of an island laid out by shares `share` wide (see plan_island); the infill
 // overlap is a fraction of the bead's width.
-Island plan_shares(const tc::Paths& island, std::size_t layer, double share, double width,
+Island plan_shares(const clipper::Paths& island, std::size_t layer, double share, double width,
                    const ToolpathOptions& o, const Region* core, const Region* below,
                    const Region* above) {
   Island result;
@@ -79,9 +76,9 @@ Island plan_shares(const tc::Paths& island, std::size_t layer, double share, dou
 
   // Infill reaches into the innermost wall by the overlap (at most a bead: it stays inside
   // the walls), or without walls up to the island's edge.
-  tc::Paths area = to_clipper(walls.infill_area);
-  area = o.perimeters > 0 ? tc::offset(area, o.infill_overlap * width)
-                          : tc::union_of(area);
+  clipper::Paths area = to_clipper(walls.infill_area);
+  area = o.perimeters > 0 ? clipper::offset(area, o.infill_overlap * width)
+                          : clipper::union_nonzero(area);
   Skins skins = split_skins(from_clipper(area), core, below, above, share);
   const double angle = o.infill_angle;
   // One set of solid lines for all solid pieces, so that they meet edge to edge; infill at
@@ -116,12 +113,12 @@ Island plan_shares(const tc::Paths& island, std::size_t layer, double share, dou
 // in the island shrunk by half what a bead's rounded sides add to its share, so that a bead
 // at the edge has its rounded side on the island's edge (the outer wall's centre line lies
 // w/2 in). Each path is then widened to the bead that fills its share.
-Island plan_island(const tc::Paths& island, std::size_t layer, double width, double height,
+Island plan_island(const clipper::Paths& island, std::size_t layer, double width, double height,
                    const ToolpathOptions& o, const Region* core, const Region* below,
                    const Region* above) {
   const double share = bead_spacing(width, height);
   const double sides = width - share;  // the rounded sides' reach past the share, both sides
-  const tc::Paths shared = sides > 0 ? tc::offset(island, -sides / 2) : island;
+  const clipper::Paths shared = sides > 0 ? clipper::offset(island, -sides / 2) : island;
   Island result = plan_shares(shared, layer, share, width, o, core, below, above);
   for (auto& group : result.groups) {
     for (ExtrusionPath& path : group) {
@@ -155,19 +152,19 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
   // Every layer's region, simplified, then cleaned and split into islands by one non-zero
   // union (simplifying first: the union has half the vertices to sweep): a layer past the
   // given regions is empty.
-  std::vector<std::vector<tc::Paths>> island_paths(n);
+  std::vector<std::vector<clipper::Paths>> island_paths(n);
   std::vector<Region> region(n), outline(n);
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
     if (i >= regions.size()) return;
-    island_paths[i] = tc::islands(tc::simplified(to_clipper(regions[i]), kSimplifyTolerance));
-    tc::Paths all;
-    for (const tc::Paths& island : island_paths[i]) {
+    island_paths[i] = clipper::islands(clipper::simplified(to_clipper(regions[i]), kSimplifyTolerance));
+    clipper::Paths all;
+    for (const clipper::Paths& island : island_paths[i]) {
       for (const auto& path : island) {
         region[i].loops.push_back(from_clipper(path));
         all.push_back(path);
       }
     }
-    outline[i] = from_clipper(tc::simplified(all, kSkinTolerance));
+    outline[i] = from_clipper(clipper::simplified(all, kSkinTolerance));
   });
   // Skins need the neighbours' regions: every layer's core first, then the layers in parallel.
   const std::vector<std::optional<Region>> cores = sparse_cores(
@@ -185,7 +182,7 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
     const Region* core = cores[i] ? &*cores[i] : nullptr;
     const Region* below = bottom_skins ? (i > 0 ? &outline[i - 1] : &nothing) : nullptr;
     const Region* above = top_skins ? (i + 1 < n ? &outline[i + 1] : &nothing) : nullptr;
-    for (const tc::Paths& island : island_paths[i]) {
+    for (const clipper::Paths& island : island_paths[i]) {
       islands[i].push_back(plan_island(island, i, width, height, o, core, below, above));
     }
     if (i == 0) skirt_paths = skirt(region[0], width, o.skirt_loops, o.skirt_distance);
