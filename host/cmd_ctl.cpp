@@ -69,15 +69,16 @@ void report_ended_job(const CtlOptions& options, const std::string& socket,
                       const printer::JournalRecord& record) {
   const std::string journal = fs::path(socket).replace_extension(".journal").string();
   std::string what;
-  if (record.state == "completed") {
+  if (record.state == printer::JobState::completed) {
     what = fmt::format("completed, {} layers (journal updated {})", record.layers, record.updated);
   } else {
-    const bool interrupted = record.state == "printing" || record.state == "paused";
-    what = fmt::format("{} at layer {}/{} (journal updated {}){}; mahost resume {} --port PORT "
-                       "finishes it",
-                       interrupted ? "not running: interrupted" : record.state,
+    const bool interrupted =
+        record.state == printer::JobState::printing || record.state == printer::JobState::paused;
+    what = fmt::format("{} at layer {}/{} (journal updated {}){}; {} finishes it",
+                       interrupted ? "not running: interrupted" : printer::to_string(record.state),
                        record.layer_index + 1, record.layers, record.updated,
-                       record.reason.empty() ? "" : ": " + record.reason, journal);
+                       record.reason.empty() ? "" : ": " + record.reason,
+                       printer::resume_command(journal, printer::kAnyPort));
   }
   if (options.action == "status") {
     fmt::print("{}\n", what);

@@ -131,10 +131,20 @@ void print_summary(const printer::JobResult& result, const printer::GcodeFile& f
              result.commands_done, file.size(), file.layers.size());
   fmt::print("{}; {}\n", time, filament);
   fmt::print("link: {} lines sent, {} resent after {} resend requests ({} stale ignored), {} "
-             "timeouts probed with M105, {} duplicate oks, {} firmware errors; {}\n",
+             "timeouts probed, {} duplicate oks, {} firmware errors, {}; longest "
+             "silence {:.1f} s; {}\n",
              stats.lines_sent, stats.lines_resent, stats.resend_requests, stats.stale_resends,
              stats.probes, stats.duplicate_oks, stats.recoverable_errors,
+             count_text(stats.refused_commands, "command refused", "commands refused"),
+             std::chrono::duration<double>(stats.longest_silence).count(),
              count_text(result.pauses, "pause", "pauses"));
+  const printer::FirmwareInfo& firmware = protocol.firmware();
+  std::string refused;
+  for (const std::string& c : protocol.refused()) refused += (refused.empty() ? "" : ", ") + c;
+  fmt::print("firmware: {} ({} dialect){}\n",
+             firmware.name.empty() ? "did not name itself in reply to M115" : firmware.name,
+             protocol.dialect().name.empty() ? "unknown" : protocol.dialect().name,
+             refused.empty() ? "" : "; refused: " + refused);
   if (link.sim != nullptr) {
     const sim::Printer& printer = link.sim->printer();
     if (printer.config().faults.any()) {
@@ -166,7 +176,17 @@ printer::JobResult run_job(printer::LineProtocol& protocol, const printer::Gcode
                        "another terminal"
                      : fmt::format("control: mahost ctl pause|resume|cancel|stop|status --job {}",
                                    fs::path(socket_path).stem().string()));
-  const printer::JobResult result = job.run();
+  printer::JobResult result;
+  try {
+    result = job.run();
+  } catch (const std::runtime_error&) {
+    // A failed job says what the link went through too: often the reason is there.
+    ui.finish();
+    print_summary(job.result(), file, link, protocol, job.estimated_seconds(), resumed, sliced_for,
+                  std::chrono::steady_clock::now() - wall_start);
+    std::fflush(stdout);
+    throw;
+  }
   ui.finish();
   print_summary(result, file, link, protocol, job.estimated_seconds(), resumed, sliced_for,
                 std::chrono::steady_clock::now() - wall_start);
@@ -229,7 +249,7 @@ void run_print(const PrintOptions& options) {
     // loads the file, so the print's memory does not stack on the slicer's.
     ::malloc_trim(0);
   }
-  const printer::GcodeFile file = printer::read_gcode_file(gcode_path);
+  const printer::GcodeFile file = read_job_gcode(gcode_path, options.link);
   for (int layer : options.pause_at) {
     if (static_cast<std::size_t>(layer) > file.layers.size()) {
       throw printer::ConfigError(fmt::format("--pause-at-layer {}: {} has {} layers", layer,
@@ -238,7 +258,7 @@ void run_print(const PrintOptions& options) {
   }
   const int baud = options.link.baud > 0 ? options.link.baud : profiles.printer.baud;
   OpenLink link = open_link(options.link, profiles.printer, baud);
-  printer::LineProtocol protocol(*link.link, protocol_options(options.link));
+  printer::LineProtocol protocol(*link.link, protocol_options(options.link, profiles.printer));
   connect(protocol, link);
   if (options.link.window > 1 && !protocol.advanced_ok()) {
     fmt::print(stderr,
@@ -254,10 +274,10 @@ void run_print(const PrintOptions& options) {
   job_options.pause_at_layers = options.pause_at;
   std::string note;
   if (!dry_run) {
-    job_options.resume_command = fmt::format("mahost resume {} --port {}", journal, options.link.port);
+    job_options.resume_command = printer::resume_command(journal, options.link.port);
     note = fmt::format("journal: {} (if the print is interrupted: {})", journal, *job_options.resume_command);
   } else if (keep) {
-    job_options.resume_command = fmt::format("mahost resume {} --dry-run", journal);
+    job_options.resume_command = printer::resume_command(journal, "");
     note = fmt::format("journal: {} (kept; if the dry run is interrupted: {})", journal,
                        *job_options.resume_command);
   } else {
@@ -300,14 +320,14 @@ void run_resume(const ResumeOptions& options) {
   check_link_choice(options.link, "resume");
   const std::string journal = fs::absolute(options.journal).string();
   const printer::JournalRecord record = printer::read_journal(journal);
-  if (record.state == "completed") {
+  if (record.state == printer::JobState::completed) {
     throw printer::ConfigError(fmt::format("{}: the job completed; there is nothing to resume", journal));
   }
   if (other_mahost_running(record.pid)) {
     throw printer::ConfigError(fmt::format(
         "{}: the job is still running (process {}); steer it with mahost ctl", journal, record.pid));
   }
-  const printer::GcodeFile file = printer::read_gcode_file(record.gcode_path);
+  const printer::GcodeFile file = read_job_gcode(record.gcode_path, options.link);
   if (file.hash != record.gcode_hash || file.size() != record.commands) {
     throw printer::ConfigError(fmt::format(
         "{}: the file changed since the job started ({} then, {} now): resuming would print a "
@@ -319,7 +339,7 @@ void run_resume(const ResumeOptions& options) {
                    : record.baud > 0       ? record.baud
                                            : machine.baud;
   OpenLink link = open_link(options.link, machine, baud);
-  printer::LineProtocol protocol(*link.link, protocol_options(options.link));
+  printer::LineProtocol protocol(*link.link, protocol_options(options.link, machine));
   connect(protocol, link);
 
   const bool dry_run = options.link.dry_run;
@@ -346,7 +366,7 @@ void run_resume(const ResumeOptions& options) {
     job_options.journal.port = options.link.port;
     job_options.journal.baud = baud;
     job_options.journal.pid = 0;
-    job_options.resume_command = fmt::format("mahost resume {} --port {}", journal, options.link.port);
+    job_options.resume_command = printer::resume_command(journal, options.link.port);
     note = fmt::format("journal: {} (if the print is interrupted again: {})", journal,
                        *job_options.resume_command);
   }

@@ -243,6 +243,9 @@ void add_serve_command(CLI::App& app) {
   add_link_options(*serve, options->link, "the printer profile's serial.baud",
                    "serve the in-process simulated printer instead of a port, at real speed unless "
                    "--time-scale says otherwise (default: off; give --port or --dry-run)");
+  // An upload with lines that are not G-code is refused when it arrives, naming the line:
+  // there is no file on the command line to leave lines out of.
+  serve->remove_option(serve->get_option("--force"));
   serve->add_option("--listen", options->listen,
                     "address and port to listen on; 0.0.0.0:PORT is every network (then anyone "
                     "there with the key can print); port 0: any free one (default: 127.0.0.1:5000)")

@@ -1,4 +1,5 @@
-// `mahost sim [--pty] [--baud B] [--faults SPEC] [--time-scale N|max] [--record OUT.json]
+// `mahost sim [--pty] [--baud B] [--dialect marlin|teacup|repetier] [--faults SPEC]
+//  [--time-scale N|max] [--record OUT.json]
 //  [--printed-stl PART.stl] [--queue N] [--advanced-ok] ...`: a simulated Marlin printer on a
 // pseudo-terminal (sim/pty_server.h). The first line on stdout is the port to open
 // (/dev/pts/N); it serves until SIGINT or SIGTERM (or a disconnect fault), then writes the
@@ -15,6 +16,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
+#include "host/cli_checks.h"
 #include "host/commands.h"
 #include "host/job_setup.h"
 #include "printer/error.h"
@@ -34,6 +36,7 @@ struct SimOptions {
   std::string record_path;
   std::string stl_path;
   std::string printer_profile;
+  std::string dialect = "marlin";
   int queue = 4;
   int planner = 16;
   int rx_buffer = 128;
@@ -78,6 +81,7 @@ void run_sim(const SimOptions& options) {
     config.filament_diameter = profile.filament_diameter;
   }
   config.faults = sim::parse_fault_spec(options.faults);
+  config.dialect = *sim::parse_dialect(options.dialect);
   config.queue_depth = options.queue;
   config.planner_depth = options.planner;
   config.rx_buffer_size = options.rx_buffer;
@@ -136,11 +140,19 @@ void add_sim_command(CLI::App& app) {
       "Run a simulated Marlin printer on a pseudo-terminal: prints the port (/dev/pts/N) "
       "first, serves until Ctrl-C, then prints lines, resends, faults and print time.");
   sim->add_flag("--pty", options->pty, "serve on a pseudo-terminal (the default and only mode)");
-  sim->add_option("--baud", options->baud, "pace bytes like a UART at this rate, 10 bits a byte")
-      ->check(CLI::Range(300.0, 4'000'000.0));
+  sim->add_option("--baud", options->baud,
+                  "pace bytes like a UART at this rate, 10 bits a byte: one of " +
+                      printer::standard_baud_rates_text() + " (default: no pacing)")
+      ->check(standard_baud_rate());
+  sim->add_option("--dialect", options->dialect,
+                  "the firmware it speaks as: " + sim::dialect_names() +
+                      " (replies, resend requests, errors and commands as that firmware's own; "
+                      "default: marlin)")
+      ->check(CLI::IsMember({"marlin", "teacup", "repetier"}))
+      ->capture_default_str();
   sim->add_option("--faults", options->faults,
                   "faults to inject, e.g. corrupt=0.01,drop-ok=0.01,resend=0.01,delay=50ms,"
-                  "disconnect-at-line=5000,halt-at-line=N,runaway-at-line=N,seed=42");
+                  "disconnect-at-line=5000,halt-at-line=N,freeze-at-line=N,runaway-at-line=N,seed=42");
   sim->add_option("--time-scale", options->time_scale,
                   "sim time per wall time: 1 = real time, N = N times faster, max = no waiting")
       ->capture_default_str();

@@ -12,8 +12,10 @@
 
 #include <fmt/core.h>
 
+#include "host/cli_checks.h"
 #include "printer/error.h"
 #include "printer/serial_link.h"
+#include "sim/dialect.h"
 #include "sim/faults.h"
 
 namespace host {
@@ -46,8 +48,10 @@ void add_link_options(CLI::App& command, LinkOptions& link, const std::string& b
                    ->group(kLinkGroup);
   auto* dry = command.add_flag("--dry-run", link.dry_run, dry_run_help)->group(kLinkGroup);
   port->excludes(dry);
-  command.add_option("--baud", link.baud, "serial speed, bit/s (default: " + baud_default + ")")
-      ->check(CLI::PositiveNumber)
+  command.add_option("--baud", link.baud,
+                     "serial speed, bit/s: one of " + printer::standard_baud_rates_text() +
+                         " (default: " + baud_default + ")")
+      ->check(standard_baud_rate())
       ->group(kLinkGroup);
   command.add_option("--window", link.window,
                      "lines in flight; more than 1 only when the firmware reports ADVANCED_OK "
@@ -66,6 +70,15 @@ void add_link_options(CLI::App& command, LinkOptions& link, const std::string& b
                    "the simulated firmware reports its buffer space (ADVANCED_OK), so --window "
                    "takes effect (default: off)")
       ->group(kDryRunGroup);
+  command.add_option("--dialect", link.dialect,
+                     "the firmware the simulated printer speaks as: " + sim::dialect_names() +
+                         " (default: marlin)")
+      ->check(CLI::IsMember({"marlin", "teacup", "repetier"}))
+      ->group(kDryRunGroup);
+  command.add_flag("--force", link.force,
+                   "leave out the file's lines that are not G-code, and say how many, instead "
+                   "of refusing the file (default: off)")
+      ->group(kJobGroup);
   command.add_option("--park", link.park, "where a pause parks the nozzle: X,Y, mm (default: 5,5)")
       ->delimiter(',')
       ->expected(2)
@@ -106,6 +119,7 @@ OpenLink open_link(const LinkOptions& options, const printer::PrinterProfile& ma
     config.motion = machine.motion;
     config.filament_diameter = machine.filament_diameter;
     config.time_scale = options.time_scale;
+    if (!options.dialect.empty()) config.dialect = *sim::parse_dialect(options.dialect);
     auto link = std::make_unique<sim::SimLink>(config);
     open.sim = link.get();
     open.link = std::move(link);
@@ -118,16 +132,35 @@ OpenLink open_link(const LinkOptions& options, const printer::PrinterProfile& ma
           "--advanced-ok: only a --dry-run printer can be told to report ADVANCED_OK; a real "
           "one says so itself");
     }
+    if (!options.dialect.empty()) {
+      throw printer::ConfigError(
+          "--dialect: only a --dry-run printer can be told which firmware to speak as; a real "
+          "one says so itself in reply to M115");
+    }
     open.link = std::make_unique<printer::SerialLink>(options.port, baud);
   }
   return open;
 }
 
-printer::ProtocolOptions protocol_options(const LinkOptions& options) {
+printer::ProtocolOptions protocol_options(const LinkOptions& options, const printer::PrinterProfile& machine) {
   printer::ProtocolOptions p;
   p.window = options.window;
   p.probe_after = std::chrono::milliseconds(static_cast<long>(options.probe_after * 1000));
+  p.assumed_firmware = machine.firmware;
   return p;
+}
+
+printer::GcodeFile read_job_gcode(const std::string& path, const LinkOptions& options) {
+  printer::GcodeFile file = printer::read_gcode_file(path, printer::GcodeReading{options.force});
+  if (file.skipped_lines > 0) {
+    std::string lines;
+    for (const std::size_t n : file.skipped_line_numbers) lines += (lines.empty() ? "" : ", ") + std::to_string(n);
+    fmt::print(stderr, "note: --force: left out {} line{} that {} not G-code (line{} {}{})\n",
+               file.skipped_lines, file.skipped_lines == 1 ? "" : "s",
+               file.skipped_lines == 1 ? "is" : "are", file.skipped_line_numbers.size() == 1 ? "" : "s",
+               lines, file.skipped_lines > file.skipped_line_numbers.size() ? ", ..." : "");
+  }
+  return file;
 }
 
 printer::PauseOptions pause_options(const LinkOptions& options, const printer::PrinterProfile& machine) {

@@ -35,14 +35,16 @@ struct LinkOptions {
   std::string faults;          // dry run only: the simulated printer's faults
   bool advanced_ok = false;    // dry run only: the simulated firmware reports buffer space
   double time_scale = 0;       // dry run only: sim time per wall time (0: as fast as possible)
+  std::string dialect;         // dry run only: the simulated firmware's dialect ("": marlin)
+  bool force = false;          // leave out lines that are not G-code instead of refusing
   std::size_t window = 1;
   double probe_after = 3;      // s
   std::vector<double> park;    // X,Y
   double lift = 5, retract = 1;
 };
 
-// Adds --port, --dry-run, --baud, --window, --timeout, --faults, --advanced-ok, --park,
-// --lift and --retract. `dry_run_help` says what --dry-run does for this command.
+// Adds --port, --dry-run, --baud, --window, --timeout, --faults, --advanced-ok, --dialect,
+// --force, --park, --lift and --retract. `dry_run_help` says what --dry-run does for this command.
 void add_link_options(CLI::App& command, LinkOptions& link, const std::string& baud_default,
                       const std::string& dry_run_help);
 
@@ -63,7 +65,13 @@ struct OpenLink {
 // cannot be opened.
 OpenLink open_link(const LinkOptions& options, const printer::PrinterProfile& machine, int baud);
 
-printer::ProtocolOptions protocol_options(const LinkOptions& options);
+// `machine`: the firmware its profile names is assumed where the firmware does not say.
+printer::ProtocolOptions protocol_options(const LinkOptions& options, const printer::PrinterProfile& machine);
+
+// Reads the job's G-code, checked line by line before anything is sent (throws GcodeError
+// naming the first bad line); with --force the lines that are not G-code are left out, and
+// said so on stderr.
+printer::GcodeFile read_job_gcode(const std::string& path, const LinkOptions& options);
 printer::PauseOptions pause_options(const LinkOptions& options, const printer::PrinterProfile& machine);
 
 // Starts the protocol on the link: the simulated board answers at once, a real one may take

@@ -21,4 +21,10 @@ struct PrinterError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The firmware refused a command the print cannot go without (heating, waiting, homing): the
+// message says what it refused and what to set in the printer profile (exit code 3).
+struct CommandRefused : PrinterError {
+  using PrinterError::PrinterError;
+};
+
 }  // namespace printer

@@ -9,6 +9,7 @@
 #include <fmt/core.h>
 
 #include "printer/error.h"
+#include "printer/gcode_line.h"
 
 namespace printer {
 
@@ -22,6 +23,17 @@ std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r')) s.remove_prefix(1);
   while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
   return s;
+}
+
+// The start of a line for a message: printable, at most 40 characters.
+std::string excerpt(std::string_view line) {
+  std::string out;
+  for (char c : line.substr(0, 40)) {
+    const auto u = static_cast<unsigned char>(c);
+    out += u >= 0x20 && u < 0x7f ? c : '?';
+  }
+  if (line.size() > 40) out += "...";
+  return out;
 }
 
 std::optional<double> number_after(std::string_view comment, std::string_view key) {
@@ -62,7 +74,7 @@ std::string content_hash(std::string_view bytes) {
   return fmt::format("fnv1a64:{:016x}", hash);
 }
 
-GcodeFile parse_gcode(std::string_view text, const std::string& name) {
+GcodeFile parse_gcode(std::string_view text, const std::string& name, GcodeReading reading) {
   GcodeFile file;
   file.path = name;
   file.hash = content_hash(text);
@@ -94,26 +106,29 @@ GcodeFile parse_gcode(std::string_view text, const std::string& name) {
       }
     }
     if (command.empty()) continue;
+    if (const std::optional<std::string> problem = gcode_problem(command)) {
+      if (reading.skip_invalid) {
+        ++file.skipped_lines;
+        if (file.skipped_line_numbers.size() < 5) file.skipped_line_numbers.push_back(line_number);
+        continue;
+      }
+      throw ConfigError(fmt::format(
+          "{}: line {} is not G-code ({}: \"{}\"); every line must be a command such as G1 X10 "
+          "E0.5, or a ;comment: fix the line, or print with --force to leave such lines out",
+          name, line_number, *problem, excerpt(command)));
+    }
     if (command.size() > kLongestCommand) {
       throw ConfigError(fmt::format(
           "{}: line {} is a command of {} characters; Marlin reads at most {} with the line "
           "number and checksum: shorten it",
           name, line_number, command.size(), kLongestCommand));
     }
-    for (char c : command) {
-      const auto u = static_cast<unsigned char>(c);
-      if (u < 0x20 && c != '\t') {
-        throw ConfigError(fmt::format(
-            "{}: line {} contains control characters: this is not a G-code text file", name,
-            line_number));
-      }
-    }
     file.add_command(command);
   }
   return file;
 }
 
-GcodeFile read_gcode_file(const std::string& path) {
+GcodeFile read_gcode_file(const std::string& path, GcodeReading reading) {
   std::error_code error;
   if (std::filesystem::is_directory(path, error)) {
     throw ConfigError(fmt::format("{}: is a directory, not a G-code file", path));
@@ -123,7 +138,7 @@ GcodeFile read_gcode_file(const std::string& path) {
   std::ostringstream bytes;
   bytes << in.rdbuf();
   if (in.bad()) throw ConfigError(fmt::format("{}: cannot read the G-code file", path));
-  GcodeFile file = parse_gcode(bytes.str(), path);
+  GcodeFile file = parse_gcode(bytes.str(), path, reading);
   if (file.size() == 0) {
     throw ConfigError(fmt::format("{}: the file has no G-code commands", path));
   }

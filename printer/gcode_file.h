@@ -1,7 +1,8 @@
 // A G-code file as the host streams it: its commands and where each layer starts.
 //
 // Input: a text file of G-code (from `mahost slice` or any slicer). Output: the commands in
-// order without comments or blank lines, exactly as they will be sent; the layers, from the
+// order without comments or blank lines, exactly as they will be sent, each checked to be
+// G-code before anything is sent; the layers, from the
 // `;LAYER:<n>` comments slicers write at each layer start (Cura's and ours), with the `;Z:`
 // that follows when there is one; a hash of the file's bytes, so a journal can tell whether the
 // file changed before a resume. Commands are kept in one buffer (a bunny print has a million
@@ -28,6 +29,10 @@ class GcodeFile {
   std::string path;
   std::string hash;                 // "fnv1a64:<16 hex digits>" of the file's bytes
   std::vector<GcodeLayer> layers;   // in file order
+  // Lines that are not G-code, left out (only with GcodeReading::skip_invalid): how many,
+  // and the first few line numbers (from 1).
+  std::size_t skipped_lines = 0;
+  std::vector<std::size_t> skipped_line_numbers;
 
   std::size_t size() const { return starts_.empty() ? 0 : starts_.size() - 1; }
   std::string_view command(std::size_t i) const {
@@ -45,13 +50,20 @@ class GcodeFile {
   std::vector<std::size_t> starts_{0};
 };
 
-// Parses G-code text; `name` is used in messages. Throws ConfigError for text that is not
-// G-code: NUL bytes or other binary, or a command too long for Marlin's line buffer.
-GcodeFile parse_gcode(std::string_view text, const std::string& name);
+struct GcodeReading {
+  // Leave out lines that are not G-code (printer::gcode_problem) instead of refusing the file.
+  bool skip_invalid = false;
+};
+
+// Parses G-code text; `name` is used in messages. Every line must be a command
+// (printer::gcode_problem) or a comment: anything else is refused with its line number and why
+// (ConfigError), or with `skip_invalid` left out and counted. Throws ConfigError for text that
+// is not G-code: NUL bytes or other binary, or a command too long for Marlin's line buffer.
+GcodeFile parse_gcode(std::string_view text, const std::string& name, GcodeReading reading = {});
 
 // Reads and parses a file. Throws ConfigError naming the file when it cannot be read, is
 // empty of commands, or is not G-code.
-GcodeFile read_gcode_file(const std::string& path);
+GcodeFile read_gcode_file(const std::string& path, GcodeReading reading = {});
 
 // "fnv1a64:<16 hex digits>": a hash to notice a changed file, not a cryptographic one.
 std::string content_hash(std::string_view bytes);

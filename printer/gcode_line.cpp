@@ -2,6 +2,7 @@
 
 #include <cctype>
 #include <charconv>
+#include <optional>
 #include <cstdlib>
 
 #include <fmt/core.h>
@@ -77,6 +78,106 @@ GcodeCommand parse_gcode_line(std::string_view line) {
     command.words.push_back(word);
   }
   return command;
+}
+
+namespace {
+
+bool is_letter(char c) { return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z'); }
+bool is_digit(char c) { return c >= '0' && c <= '9'; }
+char upper(char c) { return static_cast<char>(std::toupper(static_cast<unsigned char>(c))); }
+
+// A G-code number at the front of `s` ("10", "-0.5", ".2", "+3", "1e-3"); its length, 0 if none.
+std::size_t number_length(std::string_view s) {
+  std::size_t n = 0;
+  if (n < s.size() && (s[n] == '-' || s[n] == '+')) ++n;
+  std::size_t digits = 0;
+  while (n < s.size() && is_digit(s[n])) ++n, ++digits;
+  if (n < s.size() && s[n] == '.') {
+    ++n;
+    while (n < s.size() && is_digit(s[n])) ++n, ++digits;
+  }
+  if (digits == 0) return 0;
+  // A version after the number: "U3.9.0" (Prusa's firmware check).
+  while (n + 1 < s.size() && s[n] == '.' && is_digit(s[n + 1])) {
+    ++n;
+    while (n < s.size() && is_digit(s[n])) ++n;
+  }
+  if (n + 1 < s.size() && (s[n] == 'e' || s[n] == 'E') &&
+      (is_digit(s[n + 1]) || ((s[n + 1] == '-' || s[n + 1] == '+') && n + 2 < s.size() && is_digit(s[n + 2])))) {
+    n += 2;
+    while (n < s.size() && is_digit(s[n])) ++n;
+  }
+  return n;
+}
+
+bool takes_text(char letter, int code) {
+  if (letter != 'M') return false;
+  switch (code) {
+    case 0: case 1: case 16: case 23: case 28: case 30: case 32: case 117: case 118: case 928:
+      return true;
+    default:
+      return false;
+  }
+}
+
+}  // namespace
+
+std::optional<std::string> gcode_problem(std::string_view command) {
+  for (char c : command) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u >= 0x7f || (u < 0x20 && c != '\t')) return std::string("it holds bytes that are not text");
+  }
+  if (command.find('*') != std::string_view::npos) return std::string("checksums are for the host to add");
+  if (command.empty() || !is_letter(command.front())) {
+    return std::string("it does not start with a command word (G, M or T and a number)");
+  }
+  const char letter = upper(command.front());
+  if (letter == 'N') return std::string("line numbers are for the host to add");
+  if (letter != 'G' && letter != 'M' && letter != 'T') {
+    return std::string("it does not start with a command word (G, M or T and a number)");
+  }
+  std::size_t i = 1;
+  const std::size_t code_start = i;
+  while (i < command.size() && is_digit(command[i])) ++i;
+  if (i == code_start) return std::string("its command word has no number");
+  int code = 0;
+  std::from_chars(command.data() + code_start, command.data() + i, code);
+  if (i < command.size() && command[i] == '.') {  // M862.3, G29.1
+    ++i;
+    const std::size_t sub = i;
+    while (i < command.size() && is_digit(command[i])) ++i;
+    if (i == sub) return std::string("its command word has no number after the '.'");
+  }
+  if (i < command.size() && command[i] != ' ' && command[i] != '\t' && !is_letter(command[i])) {
+    return std::string("its command word is followed by something that is not a parameter");
+  }
+  if (takes_text(letter, code)) return std::nullopt;  // M117 Hello: the rest is text
+  while (i < command.size()) {
+    const char c = command[i];
+    if (c == ' ' || c == '\t') {
+      ++i;
+      continue;
+    }
+    if (c == '"') {  // P "MK3S": a quoted value after its letter
+      const auto close = command.find('"', i + 1);
+      if (close == std::string_view::npos) return std::string("a quoted parameter is not closed");
+      i = close + 1;
+      continue;
+    }
+    if (!is_letter(c)) return std::string("it has a parameter that does not start with a letter");
+    ++i;
+    if (i < command.size() && command[i] == '"') {  // P"MK3S"
+      const auto close = command.find('"', i + 1);
+      if (close == std::string_view::npos) return std::string("a quoted parameter is not closed");
+      i = close + 1;
+    } else {
+      i += number_length(command.substr(i));
+    }
+    if (i < command.size() && command[i] != ' ' && command[i] != '\t' && !is_letter(command[i])) {
+      return std::string("it has a parameter whose value is not a number");
+    }
+  }
+  return std::nullopt;
 }
 
 std::uint8_t gcode_checksum(std::string_view bytes) {

@@ -33,6 +33,14 @@ struct GcodeCommand {
 // Parses a line without line number or checksum (use parse_numbered_line first for those).
 GcodeCommand parse_gcode_line(std::string_view line);
 
+// Why a command (a line without its comment, trimmed, not empty) is not G-code a printer
+// should be sent, or nullopt when it is: it must start with a command word (G, M or T and a
+// number, "G1", "M862.3", "T0"), then parameters each a letter with an optional number
+// ("X10.5", "E-.2", "X" alone as in "G28 X") or a quoted string (P"MK3S"); M0/M1, M16, M23,
+// M28, M30, M32, M117, M118 and M928 take free text. Line numbers and checksums are the
+// host's to add, so N and '*' are refused; so is any byte outside printable ASCII.
+std::optional<std::string> gcode_problem(std::string_view command);
+
 // The checksum Marlin checks: XOR of every byte before '*'.
 std::uint8_t gcode_checksum(std::string_view bytes);
 

@@ -21,6 +21,7 @@
 
 #include "printer/bead_model.h"
 #include "printer/error.h"
+#include "printer/firmware_dialect.h"
 #include "printer/print_time.h"
 
 namespace printer {
@@ -116,9 +117,12 @@ class TextSink final : public Sink {
     number(height, 3);
     ++lines_;
     end_line();
+    if (!progress_lines_) return;
     progress_at_.push_back(buffer_.size());
     ++lines_;
   }
+  // No M73 progress lines, for a firmware without M73.
+  void without_progress_lines() { progress_lines_ = false; }
 
   void write_line(std::string_view line) {
     buffer_.append(line.data(), line.data() + line.size());
@@ -231,6 +235,7 @@ class TextSink final : public Sink {
 
   fmt::memory_buffer buffer_;
   std::vector<std::size_t> progress_at_;  // where each layer's M73 line goes
+  bool progress_lines_ = true;
   std::size_t lines_ = 0;
 };
 
@@ -295,17 +300,9 @@ class Emitter {
 
   void program(const std::vector<LayerToolpaths>& layers) {
     const MaterialProfile& m = material_;
-    if (m.first_layer_bed_temperature > 0) {
-      sink_.command(fmt::format("M140 S{:g}", m.first_layer_bed_temperature));
-    }
-    if (m.first_layer_nozzle_temperature > 0) {
-      sink_.command(fmt::format("M104 S{:g}", m.first_layer_nozzle_temperature));
-    }
-    if (m.first_layer_bed_temperature > 0) {
-      sink_.command(fmt::format("M190 S{:g}", m.first_layer_bed_temperature));
-    }
-    if (m.first_layer_nozzle_temperature > 0) {
-      sink_.command(fmt::format("M109 S{:g}", m.first_layer_nozzle_temperature));
+    for (const std::string& line : heat_and_wait(printer_.firmware, m.first_layer_bed_temperature,
+                                                 m.first_layer_nozzle_temperature)) {
+      sink_.command(line);
     }
     PlaceholderValues values;
     values.layer_height = options_.layer_height;
@@ -316,19 +313,22 @@ class Emitter {
     sink_.command("G90");
     sink_.command(printer_.relative_e ? "M83" : "M82");
     sink_.command("G92 E0");
-    sink_.command("M107");
+    sink_.command(fan_off());
 
     for (std::size_t n = 0; n < layers.size(); ++n) {
       layer(n, layers[n]);
       if (on_layer_) on_layer_(n + 1);
     }
 
-    sink_.command("M107");
+    sink_.command(fan_off());
     sink_.comment("end G-code from the printer profile");
     for_each_line(expand_placeholders(printer_.end_gcode, profiles_, values, "gcode.end"),
                   [&](std::string_view line) { sink_.command(line); });
-    sink_.command("M73 P100 R0");
+    if (dialect_of(printer_.firmware).has_m73) sink_.command("M73 P100 R0");
   }
+
+  // What the profile's firmware turns the fan off with (Teacup has no M107).
+  const char* fan_off() const { return dialect_of(printer_.firmware).has_m107 ? "M107" : "M106 S0"; }
 
   double filament() const { return filament_; }
   void on_layer(LayersWritten f) { on_layer_ = std::move(f); }
@@ -555,6 +555,7 @@ GcodeSummary write_gcode(std::ostream& out, const std::vector<LayerToolpaths>& l
   Emitter timing(profiles, options, offset, clock);
   TextSink body;
   body.reserve(layers);
+  if (!dialect_of(profiles.printer.firmware).has_m73) body.without_progress_lines();
   Emitter writing(profiles, options, offset, body);
   writing.on_layer(on_layer);
   double seconds = 0;

@@ -3,10 +3,12 @@
 // Input: every layer's toolpaths in the part's frame (part centred on the origin, mm), the
 // printer and material profiles. Output, streamed: a header comment (print-time estimate from
 // the motion model run over the whole program, filament length and weight, layer count), the
-// heating (M140/M104, then M190/M109 at the first-layer temperatures), the profile's start
-// G-code with its placeholders expanded, G90 and M82 or M83, then per layer:
+// heating (M140/M104, then M190/M109 at the first-layer temperatures; M116 instead where the
+// profile's firmware waits so), the profile's start G-code with its placeholders expanded,
+// G90 and M82 or M83, then per layer:
 //   ;LAYER:<n>  ;Z:<z>  ;HEIGHT:<t>  M73 P<percent> R<minutes left>  G92 E0   (the host keys
-//   on ;LAYER:; t is the layer's own thickness, z_hi - z_lo: layers may differ)
+//   on ;LAYER:; t is the layer's own thickness, z_hi - z_lo: layers may differ; M73 only for
+//   a firmware that has it)
 //   the regular temperatures after the first layer, the fan (M106/M107) per the material,
 //   ;TYPE:<role> before each change of feature, travels (G0) with retraction and z-hop before
 //   paths marked retract_before, extrusions (G1 ... E) from the bead model at that layer's

@@ -17,22 +17,16 @@ constexpr nanoseconds kTick = std::chrono::milliseconds(100);
 // `mahost ctl status` and the progress line show the heaters as they are (OctoPrint polls
 // an idle printer every 2 s too).
 constexpr nanoseconds kPausedReportEvery = std::chrono::seconds(2);
+// While printing, a temperature report at least this often (where the firmware does not
+// report by itself): the progress line and `mahost ctl status` show the heaters as they are.
+constexpr nanoseconds kPrintingReportEvery = std::chrono::seconds(5);
+// A cancel ends within this much link time, however the link behaves (issue 14): the lines in
+// flight get kCancelDrain to be answered before the job gives up on them, and the heaters-off
+// sequence the rest; past it the job sends M112, which turns the heaters off on any firmware.
+constexpr nanoseconds kCancelBound = std::chrono::seconds(10);
+constexpr std::chrono::milliseconds kCancelDrain{2000};
 
 }  // namespace
-
-std::string_view to_string(JobState state) {
-  switch (state) {
-    case JobState::printing: return "printing";
-    case JobState::pausing: return "pausing";
-    case JobState::paused: return "paused";
-    case JobState::cancelling: return "cancelling";
-    case JobState::completed: return "completed";
-    case JobState::cancelled: return "cancelled";
-    case JobState::stopped: return "stopped";
-    case JobState::failed: return "failed";
-  }
-  return "unknown";
-}
 
 Job::Job(LineProtocol& protocol, const GcodeFile& file, JobOptions options)
     : protocol_(protocol), file_(file), options_(std::move(options)), eta_(file, options_.motion) {
@@ -116,14 +110,32 @@ void Job::tick(bool force) {
     stop_sent_ = true;
     throw StopNow{};
   }
-  // A cancel must not wait out a heat-up or a wait for the user: M108 breaks those.
-  if (cancel_requested_ && !break_sent_ && protocol_.long_command_in_flight()) {
+  if (cancel_deadline_) {
+    if (now >= *cancel_deadline_) throw CancelOverdue{};
+    return;
+  }
+  if (!cancel_requested_) {
+    if (job_state_ == JobState::printing && layer_ >= 0) ask_temperatures(now);
+    return;
+  }
+  // A cancel must not wait out a heat-up or a wait for the user (M108 breaks those), nor a
+  // stalled link: it leaves whatever wait it is in. A pause the user is in ends by itself.
+  if (!break_sent_ && protocol_.long_command_in_flight() && protocol_.dialect().emergency_m108_m410) {
     protocol_.emergency("M108");
     break_sent_ = true;
   }
+  if (job_state_ != JobState::paused) throw CancelNow{};
 }
 
-void Job::write_journal_now(const std::string& state, int layer, std::size_t command,
+void Job::ask_temperatures(nanoseconds now) {
+  const auto at = protocol_.temperatures_at();
+  if (at && now - *at < kPrintingReportEvery) return;
+  if (last_report_request_ && now - *last_report_request_ < kPrintingReportEvery) return;
+  last_report_request_ = now;
+  protocol_.request_temperatures();
+}
+
+void Job::write_journal_now(JobState state, int layer, std::size_t command,
                             const PrintState& at, const std::string& reason) {
   if (options_.journal_path.empty()) return;
   JournalRecord record = options_.journal;
@@ -140,13 +152,18 @@ void Job::write_journal_now(const std::string& state, int layer, std::size_t com
 
 void Job::start_layer(int layer, std::size_t command) {
   layer_ = layer;
+  // Between layers, the heaters as they are (M155 where the firmware reports by itself).
+  if (!protocol_.autoreporting()) {
+    last_report_request_ = protocol_.link().now();
+    protocol_.request_temperatures();
+  }
   layer_sequence_[static_cast<std::size_t>(layer)] = protocol_.commands_sent();
   layer_state_[static_cast<std::size_t>(layer)] = state_;
   // The pace is measured from the second layer the job reaches: the heat-up, homing or
   // recovery before the first are not in the model, and the printer's planner may still be
   // running them when the first layer's commands are acknowledged.
   if (layers_reached_++ > 0) eta_.arm_pace(command);
-  write_journal_now("printing", layer, command, state_);
+  write_journal_now(JobState::printing, layer, command, state_);
   const int counted = layer + 1;
   const bool planned = std::find(options_.pause_at_layers.begin(), options_.pause_at_layers.end(),
                                  counted) != options_.pause_at_layers.end();
@@ -165,7 +182,7 @@ void Job::pause_here(int layer) {
   // Counted once the printer stands paused: a pause the job is cancelled in is one too.
   ++pauses_;
   job_state_ = JobState::paused;
-  write_journal_now("paused", layer, file_.layers[static_cast<std::size_t>(layer)].first_command,
+  write_journal_now(JobState::paused, layer, file_.layers[static_cast<std::size_t>(layer)].first_command,
                     state_);
   event(fmt::format(
       "paused before layer {}/{} at X{:.2f} Y{:.2f} Z{:.2f}{}; nozzle parked at Z{:.2f}, "
@@ -197,15 +214,51 @@ void Job::pause_here(int layer) {
   paused_for_ += protocol_.link().now() - began;
   paused_since_.reset();
   job_state_ = JobState::printing;
-  write_journal_now("printing", layer, file_.layers[static_cast<std::size_t>(layer)].first_command,
+  write_journal_now(JobState::printing, layer, file_.layers[static_cast<std::size_t>(layer)].first_command,
                     state_);
   event(fmt::format("resumed at layer {}/{}", layer + 1, file_.layers.size()));
 }
 
-void Job::cancel_here() {
+std::string Job::cancel_here() {
   job_state_ = JobState::cancelling;
-  event("cancelling: letting the lines in flight finish, then heaters off, lift, park, motors off");
-  cancel_print(protocol_, state_, options_.pause);
+  const nanoseconds began = protocol_.link().now();
+  cancel_deadline_ = began + kCancelBound;
+  event("cancelling: stopping the moves, heaters off, lift, park, motors off");
+  std::string trouble;
+  try {
+    protocol_.drop_unsent();  // the command the job was sending when the cancel came
+    // The planner's moves would run on for seconds: Marlin's M410 drops them at once.
+    if (protocol_.dialect().emergency_m108_m410 && protocol_.firmware().emergency_parser) {
+      protocol_.emergency("M410");
+    }
+    if (!protocol_.wait_acknowledged_for(kCancelDrain)) {
+      protocol_.abandon_unacknowledged();
+      event("cancelling: the printer did not answer the lines in flight; going on without them");
+    }
+    cancel_print(protocol_, state_, options_.pause);
+  } catch (const CancelOverdue&) {
+    trouble = fmt::format("the printer did not confirm the cancel within {:.0f} s",
+                          std::chrono::duration<double>(kCancelBound).count());
+  } catch (const PrinterError& e) {
+    trouble = e.what();
+  } catch (const LinkError& e) {
+    trouble = e.what();
+  }
+  cancel_deadline_.reset();
+  if (trouble.empty()) return "";
+  // Heaters off whatever state the firmware is in: M112 kills it, and kill() turns them off.
+  protocol_.on_wait = nullptr;
+  try {
+    protocol_.emergency("M112");
+    stop_sent_ = true;
+  } catch (const LinkError&) {
+    return fmt::format("; {}, and the link is gone: check the heaters are off", trouble);
+  }
+  // Nothing says the M112 arrived on a link that stopped answering: say so.
+  return fmt::format("; {}: sent M112, which turns the heaters off if it reaches the printer: "
+                     "check they are off, and reset the printer (power or M999) before the next "
+                     "job",
+                     trouble);
 }
 
 int Job::resume_layer_after_failure() const {
@@ -219,51 +272,69 @@ int Job::resume_layer_after_failure() const {
   return layer < 0 ? layer_ : std::min(layer, layer_);
 }
 
+void Job::journal_interrupted(JobState state, const std::string& reason) {
+  const int layer = resume_layer_after_failure();
+  if (layer < 0) {
+    // Before the first layer: a resume starts from the beginning.
+    write_journal_now(state, -1, 0, PrintState{}, reason);
+    return;
+  }
+  write_journal_now(state, layer, file_.layers[static_cast<std::size_t>(layer)].first_command,
+                    layer_state_[static_cast<std::size_t>(layer)], reason);
+}
+
+std::string Job::resume_hint() const {
+  if (options_.resume_command) {
+    return options_.resume_command->empty() ? "" : "; to finish the part: " + *options_.resume_command;
+  }
+  if (options_.journal_path.empty()) return "";
+  return "; to finish the part: " + resume_command(options_.journal_path, kAnyPort);
+}
+
 JobResult Job::run() {
   start_ = protocol_.link().now();
   protocol_.on_wait = [this] { tick(); };
   JobResult result;
-  std::string hint;
-  if (options_.resume_command) {
-    if (!options_.resume_command->empty()) hint = "; to finish the part: " + *options_.resume_command;
-  } else if (!options_.journal_path.empty()) {
-    hint = fmt::format("; to finish the part: mahost resume {} --port PORT", options_.journal_path);
-  }
+  // A firmware that keeps alive every second lets a lost ok be noticed in a second and a half.
+  protocol_.use_keepalive(std::chrono::seconds(1));
   try {
-    if (options_.recover_from) {
-      const int layer = file_.layer_index_of(done_);
-      write_journal_now("printing", layer, done_, state_);
-      event(fmt::format("resuming at layer {}/{}: heating, lifting, homing X and Y{}", layer + 1,
-                        file_.layers.size(),
-                        options_.printer_restarted ? ", setting Z from the journal" : ""));
-      recover_print(protocol_, state_, options_.printer_restarted, options_.pause);
-    } else {
-      write_journal_now("printing", file_.layer_index_of(done_), done_, state_);
-    }
-    for (std::size_t i = done_; i < file_.size(); ++i) {
-      if (const int layer = file_.layer_starting_at(i); layer >= 0) start_layer(layer, i);
-      tick();
-      if (cancel_requested_) break;
-      const std::string_view command = file_.command(i);
-      protocol_.send(command);
-      apply(state_, command);
-      done_ = i + 1;
-      done_at_ = printing_time(protocol_.link().now());
-      eta_.command_done(done_, std::chrono::duration<double>(done_at_).count());
+    try {
+      if (options_.recover_from) {
+        const int layer = file_.layer_index_of(done_);
+        write_journal_now(JobState::printing, layer, done_, state_);
+        event(fmt::format("resuming at layer {}/{}: heating, lifting, homing X and Y{}", layer + 1,
+                          file_.layers.size(),
+                          options_.printer_restarted ? ", setting Z from the journal" : ""));
+        recover_print(protocol_, state_, options_.printer_restarted, options_.pause);
+      } else {
+        write_journal_now(JobState::printing, file_.layer_index_of(done_), done_, state_);
+      }
+      for (std::size_t i = done_; i < file_.size(); ++i) {
+        if (const int layer = file_.layer_starting_at(i); layer >= 0) start_layer(layer, i);
+        tick();
+        if (cancel_requested_) break;
+        const std::string_view command = file_.command(i);
+        protocol_.send(command);
+        apply(state_, command);
+        done_ = i + 1;
+        done_at_ = printing_time(protocol_.link().now());
+        eta_.command_done(done_, std::chrono::duration<double>(done_at_).count());
+      }
+    } catch (const CancelNow&) {
     }
     if (cancel_requested_) {
-      cancel_here();
+      const std::string trouble = cancel_here();
       job_state_ = JobState::cancelled;
-      result.reason = fmt::format("cancelled at layer {}/{}", layer_ + 1, file_.layers.size());
+      result.reason = fmt::format("cancelled at layer {}/{}{}", layer_ + 1, file_.layers.size(), trouble);
       const int layer = std::max(layer_, 0);
-      write_journal_now("cancelled", layer_ < 0 ? -1 : layer,
+      write_journal_now(JobState::cancelled, layer_ < 0 ? -1 : layer,
                         layer_ < 0 ? 0 : file_.layers[static_cast<std::size_t>(layer)].first_command,
                         layer_ < 0 ? PrintState{} : layer_state_[static_cast<std::size_t>(layer)],
                         result.reason);
     } else {
       protocol_.wait_acknowledged();
       job_state_ = JobState::completed;
-      write_journal_now("completed", -1, file_.size(), state_);
+      write_journal_now(JobState::completed, -1, file_.size(), state_);
     }
   } catch (const StopNow&) {
     job_state_ = JobState::stopped;
@@ -280,37 +351,45 @@ JobResult Job::run() {
         "emergency stop (M112) at layer {}/{}: {}; reset it (power or M999) before the next job",
         layer_ + 1, file_.layers.size(),
         confirmed ? "the printer halted" : "the printer did not confirm the halt within 2 s");
-    const int layer = resume_layer_after_failure();
-    if (layer >= 0) {
-      write_journal_now("stopped", layer, file_.layers[static_cast<std::size_t>(layer)].first_command,
-                        layer_state_[static_cast<std::size_t>(layer)], result.reason);
+    journal_interrupted(JobState::stopped, result.reason);
+  } catch (const CommandRefused& e) {
+    // The firmware cannot print this file as written: nothing to resume, the file is to be
+    // sliced again. The heaters it did set go off.
+    job_state_ = JobState::failed;
+    protocol_.on_wait = nullptr;
+    try {
+      protocol_.drop_unsent();  // the file's next command, given to send() when this came
+      protocol_.send("M104 S0");
+      protocol_.send("M140 S0");
+      protocol_.wait_acknowledged_for(std::chrono::milliseconds(5000));
+    } catch (const std::runtime_error&) {
     }
+    journal_interrupted(JobState::failed, e.what());
+    throw CommandRefused(e.what());
   } catch (const PrinterError& e) {
-    if (stop_sent_) {
-      job_state_ = JobState::stopped;
-      result.reason = "emergency stop (M112): the printer is halted";
-    } else {
+    if (!stop_sent_) {
       job_state_ = JobState::failed;
-      const int layer = resume_layer_after_failure();
-      if (layer >= 0) {
-        write_journal_now("failed", layer, file_.layers[static_cast<std::size_t>(layer)].first_command,
-                          layer_state_[static_cast<std::size_t>(layer)], e.what());
-      }
+      journal_interrupted(JobState::failed, e.what());
       protocol_.on_wait = nullptr;
-      throw PrinterError(std::string(e.what()) + hint);
+      throw PrinterError(std::string(e.what()) + resume_hint());
     }
+    job_state_ = JobState::stopped;
+    result.reason = "emergency stop (M112): the printer is halted";
   } catch (const LinkError& e) {
     job_state_ = JobState::failed;
-    const int layer = resume_layer_after_failure();
-    if (layer >= 0) {
-      write_journal_now("failed", layer, file_.layers[static_cast<std::size_t>(layer)].first_command,
-                        layer_state_[static_cast<std::size_t>(layer)], e.what());
-    }
+    journal_interrupted(JobState::failed, e.what());
     protocol_.on_wait = nullptr;
-    throw LinkError(std::string(e.what()) + hint);
+    throw LinkError(std::string(e.what()) + resume_hint());
   }
   protocol_.on_wait = nullptr;
+  reason_ = result.reason;
+  return this->result();
+}
+
+JobResult Job::result() const {
+  JobResult result;
   result.state = job_state_;
+  result.reason = reason_;
   result.commands_done = done_;
   result.elapsed = protocol_.link().now() - start_;
   result.pauses = pauses_;

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "printer/gcode_file.h"
+#include "printer/job_state.h"
 #include "printer/journal.h"
 #include "printer/line_protocol.h"
 #include "printer/motion_model.h"
@@ -27,8 +28,6 @@
 namespace printer {
 
 enum class JobRequest { pause, resume, cancel, stop };
-enum class JobState { printing, pausing, paused, cancelling, completed, cancelled, stopped, failed };
-std::string_view to_string(JobState state);
 
 struct JobProgress {
   JobState state = JobState::printing;
@@ -52,8 +51,8 @@ struct JobOptions {
   std::string journal_path;          // "" keeps no journal
   bool journal_durable = true;       // fsync each record (a dry run need not)
   JournalRecord journal;             // job, G-code path and hash, port, baud: copied into it
-  // What a failure's message tells the user to run to finish the part; unset: "mahost resume
-  // <journal> --port PORT"; empty: nothing (a journal that will not outlive the job).
+  // What a failure's message tells the user to run to finish the part; unset:
+  // resume_command(journal, kAnyPort); empty: nothing (a journal that will not outlive the job).
   std::optional<std::string> resume_command;
   MotionLimits motion;               // the printer's, for the remaining time (print_eta.h)
   // A resume: start at this command with the printer first brought back onto the part.
@@ -85,7 +84,8 @@ class Job {
   Job(LineProtocol& protocol, const GcodeFile& file, JobOptions options);
 
   // Takes effect at the next chance: pause at the next layer start, resume a pause, cancel
-  // after the lines in flight, stop (M112) at once.
+  // at once (within 10 s of link time however the link behaves: moves stopped, heaters off,
+  // lift, park; M112 if the printer does not confirm), stop (M112) at once.
   void request(JobRequest request);
   JobProgress progress() const;
   const std::string& journal_path() const { return options_.journal_path; }
@@ -100,17 +100,30 @@ class Job {
   std::function<void(const std::string&)> on_event;
 
   // Runs the job. A failed link or printer writes the journal and rethrows the LinkError or
-  // PrinterError with how to resume appended.
+  // PrinterError with how to resume appended; a CommandRefused (the firmware refused to heat,
+  // wait or home) turns the heaters off and is rethrown as it is: the file needs slicing again.
   JobResult run();
+  // What the job did so far: after run() returned, its result; after it threw, the same for
+  // the failed job (state failed, the commands the firmware accepted), for a summary.
+  JobResult result() const;
 
  private:
   struct StopNow {};
+  struct CancelNow {};      // leave whatever the job waits for: the user cancelled
+  struct CancelOverdue {};  // the cancel took longer than its bound
   void tick(bool force = false);
+  void ask_temperatures(std::chrono::nanoseconds now);
   void start_layer(int layer, std::size_t command);
   void pause_here(int layer);
-  void cancel_here();
-  void write_journal_now(const std::string& state, int layer, std::size_t command,
-                         const PrintState& at, const std::string& reason = {});
+  // The safe end of a cancelled job, within kCancelBound; what went wrong, for the reason
+  // ("; the printer did not confirm ..."), or "".
+  std::string cancel_here();
+  void write_journal_now(JobState state, int layer, std::size_t command, const PrintState& at,
+                         const std::string& reason = {});
+  // The journal of a job that ended early: the layer a resume reprints, with its state.
+  void journal_interrupted(JobState state, const std::string& reason);
+  // "; to finish the part: mahost resume ..." for a failure's message, or "".
+  std::string resume_hint() const;
   void event(const std::string& text);
   int resume_layer_after_failure() const;
   // Link time since the job started, less the time spent pausing or paused.
@@ -135,6 +148,9 @@ class Job {
   PrintEta eta_;
   int pauses_ = 0;
   std::chrono::nanoseconds stood_paused_{0};  // JobResult::paused
+  std::optional<std::chrono::nanoseconds> cancel_deadline_;  // set while cancelling
+  std::optional<std::chrono::nanoseconds> last_report_request_;
+  std::string reason_;  // JobResult::reason
 };
 
 }  // namespace printer

@@ -10,6 +10,7 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include <fmt/core.h>
@@ -77,7 +78,7 @@ void write_journal(const std::string& path, const JournalRecord& r, bool durable
          {"printer_profile", r.printer},
          {"port", r.port},
          {"baud", r.baud},
-         {"state", r.state},
+         {"state", to_string(r.state)},
          {"reason", r.reason},
          {"resume", {{"layer_index", r.layer_index}, {"command", r.resume_command},
                      {"printer", to_json(r.state_at_resume)}}},
@@ -139,7 +140,12 @@ JournalRecord read_journal(const std::string& path) {
     r.printer = j.value("printer_profile", std::string());
     r.port = j.at("port").get<std::string>();
     r.baud = j.at("baud").get<int>();
-    r.state = j.at("state").get<std::string>();
+    const std::string state = j.at("state").get<std::string>();
+    const std::optional<JobState> parsed = parse_job_state(state);
+    if (!parsed) {
+      throw ConfigError(fmt::format("{}: the journal's state \"{}\" is not one a job records", path, state));
+    }
+    r.state = *parsed;
     r.reason = j.at("reason").get<std::string>();
     r.layer_index = j.at("resume").at("layer_index").get<int>();
     r.resume_command = j.at("resume").at("command").get<std::size_t>();
@@ -150,6 +156,11 @@ JournalRecord read_journal(const std::string& path) {
   } catch (const json::exception& e) {
     throw ConfigError(fmt::format("{}: is not a complete mahost job journal ({})", path, e.what()));
   }
+}
+
+std::string resume_command(std::string_view journal_path, std::string_view port) {
+  if (port.empty()) return fmt::format("mahost resume {} --dry-run", journal_path);
+  return fmt::format("mahost resume {} --port {}", journal_path, port);
 }
 
 std::string job_directory() {

@@ -12,7 +12,9 @@
 
 #include <cstddef>
 #include <string>
+#include <string_view>
 
+#include "printer/job_state.h"
 #include "printer/print_state.h"
 
 namespace printer {
@@ -27,7 +29,7 @@ struct JournalRecord {
                               // absolute path); "" when not known
   std::string port;           // where it printed; "" for a dry run
   int baud = 0;
-  std::string state = "printing";  // printing, paused, completed, cancelled, stopped, failed
+  JobState state = JobState::printing;  // printing, paused, completed, cancelled, stopped, failed
   std::string reason;         // why it ended, when it did not complete
   int layer_index = -1;       // the layer a resume reprints (index into the file's layers); -1: start
   std::size_t resume_command = 0;  // its first command: where a resume continues
@@ -43,6 +45,12 @@ void write_journal(const std::string& path, const JournalRecord& record, bool du
 // Reads a journal. Throws ConfigError naming the file for a missing, unreadable or malformed
 // one, saying which key is wrong.
 JournalRecord read_journal(const std::string& path);
+
+// The command that finishes an interrupted job: "mahost resume JOURNAL --port PORT"; for
+// `port` "" a rehearsal on the simulated printer ("--dry-run"). Where the port is not known,
+// pass the placeholder kAnyPort.
+inline constexpr std::string_view kAnyPort = "PORT";
+std::string resume_command(std::string_view journal_path, std::string_view port);
 
 // Where jobs keep their journals and control sockets: $XDG_RUNTIME_DIR/mahost, or
 // /tmp/mahost-<uid> where that is unset; created with mode 0700. Throws ConfigError when it

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <utility>
 
 #include <fmt/core.h>
 
@@ -17,12 +18,22 @@ using std::chrono::nanoseconds;
 
 // Lines kept below the last accepted one, for resend requests that arrive late.
 constexpr long kHistoryBehind = 4096;
-// A blocking command may sit in the firmware's queue (BUFSIZE 4 by default, up to 32 in big
-// builds) while later lines are already acknowledged; until this many lines were written after
-// it, silence may still be that command running.
+// Where the firmware acknowledges a line on reading it (Teacup, Repetier), a blocking command
+// may still run in its queue (a few commands, up to 32 in big builds) while later lines are
+// already acknowledged; until this many lines were written after it, quiet may still be that
+// command running.
 constexpr long kBlockingReach = 40;
+// Behind a command that may run long, a probe waits in the firmware's queue; one more goes
+// this many probe intervals later (the first may have been lost on the wire), and no more: each
+// takes a place in the firmware's queue or RX buffer until the command ends.
+constexpr int kBlockedProbeSpacing = 10;
+constexpr int kBlockedProbes = 2;
 // M110 attempts at connect before the printer counts as not answering.
 constexpr int kConnectTries = 5;
+// Refused commands remembered for the summary.
+constexpr std::size_t kRefusedKept = 20;
+// How late a keepalive may be before the firmware counts as idle (serial and USB latency).
+constexpr nanoseconds kKeepaliveMargin = std::chrono::milliseconds(500);
 
 double seconds(nanoseconds d) { return std::chrono::duration<double>(d).count(); }
 
@@ -40,6 +51,75 @@ bool is_readable(std::string_view text) {
 bool is_m105(std::string_view command) {
   const GcodeCommand parsed = parse_gcode_line(command);
   return parsed.is('M', 105);
+}
+
+// Commands the print cannot go on without: heating and waiting for it, homing, waiting for
+// the moves. A firmware that refuses one of these would print cold, or unhomed.
+bool print_needs(const GcodeCommand& c) {
+  if (c.letter == 'G') return c.code == 28 || c.code == 4;
+  if (c.letter != 'M') return false;
+  switch (c.code) {
+    case 104: case 109: case 116: case 140: case 141: case 190: case 191: case 400:
+      return true;
+    default:
+      return false;
+  }
+}
+
+// The command a refusal names: "Unknown command: \"M190 S60\"" -> M190, "E: Bad M-code 190"
+// -> M190, "Unknown command:N12 G29" -> G29.
+std::optional<GcodeCommand> command_named_in(std::string_view text) {
+  for (const std::string_view kind : {"M-code", "G-code"}) {
+    if (const auto at = text.find(kind); at != std::string_view::npos) {
+      std::string_view rest = text.substr(at + kind.size());
+      while (!rest.empty() && rest.front() == ' ') rest.remove_prefix(1);
+      if (!rest.empty() && std::isdigit(static_cast<unsigned char>(rest.front()))) {
+        return parse_gcode_line(std::string(1, kind.front()) + std::string(rest));
+      }
+    }
+  }
+  const auto colon = text.find("ommand:");
+  if (colon == std::string_view::npos) return std::nullopt;
+  std::string_view rest = text.substr(colon + 7);
+  while (!rest.empty() && (rest.front() == ' ' || rest.front() == '"')) rest.remove_prefix(1);
+  if (!rest.empty() && (rest.front() == 'N' || rest.front() == 'n')) {  // a line number first
+    std::size_t i = 1;
+    while (i < rest.size() && std::isdigit(static_cast<unsigned char>(rest[i]))) ++i;
+    rest.remove_prefix(i);
+    while (!rest.empty() && rest.front() == ' ') rest.remove_prefix(1);
+  }
+  if (const auto quote = rest.find('"'); quote != std::string_view::npos) rest = rest.substr(0, quote);
+  const GcodeCommand c = parse_gcode_line(rest);
+  if (c.code < 0) return std::nullopt;
+  return c;
+}
+
+// What a user does about a refused command: the profile's firmware to set, in words.
+std::string refusal_advice(const GcodeCommand& c, const FirmwareDialect& dialect) {
+  if (c.is('M', 109) || c.is('M', 190) || c.is('M', 191)) {
+    if (dialect.waits_with_m116) {
+      return fmt::format(
+          "{} has no M{}: it waits for temperatures with M116; set firmware = \"{}\" in the "
+          "printer profile (or --set firmware={}) and slice again, so the G-code heats with "
+          "M104/M140 and waits with M116",
+          dialect.display, c.code, dialect.name, dialect.name);
+    }
+    return fmt::format(
+        "{} has no M{}; if it waits for temperatures with M116 (as Teacup does), set firmware = "
+        "\"teacup\" in the printer profile (or --set firmware=teacup) and slice again",
+        dialect.firmware == Firmware::unknown ? "this firmware" : dialect.display, c.code);
+  }
+  if (c.is('M', 116)) {
+    const std::string_view name = dialect.firmware == Firmware::unknown ? "marlin" : dialect.name;
+    return fmt::format(
+        "{} has no M116; set firmware = \"{}\" in the printer profile (or --set firmware={}) "
+        "and slice again, so the G-code waits for temperatures with M109/M190",
+        dialect.firmware == Firmware::unknown ? "this firmware" : dialect.display, name, name);
+  }
+  return fmt::format(
+      "the print cannot go on without it; check the printer profile's firmware (one of {}) "
+      "and its start G-code",
+      firmware_names());
 }
 
 }  // namespace
@@ -67,7 +147,7 @@ bool command_blocks(std::string_view command) {
 LineProtocol::LineProtocol(Link& link, ProtocolOptions options) : link_(link), options_(options) {
   if (options_.window == 0) options_.window = 1;
   if (options_.tick.count() <= 0) options_.tick = milliseconds(100);
-  last_activity_ = link_.now();
+  last_write_ = last_answer_ = link_.now();
 }
 
 long LineProtocol::first_number() const {
@@ -102,9 +182,9 @@ void LineProtocol::transmit(long number) {
     ++stats_.lines_resent;
   }
   sent_ = number;
-  if (sent->blocks) last_blocking_line_ = std::max(last_blocking_line_, number);
-  if (sent->waits_for_user) last_user_wait_line_ = std::max(last_user_wait_line_, number);
-  last_activity_ = link_.now();
+  if (number == last_resend_) resent_since_request_ = true;
+  history_[static_cast<std::size_t>(number - history_.front().number)].oks_before = oks_read_;
+  last_write_ = link_.now();
 }
 
 void LineProtocol::send(std::string_view command) {
@@ -177,15 +257,15 @@ void LineProtocol::read_once(milliseconds timeout) { feed(link_.read(timeout)); 
 void LineProtocol::feed(const std::string& bytes) {
   if (bytes.empty()) return;
   partial_ += bytes;
-  std::size_t begin = 0;
-  for (std::size_t i = 0; i < partial_.size(); ++i) {
-    if (partial_[i] != '\n' && partial_[i] != '\r') continue;
-    const std::string_view text(partial_.data() + begin, i - begin);
-    begin = i + 1;
-    if (text.find_first_not_of(" \t") == std::string_view::npos) continue;
+  // Each line leaves the buffer before it is handled: a reply that throws (a halt, a refused
+  // command) must not be read again by whoever goes on using the engine.
+  std::size_t end;
+  while ((end = partial_.find_first_of("\r\n")) != std::string::npos) {
+    const std::string text = partial_.substr(0, end);
+    partial_.erase(0, end + 1);
+    if (text.find_first_not_of(" \t") == std::string::npos) continue;
     handle(classify_reply(text));
   }
-  partial_.erase(0, begin);
   // A line end lost to noise must not grow the buffer without bound.
   if (partial_.size() > 4096) partial_.clear();
 }
@@ -193,18 +273,15 @@ void LineProtocol::feed(const std::string& bytes) {
 void LineProtocol::handle(const Reply& reply) {
   if (on_reply) on_reply(reply);
   const bool readable = reply.kind != ReplyKind::other || is_readable(reply.text);
-  if (readable) {
-    last_activity_ = link_.now();
-    probes_unanswered_ = 0;
-  } else {
-    stats_.unreadable_lines++;
-  }
+  if (!readable) stats_.unreadable_lines++;
   // Marlin prints a resend request and its ok back to back: anything else in between means
   // this request has no ok.
   if (expect_trailing_ok_ && reply.kind != ReplyKind::ok) {
     expect_trailing_ok_ = false;
     ++trailing_ok_missed_;
   }
+  // "T:" then "ok" answer an M105 only when they come one after the other.
+  if (reply.kind != ReplyKind::ok && reply.kind != ReplyKind::temperature) m105_answer_next_ = false;
   if (reply.temperatures) {
     Temperatures merged = temperatures_.value_or(Temperatures{});
     if (reply.temperatures->hotend) merged.hotend = reply.temperatures->hotend;
@@ -212,22 +289,55 @@ void LineProtocol::handle(const Reply& reply) {
     if (reply.temperatures->bed) merged.bed = reply.temperatures->bed;
     if (reply.temperatures->bed_target) merged.bed_target = reply.temperatures->bed_target;
     temperatures_ = merged;
+    temperatures_at_ = link_.now();
+  }
+  if (reply.position) {
+    position_ = reply.position;
+    ++position_reports_;
+  }
+  if (!connected_ && (reply.text.starts_with("echo:Marlin") || reply.text.starts_with("Marlin "))) {
+    banner_said_marlin_ = true;
+  }
+  if (reply.text.find("FIRMWARE_NAME:") != std::string::npos) {
+    std::string_view name = std::string_view(reply.text).substr(reply.text.find("FIRMWARE_NAME:") + 14);
+    for (const std::string_view next : {" SOURCE_CODE_URL", " FIRMWARE_URL", " PROTOCOL_VERSION"}) {
+      name = name.substr(0, name.find(next));
+    }
+    firmware_.name = std::string(name);
   }
   switch (reply.kind) {
     case ReplyKind::ok:
+      ++oks_read_;
       handle_ok(reply);
       break;
     case ReplyKind::resend:
       handle_resend(*reply.line_number);
       break;
+    case ReplyKind::skip:
+      // Repetier drops a line sent before its resend request and says "skip N", then "ok".
+      ++swallow_oks_;
+      last_answer_ = link_.now();
+      break;
     case ReplyKind::error:
-      ++stats_.recoverable_errors;
+      // The refusal a skipped-number probe asked for is not the firmware's trouble.
+      if (own_errors_expected_ > 0 && reply.text.find("Line Number") != std::string::npos) {
+        --own_errors_expected_;
+      } else {
+        ++stats_.recoverable_errors;
+      }
       if (!connected_) connect_rejected_ = true;
+      last_answer_ = link_.now();
+      if (connected_ && reply.text.starts_with("E:")) handle_refusal(reply.text, std::nullopt);
       break;
     case ReplyKind::fatal:
       throw PrinterError(fmt::format("{}: the printer stopped: {}", link_.name(), reply.text));
     case ReplyKind::busy:
       ++stats_.busy_reports;
+      if (keepalive_) keepalive_seen_ = true;
+      answered();
+      break;
+    case ReplyKind::wait:
+      if (connected_ && lines_in_flight() > 0) idle_reported_ = true;
       break;
     case ReplyKind::start:
       restart_seen_ = true;
@@ -238,16 +348,18 @@ void LineProtocol::handle(const Reply& reply) {
             link_.name()));
       }
       break;
-    case ReplyKind::position:
-      position_ = reply.position;
-      ++position_reports_;
+    case ReplyKind::temperature:
+      if (reply.heating_wait) {
+        answered();  // M109/M190 report while they wait: a keepalive
+      } else {
+        handle_temperature_line(reply);
+      }
+      break;
+    case ReplyKind::echo:
+      if (reply.unknown_command && connected_) handle_refusal(reply.text, std::nullopt);
       break;
     case ReplyKind::other:
-      if (reply.text.starts_with("FIRMWARE_NAME:")) {
-        std::string_view name = std::string_view(reply.text).substr(14);
-        const auto end = name.find(" SOURCE_CODE_URL");
-        firmware_.name = std::string(name.substr(0, end));
-      } else if (reply.text.starts_with("Cap:")) {
+      if (reply.text.starts_with("Cap:")) {
         if (reply.text == "Cap:EMERGENCY_PARSER:1") firmware_.emergency_parser = true;
         if (reply.text == "Cap:AUTOREPORT_TEMP:1") firmware_.autoreport_temperature = true;
       }
@@ -257,13 +369,77 @@ void LineProtocol::handle(const Reply& reply) {
   }
 }
 
-bool LineProtocol::long_command_in_flight() const {
-  for (long n = accepted_ + 1; n <= sent_; ++n) {
-    const SentLine* l = line(n);
-    if (l != nullptr && l->blocks) return true;
-  }
-  return false;
+void LineProtocol::answered() {
+  last_answer_ = link_.now();
+  probes_unanswered_ = 0;
 }
+
+void LineProtocol::handle_temperature_line(const Reply&) {
+  if (!connected_) return;
+  // While a command that may run long runs, the firmware's own reports are signs of life
+  // (Repetier's each second in M109, an auto-report).
+  if (blocking() != Blocking::none) {
+    answered();
+    return;
+  }
+  if (autoreport_on_ || dialect().temperatures != TemperatureReply::on_ok_or_before) return;
+  // A firmware unknown to the table may print M105's temperatures on a line of their own and
+  // then "ok": that ok then answers the M105.
+  for (long n = accepted_ + 1; n <= sent_; ++n) {
+    const SentLine* in_flight = line(n);
+    if (in_flight != nullptr && in_flight->is_m105) {
+      m105_answer_next_ = true;
+      return;
+    }
+  }
+}
+
+void LineProtocol::handle_refusal(std::string_view text, std::optional<long> answered_line) {
+  ++stats_.refused_commands;
+  // The refused line: the one the text names, searched from the newest line written back (a
+  // firmware that acknowledges on reading reports it later), else the line this reply answers.
+  const SentLine* refused = nullptr;
+  const std::optional<GcodeCommand> named = command_named_in(text);
+  if (named && !history_.empty()) {
+    const long oldest = std::max(history_.front().number, accepted_ - kBlockingReach);
+    for (long n = highest_written_; n >= oldest && refused == nullptr; --n) {
+      const SentLine* l = line(n);
+      if (l == nullptr) continue;
+      const GcodeCommand c = parse_gcode_line(l->command);
+      if (c.letter == named->letter && c.code == named->code) refused = l;
+    }
+  }
+  if (refused == nullptr) refused = line(answered_line.value_or(accepted_ + 1));
+  const std::string what = refused != nullptr ? refused->command : std::string(text);
+  if (refused != nullptr && parse_gcode_line(refused->command).is('M', 113)) keepalive_.reset();
+  if (refused_.size() < kRefusedKept) refused_.push_back(what);
+  if (refused == nullptr) return;
+  const GcodeCommand c = parse_gcode_line(refused->command);
+  if (!print_needs(c)) return;
+  throw CommandRefused(fmt::format("{}: the printer refused {} (\"{}\"), so the print stopped "
+                                   "before anything was extruded: {}",
+                                   link_.name(), refused->command, text, refusal_advice(c, dialect())));
+}
+
+LineProtocol::Blocking LineProtocol::blocking(long before) const {
+  if (lines_in_flight() == 0) return Blocking::none;
+  // Marlin answers a command when it is done: it can be running only if unanswered. Teacup
+  // and Repetier answer on reading: any of the last lines may be running.
+  const long from = dialect().ok_means == OkMeans::executed
+                        ? accepted_ + 1
+                        : std::max<long>(first_number(), highest_written_ - kBlockingReach + 1);
+  const long to = before >= 0 ? std::min(before - 1, sent_) : sent_;
+  Blocking found = Blocking::none;
+  for (long n = from; n <= to; ++n) {
+    const SentLine* l = line(n);
+    if (l == nullptr) continue;
+    if (l->waits_for_user) return Blocking::user;
+    if (l->blocks) found = Blocking::command;
+  }
+  return found;
+}
+
+bool LineProtocol::long_command_in_flight() const { return blocking() != Blocking::none; }
 
 void LineProtocol::set_accepted(long number) {
   accepted_ = number;
@@ -276,6 +452,8 @@ void LineProtocol::accept_through(long number) {
   stale_left_ = 0;  // the stale requests come before any acceptance of the replay
   same_resend_count_ = 0;
   if (probe_line_ >= 0 && probe_line_ <= number) probe_line_ = -1;
+  idle_reported_ = false;
+  answered();
 }
 
 void LineProtocol::handle_ok(const Reply& reply) {
@@ -288,12 +466,25 @@ void LineProtocol::handle_ok(const Reply& reply) {
     connect_ok_ = true;
     return;
   }
+  if (swallow_oks_ > 0) {  // the ok of a Repetier "skip"
+    --swallow_oks_;
+    return;
+  }
   const bool accepts_new = reply.line_number && *reply.line_number > accepted_;
   if (expect_trailing_ok_ && !accepts_new) {
     expect_trailing_ok_ = false;
     ++trailing_ok_seen_;
     return;
   }
+  // Teacup's ok carries its refusal: "ok E: Bad M-code 190" answers the oldest line, which is
+  // accepted (and run, to no effect) all the same.
+  if (reply.refusal) {
+    const long refused = accepted_ + 1;
+    if (accepted_ < sent_) accept_through(refused);
+    handle_refusal(*reply.refusal, refused);
+    return;
+  }
+  const bool m105_answer = std::exchange(m105_answer_next_, false);
   if (reply.line_number) {
     // ADVANCED_OK: N is the last line the firmware accepted, whatever happened to earlier oks.
     advanced_ok_ = true;
@@ -306,9 +497,9 @@ void LineProtocol::handle_ok(const Reply& reply) {
     }
     return;
   }
-  if (reply.temperatures) {
-    // `ok T:` answers the oldest M105 in flight; the firmware works in order, so every line
-    // before it was accepted even if its ok was lost.
+  if (reply.temperatures || m105_answer) {
+    // `ok T:` (or "T:" just before the ok) answers the oldest M105 in flight; the firmware
+    // works in order, so every line before it was accepted even if its ok was lost.
     for (long n = accepted_ + 1; n <= sent_; ++n) {
       const SentLine* in_flight = line(n);
       if (in_flight != nullptr && in_flight->is_m105) {
@@ -351,7 +542,9 @@ void LineProtocol::handle_resend(long wanted) {
         link_.name(), wanted, kHistoryBehind));
   }
   if (wanted == last_resend_) {
-    if (++same_resend_count_ > options_.max_resends_of_one_line) {
+    // Only a request that answers the line sent again counts toward a loop: a probe is
+    // answered with the same request without anything having been resent.
+    if (resent_since_request_ && ++same_resend_count_ > options_.max_resends_of_one_line) {
       throw LinkError(fmt::format(
           "{}: the printer asked for line {} {} times in a row: the link corrupts nearly every "
           "line; check the cable and try a lower --baud",
@@ -361,49 +554,157 @@ void LineProtocol::handle_resend(long wanted) {
     last_resend_ = wanted;
     same_resend_count_ = 1;
   }
+  resent_since_request_ = false;
   ++stats_.resend_requests;
   // Lines written after `wanted` are rejected too, each with its own request for `wanted`.
   stale_left_ = static_cast<int>(std::max<long>(0, sent_ - wanted));
   set_accepted(wanted - 1);
   sent_ = wanted - 1;
+  if (probe_line_ >= wanted) probe_line_ = -1;  // the probe is resent with the rest
+  idle_reported_ = false;
+  answered();
 }
 
 void LineProtocol::check_silence() {
   const nanoseconds now = link_.now();
   if (lines_in_flight() == 0) {
-    last_activity_ = now;
+    last_answer_ = now;
     probes_unanswered_ = 0;
+    idle_reported_ = false;
     return;
   }
-  if (last_user_wait_line_ > 0 && last_user_wait_line_ > highest_written_ - kBlockingReach) {
-    return;  // M0 and friends wait for the user as long as it takes
+  const nanoseconds quiet = now - std::max(last_write_, last_answer_);
+  stats_.longest_silence = std::max(stats_.longest_silence, quiet);
+  // A firmware that keeps alive at a known interval is idle once that interval passes
+  // without a word: a lost ok is probed for then, not after the full probe interval.
+  nanoseconds probe_after(options_.probe_after);
+  if (keepalive_ && keepalive_seen_) probe_after = std::min(probe_after, *keepalive_ + kKeepaliveMargin);
+  const bool probe_out = probe_line_ > accepted_ && probe_line_ <= sent_;
+  const Blocking running = blocking();
+  const Blocking ahead_of_probe = probe_out ? blocking(probe_line_) : Blocking::none;
+  if (idle_reported_ && !probe_out) {
+    probe();  // the firmware says it is idle while lines are in flight: one was lost
+    return;
   }
-  const bool blocking = last_blocking_line_ > 0 && last_blocking_line_ > highest_written_ - kBlockingReach;
-  const nanoseconds limit = blocking ? nanoseconds(options_.long_command_timeout)
-                                     : nanoseconds(options_.probe_after);
-  if (now - last_activity_ < limit) return;
-  if (probes_unanswered_ >= options_.max_probes) {
+  if (quiet < probe_after) return;
+  if (ahead_of_probe != Blocking::none) {
+    // The probe waits in the firmware's queue behind a command that may run long.
+    if (ahead_of_probe == Blocking::command && now - last_answer_ >= nanoseconds(options_.long_command_timeout)) {
+      throw LinkError(fmt::format(
+          "{}: the printer stopped answering: nothing for {:.0f} s while it ran a long command "
+          "({}); check that it is powered and connected",
+          link_.name(), seconds(now - last_answer_), line(accepted_ + 1) ? line(accepted_ + 1)->command : ""));
+    }
+    if (quiet >= probe_after * kBlockedProbeSpacing && probes_unanswered_ < kBlockedProbes) probe();
+    return;
+  }
+  if (running == Blocking::none && probes_unanswered_ >= options_.max_probes) {
     throw LinkError(fmt::format(
-        "{}: the printer stopped answering: nothing for {:.0f} s and {} M105 probes "
-        "unanswered; check that it is powered and connected",
-        link_.name(), seconds(now - last_activity_) + seconds(limit) * probes_unanswered_,
-        probes_unanswered_));
+        "{}: the printer stopped answering: nothing for {:.0f} s and {} probes unanswered; check "
+        "that it is powered and connected",
+        link_.name(), seconds(now - last_answer_), probes_unanswered_));
   }
+  probe();
+}
+
+void LineProtocol::probe() {
   ++probes_unanswered_;
   ++stats_.probes;
-  // The probe is a numbered M105 right after the last line written: its `ok T:` says exactly
-  // that everything up to it was accepted. Lines not yet written move up one number.
-  SentLine probe;
-  probe.number = sent_ + 1;
-  probe.command = "M105";
-  probe.is_m105 = true;
-  if (const SentLine* before = line(sent_)) probe.sequence = before->sequence;
-  const auto at = history_.begin() + static_cast<std::ptrdiff_t>(probe.number - first_number());
-  for (auto it = history_.insert(at, probe) + 1; it != history_.end(); ++it) ++it->number;
+  idle_reported_ = false;
+  const LostOkProbe kind = dialect().probe;
+  if (kind == LostOkProbe::same_line_again && accepted_ + 1 == sent_) {
+    // Teacup and Repetier: the unanswered line again, with its own number, is answered with a
+    // request for the next one if it arrived, and run now if it did not.
+    probe_line_ = sent_;
+    transmit(sent_);
+    return;
+  }
+  const bool m105_out = probe_line_ > accepted_ && probe_line_ <= sent_;
+  if (kind == LostOkProbe::skipped_number || m105_out) {
+    // A line one number past the next: refused with "Resend: <the line the firmware wants>",
+    // which says exactly what it has. Not stored: it is a question, never a command.
+    const std::string framed = frame_line(sent_ + 2, "M105") + "\n";
+    link_.write(framed);
+    stats_.bytes_written += static_cast<long>(framed.size());
+    ++own_errors_expected_;
+    last_write_ = link_.now();
+    return;
+  }
+  // A numbered M105 right after the last line written: its "ok T:" says that everything up
+  // to it was accepted. Lines not yet written move up one number.
+  insert_engine_line("M105");
+  probe_line_ = sent_ + 1;
+  transmit(sent_ + 1);
+}
+
+void LineProtocol::insert_engine_line(std::string command) {
+  SentLine engine;
+  engine.number = sent_ + 1;
+  engine.command = std::move(command);
+  engine.is_m105 = is_m105(engine.command);
+  engine.blocks = command_blocks(engine.command);
+  if (const SentLine* before = line(sent_)) engine.sequence = before->sequence;
+  const auto at = history_.begin() + static_cast<std::ptrdiff_t>(engine.number - first_number());
+  for (auto it = history_.insert(at, engine) + 1; it != history_.end(); ++it) ++it->number;
   ++assigned_;
-  probe_line_ = probe.number;
-  transmit(probe.number);
-  last_activity_ = now;
+  if (probe_line_ > sent_) ++probe_line_;
+}
+
+void LineProtocol::use_keepalive(std::chrono::seconds interval) {
+  if (dialect().firmware != Firmware::marlin || keepalive_) return;
+  insert_engine_line(fmt::format("M113 S{}", interval.count()));
+  keepalive_ = std::chrono::duration_cast<nanoseconds>(interval);
+  keepalive_seen_ = false;
+}
+
+bool LineProtocol::request_temperatures(std::chrono::seconds every) {
+  if (autoreport_on_) return true;
+  if (firmware_.autoreport_temperature) {
+    insert_engine_line(fmt::format("M155 S{}", every.count()));
+    autoreport_on_ = true;
+    return true;
+  }
+  // One M105 in the stream at a time is enough.
+  for (long n = accepted_ + 1; n <= assigned_; ++n) {
+    const SentLine* l = line(n);
+    if (l != nullptr && l->is_m105) return false;
+  }
+  insert_engine_line("M105");
+  return false;
+}
+
+bool LineProtocol::wait_acknowledged_for(milliseconds timeout) {
+  const nanoseconds deadline = link_.now() + timeout;
+  wait_until([&] { return accepted_ >= assigned_ || link_.now() >= deadline; }, deadline);
+  return accepted_ >= assigned_;
+}
+
+void LineProtocol::drop_unsent() {
+  // Lines never written, or written before a resend request and not since.
+  while (!history_.empty() && history_.back().number > sent_) history_.pop_back();
+  assigned_ = sent_;
+  if (probe_line_ > sent_) probe_line_ = -1;
+}
+
+void LineProtocol::abandon_unacknowledged() {
+  drop_unsent();
+  if (accepted_ >= sent_) return;
+  // The firmware takes an M110 line whatever number it expected and counts from its N.
+  const long number = sent_ + 1;
+  SentLine resync;
+  resync.number = number;
+  resync.command = fmt::format("M110 N{}", number);
+  if (const SentLine* before = line(sent_)) resync.sequence = before->sequence;
+  history_.push_back(resync);
+  assigned_ = number;
+  set_accepted(number - 1);
+  stale_left_ = 0;
+  last_resend_ = -1;
+  same_resend_count_ = 0;
+  expect_trailing_ok_ = false;
+  probe_line_ = -1;
+  m105_answer_next_ = false;
+  transmit(number);
 }
 
 void LineProtocol::emergency(std::string_view command) {
@@ -415,7 +716,7 @@ void LineProtocol::emergency(std::string_view command) {
 
 std::optional<ReportedPosition> LineProtocol::query_position() {
   const long before = position_reports_;
-  send("M400");
+  send(dialect().has_m400 ? "M400" : "G4 P0");
   send("M114");
   wait_acknowledged();
   if (position_reports_ == before) {
@@ -480,11 +781,26 @@ void LineProtocol::connect(milliseconds boot_wait) {
   same_resend_count_ = 0;
   probe_line_ = -1;
   probes_unanswered_ = 0;
-  last_blocking_line_ = last_user_wait_line_ = 0;
+  swallow_oks_ = 0;
+  m105_answer_next_ = idle_reported_ = autoreport_on_ = keepalive_seen_ = false;
+  own_errors_expected_ = 0;
+  keepalive_.reset();
   connected_ = true;
-  last_activity_ = link_.now();
+  last_write_ = last_answer_ = link_.now();
+  firmware_ = FirmwareInfo{};
   send("M115");
   wait_acknowledged();
+  // A reply's lines may come after the ok (Repetier prints on executing).
+  const nanoseconds settle = link_.now() + nanoseconds(options_.resend_ok_grace);
+  while (firmware_.name.empty() && link_.now() < settle) read_once(options_.tick);
+  firmware_.firmware = recognise_firmware(firmware_.name);
+  if (firmware_.firmware == Firmware::unknown) {
+    firmware_.firmware = banner_said_marlin_ ? Firmware::marlin : options_.assumed_firmware;
+  }
+  if (const auto known = dialect().ok_after_resend) {
+    trailing_ok_seen_ = *known ? 1 : 0;
+    trailing_ok_missed_ = *known ? 0 : 3;
+  }
 }
 
 }  // namespace printer

@@ -126,7 +126,8 @@ void recover_print(LineProtocol& protocol, const PrintState& s, bool printer_res
 
 void cancel_print(LineProtocol& protocol, const PrintState& state, const PauseOptions& options) {
   protocol.wait_acknowledged();
-  std::vector<std::string> commands{"M104 S0", "M140 S0", "M107"};
+  std::vector<std::string> commands{"M104 S0", "M140 S0",
+                                    protocol.dialect().has_m107 ? "M107" : "M106 S0"};
   for (std::string& c : leave_part(lifted(state.z, kCancelLift, options.max_z), options)) {
     commands.push_back(std::move(c));
   }

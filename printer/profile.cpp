@@ -255,6 +255,8 @@ const Rules<P>& printer_rules() {
     Rules<P> r;
     r.push_back(text<P>("name", {}, [](P& p, const std::string& s) { p.name = s; }, true));
     r.push_back(text<P>("material", {}, [](P& p, const std::string& s) { p.default_material = s; }));
+    r.push_back(text<P>("firmware", {"marlin", "teacup", "repetier"},
+                        [](P& p, const std::string& s) { p.firmware = *parse_firmware(s); }));
     r.push_back(number<P>("build_volume.x", 10, 2000, "mm", [](P& p, double v) { p.bed_x = v; }, true));
     r.push_back(number<P>("build_volume.y", 10, 2000, "mm", [](P& p, double v) { p.bed_y = v; }, true));
     r.push_back(number<P>("build_volume.z", 10, 2000, "mm", [](P& p, double v) { p.bed_z = v; }, true));

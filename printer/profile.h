@@ -14,6 +14,7 @@
 #include <string_view>
 #include <vector>
 
+#include "printer/firmware_dialect.h"
 #include "printer/motion_model.h"
 
 namespace printer {
@@ -78,6 +79,9 @@ struct PrinterProfile {
   double resolution = 0.0125;
   std::string start_gcode, end_gcode;  // with {placeholders}
   int baud = 115200;
+  // The firmware the G-code is written for (`firmware = "marlin" | "teacup" | "repetier"`): how
+  // it heats and waits, whether it has M73 and M107 (printer/firmware_dialect.h).
+  Firmware firmware = Firmware::marlin;
   std::string default_material = "pla";
 };
 

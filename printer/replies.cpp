@@ -54,12 +54,21 @@ std::optional<long> take_long(std::string_view& s) {
   return value;
 }
 
-// Finds `key` ("T:", "B:") where it starts a word, so that "B@:" or "TargetBed:" do not match.
+// Finds `key` ("T:", "B:") where it starts a word, so that "B@:" or "TargetBed:" do not match;
+// Teacup separates its words with commas ("X:0.000,Y:0.000").
 std::size_t find_word(std::string_view s, std::string_view key) {
   for (std::size_t at = s.find(key); at != std::string_view::npos; at = s.find(key, at + 1)) {
-    if (at == 0 || is_blank(s[at - 1]) || s[at - 1] == ':') return at;
+    if (at == 0 || is_blank(s[at - 1]) || s[at - 1] == ':' || s[at - 1] == ',') return at;
   }
   return std::string_view::npos;
+}
+
+// "E: Bad M-code 190" (Teacup's refusal), not "E:1.20" (an extruder position).
+bool is_teacup_error(std::string_view s) {
+  if (!s.starts_with("E:")) return false;
+  s.remove_prefix(2);
+  while (!s.empty() && s.front() == ' ') s.remove_prefix(1);
+  return !s.empty() && std::isalpha(static_cast<unsigned char>(s.front()));
 }
 
 // "T:200.24 /200.00": the value after `key` and, when a '/' follows, the target.
@@ -93,6 +102,7 @@ std::optional<Temperatures> read_temperatures(std::string_view s) {
 std::optional<ReportedPosition> read_position(std::string_view s) {
   // Everything after "Count" is in steps; only the logical coordinates before it count.
   if (const auto count = s.find("Count"); count != std::string_view::npos) s = s.substr(0, count);
+  if (s.starts_with("C:")) s.remove_prefix(2);  // Sprinter's "C: X:0.00 Y:0.00 ..."
   ReportedPosition p;
   std::array<std::pair<std::string_view, double*>, 4> axes{
       {{"X:", &p.x}, {"Y:", &p.y}, {"Z:", &p.z}, {"E:", &p.e}}};
@@ -139,7 +149,15 @@ Reply classify_reply(std::string_view raw) {
 
   if (starts_with_nocase(line, "ok") && (line.size() == 2 || is_blank(line[2]) || line[2] == ':')) {
     reply.kind = ReplyKind::ok;
-    std::string_view rest = line.substr(2);
+    std::string_view rest = trim(line.substr(2));
+    if (is_teacup_error(rest)) {
+      reply.refusal = std::string(rest);
+      return reply;
+    }
+    if (rest.starts_with("X:") || rest.starts_with("C:")) {
+      reply.position = read_position(rest);
+      if (reply.position) return reply;
+    }
     reply.temperatures = read_temperatures(rest);
     // ADVANCED_OK words have no colon: "N12 P15 B3". "B:60" is the bed.
     while (!rest.empty()) {
@@ -173,8 +191,21 @@ Reply classify_reply(std::string_view raw) {
     if (!reply.line_number) reply.kind = ReplyKind::other;
     return reply;
   }
-  if (starts_with_nocase(line, "error") || line.starts_with("!!")) {
-    reply.kind = is_fatal_error(line) || line.starts_with("!!") ? ReplyKind::fatal : ReplyKind::error;
+  if (starts_with_nocase(line, "skip ") || starts_with_nocase(line, "skip:")) {
+    reply.kind = ReplyKind::skip;
+    return reply;
+  }
+  if (starts_with_nocase(line, "fatal:") || line.starts_with("!!")) {
+    reply.kind = ReplyKind::fatal;
+    return reply;
+  }
+  if (starts_with_nocase(line, "error") || is_teacup_error(line)) {
+    reply.kind = is_fatal_error(line) ? ReplyKind::fatal : ReplyKind::error;
+    return reply;
+  }
+  if (starts_with_nocase(line, "unknown command")) {
+    reply.kind = ReplyKind::echo;
+    reply.unknown_command = true;
     return reply;
   }
   std::string_view body = line;
@@ -187,7 +218,7 @@ Reply classify_reply(std::string_view raw) {
     reply.kind = ReplyKind::wait;
     return reply;
   }
-  if (line == "start") {
+  if (starts_with_nocase(line, "start") && line.size() == 5) {  // Teacup says "Start"
     reply.kind = ReplyKind::start;
     return reply;
   }
@@ -196,7 +227,7 @@ Reply classify_reply(std::string_view raw) {
     reply.unknown_command = contains_nocase(line, "unknown command");
     return reply;
   }
-  if (line.starts_with("X:")) {
+  if (line.starts_with("X:") || line.starts_with("C:")) {
     if ((reply.position = read_position(line))) {
       reply.kind = ReplyKind::position;
       return reply;
@@ -206,6 +237,7 @@ Reply classify_reply(std::string_view raw) {
       find_word(line, "T0:") != std::string_view::npos || line.starts_with("B:")) {
     if ((reply.temperatures = read_temperatures(line))) {
       reply.kind = ReplyKind::temperature;
+      reply.heating_wait = find_word(line, "W:") != std::string_view::npos;
       return reply;
     }
   }

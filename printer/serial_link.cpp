@@ -56,6 +56,18 @@ void check_serial_port(const std::string& path) {
   if (::access(path.c_str(), R_OK | W_OK) != 0) throw LinkError(open_failure(path, errno));
 }
 
+const std::vector<int>& standard_baud_rates() {
+  static const std::vector<int> rates{9600,   19200,  38400,  57600,  115200,  230400,
+                                      250000, 460800, 500000, 921600, 1000000};
+  return rates;
+}
+
+std::string standard_baud_rates_text() {
+  std::string text;
+  for (const int rate : standard_baud_rates()) text += (text.empty() ? "" : ", ") + std::to_string(rate);
+  return text;
+}
+
 SerialLink::SerialLink(std::string path, int baud) : path_(std::move(path)) {
   if (baud <= 0) throw ConfigError(fmt::format("--baud {}: give a positive rate such as 115200 or 250000", baud));
   check_serial_port(path_);

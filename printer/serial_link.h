@@ -41,6 +41,11 @@ class SerialLink : public Link {
   int fd_ = -1;  // the termios path, when libserialport does not know the device
 };
 
+// The serial speeds a port can be opened at (bit/s, ascending), and the same as text for
+// messages: "9600, 19200, ..., 115200, 250000, ...".
+const std::vector<int>& standard_baud_rates();
+std::string standard_baud_rates_text();
+
 // Checks, without opening it, that `path` is a device this user may open: throws the
 // LinkError opening it would (no such port, permission denied), naming the port. Cheap, so a
 // job checks its port before slicing for minutes; opening would reset many boards (DTR).

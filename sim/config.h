@@ -6,6 +6,7 @@
 #include <array>
 
 #include "printer/motion_model.h"
+#include "sim/dialect.h"
 #include "sim/faults.h"
 
 namespace sim {
@@ -24,6 +25,9 @@ struct HeaterConstants {
 };
 
 struct Config {
+  // Which firmware it speaks as (sim/dialect.h); the settings below are Marlin's names for
+  // what every one of them has.
+  Dialect dialect = Dialect::marlin;
   // Serial protocol (Marlin's BUFSIZE, BLOCK_BUFFER_SIZE, RX_BUFFER_SIZE, MAX_CMD_SIZE).
   int queue_depth = 4;        // commands the firmware queues before it stops reading serial
   int planner_depth = 16;     // moves the planner holds (also the motion model's look-ahead)
@@ -31,10 +35,11 @@ struct Config {
   int max_cmd_size = 96;      // a longer line is cut at max_cmd_size - 1 characters
   bool advanced_ok = false;   // ADVANCED_OK: "ok N<line> P<planner free> B<queue free>"
   bool ok_after_resend = true;  // Marlin 1.1 sends ok after Resend:, Marlin 2.0 does not
+                                // (Teacup never does, Repetier always does)
   // EMERGENCY_PARSER: M108, M112 and M410 act the moment their line arrives, even when the
   // queue is full. Off, they act when the firmware reads the line, and only unnumbered ones
   // (queue.cpp's early check looks at the raw line, which starts with N when numbered).
-  bool emergency_parser = true;
+  bool emergency_parser = true;  // Marlin only
   double busy_interval = 2;   // s between "echo:busy: processing" (M113 S; 0 = off)
   double idle_wait_interval = 0;  // s between "wait" when idle (NO_TIMEOUTS; 0 = off)
   double boot_time = 0;       // s after power-on or reset before "start"; input is lost meanwhile

@@ -13,8 +13,8 @@ namespace sim {
 namespace {
 
 constexpr std::string_view kKeys =
-    "corrupt, drop-ok, dup-ok, resend, delay, disconnect-at-line, disconnect-at-time, "
-    "halt-at-line, runaway-at-line, from-line, seed";
+    "corrupt, drop-ok, drop-blocking-ok, dup-ok, resend, delay, disconnect-at-line, "
+    "disconnect-at-time, halt-at-line, freeze-at-line, runaway-at-line, from-line, seed";
 
 [[noreturn]] void bad(std::string_view key, std::string_view value, std::string_view what) {
   throw printer::ConfigError(
@@ -76,8 +76,8 @@ std::string seconds_text(double s) {
 }  // namespace
 
 bool FaultSpec::any() const {
-  return corrupt > 0 || drop_ok > 0 || dup_ok > 0 || resend > 0 || delay > 0 ||
-         disconnect_at_line || disconnect_at_time || halt_at_line || runaway_at_line;
+  return corrupt > 0 || drop_ok > 0 || drop_blocking_ok > 0 || dup_ok > 0 || resend > 0 || delay > 0 ||
+         disconnect_at_line || disconnect_at_time || halt_at_line || freeze_at_line || runaway_at_line;
 }
 
 FaultSpec parse_fault_spec(std::string_view spec) {
@@ -98,6 +98,8 @@ FaultSpec parse_fault_spec(std::string_view spec) {
       faults.corrupt = probability(key, value);
     } else if (key == "drop-ok") {
       faults.drop_ok = probability(key, value);
+    } else if (key == "drop-blocking-ok") {
+      faults.drop_blocking_ok = count(key, value, 0);
     } else if (key == "dup-ok") {
       faults.dup_ok = probability(key, value);
     } else if (key == "resend") {
@@ -110,6 +112,8 @@ FaultSpec parse_fault_spec(std::string_view spec) {
       faults.disconnect_at_time = duration(key, value);
     } else if (key == "halt-at-line") {
       faults.halt_at_line = count(key, value, 1);
+    } else if (key == "freeze-at-line") {
+      faults.freeze_at_line = count(key, value, 1);
     } else if (key == "runaway-at-line") {
       faults.runaway_at_line = count(key, value, 1);
     } else if (key == "from-line") {
@@ -132,12 +136,14 @@ std::string to_string(const FaultSpec& f) {
   };
   if (f.corrupt > 0) add(fmt::format("corrupt={:g}", f.corrupt));
   if (f.drop_ok > 0) add(fmt::format("drop-ok={:g}", f.drop_ok));
+  if (f.drop_blocking_ok > 0) add(fmt::format("drop-blocking-ok={}", f.drop_blocking_ok));
   if (f.dup_ok > 0) add(fmt::format("dup-ok={:g}", f.dup_ok));
   if (f.resend > 0) add(fmt::format("resend={:g}", f.resend));
   if (f.delay > 0) add("delay=" + seconds_text(f.delay));
   if (f.disconnect_at_line) add(fmt::format("disconnect-at-line={}", *f.disconnect_at_line));
   if (f.disconnect_at_time) add("disconnect-at-time=" + seconds_text(*f.disconnect_at_time));
   if (f.halt_at_line) add(fmt::format("halt-at-line={}", *f.halt_at_line));
+  if (f.freeze_at_line) add(fmt::format("freeze-at-line={}", *f.freeze_at_line));
   if (f.runaway_at_line) add(fmt::format("runaway-at-line={}", *f.runaway_at_line));
   if (f.from_line) add(fmt::format("from-line={}", *f.from_line));
   if (f.any()) add(fmt::format("seed={}", f.seed));

@@ -16,6 +16,9 @@
 //   checksum, so Marlin runs them as they arrive, changed or not; use from-line to keep a
 //   host's unnumbered handshake out of reach.
 // - drop-ok=p: an `ok` for an executed command is not sent.
+// - drop-blocking-ok=N: the oks of the first N commands that block the firmware until they
+//   end (G4, G28, M0/M1, M109, M190, M116, M400) are not sent: the worst time to lose one,
+//   since silence is expected while they run.
 // - dup-ok=p: an `ok` is sent twice.
 // - resend=p: a numbered line that arrived intact is answered as if its checksum were wrong
 //   (Error:checksum mismatch, Resend) and not executed: the host must send it again.
@@ -23,6 +26,9 @@
 // - disconnect-at-line=N / disconnect-at-time=T: the link vanishes when line N is accepted or
 //   at sim time T (SimLink throws printer::LinkError; `mahost sim` closes the terminal).
 // - halt-at-line=N: kill() when line N is executed: "Error:Printer halted. kill() called!".
+// - freeze-at-line=N: the link stalls once line N is accepted: the port stays open, but the
+//   firmware reads nothing more (M112 included) and says nothing more, as a hung USB-serial
+//   bridge or a board locked up. What is queued still runs.
 // - runaway-at-line=N: the hotend heater fails when line N is executed; Marlin's thermal
 //   protection then stops the printer once the temperature has stayed more than the
 //   hysteresis below its target for the protection period.
@@ -43,12 +49,14 @@ namespace sim {
 struct FaultSpec {
   double corrupt = 0;
   double drop_ok = 0;
+  std::uint64_t drop_blocking_ok = 0;
   double dup_ok = 0;
   double resend = 0;
   double delay = 0;  // s
   std::optional<std::uint64_t> disconnect_at_line;
   std::optional<double> disconnect_at_time;  // s on the sim clock
   std::optional<std::uint64_t> halt_at_line;
+  std::optional<std::uint64_t> freeze_at_line;
   std::optional<std::uint64_t> runaway_at_line;
   std::optional<long> from_line;
   std::uint64_t seed = 1;

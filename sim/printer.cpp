@@ -2,18 +2,18 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
-#include <deque>
 #include <limits>
-#include <numbers>
-#include <optional>
-#include <random>
 
 #include <fmt/core.h>
 
 #include "printer/gcode_line.h"
-#include "sim/heater.h"
+#include "sim/command_queue.h"
+#include "sim/dialect.h"
+#include "sim/fault_injector.h"
+#include "sim/heaters.h"
+#include "sim/motion.h"
 #include "sim/serial_line.h"
+#include "sim/wire.h"
 
 namespace sim {
 
@@ -22,65 +22,40 @@ namespace {
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr std::string_view kVersion = "2.0.9.3";
 
-// A command in the queue: what the parser sees, and where it came from.
-struct Queued {
-  std::string text;
-  std::optional<long> line_number;  // for ADVANCED_OK's "N<n>"
-  std::uint64_t index = 0;          // 1-based count of accepted lines, for *-at-line faults
-};
-
-// Bytes on their way from the host: byte k of a chunk arrives at start + (k + 1) * byte_time.
-struct Chunk {
-  double start = 0;
-  std::string bytes;
-  std::size_t next = 0;
-};
-
-struct Reply {
-  double at = 0;  // when its last byte reaches the host
-  std::string text;
-};
-
-struct PendingEmergency {
-  double at = 0;
-  std::uint64_t byte = 0;  // sequence number of the byte that completes it
-  Emergency kind = Emergency::none;
-};
-
+// What the command executing waits for before its ok.
 enum class Wait { none, planner, motion, hotend, bed, user };
+
+Config checked(Config config) {
+  config.queue_depth = traits(config.dialect).one_line_at_a_time ? 1 : std::max(config.queue_depth, 1);
+  config.planner_depth = std::max(config.planner_depth, 1);
+  config.rx_buffer_size = std::max(config.rx_buffer_size, 1);
+  config.max_cmd_size = std::max(config.max_cmd_size, 2);
+  return config;
+}
 
 }  // namespace
 
+// The firmware: reads lines from the wire, queues and runs commands and says what Marlin
+// says. Each concern is a part of its own (sim/wire.h, serial_line.h, command_queue.h,
+// motion.h, heaters.h, fault_injector.h); this is what ties them together, in Marlin's order.
 struct Printer::Firmware {
   Config cfg;
+  const DialectTraits& talk;  // how this firmware's dialect speaks (sim/dialect.h)
   double now = 0;
   PrinterState state = PrinterState::booting;
   std::string stop_reason;
   Counters counters;
   std::vector<std::string> log;
   DepositionRecord record;
+  FaultInjector faults;
 
-  // One random stream per fault, so enabling one does not move another's pattern.
-  std::mt19937_64 rng_corrupt, rng_drop, rng_dup, rng_resend;
-  bool line_corrupted = false;  // this line (as it crosses the wire) already has its flip
-  bool wire_line_start = true;  // the next non-blank byte on the wire starts a line
-  bool disconnect_time_done = false;
-  bool faults_armed = true;  // from-line: probabilistic faults wait for that line
-
-  // Serial input.
-  double byte_time = 0;
-  std::deque<Chunk> wire;
-  double wire_free = 0;
-  std::uint64_t bytes_sent_on_wire = 0, bytes_off_wire = 0;  // sequence numbers
-  std::deque<PendingEmergency> emergencies;
-  EmergencyParser emergency_parser;
-  std::string rx;            // the firmware's RX buffer
-  bool rx_dropping = false;  // inside a run of lost bytes (one overflow)
-  LineAssembler line;
+  HostWire wire;
+  SerialReceiver receiver;
+  ReplyWire replies;
   long last_n = 0;
+  CommandQueue queue;
 
-  // Command queue; the front is the command executing, as in Marlin's ring buffer.
-  std::deque<Queued> queue;
+  // The command executing (the queue's front while `executing`).
   bool executing = false;
   bool report_position_after = false;  // G28
   bool ok_with_temperatures = false;   // M105
@@ -88,50 +63,38 @@ struct Printer::Firmware {
   double done_at = 0;
   double next_busy = kInfinity;
   double next_wait_report = kInfinity;
-  double residency_from = kInfinity;  // when the waited-for heater got within its window
-  double last_activity = 0;           // for NO_TIMEOUTS' "wait"
+  double last_activity = 0;  // for NO_TIMEOUTS' "wait"
 
-  // Serial output.
-  std::deque<Reply> out;
-  double tx_free = 0;
-
-  // Machine.
-  printer::MotionModel motion;
-  std::deque<double> open_moves;  // arrival time of each move still open in the planner
-  double stepper_free = 0;        // when all moves made final so far have run
-  Position pos;
-  double motion_e = 0;            // filament actually fed (flow applied), the planner's E
-  double feedrate = 25;           // mm/s (Marlin boots with 1500 mm/min)
-  bool relative = false;
-  enum class EMode { follow, absolute, relative } e_mode = EMode::follow;
-  double feed_percent = 100, flow_percent = 100;
+  Motion motion;
+  Heaters heaters;
   int fan = 0;
-  Heater hotend, bed;
   double autoreport_interval = 0, next_autoreport = kInfinity;
   double busy_interval = 2;
-  double runaway_at = kInfinity;
   double boot_done = 0;
+  int skips_left = 0;  // Repetier: lines in flight after a resend request it answers "skip"
+  // Ok-when-read dialects: what the command executing says, for its ok line (Teacup) or
+  // after it (Repetier).
+  std::vector<std::string> said;
+  bool saying = false;
+
+  // The firmware waiting for the host: since when (-1: busy), and whether the faults dropped
+  // an ok since it last heard from the host (the wait it causes is then a lost ok's).
+  double idle_since = -1;
+  bool ok_lost = false;
+  bool frozen = false;  // fault freeze-at-line: nothing read, nothing said, until a reset
+  std::vector<double> lost_ok_waits;
 
   explicit Firmware(Config config)
-      : cfg(std::move(config)),
-        rng_corrupt(cfg.faults.seed * 4 + 0),
-        rng_drop(cfg.faults.seed * 4 + 1),
-        rng_dup(cfg.faults.seed * 4 + 2),
-        rng_resend(cfg.faults.seed * 4 + 3),
-        motion(cfg.motion, static_cast<std::size_t>(std::max(cfg.planner_depth, 1))),
-        line(cfg.max_cmd_size),
-        hotend(cfg.hotend, cfg.ambient),
-        bed(cfg.bed, cfg.ambient) {
-    cfg.queue_depth = std::max(cfg.queue_depth, 1);
-    cfg.planner_depth = std::max(cfg.planner_depth, 1);
-    cfg.rx_buffer_size = std::max(cfg.rx_buffer_size, 1);
-    cfg.max_cmd_size = std::max(cfg.max_cmd_size, 2);
-    byte_time = cfg.baud > 0 ? 10.0 / cfg.baud : 0.0;
+      : cfg(checked(std::move(config))),
+        talk(traits(cfg.dialect)),
+        faults(cfg.faults),
+        wire(cfg.baud),
+        receiver(cfg.rx_buffer_size, cfg.max_cmd_size),
+        replies(cfg.baud),
+        queue(cfg.queue_depth),
+        motion(cfg, record, 0),
+        heaters(cfg, 0) {
     power_on();
-  }
-
-  double chance(std::mt19937_64& rng) {
-    return std::uniform_real_distribution<double>(0.0, 1.0)(rng);
   }
 
   // ---- power and reset -------------------------------------------------------------------
@@ -141,97 +104,69 @@ struct Printer::Firmware {
     state = PrinterState::booting;
     stop_reason.clear();
     boot_done = now + std::max(cfg.boot_time, 0.0);
-    wire.clear();
-    emergencies.clear();
-    bytes_off_wire = bytes_sent_on_wire;
-    emergency_parser = EmergencyParser{};
-    wire_free = now;
-    rx.clear();
-    rx_dropping = false;
-    line = LineAssembler(cfg.max_cmd_size);
+    wire.clear(now);
+    receiver = SerialReceiver(cfg.rx_buffer_size, cfg.max_cmd_size);
     last_n = 0;
-    faults_armed = !cfg.faults.from_line;
+    faults.power_on();
+    frozen = false;
     queue.clear();
     executing = false;
     wait = Wait::none;
-    next_busy = next_wait_report = residency_from = kInfinity;
-    out.clear();
-    tx_free = now;
-    motion = printer::MotionModel(cfg.motion, static_cast<std::size_t>(cfg.planner_depth));
-    open_moves.clear();
-    stepper_free = now;
-    pos = Position{};
-    motion_e = 0;
-    feedrate = 25;
-    relative = false;
-    e_mode = EMode::follow;
-    feed_percent = flow_percent = 100;
+    next_busy = next_wait_report = kInfinity;
+    replies.clear(now);
+    motion = Motion(cfg, record, now);
+    heaters = Heaters(cfg, now);
     fan = 0;
-    hotend = Heater(cfg.hotend, cfg.ambient);
-    bed = Heater(cfg.bed, cfg.ambient);
-    hotend.advance_to(now);
-    bed.advance_to(now);
     autoreport_interval = 0;
     next_autoreport = kInfinity;
     busy_interval = cfg.busy_interval;
-    runaway_at = kInfinity;
     last_activity = now;
     if (cfg.boot_time <= 0) finish_boot();
   }
 
   void finish_boot() {
     state = PrinterState::running;
-    emit("start");
-    emit(fmt::format("echo:Marlin {}", kVersion));
-    emit("echo: Last Updated: 2021-12-25 | Author: (mahost simulated printer)");
+    for (std::string& line : boot_banner(cfg.dialect, kVersion)) emit(std::move(line));
     last_activity = now;
   }
 
   // ---- output ----------------------------------------------------------------------------
 
   void emit(std::string text) {
-    if (state == PrinterState::disconnected) return;
-    text += '\n';
-    double at = now + (faults_armed ? cfg.faults.delay : 0.0);
-    if (byte_time > 0) at = std::max(at, tx_free) + byte_time * static_cast<double>(text.size());
-    if (!out.empty()) at = std::max(at, out.back().at);
-    tx_free = at;
-    counters.bytes_sent += text.size();
-    out.push_back(Reply{at, std::move(text)});
+    if (state == PrinterState::disconnected || frozen) return;
+    counters.bytes_sent += replies.send(now + faults.reply_delay(), std::move(text));
   }
 
-  bool output_ready() const { return !out.empty() && out.front().at <= now; }
-
-  std::string take_output() {
-    std::string text;
-    while (output_ready()) {
-      text += out.front().text;
-      out.pop_front();
+  // What a command prints: at once, or, in an ok-when-read dialect, with its ok.
+  void say(std::string text) {
+    if (saying) {
+      said.push_back(std::move(text));
+    } else {
+      emit(std::move(text));
     }
-    return text;
   }
 
-  std::string heater_states() const {
-    return fmt::format(" T:{:.2f} /{:.2f} B:{:.2f} /{:.2f} @:{} B@:{}", hotend.temperature(),
-                       hotend.target(), bed.temperature(), bed.target(), hotend.power(),
-                       bed.power());
+  // Whether this ok is lost to a fault; `blocked`: the command blocked the firmware.
+  bool ok_dropped(bool blocked) {
+    const bool dropped = faults.drop_ok() || (blocked && faults.drop_blocking_ok());
+    if (!dropped) return false;
+    ++counters.faults_injected;
+    ok_lost = true;
+    return true;
   }
 
   // The ok of an executed command; M105's carries the temperatures instead of ADVANCED_OK's
   // fields, since Marlin's M105 prints its own ok.
-  void send_ok(const Queued& command, bool with_temperatures) {
-    if (faults_armed && cfg.faults.drop_ok > 0 && chance(rng_drop) < cfg.faults.drop_ok) {
-      ++counters.faults_injected;
-      return;
-    }
+  void send_ok(const QueuedCommand& command, bool with_temperatures, bool blocked) {
+    if (ok_dropped(blocked)) return;
     std::string ok = "ok";
     if (with_temperatures) {
-      ok += heater_states();
+      ok += heaters.states();
     } else if (cfg.advanced_ok) {
       if (command.line_number) ok += fmt::format(" N{}", *command.line_number);
-      ok += fmt::format(" P{} B{}", planner_free(), cfg.queue_depth - static_cast<int>(queue.size()));
+      ok += fmt::format(" P{} B{}", motion.planner_free(), queue.free());
     }
-    const bool twice = faults_armed && cfg.faults.dup_ok > 0 && chance(rng_dup) < cfg.faults.dup_ok;
+    const bool twice = faults.duplicate_ok();
     emit(ok);
     if (twice) {
       ++counters.faults_injected;
@@ -239,65 +174,29 @@ struct Printer::Firmware {
     }
   }
 
-  int planner_free() const {
-    return std::max(0, cfg.planner_depth - static_cast<int>(motion.pending()));
-  }
-
   // ---- serial input ----------------------------------------------------------------------
-
-  // One bit flipped in `c` that Marlin's checksum is sure to catch (sim/faults.h), or c.
-  char corrupt(char c) {
-    std::uniform_int_distribution<int> bit(0, 7);
-    for (int attempt = 0; attempt < 16; ++attempt) {
-      const char flipped = static_cast<char>(c ^ (1 << bit(rng_corrupt)));
-      if (is_line_end(flipped) || flipped == ';' || flipped == '*' || flipped == '\b' ||
-          flipped == '\0' || flipped == '\\' || flipped == 'N' || flipped == 'n') {
-        continue;
-      }
-      return flipped;
-    }
-    return c;
-  }
 
   void receive(std::string_view bytes) {
     if (state == PrinterState::disconnected || bytes.empty()) return;
-    Chunk chunk;
-    chunk.start = std::max(now, wire_free);
-    chunk.bytes.assign(bytes);
-    for (std::size_t k = 0; k < chunk.bytes.size(); ++k) {
-      char& c = chunk.bytes[k];
-      const bool eol = is_line_end(c);
-      const bool protected_byte = eol || c == ';' || c == '*' || c == '\b' || c == '\0' ||
-                                  c == '\\' || (wire_line_start && (c == 'N' || c == 'n'));
-      if (faults_armed && cfg.faults.corrupt > 0 && !line_corrupted && !protected_byte &&
-          chance(rng_corrupt) < cfg.faults.corrupt) {
-        const char flipped = corrupt(c);
-        if (flipped != c) {
-          c = flipped;
-          line_corrupted = true;
-          ++counters.faults_injected;
-        }
-      }
-      if (eol) {
-        line_corrupted = false;
-        wire_line_start = true;
-      } else if (c != ' ') {
-        wire_line_start = false;
-      }
-      if (cfg.emergency_parser) {
-        const Emergency e = emergency_parser.update(c);
-        if (e != Emergency::none) {
-          emergencies.push_back(
-              {chunk.start + byte_time * static_cast<double>(k + 1), bytes_sent_on_wire + k, e});
-        }
-      }
-    }
-    wire_free = chunk.start + byte_time * static_cast<double>(chunk.bytes.size());
-    bytes_sent_on_wire += chunk.bytes.size();
-    wire.push_back(std::move(chunk));
+    std::string sent(bytes);
+    counters.faults_injected += static_cast<std::uint64_t>(faults.corrupt(sent));
+    wire.send(now, std::move(sent), emergency_parser());
   }
 
-  bool queue_full() const { return static_cast<int>(queue.size()) >= cfg.queue_depth; }
+  bool emergency_parser() const { return cfg.emergency_parser && talk.emergency_parser; }
+
+  // A byte from the host reached the firmware: the wait for it, if the firmware was idle, ends.
+  void heard_from_host() {
+    if (idle_since >= 0) {
+      const double waited = now - idle_since;
+      counters.longest_idle = std::max(counters.longest_idle, waited);
+      if (ok_lost) lost_ok_waits.push_back(waited);
+      idle_since = -1;
+    } else if (ok_lost) {
+      lost_ok_waits.push_back(0);  // the host sent on before the firmware ran dry
+    }
+    ok_lost = false;
+  }
 
   // Bytes that have arrived by now go to the firmware: read at once while the queue has
   // room (Marlin's loop keeps up), else into the RX buffer, else lost. The byte that
@@ -306,115 +205,125 @@ struct Printer::Firmware {
   // its order. Returns true when it stopped at such a byte (there is more to deliver now).
   bool deliver() {
     std::size_t delivered = 0;
-    while (!wire.empty()) {
-      Chunk& chunk = wire.front();
-      std::size_t arrived = chunk.bytes.size();
-      if (byte_time > 0) {
-        const double n = std::floor((now - chunk.start) / byte_time + 1e-9);
-        arrived = n <= 0 ? 0 : std::min(chunk.bytes.size(), static_cast<std::size_t>(n));
+    while (const auto arrived = wire.peek(now)) {
+      if (arrived->emergency != Emergency::none && delivered > 0) return true;
+      wire.pop();
+      if (delivered == 0) heard_from_host();
+      const std::uint64_t clears = wire.clears();
+      arrive(arrived->byte);
+      if (wire.clears() != clears) return false;  // the line it ended disconnected the link
+      ++delivered;
+      if (arrived->emergency != Emergency::none) {
+        if (state == PrinterState::running && !frozen) emergency(arrived->emergency);
+        if (wire.clears() != clears) return false;
       }
-      while (chunk.next < arrived) {
-        const bool trigger = !emergencies.empty() && emergencies.front().byte == bytes_off_wire;
-        if (trigger && delivered > 0) return true;
-        arrive(chunk.bytes[chunk.next++]);
-        if (wire.empty()) return false;  // the line it ended disconnected the link
-        ++bytes_off_wire;
-        ++delivered;
-        if (trigger) {
-          const Emergency e = emergencies.front().kind;
-          emergencies.pop_front();
-          if (state == PrinterState::running) emergency(e);
-          if (wire.empty()) return false;  // a kill or disconnect dropped the rest
-        }
-      }
-      if (chunk.next < chunk.bytes.size()) break;
-      wire.pop_front();
     }
     return false;
   }
 
   void arrive(char c) {
-    if (state == PrinterState::booting || state == PrinterState::halted) return;
-    if (rx.empty() && !queue_full() && state == PrinterState::running) {
+    if (state == PrinterState::booting || state == PrinterState::halted || frozen) return;
+    if (!receiver.has_buffered() && !queue.full() && state == PrinterState::running) {
       ++counters.bytes_received;
       read_char(c);
       return;
     }
-    if (static_cast<int>(rx.size()) < cfg.rx_buffer_size) {
-      ++counters.bytes_received;
-      rx += c;
-      rx_dropping = false;
-      return;
+    switch (receiver.buffer(c)) {
+      case SerialReceiver::Buffered::kept: ++counters.bytes_received; break;
+      case SerialReceiver::Buffered::lost_first: ++counters.overflows; [[fallthrough]];
+      case SerialReceiver::Buffered::lost: ++counters.overflow_bytes; break;
     }
-    if (!rx_dropping) ++counters.overflows;
-    rx_dropping = true;
-    ++counters.overflow_bytes;
   }
 
   // Reads the RX buffer while the queue has room.
   void read_rx() {
-    std::size_t used = 0;
-    while (used < rx.size() && !queue_full() && state == PrinterState::running) {
-      const char c = rx[used++];
-      if (read_char(c)) used = 0;  // a line error emptied the buffer
+    while (receiver.has_buffered() && !queue.full() && state == PrinterState::running) {
+      read_char(receiver.take_buffered());
     }
-    rx.erase(0, std::min(used, rx.size()));
   }
 
-  // Marlin's get_serial_commands for one character. Returns true when a line error
-  // discarded the RX buffer.
-  bool read_char(char c) {
-    if (!is_line_end(c)) {
-      const bool was_cut = line.cut();
-      line.feed(c);
-      if (line.cut() && !was_cut) ++counters.long_lines;
-      return false;
-    }
-    const std::string raw = line.take();
-    if (raw.empty()) return false;
-    return line_done(raw);
+  // Marlin's get_serial_commands for one character.
+  void read_char(char c) {
+    bool cut = false;
+    const std::optional<std::string> raw = receiver.read(c, cut);
+    if (cut) ++counters.long_lines;
+    if (raw) line_done(*raw);
   }
 
-  bool line_done(const std::string& raw) {
-    const LineCheck check = check_line(raw, last_n);
+  void line_done(const std::string& raw) {
+    const LineCheck check =
+        check_line(raw, last_n, LineRules{talk.takes_skipped_numbers, talk.requires_checksum});
     std::optional<long> number;
     if (check.verdict != LineVerdict::unnumbered) {
-      if (check.verdict != LineVerdict::accepted) return line_error(error_text(check.verdict));
-      if (faults_armed && cfg.faults.resend > 0 && chance(rng_resend) < cfg.faults.resend) {
+      if (check.verdict == LineVerdict::wrong_line_number && skips_left > 0) {
+        // Repetier: a line sent before its resend request reached the host.
+        --skips_left;
+        emit(fmt::format("skip {}", check.number));
+        emit("ok");
+        receiver.discard_buffered();
+        return;
+      }
+      if (check.verdict != LineVerdict::accepted) return line_error(check.verdict, raw);
+      if (faults.spurious_resend()) {
         ++counters.faults_injected;
-        return line_error(error_text(LineVerdict::checksum_mismatch));
+        return line_error(LineVerdict::checksum_mismatch, raw);
       }
       last_n = check.number;
       number = check.number;
-      if (cfg.faults.from_line && check.number >= *cfg.faults.from_line) faults_armed = true;
+      skips_left = 0;
+      faults.line_accepted(check.number);
     }
 
-    Queued queued{command_text(raw), number, ++counters.lines};
-    if (!cfg.emergency_parser && !number) {
+    QueuedCommand queued{command_text(raw), number, ++counters.lines};
+    if (cfg.dialect == Dialect::repetier && queued.text.starts_with("M112")) {
+      // Repetier stops the moment it reads M112 (checkAndPushCommand), without a word.
+      log.push_back("M112");
+      ++counters.commands;
+      kill("kill() by M112", false);
+      return;
+    }
+    if (cfg.dialect == Dialect::marlin && !emergency_parser() && !number) {
       // queue.cpp's early check of unnumbered lines.
       if (queued.text.starts_with("M108")) emergency(Emergency::m108);
       if (queued.text.starts_with("M112")) emergency(Emergency::m112);
       if (queued.text.starts_with("M410")) emergency(Emergency::m410);
-      if (state != PrinterState::running) return false;
+      if (state != PrinterState::running) return;
     }
     last_activity = now;
-    queue.push_back(std::move(queued));
-    if (cfg.faults.disconnect_at_line && counters.lines == *cfg.faults.disconnect_at_line) {
+    if (talk.ok_at == OkAt::queued) ok_on_queueing(queued.text);
+    queue.push(std::move(queued));
+    if (faults.freezes_at_line(counters.lines)) frozen = true;  // fault freeze-at-line
+    if (faults.disconnects_at_line(counters.lines)) {
       disconnect(fmt::format("disconnected at line {} (fault disconnect-at-line)", counters.lines));
     }
-    return false;
   }
 
-  // gcode_line_error + flush_and_request_resend.
-  bool line_error(std::string_view what) {
+  // Repetier's ok as it queues a line (checkAndPushCommand); the command's output comes when
+  // it runs.
+  void ok_on_queueing(const std::string& text) {
+    const printer::GcodeCommand c = printer::parse_gcode_line(text);
+    const bool blocks = c.is('G', 4) || c.is('G', 28) || c.is('M', 0) || c.is('M', 1) ||
+                        c.is('M', 109) || c.is('M', 190) || c.is('M', 116) || c.is('M', 400);
+    if (ok_dropped(blocks)) return;
+    const bool twice = faults.duplicate_ok();
+    emit("ok");
+    if (twice) {
+      ++counters.faults_injected;
+      emit("ok");
+    }
+  }
+
+  // Marlin's gcode_line_error + flush_and_request_resend, in this dialect's words.
+  void line_error(LineVerdict verdict, std::string_view raw) {
     ++counters.errors;
     ++counters.resends;
-    emit(fmt::format("Error:{}{}", what, last_n));
-    rx.clear();
-    rx_dropping = false;
-    emit(fmt::format("Resend: {}", last_n + 1));
-    if (cfg.ok_after_resend) emit("ok");
-    return true;
+    const std::vector<std::string> request =
+        resend_request(cfg.dialect, error_text(verdict), last_n + 1, received_checksum(raw));
+    emit(request.front());
+    receiver.discard_buffered();
+    for (std::size_t i = 1; i < request.size(); ++i) emit(request[i]);
+    if (talk.ok_after_resend.value_or(cfg.ok_after_resend)) emit("ok");
+    if (talk.skips_after_resend) skips_left = 14;  // Repetier's waitingForResend
   }
 
   void emergency(Emergency e) {
@@ -430,7 +339,7 @@ struct Printer::Firmware {
         kill("kill() by M112");
         break;
       case Emergency::m410:
-        quickstop();
+        motion.quickstop(now);
         break;
       case Emergency::none:
         break;
@@ -439,40 +348,28 @@ struct Printer::Firmware {
 
   // ---- faults and stops ------------------------------------------------------------------
 
-  void kill(std::string reason) {
-    hotend.set_target(0);
-    bed.set_target(0);
-    emit("Error:Printer halted. kill() called!");
+  // `say`: Marlin says so; Teacup freezes and Repetier resets without a word.
+  void kill(std::string reason, bool say = true) {
+    heaters.all_off();
+    if (say) emit("Error:Printer halted. kill() called!");
     if (state != PrinterState::disconnected) state = PrinterState::halted;
     stop_reason = std::move(reason);
     queue.clear();
     executing = false;
     wait = Wait::none;
-    rx.clear();
-    line.take();
-    next_busy = next_wait_report = next_autoreport = runaway_at = kInfinity;
-    quickstop();
+    receiver.discard_buffered();
+    receiver.drop_line();
+    next_busy = next_wait_report = next_autoreport = kInfinity;
+    motion.quickstop(now);
   }
 
   void disconnect(std::string reason) {
     ++counters.faults_injected;
     state = PrinterState::disconnected;
     stop_reason = std::move(reason);
-    wire.clear();
-    emergencies.clear();
-    bytes_off_wire = bytes_sent_on_wire;
-    rx.clear();
-    out.clear();
-  }
-
-  void update_runaway() {
-    // Thermal protection: a failed heater that stays `hysteresis` below its target for
-    // `period` seconds stops the printer.
-    runaway_at = kInfinity;
-    if (!hotend.failed() || hotend.target() <= cfg.ambient) return;
-    const double below = hotend.target() - cfg.runaway_hysteresis;
-    const double from = hotend.temperature() < below ? now : hotend.time_reaching(below);
-    runaway_at = from + cfg.runaway_period;
+    wire.clear(now);
+    receiver.discard_buffered();
+    replies.clear(now);
   }
 
   void thermal_runaway() {
@@ -481,200 +378,28 @@ struct Printer::Firmware {
     kill("thermal runaway (fault runaway-at-line)");
   }
 
-  // ---- motion ----------------------------------------------------------------------------
-
-  // Queues a move in the planner; returns when it could enter (a slot was free).
-  double plan_move(printer::AxisPosition target, double speed) {
-    const printer::AxisPosition from = motion.position();
-    const bool moves = target.x != from.x || target.y != from.y || target.z != from.z ||
-                       target.e != from.e;
-    const std::size_t before = motion.pending();
-    const double seconds = motion.push(target, speed);
-    const std::size_t opened = before + (moves ? 1 : 0);
-    const std::size_t finalized = opened > motion.pending() ? opened - motion.pending() : 0;
-    if (moves) open_moves.push_back(now);
-    if (finalized == 0) return now;
-    const double start = std::max(stepper_free, open_moves.front());
-    for (std::size_t i = 0; i < finalized && !open_moves.empty(); ++i) open_moves.pop_front();
-    stepper_free = start + seconds;
-    return std::max(now, stepper_free);
-  }
-
-  // planner.synchronize(): every queued move runs out. Returns when the last one ends.
-  double finish_motion() {
-    const double seconds = motion.flush();
-    if (!open_moves.empty()) {
-      const double start = std::max(stepper_free, open_moves.front());
-      stepper_free = std::max(start + seconds, open_moves.back());
-      open_moves.clear();
-    }
-    return std::max(now, stepper_free);
-  }
-
-  void quickstop() {
-    // The sim cannot say where inside a move the head stopped: queued moves are dropped
-    // from the clock and the position stays where the last command put it.
-    motion.flush();
-    open_moves.clear();
-    stepper_free = std::min(stepper_free, now);
-    motion.set_position({pos.x, pos.y, pos.z, motion_e});
-  }
-
-  bool e_relative() const {
-    if (e_mode == EMode::relative) return true;
-    if (e_mode == EMode::absolute) return false;
-    return relative;
-  }
-
-  // Where a G0-G3 goes, in the current modes; F sets the feedrate.
-  Position destination(const printer::GcodeCommand& c) {
-    Position target = pos;
-    if (auto v = c.get('X')) target.x = relative ? pos.x + *v : *v;
-    if (auto v = c.get('Y')) target.y = relative ? pos.y + *v : *v;
-    if (auto v = c.get('Z')) target.z = relative ? pos.z + *v : *v;
-    if (auto v = c.get('E')) target.e = e_relative() ? pos.e + *v : *v;
-    if (auto f = c.get('F'); f && *f > 0) feedrate = *f / 60.0;
-    return target;
-  }
-
-  // One straight move: recorded if it extrudes, queued in the planner. Returns when it
-  // entered the planner.
-  double line_to(const Position& target) {
-    const double speed = feedrate * feed_percent / 100.0;
-    const double fed = (target.e - pos.e) * flow_percent / 100.0;
-    const geometry::Vec2 start{pos.x, pos.y}, end{target.x, target.y};
-    pos = target;
-    motion_e += fed;
-    if (fed > 0 && !(start == end)) record.add(target.z, start, end, fed, speed);
-    return plan_move({pos.x, pos.y, pos.z, motion_e}, speed);
-  }
-
-  double move(const printer::GcodeCommand& c) { return line_to(destination(c)); }
-
-  // G2 (clockwise) / G3: an arc in XY about the centre at I, J from the start (or of radius
-  // R), Z and E spread along it, cut into 1 mm segments (Marlin's plan_arc with
-  // MM_PER_ARC_SEGMENT 1). A start equal to the end with I/J is a full circle.
-  double arc(const printer::GcodeCommand& c, bool clockwise) {
-    const Position start = pos;
-    const Position target = destination(c);
-    double i = c.get('I').value_or(0), j = c.get('J').value_or(0);
-    if (auto r = c.get('R'); r && *r != 0 && (target.x != start.x || target.y != start.y)) {
-      const double e = (clockwise != (*r < 0)) ? -1 : 1;
-      const double dx = target.x - start.x, dy = target.y - start.y, d = std::hypot(dx, dy);
-      const double h2 = (*r - 0.5 * d) * (*r + 0.5 * d), h = h2 >= 0 ? std::sqrt(h2) : 0.0;
-      const double cx = (start.x + target.x) / 2 + e * h * -dy / d;
-      const double cy = (start.y + target.y) / 2 + e * h * dx / d;
-      i = cx - start.x;
-      j = cy - start.y;
-    }
-    const double cx = start.x + i, cy = start.y + j;
-    const double radius = std::hypot(i, j);
-    const double ax = -i, ay = -j;  // centre to start
-    const double bx = target.x - cx, by = target.y - cy;
-    double angle = std::atan2(ax * by - ay * bx, ax * bx + ay * by);
-    if (angle < 0) angle += 2 * std::numbers::pi;
-    if (clockwise) angle -= 2 * std::numbers::pi;
-    if (angle == 0 && start.x == target.x && start.y == target.y && radius > 0) {
-      angle = clockwise ? -2 * std::numbers::pi : 2 * std::numbers::pi;
-    }
-    const double flat = radius * std::abs(angle), rise = target.z - start.z;
-    const double travel = std::hypot(flat, rise);
-    if (!(radius > 0) || travel < 0.001) return line_to(target);
-    const int segments = std::max(1, static_cast<int>(std::floor(travel / 1.0)));
-    double entered = now;
-    for (int k = 1; k <= segments; ++k) {
-      Position p = target;
-      if (k < segments) {
-        const double share = static_cast<double>(k) / segments, turn = angle * share;
-        p.x = cx + ax * std::cos(turn) - ay * std::sin(turn);
-        p.y = cy + ax * std::sin(turn) + ay * std::cos(turn);
-        p.z = start.z + rise * share;
-        p.e = start.e + (target.e - start.e) * share;
-      }
-      entered = std::max(entered, line_to(p));
-    }
-    return entered;
-  }
-
-  double home(const printer::GcodeCommand& c) {
-    finish_motion();
-    const bool all = !c.has('X') && !c.has('Y') && !c.has('Z');
-    printer::AxisPosition at{pos.x, pos.y, pos.z, motion_e};
-    motion.set_position(at);
-    double seconds = 0;
-    for (int axis = 0; axis < 3; ++axis) {
-      if (!all && !c.has("XYZ"[axis])) continue;
-      double* coordinate = axis == 0 ? &at.x : axis == 1 ? &at.y : &at.z;
-      const double speed = cfg.homing_feedrate[axis];
-      const double bump = cfg.homing_bump[axis];
-      *coordinate = 0;  // to the endstop at 0
-      seconds += motion.push(at, speed);
-      *coordinate = bump;  // back off
-      seconds += motion.push(at, speed);
-      *coordinate = 0;  // and touch again, slower
-      seconds += motion.push(at, speed / (axis == 2 ? 4 : 2));
-      seconds += motion.flush();
-      (axis == 0 ? pos.x : axis == 1 ? pos.y : pos.z) = 0;
-    }
-    stepper_free = std::max(stepper_free, now) + seconds;
-    return stepper_free;
-  }
-
-  void set_position(const printer::GcodeCommand& c) {
-    if (auto v = c.get('X')) pos.x = *v;
-    if (auto v = c.get('Y')) pos.y = *v;
-    if (auto v = c.get('Z')) pos.z = *v;
-    if (auto v = c.get('E')) pos.e = *v;
-    motion.set_position({pos.x, pos.y, pos.z, motion_e});
-  }
-
-  std::string position_report() const {
-    return fmt::format("X:{:.2f} Y:{:.2f} Z:{:.2f} E:{:.2f} Count X:{} Y:{} Z:{}", pos.x, pos.y,
-                       pos.z, pos.e, std::lround(pos.x * cfg.steps_per_mm[0]),
-                       std::lround(pos.y * cfg.steps_per_mm[1]),
-                       std::lround(pos.z * cfg.steps_per_mm[2]));
-  }
-
   // ---- heaters ---------------------------------------------------------------------------
-
-  void set_hotend(double target) {
-    hotend.set_target(std::clamp(target, 0.0, cfg.max_hotend_temp));
-    update_runaway();
-  }
-  void set_bed(double target) { bed.set_target(std::clamp(target, 0.0, cfg.max_bed_temp)); }
 
   // M109/M190: wait_for_hotend / wait_for_bed. Reports at once and every second; done when
   // within the window for the residency time and at the target.
-  double heat_wait(Heater& heater, const HeaterConstants& constants, bool wait_for_cooling) {
-    emit_wait_report(constants);
+  void heat_wait(Heaters::Which which, bool wait_for_cooling) {
+    heating_report(which);
     next_wait_report = now + 1;
-    const double target = heater.target();
-    const bool cooling = heater.temperature() > target;
-    if (cooling && !wait_for_cooling) return now;
-    if (std::abs(heater.temperature() - target) <= constants.window) {
-      residency_from = now;
-    } else {
-      residency_from = heater.time_reaching(cooling ? target + constants.window
-                                                    : target - constants.window);
-    }
-    const double at_target = heater.time_reaching(target);
-    return std::max(at_target, residency_from + constants.residency);
+    done_at = heaters.start_wait(which, wait_for_cooling, now);
+    wait = which == Heaters::Which::hotend ? Wait::hotend : Wait::bed;
   }
 
-  void emit_wait_report(const HeaterConstants& constants) {
-    std::string w = "?";
-    if (residency_from <= now) {
-      const long left_ms = std::lround((constants.residency - (now - residency_from)) * 1000);
-      w = fmt::format("{}", left_ms / 1000);
-    }
-    emit(heater_states() + " W:" + w);
+  // The report a heating wait prints each second: Marlin's with "W:", Repetier's without.
+  void heating_report(Heaters::Which which) {
+    if (!talk.reports_while_heating) return;
+    emit(talk.wait_report_field ? heaters.wait_report(which, now) : heaters.states());
   }
 
   // ---- commands --------------------------------------------------------------------------
 
   void start_next() {
-    Queued& command = queue.front();
-    if (cfg.faults.halt_at_line && command.index == *cfg.faults.halt_at_line) {
+    QueuedCommand& command = queue.front();
+    if (faults.halts_at(command.index)) {
       ++counters.faults_injected;
       kill(fmt::format("halted at line {} (fault halt-at-line)", command.index));
       return;
@@ -685,39 +410,76 @@ struct Printer::Firmware {
     wait = Wait::none;
     done_at = now;
     report_position_after = ok_with_temperatures = false;
-    next_busy = busy_interval > 0 ? now + busy_interval : kInfinity;
-    if (cfg.faults.runaway_at_line && command.index == *cfg.faults.runaway_at_line) {
+    next_busy = talk.busy_keepalive && busy_interval > 0 ? now + busy_interval : kInfinity;
+    if (faults.fails_heater_at(command.index)) {
       ++counters.faults_injected;
-      hotend.fail();
-      update_runaway();
+      heaters.fail_hotend(now);
     }
+    if (talk.ok_at != OkAt::start) {
+      execute(command);
+      return;
+    }
+    // Teacup writes "ok " before it runs the command and puts its output on the same line.
+    said.clear();
+    saying = true;
     execute(command);
+    saying = false;
+    if (state != PrinterState::running) return;  // M112 or a fault stopped it
+    const bool blocked = wait != Wait::none && wait != Wait::planner;
+    const bool dropped = ok_dropped(blocked);
+    const bool twice = !dropped && faults.duplicate_ok();
+    std::string ok = "ok";
+    if (talk.output_on_ok_line) {  // a lost ok loses what was on its line
+      for (const std::string& text : said) ok += " " + text;
+      said.clear();
+    }
+    if (!dropped) {
+      emit(ok);
+      if (twice) {
+        ++counters.faults_injected;
+        emit(ok);
+      }
+    }
+    for (std::string& text : said) emit(std::move(text));
+    said.clear();
   }
 
   void complete() {
+    const bool blocked = wait != Wait::none && wait != Wait::planner;
     executing = false;
     wait = Wait::none;
-    next_busy = next_wait_report = residency_from = kInfinity;
+    next_busy = next_wait_report = kInfinity;
+    heaters.end_wait();
     last_activity = now;
-    if (report_position_after) emit(position_report());  // G28 ends with it
-    send_ok(queue.front(), ok_with_temperatures);
-    queue.pop_front();
+    if (talk.ok_at == OkAt::done) {
+      if (report_position_after) emit(position_reply());  // G28 ends with it
+      send_ok(queue.front(), ok_with_temperatures, blocked);
+    }
+    queue.pop();
   }
 
-  void unknown(const std::string& text) {
+  std::string position_reply() const {
+    const Motion::Head& h = motion.head();
+    const double steps[3] = {cfg.steps_per_mm[0], cfg.steps_per_mm[1], cfg.steps_per_mm[2]};
+    return sim::position_reply(cfg.dialect, {h.x, h.y, h.z, h.e}, motion.feedrate(), steps);
+  }
+
+  void unknown(const std::string& text, const printer::GcodeCommand& c) {
     ++counters.unknown_commands;
-    emit(fmt::format("echo:Unknown command: \"{}\"", text));
+    say(unknown_reply(cfg.dialect, text, c));
   }
 
-  void execute(const Queued& command) {
+  void execute(const QueuedCommand& command) {
     const printer::GcodeCommand c = printer::parse_gcode_line(command.text);
+    if (!knows(cfg.dialect, c)) return unknown(command.text, c);
+    if (cfg.dialect != Dialect::marlin && execute_other_dialect(c)) return;
     if (c.letter == 'G') {
       switch (c.code) {
         case 0:
         case 1:
         case 2:
         case 3: {
-          done_at = c.code <= 1 ? move(c) : arc(c, c.code == 2);
+          done_at = c.code <= 1 ? motion.move(c, now) : motion.arc(c, c.code == 2, now);
           if (done_at > now) wait = Wait::planner;
           return;
         }
@@ -725,18 +487,18 @@ struct Printer::Firmware {
           double dwell = 0;
           if (auto p = c.get('P')) dwell = *p / 1000.0;
           if (auto s = c.get('S')) dwell = *s;
-          done_at = finish_motion() + std::max(dwell, 0.0);
+          done_at = motion.finish(now) + std::max(dwell, 0.0);
           wait = Wait::motion;
           return;
         }
         case 28:
-          done_at = home(c);
+          done_at = motion.home(c, now);
           wait = Wait::motion;
           report_position_after = true;
           return;
-        case 90: relative = false; e_mode = EMode::follow; return;
-        case 91: relative = true; e_mode = EMode::follow; return;
-        case 92: set_position(c); return;
+        case 90: motion.absolute_positioning(true); return;
+        case 91: motion.absolute_positioning(false); return;
+        case 92: motion.set_position(c); return;
         default: break;
       }
     } else if (c.letter == 'M') {
@@ -746,7 +508,7 @@ struct Printer::Firmware {
           double limit = kInfinity;
           if (auto p = c.get('P')) limit = *p / 1000.0;
           if (auto s = c.get('S')) limit = *s;
-          done_at = finish_motion() + limit;
+          done_at = motion.finish(now) + limit;
           wait = Wait::user;
           return;
         }
@@ -755,17 +517,21 @@ struct Printer::Firmware {
         case 18:
         case 84:
           if (!c.has('S')) {
-            done_at = finish_motion();
+            done_at = motion.finish(now);
             wait = Wait::motion;
           }
           return;
-        case 82: e_mode = EMode::absolute; return;
-        case 83: e_mode = EMode::relative; return;
+        case 82: motion.absolute_extrusion(true); return;
+        case 83: motion.absolute_extrusion(false); return;
         case 104:
-          if (auto s = c.get('S')) set_hotend(*s);
+          if (auto s = c.get('S')) heaters.set_hotend(*s, now);
           return;
         case 105:
-          ok_with_temperatures = true;
+          if (cfg.dialect == Dialect::marlin) {
+            ok_with_temperatures = true;
+          } else {
+            say(heaters.states());  // Repetier: a line after its ok
+          }
           return;
         case 106: fan = static_cast<int>(std::clamp(c.get('S').value_or(255), 0.0, 255.0)); return;
         case 107: fan = 0; return;
@@ -776,30 +542,29 @@ struct Printer::Firmware {
           const auto s = c.get('S');
           const auto r = c.get('R');
           if (!s && !r) return;
-          hot ? set_hotend(s ? *s : *r) : set_bed(s ? *s : *r);
+          hot ? heaters.set_hotend(s ? *s : *r, now) : heaters.set_bed(s ? *s : *r);
           // The planner runs dry while the firmware waits: later moves start from rest.
-          finish_motion();
-          done_at = hot ? heat_wait(hotend, cfg.hotend, !s) : heat_wait(bed, cfg.bed, !s);
-          wait = hot ? Wait::hotend : Wait::bed;
+          motion.finish(now);
+          heat_wait(hot ? Heaters::Which::hotend : Heaters::Which::bed, !s);
           return;
         }
         case 110:
           if (auto n = c.get('N')) last_n = static_cast<long>(*n);
           return;
         case 112:
-          kill("kill() by M112");
+          kill("kill() by M112", cfg.dialect == Dialect::marlin);
           return;
         case 113:
           if (auto s = c.get('S')) busy_interval = std::clamp(*s, 0.0, 60.0);
           return;
         case 114:
-          emit(position_report());
+          say(position_reply());
           return;
         case 115:
           report_firmware();
           return;
         case 140:
-          if (auto s = c.get('S')) set_bed(*s);
+          if (auto s = c.get('S')) heaters.set_bed(*s);
           return;
         case 155:
           if (auto s = c.get('S')) {
@@ -808,20 +573,20 @@ struct Printer::Firmware {
           }
           return;
         case 201: case 203: case 204: case 205:
-          set_limits(c);
+          motion.set_limits(c);
           return;
         case 220:
-          if (auto s = c.get('S')) feed_percent = std::max(*s, 1.0);
+          if (auto s = c.get('S')) motion.set_feed_percent(std::max(*s, 1.0));
           return;
         case 221:
-          if (auto s = c.get('S')) flow_percent = std::max(*s, 0.0);
+          if (auto s = c.get('S')) motion.set_flow_percent(std::max(*s, 0.0));
           return;
         case 400:
-          done_at = finish_motion();
+          done_at = motion.finish(now);
           wait = Wait::motion;
           return;
         case 410:
-          quickstop();
+          motion.quickstop(now);
           return;
         case 999:
           if (!c.has('S') || c.get('S').value_or(0) == 0) {
@@ -835,37 +600,52 @@ struct Printer::Firmware {
       if (c.code > 0) emit(fmt::format("echo:T{} Invalid extruder", c.code));
       return;
     }
-    unknown(command.text);
+    unknown(command.text, c);
   }
 
-  void set_limits(const printer::GcodeCommand& c) {
-    printer::MotionLimits limits = motion.limits();
-    constexpr std::string_view axes = "XYZE";
-    for (int axis = 0; axis < 4; ++axis) {
-      const auto v = c.get(axes[axis]);
-      if (!v || *v <= 0) continue;
-      if (c.code == 201) limits.max_acceleration[axis] = *v;
-      if (c.code == 203) limits.max_speed[axis] = *v;
+  // What Teacup and Repetier do differently from Marlin's switch; false: Marlin's way.
+  bool execute_other_dialect(const printer::GcodeCommand& c) {
+    if (c.is('M', 116)) {
+      // Wait for every heater with a target, in turn (Teacup's temp_achieved, Repetier's M116).
+      motion.finish(now);
+      done_at = now;
+      for (const Heaters::Which which : {Heaters::Which::bed, Heaters::Which::hotend}) {
+        const Heater& h = which == Heaters::Which::bed ? heaters.bed() : heaters.hotend();
+        if (h.target() > 0) done_at = std::max(done_at, heaters.start_wait(which, false, now));
+      }
+      wait = Wait::hotend;
+      next_wait_report = talk.reports_while_heating ? now + 1 : kInfinity;
+      return true;
     }
-    if (c.code == 204) {
-      if (auto s = c.get('S'); s && *s > 0) limits.print_acceleration = limits.travel_acceleration = *s;
-      if (auto p = c.get('P'); p && *p > 0) limits.print_acceleration = *p;
-      if (auto r = c.get('R'); r && *r > 0) limits.retract_acceleration = *r;
-      if (auto t = c.get('T'); t && *t > 0) limits.travel_acceleration = *t;
+    if (cfg.dialect != Dialect::teacup) return false;
+    if (c.letter == 'G' && (c.code == 20 || c.code == 21)) return true;  // units: mm only here
+    if (c.letter != 'M') return false;
+    switch (c.code) {
+      case 0:
+      case 2:
+      case 84:
+        // Teacup's M0/M2/M84 (slic3r's end G-code): wait for the moves, heaters and motors off.
+        done_at = motion.finish(now);
+        wait = Wait::motion;
+        heaters.set_hotend(0, now);
+        heaters.set_bed(0);
+        return true;
+      case 105:
+        say(teacup_temperatures(heaters.hotend().temperature(), heaters.bed().temperature()));
+        return true;
+      case 110:
+        return true;  // "a no-op in Teacup": the line's own N set the count
+      case 115:
+        say(firmware_report(cfg.dialect, kVersion));
+        return true;
+      default:
+        return false;
     }
-    if (c.code == 205) {
-      if (auto j = c.get('J'); j && *j > 0) limits.junction_deviation = *j;
-      if (auto s = c.get('S'); s && *s >= 0) limits.min_feedrate = *s;
-    }
-    motion.set_limits(limits);
   }
 
   void report_firmware() {
-    emit(fmt::format(
-        "FIRMWARE_NAME:Marlin {} (mahost simulated printer) "
-        "SOURCE_CODE_URL:github.com/MarlinFirmware/Marlin PROTOCOL_VERSION:1.0 "
-        "MACHINE_TYPE:mahost sim EXTRUDER_COUNT:1 UUID:cede2a2f-41a2-4748-9b12-c55c62f367ff",
-        kVersion));
+    say(firmware_report(cfg.dialect, kVersion));
+    if (cfg.dialect != Dialect::marlin) return;
     const std::pair<std::string_view, bool> caps[] = {
         {"SERIAL_XON_XOFF", false},   {"BINARY_FILE_TRANSFER", false},
         {"EEPROM", false},            {"VOLUMETRIC", false},
@@ -874,7 +654,7 @@ struct Printer::Firmware {
         {"RUNOUT", false},            {"Z_PROBE", false},
         {"LEVELING_DATA", false},     {"BUILD_PERCENT", true},
         {"SOFTWARE_POWER", false},    {"TOGGLE_LIGHTS", false},
-        {"CASE_LIGHT_BRIGHTNESS", false}, {"EMERGENCY_PARSER", cfg.emergency_parser},
+        {"CASE_LIGHT_BRIGHTNESS", false}, {"EMERGENCY_PARSER", emergency_parser()},
         {"PROMPT_SUPPORT", false},    {"SDCARD", false},
         {"REPEAT", false},            {"AUTOREPORT_SD_STATUS", false},
         {"LONG_FILENAME", false},     {"THERMAL_PROTECTION", true},
@@ -890,8 +670,7 @@ struct Printer::Firmware {
   void advance_clock(double t) {
     if (t <= now) return;
     now = t;
-    hotend.advance_to(now);
-    bed.advance_to(now);
+    heaters.advance_to(now);
   }
 
   // Does everything due at `now`.
@@ -900,22 +679,18 @@ struct Printer::Firmware {
       deliver();  // input during boot is lost
       finish_boot();
     }
-    if (cfg.faults.disconnect_at_time && !disconnect_time_done &&
-        now >= *cfg.faults.disconnect_at_time) {
-      disconnect_time_done = true;
-      if (state != PrinterState::disconnected) {
-        disconnect(fmt::format("disconnected at {:g} s (fault disconnect-at-time)",
-                               *cfg.faults.disconnect_at_time));
-      }
+    if (faults.disconnect_time_due(now) && state != PrinterState::disconnected) {
+      disconnect(fmt::format("disconnected at {:g} s (fault disconnect-at-time)",
+                             *cfg.faults.disconnect_at_time));
     }
-    if (now >= runaway_at && state != PrinterState::halted) thermal_runaway();
+    if (now >= heaters.runaway_at() && state != PrinterState::halted) thermal_runaway();
     for (bool progress = true; progress;) {
       progress = deliver();
       if (state != PrinterState::running && state != PrinterState::disconnected) {
-        rx.clear();
+        receiver.discard_buffered();
         return;
       }
-      if (!rx.empty() && !queue_full()) read_rx();
+      if (receiver.has_buffered() && !queue.full()) read_rx();
       if (!executing && !queue.empty()) {
         start_next();
         progress = true;
@@ -930,29 +705,26 @@ struct Printer::Firmware {
       next_busy = now + busy_interval;
     }
     if (executing && now >= next_wait_report) {
-      if (wait == Wait::hotend) emit_wait_report(cfg.hotend);
-      if (wait == Wait::bed) emit_wait_report(cfg.bed);
+      if (wait == Wait::hotend) heating_report(Heaters::Which::hotend);
+      if (wait == Wait::bed) heating_report(Heaters::Which::bed);
       next_wait_report = now + 1;
     }
     if (now >= next_autoreport) {
-      emit(heater_states());
+      emit(heaters.states());
       next_autoreport = now + autoreport_interval;
     }
-    if (cfg.idle_wait_interval > 0 && !executing && queue.empty() && rx.empty() &&
-        now >= last_activity + cfg.idle_wait_interval) {
+    if (idle_wait_interval() > 0 && !executing && queue.empty() && !receiver.has_buffered() &&
+        now >= last_activity + idle_wait_interval()) {
       emit("wait");
       last_activity = now;
     }
+    if (state == PrinterState::running && idle() && idle_since < 0) idle_since = now;
   }
 
-  // Arrival of the next line end on the wire (when the firmware would read it).
-  double next_line_end() const {
-    for (const Chunk& chunk : wire) {
-      for (std::size_t k = chunk.next; k < chunk.bytes.size(); ++k) {
-        if (is_line_end(chunk.bytes[k])) return chunk.start + byte_time * static_cast<double>(k + 1);
-      }
-    }
-    return kInfinity;
+  // NO_TIMEOUTS' "wait"; Repetier says it each second by default (WAITING_IDENTIFIER).
+  double idle_wait_interval() const {
+    if (cfg.idle_wait_interval > 0) return cfg.idle_wait_interval;
+    return talk.says_wait_when_idle ? 1.0 : 0.0;
   }
 
   // The next time after now at which the firmware does something on its own. settle() has
@@ -962,19 +734,17 @@ struct Printer::Firmware {
     const auto consider = [&](double t) {
       if (t > now && t < next) next = t;
     };
-    if (!out.empty()) consider(out.front().at);
-    if (cfg.faults.disconnect_at_time && !disconnect_time_done) {
-      consider(*cfg.faults.disconnect_at_time);
-    }
+    consider(replies.next_arrival());
+    consider(faults.next_disconnect_time());
     if (state == PrinterState::booting) {
       consider(boot_done);
       return next;
     }
     if (state == PrinterState::halted) return next;
-    if (!emergencies.empty()) consider(emergencies.front().at);
-    if (!queue_full() && state == PrinterState::running) {
+    consider(wire.next_emergency());
+    if (!queue.full() && state == PrinterState::running) {
       // Bytes just received are due now (settle() has read everything that came before).
-      const double line_end = std::max(next_line_end(), now);
+      const double line_end = std::max(wire.next_line_end(), now);
       if (line_end < next) next = line_end;
     }
     if (executing) {
@@ -983,9 +753,9 @@ struct Printer::Firmware {
       consider(next_wait_report);
     }
     consider(next_autoreport);
-    consider(runaway_at);
-    if (cfg.idle_wait_interval > 0 && !executing && queue.empty()) {
-      consider(last_activity + cfg.idle_wait_interval);
+    consider(heaters.runaway_at());
+    if (idle_wait_interval() > 0 && !executing && queue.empty()) {
+      consider(last_activity + idle_wait_interval());
     }
     return next;
   }
@@ -993,15 +763,20 @@ struct Printer::Firmware {
   bool run(double until, bool stop_on_output) {
     for (;;) {
       settle();
-      if (stop_on_output && output_ready()) return true;
+      if (stop_on_output && replies.ready(now)) return true;
       const double next = next_event();
       if (next > until || next == kInfinity) {
         advance_clock(until);
         settle();
-        return output_ready();
+        return replies.ready(now);
       }
       advance_clock(next);
     }
+  }
+
+  bool idle() const {
+    return !executing && queue.empty() && !receiver.has_buffered() &&
+           wire.next_emergency() == kInfinity && wire.next_line_end() == kInfinity;
   }
 };
 
@@ -1020,7 +795,7 @@ bool Printer::run_until_output(double t) {
   return firmware_->run(std::max(t, firmware_->now), true);
 }
 
-std::string Printer::take_output() { return firmware_->take_output(); }
+std::string Printer::take_output() { return firmware_->replies.take(firmware_->now); }
 
 void Printer::reset() { firmware_->power_on(); }
 
@@ -1030,29 +805,26 @@ void Printer::reconnect() {
 }
 
 double Printer::now() const { return firmware_->now; }
-double Printer::next_event_time() const {
-  const double next = firmware_->next_event();
-  return next;
-}
+double Printer::next_event_time() const { return firmware_->next_event(); }
 PrinterState Printer::state() const { return firmware_->state; }
-bool Printer::idle() const {
-  const Firmware& f = *firmware_;
-  return !f.executing && f.queue.empty() && f.rx.empty() && f.emergencies.empty() &&
-         f.next_line_end() == std::numeric_limits<double>::infinity();
-}
+bool Printer::idle() const { return firmware_->idle(); }
 const std::string& Printer::stop_reason() const { return firmware_->stop_reason; }
 const std::vector<std::string>& Printer::executed_commands() const { return firmware_->log; }
+const std::vector<double>& Printer::lost_ok_waits() const { return firmware_->lost_ok_waits; }
 const DepositionRecord& Printer::deposition() const { return firmware_->record; }
 const Counters& Printer::counters() const { return firmware_->counters; }
 const Config& Printer::config() const { return firmware_->cfg; }
-double Printer::motion_time() const { return firmware_->motion.total_time(); }
-double Printer::motion_end_time() const { return firmware_->stepper_free; }
-void Printer::finish() { firmware_->finish_motion(); }
+double Printer::motion_time() const { return firmware_->motion.motion_time(); }
+double Printer::motion_end_time() const { return firmware_->motion.end_time(); }
+void Printer::finish() { firmware_->motion.finish(firmware_->now); }
 
-Printer::Position Printer::position() const { return firmware_->pos; }
-double Printer::hotend_temperature() const { return firmware_->hotend.temperature(); }
-double Printer::bed_temperature() const { return firmware_->bed.temperature(); }
-double Printer::hotend_target() const { return firmware_->hotend.target(); }
-double Printer::bed_target() const { return firmware_->bed.target(); }
+Printer::Position Printer::position() const {
+  const Motion::Head& head = firmware_->motion.head();
+  return {head.x, head.y, head.z, head.e};
+}
+double Printer::hotend_temperature() const { return firmware_->heaters.hotend().temperature(); }
+double Printer::bed_temperature() const { return firmware_->heaters.bed().temperature(); }
+double Printer::hotend_target() const { return firmware_->heaters.hotend().target(); }
+double Printer::bed_target() const { return firmware_->heaters.bed().target(); }
 
 }  // namespace sim

@@ -5,7 +5,8 @@
 // own clock (seconds from power-on), so whoever drives it decides how fast time goes: SimLink
 // (in-process) jumps the clock, the pty front end follows the wall clock.
 //
-// What it emulates, each as Marlin 2.x does it (Marlin/src/gcode/queue.cpp and friends):
+// What it emulates, each as Marlin 2.x does it (Marlin/src/gcode/queue.cpp and friends), or
+// as Teacup or Repetier do where Config::dialect says so (sim/dialect.h):
 // - serial input: bytes arrive at the baud rate into an RX buffer of rx_buffer_size bytes;
 //   the firmware reads them only while its command queue (queue_depth) has room, so a host
 //   that does not wait for `ok` fills the RX buffer, and bytes arriving then are lost
@@ -20,6 +21,11 @@
 // - M112, M108 and M410 act when their line is read, ahead of the queue;
 // - replies: M105, M114, M115, M155, busy keepalive, unknown commands, `start`, kill().
 // Faults (sim/faults.h) are injected on top, from their seed.
+//
+// The parts, one concern each: the wire both ways (sim/wire.h), the RX buffer and line
+// assembly (sim/serial_line.h), the command queue (sim/command_queue.h), motion and deposition
+// (sim/motion.h), the heaters and their waits (sim/heaters.h), and where faults fire
+// (sim/fault_injector.h); printer.cpp runs the commands and ties the parts together.
 //
 // Commands it runs: G0-G3 (arcs in 1 mm chords), G4, G28 (homing moves through the motion
 // model, from where the head is; it powers on at 0,0,0), G90/G91 (both also set E, as
@@ -58,6 +64,9 @@ struct Counters {
   std::uint64_t long_lines = 0;       // lines cut at max_cmd_size
   std::uint64_t unknown_commands = 0;
   std::uint64_t resets = 0;           // power-ons and resets, the first included
+  // The longest the firmware sat idle (nothing queued, running or arriving) before the host
+  // sent its next byte, s: the longest silence a host left it in (the end of the job aside).
+  double longest_idle = 0;
 };
 
 enum class PrinterState {
@@ -108,6 +117,10 @@ class Printer {
 
   // Commands in the order executed, without line number, checksum or comment ("G1 X10 Y5").
   const std::vector<std::string>& executed_commands() const;
+  // For each ok the faults dropped, how long the firmware then sat idle until the host sent
+  // its next byte, s (0 when the host sent on before it ran out of work): the time a lost ok
+  // cost.
+  const std::vector<double>& lost_ok_waits() const;
   const DepositionRecord& deposition() const;
   const Counters& counters() const;
   const Config& config() const;

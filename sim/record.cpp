@@ -41,10 +41,10 @@ void write_record_json(const Printer& printer, const std::string& path) {
   std::FILE* f = file.get();
   const Config& c = printer.config();
   const Counters& n = printer.counters();
-  fmt::print(f, "{{\n\"firmware\":{{\"name\":\"Marlin\",\"queue_depth\":{},\"planner_depth\":{},"
+  fmt::print(f, "{{\n\"firmware\":{{\"name\":\"{}\",\"queue_depth\":{},\"planner_depth\":{},"
                 "\"rx_buffer_size\":{},\"max_cmd_size\":{},\"advanced_ok\":{},"
                 "\"ok_after_resend\":{},\"emergency_parser\":{},\"baud\":{}}},\n",
-             c.queue_depth, c.planner_depth, c.rx_buffer_size, c.max_cmd_size, c.advanced_ok,
+             to_string(c.dialect), c.queue_depth, c.planner_depth, c.rx_buffer_size, c.max_cmd_size, c.advanced_ok,
              c.ok_after_resend, c.emergency_parser, c.baud);
   fmt::print(f, "\"faults\":{},\n\"state\":\"{}\",\n\"stop_reason\":{},\n", json_string(to_string(c.faults)),
              state_name(printer.state()), json_string(printer.stop_reason()));
@@ -52,10 +52,15 @@ void write_record_json(const Printer& printer, const std::string& path) {
   fmt::print(f,
              "\"counters\":{{\"bytes_received\":{},\"bytes_sent\":{},\"lines\":{},\"commands\":{},"
              "\"resends\":{},\"errors\":{},\"faults_injected\":{},\"overflows\":{},"
-             "\"overflow_bytes\":{},\"long_lines\":{},\"unknown_commands\":{},\"resets\":{}}},\n",
+             "\"overflow_bytes\":{},\"long_lines\":{},\"unknown_commands\":{},\"resets\":{},"
+             "\"longest_idle\":{}}},\n",
              n.bytes_received, n.bytes_sent, n.lines, n.commands, n.resends, n.errors,
              n.faults_injected, n.overflows, n.overflow_bytes, n.long_lines, n.unknown_commands,
-             n.resets);
+             n.resets, n.longest_idle);
+  fmt::print(f, "\"lost_ok_waits\":[");
+  const auto& waits = printer.lost_ok_waits();
+  for (std::size_t i = 0; i < waits.size(); ++i) fmt::print(f, "{}{}", i ? "," : "", waits[i]);
+  fmt::print(f, "],\n");
   fmt::print(f, "\"commands\":[");
   const auto& commands = printer.executed_commands();
   for (std::size_t i = 0; i < commands.size(); ++i) {

@@ -2,11 +2,14 @@
 // tests and users to compare with what was planned.
 //
 // JSON object:
-//   "firmware":    the emulated configuration (queue, planner, RX buffer, ADVANCED_OK, ...)
+//   "firmware":    the emulated configuration: "name" its dialect (marlin, teacup, repetier),
+//                  queue, planner, RX buffer, ADVANCED_OK, ...
 //   "faults":      the fault spec in effect ("" for none)
 //   "state", "stop_reason": running/halted/disconnected and why
 //   "sim_time":    the simulator's clock at the end, s; "motion_time": seconds of motion
-//   "counters":    lines, commands, resends, errors, faults_injected, overflows, ...
+//   "counters":    lines, commands, resends, errors, faults_injected, overflows, ...,
+//                  longest_idle (s)
+//   "lost_ok_waits": per ok the faults dropped, the idle wait it caused (Printer::lost_ok_waits), s
 //   "commands":    the executed-command log, in execution order
 //   "moves":       the deposition record: {"layer","z","x0","y0","x1","y1","e","f"} each
 //                  (mm, mm of filament, mm/s)

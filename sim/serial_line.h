@@ -36,6 +36,37 @@ class LineAssembler {
   bool skip_ = false, escape_ = false, cut_ = false;
 };
 
+// get_serial_commands' receive side: the RX buffer bytes wait in while the command queue is
+// full (rx_buffer_size bytes; more are lost, as on Marlin, counted once per run of lost bytes)
+// and the line being assembled from the bytes read. The firmware decides when to read.
+class SerialReceiver {
+ public:
+  SerialReceiver(int rx_buffer_size, int max_cmd_size)
+      : rx_size_(rx_buffer_size), line_(max_cmd_size) {}
+
+  // A byte the firmware cannot read yet: kept in the RX buffer, or lost (the first of a run
+  // of lost bytes is one overflow).
+  enum class Buffered { kept, lost_first, lost };
+  Buffered buffer(char c);
+  bool has_buffered() const { return !rx_.empty(); }
+  char take_buffered();
+  // The RX buffer's bytes are discarded (a line error, a kill, a reset).
+  void discard_buffered();
+
+  // Reads one byte into the line; at a line end, returns the line Marlin kept (empty lines
+  // are not returned). `cut` is set when this byte cut the line at max_cmd_size.
+  std::optional<std::string> read(char c, bool& cut);
+  // Drops the line being assembled.
+  void drop_line() { line_.take(); }
+
+ private:
+  int rx_size_;
+  std::string rx_;
+  std::size_t rx_read_ = 0;  // bytes of rx_ already taken
+  bool dropping_ = false;    // inside a run of lost bytes
+  LineAssembler line_;
+};
+
 // Marlin's checks of a line that starts with N (after blanks), in its order: the number must
 // follow last_n (unless the line holds M110), then a checksum must be there and match.
 enum class LineVerdict { unnumbered, accepted, wrong_line_number, no_checksum, checksum_mismatch };
@@ -44,6 +75,16 @@ struct LineCheck {
   long number = 0;  // the N (for M110 lines, the N after M110 when given)
 };
 LineCheck check_line(std::string_view line, long last_n);
+// The same with another firmware's rules: Teacup takes any number from last_n + 1 up and a
+// numbered line without checksum.
+struct LineRules {
+  bool takes_skipped_numbers = false;
+  bool requires_checksum = true;
+};
+LineCheck check_line(std::string_view line, long last_n, LineRules rules);
+// The XOR of the bytes before the last '*' (all of them without one): the checksum a
+// firmware computes of what it received.
+int received_checksum(std::string_view line);
 
 // "Line Number is not Last Line Number+1, Last Line: " and so on, for an error verdict.
 std::string_view error_text(LineVerdict verdict);

@@ -565,7 +565,7 @@ void PrinterSession::connect_printer() {
     link_.link.reset();
     link_ = open_link(options_.link, options_.profiles.printer, options_.baud);
   }
-  protocol_ = std::make_unique<printer::LineProtocol>(*link_.link, protocol_options(options_.link));
+  protocol_ = std::make_unique<printer::LineProtocol>(*link_.link, protocol_options(options_.link, options_.profiles.printer));
   install_idle_hook();
   host::connect(*protocol_, link_);
   autoreport_ = protocol_->firmware().autoreport_temperature;
@@ -616,13 +616,13 @@ void PrinterSession::find_interrupted() {
     } catch (const printer::ConfigError&) {
       continue;
     }
-    if (record.state == "completed" || record.state == "cancelled") continue;
+    if (record.state == printer::JobState::completed || record.state == printer::JobState::cancelled) continue;
     if (record.port != port || other_mahost_running(record.pid)) continue;
     if (file_hash(record.gcode_path) != record.gcode_hash) continue;  // gone or changed
     InterruptedJob job;
     job.journal = entry.path().string();
     job.file = record.gcode_path;
-    job.state = record.state;
+    job.state = std::string(printer::to_string(record.state));
     job.reason = record.reason;
     job.updated = record.updated;
     job.layer = record.layer_index + 1;
@@ -800,8 +800,8 @@ void PrinterSession::run_job(const JobStart& start) {
   options.resume_command =
       dry_run ? std::string("reconnect, then resume it on the mahost serve page")
               : fmt::format("reconnect and resume it on the mahost serve page, or stop mahost serve "
-                            "and run mahost resume {} --port {}",
-                            journal, options_.link.port);
+                            "and run {}",
+                            printer::resume_command(journal, options_.link.port));
   if (sim_at_full_speed()) options.paused_wait = wait_real_time;
 
   {

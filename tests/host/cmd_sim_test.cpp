@@ -279,6 +279,8 @@ TEST_CASE("sim_refuses_a_bad_time_scale_and_baud") {
   CHECK(baud.exit_code == 2);
   CHECK(std::count(baud.err.begin(), baud.err.end(), '\n') == 1);
   CHECK(baud.err.find("--baud") != std::string::npos);
+  CHECK(baud.err.find("0 is not a serial speed; give one of 9600, 19200, 38400, 57600, 115200, ") !=
+        std::string::npos);
 }
 
 TEST_CASE("printcore_prints_a_file_and_the_sim_executes_exactly_its_commands") {
@@ -323,4 +325,22 @@ TEST_CASE("sim_baud_paces_replies_no_faster_than_the_uart") {
   close(fd);
   int code = -1;
   sim.stop(code);
+}
+
+TEST_CASE("sim_speaks_the_dialect_it_is_told") {
+  SimProcess sim({"--time-scale", "max", "--dialect", "teacup"});
+  const int fd = open_port(sim.port());
+  REQUIRE(fd >= 0);
+  read_until(fd, "Start\nok\n", 5);
+  CHECK(write(fd, "M115\n", 5) == 5);
+  CHECK(read_until(fd, "\n", 5).starts_with("ok FIRMWARE_NAME:Teacup "));
+  CHECK(write(fd, "M190 S60\n", 9) == 9);
+  CHECK(read_until(fd, "\n", 5) == "ok E: Bad M-code 190\n");
+  close(fd);
+  int code = -1;
+  sim.stop(code);
+  CHECK(code == 0);
+  const auto bad = run_mahost({"sim", "--dialect", "klipper"});
+  CHECK(bad.exit_code == 2);
+  CHECK(bad.err.find("--dialect") != std::string::npos);
 }

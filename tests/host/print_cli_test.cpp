@@ -27,6 +27,7 @@
 #include "printer/line_protocol.h"
 #include "printer/job.h"
 #include "printer/gcode_line.h"
+#include "support/build_kind.h"
 #include "support/run_command.h"
 #include "support/solids.h"
 
@@ -168,8 +169,10 @@ TEST_CASE("dry_run_prints_a_gcode_file_and_says_what_the_print_would_do") {
   CHECK(r.out.find(" on the simulated printer's clock: ") != std::string::npos);
   CHECK(r.out.find(" (estimated ") != std::string::npos);
   CHECK(r.out.find("; filament ") != std::string::npos);
-  // Every command once, and the host's M115 query at connection.
-  CHECK(r.out.find(fmt::format("\nlink: {} lines sent, 0 resent after 0 resend requests", commands + 1)) !=
+  // Every command once, the host's M115 query at connection, its M113 S1 asking for a busy
+  // keepalive each second and its M155 S2 asking the firmware (which reports AUTOREPORT_TEMP)
+  // for temperatures every 2 s.
+  CHECK(r.out.find(fmt::format("\nlink: {} lines sent, 0 resent after 0 resend requests", commands + 3)) !=
         std::string::npos);
   CHECK(r.out.find("simulated faults") == std::string::npos);
   // A dry run leaves nothing behind: no journal, no socket.
@@ -236,6 +239,63 @@ TEST_CASE("bad_print_invocations_give_one_line_and_a_code") {
   CHECK(r.exit_code == 2);
 }
 
+TEST_CASE("files_that_are_not_gcode_are_refused_before_anything_is_sent") {
+  const std::string dir = test_support::scratch_dir("print_garbage");
+  use_runtime_dir(dir);
+  std::string high;
+  for (int line = 0; line < 50; ++line) {
+    for (int b = 0x80; b <= 0xff; ++b) high += static_cast<char>(b);
+    high += '\n';
+  }
+  const std::string noise = write_file(dir, "high.gcode", high);
+  const std::string hello = write_file(dir, "hello.gcode", "hello world\n");
+  for (const std::string& file : {noise, hello}) {
+    const auto r = run_mahost({"print", file, "--dry-run"});
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.starts_with("mahost: " + file + ": line 1 is not G-code ("));
+    CHECK(count_lines(r.err) == 1);
+    CHECK(r.out.empty());  // refused before the link was opened
+  }
+  // A valid file with one bad line: refused by that line's number, or left out with --force.
+  std::string program = test_support::ring_program(3, 10);
+  const std::size_t at = program.find(";LAYER:1\n");
+  const int bad_line = static_cast<int>(std::count(program.begin(), program.begin() + at, '\n')) + 1;
+  program.insert(at, "G1 X10 Y=5\n");
+  const std::string one_bad = write_file(dir, "one_bad.gcode", program);
+  auto r = run_mahost({"print", one_bad, "--dry-run"});
+  CHECK(r.exit_code == 2);
+  CHECK(r.err.starts_with(fmt::format("mahost: {}: line {} is not G-code (it has a parameter whose value "
+                                      "is not a number: \"G1 X10 Y=5\")",
+                                      one_bad, bad_line)));
+  r = run_mahost({"print", one_bad, "--dry-run", "--force"});
+  CHECK(r.exit_code == 0);
+  CHECK(r.err.find(fmt::format("note: --force: left out 1 line that is not G-code (line {})", bad_line)) !=
+        std::string::npos);
+  CHECK(r.out.starts_with("completed: "));
+}
+
+TEST_CASE("baud_takes_the_standard_rates_and_says_which") {
+  const std::string dir = test_support::scratch_dir("print_baud");
+  const std::string gcode = write_file(dir, "ring.gcode", test_support::ring_program(3, 10));
+  for (const char* rate : {"0", "-5", "12345", "fast"}) {
+    CAPTURE(rate);
+    const auto r = run_mahost({"print", gcode, "--port", "/dev/ttyUSB97", "--baud", rate});
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find(fmt::format("{} is not a serial speed; give one of 9600, 19200, 38400, 57600, "
+                                 "115200, 230400, 250000, 460800, 500000, 921600, 1000000",
+                                 rate)) != std::string::npos);
+    CHECK(count_lines(r.err) == 1);
+  }
+}
+
+TEST_CASE("dialect_is_for_a_dry_run_only") {
+  const std::string dir = test_support::scratch_dir("print_dialect");
+  const std::string gcode = write_file(dir, "ring.gcode", test_support::ring_program(3, 10));
+  const auto r = run_mahost({"print", gcode, "--port", "/dev/null", "--dialect", "teacup"});
+  CHECK(r.exit_code == 2);
+  CHECK(r.err.starts_with("mahost: --dialect: only a --dry-run printer"));
+}
+
 TEST_CASE("halt_fault_exits_3_with_the_reason_and_the_resume_command") {
   const std::string dir = test_support::scratch_dir("print_halt");
   use_runtime_dir(dir);
@@ -246,9 +306,13 @@ TEST_CASE("halt_fault_exits_3_with_the_reason_and_the_resume_command") {
   CHECK(r.err.find("mahost: simulated printer: the printer stopped: Error:Printer halted. kill() called!") !=
         std::string::npos);
   CHECK(r.err.find("; to finish the part: mahost resume " + journal + " --dry-run\n") != std::string::npos);
+  // A failed job still says what the link went through.
+  CHECK(r.out.starts_with("failed: dry run on the simulated printer, "));
+  CHECK(r.out.find("\nlink: ") != std::string::npos);
+  CHECK(r.out.find("\nfirmware: Marlin ") != std::string::npos);
   const auto record = journal_of(journal);
   REQUIRE(record);
-  CHECK(record->state == "failed");
+  CHECK(record->state == printer::JobState::failed);
   CHECK(fs::exists(dir + "/job.journal"));  // a journal the user named stays
 
   // Rehearsing the resume on the simulated printer finishes the part there and leaves the
@@ -283,7 +347,7 @@ TEST_CASE("ctl_pauses_and_resumes_a_print_without_a_terminal") {
   auto r = run_mahost({"ctl", "pause"});  // found without --job: the one running job
   CHECK(r.exit_code == 0);
   CHECK(r.out.starts_with("pausing before layer "));
-  REQUIRE(wait_for([&] { return journal_of(journal) && journal_of(journal)->state == "paused"; }, 60s));
+  REQUIRE(wait_for([&] { return journal_of(journal) && journal_of(journal)->state == printer::JobState::paused; }, 60s));
   r = run_mahost({"ctl", "status", "--job", journal});
   CHECK(r.exit_code == 0);
   CHECK(r.out.starts_with("paused  layer "));
@@ -293,7 +357,7 @@ TEST_CASE("ctl_pauses_and_resumes_a_print_without_a_terminal") {
   r = run_mahost({"ctl", "resume"});
   CHECK(r.exit_code == 0);
   CHECK(print.wait(120s) == 0);
-  CHECK(journal_of(journal)->state == "completed");
+  CHECK(journal_of(journal)->state == printer::JobState::completed);
   CHECK_FALSE(fs::exists(runtime + "/mahost/ring.sock"));
 
   // The job has ended: ctl says what its journal says; it is not "running".
@@ -368,7 +432,7 @@ TEST_CASE("print_slices_an_stl_in_process_as_slice_does_and_a_dry_run_leaves_not
   CHECK(kept[1].ends_with(".journal"));
   const auto record = journal_of(kept[1]);
   REQUIRE(record);
-  CHECK(record->state == "completed");
+  CHECK(record->state == printer::JobState::completed);
   CHECK(record->gcode_path == kept[0]);
   CHECK(record->printer == MAHOST_SOURCE_DIR "/configs/printers/up-plus-2.toml");
 }
@@ -410,11 +474,11 @@ TEST_CASE("killed_host_resumes_and_reprints_only_the_interrupted_layer") {
   }
   const auto interrupted = journal_of(journal);
   REQUIRE(interrupted);
-  CHECK(interrupted->state == "printing");
+  CHECK(interrupted->state == printer::JobState::printing);
   const auto r = run_mahost({"resume", journal, "--port", pty}, {}, 300s);
   CHECK(r.exit_code == 0);
   CHECK(r.err.find("setting Z from the journal") != std::string::npos);  // the board reset on open
-  CHECK(journal_of(journal)->state == "completed");
+  CHECK(journal_of(journal)->state == printer::JobState::completed);
   sim.signal(SIGINT);
   CHECK(sim.wait(30s) == 0);
 
@@ -490,7 +554,7 @@ TEST_CASE("dry_runs_paused_show_targets_count_a_cancelled_pause_and_ctl_asks_whi
   Background first({"print", gcode, "--dry-run", "--journal", a, "--pause-at-layer", "4"});
   Background second({"print", gcode, "--dry-run", "--journal", b, "--pause-at-layer", "4"});
   for (const std::string& journal : {a, b}) {
-    REQUIRE(wait_for([&] { return journal_of(journal) && journal_of(journal)->state == "paused"; }, 60s));
+    REQUIRE(wait_for([&] { return journal_of(journal) && journal_of(journal)->state == printer::JobState::paused; }, 60s));
   }
 
   // Two jobs: ctl asks which, listing them.
@@ -544,7 +608,10 @@ std::vector<std::string> job_part(const std::vector<std::string>& executed) {
   std::vector<std::string> out;
   for (const std::string& c : executed) {
     const printer::GcodeCommand parsed = printer::parse_gcode_line(c);
-    if (parsed.is('M', 110) || parsed.is('M', 115) || parsed.is('M', 105)) continue;
+    if (parsed.is('M', 110) || parsed.is('M', 115) || parsed.is('M', 105) || parsed.is('M', 155) ||
+        parsed.is('M', 113)) {
+      continue;
+    }
     out.push_back(c);
   }
   return out;
@@ -618,6 +685,59 @@ TEST_CASE("bunny_print_through_a_noisy_link_executes_the_gcode_exactly") {
   CHECK(same_moves(windowed.moves, clean.moves));
 }
 
+TEST_CASE("bunny_prints_exactly_once_in_every_dialect_through_lost_oks_and_corrupted_lines" *
+          test_support::release_build_only()) {
+  const std::string dir = test_support::scratch_dir("bunny_dialects");
+  std::uint64_t seed = 40;
+  for (const std::string dialect : {"marlin", "teacup", "repetier"}) {
+    CAPTURE(dialect);
+    // The bunny at 0.3 mm, sliced for this firmware (Teacup: M116 instead of M190/M109).
+    const std::string gcode = dir + "/bunny_" + dialect + ".gcode";
+    const auto sliced = run_mahost({"slice", std::string(MAHOST_DATA_DIR) + "/bunny.stl", "--up", "y",
+                                    "--units", "m", "--height", "50", "--layer", "0.3", "--set",
+                                    "firmware=" + dialect, "-o", gcode});
+    REQUIRE(sliced.exit_code == 0);
+    const printer::GcodeFile file = printer::read_gcode_file(gcode);
+    std::vector<std::string> commands;
+    for (std::size_t i = 0; i < file.size(); ++i) commands.emplace_back(file.command(i));
+
+    // At 115 200 baud: about 1% of lines corrupted (one bit in 0.03% of the bytes), 1% of the
+    // oks lost, and the oks of the first three commands that block (the heat-up's waits, G28).
+    sim::Config config;
+    config.dialect = *sim::parse_dialect(dialect);
+    config.baud = 115200;
+    config.faults = sim::parse_fault_spec(
+        fmt::format("corrupt=0.0003,drop-ok=0.01,drop-blocking-ok=3,seed={}", seed++));
+    sim::SimLink link(config);
+    printer::LineProtocol protocol(link);
+    protocol.connect();
+    printer::Job job(protocol, file, {});
+    REQUIRE(job.run().state == printer::JobState::completed);
+    sim::Printer& sim = link.printer();
+    // Repetier acknowledges a line when it queues it: the last few still run after the job
+    // has handed everything over.
+    sim.run_until(sim.now() + 600);
+    CHECK(job_part(sim.executed_commands()) == commands);  // each exactly once, in order
+
+    std::vector<double> waits = sim.lost_ok_waits();
+    const double lines = static_cast<double>(sim.counters().lines);
+    const double corrupted = static_cast<double>(sim.counters().faults_injected - waits.size()) / lines;
+    CHECK(corrupted > 0.005);
+    CHECK(corrupted < 0.02);
+    CHECK(waits.size() > static_cast<std::size_t>(0.005 * lines));
+    std::sort(waits.begin(), waits.end());
+    // The longest the firmware ever sat idle waiting for the host: one probe interval and the
+    // probe's trip, whatever was lost.
+    const double bound = std::chrono::duration<double>(printer::ProtocolOptions{}.probe_after).count() + 0.5;
+    CHECK(sim.counters().longest_idle <= bound);
+    MESSAGE(dialect << ": " << file.size() << " commands, " << 100 * corrupted << "% of lines corrupted, "
+                    << waits.size() << " oks lost; idle after a lost ok median " << waits[waits.size() / 2]
+                    << " s, worst " << waits.back() << " s; longest idle " << sim.counters().longest_idle
+                    << " s; host's longest silence "
+                    << std::chrono::duration<double>(protocol.stats().longest_silence).count() << " s");
+  }
+}
+
 TEST_CASE("pause_at_layer_on_a_variable_stack_stops_at_that_layers_height") {
   // A 20 x 20 x 2 mm block on layers of 0.3, 0.15, 0.4, 0.25, 0.15, 0.4, 0.35 mm: paused
   // before layer 4 (;LAYER:3), the nozzle is at layer 3's top, 0.85 mm.
@@ -629,7 +749,7 @@ TEST_CASE("pause_at_layer_on_a_variable_stack_stops_at_that_layers_height") {
   const std::string journal = runtime + "/mahost/block.journal";
   Background job({"print", stl, "--dry-run", "--journal", journal, "--boundaries",
                   "0.3,0.45,0.85,1.1,1.25,1.65,2", "--pause-at-layer", "4"});
-  REQUIRE(wait_for([&] { return journal_of(journal) && journal_of(journal)->state == "paused"; }, 60s));
+  REQUIRE(wait_for([&] { return journal_of(journal) && journal_of(journal)->state == printer::JobState::paused; }, 60s));
   auto r = run_mahost({"ctl", "status", "--job", journal});
   CHECK(r.out.starts_with("paused  layer 4/7  "));
   // The journal holds where the print stands: layer index 3, the nozzle at layer 3's top.

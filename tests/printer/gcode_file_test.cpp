@@ -55,3 +55,32 @@ TEST_CASE("print_state_follows_marlin_modes") {
   CHECK(s.filament_fed == doctest::Approx(1.5 - 1.0));
   CHECK(restore_modes(s) == std::vector<std::string>{"G90", "M83", "G1 F1800"});
 }
+
+TEST_CASE("a_file_that_is_not_gcode_is_refused_at_its_first_line") {
+  std::string bytes;
+  for (int line = 0; line < 50; ++line) {
+    for (int b = 0x80; b <= 0xff; b += 7) bytes += static_cast<char>(b);
+    bytes += '\n';
+  }
+  CHECK_THROWS_WITH_AS(parse_gcode(bytes, "noise.gcode"),
+                       doctest::Contains("noise.gcode: line 1 is not G-code (it holds bytes that are not text"),
+                       ConfigError);
+  CHECK_THROWS_WITH_AS(parse_gcode("hello world\n", "hello.gcode"),
+                       "hello.gcode: line 1 is not G-code (it does not start with a command word (G, M "
+                       "or T and a number): \"hello world\"); every line must be a command such as G1 X10 "
+                       "E0.5, or a ;comment: fix the line, or print with --force to leave such lines out",
+                       ConfigError);
+}
+
+TEST_CASE("one_bad_line_among_valid_gcode_is_refused_by_its_number_or_skipped_and_counted") {
+  const std::string text = "; start\nG28\nM109 S210\nG1 X1 E1\nG1 X2 E2,5\nG1 X3 E3\n;LAYER:0\nhello\nG1 X4\n";
+  CHECK_THROWS_WITH_AS(parse_gcode(text, "one.gcode"), doctest::Contains("one.gcode: line 5 is not G-code"),
+                       ConfigError);
+  const GcodeFile kept = parse_gcode(text, "one.gcode", GcodeReading{true});
+  CHECK(kept.size() == 5);
+  CHECK(kept.command(3) == "G1 X3 E3");
+  CHECK(kept.skipped_lines == 2);
+  CHECK(kept.skipped_line_numbers == std::vector<std::size_t>{5, 8});
+  REQUIRE(kept.layers.size() == 1);
+  CHECK(kept.layers[0].first_command == 4);  // the layer starts at G1 X4, "hello" left out
+}

@@ -75,3 +75,25 @@ TEST_CASE("parse_numbered_line_splits_number_command_and_checksum") {
   CHECK(printer::parse_numbered_line("N-1 M110*15").line_number == -1);
   CHECK(printer::parse_numbered_line("N-1 M110*15").checksum_ok);
 }
+
+TEST_CASE("gcode_problem_passes_what_slicers_write") {
+  for (const char* line :
+       {"G1 X10.5 Y-3 E.25 F1800", "G1X10Y20", "G28 X Y", "M84 X Y E", "T0", "M104 S215 T0",
+        "M862.3 P \"MK3S\"", "M862.1 P0.4", "M115 U3.9.0", "M117 Printing layer 3 of 40!",
+        "M486 S-1", "G29.1", "m105", "M0 Click to resume", "G1 E1e-3", "M205 X8.00 Y8.00 Z0.40"}) {
+    CAPTURE(line);
+    CHECK_FALSE(printer::gcode_problem(line));
+  }
+}
+
+TEST_CASE("gcode_problem_names_what_is_wrong") {
+  CHECK(printer::gcode_problem("hello world") == "it does not start with a command word (G, M or T and a number)");
+  CHECK(printer::gcode_problem("G hello") == "its command word has no number");
+  CHECK(printer::gcode_problem("\x80\x81\xfe") == "it holds bytes that are not text");
+  CHECK(printer::gcode_problem("N12 G1 X1") == "line numbers are for the host to add");
+  CHECK(printer::gcode_problem("G1 X1*25") == "checksums are for the host to add");
+  CHECK(printer::gcode_problem("G1 X=10") == "it has a parameter whose value is not a number");
+  CHECK(printer::gcode_problem("G1 X10 #5") == "it has a parameter that does not start with a letter");
+  CHECK(printer::gcode_problem("M862.3 P \"MK3S") == "a quoted parameter is not closed");
+  CHECK(printer::gcode_problem("G1- X1") == "its command word is followed by something that is not a parameter");
+}

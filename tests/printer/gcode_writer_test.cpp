@@ -545,6 +545,27 @@ TEST_CASE("dense_curve_is_written_within_the_printers_resolution") {
   CHECK(exact.layers[0].chains.at(0).size() > 5000);
 }
 
+TEST_CASE("a_teacup_profile_heats_with_m104_m140_and_waits_with_m116_without_m73_or_m107") {
+  const auto lines = lines_of(write(square_part(), profiles("up-plus-2", "abs", {"firmware=teacup"})));
+  const std::size_t wait = index_of(lines, "M116");
+  CHECK(index_of(lines, "M140 S105") < wait);
+  CHECK(index_of(lines, "M104 S250") < wait);
+  CHECK(wait < index_of(lines, "G28 ; home all axes"));
+  for (const std::string& line : lines) {
+    CAPTURE(line);
+    const GcodeCommand c = parse_gcode_line(line);
+    CHECK_FALSE(c.is('M', 109));
+    CHECK_FALSE(c.is('M', 190));
+    CHECK_FALSE(c.is('M', 73));
+    if (c.is('M', 107)) CHECK(line == "M107");  // only the profile's own end G-code has it
+  }
+  CHECK(index_of(lines, "M106 S0") < index_of(lines, ";LAYER:0"));
+  // Everything else as for Marlin: the same layers and moves.
+  const auto marlin = lines_of(write(square_part(), profiles("up-plus-2", "abs")));
+  CHECK(std::count_if(lines.begin(), lines.end(), [](const std::string& l) { return l.starts_with("G1 "); }) ==
+        std::count_if(marlin.begin(), marlin.end(), [](const std::string& l) { return l.starts_with("G1 "); }));
+}
+
 TEST_CASE("each_layer_is_laid_at_its_own_thickness") {
   // A stack of mixed thicknesses: 0.3 mm first, then 0.15, 0.4, 0.25 mm. Every layer has
   // ";HEIGHT:" after ";Z:", and its beads, read back at the printer's layer height (its Z

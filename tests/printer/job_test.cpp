@@ -6,9 +6,11 @@
 #include <optional>
 
 #include <doctest/doctest.h>
+#include <fmt/core.h>
 
 #include "printer/error.h"
 #include "printer/gcode_line.h"
+#include "printer/scripted_firmware.h"
 #include "printer/test_program.h"
 #include "sim/faults.h"
 #include "sim/sim_link.h"
@@ -18,12 +20,15 @@ using namespace printer;
 
 namespace {
 
-// What the printer executed of the job: without the host's own M110, M115 and M105 queries.
+// What the printer executed of the job: without the host's own M110, M115, M105, M155, M113.
 std::vector<std::string> job_part(const std::vector<std::string>& executed) {
   std::vector<std::string> out;
   for (const std::string& c : executed) {
     const GcodeCommand parsed = parse_gcode_line(c);
-    if (parsed.is('M', 110) || parsed.is('M', 115) || parsed.is('M', 105)) continue;
+    if (parsed.is('M', 110) || parsed.is('M', 115) || parsed.is('M', 105) || parsed.is('M', 155) ||
+        parsed.is('M', 113)) {
+      continue;
+    }
     out.push_back(c);
   }
   return out;
@@ -206,7 +211,7 @@ TEST_CASE("halt_fault_ends_the_job_with_the_reason_and_a_journal") {
   CHECK(message.find("mahost resume " + options.journal_path) != std::string::npos);
   CHECK(message.find('\n') == std::string::npos);
   const JournalRecord journal = read_journal(options.journal_path);
-  CHECK(journal.state == "failed");
+  CHECK(journal.state == printer::JobState::failed);
   CHECK(journal.layer_index >= 0);
   CHECK(journal.resume_command == file.layers[static_cast<std::size_t>(journal.layer_index)].first_command);
 }
@@ -234,7 +239,7 @@ TEST_CASE("disconnect_then_resume_reprints_only_the_interrupted_layer") {
     CHECK(message.find('\n') == std::string::npos);
   }
   const JournalRecord journal = read_journal(options.journal_path);
-  REQUIRE(journal.state == "failed");
+  REQUIRE(journal.state == printer::JobState::failed);
   const std::size_t before = link.printer().deposition().moves.size();
 
   link.reconnect();
@@ -322,7 +327,7 @@ TEST_CASE("a_link_lost_while_recovering_keeps_the_journals_resume_point") {
   CHECK_THROWS_AS(job.run(), LinkError);
 
   const JournalRecord journal = read_journal(resume.journal_path);
-  CHECK(journal.state == "failed");
+  CHECK(journal.state == printer::JobState::failed);
   CHECK(journal.layer_index == 10);
   CHECK(journal.resume_command == start);
   CHECK(journal.state_at_resume.x == at.x);
@@ -461,4 +466,212 @@ TEST_CASE("a_resumed_jobs_estimate_is_that_of_the_layers_it_prints") {
   const double motion = link.printer().motion_time();
   CHECK(motion >= 0.98 * job.estimated_seconds());
   CHECK(motion < job.estimated_seconds() + 15.0);
+}
+
+// ---- cancel and stop on a stalled link, refusals, temperatures (issue 14) -----------------
+
+TEST_CASE("cancel_on_a_stalled_link_ends_within_ten_seconds_and_sends_m112") {
+  const std::string dir = test_support::scratch_dir("cancel_stalled");
+  const GcodeFile file = parse_gcode(test_support::ring_program(20, 40), "ring.gcode");
+  test_support::ScriptedFirmware firmware;
+  firmware.silent_after = 300;  // the printer stops answering anything, M112 included
+  LineProtocol protocol(firmware);
+  protocol.connect();
+  JobOptions options;
+  options.journal_path = dir + "/job.journal";
+  Job job(protocol, file, options);
+  std::optional<std::chrono::nanoseconds> asked;
+  job.on_tick = [&](Job& j) {
+    if (!asked && protocol.stats().probes > 0) {  // the printer fell silent: the job probes
+      asked = firmware.now();
+      j.request(JobRequest::cancel);
+    }
+  };
+  const JobResult result = job.run();
+  REQUIRE(asked);
+  CHECK(result.state == JobState::cancelled);
+  CHECK(firmware.now() - *asked <= std::chrono::seconds(10) + std::chrono::milliseconds(200));
+  CHECK(result.reason.starts_with("cancelled at layer "));
+  CHECK(result.reason.find("the printer did not confirm the cancel within 10 s: sent M112, which "
+                           "turns the heaters off if it reaches the printer: check they are off") !=
+        std::string::npos);
+  CHECK(firmware.received.back() == "M112");
+  CHECK(read_journal(options.journal_path).state == JobState::cancelled);
+}
+
+TEST_CASE("cancel_on_a_frozen_link_ends_within_ten_seconds_in_every_dialect") {
+  // The simulated printer of each dialect stops reading and answering at line 400 (fault
+  // freeze-at-line), the port left open; the job is cancelled as soon as it probes.
+  for (const sim::Dialect dialect : {sim::Dialect::marlin, sim::Dialect::teacup, sim::Dialect::repetier}) {
+    CAPTURE(sim::to_string(dialect));
+    const std::string dir = test_support::scratch_dir(fmt::format("cancel_frozen_{}", sim::to_string(dialect)));
+    std::string text = test_support::ring_program(20, 40);
+    if (dialect == sim::Dialect::teacup) text.replace(text.find("M190 S60\nM109 S210\n"), 19, "M116\n");
+    const GcodeFile file = parse_gcode(text, "ring.gcode");
+    sim::Config config;
+    config.dialect = dialect;
+    config.faults = sim::parse_fault_spec("freeze-at-line=400");
+    sim::SimLink link(config);
+    LineProtocol protocol(link);
+    protocol.connect();
+    JobOptions options;
+    options.journal_path = dir + "/job.journal";
+    Job job(protocol, file, options);
+    std::optional<std::chrono::nanoseconds> asked;
+    job.on_tick = [&](Job& j) {
+      if (!asked && protocol.stats().probes > 0 && link.printer().counters().lines >= 400) {
+        asked = link.now();
+        j.request(JobRequest::cancel);
+      }
+    };
+    const JobResult result = job.run();
+    REQUIRE(asked);
+    CHECK(result.state == JobState::cancelled);
+    CHECK(link.now() - *asked <= std::chrono::seconds(10) + std::chrono::milliseconds(200));
+    CHECK(result.reason.find("the printer did not confirm the cancel within 10 s") != std::string::npos);
+    CHECK(read_journal(options.journal_path).state == JobState::cancelled);
+    CHECK(link.printer().counters().lines == 400);  // nothing was read after the freeze
+  }
+}
+
+TEST_CASE("a_refused_m109_stops_the_job_before_anything_is_extruded") {
+  // Only the nozzle is waited for (no M190): Teacup refuses M109 as it refuses M190.
+  std::string text = test_support::ring_program(10, 40);
+  text.erase(text.find("M190 S60\n"), 9);
+  const GcodeFile file = parse_gcode(text, "ring.gcode");
+  sim::Config config;
+  config.dialect = sim::Dialect::teacup;
+  sim::SimLink link(config);
+  LineProtocol protocol(link);
+  protocol.connect();
+  Job job(protocol, file, {});
+  std::string message;
+  try {
+    job.run();
+  } catch (const CommandRefused& e) {
+    message = e.what();
+  }
+  CHECK(message.starts_with("simulated printer: the printer refused M109 S210 (\"E: Bad M-code 109\"), so the "
+                            "print stopped before anything was extruded"));
+  CHECK(link.printer().deposition().moves.empty());
+  CHECK(link.printer().hotend_target() == 0);
+  CHECK(job.result().state == JobState::failed);
+}
+
+TEST_CASE("cancel_right_after_a_lost_ok_ends_at_once_with_the_heaters_off") {
+  const GcodeFile file = parse_gcode(test_support::ring_program(20, 60), "ring.gcode");
+  sim::Config config;
+  config.faults = sim::parse_fault_spec("drop-ok=0.05,seed=3");
+  sim::SimLink link(config);
+  LineProtocol protocol(link);
+  protocol.connect();
+  Job job(protocol, file, {});
+  std::optional<std::chrono::nanoseconds> asked;
+  job.on_tick = [&](Job& j) {
+    // The first moment the host waits for a lost ok on layer 5 or later.
+    if (!asked && j.progress().layer >= 5 && protocol.lines_in_flight() > 0 &&
+        link.printer().idle()) {
+      asked = link.now();
+      j.request(JobRequest::cancel);
+    }
+  };
+  const JobResult result = job.run();
+  REQUIRE(asked);
+  CHECK(result.state == JobState::cancelled);
+  CHECK(link.now() - *asked < std::chrono::seconds(10));
+  CHECK(link.printer().state() == sim::PrinterState::running);  // ended without M112
+  CHECK(link.printer().hotend_target() == 0);
+  CHECK(link.printer().bed_target() == 0);
+  // Motors off last; a probe for a lost ok of the cancel's own lines may follow.
+  const auto& executed = link.printer().executed_commands();
+  CHECK(std::find(executed.end() - std::min<std::ptrdiff_t>(3, executed.size()), executed.end(), "M84") !=
+        executed.end());
+}
+
+TEST_CASE("cancel_during_the_heat_up_breaks_the_wait_at_once") {
+  const GcodeFile file = parse_gcode(test_support::ring_program(5, 40), "ring.gcode");
+  sim::SimLink link{sim::Config{}};
+  LineProtocol protocol(link);
+  protocol.connect();
+  Job job(protocol, file, {});
+  std::optional<std::chrono::nanoseconds> asked;
+  job.on_tick = [&](Job& j) {
+    if (!asked && link.now() > std::chrono::seconds(20)) {  // the bed heats for ~75 s
+      asked = link.now();
+      j.request(JobRequest::cancel);
+    }
+  };
+  const JobResult result = job.run();
+  REQUIRE(asked);
+  CHECK(result.state == JobState::cancelled);
+  CHECK(link.now() - *asked < std::chrono::seconds(2));
+  CHECK(link.printer().bed_target() == 0);
+  CHECK(link.printer().deposition().moves.empty());
+}
+
+TEST_CASE("a_refused_m190_stops_the_job_before_anything_is_extruded") {
+  const std::string dir = test_support::scratch_dir("refused_m190");
+  // G-code written for Marlin (M190/M109), sent to a Teacup firmware.
+  const GcodeFile file = parse_gcode(test_support::ring_program(10, 40), "ring.gcode");
+  sim::Config config;
+  config.dialect = sim::Dialect::teacup;
+  sim::SimLink link(config);
+  LineProtocol protocol(link);
+  protocol.connect();
+  JobOptions options;
+  options.journal_path = dir + "/job.journal";
+  Job job(protocol, file, options);
+  std::string message;
+  try {
+    job.run();
+  } catch (const CommandRefused& e) {
+    message = e.what();
+  }
+  CHECK(message ==
+        "simulated printer: the printer refused M190 S60 (\"E: Bad M-code 190\"), so the print "
+        "stopped before anything was extruded: Teacup has no M190: it waits for temperatures with "
+        "M116; set firmware = \"teacup\" in the printer profile (or --set firmware=teacup) and "
+        "slice again, so the G-code heats with M104/M140 and waits with M116");
+  CHECK(link.printer().deposition().moves.empty());
+  CHECK(link.printer().hotend_target() == 0);  // M104 S210 had been sent: turned off again
+  CHECK(link.printer().bed_target() == 0);
+  CHECK(job.result().state == JobState::failed);
+  CHECK(read_journal(options.journal_path).state == JobState::failed);
+}
+
+TEST_CASE("temperatures_on_the_progress_line_follow_the_printer_while_printing") {
+  // The nozzle target rises to 240 C at layer 5: the progress line must see it climb, from
+  // auto-reports (Marlin's M155) or from M105s between layers and every few seconds (Teacup).
+  std::string program = test_support::ring_program(30, 120);
+  program.insert(program.find(";LAYER:5\n"), "M104 S240\n");
+  for (const sim::Dialect dialect : {sim::Dialect::marlin, sim::Dialect::teacup}) {
+    CAPTURE(sim::to_string(dialect));
+    std::string text = program;
+    if (dialect == sim::Dialect::teacup) {  // the heat-up as Teacup takes it
+      text.replace(text.find("M190 S60\nM109 S210\n"), 19, "M116\n");
+    }
+    const GcodeFile file = parse_gcode(text, "ring.gcode");
+    sim::Config config;
+    config.dialect = dialect;
+    sim::SimLink link(config);
+    LineProtocol protocol(link);
+    protocol.connect();
+    Job job(protocol, file, {});
+    double worst = 0;
+    int checked = 0;
+    job.on_tick = [&](Job& j) {
+      const JobProgress p = j.progress();
+      if (p.layer < 6 || !p.temperatures || !p.temperatures->hotend) return;
+      worst = std::max(worst, std::abs(*p.temperatures->hotend - link.printer().hotend_temperature()));
+      ++checked;
+    };
+    REQUIRE(job.run().state == JobState::completed);
+    CHECK(checked > 100);
+    // Heating at up to 4 C/s, a report at most 5 s old is within 20 C; a stale one from the
+    // first layer's heat-up would be 30 C off.
+    CHECK(worst < 20);
+    CHECK(job.progress().temperatures->hotend.value() > 235);
+    MESSAGE(sim::to_string(dialect) << ": the progress line's hotend at most " << worst
+                                    << " C from the printer's over " << checked << " ticks");
+  }
 }

@@ -253,6 +253,16 @@ TEST_CASE("part_too_big_is_refused_with_both_sizes") {
         "scale it down (--scale, --height) or choose a bigger printer (--printer)");
 }
 
+TEST_CASE("firmware_key_names_the_dialect_the_gcode_is_written_for") {
+  printer::Profiles p;
+  p.printer = printer::load_printer_profile("generic-marlin", kConfigDir);
+  CHECK(p.printer.firmware == printer::Firmware::marlin);
+  printer::apply_override(p, "firmware=teacup");
+  CHECK(p.printer.firmware == printer::Firmware::teacup);
+  CHECK_THROWS_WITH_AS(printer::apply_override(p, "firmware=klipper"),
+                       doctest::Contains("one of marlin, teacup, repetier"), printer::ConfigError);
+}
+
 TEST_CASE("layer_tops_are_checked_against_the_printers_thicknesses") {
   const PrinterProfile up = load_printer_profile("up-plus-2", kConfigDir);
   // First layer 0.3 mm, then any of 0.15 to 0.4 mm in steps of 0.05 mm.

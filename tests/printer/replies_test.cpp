@@ -89,3 +89,36 @@ TEST_CASE("garbage_is_other_and_never_throws") {
   CHECK(classify_reply("T:").kind == ReplyKind::other);
   CHECK(classify_reply("X:").kind == ReplyKind::other);
 }
+
+TEST_CASE("teacup_ok_lines_carry_refusals_positions_and_temperatures") {
+  const auto refused = classify_reply("ok E: Bad M-code 190");
+  CHECK(refused.kind == ReplyKind::ok);
+  CHECK(refused.refusal == "E: Bad M-code 190");
+  const auto at = classify_reply("ok X:10.000,Y:20.500,Z:0.300,E:5.120,F:1500");
+  CHECK(at.kind == ReplyKind::ok);
+  REQUIRE(at.position);
+  CHECK(at.position->y == doctest::Approx(20.5));
+  CHECK(at.position->e == doctest::Approx(5.12));
+  const auto t = classify_reply("ok T:25.0 B:20.0");
+  REQUIRE(t.temperatures);
+  CHECK(t.temperatures->hotend == doctest::Approx(25.0));
+  CHECK_FALSE(t.temperatures->hotend_target);
+  CHECK(classify_reply("Start").kind == ReplyKind::start);
+}
+
+TEST_CASE("errors_of_other_dialects") {
+  CHECK(classify_reply("E: Bad M-code 107").kind == ReplyKind::error);
+  CHECK(classify_reply("fatal:Heater decoupled").kind == ReplyKind::fatal);
+  CHECK(classify_reply("skip 14").kind == ReplyKind::skip);
+  const auto unknown = classify_reply("Unknown command:M73 P10");
+  CHECK(unknown.kind == ReplyKind::echo);
+  CHECK(unknown.unknown_command);
+  // An extruder position is not an error.
+  CHECK(classify_reply("E:1.20").kind != ReplyKind::error);
+}
+
+TEST_CASE("a_heating_wait_report_is_told_from_an_auto_report") {
+  CHECK(classify_reply("T:185.2 /210.0 B:60.0 /60.0 @:127 B@:0 W:?").heating_wait);
+  CHECK(classify_reply("T:185.2 /210.0 B:60.0 /60.0 @:127 B@:0 W:4").heating_wait);
+  CHECK_FALSE(classify_reply(" T:185.23 /210.00 B:59.80 /60.00 @:127 B@:0").heating_wait);
+}

@@ -30,6 +30,14 @@ class ScriptedFirmware : public printer::Link {
   int queue_free = 3;            // B in ADVANCED_OK replies
   std::chrono::milliseconds busy_interval{0};  // 0: busy keepalive off
   std::chrono::milliseconds heat_time{60000};  // how long M109/M190 block
+  std::chrono::milliseconds home_time{0};      // how long G28 blocks
+  std::string firmware_name = "ScriptedFirmware";  // in M115's reply; "" names none
+  bool temperatures_before_ok = false;  // M105: "T:..." on a line of its own, then "ok"
+  bool accepts_skipped_numbers = false; // Teacup: any N from last_N + 1 up is taken
+  bool resend_as_rs = false;            // Teacup: "rs N<n>" instead of Error: + Resend:
+  std::set<std::string> refuse;         // command words it does not know ("M190")
+  std::chrono::milliseconds chatter{0};  // a temperature line this often, whatever happens
+  bool wait_when_idle = false;          // "wait" 1 s after it ran out of work
 
   // Faults, by line number (first reception of that line only, except where said).
   std::set<long> corrupt;        // seen with a bad checksum
@@ -38,6 +46,7 @@ class ScriptedFirmware : public printer::Link {
   std::set<long> duplicate_ok;   // accepted, ok sent twice
   std::set<long> resend_after_accept;  // accepted and executed, then "Resend: n" anyway
   std::set<long> reject_always;  // every copy corrupted (a resend loop)
+  std::set<long> drop_ok_of_blocking;  // by line number, the ok of that (blocking) line lost
   long halt_at = -1;             // Error:Printer halted at this line
   long silent_after = -1;        // no reply to anything after this line
   long restart_at = -1;          // the board resets at this line (prints start)
@@ -70,6 +79,12 @@ class ScriptedFirmware : public printer::Link {
   std::string read(std::chrono::milliseconds timeout) override {
     if (closed_) throw printer::LinkError("fake printer: gone");
     const auto until = now_ + std::chrono::nanoseconds(timeout);
+    if (chatter.count() > 0) {
+      while (next_chatter_ <= until) {
+        emit(next_chatter_, " T:210.00 /210.00 B:60.00 /60.00 @:0 B@:0");
+        next_chatter_ += std::chrono::nanoseconds(chatter);
+      }
+    }
     if (output_.empty() || output_.front().at > until) {
       now_ = until;
       return {};
@@ -107,6 +122,10 @@ class ScriptedFirmware : public printer::Link {
   }
 
   void reject(std::chrono::nanoseconds at, std::string_view error) {
+    if (resend_as_rs) {
+      emit(at, fmt::format("rs N{} Expected line number {}", last_n + 1, last_n + 1));
+      return;
+    }
     emit(at, fmt::format("Error:{}, Last Line: {}", error, last_n));
     emit(at, fmt::format("Resend: {}", last_n + 1));
     if (ok_after_resend) emit(at, ok_text());
@@ -138,7 +157,8 @@ class ScriptedFirmware : public printer::Link {
         return;
       }
       const bool m110 = line.command.starts_with("M110");
-      if (!m110 && n != last_n + 1) {
+      const bool in_sequence = accepts_skipped_numbers ? n >= last_n + 1 : n == last_n + 1;
+      if (!m110 && !in_sequence) {
         if (!reject_duplicates && n >= last_n - 1 && n <= last_n) return;
         reject(at, "Line Number is not Last Line Number+1");
         return;
@@ -159,7 +179,8 @@ class ScriptedFirmware : public printer::Link {
         emit(at, "Error:Printer halted. kill() called!");
         return;
       }
-      execute(line.command, at, first && drop_ok.count(n), first && duplicate_ok.count(n));
+      execute(line.command, at, first && (drop_ok.count(n) || drop_ok_of_blocking.count(n)),
+              first && duplicate_ok.count(n));
       if (first && resend_after_accept.count(n)) {
         emit(busy_until_, fmt::format("Resend: {}", n));
         if (ok_after_resend) emit(busy_until_, ok_text());
@@ -174,26 +195,31 @@ class ScriptedFirmware : public printer::Link {
     executed.push_back(command);
     const printer::GcodeCommand c = printer::parse_gcode_line(command);
     auto done = at;
-    if (c.is('M', 109) || c.is('M', 190)) {
-      done = at + std::chrono::nanoseconds(heat_time);
-      if (busy_interval.count() > 0) {
-        for (auto t = at + std::chrono::nanoseconds(busy_interval); t < done;
-             t += std::chrono::nanoseconds(busy_interval)) {
-          emit(t, "echo:busy: processing");
-        }
+    if (c.is('M', 109) || c.is('M', 190)) done = at + std::chrono::nanoseconds(heat_time);
+    if (c.is('G', 28)) done = at + std::chrono::nanoseconds(home_time);
+    if (busy_interval.count() > 0) {
+      for (auto t = at + std::chrono::nanoseconds(busy_interval); t < done;
+           t += std::chrono::nanoseconds(busy_interval)) {
+        emit(t, "echo:busy: processing");
       }
     }
     busy_until_ = done;
-    if (c.is('M', 105)) {
-      emit(done, "ok T:210.00 /210.00 B:60.00 /60.00 @:0 B@:0", last_n);
+    const std::string word = c.letter != 0 ? fmt::format("{}{}", c.letter, c.code) : "";
+    if (refuse.count(word)) emit(done, fmt::format("echo:Unknown command: \"{}\"", command));
+    if (c.is('M', 105) && !temperatures_before_ok) {
+      if (!drop) emit(done, "ok T:210.00 /210.00 B:60.00 /60.00 @:0 B@:0", last_n);
       return;
     }
+    if (c.is('M', 105)) emit(done, "T:210.00 /210.00 B:60.00 /60.00 @:0 B@:0");
     if (c.is('M', 114)) emit(done, "X:10.00 Y:20.00 Z:0.30 E:5.00 Count X:800 Y:1600 Z:120");
-    if (c.is('M', 115)) {
-      emit(done, "FIRMWARE_NAME:ScriptedFirmware");
+    if (c.is('M', 115) && !firmware_name.empty()) {
+      emit(done, "FIRMWARE_NAME:" + firmware_name);
       emit(done, "Cap:EMERGENCY_PARSER:1");
     }
-    if (drop) return;
+    if (drop) {
+      if (wait_when_idle) emit(done + std::chrono::seconds(1), "wait");
+      return;
+    }
     emit(done, ok_text(), last_n);
     if (twice) emit(done, ok_text(), last_n);
   }
@@ -204,6 +230,7 @@ class ScriptedFirmware : public printer::Link {
   std::string input_;
   std::set<long> seen_;
   long delivered_ok_ = 0;
+  std::chrono::nanoseconds next_chatter_{std::chrono::seconds(1)};
   bool halted_ = false, silent_ = false, closed_ = false;
 };
 

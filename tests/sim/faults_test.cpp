@@ -74,7 +74,7 @@ bool stream(sim::Printer& printer, const std::vector<std::string>& commands) {
 TEST_CASE("fault_spec_parses_every_key") {
   const sim::FaultSpec f = sim::parse_fault_spec(
       "corrupt=0.01, drop-ok=0.02,dup-ok=0.005,resend=0.03,delay=50ms,disconnect-at-line=5000,"
-      "disconnect-at-time=2min,halt-at-line=300,runaway-at-line=200,from-line=0,seed=42");
+      "disconnect-at-time=2min,halt-at-line=300,freeze-at-line=7,runaway-at-line=200,from-line=0,seed=42");
   CHECK(f.corrupt == 0.01);
   CHECK(f.drop_ok == 0.02);
   CHECK(f.dup_ok == 0.005);
@@ -83,12 +83,13 @@ TEST_CASE("fault_spec_parses_every_key") {
   CHECK(f.disconnect_at_line == 5000u);
   CHECK(f.disconnect_at_time == doctest::Approx(120));
   CHECK(f.halt_at_line == 300u);
+  CHECK(f.freeze_at_line == 7u);
   CHECK(f.runaway_at_line == 200u);
   CHECK(f.from_line == 0);
   CHECK(f.seed == 42u);
   CHECK(sim::to_string(f) ==
         "corrupt=0.01,drop-ok=0.02,dup-ok=0.005,resend=0.03,delay=50ms,disconnect-at-line=5000,"
-        "disconnect-at-time=120s,halt-at-line=300,runaway-at-line=200,from-line=0,seed=42");
+        "disconnect-at-time=120s,halt-at-line=300,freeze-at-line=7,runaway-at-line=200,from-line=0,seed=42");
   CHECK_FALSE(sim::parse_fault_spec("").any());
   CHECK(sim::to_string(sim::parse_fault_spec("")).empty());
 }
@@ -101,9 +102,9 @@ TEST_CASE("bad_fault_spec_names_the_key_and_what_is_allowed") {
   CHECK(message_of("halt-at-line=0") == "fault spec 'halt-at-line=0': give a whole number of 1 or more");
   CHECK(message_of("seed=-1") == "fault spec 'seed=-1': give a whole number of 0 or more");
   CHECK(message_of("corrupt") ==
-        "fault spec 'corrupt': write key=value, e.g. corrupt=0.01 (keys: corrupt, drop-ok, dup-ok, "
-        "resend, delay, disconnect-at-line, disconnect-at-time, halt-at-line, runaway-at-line, "
-        "from-line, seed)");
+        "fault spec 'corrupt': write key=value, e.g. corrupt=0.01 (keys: corrupt, drop-ok, "
+        "drop-blocking-ok, dup-ok, resend, delay, disconnect-at-line, disconnect-at-time, "
+        "halt-at-line, freeze-at-line, runaway-at-line, from-line, seed)");
   CHECK(message_of("explode=1").starts_with("fault spec: unknown fault 'explode' (known: corrupt,"));
 }
 
@@ -162,6 +163,19 @@ TEST_CASE("disconnect_at_line_cuts_the_link_and_the_board_runs_on") {
   CHECK(printer.executed_commands() == std::vector<std::string>{"G92 X1", "G92 X2"});
   CHECK(send(printer, "G92 X4\n").empty());
   printer.reconnect();
+  CHECK(send(printer, "M114\n").ends_with("X:0.00 Y:0.00 Z:0.00 E:0.00 Count X:0 Y:0 Z:0\nok\n"));
+}
+
+TEST_CASE("freeze_at_line_stalls_the_link_with_the_port_open_until_a_reset") {
+  sim::Printer printer = quiet_printer("freeze-at-line=2");
+  // Line 2 is accepted and then nothing more is read or said: no ok, M112 ignored.
+  CHECK(send(printer, "G92 X1\nG92 X2\nG92 X3\n", 5).empty());
+  CHECK(send(printer, "M112\n", 5).empty());
+  CHECK(printer.state() == sim::PrinterState::running);
+  CHECK(printer.executed_commands() == std::vector<std::string>{"G92 X1", "G92 X2"});
+  printer.reset();
+  printer.run_until(printer.now() + 2);
+  printer.take_output();
   CHECK(send(printer, "M114\n").ends_with("X:0.00 Y:0.00 Z:0.00 E:0.00 Count X:0 Y:0 Z:0\nok\n"));
 }
 

@@ -481,3 +481,22 @@ TEST_CASE("g2_with_radius_finds_the_centre_marlin_does") {
   CHECK(bench.printer.position().x == 0);
   CHECK(bench.printer.position().y == -10);
 }
+
+TEST_CASE("bytes_at_a_baud_rate_still_arrive_after_hours_of_sim_time") {
+  // A byte's arrival is compared with the clock in the same arithmetic that set the clock to
+  // it: dividing by the byte time instead rounds the last byte of a line away after a few
+  // thousand seconds, and the sim waited for it for ever.
+  sim::Config config;
+  config.baud = 115200;
+  sim::Printer printer(config);
+  for (const double t : {1.0, 5000.123, 20000.777, 86400.5}) {
+    CAPTURE(t);
+    printer.run_until(t);
+    printer.take_output();
+    printer.receive("N1 M105*38\n");
+    CHECK(printer.run_until_output(t + 1));
+    CHECK(printer.take_output().starts_with("ok T:"));
+    printer.receive("M110 N0\n");
+    printer.run_until(t + 2);
+  }
+}

@@ -271,12 +271,13 @@ inline int status_of(const std::string& response) {
 }
 
 // The commands a simulated print executed, less the host's own: M105 (temperatures), M110 and
-// M115 (connecting), M155 (auto-report).
+// M115 (connecting), M155 (auto-report), M113 (the busy keepalive a job asks Marlin for).
 inline std::vector<std::string> printed_commands(const json& record) {
   std::vector<std::string> out;
   for (const json& c : record["commands"]) {
     const std::string s = c;
-    if (s.rfind("M105", 0) == 0 || s.rfind("M110", 0) == 0 || s.rfind("M115", 0) == 0 || s.rfind("M155", 0) == 0) continue;
+    if (s.rfind("M105", 0) == 0 || s.rfind("M110", 0) == 0 || s.rfind("M115", 0) == 0 || s.rfind("M155", 0) == 0 ||
+        s.rfind("M113", 0) == 0) continue;
     out.push_back(s);
   }
   return out;
