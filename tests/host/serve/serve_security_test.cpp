@@ -130,7 +130,7 @@ TEST_CASE("names_that_would_leave_the_files_folder_are_refused_and_nothing_is_wr
 
   // Names in URLs, encoded or not, meet the same check.
   auto c = serve.client();
-  for (const std::string& path : {"/api/files/local/..%2F..%2Fetc%2Fpasswd", "/api/files/local/%2Fetc%2Fpasswd",
+  for (const std::string path : {"/api/files/local/..%2F..%2Fetc%2Fpasswd", "/api/files/local/%2Fetc%2Fpasswd",
                                   "/api/files/local/../../etc/passwd"}) {
     CAPTURE(path);
     CHECK(c.Get(path)->status == 400);
