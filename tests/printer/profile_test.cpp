@@ -99,7 +99,8 @@ TEST_CASE("unknown_key_names_file_line_and_the_keys_of_its_section") {
   const std::string text = kMinimalPrinter + "[speed]\nouter_wal = 30\n";
   CHECK(config_error([&] { parse_printer_profile(text, "my.toml"); }) ==
         "my.toml:11: unknown key 'speed.outer_wal'; keys under 'speed': outer_wall, inner_wall, "
-        "thin_wall, skirt, top_skin, bottom_skin, solid_infill, sparse_infill, travel, z");
+        "thin_wall, skirt, top_skin, bottom_skin, solid_infill, sparse_infill, support, "
+                "support_interface, bridge, brim, raft, travel, z");
 }
 
 TEST_CASE("unknown_section_lists_the_known_ones") {

@@ -1,0 +1,52 @@
+// Support and raft toolpaths: the lines that fill a layer's support regions and the raft's
+// layers (issue 12; the regions come from geometry/support/support_plan.h).
+//
+// Support body: lines `spacing` apart at `angle` (lines) or at angle and angle + 90 (grid),
+//   on a grid fixed in the part's frame, so that the lines of every layer stack on those of
+//   the layer below; joined into zig-zags along the region's edge (connectors up to three
+//   spacings), role support.
+// Support interface: per island a loop round its edge (perimeters.h: one wall, a centre
+//   line where it is too narrow), so that the beads reach the edge whatever its shape, and
+//   inside it lines at angle + 90, across the body's lines below them, at `density` percent
+//   of solid (spacing = bead share * 100 / density), zig-zagged (connectors up to two
+//   spacings), ending at the loop; role support_interface.
+// Raft: base lines (`base_width` wide, `base_spacing` apart, at 0 degrees), interface lines
+//   across them (the bead width, `interface_spacing` apart, at 90 degrees), surface layers
+//   solid (at 45 and 135 degrees, alternating), all role raft.
+// Beads are `width` wide on a layer `height` thick; lines lie inside the region, each bead's
+// side on its edge at most. Empty regions, width <= 0 or spacing <= 0 give no paths.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+#include "geometry/core/polygon.h"
+#include "geometry/support/support_plan.h"
+#include "geometry/toolpaths/toolpaths.h"
+
+namespace geometry {
+
+struct SupportPathOptions {
+  SupportPattern pattern = SupportPattern::lines;
+  double spacing = 2.5;            // mm between the body's lines
+  double angle = 0;                // degrees from +X, the body's lines
+  double interface_density = 80;   // percent of solid
+  double raft_base_width = 0.8;    // mm
+  double raft_base_spacing = 2.0;  // mm
+  double raft_interface_spacing = 1.0;  // mm
+};
+
+std::vector<ExtrusionPath> support_body_paths(const Region& body, double width,
+                                              const SupportPathOptions& options);
+std::vector<ExtrusionPath> support_interface_paths(const Region& interface, double width,
+                                                   double height,
+                                                   const SupportPathOptions& options);
+
+// The paths of raft layer `index` (0 = the base), of kind `part`, over `area`.
+std::vector<ExtrusionPath> raft_paths(const Region& area, RaftPart part, std::size_t index,
+                                      double width, double height,
+                                      const SupportPathOptions& options);
+
+}  // namespace geometry
