@@ -45,19 +45,20 @@
 #include "host/model_input.h"
 #include "host/plots.h"
 #include "host/progress.h"
+#include "host/slice_pipeline.h"
 #include "printer/profile.h"
 
 namespace host {
 namespace {
 
-using geometry::ContourKind;
+using geometry::ContourStrategy;
 using geometry::LayerAnalysis;
 using geometry::StrategySummary;
 
 struct AnalyzeOptions {
   ModelOptions model;
   double layer = 0.15;
-  std::string contours = "lower,mid,optimal-height,ma";
+  std::string contours = geometry::contour_names(",");  // all of them
   std::string csv, json, plots, export_layers;
   std::string contour = "ma";  // for --export-layers
   std::string thick = "0.2,0.25";
@@ -73,16 +74,9 @@ struct AdviseOptions {
   std::string json;
 };
 
-std::string name_of(ContourKind kind) { return std::string(geometry::contour_name(kind)); }
+using Strategies = std::vector<const ContourStrategy*>;
 
-ContourKind contour_kind(const std::string& name, const std::string& flag) {
-  const auto kind = geometry::parse_contour_kind(name);
-  if (!kind) {
-    throw geometry::InputError(fmt::format(
-        "{}: unknown contour strategy '{}' (use lower, mid, optimal-height or ma)", flag, name));
-  }
-  return *kind;
-}
+std::string name_of(const ContourStrategy* strategy) { return std::string(strategy->name); }
 
 std::vector<std::string> split_list(const std::string& text) {
   std::vector<std::string> items;
@@ -133,7 +127,7 @@ double part_height(const geometry::Mesh& mesh) {
 // the distance error D is compared (advise, the thicker layers), `distance_only` leaves out the
 // volume metrics and the reverse distance, a third of the work.
 std::vector<LayerAnalysis> run_analysis(const geometry::LayerStack& stack,
-                                        const std::vector<ContourKind>& kinds, bool keep_regions,
+                                        const Strategies& kinds, bool keep_regions,
                                         const std::string& label, bool distance_only = false) {
   geometry::AnalysisOptions options;
   options.keep_regions = keep_regions;
@@ -168,9 +162,9 @@ double share_within(const std::vector<LayerAnalysis>& layers, std::size_t k,
   return 100.0 * within / layers.size();
 }
 
-int index_of(const std::vector<ContourKind>& kinds, ContourKind kind) {
+int index_of(const Strategies& kinds, std::string_view name) {
   for (std::size_t k = 0; k < kinds.size(); ++k)
-    if (kinds[k] == kind) return static_cast<int>(k);
+    if (kinds[k]->name == name) return static_cast<int>(k);
   return -1;
 }
 
@@ -202,8 +196,8 @@ nlohmann::json compare(const std::vector<LayerAnalysis>& layers,
   const StrategySummary& s = summaries[k];
   const StrategySummary& base = summaries[b];
   nlohmann::json j;
-  j["strategy"] = name_of(s.kind);
-  j["baseline"] = name_of(base.kind);
+  j["strategy"] = name_of(s.strategy);
+  j["baseline"] = name_of(base.strategy);
   j["mean_distance_change_percent"] =
       base.mean_distance > 0 ? 100 * (s.mean_distance - base.mean_distance) / base.mean_distance : 0.0;
   j["max_distance_change_percent"] =
@@ -224,7 +218,7 @@ nlohmann::json compare(const std::vector<LayerAnalysis>& layers,
               : std::string("ΔV per layer: n/a (the baseline's is negligible)");
   fmt::print("{} vs {}: mean D {}, max D {}, total ΔV {}, {}; D better on {}, worse on {} of {} "
              "layers\n",
-             name_of(s.kind), name_of(base.kind), percent_change(s.mean_distance, base.mean_distance),
+             name_of(s.strategy), name_of(base.strategy), percent_change(s.mean_distance, base.mean_distance),
              percent_change(s.max_distance, base.max_distance),
              base.total_deviation > geometry::kNegligibleVolume * layers.size()
                  ? percent_change(s.total_deviation, base.total_deviation)
@@ -233,21 +227,11 @@ nlohmann::json compare(const std::vector<LayerAnalysis>& layers,
   return j;
 }
 
-const char* colour_of(ContourKind kind) {
-  switch (kind) {
-    case ContourKind::lower: return "#1f77b4";
-    case ContourKind::mid: return "#2ca02c";
-    case ContourKind::optimal_height: return "#ff7f0e";
-    case ContourKind::ma: return "#d62728";
-  }
-  return "#000000";
-}
-
 Series per_layer_series(const std::vector<LayerAnalysis>& layers, std::size_t k, bool distance,
                         const std::string& title) {
   Series series;
   series.title = title;
-  series.colour = colour_of(layers.empty() ? ContourKind::lower : layers[0].strategies[k].kind);
+  if (!layers.empty()) series.colour = layers[0].strategies[k].strategy->colour;
   for (const LayerAnalysis& layer : layers) {
     series.x.push_back(layer.layer.z_mid());
     const auto& m = layer.strategies[k].metrics;
@@ -275,7 +259,7 @@ void fit_y_axis(Chart& chart) {
 }
 
 void draw_layer(const geometry::LayerStack& stack, std::size_t index,
-                const std::vector<ContourKind>& kinds, const std::string& path) {
+                const Strategies& kinds, const std::string& path) {
   geometry::AnalysisOptions options;
   const LayerAnalysis analysis = geometry::analyze_layer(stack, index, kinds, options);
   const geometry::Slab slab = geometry::slab_of(stack, index);
@@ -287,13 +271,13 @@ void draw_layer(const geometry::LayerStack& stack, std::size_t index,
   fmt::print("layer {} [{:.3f}, {:.3f}] mm: {} island(s)\n", index, layer.z_lo, layer.z_hi,
              geometry::boundary_pairs(footprint).size());
   for (const geometry::StrategyLayer& s : analysis.strategies) {
-    Outline o{fmt::format("{} (D {:.3f} mm, ΔV {:.4f} mm³)", name_of(s.kind), s.metrics.distance,
-                          s.metrics.volume_deviation),
-              s.region.loops, colour_of(s.kind), 1.6, s.kind == ContourKind::lower};
+    Outline o{fmt::format("{} (D {:.3f} mm, ΔV {:.4f} mm³)", name_of(s.strategy),
+                          s.metrics.distance, s.metrics.volume_deviation),
+              s.region.loops, std::string(s.strategy->colour), 1.6, s.strategy->name == "lower"};
     outlines.push_back(o);
     fmt::print("  {:<15} area {:9.3f} mm²  ΔV {:8.4f} mm³ (limit {:.4f})  D {:.4f} mm  reverse "
                "{:.4f} mm  missed {}\n",
-               name_of(s.kind), s.metrics.area, s.metrics.volume_deviation,
+               name_of(s.strategy), s.metrics.area, s.metrics.volume_deviation,
                s.metrics.volume_limit, s.metrics.distance, s.metrics.reverse_distance,
                s.metrics.missed_features);
   }
@@ -305,17 +289,18 @@ void draw_layer(const geometry::LayerStack& stack, std::size_t index,
 }
 
 void run_analyze(const AnalyzeOptions& options) {
-  std::vector<ContourKind> kinds;
+  Strategies kinds;
   for (const std::string& name : split_list(options.contours)) {
-    const ContourKind kind = contour_kind(name, "--contours");
-    if (index_of(kinds, kind) < 0) kinds.push_back(kind);
+    const ContourStrategy& kind = contour_strategy_option(name, "--contours");
+    if (index_of(kinds, kind.name) < 0) kinds.push_back(&kind);
   }
   if (kinds.empty()) {
-    throw geometry::InputError("--contours: give at least one of lower, mid, optimal-height, ma");
+    throw geometry::InputError(
+        fmt::format("--contours: give at least one of {}", geometry::contour_names()));
   }
   const bool exporting = !options.export_layers.empty();
-  const ContourKind export_kind = contour_kind(options.contour, "--contour");
-  if (exporting && index_of(kinds, export_kind) < 0) kinds.push_back(export_kind);
+  const ContourStrategy& export_kind = contour_strategy_option(options.contour, "--contour");
+  if (exporting && index_of(kinds, export_kind.name) < 0) kinds.push_back(&export_kind);
   const std::vector<double> thick = options.plots.empty() ? std::vector<double>{}
                                                           : thickness_list(options.thick, "--thick");
   if (!options.plots.empty()) {
@@ -353,10 +338,10 @@ void run_analyze(const AnalyzeOptions& options) {
   fmt::print("{:<15} {:>8} {:>8} {:>8} {:>10} {:>9} {:>9} {:>7} {:>7} {:>5} {:>10}\n",
              "strategy", "mean D", "max D", "mean H", "total ΔV", "mean ΔV", "ΔV>limit", "missed",
              ">lower", ">mid", "ms/layer");
-  const int lower = index_of(kinds, ContourKind::lower), mid = index_of(kinds, ContourKind::mid);
+  const int lower = index_of(kinds, "lower"), mid = index_of(kinds, "mid");
   for (const StrategySummary& s : summaries) {
     fmt::print("{:<15} {:8.4f} {:8.4f} {:8.4f} {:10.3f} {:9.5f} {:>9} {:7} {:>7} {:>5} {:10.2f}\n",
-               name_of(s.kind), s.mean_distance, s.max_distance, s.mean_hausdorff,
+               name_of(s.strategy), s.mean_distance, s.max_distance, s.mean_hausdorff,
                s.total_deviation, s.mean_deviation,
                std::isnan(s.above_limit_percent) ? std::string("n/a")
                                                  : fmt::format("{:.1f}%", s.above_limit_percent),
@@ -374,7 +359,7 @@ void run_analyze(const AnalyzeOptions& options) {
     if (mid >= 0 && static_cast<int>(k) != mid && static_cast<int>(k) != lower)
       comparisons.push_back(compare(layers, summaries, k, static_cast<std::size_t>(mid)));
   }
-  const int optimal = index_of(kinds, ContourKind::optimal_height);
+  const int optimal = index_of(kinds, "optimal-height");
   if (optimal >= 0) {
     fmt::print("optimal-height: {:.1f} ms per slice on one core (the paper's CATIA search: about "
                "90 s per slice)\n",
@@ -389,7 +374,7 @@ void run_analyze(const AnalyzeOptions& options) {
       for (const geometry::StrategyLayer& s : layers[i].strategies) {
         const auto& m = s.metrics;
         out << fmt::format("{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.12g},{:.12g},{:.6f},{:.6f},{:.6f},{},{:.3f}\n",
-                           i, name_of(s.kind), m.z_lo, m.thickness, s.height, m.area,
+                           i, name_of(s.strategy), m.z_lo, m.thickness, s.height, m.area,
                            m.volume_deviation, m.volume_limit, m.distance, m.reverse_distance,
                            m.hausdorff, m.missed_features, 1e3 * s.contour_seconds);
       }
@@ -401,7 +386,7 @@ void run_analyze(const AnalyzeOptions& options) {
   // Fig. 24-25: the medial-axis contour at thicker layers against lower at this thickness.
   nlohmann::json thicker = nlohmann::json::array();
   if (!thick.empty() && lower >= 0) {
-    const std::vector<ContourKind> ma_only{ContourKind::ma};
+    const Strategies ma_only{&geometry::contour_strategy("ma")};
     for (double t : thick) {
       if (std::abs(t - options.layer) < 1e-9) continue;
       const geometry::LayerStack thick_stack(mesh, geometry::uniform_layers(height, t));
@@ -458,7 +443,7 @@ void run_analyze(const AnalyzeOptions& options) {
     write_chart_svg(path_of("volume.svg"), volume);
     fmt::print("wrote {}, {}\n", path_of("distance.svg"), path_of("volume.svg"));
     // Fig. 22: two strategies per chart, each against the medial-axis contour.
-    const int ma = index_of(kinds, ContourKind::ma);
+    const int ma = index_of(kinds, "ma");
     for (int base : {lower, mid}) {
       if (base < 0 || ma < 0) continue;
       Chart pair{fmt::format("Distance error: {} vs ma at {:g} mm", name_of(kinds[base]), options.layer),
@@ -481,7 +466,7 @@ void run_analyze(const AnalyzeOptions& options) {
   }
 
   if (exporting) {
-    const std::size_t k = static_cast<std::size_t>(index_of(kinds, export_kind));
+    const std::size_t k = static_cast<std::size_t>(index_of(kinds, export_kind.name));
     std::vector<geometry::Region> regions;
     regions.reserve(layers.size());
     for (const LayerAnalysis& layer : layers) regions.push_back(layer.strategies[k].region);
@@ -489,7 +474,7 @@ void run_analyze(const AnalyzeOptions& options) {
     geometry::write_stl_binary(options.export_layers, extruded);
     fmt::print("wrote {}: the layered part of {} ({} layers, {} triangles, {:.2f} mm³; model "
                "{:.2f} mm³)\n",
-               options.export_layers, name_of(export_kind), layers.size(), extruded.faces.size(),
+               options.export_layers, export_kind.name, layers.size(), extruded.faces.size(),
                geometry::signed_volume(extruded), geometry::signed_volume(mesh));
   }
 
@@ -502,7 +487,7 @@ void run_analyze(const AnalyzeOptions& options) {
     j["volume_limit"] = total_limit;
     j["strategies"] = nlohmann::json::array();
     for (const StrategySummary& s : summaries) {
-      j["strategies"].push_back({{"strategy", name_of(s.kind)},
+      j["strategies"].push_back({{"strategy", name_of(s.strategy)},
                                  {"mean_distance", s.mean_distance},
                                  {"max_distance", s.max_distance},
                                  {"mean_hausdorff", s.mean_hausdorff},
@@ -550,7 +535,7 @@ std::vector<double> allowed_thicknesses(const printer::PrinterProfile& profile) 
 }
 
 void run_advise(const AdviseOptions& options) {
-  const ContourKind kind = contour_kind(options.contour, "--contour");
+  const ContourStrategy* kind = &contour_strategy_option(options.contour, "--contour");
   std::vector<double> thicknesses;
   std::string source;
   if (!options.thicknesses.empty()) {
@@ -568,7 +553,7 @@ void run_advise(const AdviseOptions& options) {
   const double height = part_height(mesh);
   const double thinnest = thicknesses.front();
   const geometry::LayerStack bench_stack(mesh, geometry::uniform_layers(height, thinnest));
-  const std::vector<ContourKind> bench_kinds{ContourKind::lower};
+  const Strategies bench_kinds{&geometry::contour_strategy("lower")};
   const auto benchmark = run_analysis(bench_stack, bench_kinds, false,
                                       fmt::format("lower at {:g} mm", thinnest), true);
   const auto bench_summary = geometry::summarize(benchmark);
@@ -580,7 +565,7 @@ void run_advise(const AdviseOptions& options) {
              "within", "fewer layers");
   nlohmann::json rows = nlohmann::json::array();
   double best = 0;
-  const std::vector<ContourKind> kinds{kind};
+  const Strategies kinds{kind};
   for (double t : thicknesses) {
     const geometry::LayerStack stack(mesh, geometry::uniform_layers(height, t));
     const auto layers =
@@ -635,7 +620,8 @@ void add_analyze_command(CLI::App& app) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   analyze->add_option("--contours", options->contours,
-                      "strategies to compare, comma-separated: lower, mid, optimal-height, ma")
+                      fmt::format("strategies to compare, comma-separated: {}",
+                                  contour_strategies_help()))
       ->capture_default_str();
   analyze->add_option("--csv", options->csv, "write one row per layer and strategy to this CSV file");
   analyze->add_option("--json", options->json, "write the summary to this JSON file");
@@ -652,7 +638,8 @@ void add_analyze_command(CLI::App& app) {
   analyze->add_option("--export-layers", options->export_layers,
                       "write the layered part (each layer's region extruded) as an STL file");
   analyze->add_option("--contour", options->contour,
-                      "with --export-layers: which strategy's layers (lower, mid, optimal-height, ma)")
+                      fmt::format("with --export-layers: which strategy's layers ({})",
+                                  geometry::contour_names()))
       ->capture_default_str();
   analyze->callback([options] { run_analyze(*options); });
 
@@ -666,7 +653,7 @@ void add_analyze_command(CLI::App& app) {
                      "printer profile whose layer thicknesses to try (a name or a .toml path)")
       ->capture_default_str();
   advise->add_option("--contour", advise_options->contour,
-                     "strategy for the thicker layers: lower, mid, optimal-height, ma")
+                     fmt::format("strategy for the thicker layers: {}", geometry::contour_names()))
       ->capture_default_str();
   advise->add_option("--thicknesses", advise_options->thicknesses,
                      "thicknesses to try instead of the printer's, mm, comma-separated; the "

@@ -12,6 +12,7 @@
 #include <tbb/parallel_for.h>
 
 #include "geometry/contour/contour_strategy.h"
+#include "geometry/core/error.h"
 #include "geometry/slicing/layer_stack.h"
 #include "geometry/mesh/mesh.h"
 #include "geometry/support/support_plan.h"
@@ -243,13 +244,10 @@ void add_slice_options(CLI::App& command, SliceOptions& options, const std::stri
                                      "layer thickness, mm; one the printer allows (default: "
                                      "the printer profile's layer.default)")
                       ->check(CLI::PositiveNumber));
-  added.push_back(command.add_option(
-                            "--contour", options.contour,
-                            "the region each layer extrudes: lower (the section at the layer's "
-                            "bottom), mid (at its middle, as other slicers), optimal-height (the "
-                            "section with the least volume deviation), ma (the paper's "
-                            "medial-axis contour) (default: ma)")
-                      ->check(CLI::IsMember({"lower", "mid", "optimal-height", "ma"})));
+  added.push_back(command.add_option("--contour", options.contour,
+                                     fmt::format("the region each layer extrudes: {} (default: ma)",
+                                                 contour_strategies_help()))
+                      ->check(CLI::IsMember(contour_strategy_names())));
   added.push_back(command.add_option("--perimeters", options.perimeters,
                                      "wall loops (default: the printer profile's "
                                      "print.perimeters)")
@@ -296,6 +294,33 @@ printer::Profiles load_slice_profiles(const SliceOptions& options) {
   return profiles;
 }
 
+std::vector<std::string> contour_strategy_names() {
+  std::vector<std::string> names;
+  for (const geometry::ContourStrategy& strategy : geometry::contour_strategies()) {
+    names.emplace_back(strategy.name);
+  }
+  return names;
+}
+
+std::string contour_strategies_help() {
+  std::string text;
+  for (const geometry::ContourStrategy& strategy : geometry::contour_strategies()) {
+    if (!text.empty()) text += ", ";
+    text += fmt::format("{} ({})", strategy.name, strategy.description);
+  }
+  return text;
+}
+
+const geometry::ContourStrategy& contour_strategy_option(const std::string& name,
+                                                         const std::string& flag) {
+  const geometry::ContourStrategy* strategy = geometry::find_contour_strategy(name);
+  if (!strategy) {
+    throw geometry::InputError(fmt::format("{}: unknown contour strategy '{}' (use {})", flag,
+                                           name, geometry::contour_names()));
+  }
+  return *strategy;
+}
+
 std::string_view stage_name(SliceStage stage) {
   switch (stage) {
     case SliceStage::contours: return "contours";
@@ -315,8 +340,7 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
   result.profiles = load_slice_profiles(options);
   const printer::PrinterProfile& machine = result.profiles.printer;
 
-  const geometry::ContourKind contour =
-      geometry::parse_contour_kind(options.contour).value_or(geometry::ContourKind::ma);
+  const geometry::ContourStrategy& contour = contour_strategy_option(options.contour, "--contour");
   result.layer_thickness = options.layer > 0 ? options.layer : machine.layer.default_thickness;
   printer::check_layer_thickness(machine, result.layer_thickness);
 
@@ -368,7 +392,7 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
   gcode_options.notes = {
       fmt::format("model: {} ({:.2f} x {:.2f} x {:.2f} mm)", options.model.path, size.x, size.y,
                   size.z),
-      fmt::format("contour: {}", options.contour),
+      fmt::format("contour: {}", contour.name),
       fmt::format("layer: {:g} mm, first layer {:g} mm", result.layer_thickness,
                   machine.first_layer_height),
       fmt::format("perimeters: {}, infill: {:g}% {}, top/bottom layers: {}/{}",

@@ -19,6 +19,10 @@
 #include "printer/profile.h"
 #include "sim/unsupported_extrusion.h"
 
+namespace geometry {
+struct ContourStrategy;  // geometry/contour/contour_strategy.h
+}  // namespace geometry
+
 namespace host {
 
 // Supports, bridges, brim and raft (issue 12): each unset value is the profile's.
@@ -57,6 +61,16 @@ struct SliceOptions {
 // --support-blocker, --bridge-length, --brim, --raft, --no-raft). They are listed under
 // `group` in the command's help ("" leaves them among its other options).
 void add_slice_options(CLI::App& command, SliceOptions& options, const std::string& group = {});
+
+// The contour strategies (geometry/contour/contour_strategy.h's table) as --contour options
+// show them: their names, and "name (description), ..." for a help text.
+std::vector<std::string> contour_strategy_names();
+std::string contour_strategies_help();
+
+// The strategy the user named after `flag` ("--contour"); an unknown name throws
+// geometry::InputError listing the strategies.
+const geometry::ContourStrategy& contour_strategy_option(const std::string& name,
+                                                         const std::string& flag);
 
 // The options of add_slice_options that only mean something for a model to slice (all but
 // --printer), as written on the command line: for `print` to refuse them with a G-code file.

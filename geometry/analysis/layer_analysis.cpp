@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <atomic>
 #include <limits>
+#include <string_view>
 
-#include "geometry/contour/ma_contour.h"
 
 namespace geometry {
 
@@ -22,47 +22,21 @@ double thread_seconds() {
 
 }  // namespace
 
-LayerAnalysis analyze_layer(const LayerStack& stack, std::size_t layer,
-                            std::span<const ContourKind> kinds, const AnalysisOptions& options) {
+LayerAnalysis analyze_layer(const LayerStack& stack, std::size_t layer, Strategies strategies,
+                            const AnalysisOptions& options) {
   LayerAnalysis analysis;
   if (layer >= stack.size()) return analysis;
   analysis.layer = stack.layers()[layer];
   double start = thread_seconds();
   const LayerReference reference = layer_reference(stack, layer, options.metrics);
   analysis.reference_seconds = thread_seconds() - start;
-  for (ContourKind kind : kinds) {
+  for (const ContourStrategy* strategy : strategies) {
     StrategyLayer result;
-    result.kind = kind;
+    result.strategy = strategy;
     start = thread_seconds();
-    switch (kind) {
-      case ContourKind::lower:
-        result.region = stack.lower(layer);
-        result.height = analysis.layer.z_lo;
-        break;
-      case ContourKind::mid:
-        result.region = stack.mid(layer);
-        result.height = analysis.layer.z_mid();
-        break;
-      case ContourKind::optimal_height: {
-        // Without volume metrics the reference has no columns; the search needs them.
-        const SlabColumns columns = options.metrics.volumes
-                                        ? SlabColumns{}
-                                        : slab_columns(reference.slab, stack.lower(layer));
-        OptimalHeight best = optimal_height(stack, layer,
-                                            options.metrics.volumes ? reference.columns : columns,
-                                            options.optimal);
-        result.region = std::move(best.section);
-        result.height = best.height;
-        break;
-      }
-      case ContourKind::ma:
-        // The slab is clipped and its islands found already: hand them over.
-        result.region = ma_contour(
-            reference.slab, reference.islands,
-            [&stack](double z) { return stack.cross_section(z); }, options.contour.ma);
-        result.height = analysis.layer.z_mid();
-        break;
-    }
+    ContourResult made = strategy->contour({stack, layer, options.contour, &reference});
+    result.region = std::move(made.region);
+    result.height = made.height;
     result.contour_seconds = thread_seconds() - start;
     start = thread_seconds();
     result.metrics = layer_metrics(reference, result.region, options.metrics);
@@ -73,14 +47,13 @@ LayerAnalysis analyze_layer(const LayerStack& stack, std::size_t layer,
   return analysis;
 }
 
-std::vector<LayerAnalysis> analyze_layers(const LayerStack& stack,
-                                          std::span<const ContourKind> kinds,
+std::vector<LayerAnalysis> analyze_layers(const LayerStack& stack, Strategies strategies,
                                           const AnalysisOptions& options,
                                           const std::function<void(std::size_t)>& progress) {
   std::vector<LayerAnalysis> layers(stack.size());
   std::atomic<std::size_t> done{0};
   tbb::parallel_for(std::size_t{0}, stack.size(), [&](std::size_t i) {
-    layers[i] = analyze_layer(stack, i, kinds, options);
+    layers[i] = analyze_layer(stack, i, strategies, options);
     const std::size_t finished = ++done;
     if (progress) progress(finished);
   });
@@ -92,15 +65,15 @@ std::vector<StrategySummary> summarize(std::span<const LayerAnalysis> layers,
   std::vector<StrategySummary> summaries;
   if (layers.empty()) return summaries;
   const auto& first = layers.front().strategies;
-  const auto index_of = [&](ContourKind kind) -> int {
+  const auto index_of = [&](std::string_view name) -> int {
     for (std::size_t k = 0; k < first.size(); ++k)
-      if (first[k].kind == kind) return static_cast<int>(k);
+      if (first[k].strategy->name == name) return static_cast<int>(k);
     return -1;
   };
-  const int lower = index_of(ContourKind::lower), mid = index_of(ContourKind::mid);
+  const int lower = index_of("lower"), mid = index_of("mid");
   for (std::size_t k = 0; k < first.size(); ++k) {
     StrategySummary s;
-    s.kind = first[k].kind;
+    s.strategy = first[k].strategy;
     for (const LayerAnalysis& layer : layers) {
       if (k >= layer.strategies.size()) continue;
       const StrategyLayer& r = layer.strategies[k];

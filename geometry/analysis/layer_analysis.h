@@ -22,22 +22,20 @@
 #include "geometry/contour/contour_strategy.h"
 #include "geometry/metrics/layer_metrics.h"
 #include "geometry/slicing/layer_stack.h"
-#include "geometry/contour/optimal_height.h"
 
 namespace geometry {
 
 struct AnalysisOptions {
   ContourOptions contour;
-  OptimalHeightOptions optimal;
   MetricOptions metrics;
   bool keep_regions = true;  // false: drop each region once measured (saves memory)
 };
 
 struct StrategyLayer {
-  ContourKind kind = ContourKind::lower;
+  const ContourStrategy* strategy = nullptr;
   Region region;
   LayerMetrics metrics;
-  double height = 0;            // optimal-height: the height chosen; others: where they cut
+  double height = 0;            // ContourResult::height: where the region was cut
   double contour_seconds = 0;   // making the region
   double metric_seconds = 0;    // measuring it
 };
@@ -48,11 +46,13 @@ struct LayerAnalysis {
   double reference_seconds = 0;           // slab, footprint, columns, surface, limit
 };
 
-LayerAnalysis analyze_layer(const LayerStack& stack, std::size_t layer,
-                            std::span<const ContourKind> kinds, const AnalysisOptions& options = {});
+// The strategies are entries of contour_strategies() (contour_strategy.h).
+using Strategies = std::span<const ContourStrategy* const>;
 
-std::vector<LayerAnalysis> analyze_layers(const LayerStack& stack,
-                                          std::span<const ContourKind> kinds,
+LayerAnalysis analyze_layer(const LayerStack& stack, std::size_t layer, Strategies strategies,
+                            const AnalysisOptions& options = {});
+
+std::vector<LayerAnalysis> analyze_layers(const LayerStack& stack, Strategies strategies,
                                           const AnalysisOptions& options = {},
                                           const std::function<void(std::size_t)>& progress = {});
 
@@ -61,7 +61,7 @@ std::vector<LayerAnalysis> analyze_layers(const LayerStack& stack,
 inline constexpr double kNegligibleVolume = 1e-6;
 
 struct StrategySummary {
-  ContourKind kind = ContourKind::lower;
+  const ContourStrategy* strategy = nullptr;
   std::size_t layers = 0;
   double mean_distance = 0, max_distance = 0;
   double mean_hausdorff = 0, max_hausdorff = 0;

@@ -75,6 +75,7 @@
 #include <optional>
 #include <utility>
 
+#include "geometry/contour/contour_strategy.h"
 #include "geometry/core/boundary_grid.h"
 #include "geometry/core/douglas_peucker.h"
 #include "geometry/core/clipper_bridge.h"
@@ -1043,6 +1044,18 @@ Region ma_contour(const LayerStack& stack, std::size_t layer, const MaOptions& o
 Region ma_contour(const LayerStack& stack, std::size_t layer, const MaOptions& options) {
   MaStats stats;
   return ma_contour(stack, layer, options, stats);
+}
+
+ContourResult ma_strategy(const ContourInput& input) {
+  const LayerStack& stack = input.stack;
+  const double middle = stack.layers()[input.layer].z_mid();
+  const MaOptions& options = input.options.ma;
+  if (!input.reference) return {ma_contour(stack, input.layer, options), middle};
+  // The slab is clipped and its islands found already: hand them over.
+  return {ma_contour(
+              input.reference->slab, input.reference->islands,
+              [&stack](double z) { return stack.cross_section(z); }, options),
+          middle};
 }
 
 }  // namespace geometry

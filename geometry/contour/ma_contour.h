@@ -33,6 +33,7 @@
 #include <span>
 #include <vector>
 
+#include "geometry/contour/contour_input.h"
 #include "geometry/slab/boundary_pair.h"
 #include "geometry/slicing/layer_stack.h"
 #include "geometry/core/polygon.h"
@@ -81,6 +82,10 @@ Region ma_contour(const Slab& slab, const Region& footprint,
 Region ma_contour(const Slab& slab, std::span<const BoundaryPair> islands,
                   const std::function<Region(double z)>& cross_section,
                   const MaOptions& options = {}, MaStats* stats = nullptr);
+
+// The strategy "ma" (contour_strategy.h): the contour from the reference's slab and islands
+// where there is one, else from the stack; options.ma; the height is the layer's middle.
+ContourResult ma_strategy(const ContourInput& input);
 
 // One island's medial-axis loops: the Voronoi edges whose dual Delaunay edge joins a loop with
 // solid beside it to one with empty beside it (solid[k] for loops_of(pair)[k], see

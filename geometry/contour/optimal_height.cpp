@@ -4,8 +4,9 @@
 #include <array>
 #include <cmath>
 
-#include "geometry/slab/slab.h"
+#include "geometry/contour/contour_strategy.h"
 #include "geometry/metrics/volume_deviation.h"
+#include "geometry/slab/slab.h"
 
 namespace geometry {
 
@@ -248,6 +249,21 @@ OptimalHeight optimal_height(const LayerStack& stack, std::size_t layer,
   if (layer >= stack.size()) return {};
   const SlabColumns columns = slab_columns(slab_of(stack, layer), stack.lower(layer));
   return optimal_height(stack, layer, columns, options);
+}
+
+ContourResult optimal_height_strategy(const ContourInput& input) {
+  const OptimalHeightOptions& options = input.options.optimal;
+  const LayerReference* reference = input.reference;
+  OptimalHeight best;
+  if (reference && reference->volumes) {
+    best = optimal_height(input.stack, input.layer, reference->columns, options);
+  } else if (reference) {
+    best = optimal_height(input.stack, input.layer,
+                          slab_columns(reference->slab, input.stack.lower(input.layer)), options);
+  } else {
+    best = optimal_height(input.stack, input.layer, options);
+  }
+  return {std::move(best.section), best.height};
 }
 
 }  // namespace geometry

@@ -19,6 +19,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "geometry/contour/contour_input.h"
 #include "geometry/core/boundary_grid.h"
 #include "geometry/slicing/layer_stack.h"
 #include "geometry/core/polygon.h"
@@ -78,5 +79,10 @@ OptimalHeight optimal_height(const LayerStack& stack, std::size_t layer,
 // The same, building the slab's columns itself.
 OptimalHeight optimal_height(const LayerStack& stack, std::size_t layer,
                              const OptimalHeightOptions& options = {});
+
+// The strategy "optimal-height" (contour_strategy.h): the best section and its height, with
+// the reference's columns where it has them, else columns of the reference's slab, else its
+// own; options.optimal.
+ContourResult optimal_height_strategy(const ContourInput& input);
 
 }  // namespace geometry

@@ -17,6 +17,7 @@ LayerReference layer_reference(const LayerStack& stack, std::size_t layer,
   reference.footprint = std::move(footprint.region);
   reference.islands = std::move(footprint.islands);
   if (options.volumes) {
+    reference.volumes = true;
     reference.columns = slab_columns(reference.slab, stack.lower(layer));
     reference.volume_limit = volume_limit(reference.columns);
   }

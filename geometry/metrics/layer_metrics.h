@@ -46,6 +46,7 @@ struct LayerReference {
   Slab slab;
   Region footprint;
   std::vector<BoundaryPair> islands;
+  bool volumes = false;  // columns and volume_limit computed (MetricOptions::volumes)
   SlabColumns columns;
   SlabSurface surface;
   double volume_limit = 0;

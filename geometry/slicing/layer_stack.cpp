@@ -70,8 +70,10 @@ struct LayerStack::Index {
 };
 
 LayerStack::LayerStack(const Mesh& mesh, std::vector<Layer> layers)
-    : mesh_(&mesh), layers_(std::move(layers)), index_(std::make_unique<Index>()) {
-  Index& index = *index_;
+    : mesh_(&mesh), layers_(std::move(layers)) {
+  auto built = std::make_shared<Index>();
+  index_ = built;
+  Index& index = *built;
   const std::size_t face_count = mesh.faces.size();
   index.face_low.assign(face_count, NAN);
   index.face_high.assign(face_count, NAN);
@@ -140,6 +142,9 @@ LayerStack::LayerStack(const Mesh& mesh, std::vector<Layer> layers)
     }
   }
 }
+
+LayerStack::LayerStack(const LayerStack& other, std::vector<Layer> layers)
+    : mesh_(other.mesh_), layers_(std::move(layers)), index_(other.index_) {}
 
 LayerStack::~LayerStack() = default;
 LayerStack::LayerStack(LayerStack&&) noexcept = default;

@@ -35,6 +35,9 @@ class LayerStack {
  public:
   // Indexes the mesh's faces by height once; the mesh must outlive the stack.
   LayerStack(const Mesh& mesh, std::vector<Layer> layers);
+  // The same mesh and face index with other layers (any bounds, even overlapping: a layer
+  // plan measures candidate slabs this way without indexing the mesh again).
+  LayerStack(const LayerStack& other, std::vector<Layer> layers);
   ~LayerStack();
   LayerStack(LayerStack&&) noexcept;
   LayerStack& operator=(LayerStack&&) noexcept;
@@ -61,7 +64,7 @@ class LayerStack {
   struct Index;
   const Mesh* mesh_;
   std::vector<Layer> layers_;
-  std::unique_ptr<Index> index_;
+  std::shared_ptr<const Index> index_;
 };
 
 }  // namespace geometry

@@ -40,7 +40,7 @@ static double seconds_since(Clock::time_point start) {
 int main(int argc, char** argv) {
   std::string path = std::string(MAHOST_DATA_DIR) + "/bunny.stl";
   double thickness = 0.15;
-  std::string contours = "lower,mid,optimal-height,ma";
+  std::string contours = contour_names(",");
   int worst = 0;
   bool components = false;
   AnalysisOptions options;
@@ -62,15 +62,15 @@ int main(int argc, char** argv) {
       path = arg;
     }
   }
-  std::vector<ContourKind> kinds;
+  std::vector<const ContourStrategy*> kinds;
   std::stringstream list(contours);
   for (std::string name; std::getline(list, name, ',');) {
-    const auto kind = parse_contour_kind(name);
+    const ContourStrategy* kind = find_contour_strategy(name);
     if (!kind) {
       std::fprintf(stderr, "bench_analyze: unknown contour '%s'\n", name.c_str());
       return 2;
     }
-    kinds.push_back(*kind);
+    kinds.push_back(kind);
   }
 
   auto start = Clock::now();
@@ -105,14 +105,14 @@ int main(int argc, char** argv) {
               reference, metrics, 1e3 * metrics / (layers.size() * kinds.size()));
   for (std::size_t k = 0; k < kinds.size(); ++k) {
     std::printf("  contours %-15s %.2f s (%.2f ms per layer)\n",
-                std::string(contour_name(kinds[k])).c_str(), contour[k],
+                std::string(kinds[k]->name).c_str(), contour[k],
                 1e3 * contour[k] / layers.size());
   }
   std::printf("%-15s %8s %8s %10s %10s %9s %7s %6s %6s\n", "strategy", "mean D", "max D",
               "total dV", "mean dV", ">limit%", "missed", ">lower", ">mid");
   for (const StrategySummary& s : summarize(layers)) {
     std::printf("%-15s %8.4f %8.4f %10.3f %10.5f %9.2f %7zu %6zu %6zu\n",
-                std::string(contour_name(s.kind)).c_str(), s.mean_distance, s.max_distance,
+                std::string(s.strategy->name).c_str(), s.mean_distance, s.max_distance,
                 s.total_deviation, s.mean_deviation, s.above_limit_percent, s.missed_features,
                 s.worse_than_lower, s.worse_than_mid);
   }
@@ -123,7 +123,7 @@ int main(int argc, char** argv) {
     std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
       return layers[a].strategies[k].metrics.distance > layers[b].strategies[k].metrics.distance;
     });
-    std::printf("worst layers of %s:", std::string(contour_name(kinds[k])).c_str());
+    std::printf("worst layers of %s:", std::string(kinds[k]->name).c_str());
     for (int j = 0; j < worst && j < static_cast<int>(order.size()); ++j) {
       const LayerMetrics& m = layers[order[j]].strategies[k].metrics;
       std::printf(" #%zu z=%.2f D=%.3f missed=%zu;", order[j], m.z_lo, m.distance, m.missed_features);

@@ -71,10 +71,10 @@ int main(int argc, char** argv) {
   const double layer = argc > 2 ? std::stod(argv[2]) : 0.15;
   const std::string contour = argc > 3 ? argv[3] : "mid";
   const int repeat = argc > 4 ? std::max(std::stoi(argv[4]), 1) : 1;
-  const auto kind = parse_contour_kind(contour);
+  const ContourStrategy* kind = find_contour_strategy(contour);
   if (!kind) {
-    std::fprintf(stderr, "bench_toolpaths: contour must be lower, mid, optimal-height or ma, "
-                 "not '%s'\n", contour.c_str());
+    std::fprintf(stderr, "bench_toolpaths: contour must be one of %s, not '%s'\n",
+                 contour_names().c_str(), contour.c_str());
     return 2;
   }
 

@@ -159,7 +159,7 @@ TEST_CASE("analyze_refuses_bad_input_with_one_line") {
       {{"analyze", stl, "--layer", "0.5", "--layer-index", "30"}, "--layer-index"},
       {{"analyze", stl, "--csv", dir + "/no/such/dir/x.csv"}, "x.csv"},
       {{"analyze", stl, "--layer", "-1"}, "--layer"},
-      {{"analyze", stl, "--export-layers", dir + "/x.stl", "--contour", "best"}, "--contour"},
+      {{"analyze", stl, "--export-layers", dir + "/x.stl", "--contour", "median"}, "--contour"},
       {{"advise", stl, "--printer", "no-such-printer"}, "no-such-printer"},
       {{"advise", stl, "--thicknesses", "0.2,abc"}, "--thicknesses"},
   };

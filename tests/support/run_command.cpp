@@ -9,7 +9,11 @@
 
 #include <cerrno>
 #include <filesystem>
+#include <functional>
 #include <stdexcept>
+#include <string_view>
+
+#include <fmt/format.h>
 
 extern char** environ;
 
@@ -101,8 +105,12 @@ CommandResult run_mahost(const std::vector<std::string>& args, const std::string
 
 std::string scratch_dir(const std::string& test_name) {
   namespace fs = std::filesystem;
+  // One folder per checkout (a short hash of its path), so two checkouts' test runs at once
+  // (a clean-clone check beside the working tree) never clear each other's files; short, so
+  // that the sockets made inside stay within the 108 bytes a socket path may have.
+  const std::size_t checkout = std::hash<std::string_view>{}(MAHOST_SOURCE_DIR) % 0xfffff;
   const fs::path dir = fs::temp_directory_path() /
-                       ("mahost-test-" + std::to_string(getuid())) / test_name;
+                       fmt::format("mahost-test-{}-{:05x}", getuid(), checkout) / test_name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir.string();

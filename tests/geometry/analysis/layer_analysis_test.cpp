@@ -2,22 +2,26 @@
 // counts on numbers chosen by hand, and analyze_layers against layer-by-layer calls.
 #include <doctest/doctest.h>
 
+#include <string_view>
 #include <vector>
 
 #include "geometry/analysis/layer_analysis.h"
 #include "geometry/metrics/layer_metrics.h"
 #include "support/solids.h"
 
-using geometry::ContourKind;
 using geometry::LayerAnalysis;
 using geometry::StrategyLayer;
 
 namespace {
 
-StrategyLayer result(ContourKind kind, double distance, double deviation, double limit,
+const geometry::ContourStrategy* strategy(std::string_view name) {
+  return &geometry::contour_strategy(name);
+}
+
+StrategyLayer result(const geometry::ContourStrategy* kind, double distance, double deviation, double limit,
                      std::size_t missed = 0) {
   StrategyLayer s;
-  s.kind = kind;
+  s.strategy = kind;
   s.metrics.distance = distance;
   s.metrics.hausdorff = distance + 0.1;
   s.metrics.volume_deviation = deviation;
@@ -32,19 +36,19 @@ TEST_CASE("summary_counts_defect_cases_against_lower_and_mid") {
   std::vector<LayerAnalysis> layers(3);
   // layer 0: ma beats both; layer 1: ma worse than mid only; layer 2: worse than both, but by
   // less than the tolerance against lower.
-  layers[0].strategies = {result(ContourKind::lower, 0.4, 2.0, 1.0),
-                          result(ContourKind::mid, 0.3, 1.2, 1.0),
-                          result(ContourKind::ma, 0.2, 1.1, 1.0)};
-  layers[1].strategies = {result(ContourKind::lower, 0.4, 2.0, 1.0),
-                          result(ContourKind::mid, 0.1, 1.0, 1.0),
-                          result(ContourKind::ma, 0.2, 1.5, 1.0, 1)};
-  layers[2].strategies = {result(ContourKind::lower, 0.3, 3.0, 2.0),
-                          result(ContourKind::mid, 0.2, 2.0, 2.0),
-                          result(ContourKind::ma, 0.3005, 2.5, 2.0)};
+  layers[0].strategies = {result(strategy("lower"), 0.4, 2.0, 1.0),
+                          result(strategy("mid"), 0.3, 1.2, 1.0),
+                          result(strategy("ma"), 0.2, 1.1, 1.0)};
+  layers[1].strategies = {result(strategy("lower"), 0.4, 2.0, 1.0),
+                          result(strategy("mid"), 0.1, 1.0, 1.0),
+                          result(strategy("ma"), 0.2, 1.5, 1.0, 1)};
+  layers[2].strategies = {result(strategy("lower"), 0.3, 3.0, 2.0),
+                          result(strategy("mid"), 0.2, 2.0, 2.0),
+                          result(strategy("ma"), 0.3005, 2.5, 2.0)};
   const auto summary = geometry::summarize(layers, 0.001);
   REQUIRE(summary.size() == 3);
   const geometry::StrategySummary& ma = summary[2];
-  CHECK(ma.kind == ContourKind::ma);
+  CHECK(ma.strategy == strategy("ma"));
   CHECK(ma.layers == 3);
   CHECK(ma.mean_distance == doctest::Approx((0.2 + 0.2 + 0.3005) / 3));
   CHECK(ma.max_distance == doctest::Approx(0.3005));
@@ -65,7 +69,7 @@ TEST_CASE("summary_counts_defect_cases_against_lower_and_mid") {
 TEST_CASE("analyze_layers_matches_layer_by_layer_metrics") {
   const solids::Solid sphere = solids::sphere(4, 32, 16, {0, 0, 4});
   const geometry::LayerStack stack(sphere.mesh, geometry::uniform_layers(8, 0.5));
-  const std::vector<ContourKind> kinds{ContourKind::lower, ContourKind::ma};
+  const std::vector<const geometry::ContourStrategy*> kinds{strategy("lower"), strategy("ma")};
   const auto layers = geometry::analyze_layers(stack, kinds);
   REQUIRE(layers.size() == stack.size());
   for (std::size_t i = 0; i < stack.size(); ++i) {
@@ -76,7 +80,7 @@ TEST_CASE("analyze_layers_matches_layer_by_layer_metrics") {
         geometry::layer_metrics(stack, i, stack.lower(i));
     CHECK(layers[i].strategies[0].metrics.volume_deviation == doctest::Approx(lower.volume_deviation));
     CHECK(layers[i].strategies[0].metrics.distance == doctest::Approx(lower.distance));
-    CHECK(layers[i].strategies[1].kind == ContourKind::ma);
+    CHECK(layers[i].strategies[1].strategy == strategy("ma"));
     CHECK(layers[i].strategies[1].height == stack.layers()[i].z_mid());
     CHECK(!layers[i].strategies[1].region.loops.empty());
   }

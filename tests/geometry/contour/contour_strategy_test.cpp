@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
+#include <string_view>
 
 #include "geometry/core/boundary_grid.h"
 #include "geometry/contour/contour_strategy.h"
@@ -12,7 +14,7 @@
 #include "geometry/slicing/layer_stack.h"
 #include "support/solids.h"
 
-using geometry::ContourKind;
+using geometry::ContourStrategy;
 using geometry::LayerStack;
 using geometry::Region;
 
@@ -34,14 +36,41 @@ double boundary_distance(const Region& a, const Region& b) {
 
 }  // namespace
 
+const ContourStrategy& strategy(std::string_view name) { return geometry::contour_strategy(name); }
+
 TEST_CASE("contour_names_round_trip") {
-  for (ContourKind kind : {ContourKind::lower, ContourKind::mid, ContourKind::optimal_height,
-                           ContourKind::ma}) {
-    CHECK(geometry::parse_contour_kind(geometry::contour_name(kind)) == kind);
+  const auto table = geometry::contour_strategies();
+  REQUIRE(table.size() >= 4);
+  for (const ContourStrategy& s : table) {
+    CAPTURE(s.name);
+    CHECK(geometry::find_contour_strategy(s.name) == &s);
   }
-  CHECK(geometry::contour_name(ContourKind::optimal_height) == "optimal-height");
-  CHECK_FALSE(geometry::parse_contour_kind("median").has_value());
-  CHECK_FALSE(geometry::parse_contour_kind("").has_value());
+  CHECK(table[0].name == "lower");
+  CHECK(table[1].name == "mid");
+  CHECK(table[2].name == "optimal-height");
+  CHECK(table[3].name == "ma");
+  CHECK(table[4].name == "best");
+  CHECK(geometry::find_contour_strategy("optimal_height") == &table[2]);
+  CHECK(geometry::find_contour_strategy("median") == nullptr);
+  CHECK(geometry::find_contour_strategy("") == nullptr);
+  CHECK_THROWS_AS(geometry::contour_strategy("median"), std::logic_error);
+  CHECK(geometry::contour_names() == "lower, mid, optimal-height, ma, best");
+}
+
+TEST_CASE("every_strategy_has_a_description_and_a_colour_of_its_own") {
+  const auto table = geometry::contour_strategies();
+  for (std::size_t i = 0; i < table.size(); ++i) {
+    CAPTURE(table[i].name);
+    CHECK(!table[i].description.empty());
+    CHECK(table[i].description.back() != '.');
+    CHECK(table[i].colour.size() == 7);
+    CHECK(table[i].colour.front() == '#');
+    CHECK(bool(table[i].contour));
+    for (std::size_t k = 0; k < i; ++k) {
+      CHECK(table[k].name != table[i].name);
+      CHECK(table[k].colour != table[i].colour);
+    }
+  }
 }
 
 TEST_CASE("cone_ma_equals_mid") {
@@ -54,8 +83,8 @@ TEST_CASE("cone_ma_equals_mid") {
   const LayerStack stack(cone.mesh, geometry::uniform_layers(h, 0.25));
   for (std::size_t i : {0u, 10u, 30u, 50u}) {
     CAPTURE(i);
-    const Region ma = geometry::layer_contour(stack, i, ContourKind::ma);
-    const Region mid = geometry::layer_contour(stack, i, ContourKind::mid);
+    const Region ma = geometry::layer_contour(stack, i, strategy("ma"));
+    const Region mid = geometry::layer_contour(stack, i, strategy("mid"));
     REQUIRE(ma.loops.size() == 1);
     CHECK(boundary_distance(ma, mid) <= 2e-3);
     // And so their distance errors agree: D = t r / (2h) for both (distance_error_test.cpp).
@@ -72,9 +101,8 @@ TEST_CASE("cylinder_all_strategies_equal_with_zero_error") {
   for (std::size_t i : {0u, 13u, 29u}) {
     CAPTURE(i);
     const Region section = stack.lower(i);
-    for (ContourKind kind : {ContourKind::lower, ContourKind::mid, ContourKind::optimal_height,
-                             ContourKind::ma}) {
-      CAPTURE(geometry::contour_name(kind));
+    for (const ContourStrategy& kind : geometry::contour_strategies()) {
+      CAPTURE(kind.name);
       const Region region = geometry::layer_contour(stack, i, kind);
       CHECK(boundary_distance(region, section) <= 1e-3);
       const geometry::LayerMetrics m = geometry::layer_metrics(stack, i, region);
@@ -97,9 +125,8 @@ TEST_CASE("no_strategy_beats_the_volume_limit") {
     for (std::size_t i = 0; i < stack.size(); i += 3) {
       CAPTURE(i);
       const geometry::LayerReference reference = geometry::layer_reference(stack, i);
-      for (ContourKind kind : {ContourKind::lower, ContourKind::mid, ContourKind::optimal_height,
-                               ContourKind::ma}) {
-        CAPTURE(geometry::contour_name(kind));
+      for (const ContourStrategy& kind : geometry::contour_strategies()) {
+        CAPTURE(kind.name);
         const Region region = geometry::layer_contour(stack, i, kind);
         const geometry::LayerMetrics m = geometry::layer_metrics(reference, region);
         // Both are exact up to Clipper's 1 pm grid.
@@ -112,6 +139,6 @@ TEST_CASE("no_strategy_beats_the_volume_limit") {
 TEST_CASE("out_of_range_layer_gives_an_empty_contour") {
   const solids::Solid cube = solids::cube(2);
   const LayerStack stack(cube.mesh, geometry::uniform_layers(2, 0.5));
-  CHECK(geometry::layer_contour(stack, 99, ContourKind::ma).loops.empty());
-  CHECK(geometry::layer_contour(stack, 4, ContourKind::lower).loops.empty());
+  CHECK(geometry::layer_contour(stack, 99, strategy("ma")).loops.empty());
+  CHECK(geometry::layer_contour(stack, 4, strategy("lower")).loops.empty());
 }

@@ -7,7 +7,6 @@
 #include "geometry/slab/slab.h"
 #include "support/solids.h"
 
-using geometry::ContourKind;
 using geometry::LayerStack;
 using geometry::Region;
 
@@ -23,7 +22,7 @@ TEST_CASE("bump_inside_a_slab_is_missed_by_lower_and_mid_not_by_ma") {
   REQUIRE(geometry::boundary_pairs(footprint).size() == 2);
   CHECK(geometry::missed_features(footprint, stack.lower(layer)).size() == 1);
   CHECK(geometry::missed_features(footprint, stack.mid(layer)).size() == 1);
-  CHECK(geometry::missed_features(footprint, geometry::layer_contour(stack, layer, ContourKind::ma))
+  CHECK(geometry::missed_features(footprint, geometry::layer_contour(stack, layer, geometry::contour_strategy("ma")))
             .empty());
   // Nothing printed misses everything; the section through the block (z = 0.35) nothing.
   CHECK(geometry::missed_features(footprint, Region{}).size() == 2);

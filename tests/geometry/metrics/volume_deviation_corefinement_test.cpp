@@ -119,8 +119,9 @@ TEST_CASE("deviation_matches_corefinement_on_bunny_slabs") {
   for (std::size_t i : {60u, 200u, 310u}) {
     CAPTURE(i);
     const geometry::Layer layer = stack.layers()[i];
-    for (geometry::ContourKind kind : {geometry::ContourKind::lower, geometry::ContourKind::ma}) {
-      const Region region = geometry::layer_contour(stack, i, kind);
+    for (const char* kind : {"lower", "ma"}) {
+      CAPTURE(kind);
+      const Region region = geometry::layer_contour(stack, i, geometry::contour_strategy(kind));
       CHECK(column_deviation(stack, i, region) ==
             doctest::Approx(corefinement_deviation(bunny, layer, region)).epsilon(1e-7));
     }

@@ -1,0 +1,144 @@
+#include "geometry/plan/slab_error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <unordered_map>
+
+#include "geometry/metrics/layer_metrics.h"
+#include "geometry/core/boundary_grid.h"
+#include "geometry/metrics/missed_features.h"
+#include "geometry/slab/slab.h"
+
+namespace geometry {
+namespace {
+
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+
+}  // namespace
+
+SlabMeter::SlabMeter(const LayerStack& stack, SlabErrorOptions options)
+    : stack_(stack), options_(std::move(options)) {
+  const Mesh& mesh = stack.mesh();
+  neighbours_.assign(mesh.faces.size(), {kNone, kNone, kNone});
+  // Each edge met twice in a closed mesh, once in each direction.
+  std::unordered_map<std::uint64_t, std::uint32_t> open;
+  open.reserve(mesh.faces.size() * 2);
+  const auto key = [](std::uint32_t a, std::uint32_t b) {
+    return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
+  };
+  for (std::uint32_t f = 0; f < mesh.faces.size(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint64_t edge = key(mesh.faces[f][k], mesh.faces[f][(k + 1) % 3]);
+      const auto [it, added] = open.try_emplace(edge, f * 3 + k);
+      if (added) continue;
+      const std::uint32_t other = it->second;
+      neighbours_[f][k] = other / 3;
+      neighbours_[other / 3][other % 3] = f;
+      open.erase(it);
+    }
+  }
+}
+
+bool SlabMeter::every_piece_crosses(std::span<const std::uint32_t> faces, double z_lo,
+                                    double z_hi, double h) const {
+  const Mesh& mesh = stack_.mesh();
+  // Faces of the slab (a piece of positive height inside it, or flat strictly inside), and
+  // pieces joined where two faces share an edge that reaches into the open slab.
+  std::unordered_map<std::uint32_t, std::uint32_t> index;  // face -> position in `faces`
+  index.reserve(faces.size() * 2);
+  const auto range = [&](std::uint32_t f) {
+    const auto& face = mesh.faces[f];
+    const double a = mesh.vertices[face[0]].z, b = mesh.vertices[face[1]].z,
+                 c = mesh.vertices[face[2]].z;
+    return std::pair{std::min({a, b, c}), std::max({a, b, c})};
+  };
+  for (std::uint32_t i = 0; i < faces.size(); ++i) {
+    const auto [lo, hi] = range(faces[i]);
+    if (hi > z_lo && lo < z_hi) index.emplace(faces[i], i);
+  }
+  std::vector<char> seen(faces.size(), 0);
+  std::vector<std::uint32_t> stack;
+  for (const auto& [start, position] : index) {
+    if (seen[position]) continue;
+    bool crosses = false;
+    seen[position] = 1;
+    stack.assign(1, start);
+    while (!stack.empty()) {
+      const std::uint32_t f = stack.back();
+      stack.pop_back();
+      const auto [lo, hi] = range(f);
+      if (lo < h && h < hi) crosses = true;
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t g = neighbours_[f][k];
+        if (g == kNone) continue;
+        const double za = mesh.vertices[mesh.faces[f][k]].z;
+        const double zb = mesh.vertices[mesh.faces[f][(k + 1) % 3]].z;
+        if (!(std::max(za, zb) > z_lo && std::min(za, zb) < z_hi)) continue;
+        const auto it = index.find(g);
+        if (it == index.end() || seen[it->second]) continue;
+        seen[it->second] = 1;
+        stack.push_back(g);
+      }
+    }
+    if (!crosses) return false;
+  }
+  return true;
+}
+
+SlabError SlabMeter::operator()(double z_lo, double z_hi, std::span<const ContourStrategy* const> strategies,
+                                double enough) const {
+  return (*this)(z_lo, z_hi, strategies, enough, options_.distance.tolerance);
+}
+
+SlabError SlabMeter::operator()(double z_lo, double z_hi, std::span<const ContourStrategy* const> strategies,
+                                double enough, double tolerance) const {
+  SlabError error;
+  error.z_lo = z_lo;
+  error.z_hi = z_hi;
+  const LayerStack view(stack_, {Layer{z_lo, z_hi}});
+  const std::vector<std::uint32_t> faces = stack_.faces_between(z_lo, z_hi);
+  DistanceOptions distance = options_.distance;
+  distance.tolerance = tolerance;
+  distance.reverse = false;
+  // What the strategies may use (contour_input.h): the slab and its surface now, the
+  // footprint's islands the first time one needs them; no columns (optimal-height builds its
+  // own).
+  LayerReference reference;
+  reference.layer = {z_lo, z_hi};
+  reference.slab = slab_of(stack_.mesh(), faces, z_lo, z_hi);
+  reference.surface = slab_surface(reference.slab, distance);
+  bool have_islands = false;
+  const auto need_islands = [&]() -> const std::vector<BoundaryPair>& {
+    if (!have_islands) reference.islands = slab_islands(reference.slab), have_islands = true;
+    return reference.islands;
+  };
+  for (const ContourStrategy* strategy : strategies) {
+    SlabTrial trial;
+    trial.strategy = strategy;
+    const bool section = strategy->cuts_at != nullptr;
+    if (!section) need_islands();
+    trial.region = strategy->contour({view, 0, options_.contour, &reference}).region;
+    const BoundaryGrid walls(trial.region);
+    if (section && !have_islands &&
+        every_piece_crosses(faces, z_lo, z_hi, strategy->cuts_at(reference.layer))) {
+      trial.distance = distance_error(reference.surface, walls, {}, distance).forward;
+    } else {
+      const std::vector<BoundaryPair> missed = missed_features(need_islands(), trial.region);
+      trial.distance = distance_error(reference.surface, walls, missed, distance).forward;
+    }
+    error.trials.push_back(std::move(trial));
+    const std::size_t last = error.trials.size() - 1;
+    if (error.trials[last].distance < error.trials[error.best].distance - 1e-3) error.best = last;
+    if (enough > 0 && error.trials[last].distance <= enough) break;
+  }
+  return error;
+}
+
+SlabError slab_error(const LayerStack& stack, double z_lo, double z_hi,
+                     std::span<const ContourStrategy* const> strategies, double enough,
+                     const SlabErrorOptions& options) {
+  return SlabMeter(stack, options)(z_lo, z_hi, strategies, enough);
+}
+
+}  // namespace geometry

@@ -1,0 +1,78 @@
+// The exact error of one candidate slab, for the layer plan (issue 11): the distance error D
+// (distance_error.h, the paper's D_i, the forward direction, to its tolerance) of the region a
+// contour strategy prints for the slab [z_lo, z_hi], measured as `mahost analyze` measures a
+// layer (layer_metrics.h), so that a plan's promise is analyze's figure.
+//
+// Input: a layer stack (only its mesh and face index are used: a candidate slab needs no
+// layer of the stack), the slab's bounds in mm, the strategies to try in order.
+// Output: per strategy tried, its D (mm) and region; `best` is the one with the least D (ties
+// within 1 um: the first). With `enough` > 0, stops at the first strategy whose D is within
+// it: a feasibility test that usually needs only the cheapest strategy. An empty slab (above
+// the part): D = 0 and empty regions.
+//
+// Cheaper where it can be, same result: surface inside an island of the slab's footprint that
+// the region misses is measured to the island's outline, never farther than to the walls (the
+// way out of the island crosses its outline first), so measuring everything to the walls
+// bounds D from above; and a section contour (lower, mid) touches every island holding a piece
+// of surface that crosses the section's height. When every connected piece of the slab's
+// surface does (found through the mesh's edges), no island is missed and that bound is D, with
+// no footprint built (about 45% of the work for a mid section).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "geometry/contour/contour_strategy.h"
+#include "geometry/core/polygon.h"
+#include "geometry/metrics/distance_error.h"
+#include "geometry/slicing/layer_stack.h"
+
+namespace geometry {
+
+struct SlabTrial {
+  const ContourStrategy* strategy = nullptr;
+  double distance = 0;  // D, mm
+  Region region;
+};
+
+struct SlabError {
+  double z_lo = 0, z_hi = 0;
+  std::vector<SlabTrial> trials;  // in the order tried
+  std::size_t best = 0;           // index into trials of the least D
+  double distance() const { return trials.empty() ? 0 : trials[best].distance; }
+};
+
+struct SlabErrorOptions {
+  ContourOptions contour;
+  DistanceOptions distance{.tolerance = 1e-3, .reverse_levels = 2, .reverse = false};
+};
+
+class SlabMeter {
+ public:
+  // Finds each face's neighbours across its edges once; the stack must outlive the meter.
+  explicit SlabMeter(const LayerStack& stack, SlabErrorOptions options = {});
+
+  SlabError operator()(double z_lo, double z_hi, std::span<const ContourStrategy* const> strategies,
+                       double enough = 0) const;
+  // The same with another distance tolerance (a search may measure coarsely, then exactly).
+  SlabError operator()(double z_lo, double z_hi, std::span<const ContourStrategy* const> strategies,
+                       double enough, double tolerance) const;
+
+ private:
+  // Does every connected piece of surface in [z_lo, z_hi] cross height h?
+  bool every_piece_crosses(std::span<const std::uint32_t> faces, double z_lo, double z_hi,
+                           double h) const;
+
+  const LayerStack& stack_;
+  SlabErrorOptions options_;
+  std::vector<std::array<std::uint32_t, 3>> neighbours_;  // across edge k (corners k, k+1)
+};
+
+SlabError slab_error(const LayerStack& stack, double z_lo, double z_hi,
+                     std::span<const ContourStrategy* const> strategies, double enough = 0,
+                     const SlabErrorOptions& options = {});
+
+}  // namespace geometry

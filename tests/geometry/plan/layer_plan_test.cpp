@@ -1,0 +1,358 @@
+// The layer plan against closed forms: flat levels of stepped boxes, uniform layers that land
+// an 8.00 mm top at 8.00 mm, and adaptive plans whose layers meet the tolerance by the exact
+// distance error of the mid contour on cones and spheres, derived here from the polygonal
+// sections (solids.h): between two ring heights a section is a regular n-gon whose
+// circumradius rho(z) is linear in z, so a surface point at height z is |rho(z) - rho(m)|
+// from the mid section's wall at the n-gon's corners where rho(z) > rho(m), and
+// (rho(m) - rho(z)) cos(pi / n) across its edges where rho(z) < rho(m).
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <numbers>
+#include <vector>
+
+#include "geometry/analysis/layer_analysis.h"
+#include "geometry/plan/flat_levels.h"
+#include "geometry/plan/layer_plan.h"
+#include "geometry/slicing/layer_stack.h"
+#include "support/solids.h"
+
+using geometry::AdaptiveOptions;
+using geometry::AdaptivePlan;
+using geometry::Layer;
+using geometry::AllowedThicknesses;
+
+namespace {
+
+// The UP Plus 2: 0.15 to 0.4 mm in steps of 0.05, a first layer of 0.3.
+const AllowedThicknesses kUpPlus2{.min = 0.15, .max = 0.4, .step = 0.05, .first = 0.3};
+
+bool allowed(double t, const AllowedThicknesses& a) {
+  if (t < a.min - 1e-9 || t > a.max + 1e-9) return false;
+  const double steps = (t - a.min) / a.step;
+  return std::abs(steps - std::round(steps)) < 1e-6;
+}
+
+void check_thicknesses(const std::vector<Layer>& layers, const AllowedThicknesses& a) {
+  REQUIRE(!layers.empty());
+  CHECK(layers.front().z_lo == 0);
+  CHECK(layers.front().z_hi == doctest::Approx(a.first).epsilon(1e-12));
+  for (std::size_t i = 1; i < layers.size(); ++i) {
+    CHECK(layers[i].z_lo == layers[i - 1].z_hi);
+    CHECK_MESSAGE(allowed(layers[i].thickness(), a), "layer " << i << " is "
+                                                               << layers[i].thickness() << " mm");
+  }
+}
+
+bool has_boundary(const std::vector<Layer>& layers, double z) {
+  return std::any_of(layers.begin(), layers.end(), [&](const Layer& l) { return l.z_hi == z; });
+}
+
+// D of the mid contour of [a, b] for a solid of revolution whose section is a regular n-gon of
+// circumradius rho(z), piecewise linear with breakpoints `rings` (see the file comment); a
+// missed tip (empty mid section, surface below it) is measured to the surface's own outline,
+// as distance_error.h does.
+double mid_distance(const std::function<double(double)>& rho, std::span<const double> rings,
+                    int n, double a, double b) {
+  const double m = 0.5 * (a + b);
+  std::vector<double> heights{a, b};
+  for (double z : rings) {
+    if (z > a && z < b) heights.push_back(z);
+  }
+  const double r_mid = rho(m);
+  double widest = 0, d = 0;
+  for (double z : heights) widest = std::max(widest, rho(z));
+  if (r_mid <= 0) return widest;
+  for (double z : heights) {
+    const double r = rho(z);
+    d = std::max(d, r > r_mid ? r - r_mid : (r_mid - r) * std::cos(std::numbers::pi / n));
+  }
+  return d;
+}
+
+// The plan a greedy slicer would make from the same formula: from the bottom, each layer the
+// thickest allowed whose D meets the tolerance (the thinnest where none does). A valid plan,
+// so the optimum has no more layers.
+std::size_t greedy_layers(const std::function<double(double, double)>& distance, double top,
+                          double tolerance, const AllowedThicknesses& a) {
+  std::size_t count = 1;
+  for (double z = a.first; z < top - 1e-9; ++count) {
+    double chosen = a.min;
+    for (double t = a.max; t >= a.min - 1e-9; t -= a.step) {
+      if (distance(z, z + t) <= tolerance) {
+        chosen = t;
+        break;
+      }
+    }
+    z += chosen;
+  }
+  return count;
+}
+
+AdaptivePlan plan_for(const geometry::Mesh& mesh, double tolerance,
+                      const AllowedThicknesses& allowed_thicknesses = kUpPlus2,
+                      std::vector<const geometry::ContourStrategy*> contours = {
+                          &geometry::contour_strategy("mid")}) {
+  const geometry::LayerStack stack(mesh, {});
+  AdaptiveOptions options;
+  options.tolerance = tolerance;
+  options.contours = std::move(contours);
+  const double top = geometry::bounding_box(mesh).max.z;
+  return geometry::adaptive_plan(stack, top, allowed_thicknesses, geometry::flat_levels(mesh),
+                                 options);
+}
+
+}  // namespace
+
+TEST_CASE("flat_levels_of_a_stepped_box_are_its_floor_step_and_top") {
+  const solids::Solid block = solids::stepped_box({20, 20}, 4, {10, 10}, 3.5);
+  const auto levels = geometry::flat_levels(block.mesh);
+  REQUIRE(levels.size() == 3);
+  CHECK(levels[0].z == 0);
+  CHECK(levels[0].area == doctest::Approx(400));
+  CHECK(levels[1].z == 4);
+  CHECK(levels[1].area == doctest::Approx(300));  // the ledge round the upper box
+  CHECK(levels[2].z == 7.5);
+  CHECK(levels[2].area == doctest::Approx(100));
+}
+
+TEST_CASE("flat_levels_leave_out_sloped_faces_and_specks") {
+  CHECK(geometry::flat_levels(solids::cone(10, 20, 64).mesh).size() == 1);  // the base only
+  CHECK(geometry::flat_levels(solids::sphere(10, 32, 16).mesh).empty());
+  CHECK(geometry::flat_levels(solids::cube(0.2).mesh).empty());  // 0.04 mm^2 < kFlatMinArea
+  CHECK(geometry::flat_levels(geometry::Mesh{}).empty());
+}
+
+TEST_CASE("uniform_plan_lands_an_8_mm_top_at_8_mm") {
+  const solids::Solid part = solids::box({-10, -10, 0}, {10, 10, 8});
+  const auto plan =
+      geometry::uniform_plan(8.0, 0.15, kUpPlus2, geometry::flat_levels(part.mesh));
+  check_thicknesses(plan.layers, kUpPlus2);
+  CHECK(plan.layers.back().z_hi == 8.0);
+  // 7.7 mm above the first layer: 51 layers of 0.15 leave 0.05, one step on one layer.
+  CHECK(plan.layers.size() == 52);
+  const auto odd = std::count_if(plan.layers.begin() + 1, plan.layers.end(), [](const Layer& l) {
+    return std::abs(l.thickness() - 0.15) > 1e-9;
+  });
+  CHECK(odd == 1);
+  REQUIRE(plan.flats.size() == 1);
+  CHECK(plan.flats[0].on_boundary());
+}
+
+TEST_CASE("uniform_plan_without_flat_levels_above_the_bed_is_uniform_layers") {
+  const solids::Solid cone = solids::cone(10, 20, 64);
+  const auto plan = geometry::uniform_plan(20, 0.15, kUpPlus2, geometry::flat_levels(cone.mesh));
+  const auto plain = geometry::uniform_layers(20, 0.15, 0.3);
+  REQUIRE(plan.layers.size() == plain.size());
+  for (std::size_t i = 0; i < plain.size(); ++i) {
+    CHECK(plan.layers[i].z_lo == plain[i].z_lo);  // bit for bit
+    CHECK(plan.layers[i].z_hi == plain[i].z_hi);
+  }
+}
+
+TEST_CASE("uniform_plan_puts_each_step_of_a_stepped_box_on_a_boundary") {
+  const solids::Solid block = solids::stepped_box({20, 20}, 4, {10, 10}, 3.5);
+  for (double t : {0.15, 0.2, 0.25, 0.3, 0.4}) {
+    const auto plan = geometry::uniform_plan(7.5, t, kUpPlus2, geometry::flat_levels(block.mesh));
+    check_thicknesses(plan.layers, kUpPlus2);
+    CHECK(has_boundary(plan.layers, 4.0));
+    CHECK(plan.layers.back().z_hi == 7.5);
+    for (const auto& flat : plan.flats) CHECK(flat.on_boundary());
+  }
+}
+
+TEST_CASE("uniform_plan_reports_a_level_the_thicknesses_cannot_reach") {
+  // 8.03 - 0.3 is no multiple of 0.05: the top stays where the plain grid puts it.
+  const solids::Solid part = solids::box({-10, -10, 0}, {10, 10, 8.03});
+  const auto plan = geometry::uniform_plan(8.03, 0.15, kUpPlus2, geometry::flat_levels(part.mesh));
+  check_thicknesses(plan.layers, kUpPlus2);
+  REQUIRE(plan.flats.size() == 1);
+  CHECK_FALSE(plan.flats[0].on_boundary());
+  CHECK(std::abs(plan.flats[0].boundary - 8.03) == doctest::Approx(0.02).epsilon(1e-6));
+}
+
+TEST_CASE("adaptive_plan_of_a_vertical_prism_is_thickest_everywhere") {
+  // 0.3 + 24 x 0.4: vertical walls have D = 0 at any thickness.
+  const solids::Solid prism = solids::cylinder(10, 9.9, 48);
+  const AdaptivePlan plan = plan_for(prism.mesh, 0.05);
+  check_thicknesses(plan.layers, kUpPlus2);
+  CHECK(plan.layers.size() == 25);
+  for (std::size_t i = 1; i < plan.layers.size(); ++i) {
+    CHECK(plan.layers[i].thickness() == doctest::Approx(0.4));
+  }
+  CHECK(plan.unmet == 0);
+  CHECK(plan.layers.back().z_hi == doctest::Approx(9.9).epsilon(1e-12));
+}
+
+TEST_CASE("adaptive_plan_lands_a_flat_top_that_thickest_layers_would_pass") {
+  // 10 - 0.3 = 9.7 = 24 x 0.4 + 0.1: the fewest layers reaching exactly 10 is 25 above the
+  // first, and the top lands on a boundary.
+  const solids::Solid prism = solids::box({-5, -5, 0}, {5, 5, 10});
+  const AdaptivePlan plan = plan_for(prism.mesh, 0.05);
+  check_thicknesses(plan.layers, kUpPlus2);
+  CHECK(plan.layers.back().z_hi == 10.0);
+  CHECK(plan.layers.size() == 26);
+  CHECK(plan.unmet == 0);
+}
+
+TEST_CASE("adaptive_plan_of_a_stepped_box_has_each_step_on_a_boundary") {
+  const solids::Solid block = solids::stepped_box({20, 20}, 4, {10, 10}, 3.5);
+  const AdaptivePlan plan = plan_for(block.mesh, 0.05);
+  check_thicknesses(plan.layers, kUpPlus2);
+  CHECK(has_boundary(plan.layers, 4.0));
+  CHECK(plan.layers.back().z_hi == 7.5);
+  for (const auto& flat : plan.flats) CHECK(flat.on_boundary());
+  CHECK(plan.unmet == 0);
+}
+
+TEST_CASE("adaptive_plan_of_a_cone_meets_the_tolerance_by_the_closed_form") {
+  // Circumradius 10 (1 - z / 20): D of a layer t thick is t / 4 off the apex, so the
+  // tolerance 0.07 allows 0.28 mm and the UP Plus 2's steps 0.25 mm.
+  const int n = 64;
+  const solids::Solid cone = solids::cone(10, 20, n);
+  auto rho = [](double z) { return std::max(0.0, 10 * (1 - z / 20)); };
+  const std::vector<double> rings{20};
+  auto distance = [&](double a, double b) { return mid_distance(rho, rings, n, a, b); };
+  const double tolerance = 0.07;
+  const AdaptivePlan plan = plan_for(cone.mesh, tolerance);
+  check_thicknesses(plan.layers, kUpPlus2);
+  CHECK(plan.layers.back().z_hi >= 20.0);
+  for (std::size_t i = 1; i < plan.layers.size(); ++i) {
+    const Layer& l = plan.layers[i];
+    if (plan.met[i]) {
+      CHECK_MESSAGE(distance(l.z_lo, l.z_hi) <= tolerance + 1e-3, "layer " << i);
+    }
+    if (l.z_hi <= 19) CHECK(l.thickness() <= 0.25 + 1e-9);
+  }
+  CHECK(plan.layers.size() <= greedy_layers(distance, 20, tolerance, kUpPlus2));
+  // 19.7 mm of 0.25 mm layers (and the tip).
+  CHECK(plan.layers.size() <= 1 + 80);
+}
+
+TEST_CASE("adaptive_plan_of_a_sphere_is_thinner_where_the_surface_flattens") {
+  const int segments = 96, rings = 48;
+  const double radius = 10;
+  const solids::Solid ball = solids::sphere(radius, segments, rings, {0, 0, radius});
+  std::vector<double> ring_z;
+  std::vector<double> ring_rho;
+  for (int k = 0; k <= rings; ++k) {
+    const double polar = std::numbers::pi * k / rings;
+    ring_z.push_back(radius - radius * std::cos(polar));  // from the bottom pole up
+    ring_rho.push_back(radius * std::sin(polar));
+  }
+  auto rho = [&](double z) {
+    if (z <= 0 || z >= 2 * radius) return 0.0;
+    const auto hi = std::upper_bound(ring_z.begin(), ring_z.end(), z) - ring_z.begin();
+    const auto lo = hi - 1;
+    const double f = (z - ring_z[lo]) / (ring_z[hi] - ring_z[lo]);
+    return ring_rho[lo] + f * (ring_rho[hi] - ring_rho[lo]);
+  };
+  auto distance = [&](double a, double b) { return mid_distance(rho, ring_z, segments, a, b); };
+  const double tolerance = 0.1;
+  const AdaptivePlan plan = plan_for(ball.mesh, tolerance);
+  check_thicknesses(plan.layers, kUpPlus2);
+  double equator_sum = 0, pole_sum = 0;
+  int equator = 0, pole = 0;
+  for (std::size_t i = 1; i < plan.layers.size(); ++i) {
+    const Layer& l = plan.layers[i];
+    const double d = distance(l.z_lo, l.z_hi);
+    if (plan.met[i]) {
+      CHECK_MESSAGE(d <= tolerance + 1e-3, "layer " << i << " at " << l.z_lo);
+    } else {
+      // Unmet only where even the thinnest layer cannot meet it.
+      CHECK(l.thickness() == doctest::Approx(0.15));
+      CHECK_MESSAGE(distance(l.z_lo, l.z_lo + 0.15) > tolerance - 1e-3, "layer " << i);
+    }
+    const double z = l.z_mid();
+    if (std::abs(z - radius) < 3) equator_sum += l.thickness(), ++equator;
+    if (std::abs(z - radius) > 8.5) pole_sum += l.thickness(), ++pole;
+  }
+  REQUIRE(equator > 0);
+  REQUIRE(pole > 0);
+  CHECK(equator_sum / equator > 0.35);  // nearly vertical: nearly the thickest
+  CHECK(pole_sum / pole < 0.2);         // nearly flat: nearly the thinnest
+  CHECK(plan.layers.size() <= greedy_layers(distance, 2 * radius, tolerance, kUpPlus2));
+  CHECK(plan.unmet > 0);  // the poles: a 0.15 mm layer there is far more than 0.1 mm off
+}
+
+TEST_CASE("adaptive_plan_reports_a_tolerance_no_thickness_meets") {
+  // A cone 20 mm wide and 4 mm tall spreads 5 mm per mm of height: a 0.15 mm layer is
+  // 0.375 mm off, far above 0.2.
+  const solids::Solid cone = solids::cone(20, 4, 64);
+  const AdaptivePlan plan = plan_for(cone.mesh, 0.2);
+  check_thicknesses(plan.layers, kUpPlus2);
+  CHECK(plan.unmet >= plan.layers.size() - 2);
+  for (std::size_t i = 1; i < plan.layers.size(); ++i) {
+    if (!plan.met[i]) CHECK(plan.layers[i].thickness() == doctest::Approx(0.15));
+    CHECK(static_cast<bool>(plan.met[i]) == (plan.distance[i] <= 0.2));
+  }
+}
+
+TEST_CASE("adaptive_plan_with_a_layer_budget_finds_the_least_tolerance") {
+  const solids::Solid cone = solids::cone(10, 20, 64);
+  const geometry::LayerStack stack(cone.mesh, {});
+  AdaptiveOptions options;
+  options.max_layers = 60;
+  const auto flats = geometry::flat_levels(cone.mesh);
+  const AdaptivePlan plan = geometry::adaptive_plan(stack, 20, kUpPlus2, flats, options);
+  CHECK(plan.layers.size() <= 60);
+  // D = t / 4 (see above): 19.7 mm in at most 59 layers needs 0.35 mm ones, D 0.0875.
+  CHECK(plan.tolerance == doctest::Approx(0.0875).epsilon(0.02));
+  options.max_layers = 0;
+  options.tolerance = plan.tolerance - 0.005;
+  CHECK(geometry::adaptive_plan(stack, 20, kUpPlus2, flats, options).layers.size() > 60);
+}
+
+TEST_CASE("adaptive_plan_distance_is_what_analyze_measures") {
+  const solids::Solid ball = solids::sphere(8, 48, 24, {0, 0, 8});
+  const AdaptivePlan plan = plan_for(ball.mesh, 0.15, kUpPlus2,
+                                   {&geometry::contour_strategy("mid"), &geometry::contour_strategy("ma")});
+  const geometry::LayerStack stack(ball.mesh, plan.layers);
+  const geometry::ContourStrategy* strategies[] = {&geometry::contour_strategy("mid"),
+                                                   &geometry::contour_strategy("ma")};
+  const auto analysis = geometry::analyze_layers(stack, strategies);
+  REQUIRE(analysis.size() == plan.layers.size());
+  for (std::size_t i = 0; i < analysis.size(); ++i) {
+    // The first contour within the tolerance (mid), else the lesser of the two.
+    const double mid = analysis[i].strategies[0].metrics.distance;
+    const double best = mid <= 0.15 ? mid : std::min(mid, analysis[i].strategies[1].metrics.distance);
+    // The same measure, to its tolerance (1 um: the search may stop anywhere within it).
+    CHECK(std::abs(plan.distance[i] - best) <= 1e-3);
+  }
+}
+
+TEST_CASE("plans_on_a_printer_of_any_thickness_in_a_range_land_flat_levels_exactly") {
+  // generic-marlin: 0.05 to 0.3 mm, any value, first layer 0.2 mm; steps at 4.013 and 7.5.
+  const AllowedThicknesses range{.min = 0.05, .max = 0.3, .step = 0, .first = 0.2};
+  const solids::Solid block = solids::stepped_box({20, 20}, 4.013, {10, 10}, 3.487);
+  const auto flats = geometry::flat_levels(block.mesh);
+  const auto uniform = geometry::uniform_plan(7.5, 0.2, range, flats);
+  const AdaptivePlan adaptive = plan_for(block.mesh, 0.05, range);
+  for (const auto* layers : {&uniform.layers, &adaptive.layers}) {
+    REQUIRE(!layers->empty());
+    CHECK(layers->front().z_hi == doctest::Approx(0.2));
+    for (std::size_t i = 1; i < layers->size(); ++i) {
+      CHECK((*layers)[i].thickness() >= 0.05 - 1e-9);
+      CHECK((*layers)[i].thickness() <= 0.3 + 1e-9);
+    }
+    CHECK(has_boundary(*layers, 4.013));
+    CHECK(layers->back().z_hi == 7.5);
+  }
+  CHECK(adaptive.unmet == 0);
+  // Vertical walls: the thickest layers but where the steps need a shorter one.
+  CHECK(adaptive.layers.size() <= 1 + 13 + 12 + 2);
+}
+
+TEST_CASE("plans_with_a_listed_set_of_thicknesses_use_only_those") {
+  const AllowedThicknesses listed{.listed = {0.1, 0.2, 0.3}, .first = 0.2};
+  const solids::Solid block = solids::stepped_box({20, 20}, 4, {10, 10}, 3.5);
+  const auto flats = geometry::flat_levels(block.mesh);
+  for (const auto& layers : {geometry::uniform_plan(7.5, 0.2, listed, flats).layers,
+                             plan_for(block.mesh, 0.05, listed).layers}) {
+    for (std::size_t i = 1; i < layers.size(); ++i) CHECK(listed.allows(layers[i].thickness()));
+    CHECK(has_boundary(layers, 4.0));
+    CHECK(layers.back().z_hi == 7.5);
+  }
+}
