@@ -48,6 +48,7 @@ geometry::ToolpathOptions toolpath_options(const printer::PrinterProfile& machin
   options.support.pattern = geometry::parse_support_pattern(machine.support.pattern)
                                 .value_or(geometry::SupportPattern::lines);
   options.support.spacing = machine.support.spacing;
+  options.support.sheath = machine.support.sheath;
   options.support.angle = machine.support.angle;
   options.support.interface_density = machine.support.interface_density;
   options.support.raft_base_width = machine.raft.base_width;
@@ -271,7 +272,8 @@ void add_slice_options(CLI::App& command, SliceOptions& options, const std::stri
 
 const std::vector<std::string>& model_only_slice_options() {
   static const std::vector<std::string> names{
-      "--units", "--scale",      "--height", "--up",  "--ignore-normals", "--material",
+      "--units", "--scale",      "--height", "--up",  "--ignore-normals", "--rotate", "--orient",
+      "--material",
       "--layer", "--contour", "--perimeters", "--infill", "--set",
       // issue 12
       "--support", "--overhang-angle", "--support-xy-gap", "--support-top-distance",
@@ -344,7 +346,9 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
   result.layer_thickness = options.layer > 0 ? options.layer : machine.layer.default_thickness;
   printer::check_layer_thickness(machine, result.layer_thickness);
 
-  const geometry::Mesh mesh = load_model(options.model);
+  ModelOptions model = options.model;
+  model.overhang_angle = result.profiles.material.overhang_angle;  // for --orient auto
+  const geometry::Mesh mesh = load_model(model);
   const geometry::Box3 box = geometry::bounding_box(mesh);
   result.part_size = box.max - box.min;
   const geometry::Vec3& size = result.part_size;

@@ -424,6 +424,7 @@ const Rules<P>& printer_rules() {
                           [](P& p, double v) { p.support.interface_density = v; }));
     r.push_back(text<P>("support.pattern", {"lines", "grid"},
                         [](P& p, const std::string& s) { p.support.pattern = s; }));
+    r.push_back(boolean<P>("support.sheath", [](P& p, bool v) { p.support.sheath = v; }));
     r.push_back(number<P>("support.spacing", 0.5, 20, "mm", [](P& p, double v) { p.support.spacing = v; }));
     r.push_back(number<P>("support.angle", -360, 360, "degrees", [](P& p, double v) { p.support.angle = v; }));
     r.push_back(number<P>("support.min_area", 0, 100, "mm^2", [](P& p, double v) { p.support.min_area = v; }));

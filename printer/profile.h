@@ -51,6 +51,7 @@ struct SupportSettings {
   int interface_layers = 2;
   double interface_density = 80;      // percent
   std::string pattern = "lines";      // "lines" or "grid"
+  bool sheath = true;                 // a loop round the body's islands
   double spacing = 2.5;               // mm between the body's lines
   double angle = 0;                   // degrees from +X, the body's lines
   double min_area = 0.2;              // mm^2: smaller overhangs are left alone

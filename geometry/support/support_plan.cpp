@@ -110,7 +110,7 @@ struct LayerContacts {
 };
 
 LayerContacts layer_contacts(const std::vector<tc::Paths>& part, const std::vector<Layer>& layers,
-                             std::size_t k, const SupportOptions& o) {
+                             std::size_t k, const SupportOptions& o, const tc::Paths* shadow) {
   LayerContacts result;
   const tc::Paths& region = part[k];
   const tc::Paths& below = part[k - 1];
@@ -119,6 +119,9 @@ LayerContacts layer_contacts(const std::vector<tc::Paths>& part, const std::vect
   const tc::Paths enforced = boxes_at(o.enforcers, layers[k]);
   const tc::Paths blocked = boxes_at(o.blockers, layers[k]);
   if (!blocked.empty()) pieces = without_specks(tc::difference(pieces, blocked), o.min_area);
+  if (shadow && !shadow->empty() && !pieces.empty()) {
+    pieces = without_specks(tc::difference(pieces, *shadow), o.min_area);
+  }
   tc::Paths contact;
   if (!pieces.empty() && o.bridge_length > 0) {
     const double reach_out = kAnchorReach * o.bead_width;
@@ -137,7 +140,8 @@ LayerContacts layer_contacts(const std::vector<tc::Paths>& part, const std::vect
   }
   if (!enforced.empty()) {
     // Inside an enforcer, whatever is not over the layer below, however gentle the slope.
-    const tc::Paths forced = overhang(tc::intersection(region, enforced), below, 0, o.min_area);
+    tc::Paths forced = overhang(tc::intersection(region, enforced), below, 0, o.min_area);
+    if (shadow && !shadow->empty()) forced = without_specks(tc::difference(forced, *shadow), o.min_area);
     contact.insert(contact.end(), forced.begin(), forced.end());
   }
   if (!contact.empty()) {
@@ -185,9 +189,10 @@ std::vector<tc::Paths> columns(const std::vector<tc::Paths>& part, const std::ve
     for (std::size_t i = j; i-- > 0 && layers[i].z_hi > layers[j].z_lo - o.bottom_contact_distance + kHeight;) {
       s = tc::difference(s, part[i]);
     }
-    s = tc::simplified(s, kTolerance);
-    support[j] = s;
-    coming = std::move(s);
+    // What goes down is straightened (the vertices would pile up layer on layer); what
+    // this layer prints is exactly clear of the part.
+    coming = tc::simplified(s, kTolerance);
+    support[j] = std::move(s);
   }
   return support;
 }
@@ -255,21 +260,22 @@ SupportPlan plan_supports(const std::vector<Region>& regions, const std::vector<
   std::vector<tc::Paths> support(n), tops(n);
   if (supports) {
     plan.layers.resize(n);
+    // Only from the bed: nothing over any part of the layers below (each layer's shadow,
+    // the union of those below it, in turn).
+    std::vector<tc::Paths> shadows;
+    if (options.placement == SupportPlacement::buildplate) {
+      shadows.resize(n);
+      for (std::size_t k = 1; k < n; ++k) {
+        shadows[k] = tc::simplified(tc::union_of(shadows[k - 1], part[k - 1]), kTolerance);
+      }
+    }
     // Steps 1-3, each layer on its own.
     std::vector<tc::Paths> contacts(n);
     tbb::parallel_for(std::size_t{1}, std::max<std::size_t>(n, 1), [&](std::size_t k) {
-      LayerContacts c = layer_contacts(part, layers, k, options);
+      LayerContacts c = layer_contacts(part, layers, k, options, shadows.empty() ? nullptr : &shadows[k]);
       contacts[k] = std::move(c.contact);
       plan.layers[k].bridges = std::move(c.bridges);
     });
-    if (options.placement == SupportPlacement::buildplate) {
-      // Only from the bed: nothing over any part of the layers below.
-      tc::Paths shadow;
-      for (std::size_t k = 1; k < n; ++k) {
-        shadow = tc::simplified(tc::union_of(shadow, part[k - 1]), kTolerance);
-        if (!contacts[k].empty()) contacts[k] = tc::difference(contacts[k], shadow);
-      }
-    }
     for (std::size_t k = 1; k < n; ++k) {
       if (contacts[k].empty()) continue;
       const long j = top_support_layer(layers, k, options.top_contact_distance);

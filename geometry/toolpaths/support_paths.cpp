@@ -16,9 +16,8 @@ namespace {
 
 namespace tc = toolpath_clipper;
 
-// Longest connector, in line spacings, of the body's and the interface's zig-zags.
+// Longest connector, in line spacings, of the body's zig-zags.
 constexpr double kBodyConnector = 3;
-constexpr double kInterfaceConnector = 2;
 // Support regions are straightened within this first (mm): where sparse lines end matters
 // to tens of micrometres at most.
 constexpr double kTolerance = 0.01;
@@ -34,14 +33,74 @@ std::vector<ExtrusionPath> lines_in(const Region& area, double width, double spa
   return zigzag(centres, ScanLines{angle, spacing, 0}, connector * spacing, &fill, role, width);
 }
 
+// Per island a loop round the edge (a centre line where it is too narrow for one) and lines
+// `spacing` apart at `angle` from the loop's centre line to its centre line: the beads cover
+// the island to its edge whatever its shape, and each line reaches, at both ends, whatever
+// carries the loop (the ends of lines over sparse lines below land on the loop, which the
+// widened contacts put over a body line). The lines are separate: a zig-zag's connectors
+// would run half a bead inside the loop, off what carries it.
+std::vector<ExtrusionPath> looped_lines_in(const Region& area, double width, double spacing,
+                                           double angle, PathRole role) {
+  std::vector<ExtrusionPath> result;
+  if (!(width > 0) || !(spacing > 0)) return result;
+  const tc::Paths clean = tc::simplified(to_clipper(area), kTolerance);
+  for (const tc::Paths& island : tc::islands(clean)) {
+    Perimeters loop = perimeters(island, width, 1);
+    if (!loop.walls.empty()) {
+      loop.thin_walls.insert(loop.thin_walls.end(), loop.walls[0].begin(), loop.walls[0].end());
+    }
+    for (ExtrusionPath& path : loop.thin_walls) {
+      path.role = role;
+      result.push_back(std::move(path));
+    }
+    const Region centre = from_clipper(tc::offset(island, -width / 2));
+    if (centre.loops.empty()) continue;
+    auto lines = hatch(centre, spacing, angle, role, width);
+    result.insert(result.end(), std::make_move_iterator(lines.begin()),
+                  std::make_move_iterator(lines.end()));
+  }
+  return result;
+}
+
 }  // namespace
 
 std::vector<ExtrusionPath> support_body_paths(const Region& body, double width,
-                                              const SupportPathOptions& o) {
-  std::vector<ExtrusionPath> paths =
-      lines_in(body, width, o.spacing, o.angle, kBodyConnector, PathRole::support);
+                                              const SupportPathOptions& o, const Region* carried) {
+  std::vector<ExtrusionPath> paths;
+  const tc::Paths held = carried ? to_clipper(*carried) : tc::Paths{};
+  Region inside = body;
+  if (o.sheath && width > 0 && o.spacing > 0) {
+    // The sheath: a loop round each island, under the edges of what stands on it.
+    inside.loops.clear();
+    for (const tc::Paths& island : tc::islands(tc::simplified(to_clipper(body), kTolerance))) {
+      Perimeters loop = perimeters(island, width, 1);
+      if (!loop.walls.empty()) {
+        loop.thin_walls.insert(loop.thin_walls.end(), loop.walls[0].begin(), loop.walls[0].end());
+      }
+      for (ExtrusionPath& path : loop.thin_walls) {
+        path.role = PathRole::support;
+        if (!carried) {
+          paths.push_back(std::move(path));
+          continue;
+        }
+        // Only the pieces of the loop that something below carries.
+        ClipperLib::Path line;
+        for (Vec2 p : path.points) line.push_back(to_clipper(p));
+        for (const auto& piece : tc::clip_open({line}, held)) {
+          if (piece.size() < 2) continue;
+          ExtrusionPath kept = path;
+          kept.points = from_clipper(piece);
+          paths.push_back(std::move(kept));
+        }
+      }
+      inside.loops.insert(inside.loops.end(), loop.infill_area.loops.begin(),
+                          loop.infill_area.loops.end());
+    }
+  }
+  auto lines = lines_in(inside, width, o.spacing, o.angle, kBodyConnector, PathRole::support);
+  paths.insert(paths.end(), std::make_move_iterator(lines.begin()), std::make_move_iterator(lines.end()));
   if (o.pattern == SupportPattern::grid) {
-    auto across = lines_in(body, width, o.spacing, o.angle + 90, kBodyConnector, PathRole::support);
+    auto across = lines_in(inside, width, o.spacing, o.angle + 90, kBodyConnector, PathRole::support);
     paths.insert(paths.end(), std::make_move_iterator(across.begin()),
                  std::make_move_iterator(across.end()));
   }
@@ -52,39 +111,17 @@ std::vector<ExtrusionPath> support_interface_paths(const Region& interface, doub
                                                    double height, const SupportPathOptions& o) {
   const double density = std::clamp(o.interface_density, 1.0, 100.0);
   const double spacing = bead_spacing(width, height) * 100 / density;
-  std::vector<ExtrusionPath> result;
-  const tc::Paths clean = tc::simplified(to_clipper(interface), kTolerance);
-  for (const tc::Paths& island : tc::islands(clean)) {
-    // A loop round the edge (and a centre line where the island is too narrow for one),
-    // then lines inside it; their ends reach the loop.
-    Perimeters loop = perimeters(island, width, 1);
-    if (!loop.walls.empty()) {
-      loop.thin_walls.insert(loop.thin_walls.end(), loop.walls[0].begin(), loop.walls[0].end());
-    }
-    for (ExtrusionPath& path : loop.thin_walls) {
-      path.role = PathRole::support_interface;
-      result.push_back(std::move(path));
-    }
-    if (loop.infill_area.loops.empty()) continue;
-    const Region centres = from_clipper(tc::offset(to_clipper(loop.infill_area), -width / 2));
-    if (centres.loops.empty()) continue;
-    auto lines = zigzag(centres, ScanLines{o.angle + 90, spacing, 0}, kInterfaceConnector * spacing,
-                        &loop.infill_area, PathRole::support_interface, width);
-    result.insert(result.end(), std::make_move_iterator(lines.begin()),
-                  std::make_move_iterator(lines.end()));
-  }
-  return result;
+  return looped_lines_in(interface, width, spacing, o.angle + 90, PathRole::support_interface);
 }
 
 std::vector<ExtrusionPath> raft_paths(const Region& area, RaftPart part, std::size_t index,
                                       double width, double height, const SupportPathOptions& o) {
   switch (part) {
     case RaftPart::base:
-      return lines_in(area, std::max(o.raft_base_width, height), o.raft_base_spacing, 0,
-                      kBodyConnector, PathRole::raft);
+      return looped_lines_in(area, std::max(o.raft_base_width, height), o.raft_base_spacing, 0,
+                             PathRole::raft);
     case RaftPart::interface:
-      return lines_in(area, width, o.raft_interface_spacing, 90, kInterfaceConnector,
-                      PathRole::raft);
+      return looped_lines_in(area, width, o.raft_interface_spacing, 90, PathRole::raft);
     case RaftPart::surface: {
       // Solid, by shares, as a part's skin (toolpath_plan.h).
       const double share = bead_spacing(width, height);

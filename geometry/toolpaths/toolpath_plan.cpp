@@ -233,7 +233,24 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
       // The support's own islands, the body and the interface, in the nearest-first order.
       // On the bed (layer 0 without a raft) its beads are the first layer's width.
       const double bead = i == 0 && !raft ? o.first_layer_width : o.extrusion_width;
-      for (auto paths : {support_body_paths(held->body, bead, o.support),
+      // What carries a sheath here: the layer below's sheath (the outer bead of its support)
+      // and its part; on the bed or the raft, anything.
+      std::optional<Region> carried;
+      if (i > 0) {
+        const LayerSupport* under = support_at(i - 1);
+        tc::Paths below_support;
+        if (under) {
+          below_support = to_clipper(under->body);
+          const tc::Paths more = to_clipper(under->interface);
+          below_support.insert(below_support.end(), more.begin(), more.end());
+          below_support = tc::union_of(below_support);
+        }
+        tc::Paths ring = tc::difference(below_support, tc::offset(below_support, -o.extrusion_width));
+        const tc::Paths part = to_clipper(region[i - 1]);
+        ring.insert(ring.end(), part.begin(), part.end());
+        carried = from_clipper(tc::union_of(ring));
+      }
+      for (auto paths : {support_body_paths(held->body, bead, o.support, carried ? &*carried : nullptr),
                          support_interface_paths(held->interface, bead, height, o.support)}) {
         if (!paths.empty()) islands[i].push_back(Island{{std::move(paths)}});
       }

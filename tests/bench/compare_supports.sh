@@ -7,7 +7,11 @@
 # Per model and slicer: support filament (support and interface, from the ;TYPE: comments),
 # all filament, the slicer's own print-time estimate, the unsupported extrusion by mahost's
 # independent check (bridges up to 10 mm, contact gap 0.2 mm; bench_unsupported), wall and
-# CPU time of the slicing run (median of REPEAT, default 3).
+# CPU time of the slicing run (median of REPEAT, default 3). Read PrusaSlicer's unsupported
+# figure with care: it prints support layers at heights of their own (the top contact at the
+# part's bottom less the contact distance, the body in thicker layers), and the check reads
+# one layer per Z level, each as tall as the distance to the level below, so its support
+# beads look like beads hanging over the air between them.
 #
 # Usage: tests/bench/compare_supports.sh [BUILD_DIR]   (default: build)
 # Models: the bunny (50 mm), a T (a 10 x 10 x 20 mm stem under a 50 x 10 x 5 mm bar), a
