@@ -19,8 +19,13 @@ namespace tc = toolpath_clipper;
 // anchors grown by twice this hold it (mm): the area's edge is the anchors' edge, up to the
 // offsets' rounding.
 constexpr double kReach = 0.02;
-// Directions tried, degrees apart.
-constexpr double kStep = 5;
+// Directions tried, degrees apart, then around the best of them.
+constexpr double kStep = 10;
+constexpr double kFineStep = 2.5;
+// The first look: lines this many across the piece at most; below this share held at both
+// ends in every direction it takes, a piece is no bridge.
+constexpr double kCoarseLines = 8;
+constexpr double kHopeless = 0.5;
 // Shares within this of the best count as equal, and the shorter span wins.
 constexpr double kShareTie = 0.005;
 constexpr double kAnchoredShare = 0.98;
@@ -119,15 +124,48 @@ BridgeDirection bridge_direction(const ClipperLib::Paths& area, const ClipperLib
   if (area.empty() || anchors.empty() || !(spacing > 0)) return best;
   const tc::Paths reached = tc::offset(area, kReach);
   const tc::Paths held = tc::offset(anchors, 2 * kReach);
+  // Most unsupported pieces are bands along one wall, held on one side: a few directions
+  // with lines far apart show it, before every direction is tried at the full spacing.
+  double extent = 0;
+  for (const auto& loop : area) {
+    const ClipperLib::IntRect box = [&] {
+      ClipperLib::Clipper c;
+      c.AddPath(loop, ClipperLib::ptSubject, true);
+      return c.GetBounds();
+    }();
+    extent = std::max(extent, std::max(double(box.right - box.left), double(box.bottom - box.top)) / kClipperScale);
+  }
+  const std::optional<double> centroids = between_largest(anchors);
+  std::vector<double> coarse{0, 45, 90, 135};
+  if (centroids) coarse.push_back(*centroids);
+  double most = 0;
+  for (double angle : coarse) {
+    most = std::max(most, try_direction(angle, area, reached, held, std::max(spacing, extent / kCoarseLines)).share);
+  }
+  if (most < kHopeless) {
+    best.anchored_share = most;
+    return best;
+  }
   std::vector<double> angles;
   for (double a = 0; a < 180; a += kStep) angles.push_back(a);
-  if (const auto a = between_largest(anchors)) angles.push_back(*a);
+  if (centroids) angles.push_back(*centroids);
   std::vector<Trial> trials;
-  double most = 0;
-  for (double angle : angles) {
-    trials.push_back(try_direction(angle, area, reached, held, spacing));
-    most = std::max(most, trials.back().share);
+  for (double angle : angles) trials.push_back(try_direction(angle, area, reached, held, spacing));
+  // Around the best so far, every kFineStep.
+  std::size_t top = 0;
+  for (std::size_t i = 1; i < trials.size(); ++i) {
+    if (trials[i].share > trials[top].share + kShareTie ||
+        (trials[i].share >= trials[top].share - kShareTie && trials[i].span < trials[top].span)) {
+      top = i;
+    }
   }
+  const double around = angles[top];
+  for (double d = -kStep + kFineStep; d < kStep - 1e-9; d += kFineStep) {
+    if (std::abs(d) < 1e-9) continue;
+    angles.push_back(std::fmod(around + d + 180, 180));
+    trials.push_back(try_direction(angles.back(), area, reached, held, spacing));
+  }
+  for (const Trial& t : trials) most = std::max(most, t.share);
   bool found = false;
   for (std::size_t i = 0; i < trials.size(); ++i) {
     if (trials[i].share < most - kShareTie) continue;

@@ -174,21 +174,32 @@ std::vector<tc::Paths> columns(const std::vector<tc::Paths>& part, const std::ve
                                const std::vector<tc::Paths>& tops, const SupportOptions& o) {
   const std::size_t n = layers.size();
   std::vector<tc::Paths> support(n);
+  std::size_t highest = 0;  // one past the highest layer with a contact's top
+  for (std::size_t j = 0; j < n; ++j) {
+    if (!tops[j].empty()) highest = j + 1;
+  }
+  // What each layer's support must stay clear of, each layer on its own: the part grown by
+  // the XY gap, the part above within the top contact distance and below within the bottom
+  // one.
+  std::vector<tc::Paths> clear(highest);
+  tbb::parallel_for(std::size_t{0}, highest, [&](std::size_t j) {
+    tc::Paths all = part[j].empty() ? tc::Paths{} : tc::offset(part[j], o.xy_gap, ClipperLib::jtRound);
+    for (std::size_t i = j + 1; i < n && layers[i].z_lo < layers[j].z_hi + o.top_contact_distance - kHeight; ++i) {
+      all.insert(all.end(), part[i].begin(), part[i].end());
+    }
+    for (std::size_t i = j; i-- > 0 && layers[i].z_hi > layers[j].z_lo - o.bottom_contact_distance + kHeight;) {
+      all.insert(all.end(), part[i].begin(), part[i].end());
+    }
+    clear[j] = std::move(all);
+  });
   tc::Paths coming;
-  for (std::size_t j = n; j-- > 0;) {
+  for (std::size_t j = highest; j-- > 0;) {
     tc::Paths s = tops[j].empty() ? std::move(coming) : tc::union_of(coming, tops[j]);
     if (s.empty()) {
       coming.clear();
       continue;
     }
-    if (!part[j].empty()) s = tc::difference(s, tc::offset(part[j], o.xy_gap, ClipperLib::jtRound));
-    // The part above within the top contact distance, and below within the bottom one.
-    for (std::size_t i = j + 1; i < n && layers[i].z_lo < layers[j].z_hi + o.top_contact_distance - kHeight; ++i) {
-      s = tc::difference(s, part[i]);
-    }
-    for (std::size_t i = j; i-- > 0 && layers[i].z_hi > layers[j].z_lo - o.bottom_contact_distance + kHeight;) {
-      s = tc::difference(s, part[i]);
-    }
+    s = tc::difference(s, clear[j]);
     // What goes down is straightened (the vertices would pile up layer on layer); what
     // this layer prints is exactly clear of the part.
     coming = tc::simplified(s, kTolerance);

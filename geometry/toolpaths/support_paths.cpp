@@ -7,7 +7,6 @@
 #include "geometry/core/toolpath_clipper.h"
 #include "geometry/toolpaths/bead_spacing.h"
 #include "geometry/toolpaths/infill.h"
-#include "geometry/toolpaths/perimeters.h"
 #include "geometry/toolpaths/zigzag.h"
 
 namespace geometry {
@@ -33,7 +32,32 @@ std::vector<ExtrusionPath> lines_in(const Region& area, double width, double spa
   return zigzag(centres, ScanLines{angle, spacing, 0}, connector * spacing, &fill, role, width);
 }
 
-// Per island a loop round the edge (a centre line where it is too narrow for one) and lines
+// A loop half a bead inside each island's edge (closed paths, outer loops CCW, holes CW),
+// and what lies inside its bead, a bead in from the edge. An island narrower than a bead
+// has neither.
+struct Sheath {
+  std::vector<ExtrusionPath> loops;
+  tc::Paths centre;  // inside the loop's centre line
+  tc::Paths inside;  // inside its bead
+};
+
+Sheath sheath_of(const tc::Paths& island, double width, PathRole role) {
+  Sheath sheath;
+  sheath.centre = tc::offset(island, -width / 2, ClipperLib::jtRound);
+  for (const auto& path : sheath.centre) {
+    ExtrusionPath loop;
+    loop.role = role;
+    loop.width = width;
+    loop.points = from_clipper(path);
+    if (loop.points.size() < 3) continue;
+    loop.points.push_back(loop.points.front());
+    sheath.loops.push_back(std::move(loop));
+  }
+  if (!sheath.loops.empty()) sheath.inside = tc::offset(island, -width);
+  return sheath;
+}
+
+// Per island a loop round the edge and lines
 // `spacing` apart at `angle` from the loop's centre line to its centre line: the beads cover
 // the island to its edge whatever its shape, and each line reaches, at both ends, whatever
 // carries the loop (the ends of lines over sparse lines below land on the loop, which the
@@ -45,17 +69,10 @@ std::vector<ExtrusionPath> looped_lines_in(const Region& area, double width, dou
   if (!(width > 0) || !(spacing > 0)) return result;
   const tc::Paths clean = tc::simplified(to_clipper(area), kTolerance);
   for (const tc::Paths& island : tc::islands(clean)) {
-    Perimeters loop = perimeters(island, width, 1);
-    if (!loop.walls.empty()) {
-      loop.thin_walls.insert(loop.thin_walls.end(), loop.walls[0].begin(), loop.walls[0].end());
-    }
-    for (ExtrusionPath& path : loop.thin_walls) {
-      path.role = role;
-      result.push_back(std::move(path));
-    }
-    const Region centre = from_clipper(tc::offset(island, -width / 2));
-    if (centre.loops.empty()) continue;
-    auto lines = hatch(centre, spacing, angle, role, width);
+    Sheath loop = sheath_of(island, width, role);
+    if (loop.loops.empty()) continue;
+    for (ExtrusionPath& path : loop.loops) result.push_back(std::move(path));
+    auto lines = hatch(from_clipper(loop.centre), spacing, angle, role, width);
     result.insert(result.end(), std::make_move_iterator(lines.begin()),
                   std::make_move_iterator(lines.end()));
   }
@@ -73,12 +90,9 @@ std::vector<ExtrusionPath> support_body_paths(const Region& body, double width,
     // The sheath: a loop round each island, under the edges of what stands on it.
     inside.loops.clear();
     for (const tc::Paths& island : tc::islands(tc::simplified(to_clipper(body), kTolerance))) {
-      Perimeters loop = perimeters(island, width, 1);
-      if (!loop.walls.empty()) {
-        loop.thin_walls.insert(loop.thin_walls.end(), loop.walls[0].begin(), loop.walls[0].end());
-      }
-      for (ExtrusionPath& path : loop.thin_walls) {
-        path.role = PathRole::support;
+      Sheath loop = sheath_of(island, width, PathRole::support);
+      if (loop.loops.empty()) continue;  // narrower than a bead: nothing fits
+      for (ExtrusionPath& path : loop.loops) {
         if (!carried) {
           paths.push_back(std::move(path));
           continue;
@@ -93,8 +107,8 @@ std::vector<ExtrusionPath> support_body_paths(const Region& body, double width,
           paths.push_back(std::move(kept));
         }
       }
-      inside.loops.insert(inside.loops.end(), loop.infill_area.loops.begin(),
-                          loop.infill_area.loops.end());
+      const Region within = from_clipper(loop.inside);
+      inside.loops.insert(inside.loops.end(), within.loops.begin(), within.loops.end());
     }
   }
   auto lines = lines_in(inside, width, o.spacing, o.angle, kBodyConnector, PathRole::support);

@@ -7,8 +7,8 @@
 //   (grid), on a grid fixed in the part's frame, so that the lines of every layer stack on
 //   those of the layer below; joined into zig-zags along the edge (connectors up to three
 //   spacings), role support.
-// Support interface: per island a loop round its edge (perimeters.h: one wall, a centre
-//   line where it is too narrow), so that the beads reach the edge whatever its shape, and
+// Support interface: per island a loop round its edge, half a bead in (an island narrower
+//   than a bead gets nothing), so that the beads reach the edge whatever its shape, and
 //   inside it separate lines at angle + 90, across the body's lines below them, at `density`
 //   percent of solid (spacing = bead share * 100 / density), each from the loop's centre
 //   line to its centre line, so that both its ends rest where the loop does; role

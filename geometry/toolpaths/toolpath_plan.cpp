@@ -214,6 +214,41 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
       sparse_cores(outline, o.top_layers, o.bottom_layers);
   const Region nothing;
 
+  // Where each layer offers a sheath (support_paths.h) something to rest on: its part, and
+  // its own sheath (the outer bead of its support) as far as that is laid, which is as far
+  // as the layer below offers (so a sheath never stands on one that was left out). In turn,
+  // layer by layer; each layer's ring first, in parallel.
+  std::vector<tc::Paths> carries;
+  if (!support.layers.empty()) {
+    carries.resize(n);
+    std::vector<tc::Paths> ring(n), interface_ring(n);
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+      const LayerSupport* held = support_at(i);
+      if (!held || (held->body.loops.empty() && held->interface.loops.empty())) return;
+      const tc::Paths interface = to_clipper(held->interface);
+      tc::Paths all = to_clipper(held->body);
+      all.insert(all.end(), interface.begin(), interface.end());
+      all = tc::union_of(all);
+      // The loop's bead: where a loop fits (a part narrower than a bead gets none), less
+      // what lies inside it.
+      const double w = o.extrusion_width;
+      ring[i] = tc::difference(tc::opening(all, w / 2), tc::offset(all, -w));
+      if (!interface.empty()) {
+        interface_ring[i] = tc::difference(tc::opening(interface, w / 2), tc::offset(interface, -w));
+      }
+    });
+    for (std::size_t i = 0; i < n; ++i) {
+      tc::Paths offered = to_clipper(region[i]);
+      if (!ring[i].empty()) {
+        const tc::Paths laid = i == 0 ? ring[i]
+                                      : tc::intersection(ring[i], tc::offset(carries[i - 1], o.extrusion_width / 2));
+        offered.insert(offered.end(), laid.begin(), laid.end());
+        offered.insert(offered.end(), interface_ring[i].begin(), interface_ring[i].end());
+      }
+      carries[i] = tc::union_of(offered);
+    }
+  }
+
   std::vector<std::vector<Island>> islands(n);
   std::vector<Region> travel_region(n);  // where travels need no retraction
   std::atomic<std::size_t> done{0};
@@ -233,23 +268,10 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
       // The support's own islands, the body and the interface, in the nearest-first order.
       // On the bed (layer 0 without a raft) its beads are the first layer's width.
       const double bead = i == 0 && !raft ? o.first_layer_width : o.extrusion_width;
-      // What carries a sheath here: the layer below's sheath (the outer bead of its support)
-      // and its part; on the bed or the raft, anything.
+      // What carries a sheath here: the layer below's sheath where it is laid, and its part;
+      // on the bed or the raft, anything.
       std::optional<Region> carried;
-      if (i > 0) {
-        const LayerSupport* under = support_at(i - 1);
-        tc::Paths below_support;
-        if (under) {
-          below_support = to_clipper(under->body);
-          const tc::Paths more = to_clipper(under->interface);
-          below_support.insert(below_support.end(), more.begin(), more.end());
-          below_support = tc::union_of(below_support);
-        }
-        tc::Paths ring = tc::difference(below_support, tc::offset(below_support, -o.extrusion_width));
-        const tc::Paths part = to_clipper(region[i - 1]);
-        ring.insert(ring.end(), part.begin(), part.end());
-        carried = from_clipper(tc::union_of(ring));
-      }
+      if (i > 0) carried = from_clipper(carries[i - 1]);
       for (auto paths : {support_body_paths(held->body, bead, o.support, carried ? &*carried : nullptr),
                          support_interface_paths(held->interface, bead, height, o.support)}) {
         if (!paths.empty()) islands[i].push_back(Island{{std::move(paths)}});
