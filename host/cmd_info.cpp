@@ -42,9 +42,9 @@ void run_info(const InfoOptions& options) {
              repair.open_edges_after);
   fmt::print("repairs       {}\n", repairs.empty() ? "none" : repairs);
   fmt::print("watertight    {}\n", repair.closed ? "yes" : "no");
-  // Support under overhangs of 50 degrees from vertical, columns from the bed (an estimate;
-  // orientation.h), and what --orient auto made of it.
-  fmt::print("overhangs     ~{:.0f} mm^3 of support from the bed at {:g} deg from vertical\n",
+  // Support under overhangs past 50 degrees from vertical, columns to the bed or the part
+  // below (an estimate; orientation.h), and what --orient auto made of it.
+  fmt::print("overhangs     ~{:.0f} mm^3 of support under walls leaning past {:g} deg from vertical\n",
              geometry::support_volume_estimate(mesh, options.model.overhang_angle),
              options.model.overhang_angle);
   if (model.orientation) fmt::print("orientation   {}\n", orientation_text(model));

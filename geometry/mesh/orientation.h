@@ -5,18 +5,21 @@
 // matrices and the hull's normals are Eigen types inside orientation.cpp; this header hands
 // out plain row-major 3 x 3 arrays, so nothing that includes it compiles Eigen or CGAL.
 //
-// support_volume_estimate(mesh, angle): with the mesh as it stands (z up), every facet whose
-//   outward normal points down more than the overhang angle allows (angle from vertical a
-//   wall may lean: n_z < -sin(angle)) adds its area projected on the bed times its centroid's
-//   height above the mesh's lowest point: the volume of support columns from the bed to
-//   the overhangs, a bound on what the support stage lays (it also stops columns on the
-//   part).
+// support_volume_estimate(mesh, angle): with the mesh as it stands (z up), the volume of
+//   support columns everywhere (the support stage's default): down from every facet that
+//   faces down more steeply than the overhang angle allows (angle from vertical a wall may
+//   lean: n_z < -sin(angle)) to the next facet facing up below it, or to the mesh's lowest
+//   point (the bed), measured along the centre lines of a grid about 256 cells across the
+//   part (cells at least 0.2 mm), mm^3. The support stage lays lines in a share of it.
 // orient_for_least_support(mesh, options): the model's stable resting orientations are the
 //   faces of its convex hull (coplanar hull facets within 1 degree merged) on which the
 //   centre of mass stands inside the face, at least 0.5% of the part's size from its edge;
 //   for each, the rotation that turns the face's outward normal to -Z, its support volume
-//   estimate and its height. Chosen: the least support volume, then (within 1% or 1 mm^3
-//   of it) the least height, then the largest face. The orientation as it stands is reported
+//   and its height. The faces are ranked by a quick estimate (each steep facet's projected
+//   area times its height over the bed, which overstates what the part itself carries), and
+//   the best 16 measured by support_volume_estimate. Chosen: the least support volume, then
+//   (within 1% or 1 mm^3 of it) the least height, then the orientation as given, then the
+//   largest face. The orientation as it stands is reported
 //   beside it ("input"). An empty or flat mesh keeps its orientation.
 #pragma once
 

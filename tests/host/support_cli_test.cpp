@@ -323,7 +323,7 @@ TEST_CASE("rotate_and_orient_auto_turn_the_model_before_it_is_placed") {
   r = run_mahost({"info", t, "--orient", "auto"});
   REQUIRE(r.exit_code == 0);
   CHECK(r.out.find(" x 10.000 mm\n") != std::string::npos);  // on its front or back
-  CHECK(r.out.find("overhangs     ~0 mm^3") != std::string::npos);
+  CHECK(r.out.find("overhangs     ~0 mm^3 of support under walls leaning past 50 deg") != std::string::npos);
   // As given: the wings' undersides, 2 x 20 x 10 mm^2, 20 mm up.
   CHECK(r.out.find("support ~0 mm^3 against 8000 mm^3 as given, 10.0 mm tall against 25.0 mm") !=
         std::string::npos);

@@ -19,14 +19,12 @@ void check_near(Vec3 a, Vec3 b) {
   CHECK(a.z == doctest::Approx(b.z).epsilon(1e-12).scale(1));
 }
 
-// A T: a 10 x 10 x 20 mm stem under a 50 x 10 x 5 mm bar, as one closed mesh (the bar's
-// underside, two 20 x 10 mm wings, is what overhangs).
+// A T: a 10 x 10 x 20 mm stem under a 50 x 10 x 5 mm bar, two boxes touching along the
+// stem's top (the bar's underside, two 20 x 10 mm wings, is what overhangs; over the stem
+// it faces the stem's top).
 Mesh tee() {
   solids::Solid stem = solids::box({-5, -5, 0}, {5, 5, 20});
   solids::Solid bar = solids::box({-25, -5, 20}, {25, 5, 25});
-  // Two boxes touching along the stem's top: the estimate counts facets, and the stem's
-  // top (facing up) and the bar's underside over the stem (facing down, on the stem) add
-  // 10 x 10 mm at 20 mm: taken off below.
   return solids::combine(std::move(stem), std::move(bar)).mesh;
 }
 
@@ -67,20 +65,22 @@ TEST_CASE("rotated_mesh_keeps_its_volume_and_outward_facets") {
 TEST_CASE("estimate_is_each_overhang_projected_times_its_height") {
   // A box overhangs nowhere.
   CHECK(support_volume_estimate(solids::box({0, 0, 0}, {30, 20, 10}).mesh, 50) == 0);
-  // The T: two 20 x 10 wings 20 mm up, and the 10 x 10 mm of bar over the stem's top.
-  CHECK(support_volume_estimate(tee(), 50) == doctest::Approx(2 * 200 * 20 + 100 * 20));
+  // The T: two 20 x 10 wings 20 mm up (the bar's underside over the stem stands on it).
+  CHECK(support_volume_estimate(tee(), 50) == doctest::Approx(2 * 200 * 20).epsilon(1e-6));
   // A cone standing on its tip (apex down): its flank leans 45 degrees from vertical, so
   // at 50 it needs nothing and at 40 all of it: its volume under the flank's projection,
   // the cylinder less the cone, pi r^2 h (1 - 1/3) for the polygon's area.
   const solids::Solid cone = solids::frustum(0, 10, 10, 64);
   const double disc = solids::regular_polygon_area(64, 10);
   CHECK(support_volume_estimate(cone.mesh, 50) == doctest::Approx(0).scale(1));
-  CHECK(support_volume_estimate(cone.mesh, 40) == doctest::Approx(disc * 10 * 2.0 / 3).epsilon(1e-9));
+  // Measured down the centre lines of a grid of 0.2 mm cells (20 mm across / 256, at
+  // least 0.2): within a few cells' share of the disc's edge.
+  CHECK(support_volume_estimate(cone.mesh, 40) == doctest::Approx(disc * 10 * 2.0 / 3).epsilon(0.003));
 }
 
 TEST_CASE("orient_auto_lays_a_t_on_its_side_and_keeps_a_box_lowest") {
   const OrientResult t = orient_for_least_support(tee());
-  CHECK(t.input.support_volume == doctest::Approx(10000));
+  CHECK(t.input.support_volume == doctest::Approx(8000).epsilon(1e-6));
   CHECK(t.chosen.support_volume == doctest::Approx(0).scale(1));
   CHECK(t.chosen.height == doctest::Approx(10));  // on its 50 x 25 front or back face
   CHECK(std::abs(t.chosen.down.y) == doctest::Approx(1));
