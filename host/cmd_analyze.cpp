@@ -1,10 +1,11 @@
-// `mahost analyze MODEL.stl [placement] [--layer 0.15] [--contours lower,mid,optimal-height,ma]
-//  [--csv F] [--json F] [--plots DIR] [--thick 0.2,0.25] [--layer-index N]
-//  [--export-layers F.stl --contour K]`
+// `mahost analyze MODEL.stl [placement] [--layer 0.15 | --boundaries FILE|z1,z2,...]
+//  [--contours lower,mid,optimal-height,ma] [--exclude-z LO:HI] [--csv F] [--json F]
+//  [--plots DIR] [--thick 0.2,0.25] [--layer-index N] [--export-layers F.stl --contour K]`
 // `mahost advise MODEL.stl [placement] [--printer up-plus-2] [--contour ma]
-//  [--thicknesses 0.15,0.2,...] [--share 95] [--json F]`
+//  [--thicknesses 0.15,0.2,...] [--boundaries FILE|z1,z2,...] [--share 95] [--json F]`
 //
-// analyze (paper §4, Fig. 22-26): slices the model into uniform layers, makes each layer's
+// analyze (paper §4, Fig. 22-26): slices the model into uniform layers (or the layers of
+// --boundaries: any plan, a peer's read from its G-code, no printer asked), makes each layer's
 // region with every strategy asked for, measures each region exactly (geometry/metrics/layer_metrics.h)
 // and prints one summary row per strategy, then how every strategy compares with lower (the
 // paper's baseline) and with mid (what PrusaSlicer, Slic3r and CuraEngine print). Optional
@@ -15,13 +16,17 @@
 // advise (paper §4): takes lower's distance error at the printer's thinnest layer as the
 // benchmark and, for every layer thickness the printer allows, reports the share of the
 // contour's layers whose D stays within the benchmark at the same heights, the layer count,
-// and the largest thickness that keeps at least --share percent of layers within it.
+// and the largest thickness that keeps at least --share percent of layers within it. Advise
+// compares thicknesses, so a plan of mixed ones (--boundaries) is one more row beside them,
+// judged against the same benchmark, not a candidate for the advice.
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
+#include <optional>
 #include <numeric>
 #include <sstream>
 #include <string>
@@ -41,7 +46,9 @@
 #include "geometry/mesh/mesh.h"
 #include "geometry/slab/slab.h"
 #include "geometry/mesh/stl_io.h"
+#include "geometry/plan/flat_levels.h"
 #include "host/commands.h"
+#include "host/layer_boundaries.h"
 #include "host/model_input.h"
 #include "host/plots.h"
 #include "host/progress.h"
@@ -58,20 +65,26 @@ using geometry::StrategySummary;
 struct AnalyzeOptions {
   ModelOptions model;
   double layer = 0.15;
+  std::string boundaries;  // explicit layer tops instead of --layer
+  std::string exclude_z;   // "LO:HI", mm: left out of the by-height percentile
   std::string contours = geometry::contour_names(",");  // all of them
   std::string csv, json, plots, export_layers;
-  std::string contour = "ma";  // for --export-layers
+  std::string contour = "ma";  // for --export-layers, and the contour --adaptive plans for
   std::string thick = "0.2,0.25";
   int layer_index = -1;
+  AdaptiveRequest adaptive;        // --adaptive: the layers of a plan, not uniform
+  std::string printer = "up-plus-2";  // whose thicknesses an adaptive plan uses
 };
 
 struct AdviseOptions {
   ModelOptions model;
+  std::string boundaries;  // a layer plan to judge beside the uniform thicknesses
   std::string printer = "up-plus-2";
   std::string contour = "ma";
   std::string thicknesses;
   double share = 95;
   std::string json;
+  AdaptiveRequest adaptive;  // --adaptive: the plan as one more row
 };
 
 using Strategies = std::vector<const ContourStrategy*>;
@@ -121,6 +134,53 @@ std::ofstream open_output(const std::string& path, const std::string& flag) {
 double part_height(const geometry::Mesh& mesh) {
   const geometry::Box3 box = geometry::bounding_box(mesh);
   return box.max.z - box.min.z;
+}
+
+// "0:2.25" -> [0, 2.25] mm.
+geometry::ZRange parse_z_range(const std::string& text) {
+  geometry::ZRange range;
+  const std::size_t colon = text.find(':');
+  bool fine = colon != std::string::npos;
+  if (fine) {
+    const std::string lo = text.substr(0, colon), hi = text.substr(colon + 1);
+    char* end = nullptr;
+    range.lo = std::strtod(lo.c_str(), &end);
+    fine = !lo.empty() && *end == '\0';
+    range.hi = std::strtod(hi.c_str(), &end);
+    fine = fine && !hi.empty() && *end == '\0' && std::isfinite(range.lo) &&
+           std::isfinite(range.hi) && range.hi > range.lo;
+  }
+  if (!fine) {
+    throw geometry::InputError(fmt::format(
+        "--exclude-z {}: give a height range LO:HI in mm with LO below HI, e.g. 0:2.25", text));
+  }
+  return range;
+}
+
+// The layers analyze judges: --boundaries (any thicknesses: a peer's plan need not suit our
+// printer; the part above its last layer, if any, is not judged), else uniform --layer from
+// the bed.
+std::vector<geometry::Layer> analysis_layers(const std::string& boundaries, double layer,
+                                             double height) {
+  if (boundaries.empty()) return geometry::uniform_layers(height, layer);
+  return boundary_layers(boundaries, height, std::numeric_limits<double>::infinity()).layers;
+}
+
+// The adaptive plan analyze and advise judge: for `printed`, on the printer's thicknesses
+// (its first layer too), with a progress line while it measures candidate layers.
+LayerChoice adaptive_choice(const AdaptiveRequest& request, const std::string& printer_name,
+                            const geometry::Mesh& mesh, double height,
+                            const ContourStrategy& printed) {
+  const printer::PrinterProfile profile =
+      printer::load_printer_profile(printer_name, printer::config_directory(MAHOST_CONFIG_DIR));
+  const geometry::LayerStack index(mesh, {});
+  Progress bar("planning layers", 0);
+  LayerChoice choice = choose_layers(request, profile, index, height, 0, printed,
+                                     [&](std::size_t measured) {
+                                       bar.update(measured, fmt::format("{} candidate layers measured", measured));
+                                     });
+  bar.finish();
+  return choice;
 }
 
 // Analyses every layer with the given strategies, with a progress line on stderr. Where only
@@ -288,6 +348,67 @@ void draw_layer(const geometry::LayerStack& stack, std::size_t index,
   fmt::print("wrote {}\n", path);
 }
 
+// An adaptive plan beside uniform layers of the printer's thinnest thickness and of about as
+// many layers: each layer's thickness against height (adaptive-thickness.svg) and the printed
+// contour's D against height with the tolerance (adaptive-distance.svg).
+template <typename PathOf>
+void write_plan_charts(const LayerChoice& plan, const std::vector<LayerAnalysis>& layers,
+                       const Strategies& kinds, const ContourStrategy& printed,
+                       const std::string& printer_name, const geometry::Mesh& mesh, double height,
+                       const PathOf& path_of) {
+  const printer::PrinterProfile profile =
+      printer::load_printer_profile(printer_name, printer::config_directory(MAHOST_CONFIG_DIR));
+  const geometry::AllowedThicknesses allowed = allowed_thicknesses(profile);
+  const std::size_t count = plan.layers.size();
+  double same = allowed.thinnest();
+  if (count > 1) {
+    // The allowed thickness nearest to the plan's mean after the first layer.
+    const double mean = (plan.layers.back().z_hi - plan.layers.front().z_hi) / static_cast<double>(count - 1);
+    for (double t = allowed.thinnest(); t <= allowed.thickest() + 1e-9;
+         t += allowed.step > 0 ? allowed.step : 0.01) {
+      if (allowed.allows(t) && std::abs(t - mean) < std::abs(same - mean)) same = t;
+    }
+  }
+  const auto flats = geometry::flat_levels(mesh);
+  const Strategies printed_only{&printed};
+  Chart thickness{"Layer thickness: adaptive against uniform", "height, mm", "thickness, mm", {}};
+  Chart distance{fmt::format("Distance error of {}: adaptive (D within {:.3g} mm) against uniform",
+                             printed.name, plan.plan.tolerance),
+                 "height, mm", "distance error D, mm", {}};
+  const auto add = [&](const std::vector<LayerAnalysis>& judged, std::size_t k,
+                       const std::string& title, const std::string& style,
+                       const std::string& colour) {
+    Series t{title, {}, {}, style == "points" ? "steps lw 2" : "lines lw 1", colour};
+    for (const LayerAnalysis& layer : judged) {
+      t.x.push_back(layer.layer.z_lo);
+      t.y.push_back(layer.layer.thickness());
+    }
+    thickness.series.push_back(t);
+    Series d = per_layer_series(judged, k, true, title);
+    d.colour = colour;
+    if (style != "points") d.style = "points pt 6 ps 0.4";
+    distance.series.push_back(d);
+  };
+  add(layers, static_cast<std::size_t>(index_of(kinds, printed.name)),
+      fmt::format("adaptive, {} layers", count), "points", "#d62728");
+  const char* colours[] = {"#1f77b4", "#2ca02c"};
+  int c = 0;
+  for (double t : {allowed.thinnest(), same}) {
+    if (c == 1 && std::abs(t - allowed.thinnest()) < 1e-9) break;
+    const geometry::LayerStack uniform(mesh, geometry::uniform_plan(height, t, allowed, flats).layers);
+    const auto judged = run_analysis(uniform, printed_only, false,
+                                     fmt::format("{} at {:g} mm", printed.name, t), true);
+    add(judged, 0, fmt::format("uniform {:g} mm, {} layers", t, uniform.size()), "lines", colours[c++]);
+  }
+  Series limit{fmt::format("tolerance {:.3g} mm", plan.plan.tolerance), {0, height},
+               {plan.plan.tolerance, plan.plan.tolerance}, "lines lw 1 dt 2", "#000000"};
+  distance.series.push_back(limit);
+  fit_y_axis(distance);
+  write_chart_svg(path_of("adaptive-thickness.svg"), thickness);
+  write_chart_svg(path_of("adaptive-distance.svg"), distance);
+  fmt::print("wrote {}, {}\n", path_of("adaptive-thickness.svg"), path_of("adaptive-distance.svg"));
+}
+
 void run_analyze(const AnalyzeOptions& options) {
   Strategies kinds;
   for (const std::string& name : split_list(options.contours)) {
@@ -300,7 +421,11 @@ void run_analyze(const AnalyzeOptions& options) {
   }
   const bool exporting = !options.export_layers.empty();
   const ContourStrategy& export_kind = contour_strategy_option(options.contour, "--contour");
-  if (exporting && index_of(kinds, export_kind.name) < 0) kinds.push_back(&export_kind);
+  const bool adaptive_plan = options.adaptive.adaptive || options.adaptive.tolerance > 0 ||
+                             options.adaptive.max_layers > 0;
+  if ((exporting || adaptive_plan) && index_of(kinds, export_kind.name) < 0) {
+    kinds.push_back(&export_kind);
+  }
   const std::vector<double> thick = options.plots.empty() ? std::vector<double>{}
                                                           : thickness_list(options.thick, "--thick");
   if (!options.plots.empty()) {
@@ -313,35 +438,46 @@ void run_analyze(const AnalyzeOptions& options) {
     }
   }
 
+  const geometry::ZRange excluded =
+      options.exclude_z.empty() ? geometry::ZRange{} : parse_z_range(options.exclude_z);
   const geometry::Mesh mesh = load_model(options.model);
   const double height = part_height(mesh);
-  const geometry::LayerStack stack(mesh, geometry::uniform_layers(height, options.layer));
+  std::optional<LayerChoice> plan;
+  if (adaptive_plan) {
+    plan = adaptive_choice(options.adaptive, options.printer, mesh, height, export_kind);
+  }
+  const geometry::LayerStack stack(
+      mesh, plan ? plan->layers : analysis_layers(options.boundaries, options.layer, height));
   if (stack.size() == 0) {
     throw geometry::InputError(fmt::format("{}: the model has no height to slice",
                                            options.model.path));
   }
+  const std::string layers_text = describe_layers(stack.layers());
   if (options.layer_index >= static_cast<int>(stack.size())) {
-    throw geometry::InputError(fmt::format(
-        "--layer-index {}: the part has {} layers of {:g} mm (indices 0 to {})",
-        options.layer_index, stack.size(), options.layer, stack.size() - 1));
+    throw geometry::InputError(fmt::format("--layer-index {}: the part has {} (indices 0 to {})",
+                                           options.layer_index, layers_text, stack.size() - 1));
   }
 
   const std::vector<LayerAnalysis> layers = run_analysis(stack, kinds, exporting, "analyze");
-  const std::vector<StrategySummary> summaries = geometry::summarize(layers);
+  const std::vector<StrategySummary> summaries =
+      geometry::summarize(layers, geometry::DistanceOptions{}.tolerance, excluded);
 
   double total_limit = 0;
   for (const LayerAnalysis& layer : layers)
     if (!layer.strategies.empty()) total_limit += layer.strategies[0].metrics.volume_limit;
-  fmt::print("{}: {:.2f} mm tall, {} layers of {:g} mm; volume limit {:.3f} mm³ (the least ΔV "
-             "any extruded layers can have)\n",
-             options.model.path, height, stack.size(), options.layer, total_limit);
-  fmt::print("{:<15} {:>8} {:>8} {:>8} {:>10} {:>9} {:>9} {:>7} {:>7} {:>5} {:>10}\n",
-             "strategy", "mean D", "max D", "mean H", "total ΔV", "mean ΔV", "ΔV>limit", "missed",
-             ">lower", ">mid", "ms/layer");
+  fmt::print("{}: {:.2f} mm tall, {}; volume limit {:.3f} mm³ (the least ΔV any extruded "
+             "layers can have)\n",
+             options.model.path, height, layers_text, total_limit);
+  if (plan) fmt::print("{}\n", describe_choice(*plan));
+  fmt::print("{:<15} {:>8} {:>8} {:>8} {:>8} {:>10} {:>9} {:>9} {:>7} {:>7} {:>5} {:>10}\n",
+             "strategy", "mean D", "max D", "P95h D", "mean H", "total ΔV", "mean ΔV", "ΔV>limit",
+             "missed", ">lower", ">mid", "ms/layer");
   const int lower = index_of(kinds, "lower"), mid = index_of(kinds, "mid");
   for (const StrategySummary& s : summaries) {
-    fmt::print("{:<15} {:8.4f} {:8.4f} {:8.4f} {:10.3f} {:9.5f} {:>9} {:7} {:>7} {:>5} {:10.2f}\n",
-               name_of(s.strategy), s.mean_distance, s.max_distance, s.mean_hausdorff,
+    fmt::print("{:<15} {:8.4f} {:8.4f} {:8.4f} {:8.4f} {:10.3f} {:9.5f} {:>9} {:7} {:>7} {:>5} "
+               "{:10.2f}\n",
+               name_of(s.strategy), s.mean_distance, s.max_distance, s.p95_distance_by_height,
+               s.mean_hausdorff,
                s.total_deviation, s.mean_deviation,
                std::isnan(s.above_limit_percent) ? std::string("n/a")
                                                  : fmt::format("{:.1f}%", s.above_limit_percent),
@@ -350,8 +486,11 @@ void run_analyze(const AnalyzeOptions& options) {
                mid >= 0 ? std::to_string(s.worse_than_mid) : "-",
                1e3 * s.contour_seconds / std::max<std::size_t>(s.layers, 1));
   }
-  fmt::print("(D: distance error surface to walls, H: Hausdorff, mm; ΔV mm³; >lower, >mid: layers "
-             "whose D exceeds that strategy's; ms/layer: CPU time to make the contour)\n");
+  fmt::print("(D: distance error surface to walls, H: Hausdorff, mm; P95h D: the D within which "
+             "layers covering 95% of the height stay{}; ΔV mm³; >lower, >mid: layers whose D "
+             "exceeds that strategy's; ms/layer: CPU time to make the contour)\n",
+             excluded.empty() ? std::string()
+                              : fmt::format(", z {:g} to {:g} mm left out", excluded.lo, excluded.hi));
   nlohmann::json comparisons = nlohmann::json::array();
   for (std::size_t k = 0; k < kinds.size(); ++k) {
     if (lower >= 0 && static_cast<int>(k) != lower)
@@ -423,9 +562,11 @@ void run_analyze(const AnalyzeOptions& options) {
     const auto path_of = [&](const std::string& name) {
       return (std::filesystem::path(options.plots) / name).string();
     };
-    Chart all{fmt::format("Distance error per layer at {:g} mm", options.layer), "height, mm",
+    const std::string at =
+        plan ? std::string("of the adaptive plan") : fmt::format("at {:g} mm", options.layer);
+    Chart all{fmt::format("Distance error per layer {}", at), "height, mm",
               "distance error D, mm", {}};
-    Chart volume{fmt::format("Volume deviation per layer at {:g} mm", options.layer), "height, mm",
+    Chart volume{fmt::format("Volume deviation per layer {}", at), "height, mm",
                  "volume deviation, mm³", {}};
     for (std::size_t k = 0; k < kinds.size(); ++k) {
       all.series.push_back(per_layer_series(layers, k, true, name_of(kinds[k])));
@@ -442,6 +583,7 @@ void run_analyze(const AnalyzeOptions& options) {
     write_chart_svg(path_of("distance.svg"), all);
     write_chart_svg(path_of("volume.svg"), volume);
     fmt::print("wrote {}, {}\n", path_of("distance.svg"), path_of("volume.svg"));
+    if (plan) write_plan_charts(*plan, layers, kinds, export_kind, options.printer, mesh, height, path_of);
     // Fig. 22: two strategies per chart, each against the medial-axis contour.
     const int ma = index_of(kinds, "ma");
     for (int base : {lower, mid}) {
@@ -482,14 +624,29 @@ void run_analyze(const AnalyzeOptions& options) {
     nlohmann::json j;
     j["model"] = options.model.path;
     j["height"] = height;
-    j["layer_thickness"] = options.layer;
+    j["layer_thickness"] = options.boundaries.empty() ? nlohmann::json(options.layer)
+                                                      : nlohmann::json(nullptr);
+    if (!options.boundaries.empty()) j["boundaries"] = options.boundaries;
     j["layers"] = stack.size();
+    double thinnest = layers.front().layer.thickness(), thickest = thinnest;
+    for (const LayerAnalysis& layer : layers) {
+      thinnest = std::min(thinnest, layer.layer.thickness());
+      thickest = std::max(thickest, layer.layer.thickness());
+    }
+    j["layer_thickness_min"] = thinnest;
+    j["layer_thickness_max"] = thickest;
+    j["layers_top"] = layers.empty() ? 0.0 : layers.back().layer.z_hi;
+    j["percentile_excluded_z"] = excluded.empty() ? nlohmann::json(nullptr)
+                                                  : nlohmann::json::array({excluded.lo, excluded.hi});
     j["volume_limit"] = total_limit;
     j["strategies"] = nlohmann::json::array();
     for (const StrategySummary& s : summaries) {
       j["strategies"].push_back({{"strategy", name_of(s.strategy)},
                                  {"mean_distance", s.mean_distance},
                                  {"max_distance", s.max_distance},
+                                 {"p95_distance_by_height", std::isnan(s.p95_distance_by_height)
+                                                                ? nlohmann::json(nullptr)
+                                                                : nlohmann::json(s.p95_distance_by_height)},
                                  {"mean_hausdorff", s.mean_hausdorff},
                                  {"max_hausdorff", s.max_hausdorff},
                                  {"total_volume_deviation", s.total_deviation},
@@ -584,6 +741,34 @@ void run_advise(const AdviseOptions& options) {
                     {"within_benchmark_percent", share},
                     {"fewer_layers_percent", saving}});
   }
+  // A layer plan (--boundaries) is judged as one more row, against the same benchmark.
+  nlohmann::json plan_row(nullptr);
+  const bool adaptive = options.adaptive.adaptive || options.adaptive.tolerance > 0 ||
+                        options.adaptive.max_layers > 0;
+  if (!options.boundaries.empty() || adaptive) {
+    std::optional<LayerChoice> plan;
+    if (adaptive) plan = adaptive_choice(options.adaptive, options.printer, mesh, height, *kind);
+    const geometry::LayerStack stack(
+        mesh, plan ? plan->layers : analysis_layers(options.boundaries, 0, height));
+    const auto layers = run_analysis(stack, kinds, false,
+                                     fmt::format("{} at the boundaries", name_of(kind)), true);
+    const auto summary = geometry::summarize(layers);
+    const double share = share_within(layers, 0, benchmark, 0, geometry::DistanceOptions{}.tolerance);
+    const double saving = 100.0 * (1.0 - static_cast<double>(stack.size()) / bench_stack.size());
+    fmt::print("{:>9} {:7} {:8.4f} {:8.4f} {:7.1f}% {:11.1f}%   ({})\n",
+               plan ? "adaptive" : "plan", stack.size(),
+               summary.empty() ? 0.0 : summary[0].mean_distance,
+               summary.empty() ? 0.0 : summary[0].max_distance, share, saving,
+               describe_layers(stack.layers()));
+    if (plan) fmt::print("          {}\n", describe_choice(*plan));
+    plan_row = {{"boundaries", plan ? std::string("adaptive") : options.boundaries},
+                {"tolerance", plan ? nlohmann::json(plan->plan.tolerance) : nlohmann::json(nullptr)},
+                {"layers", stack.size()},
+                {"mean_distance", summary.empty() ? 0.0 : summary[0].mean_distance},
+                {"max_distance", summary.empty() ? 0.0 : summary[0].max_distance},
+                {"within_benchmark_percent", share},
+                {"fewer_layers_percent", saving}};
+  }
   if (best > 0) {
     fmt::print("advice: {} at {:g} mm keeps at least {:g}% of layers within lower's distance error "
                "at {:g} mm\n",
@@ -599,6 +784,7 @@ void run_advise(const AdviseOptions& options) {
                      {"benchmark_thickness", thinnest},
                      {"share_required_percent", options.share},
                      {"thicknesses", rows},
+                     {"plan", plan_row},
                      {"advised_thickness", best > 0 ? nlohmann::json(best) : nlohmann::json(nullptr)}};
     std::ofstream out = open_output(options.json, "--json");
     out << j.dump(2) << "\n";
@@ -616,9 +802,19 @@ void add_analyze_command(CLI::App& app) {
       "(the paper's D, reverse, Hausdorff), the volume limit, missed features; CSV, JSON, "
       "SVG plots, a layer's contours, the layered part as STL.");
   add_model_options(*analyze, options->model);
-  analyze->add_option("--layer", options->layer, "layer thickness, mm")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
+  CLI::Option* layer = analyze->add_option("--layer", options->layer, "layer thickness, mm")
+                           ->check(CLI::PositiveNumber)
+                           ->capture_default_str();
+  analyze->add_option("--boundaries", options->boundaries,
+                      "judge these layers instead of --layer: layer tops as a comma list in mm "
+                      "(0.3,0.5,...), a file with one top per line (# comments), or a G-code file "
+                      "of CuraEngine, PrusaSlicer, Slic3r or mahost, whose layer heights are "
+                      "used; any thicknesses (no printer is checked)")
+      ->excludes(layer);
+  analyze->add_option("--exclude-z", options->exclude_z,
+                      "leave this height range out of the by-height 95th percentile of D "
+                      "(P95h D), LO:HI in mm, e.g. 0:2.25 for the bunny's hole-filled base "
+                      "(default: none)");
   analyze->add_option("--contours", options->contours,
                       fmt::format("strategies to compare, comma-separated: {}",
                                   contour_strategies_help()))
@@ -637,8 +833,15 @@ void add_analyze_command(CLI::App& app) {
       ->check(CLI::NonNegativeNumber);
   analyze->add_option("--export-layers", options->export_layers,
                       "write the layered part (each layer's region extruded) as an STL file");
+  for (CLI::Option* option : add_adaptive_options(*analyze, options->adaptive)) {
+    option->excludes("--layer")->excludes("--boundaries");
+  }
+  analyze->add_option("--printer", options->printer,
+                      "with --adaptive: the printer whose layer thicknesses the plan uses "
+                      "(default: up-plus-2)");
   analyze->add_option("--contour", options->contour,
-                      fmt::format("with --export-layers: which strategy's layers ({})",
+                      fmt::format("with --export-layers: which strategy's layers; with "
+                                  "--adaptive: the contour the plan is made for ({})",
                                   geometry::contour_names()))
       ->capture_default_str();
   analyze->callback([options] { run_analyze(*options); });
@@ -649,6 +852,14 @@ void add_analyze_command(CLI::App& app) {
       "Which layer thickness can the contour strategy print while its distance error stays "
       "within lower's at the printer's thinnest layer (paper §4)?");
   add_model_options(*advise, advise_options->model);
+  advise->add_option("--boundaries", advise_options->boundaries,
+                     "also judge this layer plan against the benchmark, as one more row "
+                     "(\"plan\"): layer tops as a comma list in mm, a file with one top per "
+                     "line, or a G-code file of CuraEngine, PrusaSlicer, Slic3r or mahost "
+                     "(default: none)");
+  for (CLI::Option* option : add_adaptive_options(*advise, advise_options->adaptive)) {
+    option->excludes("--boundaries");
+  }
   advise->add_option("--printer", advise_options->printer,
                      "printer profile whose layer thicknesses to try (a name or a .toml path)")
       ->capture_default_str();

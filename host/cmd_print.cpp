@@ -344,6 +344,7 @@ void run_print(const PrintOptions& options) {
                options.output.empty() && !named_journal && !options.keep ? ""
                                                                           : " to " + gcode_path,
                slice_summary_text(*sliced));
+    if (const std::string plan = slice_plan_text(*sliced); !plan.empty()) fmt::print("{}\n", plan);
     std::fflush(stdout);
     // The slicer's meshes and toolpaths are freed; hand their pages back before the job
     // loads the file, so the print's memory does not stack on the slicer's.

@@ -1,5 +1,5 @@
 // `mahost slice MODEL.stl [placement] -o OUT.gcode [--printer up-plus-2] [--material abs]
-//  [--layer 0.2] [--contour ma] [--perimeters 2] [--infill 20] [--set key=value ...]`
+//  [--layer 0.2 | --boundaries FILE|z1,z2,...] [--contour ma] [--perimeters 2] [--infill 20] [--set key=value ...]`
 //
 // The slice pipeline (host/slice_pipeline.h) into a file: a progress bar per stage on a
 // terminal; one final line: layers, print-time estimate, filament, output size.
@@ -24,6 +24,7 @@ void run_slice(const SliceCommandOptions& options) {
   const SliceResult result =
       slice_to_gcode(options.slice, options.output, slice_progress_bars(options.slice.contour));
   fmt::print("{}: {}\n", options.output, slice_summary_text(result));
+  if (const std::string plan = slice_plan_text(result); !plan.empty()) fmt::print("{}\n", plan);
 }
 
 }  // namespace

@@ -1,12 +1,15 @@
 // The slice pipeline and its options; see slice_pipeline.h.
 #include "host/slice_pipeline.h"
 
+#include <algorithm>
 #include <atomic>
 #include <charconv>
 #include <chrono>
 #include <cmath>
 #include <memory>
 #include <mutex>
+#include <ostream>
+#include <streambuf>
 
 #include <fmt/core.h>
 #include <tbb/parallel_for.h>
@@ -15,8 +18,11 @@
 #include "geometry/core/error.h"
 #include "geometry/slicing/layer_stack.h"
 #include "geometry/mesh/mesh.h"
+#include "geometry/plan/flat_levels.h"
+#include "geometry/plan/layer_plan.h"
 #include "geometry/support/support_plan.h"
 #include "geometry/toolpaths/toolpath_plan.h"
+#include "host/layer_boundaries.h"
 #include "host/progress.h"
 #include "printer/error.h"
 
@@ -40,6 +46,8 @@ geometry::ToolpathOptions toolpath_options(const printer::PrinterProfile& machin
                                .value_or(geometry::InfillPattern::grid);
   options.top_layers = machine.print.top_layers;
   options.bottom_layers = machine.print.bottom_layers;
+  options.top_thickness = machine.print.top_thickness;
+  options.bottom_thickness = machine.print.bottom_thickness;
   options.skirt_loops = machine.print.skirt_loops;
   options.skirt_distance = machine.print.skirt_distance;
   options.retract_min_travel = machine.retraction.min_travel;
@@ -145,7 +153,7 @@ void add_support_options(CLI::App& command, SupportCliOptions& options,
                       ->check(CLI::Range(0.0, 10.0)));
   added.push_back(command.add_option("--support-top-distance", options.top_distance,
                                      "mm of air between the support's top and the part over it, "
-                                     "rounded up to whole layers (default: "
+                                     "rounded up to the layers' own tops (default: "
                                      "support.top_contact_distance)")
                       ->check(CLI::Range(0.0, 2.0)));
   added.push_back(command.add_option("--support-bottom-distance", options.bottom_distance,
@@ -241,10 +249,25 @@ void add_slice_options(CLI::App& command, SliceOptions& options, const std::stri
       "--material", options.material,
       "material profile: a name (abs, pla) or a path to a .toml file (default: the printer "
       "profile's material)"));
-  added.push_back(command.add_option("--layer", options.layer,
-                                     "layer thickness, mm; one the printer allows (default: "
-                                     "the printer profile's layer.default)")
-                      ->check(CLI::PositiveNumber));
+  CLI::Option* layer = command.add_option("--layer", options.layer,
+                                          "layer thickness, mm; one the printer allows "
+                                          "(default: the printer profile's layer.default)")
+                           ->check(CLI::PositiveNumber);
+  added.push_back(layer);
+  added.push_back(command
+                      .add_option("--boundaries", options.boundaries,
+                                  "explicit layer tops instead of --layer: a comma list in mm "
+                                  "(0.3,0.5,0.7,...), a file with one top per line (# "
+                                  "comments), or a G-code file of CuraEngine, PrusaSlicer, "
+                                  "Slic3r or mahost, whose layer heights are used; the first "
+                                  "layer must be the printer's first_layer.height, every other "
+                                  "one a thickness it allows (default: none)")
+                      ->excludes(layer));
+  CLI::Option* boundaries = added.back();
+  for (CLI::Option* option : add_adaptive_options(command, options.adaptive)) {
+    option->excludes(layer)->excludes(boundaries);
+    added.push_back(option);
+  }
   added.push_back(command.add_option("--contour", options.contour,
                                      fmt::format("the region each layer extrudes: {} (default: ma)",
                                                  contour_strategies_help()))
@@ -274,7 +297,8 @@ const std::vector<std::string>& model_only_slice_options() {
   static const std::vector<std::string> names{
       "--units", "--scale",      "--height", "--up",  "--ignore-normals", "--rotate", "--orient",
       "--material",
-      "--layer", "--contour", "--perimeters", "--infill", "--set",
+      "--layer", "--boundaries", "--adaptive", "--tolerance", "--max-layers", "--contour",
+      "--perimeters", "--infill", "--set",
       // issue 12
       "--support", "--overhang-angle", "--support-xy-gap", "--support-top-distance",
       "--support-bottom-distance", "--support-interface-layers", "--support-pattern",
@@ -325,6 +349,7 @@ const geometry::ContourStrategy& contour_strategy_option(const std::string& name
 
 std::string_view stage_name(SliceStage stage) {
   switch (stage) {
+    case SliceStage::planning: return "planning layers";
     case SliceStage::contours: return "contours";
     case SliceStage::supports: return "supports";
     case SliceStage::toolpaths: return "toolpaths";
@@ -332,6 +357,75 @@ std::string_view stage_name(SliceStage stage) {
   }
   return "slicing";
 }
+
+LayerChoice plan_layers(const SliceOptions& options, const printer::PrinterProfile& machine,
+                        const geometry::LayerStack& index, double part_height,
+                        const geometry::ContourStrategy& printed,
+                        const PlanningProgress& progress) {
+  LayerChoice choice;
+  double thickness = 0;  // for the build-height message: the last layer's
+  if (!options.boundaries.empty()) {
+    // A peer may end a layer or so below the top (rounding it down, or leaving out a tip too
+    // small to print): up to the printer's thickest layer is taken, with a note.
+    const double thickest = machine.layer.allowed.empty()
+                                ? machine.layer.max
+                                : *std::max_element(machine.layer.allowed.begin(),
+                                                    machine.layer.allowed.end());
+    choice.layers = boundary_layers(options.boundaries, part_height, thickest + 1e-6).layers;
+    std::vector<double> tops;
+    for (const geometry::Layer& layer : choice.layers) tops.push_back(layer.z_hi);
+    try {
+      printer::check_layer_tops(machine, tops);
+    } catch (const printer::ConfigError& e) {
+      throw printer::ConfigError(fmt::format("--boundaries {}: {}", options.boundaries, e.what()));
+    }
+  } else {
+    thickness = options.layer > 0 ? options.layer : machine.layer.default_thickness;
+    printer::check_layer_thickness(machine, thickness);
+    choice = choose_layers(options.adaptive, machine, index, part_height, thickness, printed,
+                           progress);
+  }
+  // The last layer is a whole layer thick, so it can end above the part: refused now rather
+  // than when the G-code is checked against the build volume after all the slicing.
+  if (!choice.layers.empty()) {
+    if (choice.adaptive || thickness == 0) thickness = choice.layers.back().thickness();
+    printer::check_layer_tops_fit(machine, part_height, choice.layers.back().z_hi, thickness,
+                                  raft_height(machine.raft));
+  }
+  return choice;
+}
+
+namespace {
+
+// The print time of the part sliced in these layers with mid sections (the estimate hardly
+// depends on the contour: the bunny's ma and mid estimates differ by 1%), s.
+double estimated_seconds(const geometry::LayerStack& index, const std::vector<geometry::Layer>& layers,
+                         const printer::Profiles& profiles) {
+  const geometry::LayerStack stack(index, layers);
+  std::vector<geometry::Region> regions(layers.size());
+  tbb::parallel_for(std::size_t{0}, layers.size(), [&](std::size_t i) { regions[i] = stack.mid(i); });
+  const auto toolpaths = geometry::plan_toolpaths(regions, layers, toolpath_options(profiles.printer));
+  struct Discard : std::streambuf {
+    int overflow(int c) override { return c; }
+    std::streamsize xsputn(const char*, std::streamsize n) override { return n; }
+  } discard;
+  std::ostream nowhere(&discard);
+  return printer::write_gcode(nowhere, toolpaths, profiles).print_seconds;
+}
+
+// The allowed thickness nearest to `wanted`.
+double nearest_allowed(const geometry::AllowedThicknesses& allowed, double wanted) {
+  if (!allowed.listed.empty()) {
+    return *std::min_element(allowed.listed.begin(), allowed.listed.end(), [&](double a, double b) {
+      return std::abs(a - wanted) < std::abs(b - wanted);
+    });
+  }
+  double t = std::clamp(wanted, allowed.min, allowed.max);
+  if (allowed.step > 0) t = allowed.min + std::round((t - allowed.min) / allowed.step) * allowed.step;
+  return std::clamp(t, allowed.min, allowed.max);
+}
+
+}  // namespace
 
 SliceResult slice_to_gcode(const SliceOptions& options, const std::string& output,
                            const SliceProgress& progress) {
@@ -343,8 +437,11 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
   const printer::PrinterProfile& machine = result.profiles.printer;
 
   const geometry::ContourStrategy& contour = contour_strategy_option(options.contour, "--contour");
-  result.layer_thickness = options.layer > 0 ? options.layer : machine.layer.default_thickness;
-  printer::check_layer_thickness(machine, result.layer_thickness);
+  const bool uniform = options.boundaries.empty();
+  result.layer_thickness =
+      !uniform ? 0 : options.layer > 0 ? options.layer : machine.layer.default_thickness;
+  // A thickness the printer lacks is refused before the model is read.
+  if (uniform) printer::check_layer_thickness(machine, result.layer_thickness);
 
   ModelOptions model = options.model;
   model.overhang_angle = result.profiles.material.overhang_angle;  // for --orient auto
@@ -354,16 +451,14 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
   const geometry::Vec3& size = result.part_size;
   printer::check_part_fits(machine, size.x, size.y, size.z);
 
-  const std::vector<geometry::Layer> layers =
-      geometry::uniform_layers(size.z, result.layer_thickness, machine.first_layer_height);
-  // The last layer is a whole layer thick, so it can end above the part: refused now rather
-  // than when the G-code is checked against the build volume after all the slicing.
-  if (!layers.empty()) {
-    printer::check_layer_tops_fit(machine, size.z, layers.back().z_hi, result.layer_thickness,
-                                  raft_height(machine.raft));
-  }
+  const geometry::LayerStack index(mesh, {});
+  report(SliceStage::planning, 0, 0);
+  result.choice = plan_layers(options, machine, index, size.z, contour,
+                              [&](std::size_t measured) { report(SliceStage::planning, measured, 0); });
+  result.layers = result.choice.layers;
+  const std::vector<geometry::Layer>& layers = result.layers;
   const std::size_t count = layers.size();
-  const geometry::LayerStack stack(mesh, layers);
+  const geometry::LayerStack stack(index, layers);
 
   std::vector<geometry::Region> regions(count);
   report(SliceStage::contours, 0, count);
@@ -392,17 +487,34 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
   regions.shrink_to_fit();
 
   printer::GcodeOptions gcode_options;
-  gcode_options.layer_height = result.layer_thickness;
+  // A variable stack's nominal height ({layer_height}, ";Layer height:") is its thinnest
+  // layer after the first.
+  double nominal = result.layer_thickness;
+  if (!uniform) {
+    nominal = layers.size() > 1 ? layers[1].thickness() : layers[0].thickness();
+    for (std::size_t i = 1; i < layers.size(); ++i) nominal = std::min(nominal, layers[i].thickness());
+    nominal = std::round(nominal * 1e6) / 1e6;
+  }
+  gcode_options.layer_height = nominal;
   gcode_options.notes = {
       fmt::format("model: {} ({:.2f} x {:.2f} x {:.2f} mm)", options.model.path, size.x, size.y,
                   size.z),
       fmt::format("contour: {}", contour.name),
-      fmt::format("layer: {:g} mm, first layer {:g} mm", result.layer_thickness,
-                  machine.first_layer_height),
-      fmt::format("perimeters: {}, infill: {:g}% {}, top/bottom layers: {}/{}",
+      result.choice.adaptive
+          ? fmt::format("layers: {} (adaptive, D within {:g} mm)", describe_layers(layers),
+                        result.choice.plan.tolerance)
+      : uniform ? fmt::format("layer: {:g} mm, first layer {:g} mm", result.layer_thickness,
+                              machine.first_layer_height)
+                : fmt::format("layers: {} from --boundaries {}", describe_layers(layers),
+                              options.boundaries),
+      fmt::format("perimeters: {}, infill: {:g}% {}, top/bottom layers: {}/{}{}",
                   machine.print.perimeters, machine.print.infill_density,
                   machine.print.infill_pattern, machine.print.top_layers,
-                  machine.print.bottom_layers)};
+                  machine.print.bottom_layers,
+                  machine.print.top_thickness > 0 || machine.print.bottom_thickness > 0
+                      ? fmt::format(", at least {:g}/{:g} mm", machine.print.top_thickness,
+                                    machine.print.bottom_thickness)
+                      : std::string())};
   // Only when there is something of issue 12 to say: without it the header is as before.
   if (support.placement != geometry::SupportPlacement::none) {
     const printer::SupportSettings& s = machine.support;
@@ -423,6 +535,19 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
   result.summary = printer::write_gcode_file(
       output, toolpaths, result.profiles, gcode_options,
       [&](std::size_t done) { report(SliceStage::writing, done, count); });
+  if (result.choice.adaptive && count > 1) {
+    // What uniform slicing would take: at the thinnest layer, and at about as many layers.
+    const geometry::AllowedThicknesses allowed = allowed_thicknesses(machine);
+    const auto flats = geometry::flat_levels(mesh);
+    const double same_count = nearest_allowed(
+        allowed, (layers.back().z_hi - machine.first_layer_height) / static_cast<double>(count - 1));
+    for (double t : {allowed.thinnest(), same_count}) {
+      if (!result.uniform.empty() && std::abs(result.uniform.back().thickness - t) < 1e-9) continue;
+      const auto plan = geometry::uniform_plan(size.z, t, allowed, flats);
+      result.uniform.push_back({t, plan.layers.size(),
+                                estimated_seconds(index, plan.layers, result.profiles)});
+    }
+  }
   return result;
 }
 
@@ -454,19 +579,46 @@ SliceProgress slice_progress_bars(const std::string& contour) {
       bars->bar = std::make_unique<Progress>(label, total);
       bars->stage = stage;
     }
-    bars->bar->update(done, fmt::format("layer {}/{}", done, total));
+    // Planning has no total: the candidate layers measured so far.
+    bars->bar->update(done, stage == SliceStage::planning
+                                ? fmt::format("{} candidate layers measured", done)
+                                : fmt::format("layer {}/{}", done, total));
     if (stage == SliceStage::writing && done == total && total > 0) bars->bar.reset();
   };
 }
 
+std::string slice_plan_text(const SliceResult& result) {
+  std::string text = describe_choice(result.choice);
+  if (!result.uniform.empty()) {
+    text += "; estimated ";
+    text += printer::format_duration(result.summary.print_seconds);
+    for (std::size_t k = 0; k < result.uniform.size(); ++k) {
+      const SliceResult::Uniform& u = result.uniform[k];
+      text += fmt::format("{} {} at uniform {:g} mm ({} layers)", k == 0 ? " against" : " and",
+                          printer::format_duration(u.print_seconds), u.thickness, u.layers);
+    }
+  }
+  return text;
+}
+
 std::string slice_summary_text(const SliceResult& result) {
   const printer::GcodeSummary& s = result.summary;
+  // A variable stack says its range: "212 layers, 0.15 to 0.4 mm thick, estimated ...", and
+  // a raft under it its layers.
+  // The part's layers; the raft's, when there is one, after them.
+  const std::size_t raft = !result.layers.empty() && s.layers > result.layers.size()
+                               ? s.layers - result.layers.size()
+                               : 0;
+  std::string layers = result.layer_thickness > 0 || result.layers.empty()
+                           ? fmt::format("{} layers", s.layers - raft)
+                           : describe_layers(result.layers);
+  if (raft > 0) layers += fmt::format(", on {} raft layers", raft);
   const std::string support =
       s.support_filament_mm > 0
           ? fmt::format("; {:.2f} m of it support and raft", s.support_filament_mm / 1000.0)
           : "";
-  return fmt::format("{} layers, estimated print time {}, filament {:.2f} m ({:.1f} g {}{}), {}",
-                     s.layers, printer::format_duration(s.print_seconds), s.filament_mm / 1000.0,
+  return fmt::format("{}, estimated print time {}, filament {:.2f} m ({:.1f} g {}{}), {}",
+                     layers, printer::format_duration(s.print_seconds), s.filament_mm / 1000.0,
                      s.filament_grams, result.profiles.material.name, support, size_text(s.bytes));
 }
 

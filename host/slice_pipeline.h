@@ -14,6 +14,8 @@
 #include <CLI/CLI.hpp>
 
 #include "geometry/core/polygon.h"
+#include "geometry/slicing/layer_stack.h"
+#include "host/layer_choice.h"
 #include "host/model_input.h"
 #include "printer/gcode_writer.h"
 #include "printer/profile.h"
@@ -46,6 +48,8 @@ struct SliceOptions {
   std::string printer = "up-plus-2";
   std::string material;    // "": the printer's
   double layer = 0;        // mm; 0: the printer's layer.default
+  std::string boundaries;  // --boundaries FILE|z1,z2,...: explicit layer tops instead
+  AdaptiveRequest adaptive;  // --adaptive, --tolerance, --max-layers
   std::string contour = "ma";
   int perimeters = -1;     // -1: the printer profile's print.perimeters
   double infill = -1;      // percent; -1: the profile's print.infill_density
@@ -55,7 +59,7 @@ struct SliceOptions {
 
 // Adds the slice options to a command: the model's placement (--units, --scale, --height,
 // --up, --ignore-normals; not the MODEL argument itself), --printer, --material, --layer,
-// --contour, --perimeters, --infill, --set, and the support options (--support,
+// --boundaries, --contour, --perimeters, --infill, --set, and the support options (--support,
 // --overhang-angle, --support-xy-gap, --support-top-distance, --support-bottom-distance,
 // --support-interface-layers, --support-pattern, --support-spacing, --support-enforcer,
 // --support-blocker, --bridge-length, --brim, --raft, --no-raft). They are listed under
@@ -80,9 +84,22 @@ const std::vector<std::string>& model_only_slice_options();
 // support options applied. Throws printer::ConfigError naming the profile, key or value that is wrong.
 printer::Profiles load_slice_profiles(const SliceOptions& options);
 
+// The layers the part is printed in, bottom up, from z = 0 to at least the part's top (the
+// layer plan of DESIGN.md §1; every stage after it takes each layer's own thickness): the
+// --boundaries given; else --adaptive's plan (host/layer_choice.h) for the contour printed;
+// else uniform layers of --layer (or the printer's default) after the printer's first layer,
+// flat tops and floors on boundaries. `index` is a stack over the model (its layers unused).
+// Every thickness is checked against the printer (ConfigError naming the layer and what is
+// allowed), and the last layer must end within the build height.
+LayerChoice plan_layers(const SliceOptions& options, const printer::PrinterProfile& machine,
+                        const geometry::LayerStack& index, double part_height,
+                        const geometry::ContourStrategy& printed,
+                        const PlanningProgress& progress = {});
+
 // The pipeline's stages, in order; progress is reported per stage.
-enum class SliceStage { contours, supports, toolpaths, writing };
-std::string_view stage_name(SliceStage stage);  // "contours", "supports", "toolpaths", "writing"
+enum class SliceStage { planning, contours, supports, toolpaths, writing };
+// "planning layers", "contours", "supports", "toolpaths", "writing"
+std::string_view stage_name(SliceStage stage);
 
 // Called with done = 0 from the calling thread when a stage starts, then as its layers are
 // done (done of total), possibly from several threads at once.
@@ -91,10 +108,20 @@ using SliceProgress = std::function<void(SliceStage stage, std::size_t done, std
 struct SliceResult {
   printer::Profiles profiles;      // as used, overrides applied
   geometry::Vec3 part_size;        // mm, after placement
-  double layer_thickness = 0;      // mm, the layers after the first
+  double layer_thickness = 0;      // mm, the layers after the first (uniform); 0 for --boundaries
+  std::vector<geometry::Layer> layers;  // as printed
+  LayerChoice choice;              // how they were chosen (adaptive: the plan)
   printer::GcodeSummary summary;   // layers, estimated seconds, filament, bytes
   std::size_t bridges = 0;         // pieces of layers laid as bridges
   double support_seconds = 0;      // wall time of the support stage
+  // An adaptive plan beside uniform slicing of the same part: at the thinnest thickness and
+  // at the one giving about as many layers (estimated with mid sections).
+  struct Uniform {
+    double thickness = 0;
+    std::size_t layers = 0;
+    double print_seconds = 0;
+  };
+  std::vector<Uniform> uniform;
 };
 
 // Slices the model into a G-code file at `output` (written beside it and renamed at the end:
@@ -113,7 +140,13 @@ sim::SupportCheckOptions support_check_options(const printer::Profiles& profiles
 SliceProgress slice_progress_bars(const std::string& contour);
 
 // "250 layers, estimated print time 56 min 51 s, filament 3.25 m (8.1 g ABS), 2.6 MiB"; with
-// support or a raft, "filament 3.60 m (9.0 g ABS; 0.35 m of it support and raft)".
+// support or a raft, "250 layers, on 4 raft layers, ... filament 3.60 m (9.0 g ABS; 0.35 m of
+// it support and raft)".
 std::string slice_summary_text(const SliceResult& result);
+
+// The layer plan in one line when there is something to say ("" otherwise): an adaptive plan
+// (layers, thickness range, unmet layers and why, time against uniform slicing at the thinnest
+// layer and at the same count), flat levels that could not land on a boundary.
+std::string slice_plan_text(const SliceResult& result);
 
 }  // namespace host

@@ -45,7 +45,7 @@ class Sink {
   virtual void command(std::string_view line) = 0;  // any line the firmware reads
   virtual void comment(std::string_view text) = 0;  // ";text", ignored by the firmware
   virtual void move(int g, const MoveWords& words) = 0;
-  virtual void layer_start(std::size_t layer, double z) = 0;
+  virtual void layer_start(std::size_t layer, double z, double height) = 0;
 };
 
 class ClockSink final : public Sink {
@@ -62,7 +62,7 @@ class ClockSink final : public Sink {
   }
   // A layer starts when the moves queued before it are done; the planner makes them final
   // a window later, so the time is taken then.
-  void layer_start(std::size_t, double) override {
+  void layer_start(std::size_t, double, double) override {
     layer_starts_.push_back(clock_.moves_queued());
     settle_layers();
   }
@@ -107,9 +107,14 @@ class TextSink final : public Sink {
     word('F', w.f, 0);
     end_line();
   }
-  void layer_start(std::size_t layer, double z) override {
+  void layer_start(std::size_t layer, double z, double height) override {
     fmt::format_to(std::back_inserter(buffer_), ";LAYER:{}\n;Z:", layer);
     number(z, 3);
+    // The layer's own thickness, as PrusaSlicer writes it: a stack may mix thicknesses.
+    constexpr std::string_view kHeight = "\n;HEIGHT:";
+    buffer_.append(kHeight.data(), kHeight.data() + kHeight.size());
+    number(height, 3);
+    ++lines_;
     end_line();
     progress_at_.push_back(buffer_.size());
     ++lines_;
@@ -337,7 +342,7 @@ class Emitter {
  private:
   void layer(std::size_t n, const LayerToolpaths& toolpaths) {
     const double z = mm(toolpaths.z_hi);
-    sink_.layer_start(n, z);
+    sink_.layer_start(n, z, mm(toolpaths.z_hi - toolpaths.z_lo));
     sink_.command("G92 E0");
     e_exact_ = 0;
     e_written_ = 0;

@@ -5,11 +5,12 @@
 // the motion model run over the whole program, filament length and weight, layer count), the
 // heating (M140/M104, then M190/M109 at the first-layer temperatures), the profile's start
 // G-code with its placeholders expanded, G90 and M82 or M83, then per layer:
-//   ;LAYER:<n>  ;Z:<z>  M73 P<percent> R<minutes left>  G92 E0   (the host keys on ;LAYER:)
+//   ;LAYER:<n>  ;Z:<z>  ;HEIGHT:<t>  M73 P<percent> R<minutes left>  G92 E0   (the host keys
+//   on ;LAYER:; t is the layer's own thickness, z_hi - z_lo: layers may differ)
 //   the regular temperatures after the first layer, the fan (M106/M107) per the material,
 //   ;TYPE:<role> before each change of feature, travels (G0) with retraction and z-hop before
-//   paths marked retract_before, extrusions (G1 ... E) from the bead model at the layer's
-//   thickness and the path's width, the feature's speed (first-layer speed on layer 0);
+//   paths marked retract_before, extrusions (G1 ... E) from the bead model at that layer's
+//   own thickness and the path's width, the feature's speed (first-layer speed on layer 0);
 //   bridges with the material's bridge flow and, around them, its bridge fan (M106/M107);
 // then M107 and the end G-code. Toolpaths move to the bed centre. X, Y, Z are written to
 // 0.001 mm, E to 0.00001 mm, F to 1 mm/min; the estimate runs over these written values, so

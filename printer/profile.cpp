@@ -405,6 +405,10 @@ const Rules<P>& printer_rules() {
                         [](P& p, const std::string& s) { p.print.infill_pattern = s; }));
     r.push_back(integer<P>("print.top_layers", 0, 100, "", [](P& p, int v) { p.print.top_layers = v; }));
     r.push_back(integer<P>("print.bottom_layers", 0, 100, "", [](P& p, int v) { p.print.bottom_layers = v; }));
+    r.push_back(number<P>("print.top_thickness", 0, 20, "mm (0: no minimum)",
+                          [](P& p, double v) { p.print.top_thickness = v; }));
+    r.push_back(number<P>("print.bottom_thickness", 0, 20, "mm (0: no minimum)",
+                          [](P& p, double v) { p.print.bottom_thickness = v; }));
     r.push_back(integer<P>("print.skirt_loops", 0, 20, "", [](P& p, int v) { p.print.skirt_loops = v; }));
     r.push_back(number<P>("print.skirt_distance", 0, 50, "mm",
                           [](P& p, double v) { p.print.skirt_distance = v; }));
@@ -773,6 +777,27 @@ void check_layer_thickness(const PrinterProfile& printer, double thickness) {
   throw ConfigError(fmt::format("layer thickness {} mm is not allowed on the {} ({}); allowed: {}",
                                 format_number(thickness), printer.name, printer.source,
                                 printer.layer.describe()));
+}
+
+void check_layer_tops(const PrinterProfile& printer, std::span<const double> tops) {
+  constexpr double kTolerance = 1e-6;
+  double below = 0;
+  for (std::size_t i = 0; i < tops.size(); ++i) {
+    const double thickness = tops[i] - below;
+    const bool first = i == 0;
+    const bool fine = first ? std::abs(thickness - printer.first_layer_height) <= kTolerance
+                            : printer.layer.allows(thickness);
+    if (!fine) {
+      throw ConfigError(fmt::format(
+          "layer {} (z {:g} to {:g} mm) is {:g} mm thick, which the {} ({}) cannot print; "
+          "allowed: {}",
+          i + 1, below, tops[i], std::round(thickness * 1e6) / 1e6, printer.name, printer.source,
+          first ? fmt::format("{:g} mm for the first layer (first_layer.height)",
+                              printer.first_layer_height)
+                : printer.layer.describe()));
+    }
+    below = tops[i];
+  }
 }
 
 void check_part_fits(const PrinterProfile& printer, double size_x, double size_y, double size_z) {

@@ -10,6 +10,7 @@
 
 #include <array>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -84,6 +85,9 @@ struct PrintSettings {
   double infill_density = 20;  // percent
   std::string infill_pattern = "grid";  // "grid" or "rectilinear"
   int top_layers = 3, bottom_layers = 3;
+  // Skins at least this thick as well, mm (0: no minimum): on layers of mixed thickness a
+  // count of thin layers would leave a top or bottom too thin.
+  double top_thickness = 0, bottom_thickness = 0;
   int skirt_loops = 1;
   double skirt_distance = 3.0;  // mm
   std::string seam = "aligned";  // "aligned" or "nearest"
@@ -166,6 +170,12 @@ Profiles load_profiles(const ProfileRequest& request);
 
 // Throws ConfigError unless the printer can print layers this thick (names the allowed ones).
 void check_layer_thickness(const PrinterProfile& printer, double thickness);
+
+// Throws ConfigError unless the printer can print every layer of a stack given by its layer
+// tops (mm, ascending; the first layer starts on the bed at 0): the first layer
+// first_layer.height thick, every other one a thickness `layer` allows. The message names the
+// first layer that is not (counted from 1, with its heights) and what is allowed there.
+void check_layer_tops(const PrinterProfile& printer, std::span<const double> tops);
 
 // Throws ConfigError with the part's size and the build volume's unless a part of this size
 // (mm) fits.

@@ -4,6 +4,8 @@
 #include <time.h>
 
 #include <algorithm>
+#include <cmath>
+#include <utility>
 #include <atomic>
 #include <limits>
 #include <string_view>
@@ -60,8 +62,51 @@ std::vector<LayerAnalysis> analyze_layers(const LayerStack& stack, Strategies st
   return layers;
 }
 
+double weighted_percentile(std::span<const double> values, std::span<const double> weights,
+                           double share) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  if (values.size() != weights.size()) return nan;
+  std::vector<std::pair<double, double>> items;  // value, weight
+  double total = 0;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (!(weights[i] > 0) || std::isnan(values[i])) continue;
+    items.emplace_back(values[i], weights[i]);
+    total += weights[i];
+  }
+  if (items.empty()) return nan;
+  std::sort(items.begin(), items.end());
+  // Sums of thicknesses are not exact: a share reached within rounding is reached.
+  const double wanted = std::clamp(std::isnan(share) ? 100.0 : share, 0.0, 100.0) / 100 * total *
+                        (1 - 1e-12);
+  double covered = 0;
+  for (const auto& [value, weight] : items) {
+    covered += weight;
+    if (covered >= wanted) return value;
+  }
+  return items.back().first;
+}
+
+double distance_percentile_by_height(std::span<const LayerAnalysis> layers, std::size_t strategy,
+                                     double share, ZRange excluded) {
+  std::vector<double> values, weights;
+  values.reserve(layers.size());
+  weights.reserve(layers.size());
+  for (const LayerAnalysis& layer : layers) {
+    if (strategy >= layer.strategies.size()) continue;
+    double weight = layer.layer.thickness();
+    if (!excluded.empty()) {
+      const double overlap = std::min(layer.layer.z_hi, excluded.hi) -
+                             std::max(layer.layer.z_lo, excluded.lo);
+      if (overlap > 0) weight -= overlap;
+    }
+    values.push_back(layer.strategies[strategy].metrics.distance);
+    weights.push_back(weight);
+  }
+  return weighted_percentile(values, weights, share);
+}
+
 std::vector<StrategySummary> summarize(std::span<const LayerAnalysis> layers,
-                                       double distance_tolerance) {
+                                       double distance_tolerance, ZRange excluded) {
   std::vector<StrategySummary> summaries;
   if (layers.empty()) return summaries;
   const auto& first = layers.front().strategies;
@@ -100,6 +145,7 @@ std::vector<StrategySummary> summarize(std::span<const LayerAnalysis> layers,
     }
     // A part of vertical walls has no limit to speak of (1e-13 mm^3): a percentage of it
     // would be noise, so there is none.
+    s.p95_distance_by_height = distance_percentile_by_height(layers, k, 95, excluded);
     s.above_limit_percent = s.total_limit > kNegligibleVolume * s.layers
                                 ? (s.total_deviation - s.total_limit) / s.total_limit * 100
                                 : std::numeric_limits<double>::quiet_NaN();

@@ -8,8 +8,10 @@
 // Output: one LayerAnalysis per layer, in order, and one StrategySummary per strategy:
 //   mean and max D over layers (the paper's "average" and "maximum distance error"), mean
 //   and max Hausdorff distance, total and mean ΔV, the total volume limit, ΔV above the limit
-//   in %, missed features, and the defect cases: layers whose D exceeds lower's, and mid's,
-//   on the same layer by more than the distance tolerance. Units mm, mm^3, s; times are the
+//   in %, missed features, the defect cases: layers whose D exceeds lower's, and mid's,
+//   on the same layer by more than the distance tolerance; and the 95th percentile of D by
+//   height (distance_percentile_by_height below), which judges stacks of different layer
+//   thicknesses alike. Units mm, mm^3, s; times are the
 //   CPU seconds of the thread that did the work, so they do not grow when others share the
 //   cores.
 #pragma once
@@ -60,10 +62,32 @@ std::vector<LayerAnalysis> analyze_layers(const LayerStack& stack, Strategies st
 // them mean nothing.
 inline constexpr double kNegligibleVolume = 1e-6;
 
+// A height range left out of a by-height judgement (the bunny's hole-filled base: 0 to 2.25
+// mm); empty (lo >= hi) leaves out nothing.
+struct ZRange {
+  double lo = 0, hi = 0;  // mm
+  bool empty() const { return !(hi > lo); }
+};
+
+// The weighted percentile: the least v among `values` such that the values <= v carry at
+// least `share` percent of the total weight. Weights <= 0 (or NaN) count for nothing. NaN
+// when no weight is positive or the spans differ in length. share is clamped to [0, 100];
+// share 0 gives the least value of positive weight, 100 the largest.
+double weighted_percentile(std::span<const double> values, std::span<const double> weights,
+                           double share);
+
+// The D within which layers covering `share` percent of the judged height stay: each layer
+// weighted by its thickness outside `excluded` (a count of layers would favour plans of many
+// thin layers), for strategy `strategy` (an index into each layer's strategies). NaN when no
+// layer is judged.
+double distance_percentile_by_height(std::span<const LayerAnalysis> layers, std::size_t strategy,
+                                     double share = 95, ZRange excluded = {});
+
 struct StrategySummary {
   const ContourStrategy* strategy = nullptr;
   std::size_t layers = 0;
   double mean_distance = 0, max_distance = 0;
+  double p95_distance_by_height = 0;   // distance_percentile_by_height(.., 95, excluded)
   double mean_hausdorff = 0, max_hausdorff = 0;
   double total_deviation = 0, mean_deviation = 0;
   double total_limit = 0;
@@ -77,6 +101,7 @@ struct StrategySummary {
 };
 
 std::vector<StrategySummary> summarize(std::span<const LayerAnalysis> layers,
-                                       double distance_tolerance = DistanceOptions{}.tolerance);
+                                       double distance_tolerance = DistanceOptions{}.tolerance,
+                                       ZRange excluded = {});
 
 }  // namespace geometry

@@ -1,12 +1,17 @@
-// The best contour (issue 11): per layer, whichever of mid, optimal-height and ma has the
-// least distance error D (distance_error.h, as analyze measures it: layer_metrics.h); ties
-// within 1 um go to the least volume deviation ΔV. So on no layer is its D above mid's or
-// ma's, and it misses a feature only where all three do.
+// The best contour (issue 11): per layer, whichever of mid, optimal-height and ma misses the
+// fewest features of the slab (missed_features.h: islands of its footprint a region does not
+// touch, a tip or a bump between a section's plane and the slab's ends), then has the least
+// distance error D (distance_error.h, as analyze measures it: layer_metrics.h), ties within
+// 1 um going to the least volume deviation ΔV. A section (mid, optimal-height) that misses a
+// feature also competes with the feature's own middle section added. So best misses a
+// feature only where every candidate does, and its D is above none of theirs but where one
+// of them leaves a feature out (D measures a left-out feature to its own outline, which can
+// be nearer than any wall that prints it: the bunny's first and last layer).
 //
 // Input: a layer of a stack (contour_input.h), with the layer's reference if the caller has
 // one; without, it builds one (slab, footprint, surface; the columns only when a tie needs ΔV).
-// Output: the chosen region and the height of the candidate chosen; which one it was in
-// best_choice() for callers that report it.
+// Output: the chosen region and the height of the candidate chosen; which one it was, and
+// every candidate's D, in best_choice().
 // Cost: the three candidates and three measurements, about four times ma's time per layer.
 #pragma once
 
@@ -24,8 +29,9 @@ ContourResult best_strategy(const ContourInput& input);
 // The same, also saying which candidate won and every candidate's D, mm.
 struct BestChoice {
   ContourResult result;
-  std::string_view chosen;       // "mid", "optimal-height" or "ma"
+  std::string_view chosen;  // "mid", "optimal-height", "ma", "mid+features", "optimal-height+features"
   double distance = 0;           // the chosen one's D
+  std::size_t missed_features = 0;
   double candidate_distance[3];  // mid, optimal-height, ma
 };
 BestChoice best_choice(const ContourInput& input);

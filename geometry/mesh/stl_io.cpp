@@ -437,9 +437,15 @@ void write_stl_binary(const std::string& path, const std::vector<Triangle>& tria
     const auto bits = std::bit_cast<std::uint32_t>(static_cast<float>(value));
     for (int i = 0; i < 4; ++i) buffer.push_back(static_cast<char>(bits >> (8 * i)));
   };
+  const auto stored = [](const Vec3& p) {
+    return Vec3{static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
+  };
   for (const Triangle& t : triangles) {
-    const Vec3 n = unit_normal(t.v[0], t.v[1], t.v[2]);
-    for (const Vec3& p : {n, t.v[0], t.v[1], t.v[2]}) {
+    // The normal of the corners as stored (float32), so that a reader recomputing it from
+    // them agrees even for a sliver whose rounding turns it over.
+    const Vec3 a = stored(t.v[0]), b = stored(t.v[1]), c = stored(t.v[2]);
+    const Vec3 n = unit_normal(a, b, c);
+    for (const Vec3& p : {n, a, b, c}) {
       put(p.x);
       put(p.y);
       put(p.z);

@@ -195,7 +195,8 @@ void search_segment(Vec2 a, Vec2 b, const Nearest& at_a, const Nearest& at_b,
 }
 
 double forward_distance(const SlabSurface& surface, const BoundaryGrid& walls,
-                        std::span<const BoundaryPair> missed, double tolerance) {
+                        std::span<const BoundaryPair> missed, double tolerance,
+                        double stop_above) {
   if (surface.triangles.empty()) return 0;
   // Surface inside a missed island is measured to the island's outline (see the header).
   Region outlines;
@@ -228,6 +229,7 @@ double forward_distance(const SlabSurface& surface, const BoundaryGrid& walls,
         corner[i][k] = grid_of[i]->nearest(surface.triangles[i][k]);
       }
       best = std::max(best, corner[i][k].distance);
+      if (best > stop_above) return best;
     }
   }
   const auto top = [&](std::uint32_t i) {
@@ -250,9 +252,11 @@ double forward_distance(const SlabSurface& surface, const BoundaryGrid& walls,
     if (twice_area <= 1e-9 * longest * longest) {
       const int a = l01 >= l12 && l01 >= l20 ? 0 : l12 >= l20 ? 1 : 2, b = (a + 1) % 3;
       search_segment(p[a], p[b], corner[i][a], corner[i][b], *grid_of[i], tolerance, best, near);
+      if (best > stop_above) return best;
       continue;
     }
     search_triangle(p, corner[i], *grid_of[i], tolerance, best, near);
+    if (best > stop_above) return best;
   }
   return best;
 }
@@ -367,7 +371,7 @@ DistanceError distance_error(const SlabSurface& surface, const BoundaryGrid& wal
                              const DistanceOptions& options) {
   DistanceError error;
   const double tolerance = std::max(options.tolerance, 1e-9);
-  error.forward = forward_distance(surface, walls, missed, tolerance);
+  error.forward = forward_distance(surface, walls, missed, tolerance, options.stop_above);
   error.reverse = walls.empty() || !options.reverse ? 0 : reverse_distance(surface, walls, tolerance);
   error.hausdorff = std::max(error.forward, error.reverse);
   return error;

@@ -37,6 +37,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -51,6 +52,10 @@ struct DistanceOptions {
   double tolerance = 1e-3;  // mm
   int reverse_levels = 5;   // heights for the reverse direction, both ends included (>= 2)
   bool reverse = true;      // false: forward only (no levels built; reverse 0, Hausdorff = forward)
+  // The forward search stops at the first surface point found farther than this from the
+  // walls and gives that distance: then only a lower bound, enough to refuse a layer (the
+  // layer plan's question is whether D exceeds a tolerance). Default: never, the exact D.
+  double stop_above = std::numeric_limits<double>::infinity();
 };
 
 struct DistanceError {

@@ -343,14 +343,22 @@ class LazyPlanner {
 
   void measure(const std::vector<std::uint32_t>& edges, double tolerance) {
     std::vector<double> found(edges.size());
+    std::vector<char> exact(edges.size());
     tbb::parallel_for(std::size_t{0}, edges.size(), [&](std::size_t k) {
       const std::uint32_t e = edges[k];
+      // A slab that cannot be printed over the tolerance is measured only until it is seen
+      // to exceed it; the thinnest may be printed anyway and is measured exactly.
       const SlabError error = meter_(grid_.z[grid_.edge_from[e]], grid_.z[grid_.edge_to[e]],
-                                     options_.contours, tolerance);
+                                     options_.contours, tolerance, !grid_.edge_thinnest[e]);
       found[k] = error.distance();
+      exact[k] = error.exact();
     });
     for (std::size_t k = 0; k < edges.size(); ++k) {
-      exact_[edges[k]] = found[k];
+      if (exact[k]) {
+        exact_[edges[k]] = found[k];
+      } else {
+        estimate_[edges[k]] = std::max(estimate_[edges[k]], found[k]);
+      }
       widen(edges[k], found[k]);
     }
     measured_ += edges.size();

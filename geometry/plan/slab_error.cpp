@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <unordered_map>
+#include <utility>
 
 #include "geometry/metrics/layer_metrics.h"
 #include "geometry/core/boundary_grid.h"
@@ -43,27 +44,28 @@ SlabMeter::SlabMeter(const LayerStack& stack, SlabErrorOptions options)
 bool SlabMeter::every_piece_crosses(std::span<const std::uint32_t> faces, double z_lo,
                                     double z_hi, double h) const {
   const Mesh& mesh = stack_.mesh();
-  // Faces of the slab (a piece of positive height inside it, or flat strictly inside), and
-  // pieces joined where two faces share an edge that reaches into the open slab.
-  std::unordered_map<std::uint32_t, std::uint32_t> index;  // face -> position in `faces`
-  index.reserve(faces.size() * 2);
+  // Faces of the slab (a piece of positive height inside it, or flat strictly inside), found
+  // in `faces` (ascending) by bisection, and pieces joined where two faces share an edge that
+  // reaches into the open slab.
   const auto range = [&](std::uint32_t f) {
     const auto& face = mesh.faces[f];
     const double a = mesh.vertices[face[0]].z, b = mesh.vertices[face[1]].z,
                  c = mesh.vertices[face[2]].z;
     return std::pair{std::min({a, b, c}), std::max({a, b, c})};
   };
-  for (std::uint32_t i = 0; i < faces.size(); ++i) {
-    const auto [lo, hi] = range(faces[i]);
-    if (hi > z_lo && lo < z_hi) index.emplace(faces[i], i);
-  }
+  const auto position = [&](std::uint32_t f) -> std::size_t {
+    const auto it = std::lower_bound(faces.begin(), faces.end(), f);
+    if (it == faces.end() || *it != f) return faces.size();
+    const auto [lo, hi] = range(f);
+    return hi > z_lo && lo < z_hi ? static_cast<std::size_t>(it - faces.begin()) : faces.size();
+  };
   std::vector<char> seen(faces.size(), 0);
   std::vector<std::uint32_t> stack;
-  for (const auto& [start, position] : index) {
-    if (seen[position]) continue;
+  for (std::size_t start = 0; start < faces.size(); ++start) {
+    if (seen[start] || position(faces[start]) == faces.size()) continue;
     bool crosses = false;
-    seen[position] = 1;
-    stack.assign(1, start);
+    seen[start] = 1;
+    stack.assign(1, faces[start]);
     while (!stack.empty()) {
       const std::uint32_t f = stack.back();
       stack.pop_back();
@@ -75,9 +77,9 @@ bool SlabMeter::every_piece_crosses(std::span<const std::uint32_t> faces, double
         const double za = mesh.vertices[mesh.faces[f][k]].z;
         const double zb = mesh.vertices[mesh.faces[f][(k + 1) % 3]].z;
         if (!(std::max(za, zb) > z_lo && std::min(za, zb) < z_hi)) continue;
-        const auto it = index.find(g);
-        if (it == index.end() || seen[it->second]) continue;
-        seen[it->second] = 1;
+        const std::size_t at = position(g);
+        if (at == faces.size() || seen[at]) continue;
+        seen[at] = 1;
         stack.push_back(g);
       }
     }
@@ -86,21 +88,17 @@ bool SlabMeter::every_piece_crosses(std::span<const std::uint32_t> faces, double
   return true;
 }
 
-SlabError SlabMeter::operator()(double z_lo, double z_hi, std::span<const ContourStrategy* const> strategies,
-                                double enough) const {
-  return (*this)(z_lo, z_hi, strategies, enough, options_.distance.tolerance);
-}
-
-SlabError SlabMeter::operator()(double z_lo, double z_hi, std::span<const ContourStrategy* const> strategies,
-                                double enough, double tolerance) const {
+SlabError SlabMeter::operator()(double z_lo, double z_hi,
+                                std::span<const ContourStrategy* const> strategies, double enough,
+                                bool refute) const {
   SlabError error;
   error.z_lo = z_lo;
   error.z_hi = z_hi;
   const LayerStack view(stack_, {Layer{z_lo, z_hi}});
   const std::vector<std::uint32_t> faces = stack_.faces_between(z_lo, z_hi);
   DistanceOptions distance = options_.distance;
-  distance.tolerance = tolerance;
   distance.reverse = false;
+  if (refute && enough > 0) distance.stop_above = enough;
   // What the strategies may use (contour_input.h): the slab and its surface now, the
   // footprint's islands the first time one needs them; no columns (optimal-height builds its
   // own).
@@ -127,6 +125,7 @@ SlabError SlabMeter::operator()(double z_lo, double z_hi, std::span<const Contou
       const std::vector<BoundaryPair> missed = missed_features(need_islands(), trial.region);
       trial.distance = distance_error(reference.surface, walls, missed, distance).forward;
     }
+    trial.bounded = trial.distance > distance.stop_above;
     error.trials.push_back(std::move(trial));
     const std::size_t last = error.trials.size() - 1;
     if (error.trials[last].distance < error.trials[error.best].distance - 1e-3) error.best = last;
@@ -138,7 +137,7 @@ SlabError SlabMeter::operator()(double z_lo, double z_hi, std::span<const Contou
 SlabError slab_error(const LayerStack& stack, double z_lo, double z_hi,
                      std::span<const ContourStrategy* const> strategies, double enough,
                      const SlabErrorOptions& options) {
-  return SlabMeter(stack, options)(z_lo, z_hi, strategies, enough);
+  return SlabMeter(stack, options)(z_lo, z_hi, strategies, enough, false);
 }
 
 }  // namespace geometry

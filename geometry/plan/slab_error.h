@@ -7,8 +7,9 @@
 // layer of the stack), the slab's bounds in mm, the strategies to try in order.
 // Output: per strategy tried, its D (mm) and region; `best` is the one with the least D (ties
 // within 1 um: the first). With `enough` > 0, stops at the first strategy whose D is within
-// it: a feasibility test that usually needs only the cheapest strategy. An empty slab (above
-// the part): D = 0 and empty regions.
+// it (a feasibility test that usually needs only the cheapest strategy), and with `refute`
+// too, measures each strategy only until it is seen to exceed `enough` (its D then a lower
+// bound, `bounded`). An empty slab (above the part): D = 0 and empty regions.
 //
 // Cheaper where it can be, same result: surface inside an island of the slab's footprint that
 // the region misses is measured to the island's outline, never farther than to the walls (the
@@ -34,7 +35,8 @@ namespace geometry {
 
 struct SlabTrial {
   const ContourStrategy* strategy = nullptr;
-  double distance = 0;  // D, mm
+  double distance = 0;   // D, mm
+  bool bounded = false;  // the search stopped past `enough`: D is at least `distance`
   Region region;
 };
 
@@ -43,6 +45,9 @@ struct SlabError {
   std::vector<SlabTrial> trials;  // in the order tried
   std::size_t best = 0;           // index into trials of the least D
   double distance() const { return trials.empty() ? 0 : trials[best].distance; }
+  // The least D known exactly, not only bounded from below (a trial within `enough` is exact
+  // and below every bounded one).
+  bool exact() const { return trials.empty() || !trials[best].bounded; }
 };
 
 struct SlabErrorOptions {
@@ -56,10 +61,7 @@ class SlabMeter {
   explicit SlabMeter(const LayerStack& stack, SlabErrorOptions options = {});
 
   SlabError operator()(double z_lo, double z_hi, std::span<const ContourStrategy* const> strategies,
-                       double enough = 0) const;
-  // The same with another distance tolerance (a search may measure coarsely, then exactly).
-  SlabError operator()(double z_lo, double z_hi, std::span<const ContourStrategy* const> strategies,
-                       double enough, double tolerance) const;
+                       double enough = 0, bool refute = false) const;
 
  private:
   // Does every connected piece of surface in [z_lo, z_hi] cross height h?

@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "geometry/core/clipper_bridge.h"
 #include "geometry/core/toolpath_clipper.h"
@@ -17,38 +18,88 @@ namespace tc = toolpath_clipper;
 
 std::vector<std::optional<Region>> sparse_cores(const std::vector<Region>& regions,
                                                 int top_layers, int bottom_layers) {
-  const long n = static_cast<long>(regions.size());
-  std::vector<std::optional<Region>> cores(n);
-  top_layers = std::max(top_layers, 0);
-  bottom_layers = std::max(bottom_layers, 0);
-  if (top_layers == 0 && bottom_layers == 0) return cores;
-  // core_i is the intersection of the window regions[i - bottom .. i + top]: layer i itself
-  // is in it too, which changes nothing inside layer i. Windows of 2^k layers come from
-  // halves of 2^(k-1) (a sparse table), so a window of any length L costs log2(L) + 1
-  // intersections per layer rather than L - 1.
-  const long length = bottom_layers + top_layers + 1;
-  // (Every window is at least two layers, so each span below comes out of an intersection,
-  // which takes its inputs with the non-zero rule: no cleaning needed first.)
-  std::vector<tc::Paths> span(n);  // span[i]: regions[i .. i + 2^k - 1]
-  tbb::parallel_for(long{0}, n, [&](long i) { span[i] = to_clipper(regions[i]); });
-  long width = 1;
-  for (; 2 * width <= length; width *= 2) {
+  std::vector<Layer> layers(regions.size());
+  for (std::size_t i = 0; i < layers.size(); ++i) layers[i] = {double(i), double(i + 1)};
+  return sparse_cores(regions, layers, {top_layers, bottom_layers, 0, 0});
+}
+
+std::vector<std::optional<Region>> sparse_cores(const std::vector<Region>& regions,
+                                                const std::vector<Layer>& layers,
+                                                const SkinDepth& depth) {
+  const long n = static_cast<long>(std::min(regions.size(), layers.size()));
+  std::vector<std::optional<Region>> cores(regions.size());
+  const int top_layers = std::max(depth.top_layers, 0);
+  const int bottom_layers = std::max(depth.bottom_layers, 0);
+  const double top_thickness = std::isfinite(depth.top_thickness) ? std::max(depth.top_thickness, 0.0) : 0;
+  const double bottom_thickness =
+      std::isfinite(depth.bottom_thickness) ? std::max(depth.bottom_thickness, 0.0) : 0;
+  if (top_layers == 0 && bottom_layers == 0 && top_thickness == 0 && bottom_thickness == 0) {
+    return cores;
+  }
+  // Each layer's window: the layers [first, last] whose regions must all cover a point for it
+  // to be sparse. By thickness, the layers above reaching less than top_thickness over the
+  // layer's top and the layers below less than bottom_thickness under its bottom; beyond the
+  // stack's top (or the bed) is a layer that covers nothing.
+  constexpr double kTolerance = 1e-6;  // mm: sums of layer thicknesses are not exact
+  std::vector<long> first(n), last(n);
+  long top_reach = 0, bottom_reach = 0;  // indices that only move up as i does
+  for (long i = 0; i < n; ++i) {
+    long above = top_layers;
+    if (top_thickness > 0) {
+      top_reach = std::max(top_reach, i + 1);
+      const double limit = layers[i].z_hi + top_thickness - kTolerance;
+      while (top_reach < n && layers[top_reach].z_lo < limit) ++top_reach;
+      // top_reach: the first layer starting at or past the limit (n: beyond the stack, which
+      // counts when the stack's top is below the limit).
+      long reach = top_reach - 1;
+      if (top_reach == n && layers[n - 1].z_hi < limit) reach = n;
+      above = std::max(above, reach - i);
+    }
+    long below = bottom_layers;
+    if (bottom_thickness > 0) {
+      const double limit = layers[i].z_lo - bottom_thickness + kTolerance;
+      while (bottom_reach < i && !(layers[bottom_reach].z_hi > limit)) ++bottom_reach;
+      // bottom_reach: the lowest layer ending above the limit; the bed (layer -1) counts when
+      // the layer starts less than bottom_thickness over the stack's bottom.
+      long reach = std::min(bottom_reach, i);
+      if (reach == 0 && layers[0].z_lo > limit) reach = -1;
+      below = std::max(below, i - reach);
+    }
+    first[i] = i - below;
+    last[i] = i + above;
+  }
+  long longest = 1;
+  for (long i = 0; i < n; ++i) longest = std::max(longest, last[i] - first[i] + 1);
+  // core_i is the intersection of the window regions[first .. last]: layer i itself is in it
+  // too, which changes nothing inside layer i. Windows of 2^k layers come from halves of
+  // 2^(k-1) (a sparse table), so a window of any length L costs log2(L) + 1 intersections per
+  // layer rather than L - 1.
+  // (A window of two or more layers comes out of an intersection, which takes its inputs
+  // with the non-zero rule: no cleaning needed first.)
+  std::vector<std::vector<tc::Paths>> spans(1, std::vector<tc::Paths>(n));  // [k][i]: i .. i + 2^k - 1
+  tbb::parallel_for(long{0}, n, [&](long i) { spans[0][i] = to_clipper(regions[i]); });
+  for (long width = 1; 2 * width <= longest; width *= 2) {
+    const std::vector<tc::Paths>& span = spans.back();
     std::vector<tc::Paths> wider(n);
     tbb::parallel_for(long{0}, n, [&](long i) {
       if (i + width < n) wider[i] = tc::intersection(span[i], span[i + width]);
     });
-    span = std::move(wider);
+    spans.push_back(std::move(wider));
   }
   tbb::parallel_for(long{0}, n, [&](long i) {
-    const long first = i - bottom_layers, last = i + top_layers;
     // A window reaching past either end of the stack covers nothing.
-    if (first < 0 || last >= n) {
+    if (first[i] < 0 || last[i] >= n) {
       cores[i] = Region{};
       return;
     }
-    const long second = last - width + 1;  // the two spans overlap: together they are exact
-    cores[i] = from_clipper(second == first ? span[first]
-                                            : tc::intersection(span[first], span[second]));
+    const long length = last[i] - first[i] + 1;
+    std::size_t level = 0;
+    while ((2L << level) <= length) ++level;
+    const long width = 1L << level;
+    const std::vector<tc::Paths>& span = spans[level];
+    const long second = last[i] - width + 1;  // the two spans overlap: together they are exact
+    cores[i] = from_clipper(second == first[i] ? span[first[i]]
+                                               : tc::intersection(span[first[i]], span[second]));
   });
   return cores;
 }

@@ -4,6 +4,12 @@
 // A point of layer i needs solid infill unless the regions of the N layers above and of the
 // N layers below all cover it (N = top_layers, bottom_layers); layers beyond either end of
 // the stack cover nothing, so the first N and last N layers are solid.
+// Skins can also be asked for as a thickness in mm (top_thickness, bottom_thickness), for
+// stacks of layers of different thicknesses: N thin layers under a top surface would leave
+// it thinner than N thick ones. Then a layer is solid under a top surface if its top is
+// less than top_thickness below the surface, so the solid layers under it add up to at least
+// top_thickness (and over a bottom surface alike); where both are given, the window is
+// the larger of the two. On uniform layers of thickness t a thickness of N t is N layers.
 //
 // sparse_cores: per layer, the intersection of regions[i-bottom .. i+top] (layer i's own
 //   region included, which changes nothing inside it): where sparse infill may go. nullopt
@@ -24,11 +30,23 @@
 #include <vector>
 
 #include "geometry/core/polygon.h"
+#include "geometry/slicing/layer_stack.h"
 
 namespace geometry {
 
 std::vector<std::optional<Region>> sparse_cores(const std::vector<Region>& regions,
                                                 int top_layers, int bottom_layers);
+
+// The same on layers of any thicknesses (layers[i] the bounds of regions[i]; as many layers as
+// regions), with skins at least top_thickness and bottom_thickness mm thick as well as
+// top_layers and bottom_layers layers. nullopt for every layer when all four are 0.
+struct SkinDepth {
+  int top_layers = 0, bottom_layers = 0;
+  double top_thickness = 0, bottom_thickness = 0;  // mm
+};
+std::vector<std::optional<Region>> sparse_cores(const std::vector<Region>& regions,
+                                                const std::vector<Layer>& layers,
+                                                const SkinDepth& depth);
 
 struct Skins {
   Region bottom, top, solid, sparse;

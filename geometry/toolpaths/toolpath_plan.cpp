@@ -58,6 +58,9 @@ ToolpathOptions sane(ToolpathOptions o) {
                                                      : 0.0;
   o.top_layers = std::max(o.top_layers, 0);
   o.bottom_layers = std::max(o.bottom_layers, 0);
+  o.top_thickness = std::isfinite(o.top_thickness) ? std::max(o.top_thickness, 0.0) : 0.0;
+  o.bottom_thickness =
+      std::isfinite(o.bottom_thickness) ? std::max(o.bottom_thickness, 0.0) : 0.0;
   o.skirt_loops = std::max(o.skirt_loops, 0);
   if (!std::isfinite(o.skirt_distance)) o.skirt_distance = 0;
   if (std::isnan(o.retract_min_travel)) o.retract_min_travel = 0;
@@ -210,8 +213,10 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
     outline[i] = from_clipper(tc::simplified(all, kSkinTolerance));
   });
   // Skins need the neighbours' regions: every layer's core first, then the layers in parallel.
-  const std::vector<std::optional<Region>> cores =
-      sparse_cores(outline, o.top_layers, o.bottom_layers);
+  const std::vector<std::optional<Region>> cores = sparse_cores(
+      outline, layers, {o.top_layers, o.bottom_layers, o.top_thickness, o.bottom_thickness});
+  const bool top_skins = o.top_layers > 0 || o.top_thickness > 0;
+  const bool bottom_skins = o.bottom_layers > 0 || o.bottom_thickness > 0;
   const Region nothing;
 
   // Where each layer offers a sheath (support_paths.h) something to rest on: its part, and
@@ -256,8 +261,8 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
     const double width = i == 0 ? o.first_layer_width : o.extrusion_width;
     const double height = layers[i].z_hi - layers[i].z_lo;
     const Region* core = cores[i] ? &*cores[i] : nullptr;
-    const Region* below = o.bottom_layers > 0 ? (i > 0 ? &outline[i - 1] : &nothing) : nullptr;
-    const Region* above = o.top_layers > 0 ? (i + 1 < n ? &outline[i + 1] : &nothing) : nullptr;
+    const Region* below = bottom_skins ? (i > 0 ? &outline[i - 1] : &nothing) : nullptr;
+    const Region* above = top_skins ? (i + 1 < n ? &outline[i + 1] : &nothing) : nullptr;
     const LayerSupport* held = support_at(i);
     const std::vector<Bridge>* bridges = held ? &held->bridges : nullptr;
     for (const tc::Paths& island : island_paths[i]) {

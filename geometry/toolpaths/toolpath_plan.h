@@ -54,6 +54,8 @@ struct ToolpathOptions {
   double infill_overlap = 0.15;     // infill reaches into the innermost wall, fraction of width
   int top_layers = 3;               // solid layers under every top surface
   int bottom_layers = 3;            // solid layers over every bottom surface
+  double top_thickness = 0;         // ... and at least this thick, mm (skins.h; 0: no minimum)
+  double bottom_thickness = 0;      // ... and at least this thick, mm
   int skirt_loops = 1;              // loops around the first layer; 0 for none
   double skirt_distance = 3.0;      // gap between the part and the skirt, mm
   double retract_min_travel = 2.0;  // a travel leaving the region retracts if longer, mm

@@ -13,10 +13,8 @@
 #        reports the run with the median wall time.
 #
 # All three slice the same placed, repaired mesh (mahost info --export), so the geometry is
-# identical. CuraEngine needs Cura's JSON machine definitions, which Debian ships only in the
-# GUI package `cura` (416 packages with Qt); instead of installing it, this script fetches that
-# one .deb with `apt-get download cura` and unpacks its definitions into
-# ${XDG_CACHE_HOME:-~/.cache}/mahost/cura-4.13 (once). CuraEngine does not evaluate the
+# identical. CuraEngine needs Cura's JSON machine definitions (tests/bench/cura_definitions.sh
+# fetches them once). CuraEngine does not evaluate the
 # definitions' formulas (the Cura front end does), so every derived setting is passed
 # explicitly below. CuraEngine alone leaves its header's ;TIME:6666 and filament placeholders
 # for the front end to fill: its time is the last ;TIME_ELAPSED, its filament read back from E.
@@ -35,22 +33,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
 # --- Cura's machine definitions ------------------------------------------------------------
-cura_resources=""
-for dir in /usr/share/cura/resources "${XDG_CACHE_HOME:-$HOME/.cache}/mahost/cura-4.13/resources"; do
-  [[ -f $dir/definitions/fdmprinter.def.json ]] && { cura_resources=$dir; break; }
-done
-if [[ -z $cura_resources ]]; then
-  cache=${XDG_CACHE_HOME:-$HOME/.cache}/mahost/cura-4.13
-  echo "compare_slicers: fetching Cura's machine definitions (apt-get download cura, once)" >&2
-  (cd "$work" && apt-get download cura >/dev/null 2>&1) ||
-    { echo "compare_slicers: apt-get download cura failed; install the package cura instead" >&2; exit 2; }
-  dpkg-deb -x "$work"/cura_*.deb "$work/cura"
-  mkdir -p "$cache/resources"
-  cp -r "$work/cura/usr/share/cura/resources/definitions" "$work/cura/usr/share/cura/resources/extruders" \
-    "$cache/resources/"
-  cura_resources=$cache/resources
-fi
-export CURA_ENGINE_SEARCH_PATH=$cura_resources/definitions:$cura_resources/extruders
+source tests/bench/cura_definitions.sh  # (the script runs from the repo root)
 
 # --- the part --------------------------------------------------------------------------------
 model=$work/bunny50.stl

@@ -617,3 +617,32 @@ TEST_CASE("bunny_print_through_a_noisy_link_executes_the_gcode_exactly") {
   CHECK(job_part(windowed.executed) == commands);
   CHECK(same_moves(windowed.moves, clean.moves));
 }
+
+TEST_CASE("pause_at_layer_on_a_variable_stack_stops_at_that_layers_height") {
+  // A 20 x 20 x 2 mm block on layers of 0.3, 0.15, 0.4, 0.25, 0.15, 0.4, 0.35 mm: paused
+  // before layer 4 (;LAYER:3), the nozzle is at layer 3's top, 0.85 mm.
+  const std::string dir = test_support::scratch_dir("print_variable_pause");
+  const std::string runtime = use_runtime_dir(dir);
+  const std::string stl = dir + "/block.stl";
+  geometry::write_stl_binary(stl, solids::box({0, 0, 0}, {20, 20, 2}).mesh);
+  fs::create_directories(runtime + "/mahost");
+  const std::string journal = runtime + "/mahost/block.journal";
+  Background job({"print", stl, "--dry-run", "--no-raft", "--journal", journal, "--boundaries",
+                  "0.3,0.45,0.85,1.1,1.25,1.65,2", "--pause-at-layer", "4"});
+  REQUIRE(wait_for([&] { return journal_of(journal) && journal_of(journal)->state == "paused"; }, 60s));
+  auto r = run_mahost({"ctl", "status", "--job", journal});
+  CHECK(r.out.starts_with("paused  layer 4/7  "));
+  // The journal holds where the print stands: layer index 3, the nozzle at layer 3's top.
+  const auto record = journal_of(journal);
+  REQUIRE(record);
+  CHECK(record->layer_index == 3);
+  CHECK(record->state_at_resume.z == doctest::Approx(0.85));
+  r = run_mahost({"ctl", "resume", "--job", journal});
+  CHECK(r.exit_code == 0);
+  const std::string out = job.all_output(60s);
+  CHECK(job.wait(60s) == 0);
+  CAPTURE(out);
+  CHECK(out.find("; 1 pause\n") != std::string::npos);
+  CHECK(out.find("completed: dry run on the simulated printer, ") != std::string::npos);
+  CHECK(out.find(", 7 layers\n") != std::string::npos);
+}

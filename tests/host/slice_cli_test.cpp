@@ -16,6 +16,7 @@
 #include "geometry/mesh/placement.h"
 #include "geometry/mesh/repair.h"
 #include "geometry/mesh/stl_io.h"
+#include "printer/layer_tops.h"
 #include "printer/print_time.h"
 #include "printer/profile.h"
 #include "support/gcode_beads.h"
@@ -79,16 +80,19 @@ TEST_CASE("slice_writes_gcode_and_reports_one_line") {
   const auto result = run_mahost({"slice", stl, "-o", out, "--contour", "mid"});
   CHECK(result.exit_code == 0);
   CHECK(result.err.empty());
-  // UP Plus 2 defaults: 0.3 mm first layer, then 0.2: 1 + ceil(19.7 / 0.2) = 100 layers, on
-  // a raft of 4 (base, interface, two surface layers). A cube needs no support.
-  CHECK(result.out.starts_with(out + ": 104 layers, estimated print time "));
+  // UP Plus 2 defaults: 0.3 mm first layer, then 0.2 up to the flat top, which lands on a
+  // boundary at 20.0 mm: 19.7 mm = 96 x 0.2 + 2 x 0.25 (the two under the top a step thicker),
+  // 1 + 98 = 99 layers (plain 0.2 mm layers would need 99 above the first, to 20.1 mm), on a
+  // raft of 4 (base, interface, two surface layers). A cube needs no support.
+  CHECK(result.out.starts_with(out + ": 99 layers, on 4 raft layers, estimated print time "));
   CHECK(result.out.find(" g ABS; ") != std::string::npos);
   CHECK(result.out.find(" m of it support and raft), ") != std::string::npos);
   CHECK(std::count(result.out.begin(), result.out.end(), '\n') == 1);
   const std::string gcode = read_file(out);
   const test_support::PrintedProgram program = test_support::read_printed_program(gcode);
-  CHECK(program.layers.size() == 104);
-  CHECK(program.header.at("LAYER_COUNT") == "104");
+  CHECK(program.layers.size() == 103);
+  CHECK(program.header.at("LAYER_COUNT") == "103");
+  CHECK(program.layers.back().z == doctest::Approx(20.0 + 1.1));  // on the 1.1 mm raft
   CHECK(gcode.find(";TYPE:RAFT\n") != std::string::npos);
   CHECK(gcode.find(";TYPE:SUPPORT\n") == std::string::npos);
   CHECK(program.problems.empty());
@@ -116,9 +120,17 @@ TEST_CASE("cube_with_hole_beads_cover_each_layer") {
   REQUIRE(result.exit_code == 0);
   const printer::PrinterProfile marlin = printer::load_printer_profile("generic-marlin", kConfigDir);
   const test_support::PrintedProgram program = test_support::read_printed_program(read_file(out));
-  const auto layers = geometry::uniform_layers(20, 0.25, marlin.first_layer_height);
+  // A 0.2 mm first layer, then 0.25 up to the top, which lands on a boundary at 20.0 mm:
+  // 19.8 mm = 74 x 0.25 + 5 x 0.26 (generic-marlin's 0.01 mm step, one on each of the five
+  // layers under the top), 1 + 79 = 80 layers.
+  const auto tops = printer::layer_tops_from_gcode(read_file(out), out);
+  const auto layers = geometry::layers_from_tops(tops);
   REQUIRE(program.layers.size() == layers.size());
-  CHECK(program.layers.size() == 81);  // a 0.2 mm first layer, then ceil(19.8 / 0.25) = 80
+  CHECK(program.layers.size() == 80);
+  CHECK(layers.back().z_hi == doctest::Approx(20.0));
+  for (std::size_t i = 1; i < layers.size(); ++i) {
+    CHECK(layers[i].thickness() == doctest::Approx(i + 5 < layers.size() ? 0.25 : 0.26));
+  }
   // The exact section is the same at every height: the square less the 48-gon hole.
   const auto [least, at] = check_coverage(program, [&](std::size_t i) {
     return shifted(part.section(layers[i].z_mid()), {marlin.bed_x / 2, marlin.bed_y / 2});
@@ -127,15 +139,16 @@ TEST_CASE("cube_with_hole_beads_cover_each_layer") {
 }
 
 TEST_CASE("every_contour_strategy_prints_a_vertical_wall_part_alike") {
-  // Walls straight up: every strategy's region is the section, so the beads cover it the same;
-  // only the last layer, [11.9, 12.1], differs: the section at its bottom is the part's top,
-  // at its middle nothing (and the optimal height ties between the two, taking nothing).
+  // Walls straight up: every strategy's region is the section, so the beads cover it the same
+  // on every layer, the last too, since the flat top lands on a boundary: [11.75, 12.0], not
+  // [11.9, 12.1] (whose middle is above the part: mid and optimal-height printed nothing).
   const std::string dir = test_support::scratch_dir("slice_contours");
   const std::string stl = dir + "/part.stl";
   const solids::Solid part = solids::cube_with_square_hole(12, 4);
   geometry::write_stl_binary(stl, part.mesh);
   const printer::PrinterProfile up = printer::load_printer_profile("up-plus-2", kConfigDir);
-  for (const std::string contour : {"lower", "mid", "optimal-height", "ma"}) {
+  double top_filament = -1;
+  for (const std::string contour : {"lower", "mid", "optimal-height", "ma", "best"}) {
     CAPTURE(contour);
     const std::string out = dir + "/" + contour + ".gcode";
     const auto result = run_mahost({"slice", stl, "--support", "none", "--no-raft", "-o", out, "--contour", contour, "--infill", "100",
@@ -143,17 +156,19 @@ TEST_CASE("every_contour_strategy_prints_a_vertical_wall_part_alike") {
                                     "print.skirt_loops=0"});
     REQUIRE(result.exit_code == 0);
     const test_support::PrintedProgram program = test_support::read_printed_program(read_file(out));
-    CHECK(program.layers.size() == 1 + 59);  // 0.3 mm, then ceil(11.7 / 0.2) = 59
+    // 0.3 mm, then 11.7 mm = 56 x 0.2 + 2 x 0.25 up to the top at 12.0: 1 + 58 layers.
+    CHECK(program.layers.size() == 1 + 58);
     CHECK(read_file(out).find("; contour: " + contour + "\n") != std::string::npos);
-    const auto layers = geometry::uniform_layers(12, 0.2, up.first_layer_height);
-    const bool bottom = contour == "lower" || contour == "ma";
+    const auto layers = geometry::layers_from_tops(printer::layer_tops_from_gcode(read_file(out), out));
+    REQUIRE(layers.size() == program.layers.size());
+    CHECK(layers.back().z_hi == doctest::Approx(12.0));
     check_coverage(program, [&](std::size_t i) {
-      const double z = bottom ? layers[i].z_lo : layers[i].z_mid();
-      return shifted(part.section(z), {up.bed_x / 2, up.bed_y / 2});
+      return shifted(part.section(layers[i].z_mid()), {up.bed_x / 2, up.bed_y / 2});
     });
-    // The top layer lays what the one below lays (both solid), within the skins' line ends.
-    CHECK(program.layers.back().filament ==
-          (bottom ? doctest::Approx(program.layers[58].filament).epsilon(1e-3) : doctest::Approx(0)));
+    // The top layer is laid alike by every strategy (the section there is the whole part's).
+    if (top_filament < 0) top_filament = program.layers.back().filament;
+    CHECK(program.layers.back().filament == doctest::Approx(top_filament).epsilon(1e-3));
+    CHECK(top_filament > 0);
   }
 }
 
@@ -236,12 +251,12 @@ TEST_CASE("layer_not_allowed_by_the_printer_is_refused_with_the_list") {
 }
 
 TEST_CASE("part_whose_last_layer_ends_above_the_build_height_is_refused_before_slicing") {
-  // The UP Plus 2 builds 135 mm high; a 135 mm cube in 0.2 mm layers after a 0.3 mm first
-  // layer needs 673.5 of them, so its last layer ends at 135.1 mm. 134.9 mm is the tallest
-  // part whose layers fit (0.3 + 673 x 0.2).
+  // The UP Plus 2 builds 135 mm high; a 135 mm cone (its top a point: no flat level to land a
+  // boundary on) in 0.2 mm layers after a 0.3 mm first layer needs 673.5 of them, so its last
+  // layer ends at 135.1 mm. 134.9 mm is the tallest part whose layers fit (0.3 + 673 x 0.2).
   const std::string dir = test_support::scratch_dir("slice_last_layer_too_high");
   const std::string stl = dir + "/cube.stl";
-  geometry::write_stl_binary(stl, solids::cube(10).mesh);
+  geometry::write_stl_binary(stl, solids::cone(1, 10, 32).mesh);
   const auto result =
       run_mahost({"slice", stl, "-o", dir + "/cube.gcode", "--height", "135", "--no-raft"});
   CHECK(result.exit_code == 2);

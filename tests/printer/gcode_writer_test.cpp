@@ -266,13 +266,14 @@ TEST_CASE("each_layer_resets_e_and_reports_progress") {
   int last_percent = -1;
   for (std::size_t i = 0; i < lines.size(); ++i) {
     if (!lines[i].starts_with(";LAYER:")) continue;
-    REQUIRE(i + 3 < lines.size());
-    const GcodeCommand m73 = parse_gcode_line(lines[i + 2]);
+    REQUIRE(i + 4 < lines.size());
+    CHECK(lines[i + 2].starts_with(";HEIGHT:"));
+    const GcodeCommand m73 = parse_gcode_line(lines[i + 3]);
     REQUIRE(m73.is('M', 73));
     const int percent = static_cast<int>(*m73.get('P'));
     CHECK(percent >= last_percent);
     last_percent = percent;
-    CHECK(lines[i + 3] == "G92 E0");
+    CHECK(lines[i + 4] == "G92 E0");
   }
   CHECK(index_of(lines, "M73 P100 R0") < lines.size());
 }
@@ -297,7 +298,7 @@ TEST_CASE("absolute_e_retracts_below_the_current_e") {
   const auto lines = lines_of(write(square_part(), profiles("up-plus-2", "abs")));
   const std::size_t layer1 = index_of(lines, ";LAYER:1");
   // After G92 E0 the first thing is the retraction: E back to -1 (1 mm at 30 mm/s).
-  CHECK(lines[layer1 + 4] == "M104 S245");
+  CHECK(lines[layer1 + 5] == "M104 S245");
   CHECK(index_of(lines, "G1 E-1 F1800", layer1) < index_of(lines, ";TYPE:WALL-OUTER", layer1));
   CHECK(index_of(lines, "G1 E0 F1500", layer1) < index_of(lines, ";TYPE:WALL-OUTER", layer1));
 }
@@ -596,4 +597,51 @@ TEST_CASE("support_and_raft_filament_is_counted_apart") {
   const auto lines = lines_of(write(bridged_part(), p));
   CHECK(index_of(lines, ";TYPE:SUPPORT") < lines.size());
   CHECK(index_of(lines, ";TYPE:SUPPORT-INTERFACE") < lines.size());
+}
+
+TEST_CASE("each_layer_is_laid_at_its_own_thickness") {
+  // A stack of mixed thicknesses: 0.3 mm first, then 0.15, 0.4, 0.25 mm. Every layer has
+  // ";HEIGHT:" after ";Z:", and its beads, read back at the printer's layer height (its Z
+  // less the Z below), are as wide as planned: the filament per mm of bead scales with the
+  // layer's own thickness.
+  const Profiles p = profiles("up-plus-2", "abs");
+  const double w = 0.5;
+  const std::vector<LayerToolpaths> part{square_layer(0, 0.3, 20, w), square_layer(0.3, 0.45, 20, w),
+                                         square_layer(0.45, 0.85, 20, w),
+                                         square_layer(0.85, 1.1, 20, w)};
+  GcodeSummary summary;
+  const std::string text = write(part, p, &summary);
+  const auto lines = lines_of(text);
+  std::vector<std::string> zs, heights;
+  for (std::size_t i = 0; i + 2 < lines.size(); ++i) {
+    if (!lines[i].starts_with(";LAYER:")) continue;
+    zs.push_back(lines[i + 1]);
+    heights.push_back(lines[i + 2]);
+    CHECK(lines[i + 3].starts_with("M73 P"));
+  }
+  CHECK(zs == std::vector<std::string>{";Z:0.3", ";Z:0.45", ";Z:0.85", ";Z:1.1"});
+  CHECK(heights == std::vector<std::string>{";HEIGHT:0.3", ";HEIGHT:0.15", ";HEIGHT:0.4", ";HEIGHT:0.25"});
+  const test_support::PrintedProgram program = test_support::read_printed_program(text);
+  CHECK(program.problems.empty());
+  REQUIRE(program.layers.size() == 4);
+  const double expected_height[] = {0.3, 0.15, 0.4, 0.25};
+  for (std::size_t i = 0; i < 4; ++i) {
+    CAPTURE(i);
+    const test_support::PrintedLayer& layer = program.layers[i];
+    CHECK(layer.height == doctest::Approx(expected_height[i]));
+    double length = 0;
+    for (const auto& chain : layer.chains)
+      for (const auto& bead : chain) {
+        CHECK(bead.width == doctest::Approx(w).epsilon(0.02));
+        length += bead.length();
+      }
+    // Filament over the layer = bead cross-section at this thickness x length / filament area.
+    const double expected =
+        printer::filament_for_bead(w, expected_height[i], length, p.printer.filament_diameter,
+                                   p.material.flow);
+    CHECK(layer.filament == doctest::Approx(expected).epsilon(1e-3));
+  }
+  // The progress lines rise with the time the layers take.
+  CHECK(program.header.at("LAYER_COUNT") == "4");
+  CHECK(summary.layers == 4);
 }

@@ -56,15 +56,15 @@ TEST_CASE("up_plus_2_profile_has_the_machine_figures") {
   for (double t : {0.1, 0.17, 0.225, 0.45}) CHECK_FALSE(p.layer.allows(t));
 }
 
-TEST_CASE("generic_marlin_allows_any_layer_from_0_05_to_0_3") {
+TEST_CASE("generic_marlin_allows_layers_from_0_05_to_0_3_in_steps_of_0_01") {
   const PrinterProfile p = load_printer_profile("generic-marlin", kConfigDir);
   CHECK(p.bed_x == 220);
   CHECK(p.bed_y == 220);
   CHECK(p.bed_z == 250);
   CHECK(p.relative_e);
-  CHECK(p.layer.describe() == "0.05 to 0.3 mm");
-  for (double t : {0.05, 0.17, 0.123, 0.3}) CHECK(p.layer.allows(t));
-  for (double t : {0.04, 0.31}) CHECK_FALSE(p.layer.allows(t));
+  CHECK(p.layer.describe() == "0.05 to 0.3 mm in steps of 0.01 mm");
+  for (double t : {0.05, 0.17, 0.12, 0.3}) CHECK(p.layer.allows(t));
+  for (double t : {0.04, 0.31, 0.123}) CHECK_FALSE(p.layer.allows(t));
 }
 
 TEST_CASE("materials_have_temperatures_fan_flow_density") {
@@ -300,4 +300,40 @@ TEST_CASE("support_keys_are_checked_like_every_key") {
                          "layer thickness this printer allows"));
   CHECK(config_error([&] { apply_override(p, "material.bridge.flow=2"); })
             .starts_with("--set material.bridge.flow=2: key 'bridge.flow' = 2 is not allowed"));
+}
+
+TEST_CASE("layer_tops_are_checked_against_the_printers_thicknesses") {
+  const PrinterProfile up = load_printer_profile("up-plus-2", kConfigDir);
+  // First layer 0.3 mm, then any of 0.15 to 0.4 mm in steps of 0.05 mm.
+  const std::vector<double> fine{0.3, 0.45, 0.85, 1.1, 1.3};
+  CHECK_NOTHROW(check_layer_tops(up, fine));
+  const std::vector<double> thin{0.3, 0.45, 0.55};
+  CHECK(config_error([&] { check_layer_tops(up, thin); }) ==
+        "layer 3 (z 0.45 to 0.55 mm) is 0.1 mm thick, which the UP Plus 2 (" + kConfigDir +
+            "/printers/up-plus-2.toml) cannot print; allowed: 0.15, 0.2, 0.25, 0.3, 0.35, 0.4 mm");
+  const std::vector<double> off_step{0.3, 0.52};
+  CHECK(config_error([&] { check_layer_tops(up, off_step); }).starts_with(
+      "layer 2 (z 0.3 to 0.52 mm) is 0.22 mm thick"));
+  const std::vector<double> first{0.2, 0.4};
+  CHECK(config_error([&] { check_layer_tops(up, first); }) ==
+        "layer 1 (z 0 to 0.2 mm) is 0.2 mm thick, which the UP Plus 2 (" + kConfigDir +
+            "/printers/up-plus-2.toml) cannot print; allowed: 0.3 mm for the first layer "
+            "(first_layer.height)");
+  // Generic Marlin: 0.2 mm first, then 0.05 to 0.3 mm in steps of 0.01 mm.
+  const PrinterProfile marlin = load_printer_profile("generic-marlin", kConfigDir);
+  const std::vector<double> marlin_fine{0.2, 0.27, 0.33, 0.38};
+  CHECK_NOTHROW(check_layer_tops(marlin, marlin_fine));
+  const std::vector<double> marlin_off{0.2, 0.275};
+  CHECK(config_error([&] { check_layer_tops(marlin, marlin_off); }).ends_with(
+      "allowed: 0.05 to 0.3 mm in steps of 0.01 mm"));
+}
+
+TEST_CASE("skin_thicknesses_are_profile_keys_in_mm") {
+  const PrinterProfile up = load_printer_profile("up-plus-2", kConfigDir);
+  CHECK(up.print.top_thickness == doctest::Approx(0.6));
+  CHECK(up.print.bottom_thickness == doctest::Approx(0.6));
+  Profiles profiles{up, MaterialProfile{}};
+  apply_override(profiles, "print.top_thickness=1.2");
+  CHECK(profiles.printer.print.top_thickness == doctest::Approx(1.2));
+  CHECK(config_error([&] { apply_override(profiles, "print.bottom_thickness=-1"); }) != "");
 }

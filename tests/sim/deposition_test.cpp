@@ -83,3 +83,18 @@ TEST_CASE("printed_part_is_closed_shells_of_area_times_height") {
   CHECK(geometry::signed_volume(part) == doctest::Approx(area * 0.3 + area * 0.2).epsilon(1e-6));
   CHECK(sim::printed_part(sim::DepositionRecord{}, 1.75).faces.empty());
 }
+
+TEST_CASE("beads_of_a_variable_stack_are_as_wide_as_laid_at_each_layers_height") {
+  // Layers 0.3, 0.15, 0.4 mm thick (tops 0.3, 0.45, 0.85): each square laid with the filament
+  // of a 0.45 mm bead at its own height reads back 0.45 mm wide.
+  sim::DepositionRecord record;
+  const double tops[] = {0.3, 0.45, 0.85}, heights[] = {0.3, 0.15, 0.4};
+  for (int i = 0; i < 3; ++i) square(record, tops[i], heights[i], 0.45);
+  const auto layers = sim::bead_polygons(record, 1.75);
+  REQUIRE(layers.size() == 3);
+  for (int i = 0; i < 3; ++i) {
+    CAPTURE(i);
+    CHECK(layers[i].height == doctest::Approx(heights[i]));
+    for (const sim::Bead& bead : layers[i].beads) CHECK(bead.width == doctest::Approx(0.45));
+  }
+}

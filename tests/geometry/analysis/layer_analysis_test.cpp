@@ -2,6 +2,7 @@
 // counts on numbers chosen by hand, and analyze_layers against layer-by-layer calls.
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <string_view>
 #include <vector>
 
@@ -84,4 +85,50 @@ TEST_CASE("analyze_layers_matches_layer_by_layer_metrics") {
     CHECK(layers[i].strategies[1].height == stack.layers()[i].z_mid());
     CHECK(!layers[i].strategies[1].region.loops.empty());
   }
+}
+
+TEST_CASE("weighted_percentile_is_the_least_value_reaching_the_share") {
+  const std::vector<double> d{0.3, 0.1, 0.2, 0.5};
+  const std::vector<double> w{2, 1, 1, 0.25};  // total 4.25
+  // Sorted: 0.1 (1), 0.2 (2), 0.3 (4), 0.5 (4.25).
+  CHECK(geometry::weighted_percentile(d, w, 20) == 0.1);        // 0.85 of weight
+  CHECK(geometry::weighted_percentile(d, w, 2.0 / 4.25 * 100) == 0.2);  // exactly 2
+  CHECK(geometry::weighted_percentile(d, w, 90) == 0.3);        // 3.825 <= 4
+  CHECK(geometry::weighted_percentile(d, w, 95) == 0.5);        // 4.0375 > 4
+  CHECK(geometry::weighted_percentile(d, w, 100) == 0.5);
+  CHECK(geometry::weighted_percentile(d, w, 0) == 0.1);
+  // Weightless items count for nothing; nothing at all is NaN.
+  const std::vector<double> none{0, -1, 0, 0};
+  CHECK(std::isnan(geometry::weighted_percentile(d, none, 50)));
+  const std::vector<double> heavy_last{0, 0, 0, 1};
+  CHECK(geometry::weighted_percentile(d, heavy_last, 1) == 0.5);
+}
+
+TEST_CASE("percentile_by_height_weighs_layers_by_thickness_outside_the_excluded_range") {
+  // Ten thin layers of D 1 (0.1 mm each, 1 mm) under one thick layer of D 2 (3 mm): by count
+  // 91% of layers have D 1, by height only 25% of the part does.
+  std::vector<geometry::LayerAnalysis> layers;
+  const auto add = [&](double z_lo, double z_hi, double d) {
+    geometry::LayerAnalysis a;
+    a.layer = {z_lo, z_hi};
+    geometry::StrategyLayer s;
+    s.strategy = &geometry::contour_strategy("mid");
+    s.metrics.distance = d;
+    a.strategies.push_back(s);
+    layers.push_back(a);
+  };
+  for (int i = 0; i < 10; ++i) add(0.1 * i, 0.1 * (i + 1), 1.0);
+  add(1.0, 4.0, 2.0);
+  CHECK(geometry::distance_percentile_by_height(layers, 0, 95) == 2.0);
+  CHECK(geometry::distance_percentile_by_height(layers, 0, 25) == 1.0);
+  CHECK(geometry::distance_percentile_by_height(layers, 0, 26) == 2.0);
+  // Leaving out z < 0.55: the thin layers weigh 0.45 mm of 3.45 (13%); the one straddling
+  // 0.55 counts by its part above it.
+  const geometry::ZRange base{0, 0.55};
+  CHECK(geometry::distance_percentile_by_height(layers, 0, 13, base) == 1.0);
+  CHECK(geometry::distance_percentile_by_height(layers, 0, 13.1, base) == 2.0);
+  // Everything left out: nothing to judge.
+  CHECK(std::isnan(geometry::distance_percentile_by_height(layers, 0, 95, {0, 10})));
+  // The summary carries it.
+  CHECK(geometry::summarize(layers)[0].p95_distance_by_height == 2.0);
 }

@@ -17,6 +17,9 @@
 
 #include <doctest/doctest.h>
 
+#include <map>
+#include <utility>
+
 #include <string>
 #include <vector>
 
@@ -55,16 +58,41 @@ double intersection_volume(const SurfaceMesh& model, const SurfaceMesh& other) {
   return PMP::volume(result);
 }
 
+// The prism region x [z_lo, z_hi] exactly as given, one closed shell (the layered-part
+// exporter puts its vertices on a grid, which this comparison to 1e-7 must not see): caps
+// from the region's triangulation, one wall quad per loop edge.
+geometry::Mesh exact_prism(const geometry::Layer& layer, const Region& region) {
+  geometry::Mesh mesh;
+  const geometry::RegionTriangulation faces = geometry::triangulate_region(region);
+  const auto n = static_cast<std::uint32_t>(faces.points.size());
+  for (geometry::Vec2 p : faces.points) mesh.vertices.push_back({p.x, p.y, layer.z_lo});
+  for (geometry::Vec2 p : faces.points) mesh.vertices.push_back({p.x, p.y, layer.z_hi});
+  for (const auto& t : faces.triangles) {
+    mesh.faces.push_back({n + t[0], n + t[1], n + t[2]});
+    mesh.faces.push_back({t[0], t[2], t[1]});
+  }
+  std::map<std::pair<double, double>, std::uint32_t> index;
+  for (std::uint32_t k = 0; k < n; ++k) index[{faces.points[k].x, faces.points[k].y}] = k;
+  for (const geometry::Loop& loop : region.loops) {
+    for (std::size_t j = 0, m = loop.size(); j < m && m >= 3; ++j) {
+      const geometry::Vec2 a = loop[j], b = loop[(j + 1) % m];
+      if (a == b) continue;
+      const std::uint32_t ia = index.at({a.x, a.y}), ib = index.at({b.x, b.y});
+      mesh.faces.push_back({ia, ib, n + ib});
+      mesh.faces.push_back({ia, n + ib, n + ia});
+    }
+  }
+  return mesh;
+}
+
 double corefinement_deviation(const geometry::Mesh& model, const geometry::Layer& layer,
                               const Region& region) {
   const geometry::Box3 box = geometry::bounding_box(model);
   const Region around{{{{box.min.x - 1, box.min.y - 1}, {box.max.x + 1, box.min.y - 1},
                         {box.max.x + 1, box.max.y + 1}, {box.min.x - 1, box.max.y + 1}}}};
-  const std::vector<geometry::Layer> layers{layer};
   const SurfaceMesh solid = to_surface_mesh(model);
-  const SurfaceMesh slab_box =
-      to_surface_mesh(geometry::extruded_layers(layers, std::vector<Region>{around}));
-  const geometry::Mesh prism_mesh = geometry::extruded_layers(layers, std::vector<Region>{region});
+  const SurfaceMesh slab_box = to_surface_mesh(exact_prism(layer, around));
+  const geometry::Mesh prism_mesh = exact_prism(layer, region);
   const double slab = intersection_volume(solid, slab_box);
   const double prism = geometry::signed_volume(prism_mesh);
   const double common = intersection_volume(solid, to_surface_mesh(prism_mesh));

@@ -120,3 +120,66 @@ TEST_CASE("skins_of_nothing_are_nothing") {
   CHECK(s.solid.loops.empty());
   CHECK(s.sparse.loops.empty());
 }
+
+// ---------------------------------------------------------------------------------------
+// Skins by thickness on a stack of mixed layers.
+
+namespace {
+
+// The square block of two_steps, on layers of the given thicknesses.
+std::vector<Layer> stack_of(const std::vector<double>& thicknesses) {
+  std::vector<Layer> layers;
+  double z = 0;
+  for (double t : thicknesses) {
+    layers.push_back({z, z + t});
+    z += t;
+  }
+  return layers;
+}
+
+// Indices of the layers with no sparse core where the region is (solid throughout).
+std::vector<std::size_t> solid_layers(const std::vector<std::optional<Region>>& cores) {
+  std::vector<std::size_t> solid;
+  for (std::size_t i = 0; i < cores.size(); ++i)
+    if (cores[i] && area(*cores[i]) < 1e-9) solid.push_back(i);
+  return solid;
+}
+
+}  // namespace
+
+TEST_CASE("thin_layers_under_a_top_add_layers_until_the_skin_is_thick_enough") {
+  // Ten 0.3 mm layers, then six of 0.15 mm: the top 0.6 mm is four thin layers, not three.
+  std::vector<double> t(10, 0.3);
+  t.insert(t.end(), 6, 0.15);
+  const std::vector<Layer> layers = stack_of(t);
+  const std::vector<Region> regions(layers.size(), Region{{rectangle(0, 0, 10, 10)}});
+  // 3 layers alone: the top three (0.45 mm) and the bottom three (0.9 mm).
+  const auto by_count = sparse_cores(regions, layers, {3, 3, 0, 0});
+  CHECK(solid_layers(by_count) == std::vector<std::size_t>{0, 1, 2, 13, 14, 15});
+  // 3 layers and at least 0.6 mm: the top four thin layers (0.6 mm), the bottom still three.
+  const auto by_thickness = sparse_cores(regions, layers, {3, 3, 0.6, 0.6});
+  CHECK(solid_layers(by_thickness) == std::vector<std::size_t>{0, 1, 2, 12, 13, 14, 15});
+  // 1.0 mm at the bottom: 0.3 + 0.3 + 0.3 < 1.0, so four layers (1.2 mm).
+  const auto thick_bottom = sparse_cores(regions, layers, {0, 0, 0, 1.0});
+  CHECK(solid_layers(thick_bottom) == std::vector<std::size_t>{0, 1, 2, 3});
+  // On uniform layers a thickness of N layers is N layers: the counting as before.
+  const std::vector<Layer> uniform = stack_of(std::vector<double>(16, 0.2));
+  CHECK(solid_layers(sparse_cores(regions, uniform, {0, 0, 0.6, 0.6})) ==
+        solid_layers(sparse_cores(regions, 3, 3)));
+}
+
+TEST_CASE("a_step_top_on_thin_layers_gets_a_skin_of_its_thickness") {
+  // two_steps(20, 10): the lower square's top at layer 9; layers 6-9 are 0.15 mm, the rest
+  // 0.3 mm. With 3 layers and 0.6 mm the 300 mm^2 ring is solid on layers 6-9, sparse on 5.
+  std::vector<double> t(20, 0.3);
+  for (int i = 6; i <= 9; ++i) t[i] = 0.15;
+  const std::vector<Layer> layers = stack_of(t);
+  const auto regions = two_steps(20, 10);
+  const auto cores = sparse_cores(regions, layers, {3, 3, 0.6, 0.6});
+  for (std::size_t i : {6u, 7u, 8u}) CHECK(area(skins_of(regions, cores, i).solid) == doctest::Approx(300));
+  CHECK(area(skins_of(regions, cores, 9).top) == doctest::Approx(300));
+  CHECK(area(skins_of(regions, cores, 5).sparse) == doctest::Approx(400));
+  // By count alone layer 6 would be sparse there: the skin would be 0.45 mm.
+  const auto counted = sparse_cores(regions, layers, {3, 3, 0, 0});
+  CHECK(area(skins_of(regions, counted, 6).sparse) == doctest::Approx(400));
+}

@@ -1,0 +1,144 @@
+#include "host/layer_choice.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include <fmt/format.h>
+
+#include "geometry/plan/flat_levels.h"
+
+namespace host {
+
+std::vector<CLI::Option*> add_adaptive_options(CLI::App& command, AdaptiveRequest& request,
+                                               const std::string& group) {
+  std::vector<CLI::Option*> added;
+  added.push_back(command.add_flag(
+      "--adaptive", request.adaptive,
+      fmt::format("vary the layer thickness: the fewest layers whose distance error D (as "
+                  "analyze reports it, of the contour printed) stays within --tolerance "
+                  "(default {:g} mm), thinner where the surface flattens, thicker where it "
+                  "stands; flat tops and floors on layer boundaries",
+                  kDefaultTolerance)));
+  added.push_back(command
+                      .add_option("--tolerance", request.tolerance,
+                                  fmt::format("with --adaptive: the largest D a layer may "
+                                              "have, mm (implies --adaptive); layers where "
+                                              "even the thinnest thickness exceeds it are "
+                                              "printed thinnest and counted (default: {:g} "
+                                              "with --adaptive, none without)",
+                                              kDefaultTolerance))
+                      ->check(CLI::PositiveNumber));
+  added.push_back(command
+                      .add_option("--max-layers", request.max_layers,
+                                  "with --adaptive: at most this many layers, with the least "
+                                  "tolerance that allows it (implies --adaptive; default: none)")
+                      ->check(CLI::Range(std::size_t{1}, std::size_t{100000})));
+  added[1]->excludes(added[2]);
+  if (!group.empty()) {
+    for (CLI::Option* option : added) option->group(group);
+  }
+  return added;
+}
+
+geometry::AllowedThicknesses allowed_thicknesses(const printer::PrinterProfile& machine) {
+  geometry::AllowedThicknesses allowed;
+  allowed.listed = machine.layer.allowed;
+  allowed.min = machine.layer.min;
+  allowed.max = machine.layer.max;
+  allowed.step = machine.layer.step;
+  allowed.first = machine.first_layer_height;
+  return allowed;
+}
+
+std::vector<const geometry::ContourStrategy*> planning_strategies(
+    const geometry::ContourStrategy& printed) {
+  if (printed.name == "best") return {&geometry::contour_strategy("mid")};
+  return {&printed};
+}
+
+LayerChoice choose_layers(const AdaptiveRequest& request, const printer::PrinterProfile& machine,
+                          const geometry::LayerStack& stack, double part_height, double thickness,
+                          const geometry::ContourStrategy& printed,
+                          const PlanningProgress& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  LayerChoice choice;
+  const geometry::AllowedThicknesses allowed = allowed_thicknesses(machine);
+  const std::vector<geometry::FlatLevel> flats = geometry::flat_levels(stack.mesh());
+  choice.adaptive = request.adaptive || request.tolerance > 0 || request.max_layers > 0;
+  if (!choice.adaptive) {
+    geometry::UniformPlan uniform = geometry::uniform_plan(part_height, thickness, allowed, flats);
+    choice.layers = std::move(uniform.layers);
+    choice.flats = std::move(uniform.flats);
+  } else {
+    geometry::AdaptiveOptions options;
+    options.tolerance = request.tolerance > 0 ? request.tolerance : kDefaultTolerance;
+    options.max_layers = request.max_layers;
+    options.contours = planning_strategies(printed);
+    choice.planned_by = std::string(options.contours.front()->name);
+    choice.plan = geometry::adaptive_plan(stack, part_height, allowed, flats, options, progress);
+    choice.layers = choice.plan.layers;
+    choice.flats = choice.plan.flats;
+  }
+  choice.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return choice;
+}
+
+namespace {
+
+// Runs of unmet layers as height ranges: "z 30.1-31.9, 45.0-45.3 mm".
+std::string unmet_ranges(const geometry::AdaptivePlan& plan) {
+  std::vector<std::string> ranges;
+  for (std::size_t i = 0; i < plan.layers.size();) {
+    if (plan.met[i]) {
+      ++i;
+      continue;
+    }
+    std::size_t j = i;
+    while (j + 1 < plan.layers.size() && !plan.met[j + 1]) ++j;
+    ranges.push_back(fmt::format("{:.2f}-{:.2f}", plan.layers[i].z_lo, plan.layers[j].z_hi));
+    i = j + 1;
+  }
+  const std::size_t shown = std::min<std::size_t>(ranges.size(), 4);
+  std::string text;
+  for (std::size_t k = 0; k < shown; ++k) text += (k ? ", " : "") + ranges[k];
+  if (ranges.size() > shown) text += fmt::format(" and {} more", ranges.size() - shown);
+  return text;
+}
+
+}  // namespace
+
+std::string describe_choice(const LayerChoice& choice) {
+  std::string text;
+  double thinnest = 0, thickest = 0;
+  for (std::size_t i = 1; i < choice.layers.size(); ++i) {
+    const double t = choice.layers[i].thickness();
+    thinnest = i == 1 ? t : std::min(thinnest, t);
+    thickest = i == 1 ? t : std::max(thickest, t);
+  }
+  if (choice.adaptive) {
+    const geometry::AdaptivePlan& plan = choice.plan;
+    text = fmt::format("adaptive: {} layers of {:g}-{:g} mm for D within {:.3g} mm ({}'s D, "
+                       "planned in {:.1f} s: {} of {} candidate layers measured)",
+                       choice.layers.size(), thinnest, thickest, plan.tolerance,
+                       choice.planned_by, choice.seconds, plan.measured, plan.candidates);
+    if (plan.unmet > 0) {
+      text += fmt::format("; {} layer{} could not meet it even at {:g} mm, where the surface is "
+                          "nearly flat (z {} mm)",
+                          plan.unmet, plan.unmet == 1 ? "" : "s", thinnest, unmet_ranges(plan));
+    }
+  }
+  std::vector<std::string> missed;
+  for (const geometry::FlatPlacement& flat : choice.flats) {
+    if (!flat.on_boundary()) missed.push_back(fmt::format("{:.3f} on {:.3f}", flat.z, flat.boundary));
+  }
+  if (!missed.empty()) {
+    text += fmt::format("{}flat level{} between the heights the layers can reach: ",
+                        text.empty() ? "" : "; ", missed.size() == 1 ? "" : "s");
+    for (std::size_t k = 0; k < missed.size(); ++k) text += (k ? ", " : "") + missed[k];
+    text += " mm";
+  }
+  return text;
+}
+
+}  // namespace host

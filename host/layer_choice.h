@@ -1,0 +1,70 @@
+// Which layers a part is printed in (issue 11; DESIGN.md §1's layer plan): uniform at
+// --layer, every flat top, floor and step of the model landing on a layer boundary where the
+// printer's thicknesses reach it; or --adaptive, the fewest layers whose distance error D
+// (what `analyze` reports, of the contour printed) is within --tolerance, or the least
+// tolerance for at most --max-layers layers (geometry/plan/layer_plan.h). slice, print,
+// analyze and advise share these options and the one-line report of the plan.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "geometry/contour/contour_strategy.h"
+#include "geometry/plan/layer_plan.h"
+#include "geometry/slicing/layer_stack.h"
+#include "printer/profile.h"
+
+namespace host {
+
+struct AdaptiveRequest {
+  bool adaptive = false;       // --adaptive (also set by --tolerance and --max-layers)
+  double tolerance = 0;        // --tolerance, mm; 0: kDefaultTolerance
+  std::size_t max_layers = 0;  // --max-layers; 0: none
+};
+
+// The tolerance of a bare --adaptive, mm: about the bunny's D at PrusaSlicer's 0.15 mm layers.
+inline constexpr double kDefaultTolerance = 0.3;
+
+// Adds --adaptive, --tolerance and --max-layers, listed under `group` ("" leaves them with the
+// command's other options); returns them, for the caller's excludes.
+std::vector<CLI::Option*> add_adaptive_options(CLI::App& command, AdaptiveRequest& request,
+                                               const std::string& group = {});
+
+// The printer's thicknesses as the planner takes them (the first layer its own).
+geometry::AllowedThicknesses allowed_thicknesses(const printer::PrinterProfile& machine);
+
+// What the plan measures to keep the printed contour within the tolerance: the printed
+// strategy itself, except `best`, planned by mid's D (best's D is never above mid's on a
+// layer, and mid is measured several times faster).
+std::vector<const geometry::ContourStrategy*> planning_strategies(
+    const geometry::ContourStrategy& printed);
+
+struct LayerChoice {
+  std::vector<geometry::Layer> layers;
+  bool adaptive = false;
+  geometry::AdaptivePlan plan;                    // adaptive only
+  std::vector<geometry::FlatPlacement> flats;     // both
+  std::string planned_by;                         // the strategy whose D the plan measured
+  double seconds = 0;                             // wall time of the planning
+};
+
+// Called with the candidate slabs measured so far.
+using PlanningProgress = std::function<void(std::size_t measured)>;
+
+// Uniform at `thickness` (first layer the printer's), or the adaptive plan the request asks
+// for, over `stack`'s mesh (its layers are not used). Thicknesses are the printer's.
+LayerChoice choose_layers(const AdaptiveRequest& request, const printer::PrinterProfile& machine,
+                          const geometry::LayerStack& stack, double part_height, double thickness,
+                          const geometry::ContourStrategy& printed,
+                          const PlanningProgress& progress = {});
+
+// "adaptive: 187 layers of 0.15-0.4 mm for D within 0.3 mm (mid's D, planned in 1.2 s);
+// 12 layers could not meet it even at 0.15 mm (nearly flat surface at z 30.1-31.9 mm)", and
+// where flat levels landed when one could not.
+std::string describe_choice(const LayerChoice& choice);
+
+}  // namespace host

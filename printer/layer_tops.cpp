@@ -1,0 +1,194 @@
+// The layer tops of a G-code file; see layer_tops.h.
+#include "printer/layer_tops.h"
+
+#include <charconv>
+#include <cmath>
+#include <cstddef>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/core.h>
+
+#include "printer/error.h"
+#include "printer/gcode_line.h"
+
+namespace printer {
+
+namespace {
+
+// Heights are written to 1 um (ours, PrusaSlicer's, Slic3r's; Cura's fewer digits): closer
+// than half of that they are the same layer.
+constexpr double kSameHeight = 0.5e-3;
+
+std::string_view trim_left(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  return s;
+}
+
+}  // namespace
+
+bool looks_like_gcode(std::string_view text) {
+  while (!text.empty()) {
+    const std::size_t end = text.find('\n');
+    const std::string_view line = trim_left(text.substr(0, end));
+    if (!line.empty()) {
+      const char c = line.front();
+      if (c == ';') return true;
+      if ((c == 'G' || c == 'g' || c == 'M' || c == 'm') && line.size() > 1 &&
+          line[1] >= '0' && line[1] <= '9') {
+        return true;
+      }
+    }
+    if (end == std::string_view::npos) break;
+    text.remove_prefix(end + 1);
+  }
+  return false;
+}
+
+std::vector<double> layer_tops_from_gcode(std::string_view text, const std::string& name) {
+  std::vector<double> tops;
+  bool relative_xyz = false, relative_e = false;
+  double x = 0, y = 0, z = 0, e = 0;
+  std::size_t line_number = 0;
+  while (!text.empty()) {
+    const std::size_t end = text.find('\n');
+    const std::string_view line = trim_left(text.substr(0, end));
+    text.remove_prefix(end == std::string_view::npos ? text.size() : end + 1);
+    ++line_number;
+    // Only G and M commands matter; comments, blank lines and T, S... are skipped unparsed.
+    if (line.empty() || (line.front() != 'G' && line.front() != 'M' && line.front() != 'g' &&
+                         line.front() != 'm')) {
+      continue;
+    }
+    const GcodeCommand command = parse_gcode_line(line);
+    if (command.is('G', 90)) relative_xyz = false, relative_e = false;  // Marlin: E too
+    if (command.is('G', 91)) relative_xyz = true, relative_e = true;
+    if (command.is('M', 82)) relative_e = false;
+    if (command.is('M', 83)) relative_e = true;
+    if (command.is('G', 92)) {
+      if (auto v = command.get('E')) e = *v;
+      if (auto v = command.get('Z')) z = *v;
+      if (auto v = command.get('X')) x = *v;
+      if (auto v = command.get('Y')) y = *v;
+      continue;
+    }
+    if (!command.is('G', 0) && !command.is('G', 1)) continue;
+    const auto axis = [&](char letter, double& value, bool relative) {
+      const auto word = command.get(letter);
+      if (!word) return false;
+      const double before = value;
+      value = relative ? value + *word : *word;
+      return value != before;
+    };
+    const bool moved_x = axis('X', x, relative_xyz);
+    const bool moved_y = axis('Y', y, relative_xyz);
+    axis('Z', z, relative_xyz);
+    const double e_before = e;
+    axis('E', e, relative_e);
+    if (!(moved_x || moved_y) || !(e > e_before)) continue;
+    if (!tops.empty() && std::abs(z - tops.back()) <= kSameHeight) continue;
+    if (!tops.empty() && z < tops.back()) {
+      throw ConfigError(fmt::format(
+          "{}: line {} extrudes at Z {:g} mm, below the layer at {:g} mm printed before it; "
+          "the file is not one part printed layer by layer (several objects one after "
+          "another?), so it gives no layer boundaries",
+          name, line_number, z, tops.back()));
+    }
+    if (!(z > kSameHeight)) {
+      throw ConfigError(fmt::format("{}: line {} extrudes at Z {:g} mm, on or below the bed; "
+                                    "give a file that prints on the bed at Z 0",
+                                    name, line_number, z));
+    }
+    tops.push_back(z);
+  }
+  if (tops.empty()) {
+    throw ConfigError(fmt::format("{}: the G-code extrudes nothing, so it gives no layer "
+                                  "boundaries",
+                                  name));
+  }
+  // A spiral vase rises along its moves: thousands of "layers" a few um apart.
+  for (std::size_t i = 1; i < tops.size(); ++i) {
+    if (tops[i] - tops[i - 1] < 0.01 - kSameHeight) {
+      throw ConfigError(fmt::format(
+          "{}: it extrudes at Z {:g} and then {:g} mm, {:.3f} mm apart, thinner than any "
+          "printer's layer (a spiral vase rises along its moves); give a file printed in layers",
+          name, tops[i - 1], tops[i], tops[i] - tops[i - 1]));
+    }
+  }
+  return tops;
+}
+
+std::vector<double> layer_tops_from_list(std::string_view text, const std::string& name) {
+  std::vector<double> tops;
+  std::size_t line_number = 0;
+  while (!text.empty()) {
+    const std::size_t end = text.find('\n');
+    std::string_view line = text.substr(0, end);
+    text.remove_prefix(end == std::string_view::npos ? text.size() : end + 1);
+    ++line_number;
+    if (const std::size_t hash = line.find('#'); hash != std::string_view::npos) {
+      line = line.substr(0, hash);
+    }
+    while (!line.empty()) {
+      const std::size_t comma = line.find(',');
+      std::string_view item = line.substr(0, comma);
+      line.remove_prefix(comma == std::string_view::npos ? line.size() : comma + 1);
+      while (!item.empty() && (item.front() == ' ' || item.front() == '\t')) item.remove_prefix(1);
+      while (!item.empty() && (item.back() == ' ' || item.back() == '\t' || item.back() == '\r')) {
+        item.remove_suffix(1);
+      }
+      if (item.empty()) continue;
+      double value = 0;
+      const auto [ptr, error] = std::from_chars(item.data(), item.data() + item.size(), value);
+      const std::string where = line_number > 1 || !text.empty()
+                                    ? fmt::format("{} line {}", name, line_number)
+                                    : name;
+      if (error != std::errc() || ptr != item.data() + item.size() || !std::isfinite(value) ||
+          !(value > 0)) {
+        throw ConfigError(fmt::format("{}: '{}' is not a layer top in mm (give positive "
+                                      "numbers, e.g. 0.3,0.5,0.7)",
+                                      where, item));
+      }
+      if (!tops.empty() && !(value > tops.back())) {
+        throw ConfigError(fmt::format("{}: layer top {:g} mm is not above the one before it "
+                                      "({:g} mm); give the tops rising",
+                                      where, value, tops.back()));
+      }
+      tops.push_back(value);
+    }
+  }
+  if (tops.empty()) {
+    throw ConfigError(fmt::format("{}: no layer tops in it; give numbers in mm, e.g. 0.3,0.5,0.7",
+                                  name));
+  }
+  return tops;
+}
+
+std::vector<double> read_layer_tops(const std::string& argument) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(argument, error)) {
+    // Not a file: a list, unless it looks like a path that is missing.
+    const bool list = !argument.empty() &&
+                      argument.find_first_not_of("0123456789.,+-eE \t") == std::string::npos;
+    if (!list) {
+      throw ConfigError(fmt::format(
+          "--boundaries {}: no such file, and not a list of layer tops; give a file (G-code, "
+          "or one top per line) or tops in mm, e.g. --boundaries 0.3,0.5,0.7",
+          argument));
+    }
+    return layer_tops_from_list(argument, "--boundaries");
+  }
+  std::ifstream in(argument, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (!in) {
+    throw ConfigError(fmt::format("--boundaries {}: cannot read this file", argument));
+  }
+  const std::string content = text.str();
+  const std::string name = fmt::format("--boundaries {}", argument);
+  return looks_like_gcode(content) ? layer_tops_from_gcode(content, name)
+                                   : layer_tops_from_list(content, name);
+}
+
+}  // namespace printer

@@ -1,0 +1,158 @@
+#!/usr/bin/env bash
+# Layer plans judged by our exact metrics: the peers' adaptive layer heights beside uniform
+# layers (issue 11). For the bunny (50 mm, --up y --units m; its hole-filled base, z < 2.25 mm,
+# left out of the percentile) and three OpenSCAD models (tests/bench/models/*.scad: a dome on
+# a plinth, stepped tiers with off-grid flat tops, a twisted vase), each run is one layer plan:
+#   - mahost uniform, mid and ma contours, at 0.15, 0.2, 0.25 and 0.3 mm (0.3 mm first layer);
+#   - CuraEngine 4.13 adaptive layers (adaptive_layer_height_enabled, base 0.25 mm, variation
+#     0.1 mm in steps of 0.05: 0.15 to 0.35 mm, the UP Plus 2's grid) at several
+#     adaptive_layer_height_threshold values;
+#   - Slic3r 1.3 adaptive slicing (adaptive_slicing, 0.15 to 0.4 mm) at several
+#     adaptive_slicing_quality values;
+#   - PrusaSlicer 2.5 has no command-line switch for its adaptive heights (a GUI tool that
+#     stores a layer height profile in a 3MF), so it has no row;
+#   - the lead's adaptive plans (mahost slice --adaptive --tolerance T): see LEAD below.
+# Every plan is read back from its G-code (mahost analyze --boundaries FILE) and judged with
+# the contour the slicer prints at those boundaries (mid for the peers), exactly as analyze
+# does: layers, mean D and max D over layers, the 95th percentile of D by height (P95h),
+# total ΔV. The print time is mahost's estimate (the UP Plus 2's motion model, our toolpaths)
+# of the same plan sliced with that contour (mahost slice --boundaries), so every row is timed
+# alike; for the peers' continuous heights (Slic3r's reach 0.406 mm) the UP Plus 2's step is
+# lifted and its range widened to 0.05-0.45 mm (--set layer.step=0 ...) for timing only.
+#
+# Usage: tests/bench/adaptive_layers.sh [BUILD_DIR]     (default build; mahost built)
+#        MODELS="bunny dome" tests/bench/adaptive_layers.sh   a subset of bunny dome steps vase
+# Needs CuraEngine, slic3r, openscad (scripts/setup --bench installs them).
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+build=${1:-build}
+mahost=$(pwd)/$build/mahost
+[[ -x $mahost ]] || { echo "adaptive_layers: $mahost not found; build first (scripts/build)" >&2; exit 2; }
+for tool in CuraEngine slic3r openscad; do
+  command -v "$tool" >/dev/null || { echo "adaptive_layers: $tool not found; run scripts/setup --bench" >&2; exit 2; }
+done
+models=${MODELS:-bunny dome steps vase}
+cura_thresholds=${CURA_THRESHOLDS:-0.05 0.1 0.2 0.3}
+slic3r_qualities=${SLIC3R_QUALITIES:-25 50 75 90}
+uniform=${UNIFORM:-0.15 0.2 0.25 0.3}
+
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+source tests/bench/cura_definitions.sh
+
+# The printer every plan is sliced for (estimates) and judged on.
+timing_printer=(--printer up-plus-2 --set layer.step=0 --set layer.min=0.05 --set layer.max=0.45)
+
+rows=()
+notes=()
+# judge NAME MODEL_ARGS... -- GCODE CONTOUR: one row from a plan's G-code.
+judge() {
+  local name=$1 model=$2 place=$3 excl=$4 gcode=$5 contour=$6
+  local json=$work/judge.json timed=$work/timed.gcode
+  # shellcheck disable=SC2086
+  "$mahost" analyze "$model" $place --boundaries "$gcode" --contours "$contour" \
+    ${excl:+--exclude-z $excl} --json "$json" >"$work/analyze.log" 2>&1 ||
+    { echo "adaptive_layers: analyze failed for $name:" >&2; tail -3 "$work/analyze.log" >&2; return 1; }
+  # A plan ending more than a layer below the part's top (CuraEngine leaves out a tip too
+  # small to print) is not sliced: no time, and the reason under the table.
+  local seconds=-1
+  # shellcheck disable=SC2086
+  if "$mahost" slice "$model" $place --boundaries "$gcode" --contour "$contour" "${timing_printer[@]}" \
+    -o "$timed" >"$work/slice.log" 2>&1; then
+    seconds=$(grep -m1 '^;PRINT_TIME_S:' "$timed" | cut -d: -f2)
+  else
+    notes+=("$name: not timed: $(tail -1 "$work/slice.log" | sed 's/^mahost: --boundaries [^:]*: //')")
+  fi
+  rows+=("$(python3 - "$json" "$name" "$seconds" <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1]))
+s = j["strategies"][0]
+t = float(sys.argv[3])
+p95 = s["p95_distance_by_height"]
+print(f'{sys.argv[2]:<34} {j["layers"]:6d} {j["layer_thickness_min"]:5.3f}-{j["layer_thickness_max"]:5.3f} '
+      f'{j["layers_top"]:6.2f} '
+      f'{s["mean_distance"]:7.4f} {s["max_distance"]:7.4f} {p95:7.4f} {s["total_volume_deviation"]:9.2f} '
+      + (f'{int(t // 3600)}:{int(t % 3600 // 60):02d}:{int(t % 60):02d}' if t >= 0 else '       -'))
+PY
+)")
+}
+
+for model_name in $models; do
+  case $model_name in
+    bunny) model=data/bunny.stl; place="--up y --units m --height 50"; excl="0:2.25" ;;
+    dome | steps | vase)
+      model=$work/$model_name.stl; place=""; excl=""
+      openscad -o "$model" "tests/bench/models/$model_name.scad" >"$work/openscad.log" 2>&1 ||
+        { echo "adaptive_layers: openscad failed on $model_name" >&2; tail -3 "$work/openscad.log" >&2; exit 1; } ;;
+    *) echo "adaptive_layers: unknown model $model_name (bunny, dome, steps, vase)" >&2; exit 2 ;;
+  esac
+  # The placed, repaired mesh (centred, on the bed, mm): what every slicer slices.
+  placed=$work/$model_name-placed.stl
+  # shellcheck disable=SC2086
+  "$mahost" info "$model" $place --export "$placed" >/dev/null
+  rows+=("--- $model_name")
+
+  # mahost, uniform layers.
+  for t in $uniform; do
+    for contour in mid ma; do
+      out=$work/mahost-$contour-$t.gcode
+      # shellcheck disable=SC2086
+      "$mahost" slice "$model" $place --layer "$t" --contour "$contour" -o "$out" >/dev/null 2>&1
+      judge "mahost uniform $t $contour" "$model" "$place" "$excl" "$out" "$contour"
+    done
+  done
+
+  # LEAD: the adaptive plans go here, e.g. for T in 0.05 0.1 0.2 0.3:
+  #   "$mahost" slice "$model" $place --adaptive --tolerance "$T" --contour best -o "$out"
+  #   judge "mahost adaptive $T best" "$model" "$place" "$excl" "$out" best
+  # (best is in the strategy table, so analyze --contours best judges it.)
+
+  # CuraEngine 4.13, adaptive layers.
+  for threshold in $cura_thresholds; do
+    out=$work/cura-$threshold.gcode
+    CuraEngine slice -j "$cura_resources/definitions/fdmprinter.def.json" \
+      -s machine_width=140 -s machine_depth=140 -s machine_height=135 -s machine_center_is_zero=true \
+      -s machine_gcode_flavor="RepRap (Marlin/Sprinter)" -s machine_start_gcode="G28" -s machine_end_gcode="M84" \
+      -s layer_height=0.25 -s layer_height_0=0.3 \
+      -s adaptive_layer_height_enabled=true -s adaptive_layer_height_threshold="$threshold" \
+      -s adaptive_layer_height_variation=0.1 -s adaptive_layer_height_variation_step=0.05 \
+      -s wall_line_count=2 -s top_layers=3 -s bottom_layers=3 -s infill_sparse_density=20 \
+      -s adhesion_type=skirt -s skirt_line_count=1 -s support_enable=false \
+      -e0 -s machine_nozzle_size=0.4 -s material_diameter=1.75 \
+      -o "$out" -l "$placed" >"$work/cura.log" 2>&1 ||
+      { echo "adaptive_layers: CuraEngine failed:" >&2; tail -3 "$work/cura.log" >&2; exit 1; }
+    judge "CuraEngine adaptive thr $threshold" "$model" "$place" "$excl" "$out" mid
+  done
+
+  # Slic3r 1.3, adaptive slicing.
+  for quality in $slic3r_qualities; do
+    cfg=$work/slic3r.ini out=$work/slic3r-$quality.gcode
+    cat >"$cfg" <<EOF
+bed_shape = 0x0,140x0,140x140,0x140
+nozzle_diameter = 0.4
+filament_diameter = 1.75
+first_layer_height = 0.3
+layer_height = 0.25
+adaptive_slicing = 1
+adaptive_slicing_quality = $quality%
+min_layer_height = 0.15
+max_layer_height = 0.4
+perimeters = 2
+top_solid_layers = 3
+bottom_solid_layers = 3
+fill_density = 20%
+skirts = 1
+EOF
+    slic3r --load "$cfg" --print-center 70,70 "$placed" -o "$out" >"$work/slic3r.log" 2>&1 ||
+      { echo "adaptive_layers: slic3r failed:" >&2; tail -3 "$work/slic3r.log" >&2; exit 1; }
+    judge "Slic3r adaptive quality $quality%" "$model" "$place" "$excl" "$out" mid
+  done
+done
+
+echo "layer plans judged by mahost analyze --boundaries (exact D and ΔV of the contour printed);"
+echo "P95h D: the D within which layers covering 95% of the height stay (bunny: z < 2.25 mm left out);"
+echo "top: where the plan's last layer ends (the part above it is not printed, nor judged);"
+echo "time: mahost's estimate of the plan sliced with that contour on the UP Plus 2 (step lifted for timing)"
+printf '%-34s %6s %11s %6s %7s %7s %7s %9s %8s\n' run layers "t, mm" top "mean D" "max D" "P95h D" "ΔV, mm³" time
+printf '%s\n' "${rows[@]}"
+((${#notes[@]})) && printf '%s\n' "${notes[@]}"

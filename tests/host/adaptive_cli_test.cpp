@@ -1,0 +1,113 @@
+// The layer plan as a user meets it: a flat top lands on a layer boundary in uniform slicing
+// (an 8.00 mm part prints 8.00 mm tall), `--adaptive` plans by the exact error and says so in
+// one line, every thickness in the G-code is one the printer allows, a budget is kept, and
+// contradictory options are refused in one line.
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <doctest/doctest.h>
+
+#include "geometry/mesh/stl_io.h"
+#include "printer/layer_tops.h"
+#include "support/run_command.h"
+#include "support/solids.h"
+
+using test_support::run_mahost;
+
+namespace {
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::vector<double> tops_of(const std::string& gcode) {
+  return printer::layer_tops_from_gcode(read_file(gcode), gcode);
+}
+
+bool up_plus_2_allows(double t) {
+  const double steps = (t - 0.15) / 0.05;
+  return t >= 0.15 - 1e-6 && t <= 0.4 + 1e-6 && std::abs(steps - std::round(steps)) < 1e-4;
+}
+
+}  // namespace
+
+TEST_CASE("uniform_slicing_prints_an_8_mm_part_8_mm_tall") {
+  const std::string dir = test_support::scratch_dir("plan_flat_top");
+  const std::string stl = dir + "/box8.stl", gcode = dir + "/box8.gcode";
+  geometry::write_stl_binary(stl, solids::box({0, 0, 0}, {20, 20, 8}).mesh);
+  const auto r = run_mahost({"slice", stl, "--no-raft", "--layer", "0.15", "--contour", "mid", "-o", gcode});
+  REQUIRE(r.exit_code == 0);
+  const std::vector<double> tops = tops_of(gcode);
+  REQUIRE(!tops.empty());
+  CHECK(tops.back() == doctest::Approx(8.0).epsilon(1e-6));  // not 7.95 (mid) or 8.10
+  CHECK(tops.front() == doctest::Approx(0.3));
+  for (std::size_t i = 1; i < tops.size(); ++i) CHECK(up_plus_2_allows(tops[i] - tops[i - 1]));
+  CHECK(tops.size() == 52);  // 0.3 + 51 x 0.15 + one 0.2
+}
+
+TEST_CASE("slice_adaptive_plans_by_the_error_and_reports_it_in_one_line") {
+  const std::string dir = test_support::scratch_dir("plan_adaptive_slice");
+  const std::string stl = dir + "/cone.stl", gcode = dir + "/cone.gcode";
+  // 10 mm radius, 20 mm tall: mid's D is t / 4, so a tolerance of 0.07 allows 0.25 mm layers.
+  geometry::write_stl_binary(stl, solids::cone(10, 20, 64).mesh);
+  const auto r = run_mahost(
+      {"slice", stl, "--no-raft", "--adaptive", "--tolerance", "0.07", "--contour", "mid", "-o", gcode});
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.out.find("adaptive: ") != std::string::npos);
+  CHECK(r.out.find("for D within 0.07 mm") != std::string::npos);
+  CHECK(r.out.find("at uniform 0.15 mm") != std::string::npos);
+  const std::vector<double> tops = tops_of(gcode);
+  REQUIRE(tops.size() > 2);
+  for (std::size_t i = 1; i < tops.size(); ++i) {
+    const double t = tops[i] - tops[i - 1];
+    CAPTURE(tops[i]);
+    CHECK(up_plus_2_allows(t));
+    if (tops[i] < 19) CHECK(t <= 0.25 + 1e-6);
+  }
+  // About 19.7 / 0.25 layers after the first: far fewer than 0.15 mm layers (132).
+  CHECK(tops.size() <= 1 + 80 + 2);
+  CHECK(read_file(gcode).find("; layers: ") != std::string::npos);
+}
+
+TEST_CASE("slice_adaptive_keeps_a_layer_budget") {
+  const std::string dir = test_support::scratch_dir("plan_adaptive_budget");
+  const std::string stl = dir + "/cone.stl", gcode = dir + "/cone.gcode";
+  geometry::write_stl_binary(stl, solids::cone(10, 20, 64).mesh);
+  const auto r = run_mahost({"slice", stl, "--no-raft", "--max-layers", "60", "--contour", "mid", "-o", gcode});
+  REQUIRE(r.exit_code == 0);
+  CHECK(tops_of(gcode).size() <= 60);
+  CHECK(r.out.find("adaptive: ") != std::string::npos);
+}
+
+TEST_CASE("adaptive_options_that_contradict_are_refused_in_one_line") {
+  const std::string dir = test_support::scratch_dir("plan_adaptive_bad");
+  const std::string stl = dir + "/cube.stl";
+  geometry::write_stl_binary(stl, solids::cube(10).mesh);
+  auto r = run_mahost({"slice", stl, "--adaptive", "--layer", "0.2", "-o", dir + "/x.gcode"});
+  CHECK(r.exit_code == 2);
+  CHECK(r.err.find("--layer") != std::string::npos);
+  r = run_mahost({"slice", stl, "--tolerance", "0.2", "--max-layers", "10", "-o", dir + "/x.gcode"});
+  CHECK(r.exit_code == 2);
+  r = run_mahost({"slice", stl, "--tolerance", "-1", "-o", dir + "/x.gcode"});
+  CHECK(r.exit_code == 2);
+  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+}
+
+TEST_CASE("analyze_adaptive_judges_the_plan_and_says_how_it_was_made") {
+  const std::string dir = test_support::scratch_dir("plan_adaptive_analyze");
+  const std::string stl = dir + "/ball.stl";
+  geometry::write_stl_binary(stl, solids::sphere(8, 48, 24, {0, 0, 8}).mesh);
+  const auto r = run_mahost({"analyze", stl, "--adaptive", "--tolerance", "0.15", "--contour",
+                             "best", "--contours", "mid,best"});
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.out.find("adaptive: ") != std::string::npos);
+  CHECK(r.out.find("best ") != std::string::npos);
+  CHECK(r.out.find("0.15 to 0.4 mm thick") != std::string::npos);
+}
