@@ -14,14 +14,11 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cctype>
 #include <chrono>
-#include <ctime>
 #include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -29,6 +26,7 @@
 
 #include "host/commands.h"
 #include "host/control_socket.h"
+#include "host/job_setup.h"
 #include "host/print_ui.h"
 #include "host/slice_pipeline.h"
 #include "printer/bead_model.h"
@@ -41,7 +39,6 @@
 #include "printer/profile.h"
 #include "printer/serial_link.h"
 #include "sim/faults.h"
-#include "sim/sim_link.h"
 #include "sim/unsupported_extrusion.h"
 
 namespace host {
@@ -49,22 +46,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kLinkGroup = "Printer link";
-constexpr const char* kDryRunGroup = "Dry run (the in-process simulated printer)";
-constexpr const char* kJobGroup = "Job";
 constexpr const char* kSliceGroup = "Slicing (an STL model; see mahost slice --help)";
-
-struct LinkOptions {
-  std::string port;
-  int baud = 0;                // bit/s; 0: the printer profile's (print) or the journal's (resume)
-  bool dry_run = false;
-  std::string faults;          // dry run only: the simulated printer's faults
-  bool advanced_ok = false;    // dry run only: the simulated firmware reports buffer space
-  std::size_t window = 1;
-  double probe_after = 3;      // s
-  std::vector<double> park;    // X,Y
-  double lift = 5, retract = 1;
-};
+constexpr const char* kDryRunHelp =
+    "print on the in-process simulated printer, at full speed (a pause waits in real time), "
+    "instead of a port (default: off; give --port or --dry-run)";
 
 struct PrintOptions {
   std::string input;
@@ -77,84 +62,8 @@ struct PrintOptions {
   std::vector<std::string> model_options_given;  // slice options that need an STL, as given
 };
 
-struct OpenLink {
-  std::unique_ptr<printer::Link> link;
-  sim::SimLink* sim = nullptr;  // set for a dry run
-  std::optional<sim::SupportCheckOptions> check;  // a dry run of a whole print: checked
-};
-
-// A dry run simulates the printer the job is for: its motion limits and filament.
-// `baud`: the rate a real port opens at (--baud, else the journal's or the profile's).
-OpenLink open_link(const LinkOptions& options, const printer::PrinterProfile& machine, int baud) {
-  OpenLink open;
-  if (options.dry_run) {
-    sim::Config config;
-    config.faults = sim::parse_fault_spec(options.faults);
-    config.advanced_ok = options.advanced_ok;
-    config.motion = machine.motion;
-    config.filament_diameter = machine.filament_diameter;
-    auto link = std::make_unique<sim::SimLink>(config);
-    open.sim = link.get();
-    open.link = std::move(link);
-  } else {
-    if (!options.faults.empty()) {
-      throw printer::ConfigError("--faults: only a --dry-run printer can be given faults");
-    }
-    if (options.advanced_ok) {
-      throw printer::ConfigError(
-          "--advanced-ok: only a --dry-run printer can be told to report ADVANCED_OK; a real "
-          "one says so itself");
-    }
-    open.link = std::make_unique<printer::SerialLink>(options.port, baud);
-  }
-  return open;
-}
-
-printer::ProtocolOptions protocol_options(const LinkOptions& options) {
-  printer::ProtocolOptions p;
-  p.window = options.window;
-  p.probe_after = std::chrono::milliseconds(static_cast<long>(options.probe_after * 1000));
-  return p;
-}
-
-printer::PauseOptions pause_options(const LinkOptions& options, const printer::PrinterProfile& machine) {
-  printer::PauseOptions p;
-  if (options.park.size() == 2) {
-    p.park_x = options.park[0];
-    p.park_y = options.park[1];
-  }
-  p.lift = options.lift;
-  p.retract = options.retract;
-  p.max_z = machine.bed_z;
-  return p;
-}
-
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-  return s;
-}
-
-std::string timestamp() {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  localtime_r(&t, &tm);
-  char text[32];
-  std::strftime(text, sizeof text, "%Y%m%d-%H%M%S", &tm);
-  return text;
-}
-
-bool is_stl(const std::string& path) { return lower(fs::path(path).extension().string()) == ".stl"; }
-
 bool in_job_directory(const std::string& path) {
   return fs::path(path).parent_path() == fs::path(printer::job_directory());
-}
-
-void remove_files(const std::vector<std::string>& paths) {
-  for (const std::string& path : paths) {
-    std::error_code ignored;
-    fs::remove(path, ignored);
-    fs::remove(path + ".tmp", ignored);  // a journal write cut short
-  }
 }
 
 // The files a job made for itself, removed when it ends unless kept (see the file comment).
@@ -248,14 +157,6 @@ void print_summary(const printer::JobResult& result, const printer::GcodeFile& f
   }
 }
 
-// A dry run's wait while paused: real time, and the simulated clock runs no longer than that
-// (see printer::JobOptions::paused_wait).
-std::chrono::milliseconds wait_real_time() {
-  const auto before = std::chrono::steady_clock::now();
-  std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - before);
-}
-
 printer::JobResult run_job(printer::LineProtocol& protocol, const printer::GcodeFile& file,
                            OpenLink& link, printer::JobOptions job_options,
                            const std::string& socket_path, const std::string& journal_note,
@@ -284,16 +185,6 @@ printer::JobResult run_job(printer::LineProtocol& protocol, const printer::Gcode
   return result;
 }
 
-void connect(printer::LineProtocol& protocol, const OpenLink& link) {
-  protocol.connect(link.sim != nullptr ? std::chrono::milliseconds(500) : std::chrono::milliseconds(3000));
-}
-
-void check_link_choice(const LinkOptions& link, const char* command) {
-  if (link.dry_run == !link.port.empty()) {
-    throw printer::ConfigError(fmt::format("{}: give either --port PORT or --dry-run", command));
-  }
-}
-
 void run_print(const PrintOptions& options) {
   check_link_choice(options.link, "print");
   for (int layer : options.pause_at) {
@@ -318,7 +209,7 @@ void run_print(const PrintOptions& options) {
   const printer::Profiles profiles = load_slice_profiles(options.slice);
 
   const std::string stem = fs::path(options.input).stem().string();
-  const std::string name = fmt::format("{}-{}-{}", stem.empty() ? "job" : stem, timestamp(), ::getpid());
+  const std::string name = job_name(stem);
   const bool named_journal = !options.journal.empty();
   const std::string journal = fs::absolute(
       named_journal ? fs::path(options.journal) : fs::path(printer::job_directory()) / (name + ".journal")).string();
@@ -371,18 +262,9 @@ void run_print(const PrintOptions& options) {
 
   const bool dry_run = options.link.dry_run;
   const bool keep = options.keep || named_journal;
-  printer::JobOptions job_options;
+  printer::JobOptions job_options =
+      job_options_for(file, gcode_path, profiles.printer, options.link, baud, journal);
   job_options.pause_at_layers = options.pause_at;
-  job_options.pause = pause_options(options.link, profiles.printer);
-  job_options.motion = profiles.printer.motion;
-  job_options.journal_path = journal;
-  job_options.journal_durable = !dry_run;
-  job_options.journal.job = fs::path(base).filename().string();
-  job_options.journal.gcode_path = fs::absolute(gcode_path).string();
-  job_options.journal.gcode_hash = file.hash;
-  job_options.journal.printer = fs::absolute(profiles.printer.source).string();
-  job_options.journal.port = dry_run ? "" : options.link.port;
-  job_options.journal.baud = dry_run ? 0 : baud;
   std::string note;
   if (!dry_run) {
     job_options.resume_command = fmt::format("mahost resume {} --port {}", journal, options.link.port);
@@ -416,14 +298,6 @@ struct ResumeOptions {
   LinkOptions link;
 };
 
-bool process_is_mahost(int pid) {
-  if (pid <= 0 || pid == ::getpid() || ::kill(pid, 0) != 0) return false;
-  std::error_code a, b;
-  const fs::path theirs = fs::read_symlink(fmt::format("/proc/{}/exe", pid), a);
-  const fs::path mine = fs::read_symlink("/proc/self/exe", b);
-  return !a && !b && theirs == mine;
-}
-
 // The printer profile the job was sliced and timed for; its motion limits time the rest.
 printer::PrinterProfile resume_profile(const printer::JournalRecord& record) {
   const std::string name = record.printer.empty() ? "up-plus-2" : record.printer;
@@ -442,7 +316,7 @@ void run_resume(const ResumeOptions& options) {
   if (record.state == "completed") {
     throw printer::ConfigError(fmt::format("{}: the job completed; there is nothing to resume", journal));
   }
-  if (process_is_mahost(record.pid)) {
+  if (other_mahost_running(record.pid)) {
     throw printer::ConfigError(fmt::format(
         "{}: the job is still running (process {}); steer it with mahost ctl", journal, record.pid));
   }
@@ -502,49 +376,6 @@ void run_resume(const ResumeOptions& options) {
   }
 }
 
-void add_link_options(CLI::App& command, LinkOptions& link, const std::string& baud_default) {
-  auto* port = command.add_option("--port", link.port,
-                                  "the printer's serial port, e.g. /dev/ttyUSB0 or /dev/pts/N "
-                                  "(see mahost ports; no default: give --port or --dry-run)")
-                   ->group(kLinkGroup);
-  auto* dry = command.add_flag("--dry-run", link.dry_run,
-                               "print on the in-process simulated printer, at full speed "
-                               "(a pause waits in real time), instead of a port (default: "
-                               "off; give --port or --dry-run)")
-                  ->group(kLinkGroup);
-  port->excludes(dry);
-  command.add_option("--baud", link.baud, "serial speed, bit/s (default: " + baud_default + ")")
-      ->check(CLI::PositiveNumber)
-      ->group(kLinkGroup);
-  command.add_option("--window", link.window,
-                     "lines in flight; more than 1 only when the firmware reports ADVANCED_OK "
-                     "(default: 1)")
-      ->check(CLI::Range(1, 32))
-      ->group(kLinkGroup);
-  command.add_option("--timeout", link.probe_after,
-                     "silence before the host probes the printer with M105, s (default: 3)")
-      ->check(CLI::Range(0.1, 600.0))
-      ->group(kLinkGroup);
-  command.add_option("--faults", link.faults,
-                     "faults of the simulated printer, e.g. corrupt=0.01,drop-ok=0.01,seed=3 "
-                     "(see mahost sim --help; default: none)")
-      ->group(kDryRunGroup);
-  command.add_flag("--advanced-ok", link.advanced_ok,
-                   "the simulated firmware reports its buffer space (ADVANCED_OK), so --window "
-                   "takes effect (default: off)")
-      ->group(kDryRunGroup);
-  command.add_option("--park", link.park, "where a pause parks the nozzle: X,Y, mm (default: 5,5)")
-      ->delimiter(',')
-      ->expected(2)
-      ->group(kJobGroup);
-  command.add_option("--lift", link.lift, "how far a pause lifts the nozzle, mm (default: 5)")
-      ->check(CLI::Range(0.0, 100.0))
-      ->group(kJobGroup);
-  command.add_option("--retract", link.retract, "filament a pause retracts, mm (default: 1)")
-      ->check(CLI::Range(0.0, 20.0))
-      ->group(kJobGroup);
-}
-
 }  // namespace
 
 void add_print_command(CLI::App& app) {
@@ -559,7 +390,7 @@ void add_print_command(CLI::App& app) {
   print->add_option("MODEL", options->input, "the STL model (sliced first) or G-code file to print")
       ->required()
       ->check(CLI::ExistingFile);
-  add_link_options(*print, options->link, "the printer profile's serial.baud");
+  add_link_options(*print, options->link, "the printer profile's serial.baud", kDryRunHelp);
   print->add_option("--pause-at-layer", options->pause_at,
                     "pause before these layers start, numbered from 1 as the progress line "
                     "shows them (layer n is the file's ;LAYER:n-1), e.g. 20,45 (default: none)")
@@ -596,7 +427,8 @@ void add_print_command(CLI::App& app) {
                      "the job's journal, as mahost print named it when it started")
       ->required()
       ->check(CLI::ExistingFile);
-  add_link_options(*resume, resume_options->link, "the journal's, else its printer profile's serial.baud");
+  add_link_options(*resume, resume_options->link, "the journal's, else its printer profile's serial.baud",
+                   kDryRunHelp);
   resume->callback([resume_options] { run_resume(*resume_options); });
 }
 

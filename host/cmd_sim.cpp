@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
-#include <charconv>
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -18,6 +17,7 @@
 #include <fmt/core.h>
 
 #include "host/commands.h"
+#include "host/job_setup.h"
 #include "printer/error.h"
 #include "printer/profile.h"
 #include "sim/faults.h"
@@ -48,19 +48,6 @@ struct SimOptions {
 std::atomic<bool> stop_requested{false};
 
 void request_stop(int) { stop_requested.store(true); }
-
-double parse_time_scale(const std::string& text) {
-  if (text == "max") return 0;
-  double value = 0;
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (ec != std::errc() || end != text.data() + text.size() || !(value > 0) || value > 1e6) {
-    throw printer::ConfigError(fmt::format(
-        "--time-scale {}: give a speed-up factor above 0 (1 = real time, 10 = ten times "
-        "faster) or max",
-        text));
-  }
-  return value;
-}
 
 // Fails now rather than after a long session when an output file cannot be written.
 void check_writable(const std::string& path, std::string_view what) {

@@ -32,6 +32,8 @@ void add_slice_command(CLI::App& app);
 void add_sim_command(CLI::App& app);
 // `mahost print` and `mahost resume`: host/cmd_print.cpp.
 void add_print_command(CLI::App& app);
+// `mahost serve`: host/cmd_serve.cpp and host/serve/.
+void add_serve_command(CLI::App& app);
 // `mahost ctl`: host/cmd_ctl.cpp.
 void add_ctl_command(CLI::App& app);
 // `mahost ports`: host/cmd_ports.cpp.

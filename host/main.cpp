@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   host::add_info_command(app);
   host::add_slice_command(app);
   host::add_print_command(app);
+  host::add_serve_command(app);
   host::add_ctl_command(app);
   host::add_ports_command(app);
   host::add_sim_command(app);

@@ -16,6 +16,20 @@ namespace {
 
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
+// The distance to the walls of the slab's corners on its bottom and top planes, up to the
+// first beyond `stop_above` (then that one's), mm.
+double farthest_end_point(const Slab& slab, const BoundaryGrid& walls, double stop_above) {
+  double farthest = 0;
+  for (const auto& facet : slab.facets) {
+    for (const Vec3& v : facet) {
+      if (v.z != slab.z_lo && v.z != slab.z_hi) continue;
+      farthest = std::max(farthest, walls.nearest_distance({v.x, v.y}));
+      if (farthest > stop_above) return farthest;
+    }
+  }
+  return farthest;
+}
+
 }  // namespace
 
 SlabMeter::SlabMeter(const LayerStack& stack, SlabErrorOptions options)
@@ -105,8 +119,10 @@ SlabError SlabMeter::operator()(double z_lo, double z_hi,
   LayerReference reference;
   reference.layer = {z_lo, z_hi};
   reference.slab = slab_of(stack_.mesh(), faces, z_lo, z_hi);
-  reference.surface = slab_surface(reference.slab, distance);
-  bool have_islands = false;
+  bool have_surface = false, have_islands = false;
+  const auto need_surface = [&] {
+    if (!have_surface) reference.surface = slab_surface(reference.slab, distance), have_surface = true;
+  };
   const auto need_islands = [&]() -> const std::vector<BoundaryPair>& {
     if (!have_islands) reference.islands = slab_islands(reference.slab), have_islands = true;
     return reference.islands;
@@ -115,13 +131,26 @@ SlabError SlabMeter::operator()(double z_lo, double z_hi,
     SlabTrial trial;
     trial.strategy = strategy;
     const bool section = strategy->cuts_at != nullptr;
-    if (!section) need_islands();
+    if (!section) need_islands(), need_surface();
     trial.region = strategy->contour({view, 0, options_.contour, &reference}).region;
     const BoundaryGrid walls(trial.region);
     if (section && !have_islands &&
         every_piece_crosses(faces, z_lo, z_hi, strategy->cuts_at(reference.layer))) {
-      trial.distance = distance_error(reference.surface, walls, {}, distance).forward;
+      // Every surface point then counts to the walls; the slab's two ends, where a section's
+      // walls stand farthest from the surface, first: one point past `enough` refuses the
+      // slab without the rest of the surface.
+      const double end_farthest =
+          std::isfinite(distance.stop_above)
+              ? farthest_end_point(reference.slab, walls, distance.stop_above)
+              : 0;
+      if (end_farthest > distance.stop_above) {
+        trial.distance = end_farthest;
+      } else {
+        need_surface();
+        trial.distance = distance_error(reference.surface, walls, {}, distance).forward;
+      }
     } else {
+      need_surface();
       const std::vector<BoundaryPair> missed = missed_features(need_islands(), trial.region);
       trial.distance = distance_error(reference.surface, walls, missed, distance).forward;
     }

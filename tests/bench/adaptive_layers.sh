@@ -11,7 +11,8 @@
 #     adaptive_slicing_quality values;
 #   - PrusaSlicer 2.5 has no command-line switch for its adaptive heights (a GUI tool that
 #     stores a layer height profile in a 3MF), so it has no row;
-#   - the lead's adaptive plans (mahost slice --adaptive --tolerance T): see LEAD below.
+#   - mahost's adaptive plans (slice --adaptive --tolerance T --contour best), at several T
+#     (ADAPTIVE_TOLERANCES), printed and judged with best;
 # Every plan is read back from its G-code (mahost analyze --boundaries FILE) and judged with
 # the contour the slicer prints at those boundaries (mid for the peers), exactly as analyze
 # does: layers, mean D and max D over layers, the 95th percentile of D by height (P95h),
@@ -22,6 +23,8 @@
 #
 # Usage: tests/bench/adaptive_layers.sh [BUILD_DIR]     (default build; mahost built)
 #        MODELS="bunny dome" tests/bench/adaptive_layers.sh   a subset of bunny dome steps vase
+# It ends with the slicing time of every adaptive run (wall and CPU), mahost's planning
+# included, beside the peers' in the same run.
 # Needs CuraEngine, slic3r, openscad (scripts/setup --bench installs them).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -35,6 +38,7 @@ models=${MODELS:-bunny dome steps vase}
 cura_thresholds=${CURA_THRESHOLDS:-0.05 0.1 0.2 0.3}
 slic3r_qualities=${SLIC3R_QUALITIES:-25 50 75 90}
 uniform=${UNIFORM:-0.15 0.2 0.25 0.3}
+adaptive_tolerances=${ADAPTIVE_TOLERANCES:-0.1 0.2 0.3 0.4 0.5}
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -45,6 +49,18 @@ timing_printer=(--printer up-plus-2 --set layer.step=0 --set layer.min=0.05 --se
 
 rows=()
 notes=()
+speed=()
+# timed NAME MODEL COMMAND...: runs a slicer, keeps its wall and CPU time (user + system, all
+# threads) for the speed table; a failure stops the run with the slicer's last lines.
+timed() {
+  local name=$1 model=$2
+  shift 2
+  /usr/bin/time -f "%e %U %S" -o "$work/time" "$@" >"$work/run.log" 2>&1 ||
+    { echo "adaptive_layers: failed: $name" >&2; tail -3 "$work/run.log" >&2; exit 1; }
+  local wall user sys
+  read -r wall user sys <"$work/time"
+  speed+=("$(printf '%-8s %-34s %8.2f s %8.2f s' "$model" "$name" "$wall" "$(awk -v u="$user" -v s="$sys" 'BEGIN { print u + s }')")")
+}
 # judge NAME MODEL_ARGS... -- GCODE CONTOUR: one row from a plan's G-code.
 judge() {
   local name=$1 model=$2 place=$3 excl=$4 gcode=$5 contour=$6
@@ -102,14 +118,20 @@ for model_name in $models; do
     done
   done
 
-  # LEAD: the adaptive plans go here, e.g. for T in 0.05 0.1 0.2 0.3:
-  #   "$mahost" slice "$model" $place --adaptive --tolerance "$T" --contour best -o "$out"
-  #   judge "mahost adaptive $T best" "$model" "$place" "$excl" "$out" best
-  # (best is in the strategy table, so analyze --contours best judges it.)
+  # mahost, adaptive layers by the exact error: the plan made for best (planned by mid's D,
+  # which bounds best's from above), printed and judged with best.
+  for tolerance in $adaptive_tolerances; do
+    out=$work/mahost-adaptive-$tolerance.gcode
+    # shellcheck disable=SC2086
+    timed "mahost adaptive $tolerance best" "$model_name" "$mahost" slice "$model" $place \
+      --adaptive --tolerance "$tolerance" --contour best -o "$out"
+    judge "mahost adaptive $tolerance best" "$model" "$place" "$excl" "$out" best
+  done
 
   # CuraEngine 4.13, adaptive layers.
   for threshold in $cura_thresholds; do
     out=$work/cura-$threshold.gcode
+    timed "CuraEngine adaptive thr $threshold" "$model_name" \
     CuraEngine slice -j "$cura_resources/definitions/fdmprinter.def.json" \
       -s machine_width=140 -s machine_depth=140 -s machine_height=135 -s machine_center_is_zero=true \
       -s machine_gcode_flavor="RepRap (Marlin/Sprinter)" -s machine_start_gcode="G28" -s machine_end_gcode="M84" \
@@ -119,8 +141,7 @@ for model_name in $models; do
       -s wall_line_count=2 -s top_layers=3 -s bottom_layers=3 -s infill_sparse_density=20 \
       -s adhesion_type=skirt -s skirt_line_count=1 -s support_enable=false \
       -e0 -s machine_nozzle_size=0.4 -s material_diameter=1.75 \
-      -o "$out" -l "$placed" >"$work/cura.log" 2>&1 ||
-      { echo "adaptive_layers: CuraEngine failed:" >&2; tail -3 "$work/cura.log" >&2; exit 1; }
+      -o "$out" -l "$placed"
     judge "CuraEngine adaptive thr $threshold" "$model" "$place" "$excl" "$out" mid
   done
 
@@ -143,8 +164,8 @@ bottom_solid_layers = 3
 fill_density = 20%
 skirts = 1
 EOF
-    slic3r --load "$cfg" --print-center 70,70 "$placed" -o "$out" >"$work/slic3r.log" 2>&1 ||
-      { echo "adaptive_layers: slic3r failed:" >&2; tail -3 "$work/slic3r.log" >&2; exit 1; }
+    timed "Slic3r adaptive quality $quality%" "$model_name" \
+      slic3r --load "$cfg" --print-center 70,70 "$placed" -o "$out"
     judge "Slic3r adaptive quality $quality%" "$model" "$place" "$excl" "$out" mid
   done
 done
@@ -156,3 +177,7 @@ echo "time: mahost's estimate of the plan sliced with that contour on the UP Plu
 printf '%-34s %6s %11s %6s %7s %7s %7s %9s %8s\n' run layers "t, mm" top "mean D" "max D" "P95h D" "ΔV, mm³" time
 printf '%s\n' "${rows[@]}"
 ((${#notes[@]})) && printf '%s\n' "${notes[@]}"
+echo
+echo "slicing time (mahost: planning and slicing; the peers: their whole slice), load $(cut -d' ' -f1-3 /proc/loadavg):"
+printf '%-8s %-34s %10s %10s\n' model run wall CPU
+printf '%s\n' "${speed[@]}"

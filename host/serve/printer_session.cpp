@@ -1,0 +1,900 @@
+#include "host/serve/printer_session.h"
+
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/core.h>
+
+#include "geometry/core/error.h"
+#include "host/control_socket.h"
+#include "printer/error.h"
+#include "printer/gcode_file.h"
+#include "sim/record.h"
+
+namespace host::serve {
+
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+
+namespace {
+
+constexpr std::size_t kHistoryPoints = 900;  // 15 min at one a second
+constexpr std::size_t kEvents = 200;
+constexpr auto kTemperatureEvery = std::chrono::seconds(2);  // M105 while idle, as OctoPrint
+constexpr auto kRetryAfter = std::chrono::seconds(5);        // reopening a port that failed
+
+// The printer halted on an emergency stop: it needs a reset (a reconnect) before it takes
+// anything, so the session waits for the user instead of reconnecting by itself.
+struct Halted {
+  std::string reason;
+};
+
+struct SliceCancelled {};
+
+std::int64_t unix_now() { return static_cast<std::int64_t>(std::time(nullptr)); }
+
+std::string local_time() {
+  const std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  localtime_r(&t, &tm);
+  char text[16];
+  std::strftime(text, sizeof text, "%H:%M:%S", &tm);
+  return text;
+}
+
+std::string file_hash(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return {};
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return printer::content_hash(bytes.str());
+}
+
+}  // namespace
+
+std::string state_text(const Status& s) {
+  switch (s.connection) {
+    case Connection::connecting: return "Opening serial connection";
+    case Connection::closed: return "Offline";
+    case Connection::error: return s.error.empty() ? "Error" : "Offline after error";
+    case Connection::operational: break;
+  }
+  if (!s.job_active) return "Operational";
+  if (s.cancel_requested) return "Cancelling";
+  if (!s.progress) return "Printing";
+  switch (s.progress->state) {
+    case printer::JobState::pausing: return "Pausing";
+    case printer::JobState::paused: return "Paused";
+    case printer::JobState::cancelling: return "Cancelling";
+    case printer::JobState::printing:
+      return s.progress->pause_before_layer > 0 ? "Pausing" : "Printing";
+    default: return "Operational";
+  }
+}
+
+PrinterSession::PrinterSession(Options options, FileStore& files)
+    : options_(std::move(options)), files_(files) {
+  status_.dry_run = options_.link.dry_run;
+  status_.link = options_.link.dry_run ? "simulated printer" : options_.link.port;
+}
+
+PrinterSession::~PrinterSession() {
+  shut_down(true);
+  wait();
+}
+
+void PrinterSession::start() {
+  job_thread_ = std::thread([this] { run(); });
+}
+
+void PrinterSession::shut_down(bool at_once) {
+  std::lock_guard lock(mutex_);
+  const bool again = shutting_down_;
+  shutting_down_ = true;
+  pending_start_.reset();
+  if (status_.job_active) {
+    job_requests_.push_back(at_once || again ? printer::JobRequest::stop : printer::JobRequest::cancel);
+  }
+  work_.notify_all();
+  changed_.notify_all();
+}
+
+void PrinterSession::wait() {
+  if (job_thread_.joinable()) job_thread_.join();
+  if (slice_thread_.joinable()) slice_thread_.join();
+}
+
+bool PrinterSession::finished() const {
+  std::lock_guard lock(mutex_);
+  return finished_;
+}
+
+Status PrinterSession::status() const {
+  std::lock_guard lock(mutex_);
+  return status_;
+}
+
+Status PrinterSession::wait_for_change(std::uint64_t version, std::chrono::milliseconds timeout) const {
+  std::unique_lock lock(mutex_);
+  changed_.wait_for(lock, timeout, [&] { return status_.version > version || shutting_down_; });
+  return status_;
+}
+
+std::vector<TemperaturePoint> PrinterSession::history(std::size_t limit) const {
+  std::lock_guard lock(mutex_);
+  const std::size_t n = std::min(limit, history_.size());
+  return {history_.end() - static_cast<std::ptrdiff_t>(n), history_.end()};
+}
+
+std::vector<Event> PrinterSession::events_after(std::uint64_t id) const {
+  std::lock_guard lock(mutex_);
+  std::vector<Event> out;
+  for (const Event& e : events_) {
+    if (e.id > id) out.push_back(e);
+  }
+  return out;
+}
+
+std::shared_ptr<const JobFile> PrinterSession::job_file() const {
+  std::lock_guard lock(mutex_);
+  return job_file_;
+}
+
+void PrinterSession::publish(bool) {
+  // mutex_ held by the caller.
+  ++status_.version;
+  changed_.notify_all();
+}
+
+void PrinterSession::add_event(const std::string& text) {
+  std::fprintf(stderr, "%s %s\n", local_time().c_str(), text.c_str());
+  std::fflush(stderr);
+  std::lock_guard lock(mutex_);
+  events_.push_back(Event{next_event_++, unix_now(), text});
+  while (events_.size() > kEvents) events_.pop_front();
+  publish();
+}
+
+void PrinterSession::sample_temperatures(const std::optional<printer::Temperatures>& temperatures) {
+  if (!temperatures) return;
+  const auto now = std::chrono::steady_clock::now();
+  std::lock_guard lock(mutex_);
+  status_.temperatures = temperatures;
+  if (now - last_sample_ < 1s) return;
+  last_sample_ = now;
+  history_.push_back(TemperaturePoint{unix_now(), *temperatures});
+  while (history_.size() > kHistoryPoints) history_.pop_front();
+}
+
+bool PrinterSession::sim_at_full_speed() const {
+  return link_.sim != nullptr && options_.link.time_scale == 0;
+}
+
+// ---- HTTP side -----------------------------------------------------------------------------
+
+Outcome PrinterSession::select(const std::string& name, bool print) {
+  // The file is read and analysed before the lock: the job thread publishes under it.
+  const std::optional<StoredFile> file = files_.find(name);
+  if (!file) return {404, fmt::format("{}: no such file", name)};
+  if (file->kind != FileKind::gcode) {
+    return {415, fmt::format("{} is a model: slice it first (the slice command)", name)};
+  }
+  if (file->analysis && !file->analysis->error.empty()) return {415, file->analysis->error};
+  std::lock_guard lock(mutex_);
+  if (status_.job_active) return {409, "a job is running: select a file once it has ended"};
+  status_.selected = *file;
+  publish();
+  if (!print) return {};
+  // start_job's checks, under the same lock.
+  if (status_.connection != Connection::operational) {
+    return {409, "the printer is not operational: " + state_text(status_)};
+  }
+  pending_start_ = JobStart{file->name, std::nullopt, {}};
+  status_.job_active = true;
+  status_.cancel_requested = false;
+  status_.ended.reset();
+  status_.progress.reset();
+  publish();
+  work_.notify_all();
+  return {};
+}
+
+Outcome PrinterSession::start_job() {
+  std::unique_lock lock(mutex_);
+  if (status_.connection != Connection::operational) {
+    return {409, "the printer is not operational: " + state_text(status_)};
+  }
+  if (status_.job_active) return {409, "a job is already running"};
+  if (!status_.selected) return {409, "no file is selected: select one first"};
+  const std::string name = status_.selected->name;
+  lock.unlock();
+  return select(name, true);
+}
+
+Outcome PrinterSession::cancel_job() {
+  std::lock_guard lock(mutex_);
+  if (!status_.job_active) return {409, "no job is running"};
+  if (pending_start_) {
+    pending_start_.reset();
+    status_.job_active = false;
+    status_.ended = printer::JobState::cancelled;
+    status_.ended_reason = "cancelled before it started";
+    publish();
+    return {};
+  }
+  job_requests_.push_back(printer::JobRequest::cancel);
+  status_.cancel_requested = true;
+  publish();
+  return {};
+}
+
+Outcome PrinterSession::pause_job(PauseAction action) {
+  std::lock_guard lock(mutex_);
+  if (!status_.job_active) return {409, "no job is running"};
+  if (status_.cancel_requested ||
+      (status_.progress && status_.progress->state == printer::JobState::cancelling)) {
+    return {409, "the job is being cancelled"};
+  }
+  // Paused, pausing, or a pause waiting for its layer: the last request not yet taken says it,
+  // else what the job last published.
+  bool paused = false;
+  if (status_.progress) {
+    const auto state = status_.progress->state;
+    paused = state == printer::JobState::paused || state == printer::JobState::pausing ||
+             status_.progress->pause_before_layer > 0;
+  }
+  for (printer::JobRequest r : job_requests_) {
+    if (r == printer::JobRequest::pause) paused = true;
+    if (r == printer::JobRequest::resume) paused = false;
+  }
+  const bool want_paused = action == PauseAction::pause    ? true
+                           : action == PauseAction::resume ? false
+                                                           : !paused;
+  if (want_paused == paused) return {};  // as OctoPrint: pausing a paused job does nothing
+  job_requests_.push_back(want_paused ? printer::JobRequest::pause : printer::JobRequest::resume);
+  publish();
+  return {};
+}
+
+Outcome PrinterSession::restart_job() {
+  std::lock_guard lock(mutex_);
+  if (!status_.job_active || !status_.progress || status_.progress->state != printer::JobState::paused) {
+    return {409, "restart takes a paused job"};
+  }
+  job_requests_.push_back(printer::JobRequest::cancel);
+  status_.cancel_requested = true;
+  restart_after_cancel_ = true;
+  publish();
+  return {};
+}
+
+Outcome PrinterSession::set_pause_at(std::vector<int> layers) {
+  for (int layer : layers) {
+    if (layer < 1) return {400, fmt::format("layer {}: layers count from 1", layer)};
+  }
+  std::sort(layers.begin(), layers.end());
+  layers.erase(std::unique(layers.begin(), layers.end()), layers.end());
+  std::lock_guard lock(mutex_);
+  status_.pause_at = std::move(layers);
+  publish();
+  return {};
+}
+
+Outcome PrinterSession::emergency_stop() {
+  std::lock_guard lock(mutex_);
+  if (status_.connection != Connection::operational) {
+    return {409, "the printer is not operational: " + state_text(status_)};
+  }
+  if (status_.job_active && !pending_start_) {
+    job_requests_.push_back(printer::JobRequest::stop);
+  } else {
+    stop_pending_start();
+    stop_now_ = true;
+  }
+  publish();
+  work_.notify_all();
+  return {};
+}
+
+void PrinterSession::stop_pending_start() {
+  // mutex_ held by the caller.
+  if (!pending_start_) return;
+  pending_start_.reset();
+  status_.job_active = false;
+  status_.ended = printer::JobState::stopped;
+  status_.ended_reason = "emergency stop (M112) before the job started";
+}
+
+Outcome PrinterSession::send_commands(const std::vector<std::string>& commands) {
+  std::lock_guard lock(mutex_);
+  if (status_.connection != Connection::operational) {
+    return {409, "the printer is not operational: " + state_text(status_)};
+  }
+  const bool all_stops = !commands.empty() && std::all_of(commands.begin(), commands.end(),
+                                                          [](const std::string& c) { return c == "M112"; });
+  if (status_.job_active) {
+    if (all_stops) {
+      if (pending_start_) {
+        stop_pending_start();
+        stop_now_ = true;
+      } else {
+        job_requests_.push_back(printer::JobRequest::stop);
+      }
+      publish();
+      work_.notify_all();
+      return {};
+    }
+    return {409,
+            "a job is printing: G-code commands are taken when no job runs (pause, resume and "
+            "cancel through /api/job; M112 stops at once)"};
+  }
+  if (pending_commands_.size() + commands.size() > 256) {
+    return {409, "the printer has 256 commands waiting already: try again when they are done"};
+  }
+  for (const std::string& c : commands) {
+    if (c == "M112") {
+      stop_now_ = true;
+      break;
+    }
+    pending_commands_.push_back(c);
+  }
+  work_.notify_all();
+  return {};
+}
+
+Outcome PrinterSession::reconnect() {
+  std::lock_guard lock(mutex_);
+  if (status_.job_active) return {409, "a job is running: cancel it before reconnecting"};
+  reconnect_requested_ = true;
+  work_.notify_all();
+  return {};
+}
+
+Outcome PrinterSession::resume_interrupted() {
+  std::lock_guard lock(mutex_);
+  if (!status_.interrupted) return {409, "no interrupted job to resume"};
+  if (status_.connection != Connection::operational) {
+    return {409, "the printer is not operational: " + state_text(status_)};
+  }
+  if (status_.job_active) return {409, "a job is already running"};
+  printer::JournalRecord record;
+  try {
+    record = printer::read_journal(status_.interrupted->journal);
+  } catch (const printer::ConfigError& e) {
+    status_.interrupted.reset();
+    publish();
+    return {409, e.what()};
+  }
+  pending_start_ = JobStart{fs::path(record.gcode_path).filename().string(), record,
+                            status_.interrupted->journal};
+  // The job names its file, in the folder or (a `mahost print` job's) beside its journal.
+  StoredFile file;
+  file.name = pending_start_->name;
+  struct stat info {};
+  if (::stat(record.gcode_path.c_str(), &info) == 0) {
+    file.size = static_cast<std::uint64_t>(info.st_size);
+    file.date = info.st_mtim.tv_sec;
+  }
+  status_.selected = file;
+  status_.interrupted.reset();
+  status_.job_active = true;
+  status_.cancel_requested = false;
+  status_.ended.reset();
+  status_.progress.reset();
+  publish();
+  work_.notify_all();
+  return {};
+}
+
+Outcome PrinterSession::discard_interrupted() {
+  std::lock_guard lock(mutex_);
+  if (!status_.interrupted) return {409, "no interrupted job to discard"};
+  remove_files({status_.interrupted->journal});
+  status_.interrupted.reset();
+  publish();
+  return {};
+}
+
+Outcome PrinterSession::slice(SliceRequest request) {
+  {
+    std::lock_guard lock(mutex_);
+    if (shutting_down_) return {503, "the server is shutting down"};
+    if (slicing_) return {409, "a model is being sliced: wait until it is done"};
+    if (status_.job_active && job_file_name_ == request.gcode) {
+      return {409, fmt::format("{} is being printed: slice to another name", request.gcode)};
+    }
+    slicing_ = true;
+    status_.slicing = SliceStatus{request.model, request.gcode, "starting", 0, 0, {}, {}};
+    publish();
+  }
+  if (slice_thread_.joinable()) slice_thread_.join();  // the last one, done
+  slice_thread_ = std::thread([this, request = std::move(request)]() mutable { slice_worker(std::move(request)); });
+  return {202, {}};
+}
+
+void PrinterSession::file_changed(const std::string& name) {
+  std::lock_guard lock(mutex_);
+  if (status_.selected && status_.selected->name == name && !status_.job_active) {
+    status_.selected.reset();
+    publish();
+  }
+}
+
+bool PrinterSession::printing_file(const std::string& name) const {
+  std::lock_guard lock(mutex_);
+  return status_.job_active && (job_file_name_ == name || (pending_start_ && pending_start_->name == name));
+}
+
+// ---- The slicing thread --------------------------------------------------------------------
+
+void PrinterSession::slice_worker(SliceRequest request) {
+  SliceOptions options = request.options;
+  options.model.path = files_.path_of(request.model);
+  const std::string output = files_.path_of(request.gcode);
+  auto last = std::chrono::steady_clock::now() - 1s;
+  bool ok = false;
+  std::string summary, error;
+  add_event(fmt::format("slicing {} to {} ({} contour)", request.model, request.gcode, options.contour));
+  try {
+    const SliceResult result = slice_to_gcode(
+        options, output, [&](SliceStage stage, std::size_t done, std::size_t total) {
+          std::lock_guard lock(mutex_);
+          if (shutting_down_) throw SliceCancelled{};
+          const auto now = std::chrono::steady_clock::now();
+          if (done != 0 && done != total && now - last < 100ms) return;
+          last = now;
+          if (status_.slicing) {
+            status_.slicing->stage = std::string(stage_name(stage));
+            status_.slicing->done = done;
+            status_.slicing->total = total;
+          }
+          publish();
+        });
+    summary = slice_summary_text(result);
+    ok = true;
+  } catch (const SliceCancelled&) {
+    error = "the server is shutting down";
+  } catch (const geometry::InputError& e) {
+    error = e.what();
+  } catch (const printer::ConfigError& e) {
+    error = e.what();
+  } catch (const std::exception& e) {
+    error = fmt::format("internal error while slicing: {} (please report this)", e.what());
+  }
+  {
+    std::lock_guard lock(mutex_);
+    slicing_ = false;
+    if (status_.slicing) {
+      status_.slicing->stage = ok ? "done" : "failed";
+      status_.slicing->error = error;
+      status_.slicing->summary = summary;
+    }
+    publish();
+  }
+  add_event(ok ? fmt::format("sliced {}: {}", request.gcode, summary)
+               : fmt::format("slicing {} failed: {}", request.model, error));
+  if (ok && (request.select || request.print)) {
+    const Outcome o = select(request.gcode, request.print);
+    if (!o.ok()) add_event(fmt::format("{} sliced but not {}: {}", request.gcode,
+                                       request.print ? "printed" : "selected", o.message));
+  }
+}
+
+// ---- The job thread ------------------------------------------------------------------------
+
+void PrinterSession::run() {
+  bool retry = false;  // reopen by itself: the port failed (not a halt the user must see to)
+  while (true) {
+    {
+      std::unique_lock lock(mutex_);
+      if (shutting_down_) break;
+    }
+    std::string failure;
+    bool halted = false;
+    try {
+      connect_printer();
+      find_interrupted();
+      serve_printer();
+      retry = false;
+      std::lock_guard lock(mutex_);
+      if (shutting_down_) break;
+      continue;  // a reconnect was asked for
+    } catch (const Halted& h) {
+      failure = h.reason;
+      halted = true;
+    } catch (const printer::LinkError& e) {
+      failure = e.what();
+      retry = true;
+    } catch (const printer::PrinterError& e) {
+      failure = e.what();
+      halted = true;
+    } catch (const printer::ConfigError& e) {
+      failure = e.what();
+    } catch (const std::exception& e) {
+      failure = fmt::format("internal error: {} (please report this)", e.what());
+    }
+    if (protocol_) protocol_->on_wait = nullptr;
+    protocol_.reset();
+    if (link_.sim == nullptr) link_.link.reset();  // a port is reopened; the sim keeps its record
+    write_record();
+    add_event(fmt::format("printer {}: {}", halted ? "halted" : "link failed", failure));
+    std::unique_lock lock(mutex_);
+    status_.connection = Connection::error;
+    status_.error = failure;
+    status_.job_active = false;
+    pending_start_.reset();
+    job_requests_.clear();
+    pending_commands_.clear();
+    publish();
+    if (shutting_down_) break;
+    if (retry) {
+      work_.wait_for(lock, kRetryAfter, [&] { return shutting_down_ || reconnect_requested_; });
+    } else {
+      work_.wait(lock, [&] { return shutting_down_ || reconnect_requested_; });
+    }
+    reconnect_requested_ = false;
+  }
+  if (protocol_) protocol_->on_wait = nullptr;
+  write_record();
+  std::lock_guard lock(mutex_);
+  status_.connection = Connection::closed;
+  finished_ = true;
+  publish();
+}
+
+void PrinterSession::connect_printer() {
+  {
+    std::lock_guard lock(mutex_);
+    status_.connection = Connection::connecting;
+    publish();
+  }
+  protocol_.reset();
+  if (link_.sim != nullptr) {
+    // The same simulated printer, reset: it keeps its record of what it printed.
+    sim::Printer& printer = link_.sim->printer();
+    if (printer.state() == sim::PrinterState::disconnected) link_.sim->reconnect();
+    else if (printer.state() == sim::PrinterState::halted) printer.reset();
+  } else {
+    link_.link.reset();
+    link_ = open_link(options_.link, options_.profiles.printer, options_.baud);
+  }
+  protocol_ = std::make_unique<printer::LineProtocol>(*link_.link, protocol_options(options_.link));
+  install_idle_hook();
+  host::connect(*protocol_, link_);
+  autoreport_ = protocol_->firmware().autoreport_temperature;
+  if (autoreport_) {
+    // The printer reports its temperatures by itself, during jobs too.
+    protocol_->send("M155 S2");
+    protocol_->wait_acknowledged();
+  }
+  // The temperatures before the first client asks.
+  protocol_->send("M105");
+  protocol_->wait_acknowledged();
+  last_m105_ = protocol_->link().now();
+  sample_temperatures(protocol_->temperatures());
+  add_event(fmt::format("connected to {}{}", link_.link->name(),
+                        protocol_->firmware().name.empty() ? "" : " (" + protocol_->firmware().name + ")"));
+  std::lock_guard lock(mutex_);
+  status_.connection = Connection::operational;
+  status_.error.clear();
+  status_.firmware = protocol_->firmware().name;
+  status_.link = link_.link->name();
+  publish();
+}
+
+void PrinterSession::install_idle_hook() {
+  // While a command of the user's runs (a G28, an M109 of minutes): an emergency stop goes out
+  // at once, and the temperatures stay fresh. A job sets its own hook and clears it.
+  protocol_->on_wait = [this] {
+    bool stop = false;
+    {
+      std::lock_guard lock(mutex_);
+      stop = stop_now_;
+      stop_now_ = false;
+    }
+    if (stop) protocol_->emergency("M112");
+    sample_temperatures(protocol_->temperatures());
+  };
+}
+
+void PrinterSession::find_interrupted() {
+  const std::string port = options_.link.dry_run ? "" : options_.link.port;
+  std::optional<InterruptedJob> best;
+  std::error_code error;
+  for (const fs::directory_entry& entry : fs::directory_iterator(printer::job_directory(), error)) {
+    if (entry.path().extension() != ".journal") continue;
+    printer::JournalRecord record;
+    try {
+      record = printer::read_journal(entry.path().string());
+    } catch (const printer::ConfigError&) {
+      continue;
+    }
+    if (record.state == "completed" || record.state == "cancelled") continue;
+    if (record.port != port || other_mahost_running(record.pid)) continue;
+    if (file_hash(record.gcode_path) != record.gcode_hash) continue;  // gone or changed
+    InterruptedJob job;
+    job.journal = entry.path().string();
+    job.file = record.gcode_path;
+    job.state = record.state;
+    job.reason = record.reason;
+    job.updated = record.updated;
+    job.layer = record.layer_index + 1;
+    job.layers = static_cast<int>(record.layers);
+    if (!best || job.updated > best->updated) best = job;
+  }
+  {
+    std::lock_guard lock(mutex_);
+    status_.interrupted = best;
+    publish();
+  }
+  if (best) {
+    add_event(fmt::format("found an interrupted job: {} at layer {}/{} ({}): finish or discard it",
+                          fs::path(best->file).filename().string(), best->layer, best->layers, best->state));
+  }
+}
+
+void PrinterSession::serve_printer() {
+  while (true) {
+    std::optional<JobStart> start;
+    std::vector<std::string> commands;
+    bool stop = false;
+    {
+      std::lock_guard lock(mutex_);
+      if (shutting_down_) return;
+      if (reconnect_requested_) {
+        reconnect_requested_ = false;
+        return;
+      }
+      start = std::move(pending_start_);
+      pending_start_.reset();
+      commands.swap(pending_commands_);
+      stop = stop_now_;
+      stop_now_ = false;
+    }
+    if (stop) {
+      protocol_->emergency("M112");
+      try {
+        protocol_->poll(2000ms);
+      } catch (const printer::PrinterError&) {
+      }
+      throw Halted{"emergency stop (M112): the printer is halted; reconnect to reset it"};
+    }
+    if (start) {
+      run_job(*start);
+      continue;
+    }
+    if (!commands.empty()) {
+      run_commands(commands);
+      continue;
+    }
+    idle_step();
+  }
+}
+
+void PrinterSession::idle_step() {
+  if (!autoreport_) {
+    const auto now = protocol_->link().now();
+    if (last_m105_.count() < 0 || now - last_m105_ >= kTemperatureEvery) {
+      protocol_->send("M105");
+      last_m105_ = now;
+    }
+  }
+  const auto has_work = [&] {
+    return pending_start_ || !pending_commands_.empty() || stop_now_ || shutting_down_ || reconnect_requested_;
+  };
+  if (link_.sim != nullptr && options_.link.time_scale == 0) {
+    // At full speed the simulated clock would race: idle in real time.
+    std::unique_lock lock(mutex_);
+    work_.wait_for(lock, 100ms, has_work);
+    lock.unlock();
+    protocol_->poll(100ms);
+  } else if (link_.sim != nullptr) {
+    protocol_->poll(std::chrono::milliseconds(static_cast<long>(100 * options_.link.time_scale)));
+  } else {
+    protocol_->poll(100ms);
+  }
+  sample_temperatures(protocol_->temperatures());
+  std::lock_guard lock(mutex_);
+  publish();
+}
+
+void PrinterSession::run_commands(const std::vector<std::string>& commands) {
+  for (const std::string& command : commands) protocol_->send(command);
+  protocol_->wait_acknowledged();
+  add_event(commands.size() == 1 ? fmt::format("sent {}", commands.front())
+                                 : fmt::format("sent {} commands, {} first", commands.size(), commands.front()));
+}
+
+void PrinterSession::take_planned_pause(printer::Job& job) {
+  // A pause asked for while layer n prints takes effect before layer n + 1: so the pause
+  // before layer N is asked for while N - 1 prints (or before the first, for N = 1).
+  const printer::JobProgress p = job.progress();
+  if (p.state != printer::JobState::printing || p.pause_before_layer > 0) return;
+  std::lock_guard lock(mutex_);
+  auto& planned = status_.pause_at;
+  // Layers already behind are dropped: the print has passed them.
+  while (!planned.empty() && planned.front() <= p.layer) planned.erase(planned.begin());
+  if (!planned.empty() && planned.front() == p.layer + 1) {
+    planned.erase(planned.begin());
+    job.request(printer::JobRequest::pause);
+    publish();
+  }
+}
+
+void PrinterSession::publish_job(printer::Job& job) {
+  const printer::JobProgress p = job.progress();
+  sample_temperatures(p.temperatures);
+  const auto now = std::chrono::steady_clock::now();
+  std::lock_guard lock(mutex_);
+  const bool changed = !status_.progress || status_.progress->state != p.state ||
+                       status_.progress->layer != p.layer ||
+                       status_.progress->pause_before_layer != p.pause_before_layer;
+  if (!changed && now - last_publish_ < 100ms) return;
+  last_publish_ = now;
+  status_.progress = p;
+  if (job_file_) {
+    status_.filepos = job_file_->filepos(p.commands_done);
+    const auto& layers = job_file_->gcode.layers;
+    status_.layer_z = p.layer > 0 && static_cast<std::size_t>(p.layer) <= layers.size()
+                          ? layers[static_cast<std::size_t>(p.layer - 1)].z
+                          : std::nullopt;
+  }
+  publish();
+}
+
+void PrinterSession::run_job(const JobStart& start) {
+  const bool dry_run = options_.link.dry_run;
+  const printer::PrinterProfile& machine = options_.profiles.printer;
+  const std::string path = start.recover ? start.recover->gcode_path : files_.path_of(start.name);
+  std::shared_ptr<JobFile> file;
+  try {
+    file = std::make_shared<JobFile>(read_job_file(path));
+    if (start.recover && (file->gcode.hash != start.recover->gcode_hash ||
+                          file->gcode.size() != start.recover->commands)) {
+      throw printer::ConfigError(fmt::format(
+          "{}: the file changed since the job started: resuming would print a different part", path));
+    }
+  } catch (const printer::ConfigError& e) {
+    {
+      std::lock_guard lock(mutex_);
+      status_.job_active = false;
+      status_.ended = printer::JobState::failed;
+      status_.ended_reason = e.what();
+      publish();
+    }
+    add_event(fmt::format("cannot print {}: {}", start.name, e.what()));
+    return;
+  }
+
+  printer::JobOptions options;
+  std::string journal;
+  if (start.recover) {
+    journal = start.recover_journal;
+    const printer::JournalRecord& record = *start.recover;
+    options.pause = pause_options(options_.link, machine);
+    options.motion = machine.motion;
+    options.first_command = record.resume_command;
+    if (record.layer_index >= 0) {
+      options.recover_from = record.state_at_resume;
+      options.printer_restarted = protocol_->restart_seen() || link_.sim != nullptr;
+    }
+    options.journal_path = journal;
+    options.journal_durable = !dry_run;
+    options.journal = record;
+    options.journal.port = dry_run ? "" : options_.link.port;
+    options.journal.baud = dry_run ? 0 : options_.baud;
+    options.journal.pid = 0;
+  } else {
+    journal = (fs::path(printer::job_directory()) /
+               (job_name(fs::path(start.name).stem().string()) + ".journal"))
+                  .string();
+    options = job_options_for(file->gcode, path, machine, options_.link, options_.baud, journal);
+  }
+  options.resume_command =
+      dry_run ? std::string("reconnect, then resume it on the mahost serve page")
+              : fmt::format("reconnect and resume it on the mahost serve page, or stop mahost serve "
+                            "and run mahost resume {} --port {}",
+                            journal, options_.link.port);
+  if (sim_at_full_speed()) options.paused_wait = wait_real_time;
+
+  {
+    std::lock_guard lock(mutex_);
+    job_file_ = file;
+    job_file_name_ = start.name;
+    status_.journal = journal;
+    status_.filepos = 0;
+    status_.layer_z.reset();
+    publish();
+  }
+  const std::string base = fs::path(journal).replace_extension().string();
+  std::optional<ControlSocket> control;
+  try {
+    control.emplace(base + ".sock");
+  } catch (const printer::ConfigError&) {
+    // `mahost ctl` cannot reach this job (a path too long for a socket); the page can.
+  }
+  printer::Job job(*protocol_, file->gcode, std::move(options));
+  job.on_event = [this](const std::string& line) { add_event(line); };
+  job.on_tick = [&](printer::Job& j) {
+    std::vector<printer::JobRequest> requests;
+    {
+      std::lock_guard lock(mutex_);
+      requests.swap(job_requests_);
+    }
+    for (printer::JobRequest r : requests) j.request(r);
+    take_planned_pause(j);
+    if (control) control->serve(j);
+    publish_job(j);
+  };
+  add_event(start.recover ? fmt::format("resuming {} at layer {}/{}", start.name,
+                                        start.recover->layer_index + 1, file->gcode.layers.size())
+                          : fmt::format("printing {}: {} layers, {} commands", start.name,
+                                        file->gcode.layers.size(), file->gcode.size()));
+  auto end_job = [&](printer::JobState state, const std::string& reason) {
+    const printer::JobProgress last = job.progress();
+    std::lock_guard lock(mutex_);
+    status_.progress = last;
+    status_.filepos = file->filepos(last.commands_done);
+    status_.job_active = false;
+    status_.cancel_requested = false;
+    status_.ended = state;
+    status_.ended_reason = reason;
+    job_file_name_.clear();
+    job_requests_.clear();
+    publish();
+  };
+  printer::JobResult result;
+  try {
+    result = job.run();
+    install_idle_hook();
+  } catch (const printer::LinkError& e) {
+    end_job(printer::JobState::failed, e.what());
+    throw;
+  } catch (const printer::PrinterError& e) {
+    end_job(printer::JobState::failed, e.what());
+    throw;
+  }
+  end_job(result.state, result.reason);
+  control.reset();
+  if (result.state == printer::JobState::completed || result.state == printer::JobState::cancelled) {
+    // Nothing to resume: the journal goes (and a G-code `mahost print` sliced beside it).
+    std::vector<std::string> own{journal};
+    if (start.recover && start.recover->gcode_path == base + ".gcode") own.push_back(base + ".gcode");
+    remove_files(own);
+  }
+  add_event(result.state == printer::JobState::completed
+                ? fmt::format("completed {}: {} commands, {} layers", start.name, result.commands_done,
+                              file->gcode.layers.size())
+                : fmt::format("{} {}: {}", printer::to_string(result.state), start.name, result.reason));
+  write_record();
+  if (result.state == printer::JobState::stopped) throw Halted{result.reason};
+  std::lock_guard lock(mutex_);
+  if (restart_after_cancel_) {
+    restart_after_cancel_ = false;
+    if (result.state == printer::JobState::cancelled && !shutting_down_) {
+      pending_start_ = JobStart{start.name, std::nullopt, {}};
+      status_.job_active = true;
+      status_.ended.reset();
+      publish();
+    }
+  }
+}
+
+void PrinterSession::write_record() const {
+  if (link_.sim == nullptr) return;
+  try {
+    if (!options_.record_path.empty()) sim::write_record_json(link_.sim->printer(), options_.record_path);
+    if (!options_.printed_stl_path.empty()) sim::write_printed_stl(link_.sim->printer(), options_.printed_stl_path);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "mahost serve: %s\n", e.what());
+  }
+}
+
+}  // namespace host::serve

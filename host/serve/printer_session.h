@@ -1,0 +1,230 @@
+// The printer behind `mahost serve`: the connected link, the one job that runs on it, the STL
+// being sliced, and the state the API and the page read (DESIGN.md §1, §4).
+//
+// One thread owns the link and the protocol and does all the talking to the printer: it
+// connects (and reconnects after a failure), keeps the temperatures fresh while idle (M155
+// auto-report when the firmware has it, else M105 every 2 s), sends the G-code lines a client
+// asks for, and runs each job through printer::Job exactly as `mahost print` does, with the
+// same journal. The HTTP threads never touch the link: they queue requests, which the job
+// thread applies in Job::on_tick (about every 100 ms of link time), and read a snapshot the
+// job thread publishes under a mutex. So however many clients poll, the printer sees exactly
+// the file's commands, in order, once.
+//
+// At every connect the job directory is searched for an interrupted job of this printer (a
+// journal whose process died mid-print, whose G-code is unchanged): the page offers to finish
+// it (`mahost resume`'s recovery) or to drop it.
+#pragma once
+
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "host/job_setup.h"
+#include "host/serve/file_store.h"
+#include "host/serve/job_file.h"
+#include "host/slice_pipeline.h"
+#include "printer/job.h"
+#include "printer/journal.h"
+#include "printer/profile.h"
+#include "printer/replies.h"
+
+namespace host::serve {
+
+enum class Connection { connecting, operational, error, closed };
+
+struct TemperaturePoint {
+  std::int64_t time = 0;  // Unix seconds
+  printer::Temperatures temperatures;
+};
+
+struct Event {
+  std::uint64_t id = 0;   // increasing from 1
+  std::int64_t time = 0;  // Unix seconds
+  std::string text;
+};
+
+// An STL being (or last) sliced on the host.
+struct SliceStatus {
+  std::string model, gcode;      // names in the files folder
+  std::string stage;             // "contours", "toolpaths", "writing", "done", "failed"
+  std::size_t done = 0, total = 0;
+  std::string error;
+  std::string summary;           // slice_summary_text once done
+};
+
+// An interrupted job found in the job directory.
+struct InterruptedJob {
+  std::string journal;           // its path
+  std::string file;              // the G-code's path
+  std::string state, reason, updated;
+  int layer = 0, layers = 0;     // the layer a resume reprints, from 1
+};
+
+// Everything the API and the page show, as of `version`.
+struct Status {
+  std::uint64_t version = 0;
+  Connection connection = Connection::connecting;
+  std::string link;              // "/dev/ttyUSB0", "simulated printer"
+  std::string firmware;
+  std::string error;             // why the link or the printer failed
+  bool dry_run = false;
+  std::optional<printer::Temperatures> temperatures;
+
+  std::optional<StoredFile> selected;  // the file a start prints
+  bool job_active = false;       // a job is starting or running (printing ... cancelling)
+  bool cancel_requested = false;
+  std::optional<printer::JobProgress> progress;  // the running job's, else the last one's
+  std::optional<printer::JobState> ended;        // how the last job ended, when none runs
+  std::string ended_reason;
+  std::uint64_t filepos = 0;
+  std::optional<double> layer_z;
+  std::string journal;           // the running job's
+
+  std::optional<SliceStatus> slicing;
+  std::optional<InterruptedJob> interrupted;
+  // Layers (from 1) a print pauses before, as `mahost print --pause-at-layer`; kept for the
+  // next job too, each taken once it is reached.
+  std::vector<int> pause_at;
+};
+
+// What a request came to, as an HTTP status and a one-line message for the client.
+struct Outcome {
+  int status = 204;
+  std::string message;
+  bool ok() const { return status < 300; }
+};
+
+enum class PauseAction { pause, resume, toggle };
+
+// Options for slicing an STL upload on the host, as the page and the slice command give them.
+struct SliceRequest {
+  std::string model;             // a clean STL name in the files folder
+  std::string gcode;             // the clean G-code name to write
+  SliceOptions options;          // printer, material, layer, contour, placement (model.path set here)
+  bool select = false, print = false;
+};
+
+class PrinterSession {
+ public:
+  struct Options {
+    LinkOptions link;
+    printer::Profiles profiles;  // the printer it serves: a dry run simulates it
+    int baud = 115200;
+    std::string record_path;     // dry run: the sim's record, written after each job and at exit
+    std::string printed_stl_path;
+  };
+
+  PrinterSession(Options options, FileStore& files);
+  ~PrinterSession();
+  PrinterSession(const PrinterSession&) = delete;
+  PrinterSession& operator=(const PrinterSession&) = delete;
+
+  void start();
+  // Asks the session to end: a running job is cancelled (stopped at once with `at_once`);
+  // returns at once. wait() joins the threads.
+  void shut_down(bool at_once);
+  void wait();
+  bool finished() const;
+
+  Status status() const;
+  // Waits until the status is newer than `version` or `timeout` passes, or the session ends.
+  Status wait_for_change(std::uint64_t version, std::chrono::milliseconds timeout) const;
+  std::vector<TemperaturePoint> history(std::size_t limit) const;
+  std::vector<Event> events_after(std::uint64_t id) const;
+  // The file the running (or last) job prints, for the page's drawing; null before any job.
+  std::shared_ptr<const JobFile> job_file() const;
+  const printer::Profiles& profiles() const { return options_.profiles; }
+
+  // OctoPrint's job and file commands; each answers 204 (or 202) or the status of its
+  // precondition: 409 when the printer or the job is not in a state for it, 404 for a file
+  // that is not there, 415 for one that cannot be printed.
+  Outcome select(const std::string& name, bool print);
+  Outcome start_job();
+  Outcome cancel_job();
+  Outcome pause_job(PauseAction action);
+  Outcome restart_job();
+  Outcome emergency_stop();
+  // The layers to pause before (from 1; replaces the list). 400 for a layer below 1.
+  Outcome set_pause_at(std::vector<int> layers);
+  // G-code lines for the printer: taken when no job runs; while one runs only M112 (which
+  // stops it at once) is taken.
+  Outcome send_commands(const std::vector<std::string>& commands);
+  Outcome reconnect();
+  Outcome resume_interrupted();
+  Outcome discard_interrupted();
+  Outcome slice(SliceRequest request);
+  // A file was deleted or replaced: it is no longer selected.
+  void file_changed(const std::string& name);
+  // Whether `name` is the file a job is printing now (then it may not be replaced or deleted).
+  bool printing_file(const std::string& name) const;
+
+ private:
+  struct JobStart {
+    std::string name;                      // in the files folder
+    std::optional<printer::JournalRecord> recover;  // an interrupted job to finish
+    std::string recover_journal;
+  };
+
+  void run();
+  void connect_printer();
+  void serve_printer();
+  void idle_step();
+  void run_job(const JobStart& start);
+  void run_commands(const std::vector<std::string>& commands);
+  void stop_pending_start();
+  void find_interrupted();
+  void install_idle_hook();
+  void slice_worker(SliceRequest request);
+  void publish(bool force = false);
+  void publish_job(printer::Job& job);
+  void take_planned_pause(printer::Job& job);
+  void sample_temperatures(const std::optional<printer::Temperatures>& temperatures);
+  void add_event(const std::string& text);
+  void write_record() const;
+  bool sim_at_full_speed() const;
+
+  Options options_;
+  FileStore& files_;
+
+  // The job thread's own (never touched by the HTTP threads).
+  OpenLink link_;
+  std::unique_ptr<printer::LineProtocol> protocol_;
+  std::chrono::steady_clock::time_point last_publish_{}, last_sample_{};
+  std::chrono::nanoseconds last_m105_{-1};
+  bool autoreport_ = false;
+
+  mutable std::mutex mutex_;
+  mutable std::condition_variable changed_;  // status_ changed; the session is ending
+  std::condition_variable work_;             // a request for the job thread
+  Status status_;
+  std::deque<TemperaturePoint> history_;
+  std::deque<Event> events_;
+  std::uint64_t next_event_ = 1;
+  std::shared_ptr<const JobFile> job_file_;
+  std::string job_file_name_;                // the file the running job prints
+
+  // Requests for the job thread, guarded by mutex_.
+  std::optional<JobStart> pending_start_;
+  std::vector<printer::JobRequest> job_requests_;
+  std::vector<std::string> pending_commands_;
+  bool restart_after_cancel_ = false;
+  bool reconnect_requested_ = false;
+  bool stop_now_ = false;                    // emergency stop with no job
+  bool shutting_down_ = false;
+  bool finished_ = false;
+  bool slicing_ = false;
+
+  std::thread job_thread_, slice_thread_;
+};
+
+// OctoPrint's text for the state: "Operational", "Printing", "Pausing", "Paused",
+// "Cancelling", "Error", "Offline", "Opening serial connection".
+std::string state_text(const Status& status);
+
+}  // namespace host::serve
