@@ -6,7 +6,8 @@
 //
 // analyze (paper §4, Fig. 22-26): slices the model into uniform layers (or the layers of
 // --boundaries: any plan, a peer's read from its G-code, no printer asked), makes each layer's
-// region with every strategy asked for, measures each region exactly (geometry/metrics/layer_metrics.h)
+// region with every strategy asked for, measures each region (geometry/metrics/layer_metrics.h:
+// ΔV exactly, D to 1 um over the whole surface, H's reverse direction at 5 heights)
 // and prints one summary row per strategy, then how every strategy compares with lower (the
 // paper's baseline) and with mid (what PrusaSlicer, Slic3r and CuraEngine print). Optional
 // outputs: a CSV row per layer and strategy, a JSON summary, SVG charts (D per layer, ΔV per
@@ -69,7 +70,7 @@ struct AnalyzeOptions {
   std::string exclude_z;   // "LO:HI", mm: left out of the by-height percentile
   std::string contours = geometry::contour_names(",");  // all of them
   std::string csv, json, plots, export_layers;
-  std::string contour = "ma";  // for --export-layers, and the contour --adaptive plans for
+  std::string contour = "best";  // for --export-layers, and the contour --adaptive plans for
   std::string thick = "0.2,0.25";
   int layer_index = -1;
   AdaptiveRequest adaptive;        // --adaptive: the layers of a plan, not uniform
@@ -228,9 +229,29 @@ int index_of(const Strategies& kinds, std::string_view name) {
   return -1;
 }
 
-std::string percent_change(double value, double base) {
-  if (!(base > 0)) return "n/a";
-  return fmt::format("{:+.1f}%", 100.0 * (value - base) / base);
+// x with its sign and `decimals` decimals, but a value that rounds to zero as plain zero
+// ("0.0", never "-0.0" or "+0.0").
+std::string signed_text(double x, int decimals) {
+  const std::string text = fmt::format("{:+.{}f}", x, decimals);
+  return text.find_first_not_of("+-0.") == std::string::npos ? text.substr(1) : text;
+}
+
+// How `value` compares with `base`: in percent of the baseline, or where the baseline is at
+// most `negligible` (a distance error of 1e-15 mm on a part of vertical walls, whose lower
+// contour is exact) as the absolute difference in `unit`, since a percentage of rounding noise
+// says nothing.
+std::string change_text(double value, double base, double negligible, const char* unit,
+                        int decimals) {
+  if (!(std::abs(base) > negligible)) {
+    return fmt::format("{} {}", signed_text(value - base, decimals), unit);
+  }
+  return signed_text(100.0 * (value - base) / base, 1) + "%";
+}
+
+// The change in percent for the JSON, or null where change_text gives the absolute difference.
+nlohmann::json percent_or_null(double value, double base, double negligible) {
+  if (!(std::abs(base) > negligible)) return nullptr;
+  return 100 * (value - base) / base;
 }
 
 // How strategy k compares with baseline b: one line of text and its figures.
@@ -258,14 +279,16 @@ nlohmann::json compare(const std::vector<LayerAnalysis>& layers,
   nlohmann::json j;
   j["strategy"] = name_of(s.strategy);
   j["baseline"] = name_of(base.strategy);
-  j["mean_distance_change_percent"] =
-      base.mean_distance > 0 ? 100 * (s.mean_distance - base.mean_distance) / base.mean_distance : 0.0;
-  j["max_distance_change_percent"] =
-      base.max_distance > 0 ? 100 * (s.max_distance - base.max_distance) / base.max_distance : 0.0;
+  // Below the distance metric's tolerance a D is zero; below a 10 um cube per layer a ΔV is.
+  const double no_distance = tolerance;
+  const double no_volume = geometry::kNegligibleVolume * static_cast<double>(layers.size());
+  j["mean_distance_change_percent"] = percent_or_null(s.mean_distance, base.mean_distance, no_distance);
+  j["max_distance_change_percent"] = percent_or_null(s.max_distance, base.max_distance, no_distance);
   j["total_deviation_change_percent"] =
-      base.total_deviation > geometry::kNegligibleVolume * layers.size()
-          ? nlohmann::json(100 * (s.total_deviation - base.total_deviation) / base.total_deviation)
-          : nlohmann::json(nullptr);
+      percent_or_null(s.total_deviation, base.total_deviation, no_volume);
+  j["mean_distance_change"] = s.mean_distance - base.mean_distance;
+  j["max_distance_change"] = s.max_distance - base.max_distance;
+  j["total_deviation_change"] = s.total_deviation - base.total_deviation;
   j["per_layer_deviation_change_percent"] = counted ? 100 * per_layer / counted : 0.0;
   j["layers_compared_for_deviation"] = counted;
   j["per_layer_deviation_change_min_percent"] = 100 * lowest;
@@ -273,16 +296,16 @@ nlohmann::json compare(const std::vector<LayerAnalysis>& layers,
   j["layers_distance_better"] = better;
   j["layers_distance_worse"] = worse;
   const std::string per_layer_text =
-      counted ? fmt::format("ΔV per layer {:+.1f}% on average ({:+.0f}% to {:+.0f}%)",
-                            100 * per_layer / counted, 100 * lowest, 100 * highest)
+      counted ? fmt::format("ΔV per layer {}% on average ({}% to {}%)",
+                            signed_text(100 * per_layer / counted, 1), signed_text(100 * lowest, 0),
+                            signed_text(100 * highest, 0))
               : std::string("ΔV per layer: n/a (the baseline's is negligible)");
   fmt::print("{} vs {}: mean D {}, max D {}, total ΔV {}, {}; D better on {}, worse on {} of {} "
              "layers\n",
-             name_of(s.strategy), name_of(base.strategy), percent_change(s.mean_distance, base.mean_distance),
-             percent_change(s.max_distance, base.max_distance),
-             base.total_deviation > geometry::kNegligibleVolume * layers.size()
-                 ? percent_change(s.total_deviation, base.total_deviation)
-                 : std::string("n/a"),
+             name_of(s.strategy), name_of(base.strategy),
+             change_text(s.mean_distance, base.mean_distance, no_distance, "mm", 4),
+             change_text(s.max_distance, base.max_distance, no_distance, "mm", 4),
+             change_text(s.total_deviation, base.total_deviation, no_volume, "mm³", 3),
              per_layer_text, better, worse, layers.size());
   return j;
 }
@@ -799,8 +822,9 @@ void add_analyze_command(CLI::App& app) {
   CLI::App* analyze = app.add_subcommand(
       "analyze",
       "Compare contour strategies layer by layer: exact volume deviation, distance error "
-      "(the paper's D, reverse, Hausdorff), the volume limit, missed features; CSV, JSON, "
-      "SVG plots, a layer's contours, the layered part as STL.");
+      "(the paper's D, to 1 um; reverse and Hausdorff, sampled at 5 heights a layer), the "
+      "volume limit, missed features; CSV, JSON, SVG plots, a layer's contours, the layered "
+      "part as STL.");
   add_model_options(*analyze, options->model);
   CLI::Option* layer = analyze->add_option("--layer", options->layer, "layer thickness, mm")
                            ->check(CLI::PositiveNumber)

@@ -269,7 +269,7 @@ void add_slice_options(CLI::App& command, SliceOptions& options, const std::stri
     added.push_back(option);
   }
   added.push_back(command.add_option("--contour", options.contour,
-                                     fmt::format("the region each layer extrudes: {} (default: ma)",
+                                     fmt::format("the region each layer extrudes: {} (default: best)",
                                                  contour_strategies_help()))
                       ->check(CLI::IsMember(contour_strategy_names())));
   added.push_back(command.add_option("--perimeters", options.perimeters,

@@ -50,7 +50,7 @@ struct SliceOptions {
   double layer = 0;        // mm; 0: the printer's layer.default
   std::string boundaries;  // --boundaries FILE|z1,z2,...: explicit layer tops instead
   AdaptiveRequest adaptive;  // --adaptive, --tolerance, --max-layers
-  std::string contour = "ma";
+  std::string contour = "best";
   int perimeters = -1;     // -1: the printer profile's print.perimeters
   double infill = -1;      // percent; -1: the profile's print.infill_density
   std::vector<std::string> overrides;  // "key=value", one per --set

@@ -5,7 +5,7 @@
 
 #include <polyclipping/clipper.hpp>
 
-#include "geometry/core/clipper_bridge.h"
+#include "geometry/core/clipper.h"
 #include "printer/bead_model.h"
 
 namespace sim {

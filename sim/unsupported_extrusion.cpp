@@ -8,15 +8,14 @@
 #include <fmt/core.h>
 #include <polyclipping/clipper.hpp>
 
-#include "geometry/core/clipper_bridge.h"
-#include "geometry/core/toolpath_clipper.h"
+#include "geometry/core/clipper.h"
 #include "printer/bead_model.h"
 
 namespace sim {
 
 namespace {
 
-namespace tc = geometry::toolpath_clipper;
+namespace clipper = geometry::clipper;
 using ClipperLib::IntPoint;
 using ClipperLib::Path;
 using ClipperLib::Paths;
@@ -110,7 +109,7 @@ Paths bead_area(const Layer& layer) {
       start = stop;
     }
   }
-  return tc::union_of(all);
+  return clipper::union_nonzero(all);
 }
 
 double median_width(const Layer& layer) {
@@ -173,7 +172,7 @@ std::vector<UnsupportedStretch> check_layer(const Layer& layer, int k, const Pat
     clipper.Execute(ClipperLib::ctDifference, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
     ClipperLib::OpenPathsFromPolyTree(tree, off);
   }
-  const Paths held = below.empty() ? below : tc::offset(below, o.tolerance);
+  const Paths held = below.empty() ? below : clipper::offset(below, o.tolerance);
   Paths enclosed;  // among the beads below, computed when first needed
   bool enclosed_known = false;
   for (const Path& piece : off) {
@@ -184,7 +183,7 @@ std::vector<UnsupportedStretch> check_layer(const Layer& layer, int k, const Pat
     if (anchored && length <= o.bridge_length) continue;
     if (!enclosed_known) {
       enclosed = raw_below.empty() ? raw_below
-                                   : tc::offset(tc::offset(raw_below, o.sparse_reach, ClipperLib::jtRound),
+                                   : clipper::offset(clipper::offset(raw_below, o.sparse_reach, ClipperLib::jtRound),
                                                 -o.sparse_reach, ClipperLib::jtRound);
       enclosed_known = true;
     }
@@ -234,10 +233,10 @@ SupportCheck check_unsupported_extrusion(const DepositionRecord& record,
       under.insert(under.end(), beads[j].begin(), beads[j].end());
     }
     const double r = median_width(layer) / 4;
-    const Paths raw = tc::union_of(under);
+    const Paths raw = clipper::union_nonzero(under);
     Paths below = raw;
     if (!below.empty()) {
-      below = tc::offset(tc::offset(below, r, ClipperLib::jtRound), -(r - o.tolerance),
+      below = clipper::offset(clipper::offset(below, r, ClipperLib::jtRound), -(r - o.tolerance),
                          ClipperLib::jtRound);
     }
     found[k] = check_layer(layer, static_cast<int>(k), below, raw, o);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -59,35 +60,48 @@ BestChoice best_choice(const ContourInput& input) {
   struct Candidate {
     std::string_view name;
     ContourResult result;
-    std::size_t missed = 0;
-    double distance = 0;
+    std::vector<BoundaryPair> missed;
+    double distance = kNotMeasured;
     double deviation = -1;  // ΔV, once a tie needs it
   };
   std::vector<Candidate> candidates;
   const auto add = [&](std::string_view name, ContourResult result) {
-    const std::vector<BoundaryPair> missed = missed_features(reference.islands, result.region);
-    const double d =
-        distance_error(reference.surface, BoundaryGrid(result.region), missed, distance_options)
-            .forward;
-    candidates.push_back({name, std::move(result), missed.size(), d});
-    return missed;
+    std::vector<BoundaryPair> missed = missed_features(reference.islands, result.region);
+    candidates.push_back({name, std::move(result), std::move(missed)});
   };
-  BestChoice choice{};
-  const std::array<std::vector<BoundaryPair>, 2> section_missed{
-      add("mid", mid_strategy(candidate_input)),
-      add("optimal-height", optimal_height_strategy(candidate_input))};
+  add("mid", mid_strategy(candidate_input));
+  add("optimal-height", optimal_height_strategy(candidate_input));
   add("ma", ma_strategy(candidate_input));
-  for (std::size_t k = 0; k < 3; ++k) choice.candidate_distance[k] = candidates[k].distance;
   // A section that misses a feature (a tip or a bump between its plane and the slab's ends)
   // competes once more with the feature's own middle section added.
-  for (std::size_t k = 0; k < section_missed.size(); ++k) {
-    if (section_missed[k].empty()) continue;
+  for (std::size_t k = 0; k < 2; ++k) {
+    if (candidates[k].missed.empty()) continue;
     ContourResult patched{with_features(input, reference, candidates[k].result.region,
-                                        section_missed[k]),
+                                        candidates[k].missed),
                           candidates[k].result.height};
     if (patched.region.loops.size() == candidates[k].result.region.loops.size()) continue;
     add(k == 0 ? "mid+features" : "optimal-height+features", std::move(patched));
   }
+
+  // Fewest missed features first: only those candidates are measured. Then the least D, ma
+  // first (it wins most layers, so its D refutes the others early): a candidate is measured
+  // only until its D is known to be more than a tie above the least so far.
+  std::size_t fewest = candidates.front().missed.size();
+  for (const Candidate& c : candidates) fewest = std::min(fewest, c.missed.size());
+  std::vector<std::size_t> order{2, 0, 1};
+  for (std::size_t k = 3; k < candidates.size(); ++k) order.push_back(k);
+  double least = std::numeric_limits<double>::infinity();
+  for (std::size_t k : order) {
+    Candidate& c = candidates[k];
+    if (c.missed.size() != fewest) continue;
+    distance_options.stop_above = least + kDistanceTie;
+    c.distance = distance_error(reference.surface, BoundaryGrid(c.result.region), c.missed,
+                                distance_options)
+                     .forward;
+    least = std::min(least, c.distance);
+  }
+  BestChoice choice{};
+  for (std::size_t k = 0; k < 3; ++k) choice.candidate_distance[k] = candidates[k].distance;
 
   // ΔV only where a tie needs it, with the slab's columns built then if the reference has none.
   const SlabColumns* columns = reference.volumes ? &reference.columns : nullptr;
@@ -102,23 +116,18 @@ BestChoice best_choice(const ContourInput& input) {
     }
     return c.deviation;
   };
-  // Fewest missed features, then least D, then least ΔV.
-  std::size_t best = 0;
-  for (std::size_t k = 1; k < candidates.size(); ++k) {
-    Candidate& c = candidates[k];
-    Candidate& b = candidates[best];
-    if (c.missed != b.missed) {
-      if (c.missed < b.missed) best = k;
-      continue;
-    }
-    if (c.distance < b.distance - kDistanceTie ||
-        (c.distance <= b.distance + kDistanceTie && volume_of(c) < volume_of(b))) {
-      best = k;
-    }
+  // Of those within a tie of the least D, the least ΔV.
+  std::vector<std::size_t> tied;
+  for (std::size_t k : order) {
+    if (candidates[k].distance <= least + kDistanceTie) tied.push_back(k);
+  }
+  std::size_t best = tied.front();
+  for (std::size_t k : tied) {
+    if (k != best && volume_of(candidates[k]) < volume_of(candidates[best])) best = k;
   }
   choice.chosen = candidates[best].name;
   choice.distance = candidates[best].distance;
-  choice.missed_features = candidates[best].missed;
+  choice.missed_features = candidates[best].missed.size();
   choice.result = std::move(candidates[best].result);
   return choice;
 }

@@ -10,11 +10,17 @@
 //
 // Input: a layer of a stack (contour_input.h), with the layer's reference if the caller has
 // one; without, it builds one (slab, footprint, surface; the columns only when a tie needs ΔV).
+// Among the candidates of fewest missed features, those within kDistanceTie of the least D
+// tie, and the least ΔV of them wins (so the choice does not depend on the candidates' order).
+//
 // Output: the chosen region and the height of the candidate chosen; which one it was, and
-// every candidate's D, in best_choice().
-// Cost: the three candidates and three measurements, about four times ma's time per layer.
+// the candidates' D, in best_choice().
+// Cost: the three candidates and their measurements, ma first: a candidate is measured only
+// until its D is more than a tie above the least so far (distance_error's stop_above), and one
+// that misses more features than another is not measured. About three times ma's time.
 #pragma once
 
+#include <limits>
 #include <string_view>
 
 #include "geometry/contour/contour_input.h"
@@ -23,16 +29,21 @@ namespace geometry {
 
 // D within this of each other is a tie, mm: the distance error's own tolerance.
 inline constexpr double kDistanceTie = 1e-3;
+// A candidate's D when it was not measured (it misses more features than another), mm.
+inline constexpr double kNotMeasured = std::numeric_limits<double>::infinity();
 
 ContourResult best_strategy(const ContourInput& input);
 
-// The same, also saying which candidate won and every candidate's D, mm.
+// The same, also saying which candidate won and the candidates' D, mm.
 struct BestChoice {
   ContourResult result;
   std::string_view chosen;  // "mid", "optimal-height", "ma", "mid+features", "optimal-height+features"
   double distance = 0;           // the chosen one's D
   std::size_t missed_features = 0;
-  double candidate_distance[3];  // mid, optimal-height, ma
+  // mid's, optimal-height's and ma's D: exact for the chosen one and any within a tie of it;
+  // for one refuted early, a lower bound above the chosen one's; kNotMeasured for one that
+  // misses more features.
+  double candidate_distance[3];
 };
 BestChoice best_choice(const ContourInput& input);
 

@@ -25,7 +25,16 @@
 //     neck or septum merging inside the slab, a groove, a lobe; paper §3.4) whose samples are
 //     farther from the walls than every contributing sample takes the mid section inside its
 //     triangles where that brings them nearer.
-// ma_contour.cpp has the details and the bunny's figures.
+// Sibling: toolpaths/segment_medial_axis.h, the exact medial axis of a region from the
+// Voronoi diagram of its edges (Boost.Polygon), for thin walls. This one is sampled, as the
+// paper's is (§3.2.3), because what it needs is the axis between loops labelled solid and
+// empty (Observation 3.3.1 reads it off the Delaunay edges between samples of different loops),
+// closed loops only, and the Delaunay triangles round the non-contributing samples (§3.4);
+// fairing then moves it onto the loops' exact axis. That header says why the thin walls need
+// the other.
+//
+// ma_contour.cpp lists the paper's steps and the files of contour/ma/ that make them; their
+// headers have the details and the bunny's figures.
 #pragma once
 
 #include <cstddef>
@@ -42,7 +51,7 @@
 namespace geometry {
 
 struct MaOptions {
-  // Sample spacing on the boundary pair, mm; 0 picks it from the layer (see ma_contour.cpp).
+  // Sample spacing on the boundary pair, mm; 0: ma/samples.h's default, 0.25 mm.
   double spacing = 0;
   // Cap on samples per layer, so one layer never dominates the run time.
   std::size_t max_points = 20000;
@@ -70,7 +79,7 @@ struct MaStats {
 Region ma_contour(const LayerStack& stack, std::size_t layer, const MaOptions& options,
                   MaStats& stats);
 
-// The same from a slab and the model's cross-section at any height of it (ma_contour.cpp
+// The same from a slab and the model's cross-section at any height of it (ma/mid_section.h
 // documents what a cap becomes); with the slab's footprint if the caller has it already
 // (slab_footprint(slab), about a third of the time here).
 Region ma_contour(const Slab& slab, const std::function<Region(double z)>& cross_section,

@@ -8,17 +8,8 @@ namespace geometry {
 
 namespace {
 
-Vec2 foot_on_segment(Vec2 p, const Segment2& s) {
-  const Vec2 ab = s.b - s.a;
-  const double length2 = dot(ab, ab);
-  double t = length2 > 0 ? dot(p - s.a, ab) / length2 : 0.0;
-  t = std::clamp(t, 0.0, 1.0);
-  return s.a + t * ab;
-}
-
 double distance_squared_to_segment(Vec2 p, const Segment2& s) {
-  const Vec2 d = p - foot_on_segment(p, s);
-  return dot(d, d);
+  return squared_distance_to_segment(p, s.a, s.b);
 }
 
 }  // namespace
@@ -42,15 +33,14 @@ BoundaryGrid::BoundaryGrid(std::vector<Segment2> segments) : segments_(std::move
 
 void BoundaryGrid::build() {
   if (segments_.empty()) return;
-  Vec2 lo{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
-  Vec2 hi{-lo.x, -lo.y};
+  Box2 box;
   double total_length = 0;
   for (const Segment2& s : segments_) {
-    lo = {std::min({lo.x, s.a.x, s.b.x}), std::min({lo.y, s.a.y, s.b.y})};
-    hi = {std::max({hi.x, s.a.x, s.b.x}), std::max({hi.y, s.a.y, s.b.y})};
-    const Vec2 d = s.b - s.a;
-    total_length += std::sqrt(dot(d, d));  // mm: no overflow for std::hypot to guard
+    box.add(s.a);
+    box.add(s.b);
+    total_length += length(s.b - s.a);
   }
+  const Vec2 lo = box.lo, hi = box.hi;
   const double width = std::max(hi.x - lo.x, 1e-9), height = std::max(hi.y - lo.y, 1e-9);
   // About two segments per occupied cell, but never more than ~4 cells per segment overall,
   // so that a long thin layer does not allocate a huge empty grid.
@@ -124,7 +114,7 @@ BoundaryGrid::Nearest BoundaryGrid::nearest(Vec2 p) const {
     if (x0 <= 0 && y0 <= 0 && x1 >= nx_ - 1 && y1 >= ny_ - 1) break;
   }
   found.distance = std::sqrt(best2);
-  found.foot = foot_on_segment(p, segments_[found.segment]);
+  found.foot = foot_on_segment(p, segments_[found.segment].a, segments_[found.segment].b);
   return found;
 }
 

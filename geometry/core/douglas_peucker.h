@@ -2,7 +2,7 @@
 // dropped lies within a tolerance of the edge that replaces it (a strict bound). The loop is
 // split at vertex 0 and the vertex farthest from it, and each half simplified as an open
 // polyline. One algorithm for the loops of any point type: the faired MA contour in mm
-// (ma_contour.cpp) and Clipper's integer loops (toolpath_clipper.cpp).
+// (ma_contour.cpp) and Clipper's integer loops (clipper.cpp).
 //
 // Input:  n, the loop's vertex count; limit2, the squared tolerance in the units of
 //         distance2; distance2(i, a, b), the squared distance from vertex i to the segment

@@ -34,12 +34,27 @@ double perimeter(const Region& region) {
   return length;
 }
 
-double distance_to_segment(Vec2 p, Vec2 a, Vec2 b) {
-  const Vec2 ab = b - a;
-  const double length2 = dot(ab, ab);
-  const double t = length2 > 0 ? std::clamp(dot(p - a, ab) / length2, 0.0, 1.0) : 0.0;
-  const Vec2 d = p - (a + t * ab);
-  return std::hypot(d.x, d.y);
+double perimeter_bound(const Loop& loop) {
+  double bound = 0;
+  for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
+    const Vec2 d = loop[i + 1 == n ? 0 : i + 1] - loop[i];
+    bound += std::abs(d.x) + std::abs(d.y);
+  }
+  return bound;
+}
+
+Box2 bounding_box(std::span<const Vec2> points) {
+  Box2 box;
+  for (Vec2 p : points) box.add(p);
+  return box;
+}
+
+AreaMoments moments_of_loop(const Loop& loop, Vec2 origin) {
+  AreaMoments m;
+  for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
+    add_edge_moments(m, loop[i] - origin, loop[(i + 1) % n] - origin);
+  }
+  return m;
 }
 
 }  // namespace geometry

@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "geometry/core/clipper_bridge.h"
+#include "geometry/core/clipper.h"
 
 namespace geometry {
 namespace {
@@ -25,7 +25,7 @@ Vec3 turn_up(const Vec3& p, Axis up) {
 // Heights on a 1 nm grid. Files store flat faces with float noise (the stl-models gearwheel's
 // bottom is at +-5e-17); without the snap, a plane exactly at such a face (z = 0 for the first
 // layer's lower contour) would cut a ragged sliver instead of the whole face. 1 nm is the
-// resolution of every 2D operation here (clipper_bridge.h), far below any printer's.
+// resolution of every 2D operation here (core/clipper.h), far below any printer's.
 double snap_height(double z) { return std::round(z * kClipperScale) / kClipperScale; }
 
 }  // namespace

@@ -146,163 +146,170 @@ std::string RepairReport::summary() const {
   return out;
 }
 
-Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
-            const RepairOptions& options) {
-  RepairReport report;
-  report.facets_read = facets.size();
+namespace {
 
-  // 1. Merge corners with identical coordinates.
-  std::vector<Vec3> points;
+// 1. Corners with identical coordinates merged: the facets as corner numbers into `points`.
+std::vector<Polygon> merged_corners(const std::vector<Triangle>& facets, std::vector<Vec3>& points,
+                                    RepairReport& report) {
   std::vector<Polygon> polygons;
   polygons.reserve(facets.size());
-  {
-    // Closed meshes have about F/2 vertices.
-    NumberTable<CornerKey, CornerHash> index(facets.size() * 3 / 5 + 16);
-    const auto key_of_point = [&points](std::uint32_t n) { return corner_key(points[n]); };
-    for (const Triangle& t : facets) {
-      Polygon p;
-      for (int i = 0; i < 3; ++i) {
-        const auto next = static_cast<std::uint32_t>(points.size());
-        p[i] = index.find_or_insert(corner_key(t.v[i]), next, key_of_point);
-        if (p[i] == next) points.push_back(t.v[i]);
-      }
-      polygons.push_back(p);
+  // Closed meshes have about F/2 vertices.
+  NumberTable<CornerKey, CornerHash> index(facets.size() * 3 / 5 + 16);
+  const auto key_of_point = [&points](std::uint32_t n) { return corner_key(points[n]); };
+  for (const Triangle& t : facets) {
+    Polygon p;
+    for (int i = 0; i < 3; ++i) {
+      const auto next = static_cast<std::uint32_t>(points.size());
+      p[i] = index.find_or_insert(corner_key(t.v[i]), next, key_of_point);
+      if (p[i] == next) points.push_back(t.v[i]);
     }
-    report.vertices_merged = 3 * facets.size() - points.size();
+    polygons.push_back(p);
   }
+  report.vertices_merged = 3 * facets.size() - points.size();
+  return polygons;
+}
 
-  // 2. Drop degenerate facets (repeated or collinear corners) and second copies of a facet.
-  {
-    std::vector<Polygon> kept;
-    kept.reserve(polygons.size());
-    NumberTable<CornerKey, CornerHash> seen(polygons.size());  // of kept facets
-    const auto key_of_kept = [&kept](std::uint32_t n) { return facet_key(kept[n]); };
-    for (const Polygon& p : polygons) {
-      if (p[0] == p[1] || p[1] == p[2] || p[0] == p[2] ||
-          CGAL::collinear(to_point(points[p[0]]), to_point(points[p[1]]),
-                          to_point(points[p[2]]))) {
-        ++report.degenerate_faces_dropped;
-        continue;
-      }
-      const auto next = static_cast<std::uint32_t>(kept.size());
-      if (seen.find_or_insert(facet_key(p), next, key_of_kept) != next) {
-        ++report.duplicate_faces_dropped;
-        continue;
-      }
-      kept.push_back(p);
+// 2. Degenerate facets (repeated or collinear corners) and second copies of a facet dropped.
+void drop_degenerate_and_duplicate(const std::vector<Vec3>& points, std::vector<Polygon>& polygons,
+                                   RepairReport& report) {
+  std::vector<Polygon> kept;
+  kept.reserve(polygons.size());
+  NumberTable<CornerKey, CornerHash> seen(polygons.size());  // of kept facets
+  const auto key_of_kept = [&kept](std::uint32_t n) { return facet_key(kept[n]); };
+  for (const Polygon& p : polygons) {
+    if (p[0] == p[1] || p[1] == p[2] || p[0] == p[2] ||
+        CGAL::collinear(to_point(points[p[0]]), to_point(points[p[1]]),
+                        to_point(points[p[2]]))) {
+      ++report.degenerate_faces_dropped;
+      continue;
     }
-    polygons = std::move(kept);
-  }
-
-  // Corners that only degenerate facets used are not part of the surface.
-  {
-    std::vector<std::size_t> renumber(points.size(), SIZE_MAX);
-    std::vector<Vec3> used;
-    used.reserve(points.size());
-    for (Polygon& p : polygons) {
-      for (std::size_t& v : p) {
-        if (renumber[v] == SIZE_MAX) {
-          renumber[v] = used.size();
-          used.push_back(points[v]);
-        }
-        v = renumber[v];
-      }
+    const auto next = static_cast<std::uint32_t>(kept.size());
+    if (seen.find_or_insert(facet_key(p), next, key_of_kept) != next) {
+      ++report.duplicate_faces_dropped;
+      continue;
     }
-    points = std::move(used);
+    kept.push_back(p);
   }
+  polygons = std::move(kept);
+}
 
-  // Open and non-manifold edges of the file's surface, before any topological repair; and
-  // whether the soup already is a consistently oriented manifold surface, which most files
-  // are (a check ten times faster than CGAL's is_polygon_soup_a_polygon_mesh on the bunny).
+// Corners that only degenerate facets used are not part of the surface: renumbered away.
+void drop_unused_corners(std::vector<Vec3>& points, std::vector<Polygon>& polygons) {
+  std::vector<std::size_t> renumber(points.size(), SIZE_MAX);
+  std::vector<Vec3> used;
+  used.reserve(points.size());
+  for (Polygon& p : polygons) {
+    for (std::size_t& v : p) {
+      if (renumber[v] == SIZE_MAX) {
+        renumber[v] = used.size();
+        used.push_back(points[v]);
+      }
+      v = renumber[v];
+    }
+  }
+  points = std::move(used);
+}
+
+// Open and non-manifold edges of the file's surface, before any topological repair, into the
+// report; returns whether the soup already is a consistently oriented manifold surface, which
+// most files are (a check ten times faster than CGAL's is_polygon_soup_a_polygon_mesh on the
+// bunny).
+bool count_edges_and_check_manifold(std::size_t point_count, const std::vector<Polygon>& polygons,
+                                    RepairReport& report) {
   bool oriented_manifold = true;
-  {
-    // Per undirected edge: how many facets use it, and the corner slot (3 * facet + corner)
-    // of the first facet's start of that edge, to join corners of facets across the edge.
-    struct EdgeUse {
-      std::uint64_t key = 0;
-      std::uint32_t count = 0;
-      std::uint32_t first_slot = 0;
-      bool first_forward = false;
-    };
-    std::vector<EdgeUse> uses;  // in order of first use
-    uses.reserve(polygons.size() * 3 / 2 + 16);
-    NumberTable<std::uint64_t, EdgeHash> edge_number(uses.capacity());
-    const auto key_of_edge = [&uses](std::uint32_t n) { return uses[n].key; };
-    // Corners around a vertex that are joined across shared edges form one fan; a vertex
-    // with two fans is non-manifold (two surfaces touching in a point).
-    std::vector<std::uint32_t> fan(polygons.size() * 3);  // corner slots fit the mesh's 32 bits
-    for (std::size_t i = 0; i < fan.size(); ++i) fan[i] = static_cast<std::uint32_t>(i);
-    const auto find = [&fan](std::uint32_t i) {
-      while (fan[i] != i) i = fan[i] = fan[fan[i]];
-      return i;
-    };
-    const auto join = [&](std::size_t a, std::size_t b) {
-      fan[find(static_cast<std::uint32_t>(a))] = find(static_cast<std::uint32_t>(b));
-    };
-    for (std::size_t f = 0; f < polygons.size(); ++f) {
-      const Polygon& p = polygons[f];
-      for (std::size_t c = 0; c < 3; ++c) {
-        const std::size_t a = p[c], b = p[(c + 1) % 3];
-        const std::uint64_t key = edge_key(a, b);
-        const auto next = static_cast<std::uint32_t>(uses.size());
-        const std::uint32_t number = edge_number.find_or_insert(key, next, key_of_edge);
-        if (number == next) uses.push_back({key});
-        EdgeUse& use = uses[number];
-        const bool forward = a < b;
-        if (++use.count == 1) {
-          use.first_slot = static_cast<std::uint32_t>(3 * f + c);
-          use.first_forward = forward;
-          continue;
-        }
-        if (use.count > 2 || use.first_forward == forward) {
-          oriented_manifold = false;  // three facets on an edge, or two facing each other
-          continue;
-        }
-        // The other facet runs b -> a: its corner at b starts the edge, at a ends it.
-        const std::size_t other = use.first_slot / 3, other_c = use.first_slot % 3;
-        join(3 * f + c, 3 * other + (other_c + 1) % 3);         // corners at a
-        join(3 * f + (c + 1) % 3, 3 * other + other_c);         // corners at b
+  // Per undirected edge: how many facets use it, and the corner slot (3 * facet + corner)
+  // of the first facet's start of that edge, to join corners of facets across the edge.
+  struct EdgeUse {
+    std::uint64_t key = 0;
+    std::uint32_t count = 0;
+    std::uint32_t first_slot = 0;
+    bool first_forward = false;
+  };
+  std::vector<EdgeUse> uses;  // in order of first use
+  uses.reserve(polygons.size() * 3 / 2 + 16);
+  NumberTable<std::uint64_t, EdgeHash> edge_number(uses.capacity());
+  const auto key_of_edge = [&uses](std::uint32_t n) { return uses[n].key; };
+  // Corners around a vertex that are joined across shared edges form one fan; a vertex
+  // with two fans is non-manifold (two surfaces touching in a point).
+  std::vector<std::uint32_t> fan(polygons.size() * 3);  // corner slots fit the mesh's 32 bits
+  for (std::size_t i = 0; i < fan.size(); ++i) fan[i] = static_cast<std::uint32_t>(i);
+  const auto find = [&fan](std::uint32_t i) {
+    while (fan[i] != i) i = fan[i] = fan[fan[i]];
+    return i;
+  };
+  const auto join = [&](std::size_t a, std::size_t b) {
+    fan[find(static_cast<std::uint32_t>(a))] = find(static_cast<std::uint32_t>(b));
+  };
+  for (std::size_t f = 0; f < polygons.size(); ++f) {
+    const Polygon& p = polygons[f];
+    for (std::size_t c = 0; c < 3; ++c) {
+      const std::size_t a = p[c], b = p[(c + 1) % 3];
+      const std::uint64_t key = edge_key(a, b);
+      const auto next = static_cast<std::uint32_t>(uses.size());
+      const std::uint32_t number = edge_number.find_or_insert(key, next, key_of_edge);
+      if (number == next) uses.push_back({key});
+      EdgeUse& use = uses[number];
+      const bool forward = a < b;
+      if (++use.count == 1) {
+        use.first_slot = static_cast<std::uint32_t>(3 * f + c);
+        use.first_forward = forward;
+        continue;
       }
+      if (use.count > 2 || use.first_forward == forward) {
+        oriented_manifold = false;  // three facets on an edge, or two facing each other
+        continue;
+      }
+      // The other facet runs b -> a: its corner at b starts the edge, at a ends it.
+      const std::size_t other = use.first_slot / 3, other_c = use.first_slot % 3;
+      join(3 * f + c, 3 * other + (other_c + 1) % 3);         // corners at a
+      join(3 * f + (c + 1) % 3, 3 * other + other_c);         // corners at b
     }
-    for (const EdgeUse& use : uses) {
-      if (use.count == 1) ++report.open_edges_before;
-      if (use.count > 2) ++report.non_manifold_edges;
-    }
-    if (oriented_manifold) {
-      std::vector<std::uint32_t> fan_of_vertex(points.size(), UINT32_MAX);
-      for (std::size_t slot = 0; slot < fan.size() && oriented_manifold; ++slot) {
-        const std::size_t v = polygons[slot / 3][slot % 3];
-        const std::uint32_t root = find(static_cast<std::uint32_t>(slot));
-        if (fan_of_vertex[v] == UINT32_MAX) {
-          fan_of_vertex[v] = root;
-        } else if (fan_of_vertex[v] != root) {
-          oriented_manifold = false;
-        }
+  }
+  for (const EdgeUse& use : uses) {
+    if (use.count == 1) ++report.open_edges_before;
+    if (use.count > 2) ++report.non_manifold_edges;
+  }
+  if (oriented_manifold) {
+    std::vector<std::uint32_t> fan_of_vertex(point_count, UINT32_MAX);
+    for (std::size_t slot = 0; slot < fan.size() && oriented_manifold; ++slot) {
+      const std::size_t v = polygons[slot / 3][slot % 3];
+      const std::uint32_t root = find(static_cast<std::uint32_t>(slot));
+      if (fan_of_vertex[v] == UINT32_MAX) {
+        fan_of_vertex[v] = root;
+      } else if (fan_of_vertex[v] != root) {
+        oriented_manifold = false;
       }
     }
   }
+  return oriented_manifold;
+}
 
-  // 3. Orient consistently; split non-manifold vertices.
+// 3. Oriented consistently, non-manifold vertices split (new points appended): which facets
+// CGAL reversed.
+std::vector<char> orient_and_split(std::vector<Vec3>& points, std::vector<Polygon>& polygons,
+                                   RepairReport& report) {
   std::vector<char> reversed(polygons.size(), 0);
-  if (!oriented_manifold) {
-    std::vector<Point> soup_points;
-    soup_points.reserve(points.size());
-    for (const Vec3& v : points) soup_points.push_back(to_point(v));
-    OrientationVisitor visitor;
-    visitor.reversed = &reversed;
-    PMP::orient_polygon_soup(soup_points, polygons, CGAL::parameters::visitor(visitor));
-    report.non_manifold_vertices_split = soup_points.size() - points.size();
-    for (std::size_t i = points.size(); i < soup_points.size(); ++i) {
-      const Point& p = soup_points[i];
-      points.push_back({p.x(), p.y(), p.z()});
-    }
+  std::vector<Point> soup_points;
+  soup_points.reserve(points.size());
+  for (const Vec3& v : points) soup_points.push_back(to_point(v));
+  OrientationVisitor visitor;
+  visitor.reversed = &reversed;
+  PMP::orient_polygon_soup(soup_points, polygons, CGAL::parameters::visitor(visitor));
+  report.non_manifold_vertices_split = soup_points.size() - points.size();
+  for (std::size_t i = points.size(); i < soup_points.size(); ++i) {
+    const Point& p = soup_points[i];
+    points.push_back({p.x(), p.y(), p.z()});
   }
+  return reversed;
+}
 
-  SurfaceMesh mesh;
+// The oriented soup as a Surface_mesh; `face_polygon` gets each face's polygon.
+void build_surface(const std::vector<Vec3>& points, const std::vector<Polygon>& polygons,
+                   SurfaceMesh& mesh, std::vector<std::size_t>& face_polygon,
+                   RepairReport& report) {
   // A closed surface has 3F/2 edges; hole filling adds a little on top.
   mesh.reserve(points.size(), polygons.size() * 3 / 2 + 16, polygons.size());
   for (const Vec3& v : points) mesh.add_vertex(to_point(v));
-  std::vector<std::size_t> face_polygon;  // Surface_mesh face index -> polygon
   face_polygon.reserve(polygons.size());
   for (std::size_t i = 0; i < polygons.size(); ++i) {
     const Polygon& p = polygons[i];
@@ -317,9 +324,11 @@ Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
     }
     face_polygon.push_back(i);
   }
-  const std::size_t original_faces = mesh.number_of_faces();
+}
 
-  // 4. Fill holes, unless filling would invent too much of the surface.
+// 4. Holes filled with flat patches, unless filling would invent too much of the surface.
+void fill_holes(SurfaceMesh& mesh, std::size_t original_faces, const RepairOptions& options,
+                RepairReport& report) {
   double area_before_fill = 0;
   for (auto f : mesh.faces()) area_before_fill += face_area(mesh, f);
   std::vector<SurfaceMesh::Halfedge_index> holes;
@@ -354,9 +363,11 @@ Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
   }
   report.hole_share = area_before_fill > 0 ? report.hole_area / area_before_fill
                                            : (report.hole_area > 0 ? 1.0 : 0.0);
+}
 
-  // 5. Orient outward. A closed surface knows its inside; an open one gets the orientation
-  // with positive signed volume, the best guess there is.
+// 5. Oriented outward. A closed surface knows its inside; an open one gets the orientation
+// with positive signed volume, the best guess there is.
+void orient_outward(SurfaceMesh& mesh, RepairReport& report) {
   report.open_edges_after = count_border_edges(mesh);
   report.closed = mesh.number_of_faces() > 0 && report.open_edges_after == 0;
   if (report.closed) {
@@ -364,7 +375,9 @@ Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
   } else if (mesh.number_of_faces() > 0 && open_signed_volume(mesh) < 0) {
     PMP::reverse_face_orientations(mesh);
   }
+}
 
+Mesh plain_mesh(const SurfaceMesh& mesh) {
   Mesh out;
   out.vertices.reserve(mesh.number_of_vertices());
   for (auto v : mesh.vertices()) {
@@ -378,18 +391,49 @@ Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
                          static_cast<std::uint32_t>(mesh.target(h)),
                          static_cast<std::uint32_t>(mesh.target(mesh.next(h)))});
   }
+  return out;
+}
 
-  // A file's facet was reoriented when its final corner order is the reverse of the order
-  // in the file (up to rotation).
+// A file's facet was reoriented when its final corner order is the reverse of the order in the
+// file (up to rotation).
+std::size_t faces_reoriented(const Mesh& out, std::size_t original_faces,
+                             const std::vector<Polygon>& polygons,
+                             const std::vector<std::size_t>& face_polygon,
+                             const std::vector<char>& reversed) {
+  std::size_t count = 0;
   for (std::size_t k = 0; k < original_faces; ++k) {
     const auto& f = out.faces[k];
     const Polygon& p = polygons[face_polygon[k]];
     const bool same_as_oriented_soup =
         (f[0] == p[0] && f[1] == p[1]) || (f[0] == p[1] && f[1] == p[2]) ||
         (f[0] == p[2] && f[1] == p[0]);
-    if (same_as_oriented_soup == (reversed[face_polygon[k]] != 0)) ++report.faces_reoriented;
+    if (same_as_oriented_soup == (reversed[face_polygon[k]] != 0)) ++count;
   }
+  return count;
+}
 
+}  // namespace
+
+Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
+            const RepairOptions& options) {
+  RepairReport report;
+  report.facets_read = facets.size();
+  std::vector<Vec3> points;
+  std::vector<Polygon> polygons = merged_corners(facets, points, report);
+  drop_degenerate_and_duplicate(points, polygons, report);
+  drop_unused_corners(points, polygons);
+  std::vector<char> reversed(polygons.size(), 0);
+  if (!count_edges_and_check_manifold(points.size(), polygons, report)) {
+    reversed = orient_and_split(points, polygons, report);
+  }
+  SurfaceMesh mesh;
+  std::vector<std::size_t> face_polygon;  // Surface_mesh face index -> polygon
+  build_surface(points, polygons, mesh, face_polygon, report);
+  const std::size_t original_faces = mesh.number_of_faces();
+  fill_holes(mesh, original_faces, options, report);
+  orient_outward(mesh, report);
+  Mesh out = plain_mesh(mesh);
+  report.faces_reoriented = faces_reoriented(out, original_faces, polygons, face_polygon, reversed);
   report.vertices = out.vertices.size();
   report.volume = signed_volume(out);
   report.surface_area = surface_area(out);

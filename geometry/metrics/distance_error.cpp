@@ -10,20 +10,7 @@ namespace {
 
 constexpr double kInvSqrt3 = 0.57735026918962576;
 
-// Squared distances in the inner loops: std::hypot's overflow care costs more than the
-// rest of the search, and the coordinates here are millimetres.
-double squared_distance_to(Vec2 p, const Segment2& s) {
-  const Vec2 ab = s.b - s.a;
-  const double l2 = dot(ab, ab);
-  const double t = l2 > 0 ? std::clamp(dot(p - s.a, ab) / l2, 0.0, 1.0) : 0.0;
-  const Vec2 d = p - (s.a + t * ab);
-  return dot(d, d);
-}
-
-double length(Vec2 a, Vec2 b) {
-  const Vec2 d = b - a;
-  return std::sqrt(dot(d, d));
-}
+double length(Vec2 a, Vec2 b) { return length(b - a); }
 
 using Nearest = BoundaryGrid::Nearest;
 
@@ -36,7 +23,8 @@ void walls_near(const BoundaryGrid& grid, Vec2 lo, Vec2 hi, std::vector<std::uin
 Nearest nearest_of(Vec2 p, const BoundaryGrid& grid, const std::vector<std::uint32_t>& near) {
   Nearest found{std::numeric_limits<double>::infinity(), Nearest::npos, p};
   for (std::uint32_t id : near) {
-    const double d2 = squared_distance_to(p, grid.segments()[id]);
+    const Segment2& s = grid.segments()[id];
+    const double d2 = squared_distance_to_segment(p, s.a, s.b);
     if (d2 < found.distance) {
       found.distance = d2;
       found.segment = id;
@@ -45,9 +33,7 @@ Nearest nearest_of(Vec2 p, const BoundaryGrid& grid, const std::vector<std::uint
   if (found.segment != Nearest::npos) {
     found.distance = std::sqrt(found.distance);
     const Segment2& s = grid.segments()[found.segment];
-    const Vec2 ab = s.b - s.a;
-    const double l2 = dot(ab, ab);
-    found.foot = s.a + std::clamp(l2 > 0 ? dot(p - s.a, ab) / l2 : 0.0, 0.0, 1.0) * ab;
+    found.foot = foot_on_segment(p, s.a, s.b);
   }
   return found;
 }
@@ -129,12 +115,9 @@ void search_triangle(const std::array<Vec2, 3>& corners, const std::array<Neares
   const double reach = upper_bound(first, first_low);
   if (reach <= best + tolerance) return;
   // Every point's nearest wall lies within `reach` of it, hence in this box.
-  Vec2 lo = corners[0], hi = corners[0];
-  for (Vec2 p : corners) {
-    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y)};
-    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
-  }
-  walls_near(grid, {lo.x - reach, lo.y - reach}, {hi.x + reach, hi.y + reach}, near);
+  const Box2 box = bounding_box(corners);
+  walls_near(grid, {box.lo.x - reach, box.lo.y - reach}, {box.hi.x + reach, box.hi.y + reach},
+             near);
   if (near.empty()) return;
   std::vector<Piece> stack{first};
   while (!stack.empty()) {

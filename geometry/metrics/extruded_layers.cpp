@@ -1,7 +1,6 @@
 #include "geometry/metrics/extruded_layers.h"
 
-#include "geometry/core/clipper_bridge.h"
-#include "geometry/core/toolpath_clipper.h"
+#include "geometry/core/clipper.h"
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -159,10 +158,16 @@ std::int64_t round_div(Wide n, Wide d) {
 // doubles the vertices. Far below a printer's step; the area changes by nothing measurable.
 constexpr double kCleanBy = 0.5e-3;  // mm
 Region cleaned(const Region& region, bool round) {
-  namespace tc = toolpath_clipper;
   const auto second = round ? ClipperLib::jtRound : ClipperLib::jtMiter;
-  const tc::Paths closed = tc::offset(tc::offset(to_clipper(region), kCleanBy), -kCleanBy, second);
-  return from_clipper(tc::offset(tc::offset(closed, -kCleanBy), kCleanBy, second));
+  const clipper::Paths closed = clipper::offset(clipper::offset(to_clipper(region), kCleanBy), -kCleanBy, second);
+  return from_clipper(clipper::offset(clipper::offset(closed, -kCleanBy), kCleanBy, second));
+}
+
+// Twice the loop's signed area on the grid, exact (CCW positive).
+Wide twice_area(const GridLoop& loop) {
+  Wide twice = 0;
+  for (std::size_t i = 0; i < loop.size(); ++i) twice += cross({0, 0}, loop[i], loop[(i + 1) % loop.size()]);
+  return twice;
 }
 
 // The region on the grid: vertices rounded, repeats dropped, loops of no area dropped.
@@ -176,11 +181,7 @@ GridRegion snap_region(const Region& region, double scale) {
     }
     while (snapped.size() > 1 && snapped.back() == snapped.front()) snapped.pop_back();
     if (snapped.size() < 3) continue;
-    Wide twice_area = 0;
-    for (std::size_t i = 0; i < snapped.size(); ++i) {
-      twice_area += cross({0, 0}, snapped[i], snapped[(i + 1) % snapped.size()]);
-    }
-    if (twice_area != 0) loops.push_back(std::move(snapped));
+    if (twice_area(snapped) != 0) loops.push_back(std::move(snapped));
   }
   return loops;
 }
@@ -252,14 +253,6 @@ bool touches_itself(const GridRegion& region, std::int64_t reach) {
     }
   }
   return false;
-}
-
-double grid_area(const GridRegion& region, double scale) {
-  Wide twice = 0;
-  for (const GridLoop& loop : region) {
-    for (std::size_t i = 0; i < loop.size(); ++i) twice += cross({0, 0}, loop[i], loop[(i + 1) % loop.size()]);
-  }
-  return static_cast<double>(twice) / 2 / (scale * scale);
 }
 
 // A segment's route on the grid: its start, the centres of the hot cells it goes through in
@@ -600,7 +593,6 @@ Mesh extruded_layers(std::span<const Layer> layers, std::span<const Region> regi
     walls(solids[k].region, bottom->routes(1), top->routes(0), *bottom, *top, mesh);
     bottom = touching ? std::move(top) : nullptr;
   }
-  (void)grid_area;
   return mesh;
 }
 

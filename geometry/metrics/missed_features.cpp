@@ -3,7 +3,7 @@
 #include <cmath>
 #include <limits>
 
-#include "geometry/core/clipper_bridge.h"
+#include "geometry/core/clipper.h"
 
 namespace geometry {
 
@@ -48,15 +48,9 @@ std::vector<BoundaryPair> missed_features(const std::vector<BoundaryPair>& islan
     if (touched) continue;
     double overlap = 0;
     if (!walls.empty()) {
-      ClipperLib::Clipper clipper;
-      clipper.AddPath(to_clipper(island.outer), ClipperLib::ptSubject, true);
-      for (const Loop& hole : island.inner) clipper.AddPath(to_clipper(hole), ClipperLib::ptSubject, true);
-      clipper.AddPaths(walls, ClipperLib::ptClip, true);
-      ClipperLib::Paths common;
-      clipper.Execute(ClipperLib::ctIntersection, common, ClipperLib::pftNonZero,
-                      ClipperLib::pftNonZero);
-      for (const auto& path : common) overlap += ClipperLib::Area(path);
-      overlap /= kClipperScale * kClipperScale;
+      ClipperLib::Paths island_paths{to_clipper(island.outer)};
+      for (const Loop& hole : island.inner) island_paths.push_back(to_clipper(hole));
+      overlap = clipper::area_mm2(clipper::intersection(island_paths, walls));
     }
     if (!(std::abs(overlap) > kTouchArea)) missed.push_back(island);
   }

@@ -58,43 +58,47 @@ SlabMeter::SlabMeter(const LayerStack& stack, SlabErrorOptions options)
 bool SlabMeter::every_piece_crosses(std::span<const std::uint32_t> faces, double z_lo,
                                     double z_hi, double h) const {
   const Mesh& mesh = stack_.mesh();
-  // Faces of the slab (a piece of positive height inside it, or flat strictly inside), found
-  // in `faces` (ascending) by bisection, and pieces joined where two faces share an edge that
-  // reaches into the open slab.
   const auto range = [&](std::uint32_t f) {
     const auto& face = mesh.faces[f];
     const double a = mesh.vertices[face[0]].z, b = mesh.vertices[face[1]].z,
                  c = mesh.vertices[face[2]].z;
     return std::pair{std::min({a, b, c}), std::max({a, b, c})};
   };
-  const auto position = [&](std::uint32_t f) -> std::size_t {
-    const auto it = std::lower_bound(faces.begin(), faces.end(), f);
-    if (it == faces.end() || *it != f) return faces.size();
+  // Each face's state in this call, one stamp per face of the mesh (kept per thread, so
+  // calls need not clear it): `in_slab` for a face of the slab (a piece of positive height
+  // inside it, or flat strictly inside), `in_slab + 1` once its piece was walked.
+  thread_local std::vector<std::uint32_t> stamp;
+  thread_local std::uint32_t epoch = 0;
+  if (stamp.size() != mesh.faces.size() || epoch > kNone - 3) {
+    stamp.assign(mesh.faces.size(), 0);
+    epoch = 0;
+  }
+  epoch += 2;
+  const std::uint32_t in_slab = epoch, walked = epoch + 1;
+  for (const std::uint32_t f : faces) {
     const auto [lo, hi] = range(f);
-    return hi > z_lo && lo < z_hi ? static_cast<std::size_t>(it - faces.begin()) : faces.size();
-  };
-  std::vector<char> seen(faces.size(), 0);
-  std::vector<std::uint32_t> stack;
-  for (std::size_t start = 0; start < faces.size(); ++start) {
-    if (seen[start] || position(faces[start]) == faces.size()) continue;
+    if (hi > z_lo && lo < z_hi) stamp[f] = in_slab;
+  }
+  // Pieces joined where two faces share an edge that reaches into the open slab.
+  std::vector<std::uint32_t> pending;
+  for (const std::uint32_t start : faces) {
+    if (stamp[start] != in_slab) continue;
     bool crosses = false;
-    seen[start] = 1;
-    stack.assign(1, faces[start]);
-    while (!stack.empty()) {
-      const std::uint32_t f = stack.back();
-      stack.pop_back();
+    stamp[start] = walked;
+    pending.assign(1, start);
+    while (!pending.empty()) {
+      const std::uint32_t f = pending.back();
+      pending.pop_back();
       const auto [lo, hi] = range(f);
       if (lo < h && h < hi) crosses = true;
       for (int k = 0; k < 3; ++k) {
         const std::uint32_t g = neighbours_[f][k];
-        if (g == kNone) continue;
+        if (g == kNone || stamp[g] != in_slab) continue;
         const double za = mesh.vertices[mesh.faces[f][k]].z;
         const double zb = mesh.vertices[mesh.faces[f][(k + 1) % 3]].z;
         if (!(std::max(za, zb) > z_lo && std::min(za, zb) < z_hi)) continue;
-        const std::size_t at = position(g);
-        if (at == faces.size() || seen[at]) continue;
-        seen[at] = 1;
-        stack.push_back(g);
+        stamp[g] = walked;
+        pending.push_back(g);
       }
     }
     if (!crosses) return false;

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "geometry/core/clipper_bridge.h"
+#include "geometry/core/clipper.h"
 
 namespace geometry {
 
@@ -19,11 +19,8 @@ Loop oriented(const ClipperLib::Path& path, bool counter_clockwise) {
 std::vector<BoundaryPair> boundary_pairs(const Region& footprint) {
   std::vector<BoundaryPair> pairs;
   if (footprint.loops.empty()) return pairs;
-  ClipperLib::Clipper clipper;
-  clipper.AddPaths(to_clipper(footprint), ClipperLib::ptSubject, true);
   ClipperLib::PolyTree tree;
-  clipper.Execute(ClipperLib::ctUnion, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
-  return boundary_pairs(tree);
+  return boundary_pairs(clipper::union_nonzero_tree(to_clipper(footprint), tree));
 }
 
 std::vector<BoundaryPair> boundary_pairs(const ClipperLib::PolyTree& tree) {

@@ -16,8 +16,7 @@
 
 #include <vector>
 
-#include <polyclipping/clipper.hpp>
-
+#include "geometry/core/clipper.h"
 #include "geometry/core/polygon.h"
 
 namespace geometry {

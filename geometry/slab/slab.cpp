@@ -8,7 +8,7 @@
 #include <numbers>
 #include <utility>
 
-#include "geometry/core/clipper_bridge.h"
+#include "geometry/core/clipper.h"
 #include "geometry/core/number_table.h"
 
 namespace geometry {
@@ -336,9 +336,8 @@ namespace {
 // cross; elsewhere (a spike, a very short edge) the corner is built as ClipperOffset builds
 // it. The same arithmetic as ClipperOffset matters: a wall's ring (offset by ClipperOffset)
 // lies exactly on the grown loop beside it, and a nanometre between the two would leave a
-// zigzag of extra vertices in the footprint.
+// zigzag of extra vertices in the footprint; so are its roundings (clipper_rounded).
 void add_grown(const ClipperLib::Paths& loops, double delta, ClipperLib::Paths& out) {
-  const auto round = [](double v) { return static_cast<cInt>(v < 0 ? v - 0.5 : v + 0.5); };
   struct Normal {
     double x, y, length;
   };
@@ -363,7 +362,8 @@ void add_grown(const ClipperLib::Paths& loops, double delta, ClipperLib::Paths& 
     ClipperLib::Path grown;
     grown.reserve(n + n / 4 + 4);
     const auto shifted = [&](IntPoint p, double x, double y) {
-      grown.push_back({round(double(p.X) + x * delta), round(double(p.Y) + y * delta)});
+      grown.push_back(
+          {clipper_rounded(double(p.X) + x * delta), clipper_rounded(double(p.Y) + y * delta)});
     };
     std::size_t k = n - 1;  // the edge the last join was made from
     for (std::size_t j = 0; j < n; ++j) {
@@ -388,7 +388,8 @@ void add_grown(const ClipperLib::Paths& loops, double delta, ClipperLib::Paths& 
         const double reach = r > 0 ? std::abs(sin_a) / r * delta : HUGE_VAL;
         if (adjacent && 2 * reach <= std::min(nk.length, nj.length)) {
           const double q = delta / r;
-          grown.push_back({round(double(p.X) + (nk.x + nj.x) * q), round(double(p.Y) + (nk.y + nj.y) * q)});
+          grown.push_back({clipper_rounded(double(p.X) + (nk.x + nj.x) * q),
+                           clipper_rounded(double(p.Y) + (nk.y + nj.y) * q)});
         } else {
           shifted(p, nk.x, nk.y);
           grown.push_back(p);
@@ -396,13 +397,14 @@ void add_grown(const ClipperLib::Paths& loops, double delta, ClipperLib::Paths& 
         }
       } else if (r >= 0.5) {  // convex, mitred (miter limit 2)
         const double q = delta / r;
-        grown.push_back({round(double(p.X) + (nk.x + nj.x) * q), round(double(p.Y) + (nk.y + nj.y) * q)});
+        grown.push_back({clipper_rounded(double(p.X) + (nk.x + nj.x) * q),
+                         clipper_rounded(double(p.Y) + (nk.y + nj.y) * q)});
       } else {  // convex and sharp: squared off
         const double t = std::tan(std::atan2(sin_a, cos_a) / 4);
-        grown.push_back({round(double(p.X) + delta * (nk.x - nk.y * t)),
-                         round(double(p.Y) + delta * (nk.y + nk.x * t))});
-        grown.push_back({round(double(p.X) + delta * (nj.x + nj.y * t)),
-                         round(double(p.Y) + delta * (nj.y - nj.x * t))});
+        grown.push_back({clipper_rounded(double(p.X) + delta * (nk.x - nk.y * t)),
+                         clipper_rounded(double(p.Y) + delta * (nk.y + nk.x * t))});
+        grown.push_back({clipper_rounded(double(p.X) + delta * (nj.x + nj.y * t)),
+                         clipper_rounded(double(p.Y) + delta * (nj.y - nj.x * t))});
       }
       k = j;
     }
@@ -445,42 +447,36 @@ void footprint_tree(const Slab& slab, double margin, ClipperLib::PolyTree& tree)
       edge_on.push_back(projected);
     }
   }
-  ClipperLib::Clipper clipper;
-  clipper.AddPaths(chain_boundary(edges), ClipperLib::ptSubject, true);
-  ClipperLib::Paths covered;
-  clipper.Execute(ClipperLib::ctUnion, covered, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
-  const double delta = std::max(margin, 0.0) * kClipperScale;
-  if (delta > 0) {
-    ClipperLib::Paths grown;
-    add_grown(covered, delta, grown);
-    if (!edge_on.empty()) {
-      ClipperLib::Paths open_lines, closed_lines;
-      chain_segments(edge_on, open_lines, closed_lines);
-      if (!open_lines.empty()) {  // squared ends: left to ClipperOffset (rare: a wall's loose end)
-        ClipperLib::ClipperOffset offset;
-        offset.AddPaths(open_lines, ClipperLib::jtMiter, ClipperLib::etOpenSquare);
-        ClipperLib::Paths ends;
-        offset.Execute(ends, delta);
-        grown.insert(grown.end(), ends.begin(), ends.end());
-      }
-      // A closed line (a wall's loop) grows to both sides: the loop counter-clockwise and
-      // clockwise, each grown as a polygon (ClipperOffset's etClosedLine).
-      for (ClipperLib::Path& line : closed_lines) {
-        if (!ClipperLib::Orientation(line)) ClipperLib::ReversePath(line);
-        ClipperLib::Paths sides{line};
-        ClipperLib::ReversePath(line);
-        sides.push_back(std::move(line));
-        add_grown(sides, delta, grown);
-      }
-    }
-    ClipperLib::Clipper unite;
-    unite.AddPaths(grown, ClipperLib::ptSubject, true);
-    unite.Execute(ClipperLib::ctUnion, tree, ClipperLib::pftPositive, ClipperLib::pftPositive);
-  } else {
-    ClipperLib::Clipper normalise;
-    normalise.AddPaths(covered, ClipperLib::ptSubject, true);
-    normalise.Execute(ClipperLib::ctUnion, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+  const ClipperLib::Paths covered = clipper::union_nonzero(chain_boundary(edges));
+  const double margin_mm = std::max(margin, 0.0);
+  if (!(margin_mm > 0)) {
+    clipper::union_nonzero_tree(covered, tree);
+    return;
   }
+  const double delta = margin_mm * kClipperScale;
+  ClipperLib::Paths grown;
+  add_grown(covered, delta, grown);
+  if (!edge_on.empty()) {
+    ClipperLib::Paths open_lines, closed_lines;
+    chain_segments(edge_on, open_lines, closed_lines);
+    if (!open_lines.empty()) {  // squared ends: left to ClipperOffset (rare: a wall's loose end)
+      // ClipperOffset's defaults: miter limit 2, arc tolerance 0.25 units (no arcs here).
+      const ClipperLib::Paths ends = clipper::library_offset(
+          open_lines, margin_mm, ClipperLib::jtMiter, ClipperLib::etOpenSquare,
+          0.25 / kClipperScale);
+      grown.insert(grown.end(), ends.begin(), ends.end());
+    }
+    // A closed line (a wall's loop) grows to both sides: the loop counter-clockwise and
+    // clockwise, each grown as a polygon (ClipperOffset's etClosedLine).
+    for (ClipperLib::Path& line : closed_lines) {
+      if (!ClipperLib::Orientation(line)) ClipperLib::ReversePath(line);
+      ClipperLib::Paths sides{line};
+      ClipperLib::ReversePath(line);
+      sides.push_back(std::move(line));
+      add_grown(sides, delta, grown);
+    }
+  }
+  clipper::union_positive_tree(grown, tree);
 }
 
 }  // namespace

@@ -5,26 +5,17 @@
 #include <limits>
 #include <optional>
 
-#include "geometry/core/clipper_bridge.h"
+#include "geometry/core/clipper.h"
 
 namespace geometry {
 
 namespace {
 
-// Green's theorem contributions of the directed segment p -> q (coordinates relative to the
-// origin) to the integrals of 1, x and y over the region it bounds.
-inline void add_segment(AreaMoments& m, Vec2 p, Vec2 q) {
-  const double c = cross(p, q);
-  m.area += c / 2;
-  m.mx += c * (p.x + q.x) / 6;
-  m.my += c * (p.y + q.y) / 6;
-}
-
 AreaMoments moments_of_paths(const ClipperLib::Paths& paths, Vec2 origin) {
   AreaMoments m;
   for (const auto& path : paths) {
     for (std::size_t i = 0, n = path.size(); i < n; ++i) {
-      add_segment(m, from_fine_clipper(path[i]) - origin, from_fine_clipper(path[(i + 1) % n]) - origin);
+      add_edge_moments(m, from_fine_clipper(path[i]) - origin, from_fine_clipper(path[(i + 1) % n]) - origin);
     }
   }
   return m;
@@ -33,13 +24,8 @@ AreaMoments moments_of_paths(const ClipperLib::Paths& paths, Vec2 origin) {
 // The robust slow path: Clipper's integer intersection of the polygon with the whole region.
 AreaMoments moments_by_clipper(const std::vector<Vec2>& convex, Vec2 origin,
                                const Region& region) {
-  ClipperLib::Clipper clipper;
-  clipper.AddPath(to_fine_clipper(convex), ClipperLib::ptSubject, true);
-  clipper.AddPaths(to_fine_clipper(region), ClipperLib::ptClip, true);
-  ClipperLib::Paths result;
-  clipper.Execute(ClipperLib::ctIntersection, result, ClipperLib::pftNonZero,
-                  ClipperLib::pftNonZero);
-  return moments_of_paths(result, origin);
+  return moments_of_paths(
+      clipper::intersection({to_fine_clipper(convex)}, to_fine_clipper(region)), origin);
 }
 
 // How far outside a corner the no-crossing case judges the polygon (the infinitesimal margin of
@@ -56,36 +42,6 @@ struct Crossing {
 
 }  // namespace
 
-ClipperLib::Path to_fine_clipper(const std::vector<Vec2>& loop) {
-  ClipperLib::Path path;
-  path.reserve(loop.size());
-  for (Vec2 p : loop) {
-    path.push_back({static_cast<ClipperLib::cInt>(std::llround(p.x * kFineClipperScale)),
-                    static_cast<ClipperLib::cInt>(std::llround(p.y * kFineClipperScale))});
-  }
-  return path;
-}
-
-ClipperLib::Paths to_fine_clipper(const Region& region) {
-  ClipperLib::Paths paths;
-  paths.reserve(region.loops.size());
-  for (const Loop& loop : region.loops) paths.push_back(to_fine_clipper(loop));
-  return paths;
-}
-
-Vec2 from_fine_clipper(const ClipperLib::IntPoint& p) {
-  return {static_cast<double>(p.X) / kFineClipperScale,
-          static_cast<double>(p.Y) / kFineClipperScale};
-}
-
-AreaMoments moments_of_loop(const std::vector<Vec2>& loop, Vec2 origin) {
-  AreaMoments m;
-  for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
-    add_segment(m, loop[i] - origin, loop[(i + 1) % n] - origin);
-  }
-  return m;
-}
-
 double integrate_linear(const std::vector<Vec2>& loop, Vec2 origin, double w0, double wx,
                         double wy) {
   const AreaMoments m = moments_of_loop(loop, origin);
@@ -94,28 +50,20 @@ double integrate_linear(const std::vector<Vec2>& loop, Vec2 origin, double w0, d
 
 namespace {
 
-// The moments of (convex ∩ region) by Green's theorem, or nothing where the configuration is
-// degenerate (the region's boundary through a corner of the polygon or along its edge).
-std::optional<AreaMoments> crossing_moments(const std::vector<Vec2>& convex, Vec2 origin,
-                                            const BoundaryGrid& region_grid) {
+// Step 1 of crossing_moments: the region's boundary inside the polygon (Cyrus-Beck against
+// each edge's half-plane), its moments added to m, and where it crosses the polygon's
+// boundary (`crossings`, unordered). A boundary point exactly on an edge's line counts as
+// inside: the polygon is treated as grown by an infinitesimal margin, and step 2 judges its
+// edges at that margin too, so both steps see the same configuration. Each vertex's side of
+// each line is computed by the same expression wherever it appears, so neighbouring boundary
+// segments agree on it.
+void add_boundary_inside(const std::vector<Vec2>& convex, Vec2 origin,
+                         const BoundaryGrid& region_grid, AreaMoments& m,
+                         std::vector<Crossing>& crossings) {
   const std::size_t n = convex.size();
-  AreaMoments m;
-  Vec2 lo = convex[0], hi = convex[0];
-  for (Vec2 p : convex) {
-    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y)};
-    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
-  }
-
-  // 1. The region's boundary inside the polygon (Cyrus-Beck against each edge's half-plane).
-  // A boundary point exactly on an edge's line counts as inside: the polygon is treated as
-  // grown by an infinitesimal margin, and step 2 judges its edges at that margin too, so both
-  // steps see the same configuration. Each vertex's side of each line is computed by the same
-  // expression wherever it appears, so neighbouring boundary segments agree on it.
-  // Reused: this runs for every facet and region, and a fresh vector each time was a malloc.
-  thread_local std::vector<Crossing> crossings;
-  crossings.clear();
+  const Box2 box = bounding_box(convex);
   const auto& segments = region_grid.segments();
-  region_grid.for_each_near(lo, hi, [&](std::uint32_t id) {
+  region_grid.for_each_near(box.lo, box.hi, [&](std::uint32_t id) {
     const Segment2& s = segments[id];
     double t0 = 0, t1 = 1;
     int k0 = -1, k1 = -1;
@@ -136,7 +84,7 @@ std::optional<AreaMoments> crossing_moments(const std::vector<Vec2>& convex, Vec
     if (t0 > t1) return;
     const Vec2 ab = s.b - s.a;
     const Vec2 a = s.a + t0 * ab, b = s.a + t1 * ab;
-    add_segment(m, a - origin, b - origin);
+    add_edge_moments(m, a - origin, b - origin);
     const auto position = [&](int k, Vec2 x) {
       const Vec2 p = convex[k], d = convex[(k + 1) % n] - p;
       return k + std::clamp(dot(x - p, d) / dot(d, d), 0.0, 1.0);
@@ -144,38 +92,42 @@ std::optional<AreaMoments> crossing_moments(const std::vector<Vec2>& convex, Vec
     if (k0 >= 0) crossings.push_back({position(k0, a), true, a});
     if (k1 >= 0) crossings.push_back({position(k1, b), false, b});
   });
+}
 
-  // 2. The polygon's boundary inside the region.
-  if (crossings.empty()) {
-    // No crossing: the boundary is all in or all out. Judge a point just outside a corner
-    // (the infinitesimal margin of step 1), unless the region's boundary passes too close to
-    // tell, which only a degenerate configuration does.
-    Vec2 centre{0, 0};
-    for (Vec2 p : convex) centre = centre + p;
-    centre = (1.0 / n) * centre;
-    const Vec2 out = convex[0] - centre;
-    const double length = std::hypot(out.x, out.y);
-    const Vec2 probe = length > 0 ? convex[0] + (kProbe / length) * out : convex[0];
-    double clearance = 0;
-    const int winding = region_grid.winding_number(probe, &clearance);
-    if (clearance < kClearance) return std::nullopt;
-    if (winding != 0) {
-      for (std::size_t k = 0; k < n; ++k) add_segment(m, convex[k] - origin, convex[(k + 1) % n] - origin);
-    }
-    return m;
+// Step 2 with no crossing: the polygon's boundary is all in or all out. Judged at a point just
+// outside a corner (the infinitesimal margin of step 1), unless the region's boundary passes
+// too close to tell, which only a degenerate configuration does (false).
+bool add_polygon_if_inside(const std::vector<Vec2>& convex, Vec2 origin,
+                           const BoundaryGrid& region_grid, AreaMoments& m) {
+  const std::size_t n = convex.size();
+  Vec2 centre{0, 0};
+  for (Vec2 p : convex) centre = centre + p;
+  centre = (1.0 / n) * centre;
+  const Vec2 out = convex[0] - centre;
+  const double length = std::hypot(out.x, out.y);
+  const Vec2 probe = length > 0 ? convex[0] + (kProbe / length) * out : convex[0];
+  double clearance = 0;
+  const int winding = region_grid.winding_number(probe, &clearance);
+  if (clearance < kClearance) return false;
+  if (winding != 0) {
+    for (std::size_t k = 0; k < n; ++k) add_edge_moments(m, convex[k] - origin, convex[(k + 1) % n] - origin);
   }
-  std::sort(crossings.begin(), crossings.end(),
-            [](const Crossing& a, const Crossing& b) { return a.position < b.position; });
-  const std::size_t count = crossings.size();
-  // Walking the polygon's boundary, the region's boundary alternately leaves and enters it;
-  // anything else (or two crossings too close to order) is a degenerate configuration.
+  return true;
+}
+
+// Step 2 with crossings (sorted along the polygon's boundary): from every exit, the polygon's
+// boundary runs inside the region up to the next entry. Walking it, the region's boundary
+// alternately leaves and enters; anything else, or two crossings too close to order, is a
+// degenerate configuration (false).
+bool add_polygon_between_crossings(const std::vector<Vec2>& convex, Vec2 origin,
+                                   const std::vector<Crossing>& crossings, AreaMoments& m) {
+  const std::size_t n = convex.size(), count = crossings.size();
   for (std::size_t i = 0; i < count; ++i) {
     const Crossing& a = crossings[i];
     const Crossing& b = crossings[(i + 1) % count];
     const double gap = i + 1 < count ? b.position - a.position : b.position + n - a.position;
-    if (a.entry == b.entry || gap < 1e-12) return std::nullopt;
+    if (a.entry == b.entry || gap < 1e-12) return false;
   }
-  // From every exit, the polygon's boundary runs inside the region up to the next entry.
   for (std::size_t i = 0; i < count; ++i) {
     const Crossing& exit = crossings[i];
     if (exit.entry) continue;
@@ -190,13 +142,32 @@ std::optional<AreaMoments> crossing_moments(const std::vector<Vec2>& convex, Vec
       if (steps == 0) steps = n;  // entry behind the exit on the same edge: full turn
       for (std::size_t s = 0; s < steps; ++s) {
         const Vec2 corner = convex[(k + 1) % n];
-        add_segment(m, at - origin, corner - origin);
+        add_edge_moments(m, at - origin, corner - origin);
         at = corner;
         k = (k + 1) % n;
       }
     }
-    add_segment(m, at - origin, entry.point - origin);
+    add_edge_moments(m, at - origin, entry.point - origin);
   }
+  return true;
+}
+
+// The moments of (convex ∩ region) by Green's theorem, or nothing where the configuration is
+// degenerate (the region's boundary through a corner of the polygon or along its edge).
+std::optional<AreaMoments> crossing_moments(const std::vector<Vec2>& convex, Vec2 origin,
+                                            const BoundaryGrid& region_grid) {
+  AreaMoments m;
+  // Reused: this runs for every facet and region, and a fresh vector each time was a malloc.
+  thread_local std::vector<Crossing> crossings;
+  crossings.clear();
+  add_boundary_inside(convex, origin, region_grid, m, crossings);
+  if (crossings.empty()) {
+    if (!add_polygon_if_inside(convex, origin, region_grid, m)) return std::nullopt;
+    return m;
+  }
+  std::sort(crossings.begin(), crossings.end(),
+            [](const Crossing& a, const Crossing& b) { return a.position < b.position; });
+  if (!add_polygon_between_crossings(convex, origin, crossings, m)) return std::nullopt;
   return m;
 }
 
@@ -310,11 +281,9 @@ SlabColumns slab_columns(const Slab& slab, const Region& lower_section) {
     column.w0 = slab.z_hi - first.z;
     column.wx = normal.x / normal.z;
     column.wy = normal.y / normal.z;
-    column.lo = column.hi = column.outline[0];
-    for (Vec2 p : column.outline) {
-      column.lo = {std::min(column.lo.x, p.x), std::min(column.lo.y, p.y)};
-      column.hi = {std::max(column.hi.x, p.x), std::max(column.hi.y, p.y)};
-    }
+    const Box2 box = bounding_box(column.outline);
+    column.lo = box.lo;
+    column.hi = box.hi;
     volume += column.sign * integrate_linear(column.outline, column.outline[0], column.w0,
                                              column.wx, column.wy);
     columns.facets.push_back(std::move(column));
@@ -326,12 +295,7 @@ SlabColumns slab_columns(const Slab& slab, const Region& lower_section) {
 
 double intersection_area(const Region& a, const Region& b) {
   if (a.loops.empty() || b.loops.empty()) return 0;
-  ClipperLib::Clipper clipper;
-  clipper.AddPaths(to_fine_clipper(a), ClipperLib::ptSubject, true);
-  clipper.AddPaths(to_fine_clipper(b), ClipperLib::ptClip, true);
-  ClipperLib::Paths result;
-  clipper.Execute(ClipperLib::ctIntersection, result, ClipperLib::pftNonZero,
-                  ClipperLib::pftNonZero);
+  const ClipperLib::Paths result = clipper::intersection(to_fine_clipper(a), to_fine_clipper(b));
   // Summed in the plane's own units: a loop's area in pm^2 can exceed a double's exact range
   // but not its relative precision, which is all an area needs.
   double total = 0;

@@ -24,8 +24,6 @@
 #include <array>
 #include <vector>
 
-#include <polyclipping/clipper.hpp>
-
 #include "geometry/core/boundary_grid.h"
 #include "geometry/core/polygon.h"
 #include "geometry/slab/slab.h"
@@ -59,10 +57,7 @@ SlabColumns slab_columns(const Slab& slab, const Region& lower_section);
 // the region's boundary (as a grid, whose segments must be those of `region`) clipped by
 // the polygon plus the polygon's boundary inside the region (Green's theorem). Degenerate
 // configurations (the region's boundary through a polygon corner, or exactly along it) fall
-// back to Clipper on the whole region (1 pm grid).
-struct AreaMoments {
-  double area = 0, mx = 0, my = 0;
-};
+// back to Clipper on the whole region (1 pm grid). AreaMoments: core/polygon.h.
 AreaMoments moments_of_intersection(const std::vector<Vec2>& convex, Vec2 origin,
                                     const BoundaryGrid& region_grid, const Region& region);
 
@@ -71,16 +66,11 @@ double occupied_volume_inside(const SlabColumns& columns, const Region& region);
 double occupied_volume_inside(const SlabColumns& columns, const Region& region,
                               const BoundaryGrid& region_grid);
 
-// Clipper on a picometre grid, not clipper_bridge.h's nanometres: these intersections feed
-// volume integrals that should be exact, and a nanometre grid would move them by up to
-// 0.7 nm times the boundary's length times t (1e-5 mm^3 on a bunny layer). Coordinates stay
-// far below Clipper's limit (2^62 pm, 4600 km); above 2^30 pm (1 mm) it uses 128-bit
-// products, about twice as slow, which these few calls per layer can afford.
-inline constexpr double kFineClipperScale = 1e9;
-ClipperLib::Path to_fine_clipper(const std::vector<Vec2>& loop);
-ClipperLib::Paths to_fine_clipper(const Region& region);
-Vec2 from_fine_clipper(const ClipperLib::IntPoint& p);
-
+// Clipper on the picometre grid (clipper.h's to_fine_clipper), not the nanometre one: these
+// intersections feed volume integrals that should be exact, and a nanometre grid would move
+// them by up to 0.7 nm times the boundary's length times t (1e-5 mm^3 on a bunny layer).
+// Coordinates stay far below Clipper's limit (2^62 pm, 4600 km); above 2^30 pm (1 mm) it uses
+// 128-bit products, about twice as slow, which these few calls per layer can afford.
 // Area of the intersection of two regions (Clipper on the 1 pm grid), mm^2.
 double intersection_area(const Region& a, const Region& b);
 
@@ -88,7 +78,6 @@ double intersection_area(const Region& a, const Region& b);
 // wy (y - o.y), from its boundary.
 double integrate_linear(const std::vector<Vec2>& loop, Vec2 origin, double w0, double wx,
                         double wy);
-AreaMoments moments_of_loop(const std::vector<Vec2>& loop, Vec2 origin);
 
 // The part of a polygon where the linear function f0 + fx (x - o.x) + fy (y - o.y) is >= 0
 // (Sutherland-Hodgman against one half-plane; a convex polygon stays convex, a non-convex one

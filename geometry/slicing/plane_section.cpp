@@ -81,11 +81,7 @@ void finish_loop(Loop& loop, Region& region) {
   // Of no area: |area| <= 1e-12 perimeter^2. Most loops have far more than that even against
   // a bound on the perimeter (the sum of |dx| + |dy|), which needs no square roots.
   const double area = std::abs(signed_area(loop));
-  double bound = 0;
-  for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
-    const Vec2 d = loop[i + 1 == n ? 0 : i + 1] - loop[i];
-    bound += std::abs(d.x) + std::abs(d.y);
-  }
+  const double bound = perimeter_bound(loop);
   if (!(area > 1e-12 * bound * bound)) {
     const double length = perimeter(loop);
     if (area <= 1e-12 * length * length) return;

@@ -6,14 +6,11 @@
 #include <optional>
 #include <vector>
 
-#include "geometry/core/clipper_bridge.h"
-#include "geometry/core/toolpath_clipper.h"
+#include "geometry/core/clipper.h"
 
 namespace geometry {
 
 namespace {
-
-namespace tc = toolpath_clipper;
 
 // The trial lines run this far past the area's edge, and an end lands on an anchor if the
 // anchors grown by twice this hold it (mm): the area's edge is the anchors' edge, up to the
@@ -31,7 +28,7 @@ constexpr double kShareTie = 0.005;
 constexpr double kAnchoredShare = 0.98;
 
 // Non-zero winding of the region round p; on an edge counts as inside.
-bool inside(const tc::Paths& region, const ClipperLib::IntPoint& p) {
+bool inside(const clipper::Paths& region, const ClipperLib::IntPoint& p) {
   int winding = 0;
   for (const auto& loop : region) {
     const int at = ClipperLib::PointInPolygon(p, loop);
@@ -45,8 +42,8 @@ struct Trial {
   double share = 0, span = 0;
 };
 
-Trial try_direction(double angle, const tc::Paths& area, const tc::Paths& reached,
-                    const tc::Paths& anchors, double spacing) {
+Trial try_direction(double angle, const clipper::Paths& area, const clipper::Paths& reached,
+                    const clipper::Paths& anchors, double spacing) {
   const double a = angle * std::numbers::pi / 180;
   const Vec2 d{std::cos(a), std::sin(a)}, n{-d.y, d.x};
   double lo = 1e300, hi = -1e300, dlo = 1e300, dhi = -1e300;
@@ -59,7 +56,7 @@ Trial try_direction(double angle, const tc::Paths& area, const tc::Paths& reache
       dhi = std::max(dhi, dot(p, d));
     }
   }
-  tc::Paths lines;
+  clipper::Paths lines;
   for (double o = lo + spacing / 2; o <= hi; o += spacing) {
     lines.push_back({to_clipper(o * n + (dlo - 1) * d), to_clipper(o * n + (dhi + 1) * d)});
   }
@@ -69,7 +66,7 @@ Trial try_direction(double angle, const tc::Paths& area, const tc::Paths& reache
   }
   Trial trial;
   double total = 0, held = 0;
-  for (const auto& piece : tc::clip_open(lines, reached)) {
+  for (const auto& piece : clipper::clip_open(lines, reached)) {
     if (piece.size() < 2) continue;
     double length = 0;
     for (std::size_t i = 1; i < piece.size(); ++i) {
@@ -87,13 +84,13 @@ Trial try_direction(double angle, const tc::Paths& area, const tc::Paths& reache
 }
 
 // Direction from the centroid of the largest anchor to that of the second largest, degrees.
-std::optional<double> between_largest(const tc::Paths& anchors) {
+std::optional<double> between_largest(const clipper::Paths& anchors) {
   struct Piece {
     double area;
     Vec2 centroid;
   };
   std::vector<Piece> pieces;
-  for (const tc::Paths& island : tc::islands(anchors)) {
+  for (const clipper::Paths& island : clipper::islands(anchors)) {
     double twice = 0;
     Vec2 sum{};
     for (const auto& path : island) {
@@ -122,8 +119,8 @@ BridgeDirection bridge_direction(const ClipperLib::Paths& area, const ClipperLib
                                  double spacing) {
   BridgeDirection best;
   if (area.empty() || anchors.empty() || !(spacing > 0)) return best;
-  const tc::Paths reached = tc::offset(area, kReach);
-  const tc::Paths held = tc::offset(anchors, 2 * kReach);
+  const clipper::Paths reached = clipper::offset(area, kReach);
+  const clipper::Paths held = clipper::offset(anchors, 2 * kReach);
   // Most unsupported pieces are bands along one wall, held on one side: a few directions
   // with lines far apart show it, before every direction is tried at the full spacing.
   double extent = 0;

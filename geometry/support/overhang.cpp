@@ -4,14 +4,11 @@
 #include <cmath>
 #include <numbers>
 
-#include "geometry/core/clipper_bridge.h"
-#include "geometry/core/toolpath_clipper.h"
+#include "geometry/core/clipper.h"
 
 namespace geometry {
 
 namespace {
-
-namespace tc = toolpath_clipper;
 
 // Steep pieces narrower than twice this are the offsets' rounding and edges a few microns
 // apart, not overhangs (mm).
@@ -27,9 +24,9 @@ double overhang_reach(double thickness, double angle_degrees, double bead_width)
 
 ClipperLib::Paths without_specks(const ClipperLib::Paths& region, double min_area) {
   if (!(min_area > 0)) return region;
-  tc::Paths kept;
-  for (tc::Paths& island : tc::islands(region)) {
-    if (tc::area_mm2(island) < min_area) continue;
+  clipper::Paths kept;
+  for (clipper::Paths& island : clipper::islands(region)) {
+    if (clipper::area_mm2(island) < min_area) continue;
     kept.insert(kept.end(), std::make_move_iterator(island.begin()),
                 std::make_move_iterator(island.end()));
   }
@@ -39,17 +36,17 @@ ClipperLib::Paths without_specks(const ClipperLib::Paths& region, double min_are
 ClipperLib::Paths overhang(const ClipperLib::Paths& region, const ClipperLib::Paths& below,
                            double reach, double min_area) {
   if (region.empty()) return {};
-  if (below.empty()) return without_specks(tc::union_of(region), min_area);
+  if (below.empty()) return without_specks(clipper::union_nonzero(region), min_area);
   reach = std::max(reach, 0.0);
-  const tc::Paths carried = reach > 0 ? tc::offset(below, reach) : below;
-  tc::Paths steep = tc::difference(region, carried);
+  const clipper::Paths carried = reach > 0 ? clipper::offset(below, reach) : below;
+  clipper::Paths steep = clipper::difference(region, carried);
   if (steep.empty()) return {};
-  steep = without_specks(tc::opening(steep, kSliver), min_area);
+  steep = without_specks(clipper::opening(steep, kSliver), min_area);
   if (steep.empty()) return {};
   if (reach == 0) return steep;
   // Back to the whole overhang beyond the layer below, around the steep pieces only.
-  const tc::Paths around = tc::intersection(tc::offset(steep, reach + kSliver), region);
-  return without_specks(tc::difference(around, below), min_area);
+  const clipper::Paths around = clipper::intersection(clipper::offset(steep, reach + kSliver), region);
+  return without_specks(clipper::difference(around, below), min_area);
 }
 
 Region overhang(const Region& region, const Region& below, double reach, double min_area) {

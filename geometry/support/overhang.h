@@ -13,7 +13,7 @@
 //   from the edge of the layer below out (PrusaSlicer's contact areas do the same). An empty
 //   `below` makes all of `region` overhang (a piece that starts in the air).
 // Regions in mm (outer loops CCW, holes CW); the Clipper overload takes and gives
-// toolpath_clipper's paths. Empty region: empty result; reach <= 0: every part of region
+// geometry::clipper's paths. Empty region: empty result; reach <= 0: every part of region
 // not over below.
 #pragma once
 

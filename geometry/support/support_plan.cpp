@@ -6,16 +6,13 @@
 #include <cmath>
 #include <numbers>
 
-#include "geometry/core/clipper_bridge.h"
-#include "geometry/core/toolpath_clipper.h"
+#include "geometry/core/clipper.h"
 #include "geometry/support/bridge_detector.h"
 #include "geometry/support/overhang.h"
 
 namespace geometry {
 
 namespace {
-
-namespace tc = toolpath_clipper;
 
 // Regions are straightened within this before any of the below (mm): a tenth of the
 // unsupported-extrusion check's tolerance, and half the vertices of a fine mesh's section.
@@ -28,22 +25,22 @@ constexpr double kAnchorReach = 2;
 // centre area, half a bead in, still holds the line.
 constexpr double kOnLine = 0.01;
 
-tc::Paths box_path(const SupportBox& box) {
+clipper::Paths box_path(const SupportBox& box) {
   return {{to_clipper(Vec2{box.min.x, box.min.y}), to_clipper(Vec2{box.max.x, box.min.y}),
            to_clipper(Vec2{box.max.x, box.max.y}), to_clipper(Vec2{box.min.x, box.max.y})}};
 }
 
 // The boxes' footprints that layer meets.
-tc::Paths boxes_at(const std::vector<SupportBox>& boxes, const Layer& layer) {
-  tc::Paths result;
+clipper::Paths boxes_at(const std::vector<SupportBox>& boxes, const Layer& layer) {
+  clipper::Paths result;
   for (const SupportBox& box : boxes) {
     if (box.max.x <= box.min.x || box.max.y <= box.min.y) continue;
     if (box.min.z < layer.z_hi && box.max.z > layer.z_lo) {
-      const tc::Paths path = box_path(box);
+      const clipper::Paths path = box_path(box);
       result.insert(result.end(), path.begin(), path.end());
     }
   }
-  return result.empty() ? result : tc::union_of(result);
+  return result.empty() ? result : clipper::union_nonzero(result);
 }
 
 // The region widened across lines `spacing` apart at `angle` (through the origin) to the
@@ -51,14 +48,14 @@ tc::Paths boxes_at(const std::vector<SupportBox>& boxes, const Layer& layer) {
 // between two neighbouring lines, each piece of the region in it becomes the band's full
 // width over the piece's extent along the lines; a piece within `past` less kOnLine of one
 // line, which the widened region covers anyway, only that line's strip.
-tc::Paths widened_to_lines(const tc::Paths& region, double angle, double spacing, double past,
+clipper::Paths widened_to_lines(const clipper::Paths& region, double angle, double spacing, double past,
                            double along) {
   if (region.empty() || !(spacing > 0)) return region;
   const double a = angle * std::numbers::pi / 180;
   const double c = std::cos(a), s = std::sin(a);
   auto into = [&](Vec2 p) { return Vec2{p.x * c + p.y * s, -p.x * s + p.y * c}; };
   auto out = [&](Vec2 p) { return Vec2{p.x * c - p.y * s, p.x * s + p.y * c}; };
-  tc::Paths turned;
+  clipper::Paths turned;
   double y_min = 1e300, y_max = -1e300, x_min = 1e300, x_max = -1e300;
   for (const auto& path : region) {
     ClipperLib::Path t;
@@ -73,12 +70,12 @@ tc::Paths widened_to_lines(const tc::Paths& region, double angle, double spacing
     turned.push_back(std::move(t));
   }
   const double slack = std::clamp(past - kOnLine, 0.0, spacing / 4);
-  tc::Paths boxes;
+  clipper::Paths boxes;
   for (double k = std::floor(y_min / spacing); k * spacing < y_max; k += 1) {
     const double y0 = k * spacing, y1 = y0 + spacing;
-    const tc::Paths band{{to_clipper(Vec2{x_min - 1, y0}), to_clipper(Vec2{x_max + 1, y0}),
+    const clipper::Paths band{{to_clipper(Vec2{x_min - 1, y0}), to_clipper(Vec2{x_max + 1, y0}),
                           to_clipper(Vec2{x_max + 1, y1}), to_clipper(Vec2{x_min - 1, y1})}};
-    for (const tc::Paths& piece : tc::islands(tc::intersection(turned, band))) {
+    for (const clipper::Paths& piece : clipper::islands(clipper::intersection(turned, band))) {
       double lo = 1e300, hi = -1e300, bottom = 1e300, top = -1e300;
       for (const auto& q : piece.front()) {
         const Vec2 p = from_clipper(q);
@@ -100,34 +97,34 @@ tc::Paths widened_to_lines(const tc::Paths& region, double angle, double spacing
                        to_clipper(out({hi, to})), to_clipper(out({lo, to}))});
     }
   }
-  return tc::union_of(boxes);
+  return clipper::union_nonzero(boxes);
 }
 
 // Step 1-3 for layer k >= 1: the pieces that need support (contact) and those bridged.
 struct LayerContacts {
-  tc::Paths contact;
+  clipper::Paths contact;
   std::vector<Bridge> bridges;
 };
 
-LayerContacts layer_contacts(const std::vector<tc::Paths>& part, const std::vector<Layer>& layers,
-                             std::size_t k, const SupportOptions& o, const tc::Paths* shadow) {
+LayerContacts layer_contacts(const std::vector<clipper::Paths>& part, const std::vector<Layer>& layers,
+                             std::size_t k, const SupportOptions& o, const clipper::Paths* shadow) {
   LayerContacts result;
-  const tc::Paths& region = part[k];
-  const tc::Paths& below = part[k - 1];
+  const clipper::Paths& region = part[k];
+  const clipper::Paths& below = part[k - 1];
   const double reach = overhang_reach(layers[k].thickness(), o.overhang_angle, o.bead_width);
-  tc::Paths pieces = overhang(region, below, reach, o.min_area);
-  const tc::Paths enforced = boxes_at(o.enforcers, layers[k]);
-  const tc::Paths blocked = boxes_at(o.blockers, layers[k]);
-  if (!blocked.empty()) pieces = without_specks(tc::difference(pieces, blocked), o.min_area);
+  clipper::Paths pieces = overhang(region, below, reach, o.min_area);
+  const clipper::Paths enforced = boxes_at(o.enforcers, layers[k]);
+  const clipper::Paths blocked = boxes_at(o.blockers, layers[k]);
+  if (!blocked.empty()) pieces = without_specks(clipper::difference(pieces, blocked), o.min_area);
   if (shadow && !shadow->empty() && !pieces.empty()) {
-    pieces = without_specks(tc::difference(pieces, *shadow), o.min_area);
+    pieces = without_specks(clipper::difference(pieces, *shadow), o.min_area);
   }
-  tc::Paths contact;
+  clipper::Paths contact;
   if (!pieces.empty() && o.bridge_length > 0) {
     const double reach_out = kAnchorReach * o.bead_width;
-    const tc::Paths near = tc::intersection(below, tc::offset(pieces, reach_out));
-    for (tc::Paths& piece : tc::islands(pieces)) {
-      const tc::Paths anchors = tc::intersection(near, tc::offset(piece, reach_out));
+    const clipper::Paths near = clipper::intersection(below, clipper::offset(pieces, reach_out));
+    for (clipper::Paths& piece : clipper::islands(pieces)) {
+      const clipper::Paths anchors = clipper::intersection(near, clipper::offset(piece, reach_out));
       const BridgeDirection direction = bridge_direction(piece, anchors, o.bead_width);
       if (direction.anchored && direction.span <= o.bridge_length) {
         result.bridges.push_back({from_clipper(piece), direction.angle, direction.span});
@@ -140,15 +137,15 @@ LayerContacts layer_contacts(const std::vector<tc::Paths>& part, const std::vect
   }
   if (!enforced.empty()) {
     // Inside an enforcer, whatever is not over the layer below, however gentle the slope.
-    tc::Paths forced = overhang(tc::intersection(region, enforced), below, 0, o.min_area);
-    if (shadow && !shadow->empty()) forced = without_specks(tc::difference(forced, *shadow), o.min_area);
+    clipper::Paths forced = overhang(clipper::intersection(region, enforced), below, 0, o.min_area);
+    if (shadow && !shadow->empty()) forced = without_specks(clipper::difference(forced, *shadow), o.min_area);
     contact.insert(contact.end(), forced.begin(), forced.end());
   }
   if (!contact.empty()) {
     // Out to the body's lines across them, a bead's half past the line (the interface's
     // ends then rest on the line), and half a bead along them.
     const double past = o.bead_width / 2 + kOnLine, along = o.bead_width / 2;
-    tc::Paths grown = tc::union_of(contact);
+    clipper::Paths grown = clipper::union_nonzero(contact);
     if (o.pattern == SupportPattern::grid) {
       grown = widened_to_lines(grown, o.line_angle, o.line_spacing, past, 0);
       grown = widened_to_lines(grown, o.line_angle + 90, o.line_spacing, past, 0);
@@ -170,10 +167,10 @@ long top_support_layer(const std::vector<Layer>& layers, std::size_t k, double g
 
 // Step 4: the columns, from the top down; each layer's support is what comes down from the
 // layer above plus the contacts whose top is here, less what must stay clear of the part.
-std::vector<tc::Paths> columns(const std::vector<tc::Paths>& part, const std::vector<Layer>& layers,
-                               const std::vector<tc::Paths>& tops, const SupportOptions& o) {
+std::vector<clipper::Paths> columns(const std::vector<clipper::Paths>& part, const std::vector<Layer>& layers,
+                               const std::vector<clipper::Paths>& tops, const SupportOptions& o) {
   const std::size_t n = layers.size();
-  std::vector<tc::Paths> support(n);
+  std::vector<clipper::Paths> support(n);
   std::size_t highest = 0;  // one past the highest layer with a contact's top
   for (std::size_t j = 0; j < n; ++j) {
     if (!tops[j].empty()) highest = j + 1;
@@ -181,9 +178,9 @@ std::vector<tc::Paths> columns(const std::vector<tc::Paths>& part, const std::ve
   // What each layer's support must stay clear of, each layer on its own: the part grown by
   // the XY gap, the part above within the top contact distance and below within the bottom
   // one.
-  std::vector<tc::Paths> clear(highest);
+  std::vector<clipper::Paths> clear(highest);
   tbb::parallel_for(std::size_t{0}, highest, [&](std::size_t j) {
-    tc::Paths all = part[j].empty() ? tc::Paths{} : tc::offset(part[j], o.xy_gap, ClipperLib::jtRound);
+    clipper::Paths all = part[j].empty() ? clipper::Paths{} : clipper::offset(part[j], o.xy_gap, ClipperLib::jtRound);
     for (std::size_t i = j + 1; i < n && layers[i].z_lo < layers[j].z_hi + o.top_contact_distance - kHeight; ++i) {
       all.insert(all.end(), part[i].begin(), part[i].end());
     }
@@ -192,30 +189,30 @@ std::vector<tc::Paths> columns(const std::vector<tc::Paths>& part, const std::ve
     }
     clear[j] = std::move(all);
   });
-  tc::Paths coming;
+  clipper::Paths coming;
   for (std::size_t j = highest; j-- > 0;) {
-    tc::Paths s = tops[j].empty() ? std::move(coming) : tc::union_of(coming, tops[j]);
+    clipper::Paths s = tops[j].empty() ? std::move(coming) : clipper::union_nonzero(coming, tops[j]);
     if (s.empty()) {
       coming.clear();
       continue;
     }
-    s = tc::difference(s, clear[j]);
+    s = clipper::difference(s, clear[j]);
     // What goes down is straightened (the vertices would pile up layer on layer); what
     // this layer prints is exactly clear of the part.
-    coming = tc::simplified(s, kTolerance);
+    coming = clipper::simplified(s, kTolerance);
     support[j] = std::move(s);
   }
   return support;
 }
 
 // Step 6.
-void plan_raft(SupportPlan& plan, const tc::Paths& first, const RaftOptions& r) {
-  tc::Paths outline;
-  for (const auto& path : tc::union_of(first)) {
+void plan_raft(SupportPlan& plan, const clipper::Paths& first, const RaftOptions& r) {
+  clipper::Paths outline;
+  for (const auto& path : clipper::union_nonzero(first)) {
     if (ClipperLib::Orientation(path)) outline.push_back(path);  // holes filled
   }
   if (outline.empty()) return;
-  plan.raft_area = from_clipper(tc::offset(tc::union_of(outline), std::max(r.margin, 0.0),
+  plan.raft_area = from_clipper(clipper::offset(clipper::union_nonzero(outline), std::max(r.margin, 0.0),
                                            ClipperLib::jtRound));
   double z = 0;
   auto add = [&](double thickness, RaftPart part) {
@@ -263,25 +260,25 @@ SupportPlan plan_supports(const std::vector<Region>& regions, const std::vector<
   const bool supports = options.placement != SupportPlacement::none;
   if (n == 0 || (!supports && !raft.enabled)) return plan;
 
-  std::vector<tc::Paths> part(n);
+  std::vector<clipper::Paths> part(n);
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-    if (i < regions.size()) part[i] = tc::union_of(tc::simplified(to_clipper(regions[i]), kTolerance));
+    if (i < regions.size()) part[i] = clipper::union_nonzero(clipper::simplified(to_clipper(regions[i]), kTolerance));
   });
 
-  std::vector<tc::Paths> support(n), tops(n);
+  std::vector<clipper::Paths> support(n), tops(n);
   if (supports) {
     plan.layers.resize(n);
     // Only from the bed: nothing over any part of the layers below (each layer's shadow,
     // the union of those below it, in turn).
-    std::vector<tc::Paths> shadows;
+    std::vector<clipper::Paths> shadows;
     if (options.placement == SupportPlacement::buildplate) {
       shadows.resize(n);
       for (std::size_t k = 1; k < n; ++k) {
-        shadows[k] = tc::simplified(tc::union_of(shadows[k - 1], part[k - 1]), kTolerance);
+        shadows[k] = clipper::simplified(clipper::union_nonzero(shadows[k - 1], part[k - 1]), kTolerance);
       }
     }
     // Steps 1-3, each layer on its own.
-    std::vector<tc::Paths> contacts(n);
+    std::vector<clipper::Paths> contacts(n);
     tbb::parallel_for(std::size_t{1}, std::max<std::size_t>(n, 1), [&](std::size_t k) {
       LayerContacts c = layer_contacts(part, layers, k, options, shadows.empty() ? nullptr : &shadows[k]);
       contacts[k] = std::move(c.contact);
@@ -300,18 +297,18 @@ SupportPlan plan_supports(const std::vector<Region>& regions, const std::vector<
     const std::size_t dense = static_cast<std::size_t>(std::max(options.interface_layers, 0));
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t j) {
       if (support[j].empty()) return;
-      tc::Paths under;
+      clipper::Paths under;
       for (std::size_t m = 0; m < dense && j + m < n; ++m) {
         under.insert(under.end(), tops[j + m].begin(), tops[j + m].end());
       }
-      const tc::Paths interface = tc::intersection(support[j], under);
+      const clipper::Paths interface = clipper::intersection(support[j], under);
       plan.layers[j].interface = from_clipper(interface);
       plan.layers[j].body = from_clipper(interface.empty() ? support[j]
-                                                           : tc::difference(support[j], interface));
+                                                           : clipper::difference(support[j], interface));
     });
   }
   if (raft.enabled) {
-    tc::Paths first = part[0];
+    clipper::Paths first = part[0];
     first.insert(first.end(), support[0].begin(), support[0].end());
     plan_raft(plan, first, raft);
   }

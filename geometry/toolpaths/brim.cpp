@@ -2,8 +2,7 @@
 
 #include <cmath>
 
-#include "geometry/core/clipper_bridge.h"
-#include "geometry/core/toolpath_clipper.h"
+#include "geometry/core/clipper.h"
 
 namespace geometry {
 
@@ -22,13 +21,12 @@ double brim_extent(double width, double brim_width) {
 }
 
 std::vector<ExtrusionPath> brim(const Region& footprint, double width, double brim_width) {
-  namespace tc = toolpath_clipper;
   std::vector<ExtrusionPath> result;
   const int loops = loop_count(width, brim_width);
-  const tc::Paths part = tc::union_of(to_clipper(footprint));
+  const clipper::Paths part = clipper::union_nonzero(to_clipper(footprint));
   if (part.empty() || loops <= 0) return result;
   for (int k = loops - 1; k >= 0; --k) {
-    for (const auto& path : tc::offset(part, width / 2 + k * width, ClipperLib::jtRound)) {
+    for (const auto& path : clipper::offset(part, width / 2 + k * width, ClipperLib::jtRound)) {
       if (!ClipperLib::Orientation(path)) continue;  // a hole of the grown outline
       ExtrusionPath loop;
       loop.role = PathRole::brim;

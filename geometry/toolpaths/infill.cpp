@@ -4,16 +4,13 @@
 #include <cmath>
 #include <limits>
 
-#include "geometry/core/clipper_bridge.h"
+#include "geometry/core/clipper.h"
 #include "geometry/toolpaths/thin_walls.h"
-#include "geometry/core/toolpath_clipper.h"
 #include "geometry/toolpaths/zigzag.h"
 
 namespace geometry {
 
 namespace {
-
-namespace tc = toolpath_clipper;
 
 // Longest connector of sparse and of solid infill, in line spacings (see infill.h).
 constexpr double kSparseConnector = 3;
@@ -32,18 +29,18 @@ constexpr double kGraze = 0.001;
 // Lines at heights first + k * spacing (k = 0, 1, ...) in the rotated frame, clipped to area.
 std::vector<ExtrusionPath> lines(const ScanFrame& frame, double first, double spacing,
                                  double y_max, double x_min, double x_max,
-                                 const tc::Paths& rotated, PathRole role, double width) {
+                                 const clipper::Paths& rotated, PathRole role, double width) {
   // More lines than this means a spacing no printer can lay down (nanometres over a bed).
   constexpr double kMaxLines = 1e6;
   if ((y_max - first) / spacing > kMaxLines) return {};
-  tc::Paths scan;
+  clipper::Paths scan;
   for (std::size_t k = 0;; ++k) {
     const double y = first + static_cast<double>(k) * spacing;
     if (y > y_max) break;
     scan.push_back({to_clipper(Vec2{x_min - 1, y}), to_clipper(Vec2{x_max + 1, y})});
   }
   std::vector<ExtrusionPath> result;
-  for (const auto& piece : tc::clip_open(scan, rotated)) {
+  for (const auto& piece : clipper::clip_open(scan, rotated)) {
     if (piece.size() < 2) continue;
     ExtrusionPath path;
     path.role = role;
@@ -60,7 +57,7 @@ std::vector<ExtrusionPath> lines(const ScanFrame& frame, double first, double sp
 }
 
 struct Rotated {
-  tc::Paths paths;
+  clipper::Paths paths;
   double x_min = 0, x_max = 0, y_min = 0, y_max = 0;
   bool empty() const { return paths.empty(); }
 };
@@ -90,7 +87,7 @@ std::vector<ExtrusionPath> lines_across(const ScanFrame& frame, double first, do
 
 // The piece (by index) whose area contains p, or the first one.
 PathRole role_at(Vec2 p, const std::vector<SolidPiece>& pieces,
-                 const std::vector<tc::Paths>& piece_paths) {
+                 const std::vector<clipper::Paths>& piece_paths) {
   const ClipperLib::IntPoint q = to_clipper(p);
   for (std::size_t i = 0; i < pieces.size(); ++i) {
     int winding = 0;
@@ -105,8 +102,8 @@ PathRole role_at(Vec2 p, const std::vector<SolidPiece>& pieces,
 // Paths cut where they pass from one piece into another, each piece's part with its role.
 std::vector<ExtrusionPath> split_by_piece(const std::vector<ExtrusionPath>& paths,
                                           const std::vector<SolidPiece>& pieces,
-                                          const std::vector<tc::Paths>& piece_paths) {
-  tc::Paths open;
+                                          const std::vector<clipper::Paths>& piece_paths) {
+  clipper::Paths open;
   for (const ExtrusionPath& path : paths) {
     ClipperLib::Path line;
     for (Vec2 p : path.points) line.push_back(to_clipper(p));
@@ -115,7 +112,7 @@ std::vector<ExtrusionPath> split_by_piece(const std::vector<ExtrusionPath>& path
   const double width = paths.empty() ? 0 : paths.front().width;
   std::vector<ExtrusionPath> result;
   for (std::size_t i = 0; i < pieces.size(); ++i) {
-    for (const auto& piece : tc::clip_open(open, piece_paths[i])) {
+    for (const auto& piece : clipper::clip_open(open, piece_paths[i])) {
       if (piece.size() < 2) continue;
       ExtrusionPath path;
       path.role = pieces[i].role;
@@ -183,7 +180,7 @@ std::vector<ExtrusionPath> sparse_infill(const Region& area, double width, doubl
   // tens of micrometres at most, so the area is straightened within 25 um first (a third of
   // the vertices to offset).
   const Region centres =
-      from_clipper(tc::offset(tc::simplified(to_clipper(area), kSparseTolerance), -width / 2));
+      from_clipper(clipper::offset(clipper::simplified(to_clipper(area), kSparseTolerance), -width / 2));
   for (double a : angles) {
     auto set = zigzag(centres, ScanLines{a, set_spacing, 0}, kSparseConnector * set_spacing,
                       &area, PathRole::sparse_infill, width);
@@ -202,13 +199,13 @@ std::vector<ExtrusionPath> solid_infill(const std::vector<SolidPiece>& pieces, d
                                         double angle, std::size_t layer_index,
                                         InfillLines lines) {
   if (!(width > 0) || pieces.empty()) return {};
-  std::vector<tc::Paths> piece_paths;
-  tc::Paths all;
+  std::vector<clipper::Paths> piece_paths;
+  clipper::Paths all;
   for (const SolidPiece& piece : pieces) {
     piece_paths.push_back(to_clipper(piece.area));
     all.insert(all.end(), piece_paths.back().begin(), piece_paths.back().end());
   }
-  const tc::Paths whole = pieces.size() == 1 ? tc::union_of(piece_paths[0]) : tc::union_of(all);
+  const clipper::Paths whole = pieces.size() == 1 ? clipper::union_nonzero(piece_paths[0]) : clipper::union_nonzero(all);
   if (whole.empty()) return {};
   const double layer_angle = angle + (layer_index % 2 ? 90 : 0);
   const ScanFrame frame(layer_angle);
@@ -228,7 +225,7 @@ std::vector<ExtrusionPath> solid_infill(const std::vector<SolidPiece>& pieces, d
   } else {
     // Centre lines run half a bead inside; a micrometre less, so that the first and last
     // lines, which lie exactly on the shrunk area's extremes, are not lost to rounding.
-    const Region centres = from_clipper(tc::offset(whole, -(bead / 2 - kGraze)));
+    const Region centres = from_clipper(clipper::offset(whole, -(bead / 2 - kGraze)));
     const Region fill = from_clipper(whole);
     result = zigzag(centres, ScanLines{layer_angle, spacing, r.y_min + spacing / 2},
                     kSolidConnector * spacing, &fill, first_role, bead);
@@ -237,15 +234,12 @@ std::vector<ExtrusionPath> solid_infill(const std::vector<SolidPiece>& pieces, d
 
   // What the lines leave bare, up to a bead wide, gets centre lines of its own width. (The
   // beads are taken with square ends and corners: as much as round ones but for specks.)
-  ClipperLib::ClipperOffset beads(2.0, kArc * kClipperScale);
-  for (const ExtrusionPath& line : result) {
-    ClipperLib::Path path;
-    for (Vec2 p : line.points) path.push_back(to_clipper(p));
-    beads.AddPath(path, ClipperLib::jtSquare, ClipperLib::etOpenSquare);
-  }
-  tc::Paths covered;
-  beads.Execute(covered, (bead / 2 + kCoverTolerance) * kClipperScale);
-  tc::Paths bare = tc::difference(whole, covered);
+  clipper::Paths centre_lines;
+  for (const ExtrusionPath& line : result) centre_lines.push_back(to_clipper(line.points));
+  const clipper::Paths covered =
+      clipper::library_offset(centre_lines, bead / 2 + kCoverTolerance, ClipperLib::jtSquare,
+                              ClipperLib::etOpenSquare, kArc);
+  clipper::Paths bare = clipper::difference(whole, covered);
   // A piece under an eighth of a bead's square is a notch a round bead leaves at a turn of
   // the zig-zag or at a corner (two notches of (1 - pi/4) w^2/4 where turns meet): a bead
   // there would be a dab laid beside beads that nearly fill it already.
@@ -254,7 +248,7 @@ std::vector<ExtrusionPath> solid_infill(const std::vector<SolidPiece>& pieces, d
     std::erase_if(bare, [&](const auto& path) { return std::abs(ClipperLib::Area(path)) < speck; });
   };
   drop_specks();
-  bare = tc::opening(bare, width / 8);
+  bare = clipper::opening(bare, width / 8);
   drop_specks();  // the opening cuts a bare edge into the notches along it
   const Region fill_area = from_clipper(whole);
   for (ExtrusionPath& gap : thin_walls(from_clipper(bare), width / 4, width,

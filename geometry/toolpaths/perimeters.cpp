@@ -2,15 +2,12 @@
 
 #include <cmath>
 
-#include "geometry/core/clipper_bridge.h"
+#include "geometry/core/clipper.h"
 #include "geometry/toolpaths/thin_walls.h"
-#include "geometry/core/toolpath_clipper.h"
 
 namespace geometry {
 
 namespace {
-
-namespace tc = toolpath_clipper;
 
 // A loop with less length than this is a speck left by the offset, not a printable wall;
 // dropping it leaves its area to the thin-wall pass, which covers it if it is wide enough.
@@ -32,7 +29,7 @@ ExtrusionPath closed_path(const ClipperLib::Path& path, PathRole role, double wi
 }  // namespace
 
 Perimeters perimeters(const Region& island, double width, int count) {
-  return perimeters(tc::union_of(to_clipper(island)), width, count);
+  return perimeters(clipper::union_nonzero(to_clipper(island)), width, count);
 }
 
 Perimeters perimeters(const ClipperLib::Paths& whole, double width, int count) {
@@ -48,14 +45,14 @@ Perimeters perimeters(const ClipperLib::Paths& whole, double width, int count) {
   //   inside: the island shrunk by k w, the space loop k is laid in;
   //   core: shrunk by (k + 1) w, where loop k's centre may go with half a bead to spare on
   //         either side; it is the next level's inside.
-  tc::Paths inside = whole, core = tc::offset(whole, -width);
+  clipper::Paths inside = whole, core = clipper::offset(whole, -width);
   // gaps: what the loops' beads leave of the space each was laid in (inside), taking a
   // bead's convex corners as cut square at half a bead from the centre line: a bead rounds
   // them, and a corner sharper than about 60 degrees leaves a sliver worth a gap fill, one
   // blunter a speck. The bead is taken 10 um wider (its straightened centre line, 10 um, is
   // what it is grown from), so that where there is no gap its edge does not run along the
   // edge of the space, which would cost the difference a crossing at every vertex.
-  tc::Paths gaps;
+  clipper::Paths gaps;
   int made = 0;
   for (int k = 0; k < count && !core.empty(); ++k) {
     // The loop's centre line runs w/2 inside what is left, except where that is narrower
@@ -65,7 +62,7 @@ Perimeters perimeters(const ClipperLib::Paths& whole, double width, int count) {
     // opening is mitred, so that corners stay sharp, with the smallest mitre limit (2):
     // where the core pinched to a point, a mitre pokes out towards the edge, at most w/2
     // further than a round join would.
-    tc::Paths loops = tc::offset(core, width / 2, ClipperLib::jtMiter, 2.0);
+    clipper::Paths loops = clipper::offset(core, width / 2, ClipperLib::jtMiter, 2.0);
     std::erase_if(loops, [&](const ClipperLib::Path& path) {
       double length = 0;
       for (std::size_t i = 0; i < path.size(); ++i) {
@@ -79,16 +76,16 @@ Perimeters perimeters(const ClipperLib::Paths& whole, double width, int count) {
     const PathRole role = k == 0 ? PathRole::outer_wall : PathRole::inner_wall;
     for (const auto& path : loops) level.push_back(closed_path(path, role, width));
     result.walls.push_back(std::move(level));
-    const tc::Paths bead = tc::offset(tc::simplified(loops, kCoverTolerance),
+    const clipper::Paths bead = clipper::offset(clipper::simplified(loops, kCoverTolerance),
                                       width / 2 + kCoverTolerance, ClipperLib::jtSquare);
-    const tc::Paths gap = tc::difference(inside, bead);
+    const clipper::Paths gap = clipper::difference(inside, bead);
     gaps.insert(gaps.end(), gap.begin(), gap.end());
     ++made;
     inside = std::move(core);
-    if (k + 1 < count) core = tc::offset(inside, -width);
+    if (k + 1 < count) core = clipper::offset(inside, -width);
   }
   // Infill goes inside the last of `count` loops; if fewer fit, what they leave is gap.
-  tc::Paths infill;
+  clipper::Paths infill;
   if (made == count) {
     infill = std::move(inside);
   } else {
@@ -102,7 +99,7 @@ Perimeters perimeters(const ClipperLib::Paths& whole, double width, int count) {
     std::erase_if(gaps, [&](const auto& path) { return std::abs(ClipperLib::Area(path)) < min_gap; });
   };
   drop_specks();
-  gaps = tc::opening(gaps, width / 8);
+  gaps = clipper::opening(gaps, width / 8);
   drop_specks();
   if (!gaps.empty()) {
     const Region island = from_clipper(whole);

@@ -20,10 +20,9 @@
 // N = 0 or w <= 0 give no walls (and with N = 0 the whole island is infill_area).
 #pragma once
 
-#include <polyclipping/clipper.hpp>
-
 #include <vector>
 
+#include "geometry/core/clipper.h"
 #include "geometry/core/polygon.h"
 #include "geometry/toolpaths/toolpaths.h"
 
@@ -37,8 +36,8 @@ struct Perimeters {
 
 Perimeters perimeters(const Region& island, double width, int count);
 
-// The same for an island already clean: Clipper paths (clipper_bridge.h) of one outer loop
-// and its holes as a Clipper union gives them (toolpath_clipper.h: islands).
+// The same for an island already clean: Clipper paths (clipper.h) of one outer loop
+// and its holes as a Clipper union gives them (clipper.h: islands).
 Perimeters perimeters(const ClipperLib::Paths& island, double width, int count);
 
 }  // namespace geometry

@@ -5,14 +5,11 @@
 #include <algorithm>
 #include <cmath>
 
-#include "geometry/core/clipper_bridge.h"
-#include "geometry/core/toolpath_clipper.h"
+#include "geometry/core/clipper.h"
 
 namespace geometry {
 
 namespace {
-
-namespace tc = toolpath_clipper;
 
 }  // namespace
 
@@ -76,13 +73,13 @@ std::vector<std::optional<Region>> sparse_cores(const std::vector<Region>& regio
   // layer rather than L - 1.
   // (A window of two or more layers comes out of an intersection, which takes its inputs
   // with the non-zero rule: no cleaning needed first.)
-  std::vector<std::vector<tc::Paths>> spans(1, std::vector<tc::Paths>(n));  // [k][i]: i .. i + 2^k - 1
+  std::vector<std::vector<clipper::Paths>> spans(1, std::vector<clipper::Paths>(n));  // [k][i]: i .. i + 2^k - 1
   tbb::parallel_for(long{0}, n, [&](long i) { spans[0][i] = to_clipper(regions[i]); });
   for (long width = 1; 2 * width <= longest; width *= 2) {
-    const std::vector<tc::Paths>& span = spans.back();
-    std::vector<tc::Paths> wider(n);
+    const std::vector<clipper::Paths>& span = spans.back();
+    std::vector<clipper::Paths> wider(n);
     tbb::parallel_for(long{0}, n, [&](long i) {
-      if (i + width < n) wider[i] = tc::intersection(span[i], span[i + width]);
+      if (i + width < n) wider[i] = clipper::intersection(span[i], span[i + width]);
     });
     spans.push_back(std::move(wider));
   }
@@ -96,10 +93,10 @@ std::vector<std::optional<Region>> sparse_cores(const std::vector<Region>& regio
     std::size_t level = 0;
     while ((2L << level) <= length) ++level;
     const long width = 1L << level;
-    const std::vector<tc::Paths>& span = spans[level];
+    const std::vector<clipper::Paths>& span = spans[level];
     const long second = last[i] - width + 1;  // the two spans overlap: together they are exact
     cores[i] = from_clipper(second == first[i] ? span[first[i]]
-                                               : tc::intersection(span[first[i]], span[second]));
+                                               : clipper::intersection(span[first[i]], span[second]));
   });
   return cores;
 }
@@ -107,25 +104,25 @@ std::vector<std::optional<Region>> sparse_cores(const std::vector<Region>& regio
 Skins split_skins(const Region& area, const Region* core, const Region* below,
                   const Region* above, double width) {
   Skins skins;
-  const tc::Paths all = to_clipper(area);  // the booleans below take it non-zero as it is
+  const clipper::Paths all = to_clipper(area);  // the booleans below take it non-zero as it is
   if (all.empty()) return skins;
   if (!core) {
     skins.sparse = from_clipper(all);
     return skins;
   }
   const double sliver = std::max(width, 0.0) / 4;
-  const tc::Paths core_paths = to_clipper(*core);
-  tc::Paths solid = tc::opening(tc::difference(all, core_paths), sliver);
-  skins.sparse = from_clipper(tc::difference(all, solid));
+  const clipper::Paths core_paths = to_clipper(*core);
+  clipper::Paths solid = clipper::opening(clipper::difference(all, core_paths), sliver);
+  skins.sparse = from_clipper(clipper::difference(all, solid));
   if (solid.empty()) return skins;
-  tc::Paths bottom, top;
-  if (below) bottom = tc::opening(tc::difference(solid, to_clipper(*below)), sliver);
+  clipper::Paths bottom, top;
+  if (below) bottom = clipper::opening(clipper::difference(solid, to_clipper(*below)), sliver);
   if (above) {
-    top = tc::opening(tc::difference(tc::difference(solid, bottom), to_clipper(*above)), sliver);
+    top = clipper::opening(clipper::difference(clipper::difference(solid, bottom), to_clipper(*above)), sliver);
   }
   skins.bottom = from_clipper(bottom);
   skins.top = from_clipper(top);
-  skins.solid = from_clipper(tc::difference(solid, tc::union_of(bottom, top)));
+  skins.solid = from_clipper(clipper::difference(solid, clipper::union_nonzero(bottom, top)));
   return skins;
 }
 

@@ -3,8 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "geometry/core/clipper_bridge.h"
-#include "geometry/core/toolpath_clipper.h"
+#include "geometry/core/clipper.h"
 #include "geometry/toolpaths/bead_spacing.h"
 #include "geometry/toolpaths/infill.h"
 #include "geometry/toolpaths/zigzag.h"
@@ -12,8 +11,6 @@
 namespace geometry {
 
 namespace {
-
-namespace tc = toolpath_clipper;
 
 // Longest connector, in line spacings, of the body's zig-zags.
 constexpr double kBodyConnector = 3;
@@ -25,9 +22,9 @@ constexpr double kTolerance = 0.01;
 std::vector<ExtrusionPath> lines_in(const Region& area, double width, double spacing, double angle,
                                     double connector, PathRole role) {
   if (!(width > 0) || !(spacing > 0) || area.loops.empty()) return {};
-  const tc::Paths clean = tc::simplified(to_clipper(area), kTolerance);
+  const clipper::Paths clean = clipper::simplified(to_clipper(area), kTolerance);
   const Region fill = from_clipper(clean);
-  const Region centres = from_clipper(tc::offset(clean, -width / 2));
+  const Region centres = from_clipper(clipper::offset(clean, -width / 2));
   if (centres.loops.empty()) return {};
   return zigzag(centres, ScanLines{angle, spacing, 0}, connector * spacing, &fill, role, width);
 }
@@ -37,13 +34,13 @@ std::vector<ExtrusionPath> lines_in(const Region& area, double width, double spa
 // has neither.
 struct Sheath {
   std::vector<ExtrusionPath> loops;
-  tc::Paths centre;  // inside the loop's centre line
-  tc::Paths inside;  // inside its bead
+  clipper::Paths centre;  // inside the loop's centre line
+  clipper::Paths inside;  // inside its bead
 };
 
-Sheath sheath_of(const tc::Paths& island, double width, PathRole role) {
+Sheath sheath_of(const clipper::Paths& island, double width, PathRole role) {
   Sheath sheath;
-  sheath.centre = tc::offset(island, -width / 2, ClipperLib::jtRound);
+  sheath.centre = clipper::offset(island, -width / 2, ClipperLib::jtRound);
   for (const auto& path : sheath.centre) {
     ExtrusionPath loop;
     loop.role = role;
@@ -53,7 +50,7 @@ Sheath sheath_of(const tc::Paths& island, double width, PathRole role) {
     loop.points.push_back(loop.points.front());
     sheath.loops.push_back(std::move(loop));
   }
-  if (!sheath.loops.empty()) sheath.inside = tc::offset(island, -width);
+  if (!sheath.loops.empty()) sheath.inside = clipper::offset(island, -width);
   return sheath;
 }
 
@@ -67,8 +64,8 @@ std::vector<ExtrusionPath> looped_lines_in(const Region& area, double width, dou
                                            double angle, PathRole role) {
   std::vector<ExtrusionPath> result;
   if (!(width > 0) || !(spacing > 0)) return result;
-  const tc::Paths clean = tc::simplified(to_clipper(area), kTolerance);
-  for (const tc::Paths& island : tc::islands(clean)) {
+  const clipper::Paths clean = clipper::simplified(to_clipper(area), kTolerance);
+  for (const clipper::Paths& island : clipper::islands(clean)) {
     Sheath loop = sheath_of(island, width, role);
     if (loop.loops.empty()) continue;
     for (ExtrusionPath& path : loop.loops) result.push_back(std::move(path));
@@ -84,12 +81,12 @@ std::vector<ExtrusionPath> looped_lines_in(const Region& area, double width, dou
 std::vector<ExtrusionPath> support_body_paths(const Region& body, double width,
                                               const SupportPathOptions& o, const Region* carried) {
   std::vector<ExtrusionPath> paths;
-  const tc::Paths held = carried ? to_clipper(*carried) : tc::Paths{};
+  const clipper::Paths held = carried ? to_clipper(*carried) : clipper::Paths{};
   Region inside = body;
   if (o.sheath && width > 0 && o.spacing > 0) {
     // The sheath: a loop round each island, under the edges of what stands on it.
     inside.loops.clear();
-    for (const tc::Paths& island : tc::islands(tc::simplified(to_clipper(body), kTolerance))) {
+    for (const clipper::Paths& island : clipper::islands(clipper::simplified(to_clipper(body), kTolerance))) {
       Sheath loop = sheath_of(island, width, PathRole::support);
       if (loop.loops.empty()) continue;  // narrower than a bead: nothing fits
       for (ExtrusionPath& path : loop.loops) {
@@ -100,7 +97,7 @@ std::vector<ExtrusionPath> support_body_paths(const Region& body, double width,
         // Only the pieces of the loop that something below carries.
         ClipperLib::Path line;
         for (Vec2 p : path.points) line.push_back(to_clipper(p));
-        for (const auto& piece : tc::clip_open({line}, held)) {
+        for (const auto& piece : clipper::clip_open({line}, held)) {
           if (piece.size() < 2) continue;
           ExtrusionPath kept = path;
           kept.points = from_clipper(piece);
@@ -139,7 +136,7 @@ std::vector<ExtrusionPath> raft_paths(const Region& area, RaftPart part, std::si
     case RaftPart::surface: {
       // Solid, by shares, as a part's skin (toolpath_plan.h).
       const double share = bead_spacing(width, height);
-      const tc::Paths shrunk = tc::offset(to_clipper(area), -(width - share) / 2);
+      const clipper::Paths shrunk = clipper::offset(to_clipper(area), -(width - share) / 2);
       std::vector<ExtrusionPath> paths =
           solid_infill(from_clipper(shrunk), share, 45, index, PathRole::raft);
       for (ExtrusionPath& path : paths) {

@@ -22,8 +22,8 @@
 //         reach_within: against a wall or another bead, the bead is full to the end of the
 //         strip; at the part's edge it stops where its round end meets the edge.
 //         Empty input, or a region larger than 2 m, gives no paths.
-// Method: Boost.Polygon's segment Voronoi diagram of the region's edges (exact predicates);
-// its interior edges are the medial axis.
+// Method: the region's exact medial axis (segment_medial_axis.h: Boost.Polygon's segment
+// Voronoi diagram of its edges), pruned of spurs, split into runs of nearly constant width.
 #pragma once
 
 #include <limits>

@@ -9,18 +9,15 @@
 
 #include "geometry/toolpaths/bead_spacing.h"
 #include "geometry/toolpaths/brim.h"
-#include "geometry/core/clipper_bridge.h"
+#include "geometry/core/clipper.h"
 #include "geometry/toolpaths/infill.h"
 #include "geometry/toolpaths/perimeters.h"
 #include "geometry/toolpaths/skins.h"
 #include "geometry/toolpaths/skirt.h"
-#include "geometry/core/toolpath_clipper.h"
 
 namespace geometry {
 
 namespace {
-
-namespace tc = toolpath_clipper;
 
 // Region edges are straightened within this: far finer than a printer's step (12.5 um at 80
 // steps/mm) or the bead, and it halves the vertices of a section of a fine mesh, which every
@@ -74,7 +71,7 @@ struct Island {
 
 // The paths of an island laid out by shares `share` wide (see plan_island); the infill
 // overlap is a fraction of the bead's width.
-Island plan_shares(const tc::Paths& island, std::size_t layer, double share, double width,
+Island plan_shares(const clipper::Paths& island, std::size_t layer, double share, double width,
                    const ToolpathOptions& o, const Region* core, const Region* below,
                    const Region* above, const std::vector<Bridge>* bridges) {
   Island result;
@@ -86,26 +83,26 @@ Island plan_shares(const tc::Paths& island, std::size_t layer, double share, dou
 
   // Infill reaches into the innermost wall by the overlap (at most a bead: it stays inside
   // the walls), or without walls up to the island's edge.
-  tc::Paths area = to_clipper(walls.infill_area);
-  area = o.perimeters > 0 ? tc::offset(area, o.infill_overlap * width)
-                          : tc::union_of(area);
+  clipper::Paths area = to_clipper(walls.infill_area);
+  area = o.perimeters > 0 ? clipper::offset(area, o.infill_overlap * width)
+                          : clipper::union_nonzero(area);
   Skins skins = split_skins(from_clipper(area), core, below, above, share);
   // Bridges take their piece out of the skins (and of sparse infill over the air), reaching
   // into the anchors; each is laid at its own angle.
   std::vector<std::pair<Region, double>> bridge_pieces;
   if (bridges && !bridges->empty()) {
-    tc::Paths taken;
+    clipper::Paths taken;
     for (const Bridge& bridge : *bridges) {
-      tc::Paths piece =
-          tc::intersection(tc::offset(to_clipper(bridge.area), kBridgeAnchor * width), area);
-      if (!taken.empty()) piece = tc::difference(piece, taken);
-      if (tc::area_mm2(piece) < kNoBridge) continue;
+      clipper::Paths piece =
+          clipper::intersection(clipper::offset(to_clipper(bridge.area), kBridgeAnchor * width), area);
+      if (!taken.empty()) piece = clipper::difference(piece, taken);
+      if (clipper::area_mm2(piece) < kNoBridge) continue;
       taken.insert(taken.end(), piece.begin(), piece.end());
       bridge_pieces.emplace_back(from_clipper(piece), bridge.angle);
     }
     if (!taken.empty()) {
       for (Region* skin : {&skins.bottom, &skins.top, &skins.solid, &skins.sparse}) {
-        if (!skin->loops.empty()) skin->loops = from_clipper(tc::difference(to_clipper(*skin), taken)).loops;
+        if (!skin->loops.empty()) skin->loops = from_clipper(clipper::difference(to_clipper(*skin), taken)).loops;
       }
     }
   }
@@ -147,12 +144,12 @@ Island plan_shares(const tc::Paths& island, std::size_t layer, double share, dou
 // in the island shrunk by half what a bead's rounded sides add to its share, so that a bead
 // at the edge has its rounded side on the island's edge (the outer wall's centre line lies
 // w/2 in). Each path is then widened to the bead that fills its share.
-Island plan_island(const tc::Paths& island, std::size_t layer, double width, double height,
+Island plan_island(const clipper::Paths& island, std::size_t layer, double width, double height,
                    const ToolpathOptions& o, const Region* core, const Region* below,
                    const Region* above, const std::vector<Bridge>* bridges) {
   const double share = bead_spacing(width, height);
   const double sides = width - share;  // the rounded sides' reach past the share, both sides
-  const tc::Paths shared = sides > 0 ? tc::offset(island, -sides / 2) : island;
+  const clipper::Paths shared = sides > 0 ? clipper::offset(island, -sides / 2) : island;
   Island result = plan_shares(shared, layer, share, width, o, core, below, above, bridges);
   for (auto& group : result.groups) {
     for (ExtrusionPath& path : group) {
@@ -198,19 +195,19 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
   // Every layer's region, simplified, then cleaned and split into islands by one non-zero
   // union (simplifying first: the union has half the vertices to sweep): a layer past the
   // given regions is empty.
-  std::vector<std::vector<tc::Paths>> island_paths(n);
+  std::vector<std::vector<clipper::Paths>> island_paths(n);
   std::vector<Region> region(n), outline(n);
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
     if (i >= regions.size()) return;
-    island_paths[i] = tc::islands(tc::simplified(to_clipper(regions[i]), kSimplifyTolerance));
-    tc::Paths all;
-    for (const tc::Paths& island : island_paths[i]) {
+    island_paths[i] = clipper::islands(clipper::simplified(to_clipper(regions[i]), kSimplifyTolerance));
+    clipper::Paths all;
+    for (const clipper::Paths& island : island_paths[i]) {
       for (const auto& path : island) {
         region[i].loops.push_back(from_clipper(path));
         all.push_back(path);
       }
     }
-    outline[i] = from_clipper(tc::simplified(all, kSkinTolerance));
+    outline[i] = from_clipper(clipper::simplified(all, kSkinTolerance));
   });
   // Skins need the neighbours' regions: every layer's core first, then the layers in parallel.
   const std::vector<std::optional<Region>> cores = sparse_cores(
@@ -223,34 +220,34 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
   // its own sheath (the outer bead of its support) as far as that is laid, which is as far
   // as the layer below offers (so a sheath never stands on one that was left out). In turn,
   // layer by layer; each layer's ring first, in parallel.
-  std::vector<tc::Paths> carries;
+  std::vector<clipper::Paths> carries;
   if (!support.layers.empty()) {
     carries.resize(n);
-    std::vector<tc::Paths> ring(n), interface_ring(n);
+    std::vector<clipper::Paths> ring(n), interface_ring(n);
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
       const LayerSupport* held = support_at(i);
       if (!held || (held->body.loops.empty() && held->interface.loops.empty())) return;
-      const tc::Paths interface = to_clipper(held->interface);
-      tc::Paths all = to_clipper(held->body);
+      const clipper::Paths interface = to_clipper(held->interface);
+      clipper::Paths all = to_clipper(held->body);
       all.insert(all.end(), interface.begin(), interface.end());
-      all = tc::union_of(all);
+      all = clipper::union_nonzero(all);
       // The loop's bead: where a loop fits (a part narrower than a bead gets none), less
       // what lies inside it.
       const double w = o.extrusion_width;
-      ring[i] = tc::difference(tc::opening(all, w / 2), tc::offset(all, -w));
+      ring[i] = clipper::difference(clipper::opening(all, w / 2), clipper::offset(all, -w));
       if (!interface.empty()) {
-        interface_ring[i] = tc::difference(tc::opening(interface, w / 2), tc::offset(interface, -w));
+        interface_ring[i] = clipper::difference(clipper::opening(interface, w / 2), clipper::offset(interface, -w));
       }
     });
     for (std::size_t i = 0; i < n; ++i) {
-      tc::Paths offered = to_clipper(region[i]);
+      clipper::Paths offered = to_clipper(region[i]);
       if (!ring[i].empty()) {
-        const tc::Paths laid = i == 0 ? ring[i]
-                                      : tc::intersection(ring[i], tc::offset(carries[i - 1], o.extrusion_width / 2));
+        const clipper::Paths laid = i == 0 ? ring[i]
+                                      : clipper::intersection(ring[i], clipper::offset(carries[i - 1], o.extrusion_width / 2));
         offered.insert(offered.end(), laid.begin(), laid.end());
         offered.insert(offered.end(), interface_ring[i].begin(), interface_ring[i].end());
       }
-      carries[i] = tc::union_of(offered);
+      carries[i] = clipper::union_nonzero(offered);
     }
   }
 
@@ -265,7 +262,7 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
     const Region* above = top_skins ? (i + 1 < n ? &outline[i + 1] : &nothing) : nullptr;
     const LayerSupport* held = support_at(i);
     const std::vector<Bridge>* bridges = held ? &held->bridges : nullptr;
-    for (const tc::Paths& island : island_paths[i]) {
+    for (const clipper::Paths& island : island_paths[i]) {
       islands[i].push_back(plan_island(island, i, width, height, o, core, below, above, bridges));
     }
     travel_region[i] = region[i];
@@ -281,12 +278,12 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
                          support_interface_paths(held->interface, bead, height, o.support)}) {
         if (!paths.empty()) islands[i].push_back(Island{{std::move(paths)}});
       }
-      tc::Paths all = to_clipper(region[i]);
+      clipper::Paths all = to_clipper(region[i]);
       for (const Region* r : {&held->body, &held->interface}) {
-        const tc::Paths more = to_clipper(*r);
+        const clipper::Paths more = to_clipper(*r);
         all.insert(all.end(), more.begin(), more.end());
       }
-      travel_region[i] = from_clipper(tc::union_of(all));
+      travel_region[i] = from_clipper(clipper::union_nonzero(all));
     }
     if (on_layer_done) on_layer_done(++done);
   });
@@ -308,7 +305,7 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
     skirt_paths = brim(*first, width, o.brim_width);
     const double extent = brim_extent(width, o.brim_width);
     const Region around =
-        extent > 0 ? from_clipper(tc::offset(to_clipper(*first), extent, ClipperLib::jtRound))
+        extent > 0 ? from_clipper(clipper::offset(to_clipper(*first), extent, ClipperLib::jtRound))
                    : *first;
     std::vector<ExtrusionPath> loops = skirt(around, width, o.skirt_loops, o.skirt_distance);
     skirt_paths.insert(skirt_paths.begin(), std::make_move_iterator(loops.begin()),

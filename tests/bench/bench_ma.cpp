@@ -25,7 +25,7 @@
 #include <vector>
 
 #include "geometry/core/boundary_grid.h"
-#include "geometry/core/clipper_bridge.h"
+#include "geometry/core/clipper.h"
 #include "geometry/metrics/distance_error.h"
 #include "geometry/slicing/layer_stack.h"
 #include "geometry/metrics/missed_features.h"
@@ -66,12 +66,6 @@ static std::vector<Region> read_contours(const std::string& file, std::size_t la
   return contours;
 }
 
-static double area_of(const ClipperLib::Paths& paths) {
-  double a = 0;
-  for (const auto& p : paths) a += ClipperLib::Area(p);
-  return a / (kClipperScale * kClipperScale);
-}
-
 // Symmetric difference of each layer's contours, mm^2: sum and max over layers, and the sum
 // of the reference's areas.
 static void compare_contours(const std::string& file, const std::vector<Region>& contours) {
@@ -79,13 +73,9 @@ static void compare_contours(const std::string& file, const std::vector<Region>&
   double xor_sum = 0, xor_max = 0, area = 0;
   std::size_t worst = 0, differing = 0;
   for (std::size_t i = 0; i < contours.size(); ++i) {
-    ClipperLib::Clipper clipper;
-    clipper.AddPaths(to_clipper(contours[i]), ClipperLib::ptSubject, true);
-    clipper.AddPaths(to_clipper(reference[i]), ClipperLib::ptClip, true);
-    ClipperLib::Paths difference;
-    clipper.Execute(ClipperLib::ctXor, difference, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
-    const double x = area_of(difference);
-    area += area_of(to_clipper(reference[i]));
+    const double x = clipper::area_mm2(
+        clipper::symmetric_difference(to_clipper(contours[i]), to_clipper(reference[i])));
+    area += clipper::area_mm2(to_clipper(reference[i]));
     xor_sum += x;
     if (x > 1e-6) ++differing;
     if (x > xor_max) {

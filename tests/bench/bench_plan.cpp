@@ -124,7 +124,7 @@ int main(int argc, char** argv) {
   const double top = bounding_box(mesh).max.z;
   const LayerStack stack(mesh, {});
   const std::vector<FlatLevel> flats = flat_levels(mesh);
-  const AllowedThicknesses allowed{.min = 0.15, .max = 0.4, .step = 0.05, .first = 0.3};
+  const AllowedThicknesses allowed{.listed = {}, .min = 0.15, .max = 0.4, .step = 0.05, .first = 0.3};
   std::printf("model %s: %zu faces, %.2f mm tall, %zu flat levels; contours %s\n", path.c_str(),
               mesh.faces.size(), top, flats.size(), contours.size() == 1 ? contours[0].c_str() : "several");
   for (const std::string& text : max_layers > 0 ? std::vector<std::string>{"0"} : tolerances) {

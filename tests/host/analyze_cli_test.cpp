@@ -206,3 +206,27 @@ TEST_CASE("advise_reads_the_printers_thicknesses") {
     CHECK(result.out.find(row) != std::string::npos);
   CHECK(result.out.find("advice: ma at") != std::string::npos);
 }
+
+TEST_CASE("analyze_compares_with_a_zero_baseline_by_absolute_difference") {
+  // A cube: every strategy is the section exactly, every D is zero but for rounding (1e-16 mm),
+  // and a percentage of that is noise ("-100.0%", "+5691854825303922.0%"): the comparisons give
+  // the absolute difference, and no change prints as -0.0.
+  const std::string dir = test_support::scratch_dir("analyze_zero_baseline");
+  const std::string stl = dir + "/cube.stl";
+  geometry::write_stl_binary(stl, solids::cube(10).mesh);
+  const auto result = run_mahost({"analyze", stl, "--layer", "0.5", "--contours", "lower,mid,ma",
+                                  "--json", dir + "/summary.json"});
+  CAPTURE(result.out);
+  REQUIRE(result.exit_code == 0);
+  for (const char* line : {"ma vs lower: mean D 0.0000 mm, max D 0.0000 mm, total ΔV 0.000 mm³",
+                           "ma vs mid: mean D 0.0000 mm, max D 0.0000 mm, total ΔV 0.000 mm³"}) {
+    CHECK(result.out.find(line) != std::string::npos);
+  }
+  CHECK(result.out.find("-0.0") == std::string::npos);
+  CHECK(result.out.find("100.0%") == std::string::npos);
+  const auto summary = nlohmann::json::parse(read_file(dir + "/summary.json"));
+  for (const auto& c : summary["comparisons"]) {
+    CHECK(c["mean_distance_change_percent"].is_null());
+    CHECK(std::abs(c["mean_distance_change"].get<double>()) <= 1e-9);
+  }
+}

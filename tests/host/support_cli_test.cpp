@@ -15,8 +15,7 @@
 
 #include <doctest/doctest.h>
 
-#include "geometry/core/clipper_bridge.h"
-#include "geometry/core/toolpath_clipper.h"
+#include "geometry/core/clipper.h"
 #include "geometry/mesh/stl_io.h"
 #include "sim/gcode_deposition.h"
 #include "sim/unsupported_extrusion.h"
@@ -25,7 +24,7 @@
 #include "support/solids.h"
 
 using test_support::run_mahost;
-namespace tc = geometry::toolpath_clipper;
+namespace clipper = geometry::clipper;
 
 namespace {
 
@@ -211,17 +210,17 @@ TEST_CASE("an_adaptive_bunny_prints_nothing_into_the_air_and_its_supports_keep_t
   // the edge of the part 0.15 mm above them (two crescents of 0.02 mm^2 when written).
   std::size_t layers_with_support = 0;
   for (std::size_t j = 1; j + 1 < program.layers.size(); ++j) {
-    const tc::Paths support = geometry::to_clipper(test_support::bead_region(program.layers[j], is_support));
+    const clipper::Paths support = geometry::to_clipper(test_support::bead_region(program.layers[j], is_support));
     if (support.empty()) continue;
     ++layers_with_support;
-    const tc::Paths inner = tc::offset(support, -kCorners);
+    const clipper::Paths inner = clipper::offset(support, -kCorners);
     for (std::size_t i = j + 1; i < program.layers.size(); ++i) {
       const auto& above_layer = program.layers[i];
       if (above_layer.z - above_layer.height >= program.layers[j].z + 0.2 - 1e-6) break;
       CAPTURE(j);
       CAPTURE(i);
-      const tc::Paths above = tc::offset(geometry::to_clipper(test_support::bead_region(above_layer, is_part)), -0.01);
-      CHECK(tc::area_mm2(tc::intersection(inner, above)) < kSpecks);
+      const clipper::Paths above = clipper::offset(geometry::to_clipper(test_support::bead_region(above_layer, is_part)), -0.01);
+      CHECK(clipper::area_mm2(clipper::intersection(inner, above)) < kSpecks);
     }
   }
   CHECK(layers_with_support > 20);
@@ -252,20 +251,20 @@ TEST_CASE("supports_keep_the_xy_gap_and_the_top_contact_distance_on_every_layer"
       std::size_t layers_with_support = 0;
       for (std::size_t j = 0; j + 1 < program.layers.size(); ++j) {
         CAPTURE(j);
-        const tc::Paths support = geometry::to_clipper(test_support::bead_region(program.layers[j], is_support));
+        const clipper::Paths support = geometry::to_clipper(test_support::bead_region(program.layers[j], is_support));
         if (support.empty()) continue;
         ++layers_with_support;
         // Beside the part: its beads in the same layer stay the gap away (less 20 um for the
         // beads' rebuilt round joins and the E rounding).
-        const tc::Paths part = geometry::to_clipper(test_support::bead_region(program.layers[j], is_part));
-        CHECK(tc::area_mm2(tc::intersection(support, tc::offset(part, gap - 0.02, ClipperLib::jtRound))) < kSpecks);
+        const clipper::Paths part = geometry::to_clipper(test_support::bead_region(program.layers[j], is_part));
+        CHECK(clipper::area_mm2(clipper::intersection(support, clipper::offset(part, gap - 0.02, ClipperLib::jtRound))) < kSpecks);
         // Under the part: 0.2 mm of air, one layer: nothing of the layer above is part (the
         // part's beads taken 10 um in, for the same rebuilt joins and rounding, and the
         // support's 50 um: an interface line meeting its loop slantwise ends square-cut here,
         // its corner past the loop, where a printed bead ends round).
-        const tc::Paths above = tc::offset(
+        const clipper::Paths above = clipper::offset(
             geometry::to_clipper(test_support::bead_region(program.layers[j + 1], is_part)), -0.01);
-        CHECK(tc::area_mm2(tc::intersection(tc::offset(support, -kCorners), above)) < kSpecks);
+        CHECK(clipper::area_mm2(clipper::intersection(clipper::offset(support, -kCorners), above)) < kSpecks);
       }
       // The T's wings from the bed to 19.8 mm; the sphere's cap, as far as its surface leans
       // more than 50 degrees from vertical: up to 15 (1 - cos 40) = 3.5 mm.
@@ -314,7 +313,7 @@ TEST_CASE("blocker_and_enforcer_boxes_take_and_give_support") {
   const test_support::PrintedProgram program = test_support::read_printed_program(s.gcode);
   double left = 0, right = 0;
   for (const auto& layer : program.layers) {
-    const tc::Paths support = geometry::to_clipper(test_support::bead_region(layer, is_support));
+    const clipper::Paths support = geometry::to_clipper(test_support::bead_region(layer, is_support));
     for (const auto& path : support) {
       for (const auto& p : path) (geometry::from_clipper(p).y < 70 ? left : right) += 1;
     }

@@ -4,9 +4,7 @@
 #include <cstdlib>
 
 #include <fmt/core.h>
-#include <polyclipping/clipper.hpp>
-
-#include "geometry/core/clipper_bridge.h"
+#include "geometry/core/clipper.h"
 #include "printer/bead_model.h"
 #include "printer/gcode_line.h"
 
@@ -178,11 +176,9 @@ geometry::Region bead_region(const PrintedLayer& layer,
       width = length > 0 ? width / length : chain[start].width;
       const bool closed = path.size() > 3 && path.front() == path.back();
       if (closed) path.pop_back();
-      ClipperLib::ClipperOffset offset(2.0, 0.002 * geometry::kClipperScale);
-      offset.AddPath(path, ClipperLib::jtRound, closed ? ClipperLib::etClosedLine
-                                                       : ClipperLib::etOpenButt);
-      ClipperLib::Paths widened;
-      offset.Execute(widened, width / 2 * geometry::kClipperScale);
+      const ClipperLib::Paths widened = geometry::clipper::library_offset(
+          {path}, width / 2, ClipperLib::jtRound,
+          closed ? ClipperLib::etClosedLine : ClipperLib::etOpenButt, 0.002);
       all.insert(all.end(), widened.begin(), widened.end());
       if (stop < chain.size()) {
         // The chain goes on at another width: the nozzle passes through this point, so the
@@ -193,26 +189,16 @@ geometry::Region bead_region(const PrintedLayer& layer,
       start = stop;
     }
   }
-  ClipperLib::Clipper clipper;
-  clipper.AddPaths(all, ClipperLib::ptSubject, true);
   ClipperLib::PolyTree tree;
-  clipper.Execute(ClipperLib::ctUnion, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
-  return geometry::from_clipper(tree);
+  return geometry::from_clipper(geometry::clipper::union_nonzero_tree(all, tree));
 }
 
 Coverage coverage(const geometry::Region& beads, const geometry::Region& region) {
   const double region_area = geometry::area(region);
   if (!(region_area > 0)) return {};
-  auto boolean = [&](ClipperLib::ClipType type) {
-    ClipperLib::Clipper clipper;
-    clipper.AddPaths(geometry::to_clipper(beads), ClipperLib::ptSubject, true);
-    clipper.AddPaths(geometry::to_clipper(region), ClipperLib::ptClip, true);
-    ClipperLib::PolyTree tree;
-    clipper.Execute(type, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
-    return geometry::area(geometry::from_clipper(tree));
-  };
-  return {boolean(ClipperLib::ctIntersection) / region_area,
-          boolean(ClipperLib::ctDifference) / region_area};
+  const ClipperLib::Paths laid = geometry::to_clipper(beads), target = geometry::to_clipper(region);
+  return {geometry::clipper::area_mm2(geometry::clipper::intersection(laid, target)) / region_area,
+          geometry::clipper::area_mm2(geometry::clipper::difference(laid, target)) / region_area};
 }
 
 }  // namespace test_support

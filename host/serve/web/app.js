@@ -407,7 +407,7 @@ async function loadProfiles() {
   };
   fill("opt-printer", state.profiles.printers, state.profiles.serving.printer);
   fill("opt-material", state.profiles.materials, state.profiles.serving.material);
-  fill("opt-contour", state.profiles.contours, "ma");
+  fill("opt-contour", state.profiles.contours, "best");
   fillLayers();
   $("opt-material").value = state.profiles.serving.material;
 }

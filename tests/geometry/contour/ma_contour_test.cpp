@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "geometry/slab/boundary_pair.h"
-#include "geometry/core/clipper_bridge.h"
+#include "geometry/core/clipper.h"
 #include "geometry/metrics/layer_metrics.h"
 #include "geometry/slicing/layer_stack.h"
 #include "geometry/contour/ma_contour.h"
@@ -634,10 +634,7 @@ TEST_CASE("bunny_every_layer_is_closed_valid_and_touches_every_island") {
       holes += signed_area(loop) < 0;
     }
     loops += r.loops.size();
-    ClipperLib::Clipper clipper;
-    clipper.AddPaths(to_clipper(r), ClipperLib::ptSubject, true);
-    ClipperLib::Paths normalised;
-    clipper.Execute(ClipperLib::ctUnion, normalised, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+    const ClipperLib::Paths normalised = geometry::clipper::union_nonzero(to_clipper(r));
     CHECK(normalised.size() == r.loops.size());
     CHECK(area(from_clipper(normalised)) == doctest::Approx(area(r)).epsilon(1e-9));
     for (const BoundaryPair& pair : islands[i]) {

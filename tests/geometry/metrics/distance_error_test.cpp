@@ -123,3 +123,26 @@ TEST_CASE("missed_feature_is_measured_to_its_own_outline") {
   CHECK(d.forward >= apothem - kTolerance);
   CHECK(d.forward <= apothem + 2.2 * geometry::kFootprintMargin);
 }
+
+TEST_CASE("reverse_distance_is_sampled_at_its_levels_and_forward_is_not") {
+  // A double n-gon pyramid whose equator lies in the middle of a layer, printed with the
+  // layer's lower section: the surface's widest section (the equator, circumradius 10) is
+  // 0.4 mm outside the walls (circumradius 9.6). forward, searched over the whole surface, finds
+  // that 0.4 mm (the circumradius difference); reverse, measured only at its levels, sees the
+  // equator with 3 levels (z_lo, the middle, z_hi: the apothem difference 0.4 cos(pi/n)) and
+  // nothing with 2, where the sections at z_lo and z_hi are the walls themselves. So D is
+  // exact to its tolerance; H, which takes the reverse direction, is sampled in z.
+  const int n = 8;
+  const solids::Solid solid = solids::bipyramid(10, n, 0, 10, 20);
+  const LayerStack stack(solid.mesh, geometry::uniform_layers(20, 0.8));
+  const std::size_t i = 12;
+  REQUIRE(stack.layers()[i].z_lo == doctest::Approx(9.6));
+  REQUIRE(stack.layers()[i].z_hi == doctest::Approx(10.4));
+  const DistanceError two = distance_of(stack, i, stack.lower(i), 2);
+  const DistanceError three = distance_of(stack, i, stack.lower(i), 3);
+  const double bound = kTolerance + kRounding;
+  CHECK(std::abs(two.forward - 0.4) <= bound);
+  CHECK(std::abs(three.forward - 0.4) <= bound);
+  CHECK(two.reverse <= bound);
+  CHECK(std::abs(three.reverse - 0.4 * std::cos(kPi / n)) <= bound);
+}

@@ -14,9 +14,7 @@
 #include <numbers>
 #include <vector>
 
-#include <polyclipping/clipper.hpp>
-
-#include "geometry/core/clipper_bridge.h"
+#include "geometry/core/clipper.h"
 #include "geometry/slicing/layer_stack.h"
 #include "geometry/slab/slab.h"
 #include "geometry/slab/slab_columns.h"
@@ -118,14 +116,8 @@ double deviation_of(const LayerStack& stack, std::size_t layer, const Region& re
 // between vertex heights, each halved until two levels agree within 1e-9 mm^3.
 double quadrature_deviation(const LayerStack& stack, const Layer& layer, const Region& region) {
   const auto xor_area = [&](double z) {
-    ClipperLib::Clipper clipper;
-    clipper.AddPaths(geometry::to_clipper(stack.cross_section(z)), ClipperLib::ptSubject, true);
-    clipper.AddPaths(geometry::to_clipper(region), ClipperLib::ptClip, true);
-    ClipperLib::Paths result;
-    clipper.Execute(ClipperLib::ctXor, result, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
-    double sum = 0;
-    for (const auto& path : result) sum += ClipperLib::Area(path);
-    return sum / (geometry::kClipperScale * geometry::kClipperScale);
+    return geometry::clipper::area_mm2(geometry::clipper::symmetric_difference(
+        geometry::to_clipper(stack.cross_section(z)), geometry::to_clipper(region)));
   };
   static const double x[5] = {0, -0.5384693101056831, 0.5384693101056831, -0.9061798459386640,
                               0.9061798459386640};

@@ -27,7 +27,7 @@ using geometry::AllowedThicknesses;
 namespace {
 
 // The UP Plus 2: 0.15 to 0.4 mm in steps of 0.05, a first layer of 0.3.
-const AllowedThicknesses kUpPlus2{.min = 0.15, .max = 0.4, .step = 0.05, .first = 0.3};
+const AllowedThicknesses kUpPlus2{.listed = {}, .min = 0.15, .max = 0.4, .step = 0.05, .first = 0.3};
 
 bool allowed(double t, const AllowedThicknesses& a) {
   if (t < a.min - 1e-9 || t > a.max + 1e-9) return false;
@@ -325,7 +325,7 @@ TEST_CASE("adaptive_plan_distance_is_what_analyze_measures") {
 
 TEST_CASE("plans_on_a_printer_of_any_thickness_in_a_range_land_flat_levels_exactly") {
   // generic-marlin: 0.05 to 0.3 mm, any value, first layer 0.2 mm; steps at 4.013 and 7.5.
-  const AllowedThicknesses range{.min = 0.05, .max = 0.3, .step = 0, .first = 0.2};
+  const AllowedThicknesses range{.listed = {}, .min = 0.05, .max = 0.3, .step = 0, .first = 0.2};
   const solids::Solid block = solids::stepped_box({20, 20}, 4.013, {10, 10}, 3.487);
   const auto flats = geometry::flat_levels(block.mesh);
   const auto uniform = geometry::uniform_plan(7.5, 0.2, range, flats);

@@ -6,9 +6,8 @@
 #include <cmath>
 #include <random>
 
-#include <polyclipping/clipper.hpp>
-
 #include "geometry/core/boundary_grid.h"
+#include "geometry/core/clipper.h"
 #include "geometry/slicing/layer_stack.h"
 #include "geometry/slab/slab.h"
 #include "geometry/slab/slab_columns.h"
@@ -22,11 +21,8 @@ namespace {
 
 // The reference: Clipper's intersection on the 1 pm grid, moments from its loops.
 AreaMoments clipper_moments(const std::vector<Vec2>& convex, Vec2 origin, const Region& region) {
-  ClipperLib::Clipper clipper;
-  clipper.AddPath(geometry::to_fine_clipper(convex), ClipperLib::ptSubject, true);
-  clipper.AddPaths(geometry::to_fine_clipper(region), ClipperLib::ptClip, true);
-  ClipperLib::Paths result;
-  clipper.Execute(ClipperLib::ctIntersection, result, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+  const ClipperLib::Paths result = geometry::clipper::intersection(
+      {geometry::to_fine_clipper(convex)}, geometry::to_fine_clipper(region));
   AreaMoments m;
   for (const auto& path : result) {
     std::vector<Vec2> loop;
@@ -78,28 +74,35 @@ TEST_CASE("intersection_moments_match_clipper_on_random_polygons") {
 
 TEST_CASE("intersection_moments_match_clipper_in_degenerate_positions") {
   // Triangles with corners on the lattice: corners on the region's corners and edges, edges
-  // along its edges, in both directions.
+  // along its edges, in both directions. Every shape is moved over every lattice translation
+  // that makes it meet the region; the region is a union of unit lattice cells, and the
+  // translates of a cell tile the plane, so the areas of (shape + t) ∩ region summed over the
+  // translations t are area(shape) x area(region) = area(shape) x 51, whatever the shape.
   const Region region = lattice_region();
   const geometry::BoundaryGrid grid(region);
-  int cases = 0;
-  for (int x = -1; x <= 8; ++x) {
-    for (int y = -1; y <= 8; ++y) {
-      for (const auto& shape : {std::vector<Vec2>{{0, 0}, {2, 0}, {0, 2}},
-                                std::vector<Vec2>{{0, 0}, {1, 0}, {1, 1}, {0, 1}},
-                                std::vector<Vec2>{{0, 0}, {3, 1}, {1, 3}},
-                                std::vector<Vec2>{{1, 0}, {1, 2}, {-1, 1}}}) {
+  const double region_area = 64 - 16 + 3;  // the square, less its hole, plus the L
+  REQUIRE(geometry::area(region) == doctest::Approx(region_area));
+  for (const auto& shape : {std::vector<Vec2>{{0, 0}, {2, 0}, {0, 2}},
+                            std::vector<Vec2>{{0, 0}, {1, 0}, {1, 1}, {0, 1}},
+                            std::vector<Vec2>{{0, 0}, {3, 1}, {1, 3}},
+                            std::vector<Vec2>{{1, 0}, {1, 2}, {-1, 1}}}) {
+    double summed = 0;
+    for (int x = -3; x <= 9; ++x) {
+      for (int y = -3; y <= 9; ++y) {
         std::vector<Vec2> convex;
         for (Vec2 p : shape) convex.push_back(p + Vec2{static_cast<double>(x), static_cast<double>(y)});
         if (geometry::signed_area(convex) < 0) std::reverse(convex.begin(), convex.end());
         CAPTURE(x);
         CAPTURE(y);
-        check_same(geometry::moments_of_intersection(convex, convex[0], grid, region),
-                   clipper_moments(convex, convex[0], region), 10);
-        ++cases;
+        const AreaMoments m = geometry::moments_of_intersection(convex, convex[0], grid, region);
+        check_same(m, clipper_moments(convex, convex[0], region), 10);
+        summed += m.area;
       }
     }
+    // Exact but for the degenerate cases' generic move (1e-10 mm, slab_columns.cpp): measured
+    // 1.3e-9 mm^2 at most over the 169 translations.
+    CHECK(std::abs(summed - std::abs(geometry::signed_area(shape)) * region_area) <= 1e-7);
   }
-  CHECK(cases == 400);
 }
 
 TEST_CASE("slab_volume_is_the_solids_volume_between_the_planes") {

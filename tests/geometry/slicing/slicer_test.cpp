@@ -8,7 +8,7 @@
 #include <limits>
 #include <vector>
 
-#include "geometry/core/clipper_bridge.h"
+#include "geometry/core/clipper.h"
 #include "geometry/slicing/layer_stack.h"
 #include "geometry/mesh/placement.h"
 #include "geometry/core/polygon.h"
@@ -254,13 +254,7 @@ geometry::Mesh paper_bunny() {
 // Area under the non-zero fill rule, by Clipper's union: equal to the sum of the loops'
 // signed areas only when no loop overlaps another with the wrong orientation.
 double union_area(const Region& region) {
-  ClipperLib::Clipper clipper;
-  clipper.AddPaths(geometry::to_clipper(region), ClipperLib::ptSubject, true);
-  ClipperLib::Paths result;
-  clipper.Execute(ClipperLib::ctUnion, result, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
-  double area = 0;
-  for (const auto& path : result) area += ClipperLib::Area(path);
-  return area / (geometry::kClipperScale * geometry::kClipperScale);
+  return geometry::clipper::area_mm2(geometry::clipper::union_nonzero(geometry::to_clipper(region)));
 }
 
 }  // namespace

@@ -9,11 +9,9 @@
 #include <functional>
 #include <vector>
 
-#include "geometry/core/clipper_bridge.h"
-#include "geometry/core/toolpath_clipper.h"
+#include "geometry/core/clipper.h"
 
 using namespace geometry;
-namespace tc = toolpath_clipper;
 
 namespace {
 
@@ -36,11 +34,11 @@ Region t_section(double z) {
   return {};
 }
 
-tc::Paths support_of(const SupportPlan& plan, std::size_t layer) {
-  tc::Paths all = to_clipper(plan.layers[layer].body);
-  const tc::Paths more = to_clipper(plan.layers[layer].interface);
+clipper::Paths support_of(const SupportPlan& plan, std::size_t layer) {
+  clipper::Paths all = to_clipper(plan.layers[layer].body);
+  const clipper::Paths more = to_clipper(plan.layers[layer].interface);
   all.insert(all.end(), more.begin(), more.end());
-  return tc::union_of(all);
+  return clipper::union_nonzero(all);
 }
 
 bool inside(const Region& region, Vec2 p) {
@@ -102,8 +100,8 @@ TEST_CASE("support_keeps_the_xy_gap_from_the_part_beside_it") {
     const SupportPlan plan = plan_supports(regions, layers, o);
     for (std::size_t j = 0; j < layers.size(); ++j) {
       CAPTURE(j);
-      const tc::Paths near = tc::offset(to_clipper(regions[j]), gap - 1e-3, ClipperLib::jtRound);
-      CHECK(tc::area_mm2(tc::intersection(support_of(plan, j), near)) < 1e-9);
+      const clipper::Paths near = clipper::offset(to_clipper(regions[j]), gap - 1e-3, ClipperLib::jtRound);
+      CHECK(clipper::area_mm2(clipper::intersection(support_of(plan, j), near)) < 1e-9);
     }
   }
 }
@@ -130,7 +128,7 @@ TEST_CASE("support_keeps_the_top_contact_distance_on_layers_of_any_thickness") {
       for (std::size_t i = j + 1; i < layers.size() && layers[i].z_lo < layers[j].z_hi + distance - 1e-9; ++i) {
         CAPTURE(j);
         CAPTURE(i);
-        CHECK(tc::area_mm2(tc::intersection(support_of(plan, j), to_clipper(regions[i]))) < 1e-9);
+        CHECK(clipper::area_mm2(clipper::intersection(support_of(plan, j), to_clipper(regions[i]))) < 1e-9);
       }
     }
     // The bar's first layer starts where the layer with a middle past 20 mm does.
@@ -156,7 +154,7 @@ TEST_CASE("buildplate_support_stands_only_on_the_bed_and_everywhere_also_on_the_
   SupportOptions o = everywhere();
   o.placement = SupportPlacement::buildplate;
   const SupportPlan bed = plan_supports(regions, layers, o);
-  for (std::size_t j = 0; j < layers.size(); ++j) CHECK(tc::area_mm2(support_of(bed, j)) < 1e-9);
+  for (std::size_t j = 0; j < layers.size(); ++j) CHECK(clipper::area_mm2(support_of(bed, j)) < 1e-9);
 
   o.placement = SupportPlacement::everywhere;
   o.bottom_contact_distance = 0.2;
@@ -186,7 +184,7 @@ TEST_CASE("a_span_within_the_bridge_length_is_bridged_not_supported") {
   CHECK(std::min(std::fmod(b.angle, 180.0), 180 - std::fmod(b.angle, 180.0)) < 1e-6);
   CHECK(b.span == doctest::Approx(12).epsilon(0.01));
   CHECK(area(b.area) == doctest::Approx(120).epsilon(1e-6));
-  for (std::size_t j = 0; j < layers.size(); ++j) CHECK(tc::area_mm2(support_of(bridged, j)) < 1e-9);
+  for (std::size_t j = 0; j < layers.size(); ++j) CHECK(clipper::area_mm2(support_of(bridged, j)) < 1e-9);
 
   o.bridge_length = 10;
   const SupportPlan held = plan_supports(regions, layers, o);
@@ -206,15 +204,15 @@ TEST_CASE("enforcer_supports_a_gentle_slope_and_blocker_keeps_a_wing_bare") {
   const std::vector<Region> regions = regions_of(layers, gentle);
   SupportOptions o = everywhere();
   const SupportPlan plain = plan_supports(regions, layers, o);
-  for (std::size_t j = 0; j < layers.size(); ++j) CHECK(tc::area_mm2(support_of(plain, j)) < 1e-9);
+  for (std::size_t j = 0; j < layers.size(); ++j) CHECK(clipper::area_mm2(support_of(plain, j)) < 1e-9);
   o.enforcers.push_back({{0, -20, 0}, {20, 20, 10}});  // the +x half
   o.min_area = 0;
   const SupportPlan forced = plan_supports(regions, layers, o);
   double right = 0, left = 0;
   for (std::size_t j = 0; j < layers.size(); ++j) {
-    const tc::Paths s = support_of(forced, j);
-    right += tc::area_mm2(tc::intersection(s, to_clipper(rectangle(0, -20, 20, 20))));
-    left += tc::area_mm2(tc::intersection(s, to_clipper(rectangle(-20, -20, 0, 20))));
+    const clipper::Paths s = support_of(forced, j);
+    right += clipper::area_mm2(clipper::intersection(s, to_clipper(rectangle(0, -20, 20, 20))));
+    left += clipper::area_mm2(clipper::intersection(s, to_clipper(rectangle(-20, -20, 0, 20))));
   }
   CHECK(right > 0);
   CHECK(left < 0.05 * right);  // half a bead across the box's edge, widened along the lines
@@ -267,7 +265,7 @@ TEST_CASE("support_volume_is_the_support_area_times_each_layers_thickness") {
   const std::vector<Layer> layers = uniform_layers(25, 0.2, 0.2);
   const SupportPlan plan = plan_supports(regions_of(layers, t_section), layers, everywhere());
   double expected = 0;
-  for (std::size_t j = 0; j < layers.size(); ++j) expected += tc::area_mm2(support_of(plan, j)) * 0.2;
+  for (std::size_t j = 0; j < layers.size(); ++j) expected += clipper::area_mm2(support_of(plan, j)) * 0.2;
   CHECK(support_volume(plan, layers) == doctest::Approx(expected).epsilon(1e-9));
   // At least the wings' columns (2 x 20 x 10 mm, 19.8 mm tall) less the XY gap beside the
   // stem, at most that widened to the support lines 2.5 mm apart.

@@ -7,12 +7,10 @@
 // tests/support/gcode_beads reads a printed program): no bead reaches past its end.
 #pragma once
 
-#include <polyclipping/clipper.hpp>
-
 #include <cmath>
 #include <vector>
 
-#include "geometry/core/clipper_bridge.h"
+#include "geometry/core/clipper.h"
 #include "geometry/core/polygon.h"
 #include "geometry/toolpaths/toolpaths.h"
 
@@ -20,36 +18,27 @@ namespace bead_coverage {
 
 enum class Ends { round, cut };
 
-inline double area_mm2(const ClipperLib::Paths& paths) {
-  double total = 0;
-  for (const auto& path : paths) total += ClipperLib::Area(path);
-  return total / (geometry::kClipperScale * geometry::kClipperScale);
-}
+using geometry::clipper::area_mm2;
 
 inline ClipperLib::Paths bead(const geometry::ExtrusionPath& path, Ends ends = Ends::round) {
-  ClipperLib::ClipperOffset offset(2.0, 0.002 * geometry::kClipperScale);
-  ClipperLib::Path line;
-  for (const geometry::Vec2& p : path.points) line.push_back(geometry::to_clipper(p));
+  ClipperLib::Path line = geometry::to_clipper(path.points);
   const bool closed = path.points.size() > 2 && path.points.front() == path.points.back();
-  if (closed) {
-    line.pop_back();
-    offset.AddPath(line, ClipperLib::jtRound, ClipperLib::etClosedLine);
-  } else {
-    offset.AddPath(line, ClipperLib::jtRound,
-                   ends == Ends::round ? ClipperLib::etOpenRound : ClipperLib::etOpenButt);
-  }
-  ClipperLib::Paths result;
-  offset.Execute(result, path.width / 2 * geometry::kClipperScale);
-  return result;
+  if (closed) line.pop_back();
+  const ClipperLib::EndType end = closed                ? ClipperLib::etClosedLine
+                                  : ends == Ends::round ? ClipperLib::etOpenRound
+                                                        : ClipperLib::etOpenButt;
+  return geometry::clipper::library_offset({line}, path.width / 2, ClipperLib::jtRound, end,
+                                           0.002);
 }
 
 inline ClipperLib::Paths beads(const std::vector<geometry::ExtrusionPath>& paths,
                                Ends ends = Ends::round) {
-  ClipperLib::Clipper clipper;
-  for (const auto& path : paths) clipper.AddPaths(bead(path, ends), ClipperLib::ptSubject, true);
-  ClipperLib::Paths result;
-  clipper.Execute(ClipperLib::ctUnion, result, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
-  return result;
+  ClipperLib::Paths all;
+  for (const auto& path : paths) {
+    const ClipperLib::Paths one = bead(path, ends);
+    all.insert(all.end(), one.begin(), one.end());
+  }
+  return geometry::clipper::union_nonzero(all);
 }
 
 struct Coverage {
@@ -76,20 +65,11 @@ inline Coverage coverage(const geometry::Region& region,
                          Ends ends = Ends::round) {
   const ClipperLib::Paths target = geometry::to_clipper(region);
   const ClipperLib::Paths laid = beads(paths, ends);
-  auto boolean = [](const ClipperLib::Paths& a, const ClipperLib::Paths& b,
-                    ClipperLib::ClipType type) {
-    ClipperLib::Clipper clipper;
-    clipper.AddPaths(a, ClipperLib::ptSubject, true);
-    clipper.AddPaths(b, ClipperLib::ptClip, true);
-    ClipperLib::Paths result;
-    clipper.Execute(type, result, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
-    return result;
-  };
   const double whole = area_mm2(target);
   Coverage c;
   if (whole <= 0) return c;
-  c.inside = area_mm2(boolean(target, laid, ClipperLib::ctIntersection)) / whole;
-  c.outside = area_mm2(boolean(laid, target, ClipperLib::ctDifference)) / whole;
+  c.inside = area_mm2(geometry::clipper::intersection(target, laid)) / whole;
+  c.outside = area_mm2(geometry::clipper::difference(laid, target)) / whole;
   c.double_coverage = (laid_area(paths) - area_mm2(laid)) / whole;
   return c;
 }

@@ -44,13 +44,9 @@ TEST_CASE("thin_ring_gets_closed_centre_line") {
 
 TEST_CASE("thin_t_junction_is_covered_by_its_centre_lines") {
   // A T of two 0.3 mm strips: the medial axis branches; every branch is printed.
-  ClipperLib::Clipper clipper;
   const Region bar{{rectangle(0, 0, 10, 0.3)}}, stem{{rectangle(4.85, 0, 5.15, 6)}};
-  clipper.AddPaths(to_clipper(bar), ClipperLib::ptSubject, true);
-  clipper.AddPaths(to_clipper(stem), ClipperLib::ptClip, true);
-  ClipperLib::Paths t;
-  clipper.Execute(ClipperLib::ctUnion, t, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
-  const Region region = from_clipper(t);
+  const Region region =
+      from_clipper(geometry::clipper::union_nonzero(to_clipper(bar), to_clipper(stem)));
   const auto paths = thin_walls(region, 0.1, 0.45);
   CHECK(paths.size() >= 3);
   const auto c = bead_coverage::coverage(region, paths);

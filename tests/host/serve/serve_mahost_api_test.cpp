@@ -52,14 +52,15 @@ TEST_CASE("an_stl_upload_is_sliced_on_the_host_with_the_pages_settings_and_print
   CHECK(info["mahost"]["layers"] == 27 + 4);
   CHECK(read_text(dirs.files + "/cube.gcode").find("; material: PLA") != std::string::npos);
 
-  // The slice command as OctoPrint names it, on the stored model: 202 and the target's file.
+  // The slice command as OctoPrint names it, on the stored model: 202 and the target's file,
+  // sliced with slice's default contour (best) where the request names none.
   auto c = serve.client();
-  auto s = c.Post("/api/files/local/cube.stl", R"({"command":"slice","gcode":"cube-ma.gcode"})", "application/json");
+  auto s = c.Post("/api/files/local/cube.stl", R"({"command":"slice","gcode":"cube-default.gcode"})", "application/json");
   REQUIRE(s);
   CHECK(s->status == 202);
-  CHECK(json::parse(s->body)["name"] == "cube-ma.gcode");
+  CHECK(json::parse(s->body)["name"] == "cube-default.gcode");
   REQUIRE(wait_for([&] { return serve.get_json("/api/mahost/status")["slicing"]["stage"] == "done"; }, 120s));
-  CHECK(serve.get_json("/api/files/local/cube-ma.gcode")["mahost"]["contour"] == "ma");
+  CHECK(serve.get_json("/api/files/local/cube-default.gcode")["mahost"]["contour"] == "best");
   // Refused: slicing G-code, a model not there, a printer or material the server lacks.
   CHECK(c.Post("/api/files/local/cube.gcode", R"({"command":"slice"})", "application/json")->status == 415);
   CHECK(c.Post("/api/files/local/none.stl", R"({"command":"slice"})", "application/json")->status == 404);

@@ -1,18 +1,17 @@
-// toolpath_clipper's offset (toolpath_clipper.h): worked by hand, and against Clipper's own
+// The Clipper layer's offset (clipper.h): worked by hand, and against Clipper's own
 // offsetter on clean, wavy regions.
 #include <doctest/doctest.h>
 
 #include <cmath>
 #include <numbers>
 
-#include "geometry/core/clipper_bridge.h"
+#include "geometry/core/clipper.h"
 #include "geometry/core/polygon.h"
-#include "geometry/core/toolpath_clipper.h"
 
-namespace tc = geometry::toolpath_clipper;
 using geometry::Loop;
 using geometry::Region;
 using geometry::Vec2;
+namespace clipper = geometry::clipper;
 
 namespace {
 
@@ -28,17 +27,15 @@ Loop round_loop(double cx, double cy, int n, Radius r) {
 }
 
 // Area of the symmetric difference, mm^2.
-double difference_area(const tc::Paths& a, const tc::Paths& b) {
-  return tc::area_mm2(tc::difference(a, b)) + tc::area_mm2(tc::difference(b, a));
+double difference_area(const clipper::Paths& a, const clipper::Paths& b) {
+  return clipper::area_mm2(clipper::difference(a, b)) + clipper::area_mm2(clipper::difference(b, a));
 }
 
-tc::Paths clipper_offset(const tc::Paths& region, double delta, ClipperLib::JoinType join,
-                         double miter_limit) {
-  ClipperLib::ClipperOffset offsetter(miter_limit, 0.005 * geometry::kClipperScale);
-  offsetter.AddPaths(region, join, ClipperLib::etClosedPolygon);
-  tc::Paths result;
-  offsetter.Execute(result, delta * geometry::kClipperScale);
-  return result;
+// Clipper's own offsetter, the reference.
+clipper::Paths clipper_offset(const clipper::Paths& region, double delta, ClipperLib::JoinType join,
+                              double miter_limit) {
+  return clipper::library_offset(region, delta, join, ClipperLib::etClosedPolygon, 0.005,
+                                 miter_limit);
 }
 
 }  // namespace
@@ -52,11 +49,11 @@ TEST_CASE("offset_of_a_fine_polygon_moves_every_edge_by_the_distance") {
   const double apothem = 10 * std::cos(std::numbers::pi / n);
   for (double d : {-2.0, -0.2, 0.2, 2.0}) {
     CAPTURE(d);
-    const tc::Paths result = tc::offset(geometry::to_clipper(circle), d);
+    const clipper::Paths result = clipper::offset(geometry::to_clipper(circle), d);
     REQUIRE(result.size() == 1);
     CHECK(result[0].size() == n);
     const double a = apothem + d;
-    CHECK(tc::area_mm2(result) == doctest::Approx(n * a * a * std::tan(std::numbers::pi / n))
+    CHECK(clipper::area_mm2(result) == doctest::Approx(n * a * a * std::tan(std::numbers::pi / n))
                                       .epsilon(1e-6));
   }
 }
@@ -68,12 +65,12 @@ TEST_CASE("offset_of_a_fine_polygon_moves_every_edge_by_the_distance") {
 TEST_CASE("offset_takes_outer_loops_ccw_and_holes_cw_whatever_loop_is_lowest") {
   const Loop square{{0, 0}, {10, 0}, {10, 10}, {0, 10}};
   const Loop speck{{5, 10.5}, {5.1, 10.6}, {5.2, 10.5}};  // CW, 0.01 mm^2
-  const tc::Paths shrunk = tc::offset(geometry::to_clipper(Region{{square, speck}}), -1);
-  CHECK(tc::area_mm2(shrunk) == doctest::Approx(64).epsilon(1e-9));
+  const clipper::Paths shrunk = clipper::offset(geometry::to_clipper(Region{{square, speck}}), -1);
+  CHECK(clipper::area_mm2(shrunk) == doctest::Approx(64).epsilon(1e-9));
   // Growing closes the speck, a hole 0.2 mm across (turned inside out, it would add a speck
   // of its own).
-  const tc::Paths grown = tc::offset(geometry::to_clipper(Region{{square, speck}}), 1);
-  CHECK(tc::area_mm2(grown) == doctest::Approx(144).epsilon(1e-9));
+  const clipper::Paths grown = clipper::offset(geometry::to_clipper(Region{{square, speck}}), 1);
+  CHECK(clipper::area_mm2(grown) == doctest::Approx(144).epsilon(1e-9));
 }
 
 // Regions Clipper's offsetter is the reference for, every join, growing and shrinking:
@@ -97,16 +94,16 @@ TEST_CASE("offset_gives_the_region_clippers_offsetter_gives") {
       Region{{round_loop(0, 0, 200, [](double) { return 2.0; }),
               round_loop(4.4, 0, 200, [](double) { return 2.0; })}}};
   for (const Region& r : regions) {
-    const tc::Paths region = geometry::to_clipper(r);
+    const clipper::Paths region = geometry::to_clipper(r);
     for (auto [join, limit] : {std::pair{ClipperLib::jtMiter, 2.0}, std::pair{ClipperLib::jtMiter, 3.0},
                                std::pair{ClipperLib::jtSquare, 2.0}, std::pair{ClipperLib::jtRound, 2.0}}) {
       for (double d : {-1.0, -0.3, -0.2, -0.05, 0.05, 0.2, 0.3, 1.0}) {
         CAPTURE(r.loops.size());
         CAPTURE(int(join));
         CAPTURE(d);
-        const tc::Paths ours = tc::offset(region, d, join, limit);
-        const tc::Paths theirs = clipper_offset(region, d, join, limit);
-        CHECK(tc::area_mm2(ours) == doctest::Approx(tc::area_mm2(theirs)).epsilon(1e-6));
+        const clipper::Paths ours = clipper::offset(region, d, join, limit);
+        const clipper::Paths theirs = clipper_offset(region, d, join, limit);
+        CHECK(clipper::area_mm2(ours) == doctest::Approx(clipper::area_mm2(theirs)).epsilon(1e-6));
         CHECK(difference_area(ours, theirs) < 1e-4);
         CHECK(ours.size() == theirs.size());
       }

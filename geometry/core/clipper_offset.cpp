@@ -1,14 +1,12 @@
-#include "geometry/core/toolpath_clipper.h"
-
-#include "geometry/core/clipper_bridge.h"
-#include "geometry/core/douglas_peucker.h"
+// The toolpaths' offset (clipper.h): ClipperOffset's joins, most of its union left out.
+#include "geometry/core/clipper.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
 
-namespace geometry::toolpath_clipper {
+namespace geometry::clipper {
 
 namespace {
 
@@ -18,19 +16,6 @@ constexpr double kArcTolerance = 0.005;  // mm
 
 // A loop with less area than a micrometre square is a sliver of rounding, in nm^2.
 constexpr double kNoArea = 1e6;
-
-Paths boolean(const Paths& a, const Paths& b, ClipperLib::ClipType type) {
-  ClipperLib::Clipper clipper;
-  clipper.AddPaths(a, ClipperLib::ptSubject, true);
-  clipper.AddPaths(b, ClipperLib::ptClip, true);
-  Paths result;
-  clipper.Execute(type, result, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
-  return result;
-}
-
-}  // namespace
-
-namespace {
 
 struct Normal {
   double x, y;
@@ -135,7 +120,6 @@ bool raw_offset(const Path& loop, const Joins& j, Path& out) {
   return back;
 }
 
-
 // Exact side of c from the line a -> b: 1 left, -1 right, 0 on it.
 int side(const ClipperLib::IntPoint& a, const ClipperLib::IntPoint& b,
          const ClipperLib::IntPoint& c) {
@@ -182,20 +166,14 @@ int winding(const Path& loop, const ClipperLib::IntPoint& p) {
 // compared only with those sharing a cell of a grid about one edge per cell.
 bool already_a_region(const Paths& loops, const std::vector<char>& outer) {
   std::size_t edges = 0;
-  ClipperLib::IntRect box{loops[0][0].X, loops[0][0].Y, loops[0][0].X, loops[0][0].Y};
+  ClipperLib::IntRect box = bounding_box(Path{});
   std::vector<ClipperLib::IntRect> boxes;
   boxes.reserve(loops.size());
   for (std::size_t l = 0; l < loops.size(); ++l) {
     const Path& loop = loops[l];
     if ((ClipperLib::Area(loop) > 0) != bool(outer[l])) return false;
-    ClipperLib::IntRect b{loop[0].X, loop[0].Y, loop[0].X, loop[0].Y};
-    for (const auto& p : loop) {
-      b.left = std::min(b.left, p.X); b.right = std::max(b.right, p.X);
-      b.top = std::min(b.top, p.Y); b.bottom = std::max(b.bottom, p.Y);
-    }
-    box = {std::min(box.left, b.left), std::min(box.top, b.top), std::max(box.right, b.right),
-           std::max(box.bottom, b.bottom)};
-    boxes.push_back(b);
+    boxes.push_back(bounding_box(loop));
+    add_to_box(box, boxes.back());
     edges += loop.size();
   }
   const double w = double(box.right - box.left) + 1, h = double(box.bottom - box.top) + 1;
@@ -286,11 +264,8 @@ Paths offset(const Paths& region, double delta, ClipperLib::JoinType join, doubl
     const double area = ClipperLib::Area(path);
     if (std::abs(area) < kNoArea) continue;
     if ((area < 0) == (units > 0)) {
-      const auto [x0, x1] = std::minmax_element(path.begin(), path.end(),
-                                                [](const auto& p, const auto& q) { return p.X < q.X; });
-      const auto [y0, y1] = std::minmax_element(path.begin(), path.end(),
-                                                [](const auto& p, const auto& q) { return p.Y < q.Y; });
-      if (double(std::min(x1->X - x0->X, y1->Y - y0->Y)) <= 2 * std::abs(units)) continue;
+      const ClipperLib::IntRect b = bounding_box(path);
+      if (double(std::min(b.right - b.left, b.bottom - b.top)) <= 2 * std::abs(units)) continue;
     }
     Path loop;
     loop.reserve(path.size());
@@ -301,9 +276,9 @@ Paths offset(const Paths& region, double delta, ClipperLib::JoinType join, doubl
     if (loop.size() >= 3) loops.push_back(std::move(loop));
   }
   if (loops.empty()) return {};
-  ClipperLib::Clipper clipper;
+  ClipperLib::Clipper engine;
   if (units == 0) {
-    clipper.AddPaths(loops, ClipperLib::ptSubject, true);
+    engine.AddPaths(loops, ClipperLib::ptSubject, true);
   } else {
     // Where no loop went back through a vertex, the raw loops are often the offset as they
     // stand (a region with no narrow part the offset closes): checked, that costs a
@@ -322,21 +297,21 @@ Paths offset(const Paths& region, double delta, ClipperLib::JoinType join, doubl
       back = back || out.size() < 3;
     }
     if (!back && already_a_region(raw, outer)) return raw;
-    clipper.AddPaths(raw, ClipperLib::ptSubject, true);
+    engine.AddPaths(raw, ClipperLib::ptSubject, true);
   }
   Paths result;
   if (units >= 0) {
-    clipper.Execute(ClipperLib::ctUnion, result, ClipperLib::pftPositive, ClipperLib::pftPositive);
+    engine.Execute(ClipperLib::ctUnion, result, ClipperLib::pftPositive, ClipperLib::pftPositive);
     return result;
   }
   // Shrinking: the union of the negative winding inside a frame round it all (-1), whose
   // holes, where the raw loops (+1) cancel the frame, are the offset.
-  const ClipperLib::IntRect r = clipper.GetBounds();
-  clipper.AddPath({{r.left - 10, r.bottom + 10}, {r.right + 10, r.bottom + 10},
+  const ClipperLib::IntRect r = engine.GetBounds();
+  engine.AddPath({{r.left - 10, r.bottom + 10}, {r.right + 10, r.bottom + 10},
                    {r.right + 10, r.top - 10}, {r.left - 10, r.top - 10}},
                   ClipperLib::ptSubject, true);
-  clipper.ReverseSolution(true);
-  clipper.Execute(ClipperLib::ctUnion, result, ClipperLib::pftNegative, ClipperLib::pftNegative);
+  engine.ReverseSolution(true);
+  engine.Execute(ClipperLib::ctUnion, result, ClipperLib::pftNegative, ClipperLib::pftNegative);
   if (!result.empty()) result.erase(result.begin());
   return result;
 }
@@ -345,92 +320,4 @@ Paths opening(const Paths& region, double radius) {
   return offset(offset(region, -radius), radius);
 }
 
-Paths intersection(const Paths& a, const Paths& b) {
-  if (a.empty() || b.empty()) return {};
-  return boolean(a, b, ClipperLib::ctIntersection);
-}
-
-Paths difference(const Paths& a, const Paths& b) {
-  if (a.empty()) return {};
-  if (b.empty()) return a;
-  return boolean(a, b, ClipperLib::ctDifference);
-}
-
-Paths union_of(const Paths& a, const Paths& b) { return boolean(a, b, ClipperLib::ctUnion); }
-
-Paths clip_open(const Paths& lines, const Paths& region) {
-  if (lines.empty() || region.empty()) return {};
-  ClipperLib::Clipper clipper;
-  clipper.AddPaths(lines, ClipperLib::ptSubject, false);
-  clipper.AddPaths(region, ClipperLib::ptClip, true);
-  ClipperLib::PolyTree tree;
-  clipper.Execute(ClipperLib::ctIntersection, tree, ClipperLib::pftNonZero,
-                  ClipperLib::pftNonZero);
-  Paths result;
-  ClipperLib::OpenPathsFromPolyTree(tree, result);
-  return result;
-}
-
-std::vector<Paths> islands(const Paths& region) {
-  std::vector<Paths> result;
-  if (region.empty()) return result;
-  ClipperLib::Clipper clipper;
-  clipper.AddPaths(region, ClipperLib::ptSubject, true);
-  ClipperLib::PolyTree tree;
-  clipper.Execute(ClipperLib::ctUnion, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
-  for (const ClipperLib::PolyNode* node = tree.GetFirst(); node; node = node->GetNext()) {
-    if (node->IsHole() || node->IsOpen()) continue;
-    Paths island{node->Contour};
-    if (!ClipperLib::Orientation(island.front())) ClipperLib::ReversePath(island.front());
-    for (const ClipperLib::PolyNode* hole : node->Childs) {
-      island.push_back(hole->Contour);
-      if (ClipperLib::Orientation(island.back())) ClipperLib::ReversePath(island.back());
-    }
-    result.push_back(std::move(island));
-  }
-  return result;
-}
-
-namespace {
-
-// Squared distance from p to the segment [a, b], in units^2 (doubles: nm^2 overflows int64).
-double distance2(const ClipperLib::IntPoint& p, const ClipperLib::IntPoint& a,
-                 const ClipperLib::IntPoint& b) {
-  const double abx = double(b.X - a.X), aby = double(b.Y - a.Y);
-  const double apx = double(p.X - a.X), apy = double(p.Y - a.Y);
-  const double length2 = abx * abx + aby * aby;
-  double t = length2 > 0 ? (apx * abx + apy * aby) / length2 : 0;
-  t = t < 0 ? 0 : t > 1 ? 1 : t;
-  const double dx = apx - t * abx, dy = apy - t * aby;
-  return dx * dx + dy * dy;
-}
-
-}  // namespace
-
-Paths simplified(const Paths& region, double tolerance) {
-  const double limit2 = tolerance * kClipperScale * tolerance * kClipperScale;
-  Paths result;
-  result.reserve(region.size());
-  for (const Path& path : region) {
-    const std::size_t n = path.size();
-    if (n < 3) continue;
-    const std::vector<char> keep =
-        douglas_peucker_keep(n, limit2, [&](std::size_t i, std::size_t a, std::size_t b) {
-          return distance2(path[i], path[a], path[b]);
-        });
-    Path kept;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (keep[i]) kept.push_back(path[i]);
-    }
-    if (kept.size() >= 3) result.push_back(std::move(kept));
-  }
-  return result;
-}
-
-double area_mm2(const Paths& region) {
-  double total = 0;
-  for (const Path& path : region) total += ClipperLib::Area(path);
-  return total / (kClipperScale * kClipperScale);
-}
-
-}  // namespace geometry::toolpath_clipper
+}  // namespace geometry::clipper

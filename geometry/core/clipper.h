@@ -1,0 +1,135 @@
+// The one layer between our millimetre Regions and Clipper 1 (libpolyclipping-dev): every 2D
+// boolean, offset and conversion to Clipper's integer paths in geometry/ goes through here.
+// Clipper's engines (ClipperLib::Clipper, ClipperLib::ClipperOffset) run in core/clipper*.cpp
+// only; other files hold Clipper's path types and call its path helpers (Area, Orientation,
+// ReversePath, CleanPolygons).
+//
+// Grids. Clipper works on 64-bit integers. Everything is on the nanometre grid,
+// kClipperScale units per mm, which keeps a bed-sized part inside Clipper's fast low range
+// (|coordinate| < 2^30 units, 1073 mm), except the volume integrals of slab_columns.h, on a
+// picometre grid (kFineClipperScale; slab_columns.h says why) with the same operations.
+//
+// Fill rules. A Region has the non-zero rule (outer loops CCW, holes CW), and so have the
+// operations here and their results, unless named `positive`: those fill where the loops' sum
+// of windings is positive, for paths built as a sum of windings (a hole's loop reversed takes
+// away what the loop round it adds), such as the medial-axis contour's islands and the grown
+// footprint's raw offsets. Lengths are given in mm unless a name says units. Every function
+// accepts empty input and returns empty output.
+#pragma once
+
+#include <polyclipping/clipper.hpp>
+
+#include <vector>
+
+#include "geometry/core/polygon.h"
+
+namespace geometry {
+
+inline constexpr double kClipperScale = 1e6;      // units per mm: 1 unit = 1 nm
+inline constexpr double kFineClipperScale = 1e9;  // units per mm of the fine grid: 1 pm
+
+// A length or coordinate already in units, rounded to the nearest unit, halves away from
+// zero (std::llround's result) without the library call: v minus its truncation is exact
+// for |v| < 2^53, so the comparisons with 0.5 decide as llround does. Inline: the offsets
+// round every point they make.
+inline ClipperLib::cInt rounded_units(double v) {
+  const auto whole = static_cast<ClipperLib::cInt>(v);
+  const double rest = v - static_cast<double>(whole);
+  return rest >= 0.5 ? whole + 1 : (rest <= -0.5 ? whole - 1 : whole);
+}
+
+// Clipper's own rounding (ClipperLib's Round: v + 0.5 or v - 0.5, truncated), which differs
+// from rounded_units where v + 0.5 itself rounds (v within an ulp below a half): for code that
+// must make the very points ClipperOffset makes (the slab's grown footprint, slab.cpp).
+inline ClipperLib::cInt clipper_rounded(double v) {
+  return static_cast<ClipperLib::cInt>(v < 0 ? v - 0.5 : v + 0.5);
+}
+
+// Millimetres to the nanometre grid (rounded_units) and back.
+ClipperLib::IntPoint to_clipper(Vec2 p);
+Vec2 from_clipper(const ClipperLib::IntPoint& p);
+ClipperLib::Path to_clipper(const Loop& loop);
+ClipperLib::Paths to_clipper(const Region& region);
+Loop from_clipper(const ClipperLib::Path& path);
+Region from_clipper(const ClipperLib::Paths& paths);
+// Outer loops CCW and holes CW, from any PolyTree Clipper produced.
+Region from_clipper(const ClipperLib::PolyTree& tree);
+
+// Millimetres to the picometre grid and back.
+ClipperLib::Path to_fine_clipper(const Loop& loop);
+ClipperLib::Paths to_fine_clipper(const Region& region);
+Vec2 from_fine_clipper(const ClipperLib::IntPoint& p);
+
+namespace clipper {
+
+using ClipperLib::IntPoint;
+using ClipperLib::Path;
+using ClipperLib::Paths;
+using ClipperLib::PolyTree;
+
+// Booleans, non-zero.
+Paths intersection(const Paths& a, const Paths& b);
+Paths difference(const Paths& a, const Paths& b);
+// What lies in exactly one of a and b (tests and benchmarks compare regions by its area).
+Paths symmetric_difference(const Paths& a, const Paths& b);
+// The union of a and b (each loop of either), normalised: simple loops, holes CW.
+Paths union_nonzero(const Paths& a, const Paths& b = {});
+// The same as Clipper's nesting (outer loops, their holes as children, islands in holes
+// below them); the tree is the caller's (a PolyTree cannot be copied), returned for chaining.
+PolyTree& union_nonzero_tree(const Paths& paths, PolyTree& tree);
+
+// Booleans, positive: where a's windings sum to more than 0, or b's do (each set summed on its
+// own, so a set may carry reversed loops that cancel its own parts, not the other's).
+Paths union_positive(const Paths& a, const Paths& b = {});
+PolyTree& union_positive_tree(const Paths& paths, PolyTree& tree);
+
+// Open polylines clipped to the inside of a filled region.
+Paths clip_open(const Paths& lines, const Paths& region);
+
+// Splits a region into islands: each outer loop with the holes directly inside it; an island
+// inside a hole is an island of its own. In the order Clipper's tree lists them.
+std::vector<Paths> islands(const Paths& region);
+
+// Offset of a filled region by delta mm (negative shrinks). Sharp joins are mitred up to
+// miter_limit times delta; round joins follow the arc within 5 um. The loops' orientation
+// is taken as it is (outer loops CCW, holes CW; a stray speck of a hole outside the outer
+// loop changes nothing). Loops of less than a square micrometre are dropped first, and so
+// are those the offset closes, holes when growing and islands when shrinking, that are no
+// more than 2 |delta| across. Its own implementation (clipper_offset.cpp), ClipperOffset's
+// joins without most of the union it costs.
+Paths offset(const Paths& region, double delta, ClipperLib::JoinType join = ClipperLib::jtMiter,
+             double miter_limit = 3.0);
+
+// Shrink then grow by radius mm: removes every part narrower than 2 * radius.
+Paths opening(const Paths& region, double radius);
+
+// Clipper's own offset (ClipperOffset, its union included), for what `offset` does not take:
+// open lines (end etOpenRound, etOpenSquare, etOpenButt), closed lines grown to both sides
+// (etClosedLine), and closed polygons where ClipperOffset's very points matter. delta and
+// arc_tolerance in mm (arc_tolerance: how far round joins and ends may be off the arc).
+Paths library_offset(const Paths& paths, double delta, ClipperLib::JoinType join,
+                     ClipperLib::EndType end, double arc_tolerance, double miter_limit = 2.0);
+
+// Each loop with the vertices dropped that lie within `tolerance` mm of the simplified loop
+// (Douglas-Peucker, a strict bound); loops left with fewer than 3 points are dropped. Not
+// re-unioned: run union_nonzero after it if the loops may now touch.
+Paths simplified(const Paths& region, double tolerance);
+
+// The smallest box holding the points, as ClipperLib's IntRect: x in [left, right], y in
+// [top, bottom] (top is the least y). No points: an empty box, left > right, which meets
+// nothing and which add_to_box grows from.
+ClipperLib::IntRect bounding_box(const Path& path);
+ClipperLib::IntRect bounding_box(const Paths& paths);
+void add_to_box(ClipperLib::IntRect& box, const ClipperLib::IntRect& other);
+inline bool boxes_meet(const ClipperLib::IntRect& a, const ClipperLib::IntRect& b) {
+  return a.left <= b.right && b.left <= a.right && a.top <= b.bottom && b.top <= a.bottom;
+}
+
+// Net area (outer loops minus holes, each loop's own sign), in units^2 of the paths' grid.
+double area_units2(const Paths& paths);
+// The same in mm^2, for paths on the nanometre grid.
+double area_mm2(const Paths& region);
+
+}  // namespace clipper
+
+}  // namespace geometry

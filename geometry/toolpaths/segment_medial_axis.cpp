@@ -1,0 +1,252 @@
+#include "geometry/toolpaths/segment_medial_axis.h"
+
+#include <boost/polygon/polygon.hpp>
+#include <boost/polygon/voronoi.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numbers>
+#include <unordered_map>
+
+#include "geometry/core/clipper.h"
+
+namespace geometry {
+
+namespace {
+
+namespace bp = boost::polygon;
+using VoronoiPoint = bp::point_data<std::int32_t>;
+using VoronoiSegment = bp::segment_data<std::int32_t>;
+using Diagram = bp::voronoi_diagram<double>;
+
+// The region's edges in a local integer frame (nm from the bounding box's corner), with each
+// edge's neighbours on its loop so a vertex's two edges are known.
+struct Edges {
+  std::vector<VoronoiSegment> segments;
+  std::vector<std::size_t> previous;  // index of the edge ending where edge i starts
+  std::vector<std::size_t> next;      // index of the edge starting where edge i ends
+  ClipperLib::IntPoint origin;
+};
+
+Vec2 low(const VoronoiSegment& s) { return {double(bp::x(s.low())), double(bp::y(s.low()))}; }
+Vec2 high(const VoronoiSegment& s) { return {double(bp::x(s.high())), double(bp::y(s.high()))}; }
+
+// Distance from p to the site of a cell (an edge or one of its end points), nm.
+double distance_to_site(const Edges& edges, const Diagram::cell_type& cell, Vec2 p) {
+  const VoronoiSegment& s = edges.segments[cell.source_index()];
+  if (cell.contains_segment()) return distance_to_segment(p, low(s), high(s));
+  const Vec2 q = cell.source_category() == bp::SOURCE_CATEGORY_SEGMENT_START_POINT ? low(s)
+                                                                                   : high(s);
+  return length(p - q);
+}
+
+// Whether p, a point whose nearest boundary point is the cell's site, lies inside the region:
+// inside is left of every edge (outer loops CCW, holes CW), and at a vertex inside the wedge
+// its two edges make.
+bool inside_by_site(const Edges& edges, const Diagram::cell_type& cell, Vec2 p) {
+  const std::size_t i = cell.source_index();
+  const VoronoiSegment& s = edges.segments[i];
+  if (cell.contains_segment()) return cross(high(s) - low(s), p - low(s)) > 0;
+  std::size_t in, out;
+  if (cell.source_category() == bp::SOURCE_CATEGORY_SEGMENT_START_POINT) {
+    in = edges.previous[i];
+    out = i;
+  } else {
+    in = i;
+    out = edges.next[i];
+  }
+  const VoronoiSegment& a = edges.segments[in];
+  const VoronoiSegment& b = edges.segments[out];
+  const Vec2 v = low(b), d_in = high(a) - low(a), d_out = high(b) - low(b);
+  const bool left_of_in = cross(d_in, p - v) > 0, left_of_out = cross(d_out, p - v) > 0;
+  // The inside at a vertex is the wedge between its edges: at a convex vertex (turning left)
+  // left of both, at a reflex one left of either.
+  return cross(d_in, d_out) > 0 ? left_of_in && left_of_out : left_of_in || left_of_out;
+}
+
+Edges region_edges(const Region& region) {
+  ClipperLib::Paths paths = to_clipper(region);
+  // Near-duplicate points make zero-length sites, which the Voronoi builder cannot take.
+  ClipperLib::CleanPolygons(paths, 100.0);
+  Edges edges;
+  ClipperLib::IntRect box = clipper::bounding_box(ClipperLib::Path{});
+  for (const auto& path : paths) {
+    if (path.size() >= 3) clipper::add_to_box(box, clipper::bounding_box(path));
+  }
+  constexpr ClipperLib::cInt kMaxExtent = std::numeric_limits<std::int32_t>::max() / 2;
+  if (box.left > box.right || box.right - box.left > kMaxExtent ||
+      box.bottom - box.top > kMaxExtent) {
+    return edges;
+  }
+  const ClipperLib::cInt min_x = box.left, min_y = box.top;
+  edges.origin = {min_x, min_y};
+  for (const auto& path : paths) {
+    if (path.size() < 3) continue;
+    const std::size_t first = edges.segments.size(), n = path.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto& a = path[i];
+      const auto& b = path[(i + 1) % n];
+      edges.segments.emplace_back(
+          VoronoiPoint(std::int32_t(a.X - min_x), std::int32_t(a.Y - min_y)),
+          VoronoiPoint(std::int32_t(b.X - min_x), std::int32_t(b.Y - min_y)));
+      edges.previous.push_back(first + (i + n - 1) % n);
+      edges.next.push_back(first + (i + 1) % n);
+    }
+  }
+  return edges;
+}
+
+// The interior angle at the vertex two edges of the region share, radians; pi if they share
+// none (then they are no corner).
+double corner_angle(const Edges& edges, const Diagram::cell_type& c1,
+                    const Diagram::cell_type& c2) {
+  if (!c1.contains_segment() || !c2.contains_segment()) return std::numbers::pi;
+  std::size_t in = c1.source_index(), out = c2.source_index();
+  if (edges.next[in] != out) std::swap(in, out);
+  if (edges.next[in] != out) return std::numbers::pi;
+  const Vec2 a = high(edges.segments[in]) - low(edges.segments[in]);
+  const Vec2 b = high(edges.segments[out]) - low(edges.segments[out]);
+  return std::numbers::pi - std::atan2(cross(a, b), a.x * b.x + a.y * b.y);
+}
+
+
+// A corner sharper than this is a tapering wall, and its bisector is a centre line to print
+// (down to the narrowest bead); a blunter corner's bisector only runs into the corner.
+constexpr double kTaperAngle = std::numbers::pi / 4;
+
+SegmentMedialAxis medial_axis_of(const Edges& edges, double min_radius, double max_radius) {
+  SegmentMedialAxis axis;
+  if (edges.segments.empty()) return axis;
+  Diagram diagram;
+  bp::construct_voronoi(edges.segments.begin(), edges.segments.end(), &diagram);
+  std::unordered_map<const Diagram::vertex_type*, std::size_t> node_of;
+  auto add_node = [&](Vec2 p, double r) {
+    axis.points.push_back(p);
+    axis.radius.push_back(r);
+    return axis.points.size() - 1;
+  };
+  auto node = [&](const Diagram::vertex_type* v, double r) {
+    auto [it, fresh] = node_of.try_emplace(v, axis.points.size());
+    if (fresh) add_node({v->x(), v->y()}, r);
+    return it->second;
+  };
+  // An axis point closer to the boundary than this touches it: the edge ends in a corner.
+  const double touching = 0.1 * min_radius;
+  for (const auto& edge : diagram.edges()) {
+    // Each edge comes with its twin; take one of the pair.
+    if (&edge > edge.twin() || !edge.is_primary() || !edge.is_finite()) continue;
+    const Vec2 a{edge.vertex0()->x(), edge.vertex0()->y()};
+    const Vec2 b{edge.vertex1()->x(), edge.vertex1()->y()};
+    const Vec2 mid{(a.x + b.x) / 2, (a.y + b.y) / 2};
+    const auto& cell = *edge.cell();
+    if (!inside_by_site(edges, cell, mid)) continue;
+    const double ra = distance_to_site(edges, cell, a), rb = distance_to_site(edges, cell, b);
+    // Far wider than any bead: not a thin wall (and, from a region that breaks the
+    // builder's rule of edges meeting only at their ends, not trusted either).
+    if (ra > max_radius || rb > max_radius) continue;
+    if (ra >= touching && rb >= touching) {
+      axis.links.emplace_back(node(edge.vertex0(), ra), node(edge.vertex1(), rb));
+      continue;
+    }
+    // An edge into a corner: keep it only in a sharp corner (a tapering wall), and only
+    // where the wall is at least the narrowest bead wide. Between two lines the radius
+    // grows linearly along the bisector.
+    if (corner_angle(edges, cell, *edge.twin()->cell()) > kTaperAngle) continue;
+    const bool a_in_corner = ra < rb;
+    const double r_far = a_in_corner ? rb : ra, r_near = a_in_corner ? ra : rb;
+    if (r_far <= min_radius) continue;
+    const Vec2 far = a_in_corner ? b : a, near = a_in_corner ? a : b;
+    const double t = (r_far - min_radius) / (r_far - r_near);
+    const Vec2 cut{far.x + t * (near.x - far.x), far.y + t * (near.y - far.y)};
+    const std::size_t far_node = node(a_in_corner ? edge.vertex1() : edge.vertex0(), r_far);
+    axis.links.emplace_back(far_node, add_node(cut, min_radius));
+  }
+  return axis;
+}
+
+}  // namespace
+
+SegmentMedialAxis segment_medial_axis(const Region& region, double min_radius,
+                                      double max_radius) {
+  const Edges edges = region_edges(region);
+  SegmentMedialAxis axis =
+      medial_axis_of(edges, min_radius * kClipperScale, max_radius * kClipperScale);
+  axis.origin = from_clipper(edges.origin);
+  return axis;
+}
+
+void prune_spurs(SegmentMedialAxis& axis) {
+  const std::size_t n = axis.points.size();
+  for (bool changed = true; changed;) {
+    changed = false;
+    std::vector<std::vector<std::size_t>> incident(n);
+    for (std::size_t l = 0; l < axis.links.size(); ++l) {
+      incident[axis.links[l].first].push_back(l);
+      incident[axis.links[l].second].push_back(l);
+    }
+    std::vector<bool> removed(axis.links.size(), false);
+    for (std::size_t leaf = 0; leaf < n; ++leaf) {
+      if (incident[leaf].size() != 1) continue;
+      std::vector<std::size_t> chain;
+      std::size_t at = leaf, via = incident[leaf][0];
+      double chain_length = 0;
+      while (true) {
+        if (removed[via]) break;
+        chain.push_back(via);
+        const auto [u, v] = axis.links[via];
+        const std::size_t next = u == at ? v : u;
+        chain_length += length(axis.points[next] - axis.points[at]);
+        at = next;
+        if (incident[at].size() != 2) break;
+        via = incident[at][0] == via ? incident[at][1] : incident[at][0];
+      }
+      if (incident[at].size() >= 3 && chain_length < axis.radius[at]) {
+        for (std::size_t l : chain) removed[l] = true;
+        changed = true;
+      }
+    }
+    std::vector<std::pair<std::size_t, std::size_t>> kept;
+    for (std::size_t l = 0; l < axis.links.size(); ++l) {
+      if (!removed[l]) kept.push_back(axis.links[l]);
+    }
+    axis.links = std::move(kept);
+  }
+}
+
+std::vector<std::vector<std::size_t>> axis_chains(const SegmentMedialAxis& axis) {
+  const std::size_t n = axis.points.size();
+  std::vector<std::vector<std::size_t>> incident(n);
+  for (std::size_t l = 0; l < axis.links.size(); ++l) {
+    incident[axis.links[l].first].push_back(l);
+    incident[axis.links[l].second].push_back(l);
+  }
+  std::vector<bool> used(axis.links.size(), false);
+  std::vector<std::vector<std::size_t>> result;
+  auto walk = [&](std::size_t start, std::size_t via) {
+    std::vector<std::size_t> chain{start};
+    std::size_t at = start;
+    while (!used[via]) {
+      used[via] = true;
+      const auto [u, v] = axis.links[via];
+      at = u == at ? v : u;
+      chain.push_back(at);
+      if (incident[at].size() != 2) break;
+      via = incident[at][0] == via ? incident[at][1] : incident[at][0];
+    }
+    result.push_back(std::move(chain));
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    if (incident[i].size() == 2) continue;
+    for (std::size_t l : incident[i]) {
+      if (!used[l]) walk(i, l);
+    }
+  }
+  for (std::size_t l = 0; l < axis.links.size(); ++l) {
+    if (!used[l]) walk(axis.links[l].first, l);  // a cycle: ends where it began
+  }
+  return result;
+}
+
+}  // namespace geometry
