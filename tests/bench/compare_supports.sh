@@ -13,7 +13,8 @@
 # one layer per Z level, each as tall as the distance to the level below, so its support
 # beads look like beads hanging over the air between them.
 #
-# Usage: tests/bench/compare_supports.sh [BUILD_DIR]   (default: build)
+# Usage: [CONTOURS=ma,best] tests/bench/compare_supports.sh [BUILD_DIR]   (default: build)
+# CONTOURS: mahost's --contour strategies to slice with, one row each (default: ma, best).
 # Models: the bunny (50 mm), a T (a 10 x 10 x 20 mm stem under a 50 x 10 x 5 mm bar), a
 # sphere (30 mm), an arch (40 x 10 x 25 mm, a 24 mm semicircular opening); openscad makes
 # the closed forms, mahost info --export places and repairs every model once, and all three
@@ -22,6 +23,7 @@ set -euo pipefail
 cd "$(dirname "$0")/../.."
 build=${1:-build}
 repeat=${REPEAT:-3}
+contours=${CONTOURS:-ma,best}
 mahost=$build/mahost
 check=$build/tests/bench/bench_unsupported
 for tool in "$mahost" "$check"; do
@@ -160,10 +162,13 @@ EOF
 for m in "${models[@]}"; do
   model=$work/$m.stl
   out=$work/mahost-$m.gcode
-  timed "$mahost" slice "$model" --layer 0.2 --support everywhere --no-raft --overhang-angle 50 \
-    --support-spacing 2.5 --support-interface-layers 2 --support-top-distance 0.2 \
-    --support-bottom-distance 0.2 --support-xy-gap 0.2 --bridge-length 10 -o "$out"
-  row "$m" "mahost (ma)" "$(grep -m1 '^;PRINT_TIME_S:' "$out" | cut -d: -f2)" "$out"
+  for contour in ${contours//,/ }; do
+    timed "$mahost" slice "$model" --contour "$contour" --layer 0.2 --support everywhere --no-raft \
+      --overhang-angle 50 --support-spacing 2.5 --support-interface-layers 2 \
+      --support-top-distance 0.2 --support-bottom-distance 0.2 --support-xy-gap 0.2 \
+      --bridge-length 10 -o "$out"
+    row "$m" "mahost ($contour)" "$(grep -m1 '^;PRINT_TIME_S:' "$out" | cut -d: -f2)" "$out"
+  done
 
   out=$work/cura-$m.gcode
   timed CuraEngine slice -j "$cura_resources/definitions/fdmprinter.def.json" \
