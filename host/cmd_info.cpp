@@ -42,6 +42,12 @@ void run_info(const InfoOptions& options) {
              repair.open_edges_after);
   fmt::print("repairs       {}\n", repairs.empty() ? "none" : repairs);
   fmt::print("watertight    {}\n", repair.closed ? "yes" : "no");
+  // Support under overhangs past 50 degrees from vertical, columns to the bed or the part
+  // below (an estimate; orientation.h), and what --orient auto made of it.
+  fmt::print("overhangs     ~{:.0f} mm^3 of support under walls leaning past {:g} deg from vertical\n",
+             geometry::support_volume_estimate(mesh, options.model.overhang_angle),
+             options.model.overhang_angle);
+  if (model.orientation) fmt::print("orientation   {}\n", orientation_text(model));
   if (!options.export_path.empty()) {
     geometry::write_stl_binary(options.export_path, mesh);
     fmt::print("exported      {} (binary STL, mm)\n", options.export_path);

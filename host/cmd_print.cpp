@@ -39,6 +39,7 @@
 #include "printer/profile.h"
 #include "printer/serial_link.h"
 #include "sim/faults.h"
+#include "sim/unsupported_extrusion.h"
 
 namespace host {
 namespace {
@@ -147,6 +148,17 @@ void print_summary(const printer::JobResult& result, const printer::GcodeFile& f
              refused.empty() ? "" : "; refused: " + refused);
   if (link.sim != nullptr) {
     const sim::Printer& printer = link.sim->printer();
+    // A resumed print starts on layers its record does not have: nothing to check it over.
+    if (link.check && !resumed) {
+      const sim::SupportCheck check = sim::check_unsupported_extrusion(printer.deposition(), *link.check);
+      fmt::print("{}\n", sim::unsupported_summary(check, *link.check));
+      if (!check.stretches.empty()) {
+        const sim::UnsupportedStretch& s = check.stretches.front();
+        fmt::print("  the first at layer {} (Z {:.2f}): {:.1f} mm from X{:.2f} Y{:.2f}{}\n", s.layer,
+                   s.z, s.length, s.from.x, s.from.y,
+                   s.anchored ? ", held at both ends but longer than a bridge may be" : "");
+      }
+    }
     if (printer.config().faults.any()) {
       fmt::print("simulated faults: {} injected ({})\n", printer.counters().faults_injected,
                  sim::to_string(printer.config().faults));
@@ -258,6 +270,7 @@ void run_print(const PrintOptions& options) {
   }
   const int baud = options.link.baud > 0 ? options.link.baud : profiles.printer.baud;
   OpenLink link = open_link(options.link, profiles.printer, baud);
+  if (link.sim != nullptr) link.check = support_check_options(profiles);
   printer::LineProtocol protocol(*link.link, protocol_options(options.link, profiles.printer));
   connect(protocol, link);
   if (options.link.window > 1 && !protocol.advanced_ok()) {

@@ -6,6 +6,7 @@
 // record and prints a summary: lines, resends, faults injected, print time on the sim clock.
 #include <signal.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
@@ -24,6 +25,7 @@
 #include "sim/faults.h"
 #include "sim/pty_server.h"
 #include "sim/record.h"
+#include "sim/unsupported_extrusion.h"
 
 namespace host {
 namespace {
@@ -73,12 +75,18 @@ std::string_view state_text(sim::PrinterState state) {
 
 void run_sim(const SimOptions& options) {
   sim::Config config;
+  // The unsupported-extrusion check: a 10 mm bridge, a 0.2 mm contact gap, or the profile's.
+  sim::SupportCheckOptions check;
+  check.contact_gap = 0.2;
   if (!options.printer_profile.empty()) {
     // The profile's limits, so the sim's clock matches the estimate the slicer wrote.
-    const printer::PrinterProfile profile = printer::load_printer_profile(
-        options.printer_profile, printer::config_directory(MAHOST_CONFIG_DIR));
+    const std::string dir = printer::config_directory(MAHOST_CONFIG_DIR);
+    const printer::PrinterProfile profile = printer::load_printer_profile(options.printer_profile, dir);
     config.motion = profile.motion;
     config.filament_diameter = profile.filament_diameter;
+    check.filament_diameter = profile.filament_diameter;
+    check.contact_gap = std::max(profile.support.top_contact_distance, profile.support.bottom_contact_distance);
+    check.bridge_length = printer::load_material_profile(profile.default_material, dir).bridge_length;
   }
   config.faults = sim::parse_fault_spec(options.faults);
   config.dialect = *sim::parse_dialect(options.dialect);
@@ -127,6 +135,8 @@ void run_sim(const SimOptions& options) {
   fmt::print("overflows   {} ({} bytes lost)\n", n.overflows, n.overflow_bytes);
   fmt::print("print time  {:.1f} s on the sim clock, {:.1f} s of motion, {:.1f} mm of filament\n",
              printer.now(), printer.motion_time(), printer.deposition().filament_used());
+  fmt::print("deposited   {}\n",
+             sim::unsupported_summary(sim::check_unsupported_extrusion(printer.deposition(), check), check));
   if (!options.record_path.empty()) fmt::print("record      {}\n", options.record_path);
   if (!options.stl_path.empty()) fmt::print("printed     {}\n", options.stl_path);
 }
@@ -160,8 +170,10 @@ void add_sim_command(CLI::App& app) {
                   "write the executed commands, counters and deposition record as JSON on exit");
   sim->add_option("--printed-stl", options->stl_path, "write the printed part as STL on exit");
   sim->add_option("--printer", options->printer_profile,
-                  "printer profile (name or .toml) for motion limits and filament diameter; "
-                  "default: Marlin's stock limits");
+                  "printer profile (name or .toml) for motion limits and filament diameter, "
+                  "and with its material for the unsupported-extrusion check's bridge length "
+                  "and contact gap (default: Marlin's stock limits, 1.75 mm filament, 10 mm "
+                  "bridges, 0.2 mm gap)");
   sim->add_option("--queue", options->queue, "command queue depth (Marlin's BUFSIZE)")
       ->check(CLI::Range(1, 64))
       ->capture_default_str();

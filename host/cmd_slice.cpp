@@ -35,8 +35,12 @@ void add_slice_command(CLI::App& app) {
   slice->footer(
       "Each layer extrudes the region its contour strategy picks (--contour); walls, skins, "
       "infill and a skirt follow the printer profile, and the G-code header carries the "
-      "print-time estimate of the printer's motion model. Layers are numbered from 0 in the "
-      "file's ;LAYER:n comments.");
+      "print-time estimate of the printer's motion model. Overhangs steeper than the "
+      "material allows get support (--support), spans held at both ends within its bridge "
+      "length are bridged, and the part may stand on a raft (--raft) or a brim (--brim); "
+      "supports, bridges, brim and raft are marked ;TYPE:SUPPORT, SUPPORT-INTERFACE, BRIDGE, "
+      "BRIM and RAFT. Layers are numbered from 0 in the file's ;LAYER:n comments, a raft's "
+      "first.");
   slice->add_option("MODEL", options->slice.model.path, "the STL file (ASCII or binary)")
       ->required();
   slice->add_option("-o,--output", options->output, "the G-code file to write (required)")

@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,7 @@
 #include "printer/pause.h"
 #include "printer/profile.h"
 #include "sim/sim_link.h"
+#include "sim/unsupported_extrusion.h"
 
 namespace host {
 
@@ -58,6 +60,9 @@ double parse_time_scale(const std::string& text, const std::string& flag = "--ti
 struct OpenLink {
   std::unique_ptr<printer::Link> link;
   sim::SimLink* sim = nullptr;  // set for a dry run
+  // A dry run of a whole print is checked for unsupported extrusion with these (issue 12);
+  // set by the command after opening.
+  std::optional<sim::SupportCheckOptions> check;
 };
 
 // Opens the link: the simulated `machine` for a dry run, else the serial port at `baud`.

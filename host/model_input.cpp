@@ -2,6 +2,7 @@
 #include "host/model_input.h"
 
 #include <charconv>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 
@@ -57,7 +58,77 @@ geometry::Axis axis(const std::string& up) {
   throw geometry::InputError(fmt::format("--up: '{}' is not an axis; use x, y or z", up));
 }
 
+double parse_number(std::string_view text, bool& ok) {
+  while (!text.empty() && text.front() == ' ') text.remove_prefix(1);
+  while (!text.empty() && text.back() == ' ') text.remove_suffix(1);
+  double value = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  ok = ok && !text.empty() && error == std::errc() && end == text.data() + text.size() &&
+       std::isfinite(value);
+  return value;
+}
+
+geometry::Rotation parse_rotation(const std::string& text) {
+  const auto bad = [&]() {
+    return geometry::InputError(fmt::format(
+        "--rotate '{}': needs AXIS:DEGREES, AXIS x, y, z or a vector a,b,c (e.g. x:90, "
+        "z:-45, 1,1,0:30)",
+        text));
+  };
+  const std::size_t colon = text.rfind(':');
+  if (colon == std::string::npos) throw bad();
+  const std::string axis_text = text.substr(0, colon);
+  bool ok = true;
+  const double degrees = parse_number(std::string_view(text).substr(colon + 1), ok);
+  geometry::Vec3 axis;
+  if (axis_text == "x" || axis_text == "X") {
+    axis = {1, 0, 0};
+  } else if (axis_text == "y" || axis_text == "Y") {
+    axis = {0, 1, 0};
+  } else if (axis_text == "z" || axis_text == "Z") {
+    axis = {0, 0, 1};
+  } else {
+    std::vector<double> parts;
+    std::string_view rest = axis_text;
+    while (ok) {
+      const std::size_t comma = rest.find(',');
+      parts.push_back(parse_number(rest.substr(0, comma), ok));
+      if (comma == std::string_view::npos) break;
+      rest.remove_prefix(comma + 1);
+    }
+    ok = ok && parts.size() == 3;
+    if (ok) axis = {parts[0], parts[1], parts[2]};
+    ok = ok && geometry::dot(axis, axis) > 0;
+  }
+  if (!ok) throw bad();
+  return geometry::rotation_about(axis, degrees);
+}
+
 }  // namespace
+
+geometry::Rotation parse_rotations(const std::vector<std::string>& texts) {
+  geometry::Rotation total;
+  for (const std::string& text : texts) total = parse_rotation(text) * total;
+  return total;
+}
+
+std::string orientation_text(const LoadedModel& model) {
+  if (!model.orientation) return {};
+  const geometry::OrientResult& o = *model.orientation;
+  const geometry::AxisAngle turn = geometry::axis_angle(o.chosen.rotation);
+  const std::string how =
+      turn.degrees < 1e-6
+          ? std::string("kept as given")
+          : fmt::format("turned {:.1f} deg about ({:.2f}, {:.2f}, {:.2f})", turn.degrees,
+                        turn.axis.x, turn.axis.y, turn.axis.z);
+  return fmt::format(
+      "--orient auto: resting on the face whose outward normal was ({:.2f}, {:.2f}, {:.2f}), "
+      "{}; support ~{:.0f} mm^3 against {:.0f} mm^3 as given, {:.1f} mm tall against {:.1f} "
+      "mm ({} stable faces of {} on the hull), {:.2f} s",
+      o.chosen.down.x, o.chosen.down.y, o.chosen.down.z, how, o.chosen.support_volume,
+      o.input.support_volume, o.chosen.height, o.input.height, o.stable_faces, o.hull_faces,
+      model.orient_seconds);
+}
 
 void add_model_options(CLI::App& command, ModelOptions& options) {
   command.add_option("MODEL", options.path, "the STL file (ASCII or binary)")->required();
@@ -82,6 +153,16 @@ void add_placement_options(CLI::App& command, ModelOptions& options, const std::
   added.push_back(command.add_option("--up", options.up,
                                      "the model's axis that points up on the bed (default: z)")
                       ->check(one_of({"x", "y", "z"}, "an axis")));
+  added.push_back(command.add_option("--rotate", options.rotate,
+                                     "turn the model by DEGREES about an AXIS (x, y, z or a "
+                                     "vector a,b,c) after --up, e.g. --rotate x:90 or --rotate "
+                                     "1,1,0:30; repeatable, applied in order (default: none)")
+                      ->allow_extra_args(false));
+  added.push_back(command.add_option("--orient", options.orient,
+                                     "auto: rest the model on the face of its convex hull that "
+                                     "needs the least support (then the lowest), after --up and "
+                                     "--rotate (default: none, as given)")
+                      ->check(one_of({"none", "auto"}, "an orientation")));
   added.push_back(command.add_flag("--ignore-normals", options.ignore_normals,
                                    "rebuild the facets' normals from their vertex order instead "
                                    "of refusing a file whose stored normals contradict it (default: off)"));
@@ -104,6 +185,7 @@ LoadedModel load_model_with_report(const ModelOptions& options, geometry::Vec2 c
   placement.scale = options.scale;
   if (options.height > 0) placement.height = options.height;
   placement.up = axis(options.up);
+  placement.rotation = parse_rotations(options.rotate);
   placement.center = center;
 
   geometry::StlReadOptions read_options;
@@ -122,6 +204,20 @@ LoadedModel load_model_with_report(const ModelOptions& options, geometry::Vec2 c
   geometry::check_printable(model.repair, options.path);
 
   model.mesh = geometry::place(std::move(repaired), placement);
+  if (options.orient == "auto") {
+    // Turned from where --up and --rotate put it, at the size they gave it (a --height is
+    // the part's as given), then placed again.
+    const auto start = std::chrono::steady_clock::now();
+    geometry::OrientOptions orient;
+    orient.overhang_angle = options.overhang_angle;
+    model.orientation = geometry::orient_for_least_support(model.mesh, orient);
+    geometry::Placement again;
+    again.rotation = model.orientation->chosen.rotation;
+    again.center = center;
+    model.mesh = geometry::place(std::move(model.mesh), again);
+    model.orient_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
   return model;
 }
 
@@ -130,6 +226,7 @@ geometry::Mesh load_model(const ModelOptions& options, geometry::Vec2 center) {
   if (model.repair.anything_repaired()) {
     fmt::print(stderr, "mahost: {}: repaired: {}\n", options.path, model.repair.summary());
   }
+  if (model.orientation) fmt::print(stderr, "mahost: {}: {}\n", options.path, orientation_text(model));
   return std::move(model.mesh);
 }
 

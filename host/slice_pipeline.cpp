@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <atomic>
+#include <charconv>
+#include <chrono>
 #include <cmath>
 #include <memory>
 #include <mutex>
@@ -18,6 +20,7 @@
 #include "geometry/mesh/mesh.h"
 #include "geometry/plan/flat_levels.h"
 #include "geometry/plan/layer_plan.h"
+#include "geometry/support/support_plan.h"
 #include "geometry/toolpaths/toolpath_plan.h"
 #include "host/layer_boundaries.h"
 #include "host/progress.h"
@@ -50,7 +53,187 @@ geometry::ToolpathOptions toolpath_options(const printer::PrinterProfile& machin
   options.retract_min_travel = machine.retraction.min_travel;
   options.seam = geometry::parse_seam_position(machine.print.seam)
                      .value_or(geometry::SeamPosition::aligned);
+  options.support.pattern = geometry::parse_support_pattern(machine.support.pattern)
+                                .value_or(geometry::SupportPattern::lines);
+  options.support.spacing = machine.support.spacing;
+  options.support.sheath = machine.support.sheath;
+  options.support.angle = machine.support.angle;
+  options.support.interface_density = machine.support.interface_density;
+  options.support.raft_base_width = machine.raft.base_width;
+  options.support.raft_base_spacing = machine.raft.base_spacing;
+  options.support.raft_interface_spacing = machine.raft.interface_spacing;
+  options.brim_width = machine.brim_width;
   return options;
+}
+
+// The profile's support settings in the part's frame: boxes are given on the bed (the
+// G-code's X and Y), and the part is centred on the bed.
+geometry::SupportOptions support_options(const printer::Profiles& profiles) {
+  const printer::PrinterProfile& machine = profiles.printer;
+  const printer::SupportSettings& s = machine.support;
+  geometry::SupportOptions options;
+  options.placement =
+      geometry::parse_support_placement(s.type).value_or(geometry::SupportPlacement::none);
+  options.overhang_angle = profiles.material.overhang_angle;
+  options.bead_width = machine.extrusion_width;
+  options.min_area = s.min_area;
+  options.xy_gap = s.xy_gap;
+  options.top_contact_distance = s.top_contact_distance;
+  options.bottom_contact_distance = s.bottom_contact_distance;
+  options.interface_layers = s.interface_layers;
+  options.bridge_length = profiles.material.bridge_length;
+  options.pattern = geometry::parse_support_pattern(s.pattern).value_or(geometry::SupportPattern::lines);
+  options.line_spacing = s.spacing;
+  options.line_angle = s.angle;
+  const double cx = machine.bed_x / 2, cy = machine.bed_y / 2;
+  auto part_box = [&](const printer::SupportBoxMm& b) {
+    return geometry::SupportBox{{b[0] - cx, b[1] - cy, b[2]}, {b[3] - cx, b[4] - cy, b[5]}};
+  };
+  for (const auto& b : s.enforcers) options.enforcers.push_back(part_box(b));
+  for (const auto& b : s.blockers) options.blockers.push_back(part_box(b));
+  return options;
+}
+
+geometry::RaftOptions raft_options(const printer::PrinterProfile& machine) {
+  const printer::RaftSettings& r = machine.raft;
+  geometry::RaftOptions options;
+  options.enabled = r.enabled;
+  options.margin = r.margin;
+  options.air_gap = r.air_gap;
+  options.base_thickness = r.base_thickness;
+  options.interface_layers = r.interface_layers;
+  options.surface_layers = r.surface_layers;
+  options.layer_thickness = r.layer_thickness;
+  return options;
+}
+
+// "x0,y0,z0,x1,y1,z1" as a box, or ConfigError naming the option.
+printer::SupportBoxMm parse_box(const std::string& text, std::string_view option) {
+  printer::SupportBoxMm box{};
+  std::string_view rest = text;
+  std::size_t count = 0;
+  bool ok = true;
+  while (ok && !rest.empty()) {
+    const std::size_t comma = rest.find(',');
+    std::string_view field = rest.substr(0, comma);
+    while (!field.empty() && field.front() == ' ') field.remove_prefix(1);
+    while (!field.empty() && field.back() == ' ') field.remove_suffix(1);
+    double v = 0;
+    const auto [end, error] = std::from_chars(field.data(), field.data() + field.size(), v);
+    ok = count < 6 && error == std::errc() && end == field.data() + field.size() && std::isfinite(v);
+    if (ok) box[count++] = v;
+    if (comma == std::string_view::npos) break;
+    rest.remove_prefix(comma + 1);
+  }
+  if (!ok || count != 6 || !(box[0] < box[3] && box[1] < box[4] && box[2] < box[5])) {
+    throw printer::ConfigError(fmt::format(
+        "{} '{}': needs six numbers x0,y0,z0,x1,y1,z1 (mm; X and Y on the bed as in the G-code, "
+        "Z from the bed up to the part) with x0 < x1, y0 < y1 and z0 < z1",
+        option, text));
+  }
+  return box;
+}
+
+// The support options as one block of the help (issue 12).
+void add_support_options(CLI::App& command, SupportCliOptions& options,
+                         std::vector<CLI::Option*>& added) {
+  added.push_back(command.add_option("--support", options.placement,
+                                     "supports under overhangs: none, buildplate (columns from "
+                                     "the bed only) or everywhere (also from the part's top "
+                                     "surfaces); bridges are laid with supports only (default: "
+                                     "the printer profile's support.type)")
+                      ->check(CLI::IsMember({"none", "buildplate", "everywhere"})));
+  added.push_back(command.add_option("--overhang-angle", options.overhang_angle,
+                                     "degrees from vertical a wall may lean without support "
+                                     "(default: the material's support.overhang_angle)")
+                      ->check(CLI::Range(0.0, 89.0)));
+  added.push_back(command.add_option("--support-xy-gap", options.xy_gap,
+                                     "mm between support and the part beside it (default: "
+                                     "support.xy_gap)")
+                      ->check(CLI::Range(0.0, 10.0)));
+  added.push_back(command.add_option("--support-top-distance", options.top_distance,
+                                     "mm of air between the support's top and the part over it, "
+                                     "rounded up to the layers' own tops (default: "
+                                     "support.top_contact_distance)")
+                      ->check(CLI::Range(0.0, 2.0)));
+  added.push_back(command.add_option("--support-bottom-distance", options.bottom_distance,
+                                     "mm of air between the part and support standing on it "
+                                     "(default: support.bottom_contact_distance)")
+                      ->check(CLI::Range(0.0, 2.0)));
+  added.push_back(command.add_option("--support-interface-layers", options.interface_layers,
+                                     "dense layers at the top of the support (default: "
+                                     "support.interface_layers)")
+                      ->check(CLI::Range(0, 20)));
+  added.push_back(command.add_option("--support-pattern", options.pattern,
+                                     "the support's sparse body: lines or grid (default: "
+                                     "support.pattern)")
+                      ->check(CLI::IsMember({"lines", "grid"})));
+  added.push_back(command.add_option("--support-spacing", options.spacing,
+                                     "mm between the support body's lines (default: "
+                                     "support.spacing)")
+                      ->check(CLI::Range(0.5, 20.0)));
+  added.push_back(command.add_option("--support-enforcer", options.enforcers,
+                                     "support every overhang inside the box x0,y0,z0,x1,y1,z1 "
+                                     "(mm; X, Y on the bed as in the G-code, Z from the bed up), "
+                                     "however gentle (repeatable; default: support.enforcers)")
+                      ->allow_extra_args(false));
+  added.push_back(command.add_option("--support-blocker", options.blockers,
+                                     "support no overhang inside the box x0,y0,z0,x1,y1,z1 "
+                                     "(repeatable; default: support.blockers)")
+                      ->allow_extra_args(false));
+  added.push_back(command.add_option("--bridge-length", options.bridge_length,
+                                     "mm a bridge may span, held at both ends, before it is "
+                                     "supported instead; 0 bridges nothing (default: the "
+                                     "material's bridge.max_length)")
+                      ->check(CLI::Range(0.0, 200.0)));
+  added.push_back(command.add_option("--brim", options.brim,
+                                     "brim width round the first layer, mm; 0 for none "
+                                     "(default: the printer profile's brim.width)")
+                      ->check(CLI::Range(0.0, 50.0)));
+  CLI::Option* raft = command.add_flag("--raft", options.raft,
+                                       "print the part on a raft (default: the printer "
+                                       "profile's raft.enabled)");
+  CLI::Option* no_raft = command.add_flag("--no-raft", options.no_raft,
+                                          "print the part without a raft, on the bed (default: "
+                                          "the printer profile's raft.enabled)");
+  raft->excludes(no_raft);
+  added.push_back(raft);
+  added.push_back(no_raft);
+}
+
+void apply_support_options(const SupportCliOptions& options, printer::Profiles& profiles) {
+  printer::PrinterProfile& machine = profiles.printer;
+  printer::SupportSettings& s = machine.support;
+  if (!options.placement.empty()) s.type = options.placement;
+  if (options.overhang_angle >= 0) profiles.material.overhang_angle = options.overhang_angle;
+  if (options.xy_gap >= 0) s.xy_gap = options.xy_gap;
+  if (options.top_distance >= 0) s.top_contact_distance = options.top_distance;
+  if (options.bottom_distance >= 0) s.bottom_contact_distance = options.bottom_distance;
+  if (options.interface_layers >= 0) s.interface_layers = options.interface_layers;
+  if (!options.pattern.empty()) s.pattern = options.pattern;
+  if (options.spacing > 0) s.spacing = options.spacing;
+  for (const std::string& box : options.enforcers) s.enforcers.push_back(parse_box(box, "--support-enforcer"));
+  for (const std::string& box : options.blockers) s.blockers.push_back(parse_box(box, "--support-blocker"));
+  if (options.bridge_length >= 0) profiles.material.bridge_length = options.bridge_length;
+  if (options.brim >= 0) machine.brim_width = options.brim;
+  if (options.raft) machine.raft.enabled = true;
+  if (options.no_raft) machine.raft.enabled = false;
+  if (machine.raft.enabled) {
+    for (const auto& [key, thickness] : {std::pair{"raft.base_thickness", machine.raft.base_thickness},
+                                         std::pair{"raft.layer_thickness", machine.raft.layer_thickness}}) {
+      if (!machine.layer.allows(thickness)) {
+        throw printer::ConfigError(fmt::format(
+            "--raft: {} = {:g} mm is not a layer thickness the {} allows ({}); set another "
+            "with --set {}=...", key, thickness, machine.name, machine.layer.describe(), key));
+      }
+    }
+  }
+}
+
+// How far a raft lifts the part: its layers and the air gap, mm (0 without a raft).
+double raft_height(const printer::RaftSettings& r) {
+  if (!r.enabled) return 0;
+  return r.base_thickness + (r.interface_layers + r.surface_layers) * r.layer_thickness + r.air_gap;
 }
 
 }  // namespace
@@ -104,6 +287,7 @@ void add_slice_options(CLI::App& command, SliceOptions& options, const std::stri
                                   "none)")
                       // one key=value per --set: a model path after it stays the model
                       ->allow_extra_args(false));
+  add_support_options(command, options.support, added);
   if (!group.empty()) {
     for (CLI::Option* option : added) option->group(group);
   }
@@ -111,9 +295,15 @@ void add_slice_options(CLI::App& command, SliceOptions& options, const std::stri
 
 const std::vector<std::string>& model_only_slice_options() {
   static const std::vector<std::string> names{
-      "--units", "--scale",      "--height", "--up",  "--ignore-normals", "--material",
+      "--units", "--scale",      "--height", "--up",  "--ignore-normals", "--rotate", "--orient",
+      "--material",
       "--layer", "--boundaries", "--adaptive", "--tolerance", "--max-layers", "--contour",
-      "--perimeters", "--infill", "--set"};
+      "--perimeters", "--infill", "--set",
+      // issue 12
+      "--support", "--overhang-angle", "--support-xy-gap", "--support-top-distance",
+      "--support-bottom-distance", "--support-interface-layers", "--support-pattern",
+      "--support-spacing", "--support-enforcer", "--support-blocker", "--bridge-length",
+      "--brim", "--raft", "--no-raft"};
   return names;
 }
 
@@ -126,6 +316,7 @@ printer::Profiles load_slice_profiles(const SliceOptions& options) {
   printer::Profiles profiles = printer::load_profiles(request);
   if (options.perimeters >= 0) profiles.printer.print.perimeters = options.perimeters;
   if (options.infill >= 0) profiles.printer.print.infill_density = options.infill;
+  apply_support_options(options.support, profiles);
   return profiles;
 }
 
@@ -160,6 +351,7 @@ std::string_view stage_name(SliceStage stage) {
   switch (stage) {
     case SliceStage::planning: return "planning layers";
     case SliceStage::contours: return "contours";
+    case SliceStage::supports: return "supports";
     case SliceStage::toolpaths: return "toolpaths";
     case SliceStage::writing: return "writing";
   }
@@ -197,7 +389,8 @@ LayerChoice plan_layers(const SliceOptions& options, const printer::PrinterProfi
   // than when the G-code is checked against the build volume after all the slicing.
   if (!choice.layers.empty()) {
     if (choice.adaptive || thickness == 0) thickness = choice.layers.back().thickness();
-    printer::check_layer_tops_fit(machine, part_height, choice.layers.back().z_hi, thickness);
+    printer::check_layer_tops_fit(machine, part_height, choice.layers.back().z_hi, thickness,
+                                  raft_height(machine.raft));
   }
   return choice;
 }
@@ -250,7 +443,9 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
   // A thickness the printer lacks is refused before the model is read.
   if (uniform) printer::check_layer_thickness(machine, result.layer_thickness);
 
-  const geometry::Mesh mesh = load_model(options.model);
+  ModelOptions model = options.model;
+  model.overhang_angle = result.profiles.material.overhang_angle;  // for --orient auto
+  const geometry::Mesh mesh = load_model(model);
   const geometry::Box3 box = geometry::bounding_box(mesh);
   result.part_size = box.max - box.min;
   const geometry::Vec3& size = result.part_size;
@@ -273,9 +468,20 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
     report(SliceStage::contours, ++contours_done, count);
   });
 
+  // Supports, bridges and the raft, under the regions the layers really print.
+  report(SliceStage::supports, 0, count);
+  const auto support_start = std::chrono::steady_clock::now();
+  const geometry::SupportOptions support = support_options(result.profiles);
+  const geometry::SupportPlan plan =
+      geometry::plan_supports(regions, layers, support, raft_options(machine));
+  result.support_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - support_start).count();
+  for (const geometry::LayerSupport& layer : plan.layers) result.bridges += layer.bridges.size();
+  report(SliceStage::supports, count, count);
+
   report(SliceStage::toolpaths, 0, count);
   const std::vector<geometry::LayerToolpaths> toolpaths = geometry::plan_toolpaths(
-      regions, layers, toolpath_options(machine),
+      regions, layers, toolpath_options(machine), plan,
       [&](std::size_t done) { report(SliceStage::toolpaths, done, count); });
   regions.clear();
   regions.shrink_to_fit();
@@ -309,6 +515,22 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
                       ? fmt::format(", at least {:g}/{:g} mm", machine.print.top_thickness,
                                     machine.print.bottom_thickness)
                       : std::string())};
+  // Only when there is something of issue 12 to say: without it the header is as before.
+  if (support.placement != geometry::SupportPlacement::none) {
+    const printer::SupportSettings& s = machine.support;
+    gcode_options.notes.push_back(fmt::format(
+        "support: {}, overhang {:g} deg, xy gap {:g} mm, top/bottom contact {:g}/{:g} mm, {} "
+        "interface layers, {} {:g} mm; bridges up to {:g} mm ({} laid)",
+        s.type, result.profiles.material.overhang_angle, s.xy_gap, s.top_contact_distance,
+        s.bottom_contact_distance, s.interface_layers, s.pattern, s.spacing,
+        result.profiles.material.bridge_length, result.bridges));
+  }
+  if (!plan.raft.empty()) {
+    gcode_options.notes.push_back(fmt::format(
+        "raft: {} layers, {:.2f} mm under the part (air gap {:g} mm), margin {:g} mm",
+        plan.raft.size(), plan.lift, machine.raft.air_gap, machine.raft.margin));
+  }
+  if (machine.brim_width > 0) gcode_options.notes.push_back(fmt::format("brim: {:g} mm", machine.brim_width));
   report(SliceStage::writing, 0, count);
   result.summary = printer::write_gcode_file(
       output, toolpaths, result.profiles, gcode_options,
@@ -327,6 +549,15 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
     }
   }
   return result;
+}
+
+sim::SupportCheckOptions support_check_options(const printer::Profiles& profiles) {
+  sim::SupportCheckOptions options;
+  options.filament_diameter = profiles.printer.filament_diameter;
+  options.bridge_length = profiles.material.bridge_length;
+  options.contact_gap = std::max(profiles.printer.support.top_contact_distance,
+                                 profiles.printer.support.bottom_contact_distance);
+  return options;
 }
 
 SliceProgress slice_progress_bars(const std::string& contour) {
@@ -372,13 +603,23 @@ std::string slice_plan_text(const SliceResult& result) {
 
 std::string slice_summary_text(const SliceResult& result) {
   const printer::GcodeSummary& s = result.summary;
-  // A variable stack says its range: "212 layers, 0.15 to 0.4 mm thick, estimated ...".
-  const std::string layers = result.layer_thickness > 0 || result.layers.empty()
-                                 ? fmt::format("{} layers", s.layers)
-                                 : describe_layers(result.layers);
-  return fmt::format("{}, estimated print time {}, filament {:.2f} m ({:.1f} g {}), {}",
+  // A variable stack says its range: "212 layers, 0.15 to 0.4 mm thick, estimated ...", and
+  // a raft under it its layers.
+  // The part's layers; the raft's, when there is one, after them.
+  const std::size_t raft = !result.layers.empty() && s.layers > result.layers.size()
+                               ? s.layers - result.layers.size()
+                               : 0;
+  std::string layers = result.layer_thickness > 0 || result.layers.empty()
+                           ? fmt::format("{} layers", s.layers - raft)
+                           : describe_layers(result.layers);
+  if (raft > 0) layers += fmt::format(", on {} raft layers", raft);
+  const std::string support =
+      s.support_filament_mm > 0
+          ? fmt::format("; {:.2f} m of it support and raft", s.support_filament_mm / 1000.0)
+          : "";
+  return fmt::format("{}, estimated print time {}, filament {:.2f} m ({:.1f} g {}{}), {}",
                      layers, printer::format_duration(s.print_seconds), s.filament_mm / 1000.0,
-                     s.filament_grams, result.profiles.material.name, size_text(s.bytes));
+                     s.filament_grams, result.profiles.material.name, support, size_text(s.bytes));
 }
 
 }  // namespace host

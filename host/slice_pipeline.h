@@ -19,12 +19,29 @@
 #include "host/model_input.h"
 #include "printer/gcode_writer.h"
 #include "printer/profile.h"
+#include "sim/unsupported_extrusion.h"
 
 namespace geometry {
 struct ContourStrategy;  // geometry/contour/contour_strategy.h
 }  // namespace geometry
 
 namespace host {
+
+// Supports, bridges, brim and raft (issue 12): each unset value is the profile's.
+struct SupportCliOptions {
+  std::string placement;           // --support: none, buildplate, everywhere; "": support.type
+  double overhang_angle = -1;      // degrees from vertical; -1: the material's
+  double xy_gap = -1;              // mm; -1: support.xy_gap
+  double top_distance = -1;        // mm; -1: support.top_contact_distance
+  double bottom_distance = -1;     // mm; -1: support.bottom_contact_distance
+  int interface_layers = -1;       // -1: support.interface_layers
+  std::string pattern;             // lines, grid; "": support.pattern
+  double spacing = -1;             // mm; -1: support.spacing
+  std::vector<std::string> enforcers, blockers;  // "x0,y0,z0,x1,y1,z1", added to the profile's
+  double bridge_length = -1;       // mm; -1: the material's bridge.max_length
+  double brim = -1;                // mm; -1: brim.width
+  bool raft = false, no_raft = false;  // neither: raft.enabled
+};
 
 struct SliceOptions {
   ModelOptions model;
@@ -37,12 +54,16 @@ struct SliceOptions {
   int perimeters = -1;     // -1: the printer profile's print.perimeters
   double infill = -1;      // percent; -1: the profile's print.infill_density
   std::vector<std::string> overrides;  // "key=value", one per --set
+  SupportCliOptions support;
 };
 
 // Adds the slice options to a command: the model's placement (--units, --scale, --height,
 // --up, --ignore-normals; not the MODEL argument itself), --printer, --material, --layer,
-// --boundaries, --contour, --perimeters, --infill, --set. They are listed under `group` in the command's
-// help ("" leaves them among its other options).
+// --boundaries, --contour, --perimeters, --infill, --set, and the support options (--support,
+// --overhang-angle, --support-xy-gap, --support-top-distance, --support-bottom-distance,
+// --support-interface-layers, --support-pattern, --support-spacing, --support-enforcer,
+// --support-blocker, --bridge-length, --brim, --raft, --no-raft). They are listed under
+// `group` in the command's help ("" leaves them among its other options).
 void add_slice_options(CLI::App& command, SliceOptions& options, const std::string& group = {});
 
 // The contour strategies (geometry/contour/contour_strategy.h's table) as --contour options
@@ -59,8 +80,8 @@ const geometry::ContourStrategy& contour_strategy_option(const std::string& name
 // --printer), as written on the command line: for `print` to refuse them with a G-code file.
 const std::vector<std::string>& model_only_slice_options();
 
-// The printer and material profiles the options name, with --perimeters and --infill
-// applied. Throws printer::ConfigError naming the profile, key or value that is wrong.
+// The printer and material profiles the options name, with --perimeters, --infill and the
+// support options applied. Throws printer::ConfigError naming the profile, key or value that is wrong.
 printer::Profiles load_slice_profiles(const SliceOptions& options);
 
 // The layers the part is printed in, bottom up, from z = 0 to at least the part's top (the
@@ -76,8 +97,8 @@ LayerChoice plan_layers(const SliceOptions& options, const printer::PrinterProfi
                         const PlanningProgress& progress = {});
 
 // The pipeline's stages, in order; progress is reported per stage.
-enum class SliceStage { planning, contours, toolpaths, writing };
-// "planning layers", "contours", "toolpaths", "writing"
+enum class SliceStage { planning, contours, supports, toolpaths, writing };
+// "planning layers", "contours", "supports", "toolpaths", "writing"
 std::string_view stage_name(SliceStage stage);
 
 // Called with done = 0 from the calling thread when a stage starts, then as its layers are
@@ -91,6 +112,8 @@ struct SliceResult {
   std::vector<geometry::Layer> layers;  // as printed
   LayerChoice choice;              // how they were chosen (adaptive: the plan)
   printer::GcodeSummary summary;   // layers, estimated seconds, filament, bytes
+  std::size_t bridges = 0;         // pieces of layers laid as bridges
+  double support_seconds = 0;      // wall time of the support stage
   // An adaptive plan beside uniform slicing of the same part: at the thinnest thickness and
   // at the one giving about as many layers (estimated with mid sections).
   struct Uniform {
@@ -108,10 +131,17 @@ struct SliceResult {
 SliceResult slice_to_gcode(const SliceOptions& options, const std::string& output,
                            const SliceProgress& progress = {});
 
+// The unsupported-extrusion check's parameters for a print with these profiles: the
+// filament, the material's bridge length, and as the air a bead may sag across the larger of
+// the support's top and bottom contact distances (sim/unsupported_extrusion.h).
+sim::SupportCheckOptions support_check_options(const printer::Profiles& profiles);
+
 // A terminal progress bar per stage (host/progress.h), as a SliceProgress.
 SliceProgress slice_progress_bars(const std::string& contour);
 
-// "250 layers, estimated print time 56 min 51 s, filament 3.25 m (8.1 g ABS), 2.6 MiB".
+// "250 layers, estimated print time 56 min 51 s, filament 3.25 m (8.1 g ABS), 2.6 MiB"; with
+// support or a raft, "250 layers, on 4 raft layers, ... filament 3.60 m (9.0 g ABS; 0.35 m of
+// it support and raft)".
 std::string slice_summary_text(const SliceResult& result);
 
 // The layer plan in one line when there is something to say ("" otherwise): an adaptive plan

@@ -249,6 +249,11 @@ double feature_speed(const FeatureSpeeds& s, PathRole role) {
     case PathRole::top_skin: return s.top_skin;
     case PathRole::solid_infill: return s.solid_infill;
     case PathRole::sparse_infill: return s.sparse_infill;
+    case PathRole::support: return s.support;
+    case PathRole::support_interface: return s.support_interface;
+    case PathRole::bridge: return s.bridge;
+    case PathRole::brim: return s.brim;
+    case PathRole::raft: return s.raft;
   }
   return s.outer_wall;
 }
@@ -331,6 +336,7 @@ class Emitter {
   const char* fan_off() const { return dialect_of(printer_.firmware).has_m107 ? "M107" : "M106 S0"; }
 
   double filament() const { return filament_; }
+  double support_filament() const { return support_filament_; }
   void on_layer(LayersWritten f) { on_layer_ = std::move(f); }
 
  private:
@@ -352,6 +358,7 @@ class Emitter {
     }
     if (static_cast<int>(n) == material_.fan_start_layer && material_.fan_speed > 0) {
       sink_.command(fmt::format("M106 S{}", static_cast<int>(std::lround(material_.fan_speed * 2.55))));
+      fan_ = fan_written_ = material_.fan_speed;
     }
     const double height = toolpaths.z_hi - toolpaths.z_lo;
     if (!(height > 0)) return;  // a layer without thickness lays nothing
@@ -366,12 +373,27 @@ class Emitter {
                            : n == 0       ? printer_.first_layer_width
                                           : printer_.extrusion_width;
       const double speed = n == 0 ? printer_.first_layer_speed : feature_speed(printer_.speed, path.role);
+      // Bridges: the material's bridge flow and fan (issue 12), the fan back after them.
+      const bool bridge = path.role == geometry::PathRole::bridge;
+      set_fan(bridge ? material_.bridge_fan : fan_);
+      const double flow = bridge ? material_.bridge_flow : 1.0;
       placed_.clear();
       for (const Vec2& p : path.points) placed_.push_back(place(p));
       const std::vector<Vec2> points = simplify(placed_, printer_.resolution);
       travel_to(points.front(), z, path.retract_before);
-      for (std::size_t i = 1; i < points.size(); ++i) extrude_to(points[i], width, height, speed);
+      const double before = filament_;
+      for (std::size_t i = 1; i < points.size(); ++i) extrude_to(points[i], width, height, speed, flow);
+      if (geometry::is_support_role(path.role)) support_filament_ += filament_ - before;
     }
+    set_fan(fan_);
+  }
+
+  // The part fan at `percent` unless it is there already (M107 for off).
+  void set_fan(double percent) {
+    if (percent == fan_written_) return;
+    const int pwm = static_cast<int>(std::lround(percent * 2.55));
+    sink_.command(pwm > 0 ? fmt::format("M106 S{}", pwm) : std::string("M107"));
+    fan_written_ = percent;
   }
 
   Vec2 place(Vec2 p) const { return {mm(p.x + offset_.x), mm(p.y + offset_.y)}; }
@@ -439,11 +461,11 @@ class Emitter {
     set_retracted(false);
   }
 
-  void extrude_to(Vec2 p, double width, double height, double speed) {
+  void extrude_to(Vec2 p, double width, double height, double speed, double flow) {
     const double length = std::hypot(p.x - xy_.x, p.y - xy_.y);
     if (!(length > 0)) return;
     const double e = filament_for_bead(width, height, length, printer_.filament_diameter,
-                                       material_.flow);
+                                       material_.flow * flow);
     MoveWords words;
     words.x = p.x;
     words.y = p.y;
@@ -472,6 +494,9 @@ class Emitter {
   double e_written_ = 0;  // E as last written (absolute value, rounded)
   bool retracted_ = false;
   double filament_ = 0;
+  double support_filament_ = 0;  // of filament_, laid by support, support interface and raft
+  double fan_ = 0;               // percent: the layer's fan (off until fan_start_layer)
+  double fan_written_ = 0;       // percent, as last set in the program (M107 before layer 0)
 };
 
 // Refuses toolpaths that would leave the build volume once centred on the bed.
@@ -569,6 +594,7 @@ GcodeSummary write_gcode(std::ostream& out, const std::vector<LayerToolpaths>& l
   summary.layers = layers.size();
   summary.print_seconds = seconds;
   summary.filament_mm = writing.filament();
+  summary.support_filament_mm = writing.support_filament();
   summary.filament_grams = filament_weight(summary.filament_mm, profiles.printer.filament_diameter,
                                            profiles.material.density);
   summary.lines = header.lines() + body.lines();

@@ -13,6 +13,7 @@
 //   ;TYPE:<role> before each change of feature, travels (G0) with retraction and z-hop before
 //   paths marked retract_before, extrusions (G1 ... E) from the bead model at that layer's
 //   own thickness and the path's width, the feature's speed (first-layer speed on layer 0);
+//   bridges with the material's bridge flow and, around them, its bridge fan (M106/M107);
 // then M107 and the end G-code. Toolpaths move to the bed centre. X, Y, Z are written to
 // 0.001 mm, E to 0.00001 mm, F to 1 mm/min; the estimate runs over these written values, so
 // re-reading the program gives the same time.
@@ -39,6 +40,7 @@ struct GcodeSummary {
   std::size_t layers = 0;
   double print_seconds = 0;   // motion and dwell time, as PrintClock reads the program
   double filament_mm = 0;     // filament laid in beads (retractions excluded)
+  double support_filament_mm = 0;  // of it, support, support interface and raft
   double filament_grams = 0;
   std::size_t bytes = 0;      // size of the program written
   std::size_t lines = 0;

@@ -25,7 +25,7 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-enum class Kind { number, integer, boolean, text, number_list };
+enum class Kind { number, integer, boolean, text, number_list, box_list };
 
 struct Value {
   double number = 0;
@@ -33,6 +33,7 @@ struct Value {
   bool flag = false;
   std::string text;
   std::vector<double> list;
+  std::vector<SupportBoxMm> boxes;
 };
 
 template <class Target>
@@ -64,6 +65,9 @@ std::string describe(const Rule<Target>& rule) {
     case Kind::integer: return "a whole number" + range + unit;
     case Kind::boolean: return "true or false";
     case Kind::number_list: return "a list of numbers" + range + unit;
+    case Kind::box_list:
+      return "a list of boxes [x0, y0, z0, x1, y1, z1] in mm with x0 < x1, y0 < y1, z0 < z1 "
+             "(on the command line: x0,y0,z0,x1,y1,z1;...)";
     case Kind::text:
       if (!rule.choices.empty()) {
         return fmt::format("one of {}", fmt::join(rule.choices, ", "));
@@ -95,6 +99,16 @@ void check_value(const Rule<Target>& rule, const Value& v, const std::string& wh
             std::find(rule.choices.begin(), rule.choices.end(), v.text) == rule.choices.end();
       shown = "\"" + v.text + "\"";
       break;
+    case Kind::box_list: {
+      std::vector<std::string> texts;
+      for (const SupportBoxMm& b : v.boxes) {
+        bad = bad || !std::all_of(b.begin(), b.end(), [](double x) { return std::isfinite(x); }) ||
+              !(b[0] < b[3] && b[1] < b[4] && b[2] < b[5]);
+        texts.push_back(fmt::format("[{}]", fmt::join(b, ", ")));
+      }
+      shown = fmt::format("[{}]", fmt::join(texts, ", "));
+      break;
+    }
     case Kind::boolean: break;
   }
   if (bad) {
@@ -145,6 +159,20 @@ Value value_from_node(const Rule<Target>& rule, const toml::node& node, const st
         double x = 0;
         if (!as_number(element, x)) throw wrong_type();
         v.list.push_back(x);
+      }
+      break;
+    }
+    case Kind::box_list: {
+      const toml::array* array = node.as_array();
+      if (!array) throw wrong_type();
+      for (const toml::node& element : *array) {
+        const toml::array* box = element.as_array();
+        if (!box || box->size() != 6) throw wrong_type();
+        SupportBoxMm b{};
+        for (std::size_t i = 0; i < 6; ++i) {
+          if (!as_number((*box)[i], b[i])) throw wrong_type();
+        }
+        v.boxes.push_back(b);
       }
       break;
     }
@@ -212,6 +240,30 @@ Value value_from_text(const Rule<Target>& rule, std::string_view text, const std
       if (v.list.empty()) throw wrong();
       break;
     }
+    case Kind::box_list: {
+      // "x0,y0,z0,x1,y1,z1;x0,..."; an empty value (or "none") is no boxes.
+      if (text == "none") text = {};
+      while (!text.empty()) {
+        const std::size_t semicolon = text.find(';');
+        std::string_view box = trim(text.substr(0, semicolon));
+        if (!box.empty() && box.front() == '[' && box.back() == ']') box = box.substr(1, box.size() - 2);
+        SupportBoxMm b{};
+        std::size_t count = 0;
+        while (!box.empty()) {
+          const std::size_t comma = box.find(',');
+          double x = 0;
+          if (count == 6 || !parse_double(trim(box.substr(0, comma)), x)) throw wrong();
+          b[count++] = x;
+          if (comma == std::string_view::npos) break;
+          box.remove_prefix(comma + 1);
+        }
+        if (count != 6) throw wrong();
+        v.boxes.push_back(b);
+        if (semicolon == std::string_view::npos) break;
+        text.remove_prefix(semicolon + 1);
+      }
+      break;
+    }
   }
   return v;
 }
@@ -244,6 +296,22 @@ Rule<Target> text(std::string_view key, std::vector<std::string_view> choices,
   Rule<Target> r;
   r.key = key; r.kind = Kind::text; r.choices = std::move(choices); r.required = required;
   r.apply = [set](Target& t, const Value& v) { set(t, v.text); };
+  return r;
+}
+
+template <class Target>
+Rule<Target> boolean(std::string_view key, std::function<void(Target&, bool)> set) {
+  Rule<Target> r;
+  r.key = key; r.kind = Kind::boolean;
+  r.apply = [set](Target& t, const Value& v) { set(t, v.flag); };
+  return r;
+}
+
+template <class Target>
+Rule<Target> boxes(std::string_view key, std::function<void(Target&, const std::vector<SupportBoxMm>&)> set) {
+  Rule<Target> r;
+  r.key = key; r.kind = Kind::box_list; r.unit = "mm";
+  r.apply = [set](Target& t, const Value& v) { set(t, v.boxes); };
   return r;
 }
 
@@ -316,6 +384,10 @@ const Rules<P>& printer_rules() {
         {"speed.top_skin", &FeatureSpeeds::top_skin}, {"speed.bottom_skin", &FeatureSpeeds::bottom_skin},
         {"speed.solid_infill", &FeatureSpeeds::solid_infill},
         {"speed.sparse_infill", &FeatureSpeeds::sparse_infill},
+        {"speed.support", &FeatureSpeeds::support},
+        {"speed.support_interface", &FeatureSpeeds::support_interface},
+        {"speed.bridge", &FeatureSpeeds::bridge}, {"speed.brim", &FeatureSpeeds::brim},
+        {"speed.raft", &FeatureSpeeds::raft},
         {"speed.travel", &FeatureSpeeds::travel}, {"speed.z", &FeatureSpeeds::z}};
     for (const SpeedKey& s : speeds) {
       const auto field = s.field;
@@ -344,6 +416,39 @@ const Rules<P>& printer_rules() {
                           [](P& p, double v) { p.print.skirt_distance = v; }));
     r.push_back(text<P>("print.seam", {"aligned", "nearest"},
                         [](P& p, const std::string& s) { p.print.seam = s; }));
+    // Supports, brim and raft (issue 12).
+    r.push_back(text<P>("support.type", {"none", "buildplate", "everywhere"},
+                        [](P& p, const std::string& s) { p.support.type = s; }));
+    r.push_back(number<P>("support.xy_gap", 0, 10, "mm", [](P& p, double v) { p.support.xy_gap = v; }));
+    r.push_back(number<P>("support.top_contact_distance", 0, 2, "mm",
+                          [](P& p, double v) { p.support.top_contact_distance = v; }));
+    r.push_back(number<P>("support.bottom_contact_distance", 0, 2, "mm",
+                          [](P& p, double v) { p.support.bottom_contact_distance = v; }));
+    r.push_back(integer<P>("support.interface_layers", 0, 20, "",
+                           [](P& p, int v) { p.support.interface_layers = v; }));
+    r.push_back(number<P>("support.interface_density", 10, 100, "%",
+                          [](P& p, double v) { p.support.interface_density = v; }));
+    r.push_back(text<P>("support.pattern", {"lines", "grid"},
+                        [](P& p, const std::string& s) { p.support.pattern = s; }));
+    r.push_back(boolean<P>("support.sheath", [](P& p, bool v) { p.support.sheath = v; }));
+    r.push_back(number<P>("support.spacing", 0.5, 20, "mm", [](P& p, double v) { p.support.spacing = v; }));
+    r.push_back(number<P>("support.angle", -360, 360, "degrees", [](P& p, double v) { p.support.angle = v; }));
+    r.push_back(number<P>("support.min_area", 0, 100, "mm^2", [](P& p, double v) { p.support.min_area = v; }));
+    r.push_back(boxes<P>("support.enforcers", [](P& p, const std::vector<SupportBoxMm>& b) { p.support.enforcers = b; }));
+    r.push_back(boxes<P>("support.blockers", [](P& p, const std::vector<SupportBoxMm>& b) { p.support.blockers = b; }));
+    r.push_back(number<P>("brim.width", 0, 50, "mm", [](P& p, double v) { p.brim_width = v; }));
+    r.push_back(boolean<P>("raft.enabled", [](P& p, bool v) { p.raft.enabled = v; }));
+    r.push_back(number<P>("raft.margin", 0, 30, "mm", [](P& p, double v) { p.raft.margin = v; }));
+    r.push_back(number<P>("raft.air_gap", 0, 1, "mm", [](P& p, double v) { p.raft.air_gap = v; }));
+    r.push_back(number<P>("raft.base_thickness", 0.05, 2, "mm", [](P& p, double v) { p.raft.base_thickness = v; }));
+    r.push_back(number<P>("raft.base_width", 0.1, 3, "mm", [](P& p, double v) { p.raft.base_width = v; }));
+    r.push_back(number<P>("raft.base_spacing", 0.2, 10, "mm", [](P& p, double v) { p.raft.base_spacing = v; }));
+    r.push_back(integer<P>("raft.interface_layers", 0, 10, "", [](P& p, int v) { p.raft.interface_layers = v; }));
+    r.push_back(number<P>("raft.interface_spacing", 0.2, 10, "mm",
+                          [](P& p, double v) { p.raft.interface_spacing = v; }));
+    r.push_back(integer<P>("raft.surface_layers", 0, 10, "", [](P& p, int v) { p.raft.surface_layers = v; }));
+    r.push_back(number<P>("raft.layer_thickness", 0.05, 2, "mm",
+                          [](P& p, double v) { p.raft.layer_thickness = v; }));
     r.push_back(text<P>("gcode.start", {}, [](P& p, const std::string& s) { p.start_gcode = s; }));
     r.push_back(text<P>("gcode.end", {}, [](P& p, const std::string& s) { p.end_gcode = s; }));
     r.push_back(number<P>("gcode.resolution", 0, 0.1, "mm", [](P& p, double v) { p.resolution = v; }));
@@ -375,6 +480,11 @@ const Rules<M>& material_rules() {
     r.push_back(integer<M>("fan.start_layer", 0, 1000, "", [](M& m, int v) { m.fan_start_layer = v; }));
     r.push_back(number<M>("flow", 0.5, 1.5, "", [](M& m, double v) { m.flow = v; }));
     r.push_back(number<M>("density", 0.5, 3.0, "g/cm^3", [](M& m, double v) { m.density = v; }));
+    r.push_back(number<M>("support.overhang_angle", 0, 89, "degrees from vertical",
+                          [](M& m, double v) { m.overhang_angle = v; }));
+    r.push_back(number<M>("bridge.max_length", 0, 200, "mm", [](M& m, double v) { m.bridge_length = v; }));
+    r.push_back(number<M>("bridge.flow", 0.5, 1.5, "", [](M& m, double v) { m.bridge_flow = v; }));
+    r.push_back(number<M>("bridge.fan", 0, 100, "%", [](M& m, double v) { m.bridge_fan = v; }));
     return r;
   }();
   return rules;
@@ -484,6 +594,20 @@ void check_printer(const PrinterProfile& p) {
     throw ConfigError(fmt::format("{}: extrusion.width = {} mm is narrower than the tallest layer "
                                   "({} mm); widen it or lower the layer limit", where,
                                   p.extrusion_width, tallest));
+  }
+  if (p.raft.enabled) {
+    for (const auto& [key, thickness] : {std::pair{"raft.base_thickness", p.raft.base_thickness},
+                                         std::pair{"raft.layer_thickness", p.raft.layer_thickness}}) {
+      if (!layer.allows(thickness)) {
+        throw ConfigError(fmt::format("{}: {} = {} mm is not a layer thickness this printer "
+                                      "allows ({})", where, key, thickness, layer.describe()));
+      }
+    }
+    if (p.raft.base_width < p.raft.base_thickness) {
+      throw ConfigError(fmt::format("{}: raft.base_width = {} mm is narrower than "
+                                    "raft.base_thickness = {} mm", where, p.raft.base_width,
+                                    p.raft.base_thickness));
+    }
   }
   if (p.first_layer_width < p.first_layer_height) {
     throw ConfigError(fmt::format("{}: first_layer.width = {} mm is narrower than "
@@ -695,18 +819,27 @@ double travel_lift(const PrinterProfile& printer) {
 }
 
 void check_layer_tops_fit(const PrinterProfile& printer, double part_z, double top_z,
-                          double thickness) {
+                          double thickness, double raft) {
   constexpr double kTolerance = 1e-6;
   const double hop = travel_lift(printer);
-  if (top_z + hop <= printer.bed_z + kTolerance) return;
+  raft = std::max(raft, 0.0);
+  if (top_z + raft + hop <= printer.bed_z + kTolerance) return;
   // A whole number of layers after the first, up to the build height less the hop.
-  const double room = printer.bed_z - hop - printer.first_layer_height;
+  const double room = printer.bed_z - raft - hop - printer.first_layer_height;
   const double tallest =
       room >= 0 && thickness > 0
           ? printer.first_layer_height + std::floor(room / thickness + 1e-9) * thickness
           : 0;
   std::string lift;
   if (hop > 0) lift = fmt::format(" and travels lift {:g} mm more", hop);
+  if (raft > 0) {
+    throw ConfigError(fmt::format(
+        "the part is {:.2f} mm tall, but on its {:.2f} mm raft its last layer of {:g} mm ends at "
+        "{:.2f} mm{}, above the {}'s build height of {:g} mm; make the part at most {:.2f} mm "
+        "tall (--height {:.2f}), print it without the raft (--no-raft), or choose a bigger "
+        "printer (--printer)",
+        part_z, raft, thickness, top_z + raft, lift, printer.name, printer.bed_z, tallest, tallest));
+  }
   throw ConfigError(fmt::format(
       "the part is {:.2f} mm tall, but its last layer of {:g} mm ends at {:.2f} mm{}, above the "
       "{}'s build height of {:g} mm; make the part at most {:.2f} mm tall (--height {:.2f}), "

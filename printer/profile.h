@@ -8,6 +8,7 @@
 // Units: mm, s, mm/s, mm/s^2, degrees Celsius, percent, g/cm^3.
 #pragma once
 
+#include <array>
 #include <optional>
 #include <span>
 #include <string>
@@ -35,7 +36,41 @@ struct LayerThicknesses {
 struct FeatureSpeeds {
   double outer_wall = 30, inner_wall = 45, thin_wall = 30, skirt = 30;
   double top_skin = 35, bottom_skin = 35, solid_infill = 45, sparse_infill = 60;
+  double support = 50, support_interface = 40, bridge = 25, brim = 30, raft = 25;
   double travel = 120, z = 8;
+};
+
+// A box [x0, y0, z0, x1, y1, z1]: X and Y on the bed as the G-code has them, Z from the
+// bed up to the part (a raft below does not count), mm.
+using SupportBoxMm = std::array<double, 6>;
+
+// Supports (issue 12): where they go, how they keep clear of the part, how they are laid.
+struct SupportSettings {
+  std::string type = "none";          // "none", "buildplate" or "everywhere"
+  double xy_gap = 0.2;                // mm between support and the part in the same layer
+  double top_contact_distance = 0.2;  // mm of air under the part
+  double bottom_contact_distance = 0.2;  // mm of air over the part, under support on it
+  int interface_layers = 2;
+  double interface_density = 80;      // percent
+  std::string pattern = "lines";      // "lines" or "grid"
+  bool sheath = true;                 // a loop round the body's islands
+  double spacing = 2.5;               // mm between the body's lines
+  double angle = 0;                   // degrees from +X, the body's lines
+  double min_area = 0.2;              // mm^2: smaller overhangs are left alone
+  std::vector<SupportBoxMm> enforcers, blockers;
+};
+
+struct RaftSettings {
+  bool enabled = false;
+  double margin = 3;            // mm past the first layer
+  double air_gap = 0.2;         // mm between the raft and the part
+  double base_thickness = 0.3;  // mm
+  double base_width = 0.8;      // mm, the base's bead width
+  double base_spacing = 2.0;    // mm between the base's lines
+  int interface_layers = 1;
+  double interface_spacing = 1.0;  // mm between the interface's lines
+  int surface_layers = 2;
+  double layer_thickness = 0.2;    // mm, each interface and surface layer
 };
 
 struct Retraction {
@@ -72,6 +107,9 @@ struct PrinterProfile {
   FeatureSpeeds speed;
   Retraction retraction;
   PrintSettings print;
+  SupportSettings support;
+  RaftSettings raft;
+  double brim_width = 0;    // mm; 0: no brim
   bool relative_e = false;  // M83 (true) or M82
   // Largest distance a written path may stray from the planned one, mm: points closer than
   // this to the line through their neighbours are dropped (PrusaSlicer's gcode_resolution),
@@ -94,6 +132,10 @@ struct MaterialProfile {
   int fan_start_layer = 1;  // 0-based: the first layer with the fan on
   double flow = 1.0;       // extrusion multiplier
   double density = 1.24;   // g/cm^3, for the filament weight
+  double overhang_angle = 50;  // degrees from vertical a wall may lean without support
+  double bridge_length = 10;   // mm a bridge may span without support
+  double bridge_flow = 1.0;    // extrusion multiplier on bridges
+  double bridge_fan = 100;     // percent, while bridging
 };
 
 struct Profiles {
@@ -150,9 +192,10 @@ double travel_lift(const PrinterProfile& printer);
 // Throws ConfigError unless the top of the last layer, `top_z` (mm; a whole layer above the
 // one before, so up to a layer above the part's `part_z`), plus a retracted travel's z-hop,
 // is within the build height. The error names the tallest part whose layers of `thickness`
-// after the printer's first layer fit.
+// after the printer's first layer fit. `raft`: the part stands that much higher, on a raft
+// (both heights are then the part's own, the raft not counted).
 void check_layer_tops_fit(const PrinterProfile& printer, double part_z, double top_z,
-                          double thickness);
+                          double thickness, double raft = 0);
 
 // Values for the {placeholders} of start and end G-code.
 struct PlaceholderValues {

@@ -34,6 +34,7 @@ Mesh place(Mesh mesh, const Placement& placement) {
   if (mesh.faces.empty()) return mesh;
   double factor = placement.units_to_mm * placement.scale;
   for (Vec3& p : mesh.vertices) p = turn_up(p, placement.up);
+  mesh = rotated(std::move(mesh), placement.rotation);
 
   Box3 box = bounding_box(mesh);
   if (placement.height) {

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "geometry/toolpaths/bead_spacing.h"
+#include "geometry/toolpaths/brim.h"
 #include "geometry/core/clipper.h"
 #include "geometry/toolpaths/infill.h"
 #include "geometry/toolpaths/perimeters.h"
@@ -33,6 +34,12 @@ constexpr double kSkinTolerance = 0.05;  // mm
 
 // Below this a bead is not a bead: keeps a zero or negative width from making endless lines.
 constexpr double kMinWidth = 0.01;  // mm
+
+// Bridge lines reach this many beads past the unsupported area into its anchors, so that
+// both their ends, and the zig-zags' connectors, lie on the layer below.
+constexpr double kBridgeAnchor = 2;
+// A bridge's piece of an island smaller than this is nothing to lay (mm^2).
+constexpr double kNoBridge = 1e-4;
 
 ToolpathOptions sane(ToolpathOptions o) {
   auto width = [](double w, double fallback) {
@@ -66,7 +73,7 @@ struct Island {
 // overlap is a fraction of the bead's width.
 Island plan_shares(const clipper::Paths& island, std::size_t layer, double share, double width,
                    const ToolpathOptions& o, const Region* core, const Region* below,
-                   const Region* above) {
+                   const Region* above, const std::vector<Bridge>* bridges) {
   Island result;
   Perimeters walls = perimeters(island, share, o.perimeters);
   // Innermost wall first, outer wall last: the outer surface is laid against walls already
@@ -80,6 +87,30 @@ Island plan_shares(const clipper::Paths& island, std::size_t layer, double share
   area = o.perimeters > 0 ? clipper::offset(area, o.infill_overlap * width)
                           : clipper::union_nonzero(area);
   Skins skins = split_skins(from_clipper(area), core, below, above, share);
+  // Bridges take their piece out of the skins (and of sparse infill over the air), reaching
+  // into the anchors; each is laid at its own angle.
+  std::vector<std::pair<Region, double>> bridge_pieces;
+  if (bridges && !bridges->empty()) {
+    clipper::Paths taken;
+    for (const Bridge& bridge : *bridges) {
+      clipper::Paths piece =
+          clipper::intersection(clipper::offset(to_clipper(bridge.area), kBridgeAnchor * width), area);
+      if (!taken.empty()) piece = clipper::difference(piece, taken);
+      if (clipper::area_mm2(piece) < kNoBridge) continue;
+      taken.insert(taken.end(), piece.begin(), piece.end());
+      bridge_pieces.emplace_back(from_clipper(piece), bridge.angle);
+    }
+    if (!taken.empty()) {
+      for (Region* skin : {&skins.bottom, &skins.top, &skins.solid, &skins.sparse}) {
+        if (!skin->loops.empty()) skin->loops = from_clipper(clipper::difference(to_clipper(*skin), taken)).loops;
+      }
+    }
+  }
+  for (const auto& [piece, bridge_angle] : bridge_pieces) {
+    // Layer index 0: the lines run at the bridge's angle itself.
+    result.groups.push_back(solid_infill(piece, share, bridge_angle, 0, PathRole::bridge,
+                                         o.infill_lines));
+  }
   const double angle = o.infill_angle;
   // One set of solid lines for all solid pieces, so that they meet edge to edge; infill at
   // 100% is solid too.
@@ -115,11 +146,11 @@ Island plan_shares(const clipper::Paths& island, std::size_t layer, double share
 // w/2 in). Each path is then widened to the bead that fills its share.
 Island plan_island(const clipper::Paths& island, std::size_t layer, double width, double height,
                    const ToolpathOptions& o, const Region* core, const Region* below,
-                   const Region* above) {
+                   const Region* above, const std::vector<Bridge>* bridges) {
   const double share = bead_spacing(width, height);
   const double sides = width - share;  // the rounded sides' reach past the share, both sides
   const clipper::Paths shared = sides > 0 ? clipper::offset(island, -sides / 2) : island;
-  Island result = plan_shares(shared, layer, share, width, o, core, below, above);
+  Island result = plan_shares(shared, layer, share, width, o, core, below, above, bridges);
   for (auto& group : result.groups) {
     for (ExtrusionPath& path : group) {
       // A whole share is a whole bead, exactly as wide as the profile says.
@@ -147,8 +178,20 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
                                            const std::vector<Layer>& layers,
                                            const ToolpathOptions& options,
                                            const LayerDone& on_layer_done) {
+  return plan_toolpaths(regions, layers, options, SupportPlan{}, on_layer_done);
+}
+
+std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
+                                           const std::vector<Layer>& layers,
+                                           const ToolpathOptions& options,
+                                           const SupportPlan& support,
+                                           const LayerDone& on_layer_done) {
   const ToolpathOptions o = sane(options);
   const std::size_t n = layers.size();
+  const bool raft = !support.raft.empty();
+  auto support_at = [&](std::size_t i) -> const LayerSupport* {
+    return i < support.layers.size() ? &support.layers[i] : nullptr;
+  };
   // Every layer's region, simplified, then cleaned and split into islands by one non-zero
   // union (simplifying first: the union has half the vertices to sweep): a layer past the
   // given regions is empty.
@@ -173,8 +216,43 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
   const bool bottom_skins = o.bottom_layers > 0 || o.bottom_thickness > 0;
   const Region nothing;
 
+  // Where each layer offers a sheath (support_paths.h) something to rest on: its part, and
+  // its own sheath (the outer bead of its support) as far as that is laid, which is as far
+  // as the layer below offers (so a sheath never stands on one that was left out). In turn,
+  // layer by layer; each layer's ring first, in parallel.
+  std::vector<clipper::Paths> carries;
+  if (!support.layers.empty()) {
+    carries.resize(n);
+    std::vector<clipper::Paths> ring(n), interface_ring(n);
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+      const LayerSupport* held = support_at(i);
+      if (!held || (held->body.loops.empty() && held->interface.loops.empty())) return;
+      const clipper::Paths interface = to_clipper(held->interface);
+      clipper::Paths all = to_clipper(held->body);
+      all.insert(all.end(), interface.begin(), interface.end());
+      all = clipper::union_nonzero(all);
+      // The loop's bead: where a loop fits (a part narrower than a bead gets none), less
+      // what lies inside it.
+      const double w = o.extrusion_width;
+      ring[i] = clipper::difference(clipper::opening(all, w / 2), clipper::offset(all, -w));
+      if (!interface.empty()) {
+        interface_ring[i] = clipper::difference(clipper::opening(interface, w / 2), clipper::offset(interface, -w));
+      }
+    });
+    for (std::size_t i = 0; i < n; ++i) {
+      clipper::Paths offered = to_clipper(region[i]);
+      if (!ring[i].empty()) {
+        const clipper::Paths laid = i == 0 ? ring[i]
+                                      : clipper::intersection(ring[i], clipper::offset(carries[i - 1], o.extrusion_width / 2));
+        offered.insert(offered.end(), laid.begin(), laid.end());
+        offered.insert(offered.end(), interface_ring[i].begin(), interface_ring[i].end());
+      }
+      carries[i] = clipper::union_nonzero(offered);
+    }
+  }
+
   std::vector<std::vector<Island>> islands(n);
-  std::vector<ExtrusionPath> skirt_paths;
+  std::vector<Region> travel_region(n);  // where travels need no retraction
   std::atomic<std::size_t> done{0};
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
     const double width = i == 0 ? o.first_layer_width : o.extrusion_width;
@@ -182,24 +260,75 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
     const Region* core = cores[i] ? &*cores[i] : nullptr;
     const Region* below = bottom_skins ? (i > 0 ? &outline[i - 1] : &nothing) : nullptr;
     const Region* above = top_skins ? (i + 1 < n ? &outline[i + 1] : &nothing) : nullptr;
+    const LayerSupport* held = support_at(i);
+    const std::vector<Bridge>* bridges = held ? &held->bridges : nullptr;
     for (const clipper::Paths& island : island_paths[i]) {
-      islands[i].push_back(plan_island(island, i, width, height, o, core, below, above));
+      islands[i].push_back(plan_island(island, i, width, height, o, core, below, above, bridges));
     }
-    if (i == 0) skirt_paths = skirt(region[0], width, o.skirt_loops, o.skirt_distance);
+    travel_region[i] = region[i];
+    if (held && !(held->body.loops.empty() && held->interface.loops.empty())) {
+      // The support's own islands, the body and the interface, in the nearest-first order.
+      // On the bed (layer 0 without a raft) its beads are the first layer's width.
+      const double bead = i == 0 && !raft ? o.first_layer_width : o.extrusion_width;
+      // What carries a sheath here: the layer below's sheath where it is laid, and its part;
+      // on the bed or the raft, anything.
+      std::optional<Region> carried;
+      if (i > 0) carried = from_clipper(carries[i - 1]);
+      for (auto paths : {support_body_paths(held->body, bead, o.support, carried ? &*carried : nullptr),
+                         support_interface_paths(held->interface, bead, height, o.support)}) {
+        if (!paths.empty()) islands[i].push_back(Island{{std::move(paths)}});
+      }
+      clipper::Paths all = to_clipper(region[i]);
+      for (const Region* r : {&held->body, &held->interface}) {
+        const clipper::Paths more = to_clipper(*r);
+        all.insert(all.end(), more.begin(), more.end());
+      }
+      travel_region[i] = from_clipper(clipper::union_nonzero(all));
+    }
     if (on_layer_done) on_layer_done(++done);
   });
 
+  // The raft's layers, and the first printed layer's brim and skirt: round the raft, or
+  // round the part's first layer and its support.
+  const std::size_t r = support.raft.size();
+  std::vector<std::vector<ExtrusionPath>> raft_layers(r);
+  tbb::parallel_for(std::size_t{0}, r, [&](std::size_t k) {
+    const RaftLayer& layer = support.raft[k];
+    const double width = k == 0 ? o.first_layer_width : o.extrusion_width;
+    raft_layers[k] = raft_paths(support.raft_area, layer.part, k, width,
+                                layer.bounds.thickness(), o.support);
+  });
+  const Region* first = raft ? &support.raft_area : n > 0 ? &travel_region[0] : nullptr;
+  std::vector<ExtrusionPath> skirt_paths;
+  if (first) {
+    const double width = o.first_layer_width;
+    skirt_paths = brim(*first, width, o.brim_width);
+    const double extent = brim_extent(width, o.brim_width);
+    const Region around =
+        extent > 0 ? from_clipper(clipper::offset(to_clipper(*first), extent, ClipperLib::jtRound))
+                   : *first;
+    std::vector<ExtrusionPath> loops = skirt(around, width, o.skirt_loops, o.skirt_distance);
+    skirt_paths.insert(skirt_paths.begin(), std::make_move_iterator(loops.begin()),
+                       std::make_move_iterator(loops.end()));
+  }
+
   // Order: sequential, since each layer starts where the one below ended.
   // Aligned seams remember where the layer below had them, so that they line up.
-  std::vector<LayerToolpaths> plan(n);
-  Vec2 position = n > 0 ? front_left(region[0]) : Vec2{};
+  std::vector<LayerToolpaths> plan(r + n);
+  Vec2 position = first ? front_left(*first) : Vec2{};
   std::vector<Seam> below, laid;
+  for (std::size_t k = 0; k < r; ++k) {
+    plan[k].z_lo = support.raft[k].bounds.z_lo;
+    plan[k].z_hi = support.raft[k].bounds.z_hi;
+    if (k == 0) append_nearest_first(std::move(skirt_paths), o.seam, position, plan[k].paths);
+    append_nearest_first(std::move(raft_layers[k]), o.seam, position, plan[k].paths);
+  }
   for (std::size_t i = 0; i < n; ++i) {
-    plan[i].z_lo = layers[i].z_lo;
-    plan[i].z_hi = layers[i].z_hi;
-    std::vector<ExtrusionPath>& out = plan[i].paths;
+    plan[r + i].z_lo = layers[i].z_lo + support.lift;
+    plan[r + i].z_hi = layers[i].z_hi + support.lift;
+    std::vector<ExtrusionPath>& out = plan[r + i].paths;
     laid.clear();
-    if (i == 0) append_nearest_first(std::move(skirt_paths), o.seam, position, out);
+    if (i == 0 && !raft) append_nearest_first(std::move(skirt_paths), o.seam, position, out);
     std::vector<Island>& left = islands[i];
     while (!left.empty()) {
       std::size_t next = 0;
@@ -216,8 +345,9 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
     }
     std::swap(below, laid);
   }
-  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-    mark_retractions(plan[i].paths, region[i], o.retract_min_travel);
+  tbb::parallel_for(std::size_t{0}, r + n, [&](std::size_t k) {
+    const Region& where = k < r ? support.raft_area : travel_region[k - r];
+    mark_retractions(plan[k].paths, where, o.retract_min_travel);
   });
   return plan;
 }

@@ -36,6 +36,8 @@
 #include "geometry/toolpaths/infill.h"        // InfillPattern, infill_pattern_name, parse_infill_pattern
 #include "geometry/slicing/layer_stack.h"
 #include "geometry/core/polygon.h"
+#include "geometry/support/support_plan.h"
+#include "geometry/toolpaths/support_paths.h"  // SupportPattern, SupportPathOptions
 #include "geometry/toolpaths/toolpaths.h"
 #include "geometry/toolpaths/travel_order.h"  // SeamPosition, seam_position_name, parse_seam_position
 
@@ -59,6 +61,9 @@ struct ToolpathOptions {
   double retract_min_travel = 2.0;  // a travel leaving the region retracts if longer, mm
   SeamPosition seam = SeamPosition::aligned;
   InfillLines infill_lines = InfillLines::connected;  // zig-zags along the edge, or separate
+  // With a support plan only (issue 12): the support's and the raft's lines, and the brim.
+  SupportPathOptions support;
+  double brim_width = 0;            // mm of brim round the first layer; 0 for none
 };
 
 // Called once per finished layer with the count of layers done so far, possibly from several
@@ -68,6 +73,21 @@ using LayerDone = std::function<void(std::size_t done)>;
 std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
                                            const std::vector<Layer>& layers,
                                            const ToolpathOptions& options,
+                                           const LayerDone& on_layer_done = {});
+
+// The same with supports, bridges and a raft (geometry/support/support_plan.h; issue 12):
+//   raft layers first, each its own LayerToolpaths (support_paths.h), then the part's layers
+//   `support.lift` higher; each part layer's support body and interface paths are islands
+//   of their own in the nearest-first order; bottom skin over a bridge, reaching two beads
+//   into its anchors, is laid as bridge lines at the bridge's angle (role bridge, solid
+//   spacing); the brim (brim.h) goes round the first printed layer (the raft, or the part
+//   and its support), the skirt round that and the brim; a travel that stays inside the
+//   part, its support or the raft does not retract.
+// With an empty plan and no brim this is plan_toolpaths above, path for path.
+std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
+                                           const std::vector<Layer>& layers,
+                                           const ToolpathOptions& options,
+                                           const SupportPlan& support,
                                            const LayerDone& on_layer_done = {});
 
 }  // namespace geometry

@@ -14,8 +14,20 @@ std::string_view role_name(PathRole role) {
     case PathRole::top_skin: return "SKIN-TOP";
     case PathRole::solid_infill: return "FILL-SOLID";
     case PathRole::sparse_infill: return "FILL";
+    // Cura's words for support; Cura prints bridges as SKIN and the brim as SKIRT, but each
+    // role needs a word of its own (PrusaSlicer's: "Bridge infill", "Skirt/Brim").
+    case PathRole::support: return "SUPPORT";
+    case PathRole::support_interface: return "SUPPORT-INTERFACE";
+    case PathRole::bridge: return "BRIDGE";
+    case PathRole::brim: return "BRIM";
+    case PathRole::raft: return "RAFT";
   }
   return "UNKNOWN";
+}
+
+bool is_support_role(PathRole role) {
+  return role == PathRole::support || role == PathRole::support_interface ||
+         role == PathRole::raft;
 }
 
 }  // namespace geometry

@@ -12,9 +12,15 @@
 namespace geometry {
 
 enum class PathRole { skirt, outer_wall, inner_wall, thin_wall, bottom_skin, top_skin,
-                      solid_infill, sparse_infill };
+                      solid_infill, sparse_infill, support, support_interface, bridge, brim,
+                      raft };
 
-std::string_view role_name(PathRole role);  // "SKIRT", "WALL-OUTER", ... for ;TYPE: comments
+// "SKIRT", "WALL-OUTER", ..., "SUPPORT", "SUPPORT-INTERFACE", "BRIDGE", "BRIM", "RAFT" for
+// ;TYPE: comments.
+std::string_view role_name(PathRole role);
+
+// Support, support interface and raft: what is printed only to carry the part.
+bool is_support_role(PathRole role);
 
 struct ExtrusionPath {
   PathRole role = PathRole::outer_wall;

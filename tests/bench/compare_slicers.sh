@@ -3,8 +3,9 @@
 # placed 50 mm tall (--up y --units m --height 50), at 0.15 mm and 0.2 mm layers, with the
 # same machine and settings everywhere: the UP Plus 2 profile (140 x 140 x 135 mm, 0.4 mm
 # nozzle, 0.45 mm lines, 0.5 mm / 0.3 mm first layer, 1.75 mm ABS), 2 perimeters, 20% grid
-# infill, 3 top and 3 bottom layers, one skirt loop 3 mm out, the profile's speeds and
-# accelerations. Prints one table: layers, each slicer's own print-time estimate, filament,
+# infill, 3 top and 3 bottom layers, one skirt loop 3 mm out, no support and no raft (the
+# profile has both since issue 12; tests/bench/compare_supports.sh compares supports), the
+# profile's speeds and accelerations. Prints one table: layers, each slicer's own print-time estimate, filament,
 # wall time, CPU time and peak memory of the slicing run.
 #
 # Usage: tests/bench/compare_slicers.sh [BUILD_DIR]   (default: build; mahost must be built)
@@ -78,7 +79,7 @@ for layer in 0.15 0.2; do
   # mahost, the paper's MA contour and the mid-layer section other slicers use.
   for contour in ma mid; do
     out=$work/mahost-$contour-$layer.gcode
-    timed "$mahost" slice data/bunny.stl --up y --units m --height 50 --layer "$layer" \
+    timed "$mahost" slice data/bunny.stl --up y --units m --height 50 --layer "$layer" --support none --no-raft \
       --contour "$contour" -o "$out"
     row "mahost ($contour)" "$layer" "$(grep -m1 '^;LAYER_COUNT:' "$out" | cut -d: -f2)" \
       "$(grep -m1 '^;PRINT_TIME_S:' "$out" | cut -d: -f2)" \

@@ -42,7 +42,7 @@ TEST_CASE("uniform_slicing_prints_an_8_mm_part_8_mm_tall") {
   const std::string dir = test_support::scratch_dir("plan_flat_top");
   const std::string stl = dir + "/box8.stl", gcode = dir + "/box8.gcode";
   geometry::write_stl_binary(stl, solids::box({0, 0, 0}, {20, 20, 8}).mesh);
-  const auto r = run_mahost({"slice", stl, "--layer", "0.15", "--contour", "mid", "-o", gcode});
+  const auto r = run_mahost({"slice", stl, "--no-raft", "--layer", "0.15", "--contour", "mid", "-o", gcode});
   REQUIRE(r.exit_code == 0);
   const std::vector<double> tops = tops_of(gcode);
   REQUIRE(!tops.empty());
@@ -58,7 +58,7 @@ TEST_CASE("slice_adaptive_plans_by_the_error_and_reports_it_in_one_line") {
   // 10 mm radius, 20 mm tall: mid's D is t / 4, so a tolerance of 0.07 allows 0.25 mm layers.
   geometry::write_stl_binary(stl, solids::cone(10, 20, 64).mesh);
   const auto r = run_mahost(
-      {"slice", stl, "--adaptive", "--tolerance", "0.07", "--contour", "mid", "-o", gcode});
+      {"slice", stl, "--no-raft", "--adaptive", "--tolerance", "0.07", "--contour", "mid", "-o", gcode});
   REQUIRE(r.exit_code == 0);
   CHECK(r.out.find("adaptive: ") != std::string::npos);
   CHECK(r.out.find("for D within 0.07 mm") != std::string::npos);
@@ -80,7 +80,7 @@ TEST_CASE("slice_adaptive_keeps_a_layer_budget") {
   const std::string dir = test_support::scratch_dir("plan_adaptive_budget");
   const std::string stl = dir + "/cone.stl", gcode = dir + "/cone.gcode";
   geometry::write_stl_binary(stl, solids::cone(10, 20, 64).mesh);
-  const auto r = run_mahost({"slice", stl, "--max-layers", "60", "--contour", "mid", "-o", gcode});
+  const auto r = run_mahost({"slice", stl, "--no-raft", "--max-layers", "60", "--contour", "mid", "-o", gcode});
   REQUIRE(r.exit_code == 0);
   CHECK(tops_of(gcode).size() <= 60);
   CHECK(r.out.find("adaptive: ") != std::string::npos);

@@ -69,7 +69,7 @@ TEST_CASE("slice_prints_explicit_boundaries_layer_by_layer") {
   // The last step would be 0.2 mm, ending at 6.0: the part's top.
   REQUIRE(std::abs(tops.back() - 6) < 1e-9);
   const std::string out = dir + "/cone.gcode";
-  const auto r = run_mahost({"slice", stl, "--boundaries", joined(tops), "-o", out});
+  const auto r = run_mahost({"slice", stl, "--no-raft", "--boundaries", joined(tops), "-o", out});
   CAPTURE(r.err);
   REQUIRE(r.exit_code == 0);
   CHECK(r.out.starts_with(fmt::format("{}: {} layers, 0.15 to 0.4 mm thick, estimated print time ",

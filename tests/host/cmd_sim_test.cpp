@@ -199,6 +199,10 @@ void print_with_printcore(const std::string& faults, const std::string& name) {
   const std::string summary = sim.stop(code);
   CHECK(code == 0);
   CHECK(summary.find("print time") != std::string::npos);
+  // The squares stand on one another: nothing laid on air (issue 12's check, on what the
+  // simulated firmware deposited). 5 layers x (80 + 76.8) mm of bead, walls only.
+  CHECK(summary.find("deposited   unsupported extrusion: 0.0 mm of 0.8 m (0.00%; bridges up to "
+                     "10 mm, contact gap 0.2 mm)") != std::string::npos);
   std::ifstream in(record_path);
   REQUIRE(in.good());
   const nlohmann::json record = nlohmann::json::parse(in);
@@ -224,6 +228,7 @@ TEST_CASE("sim_prints_its_port_first_and_a_summary_on_sigint") {
   CHECK(code == 0);
   CHECK(summary.find("lines       0 accepted") != std::string::npos);
   CHECK(summary.find("print time  ") != std::string::npos);
+  CHECK(summary.find("deposited   unsupported extrusion: 0.0 mm of 0.0 m") != std::string::npos);
 }
 
 TEST_CASE("sim_says_start_again_when_a_host_reopens_the_port") {

@@ -747,7 +747,7 @@ TEST_CASE("pause_at_layer_on_a_variable_stack_stops_at_that_layers_height") {
   geometry::write_stl_binary(stl, solids::box({0, 0, 0}, {20, 20, 2}).mesh);
   fs::create_directories(runtime + "/mahost");
   const std::string journal = runtime + "/mahost/block.journal";
-  Background job({"print", stl, "--dry-run", "--journal", journal, "--boundaries",
+  Background job({"print", stl, "--dry-run", "--no-raft", "--journal", journal, "--boundaries",
                   "0.3,0.45,0.85,1.1,1.25,1.65,2", "--pause-at-layer", "4"});
   REQUIRE(wait_for([&] { return journal_of(journal) && journal_of(journal)->state == printer::JobState::paused; }, 60s));
   auto r = run_mahost({"ctl", "status", "--job", journal});

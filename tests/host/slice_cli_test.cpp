@@ -82,15 +82,19 @@ TEST_CASE("slice_writes_gcode_and_reports_one_line") {
   CHECK(result.err.empty());
   // UP Plus 2 defaults: 0.3 mm first layer, then 0.2 up to the flat top, which lands on a
   // boundary at 20.0 mm: 19.7 mm = 96 x 0.2 + 2 x 0.25 (the two under the top a step thicker),
-  // 1 + 98 = 99 layers (plain 0.2 mm layers would need 99 above the first, to 20.1 mm).
-  CHECK(result.out.starts_with(out + ": 99 layers, estimated print time "));
-  CHECK(result.out.find(" g ABS), ") != std::string::npos);
+  // 1 + 98 = 99 layers (plain 0.2 mm layers would need 99 above the first, to 20.1 mm), on a
+  // raft of 4 (base, interface, two surface layers). A cube needs no support.
+  CHECK(result.out.starts_with(out + ": 99 layers, on 4 raft layers, estimated print time "));
+  CHECK(result.out.find(" g ABS; ") != std::string::npos);
+  CHECK(result.out.find(" m of it support and raft), ") != std::string::npos);
   CHECK(std::count(result.out.begin(), result.out.end(), '\n') == 1);
   const std::string gcode = read_file(out);
   const test_support::PrintedProgram program = test_support::read_printed_program(gcode);
-  CHECK(program.layers.size() == 99);
-  CHECK(program.header.at("LAYER_COUNT") == "99");
-  CHECK(program.layers.back().z == doctest::Approx(20.0));
+  CHECK(program.layers.size() == 103);
+  CHECK(program.header.at("LAYER_COUNT") == "103");
+  CHECK(program.layers.back().z == doctest::Approx(20.0 + 1.1));  // on the 1.1 mm raft
+  CHECK(gcode.find(";TYPE:RAFT\n") != std::string::npos);
+  CHECK(gcode.find(";TYPE:SUPPORT\n") == std::string::npos);
   CHECK(program.problems.empty());
   CHECK_FALSE(std::filesystem::exists(out + ".part"));
 }
@@ -147,7 +151,7 @@ TEST_CASE("every_contour_strategy_prints_a_vertical_wall_part_alike") {
   for (const std::string contour : {"lower", "mid", "optimal-height", "ma", "best"}) {
     CAPTURE(contour);
     const std::string out = dir + "/" + contour + ".gcode";
-    const auto result = run_mahost({"slice", stl, "-o", out, "--contour", contour, "--infill", "100",
+    const auto result = run_mahost({"slice", stl, "--support", "none", "--no-raft", "-o", out, "--contour", contour, "--infill", "100",
                                     "--set", "print.infill_pattern=rectilinear", "--set",
                                     "print.skirt_loops=0"});
     REQUIRE(result.exit_code == 0);
@@ -173,7 +177,7 @@ TEST_CASE("sphere_beads_cover_each_layer") {
   const std::string stl = dir + "/sphere.stl", out = dir + "/sphere.gcode";
   const solids::Solid sphere = solids::sphere(12, 96, 48, {0, 0, 12});
   geometry::write_stl_binary(stl, sphere.mesh);
-  const auto result = run_mahost({"slice", stl, "-o", out, "--contour", "mid", "--layer", "0.2",
+  const auto result = run_mahost({"slice", stl, "--support", "none", "--no-raft", "-o", out, "--contour", "mid", "--layer", "0.2",
                                   "--infill", "100", "--set", "print.infill_pattern=rectilinear", "--set", "print.skirt_loops=0"});
   REQUIRE(result.exit_code == 0);
   const printer::PrinterProfile up = printer::load_printer_profile("up-plus-2", kConfigDir);
@@ -191,7 +195,7 @@ TEST_CASE("sphere_beads_cover_each_layer") {
 TEST_CASE("bunny_ma_layers_are_covered_inside_the_bed_and_timed_exactly") {
   const std::string dir = test_support::scratch_dir("slice_bunny");
   const std::string stl = MAHOST_DATA_DIR "/bunny.stl", out = dir + "/bunny.gcode";
-  const auto result = run_mahost({"slice", stl, "--up", "y", "--units", "m", "--height", "50",
+  const auto result = run_mahost({"slice", stl, "--support", "none", "--no-raft", "--up", "y", "--units", "m", "--height", "50",
                                   "-o", out, "--layer", "0.2", "--contour", "ma", "--infill", "100", "--set", "print.infill_pattern=rectilinear",
                                   "--set", "print.skirt_loops=0"});
   REQUIRE(result.exit_code == 0);
@@ -253,7 +257,8 @@ TEST_CASE("part_whose_last_layer_ends_above_the_build_height_is_refused_before_s
   const std::string dir = test_support::scratch_dir("slice_last_layer_too_high");
   const std::string stl = dir + "/cube.stl";
   geometry::write_stl_binary(stl, solids::cone(1, 10, 32).mesh);
-  const auto result = run_mahost({"slice", stl, "-o", dir + "/cube.gcode", "--height", "135"});
+  const auto result =
+      run_mahost({"slice", stl, "-o", dir + "/cube.gcode", "--height", "135", "--no-raft"});
   CHECK(result.exit_code == 2);
   CHECK(result.err == "mahost: the part is 135.00 mm tall, but its last layer of 0.2 mm ends at "
                       "135.10 mm, above the UP Plus 2's build height of 135 mm; make the part at "
@@ -262,10 +267,18 @@ TEST_CASE("part_whose_last_layer_ends_above_the_build_height_is_refused_before_s
   CHECK_FALSE(std::filesystem::exists(dir + "/cube.gcode"));
   // With a z-hop the travels over the last layer must fit too.
   const auto hop = run_mahost({"slice", stl, "-o", dir + "/cube.gcode", "--height", "134.9",
-                               "--set", "retraction.z_hop=0.5"});
+                               "--set", "retraction.z_hop=0.5", "--no-raft"});
   CHECK(hop.exit_code == 2);
   CHECK(hop.err.find("ends at 134.90 mm and travels lift 0.5 mm more") != std::string::npos);
   CHECK(hop.err.find("(--height 134.50)") != std::string::npos);
+  // On the profile's raft (0.3 + 3 x 0.2 mm and a 0.2 mm air gap: 1.1 mm) the part's layers
+  // end 1.1 mm higher: 133.9 mm is the tallest that fits (0.3 + 668 x 0.2 + 1.1 = 135).
+  const auto raft = run_mahost({"slice", stl, "-o", dir + "/cube.gcode", "--height", "134"});
+  CHECK(raft.exit_code == 2);
+  CHECK(raft.err == "mahost: the part is 134.00 mm tall, but on its 1.10 mm raft its last layer "
+                    "of 0.2 mm ends at 135.20 mm, above the UP Plus 2's build height of 135 mm; "
+                    "make the part at most 133.90 mm tall (--height 133.90), print it without "
+                    "the raft (--no-raft), or choose a bigger printer (--printer)\n");
 }
 
 TEST_CASE("bad_set_is_refused_naming_the_key") {

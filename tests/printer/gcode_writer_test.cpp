@@ -566,6 +566,60 @@ TEST_CASE("a_teacup_profile_heats_with_m104_m140_and_waits_with_m116_without_m73
         std::count_if(marlin.begin(), marlin.end(), [](const std::string& l) { return l.starts_with("G1 "); }));
 }
 
+// A layer of one bridge line over the square, then one support line beside it.
+std::vector<LayerToolpaths> bridged_part() {
+  std::vector<LayerToolpaths> layers = square_part(0.5);
+  LayerToolpaths top;
+  top.z_lo = 0.7;
+  top.z_hi = 0.9;
+  top.paths.push_back({PathRole::bridge, {{-9, 0}, {9, 0}}, 0.5, true});
+  top.paths.push_back({PathRole::support, {{-9, 5}, {9, 5}}, 0.5, false});
+  top.paths.push_back({PathRole::support_interface, {{-9, 6}, {9, 6}}, 0.5, false});
+  layers.push_back(top);
+  return layers;
+}
+
+TEST_CASE("bridges_take_the_materials_flow_fan_and_the_bridge_speed") {
+  // PLA: the fan at 100% from layer 1 anyway; bridge fan 30% here, flow 0.9, speed 17 mm/s.
+  const Profiles p = profiles("generic-marlin", "pla",
+                              {"material.bridge.fan=30", "material.bridge.flow=0.9", "speed.bridge=17"});
+  const std::string text = write(bridged_part(), p);
+  const auto lines = lines_of(text);
+  const std::size_t layer = index_of(lines, ";LAYER:3"), type = index_of(lines, ";TYPE:BRIDGE", layer);
+  REQUIRE(type < lines.size());
+  // 30% = S77, set before the bridge's first extrusion; back to 100% (S255) before the support.
+  const std::size_t fan = index_of(lines, "M106 S77", layer);
+  CHECK(fan > type);
+  CHECK(fan < index_of(lines, ";TYPE:SUPPORT", layer));
+  const std::size_t support = index_of(lines, ";TYPE:SUPPORT", layer);
+  std::size_t laid = support;  // the support's first extrusion
+  while (laid < lines.size() && !(lines[laid].starts_with("G1 X") && lines[laid].find(" E") != std::string::npos)) ++laid;
+  CHECK(index_of(lines, "M106 S255", fan) < laid);
+  const test_support::PrintedProgram program =
+      test_support::read_printed_program(text, {p.printer.filament_diameter, p.material.flow});
+  const test_support::Bead& bridge = program.layers[3].chains[0][0];
+  CHECK(bridge.filament ==
+        doctest::Approx(0.9 * filament_for_bead(0.5, 0.2, 18, 1.75, p.material.flow)).epsilon(1e-5));
+  bool fast = false;
+  for (const std::string& line : lines) fast = fast || line.find("F1020") != std::string::npos;
+  CHECK(fast);  // 17 mm/s
+}
+
+TEST_CASE("support_and_raft_filament_is_counted_apart") {
+  const Profiles p = profiles("up-plus-2", "abs");
+  GcodeSummary summary;
+  write(bridged_part(), p, &summary);
+  // The two 18 mm support lines, at the layer's 0.2 mm: support and interface both count.
+  CHECK(summary.support_filament_mm ==
+        doctest::Approx(2 * filament_for_bead(0.5, 0.2, 18, 1.75, p.material.flow)).epsilon(1e-6));
+  GcodeSummary plain;
+  write(square_part(), p, &plain);
+  CHECK(plain.support_filament_mm == 0);
+  const auto lines = lines_of(write(bridged_part(), p));
+  CHECK(index_of(lines, ";TYPE:SUPPORT") < lines.size());
+  CHECK(index_of(lines, ";TYPE:SUPPORT-INTERFACE") < lines.size());
+}
+
 TEST_CASE("each_layer_is_laid_at_its_own_thickness") {
   // A stack of mixed thicknesses: 0.3 mm first, then 0.15, 0.4, 0.25 mm. Every layer has
   // ";HEIGHT:" after ";Z:", and its beads, read back at the printer's layer height (its Z

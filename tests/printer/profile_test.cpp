@@ -99,7 +99,8 @@ TEST_CASE("unknown_key_names_file_line_and_the_keys_of_its_section") {
   const std::string text = kMinimalPrinter + "[speed]\nouter_wal = 30\n";
   CHECK(config_error([&] { parse_printer_profile(text, "my.toml"); }) ==
         "my.toml:11: unknown key 'speed.outer_wal'; keys under 'speed': outer_wall, inner_wall, "
-        "thin_wall, skirt, top_skin, bottom_skin, solid_infill, sparse_infill, travel, z");
+        "thin_wall, skirt, top_skin, bottom_skin, solid_infill, sparse_infill, support, "
+                "support_interface, bridge, brim, raft, travel, z");
 }
 
 TEST_CASE("unknown_section_lists_the_known_ones") {
@@ -261,6 +262,54 @@ TEST_CASE("firmware_key_names_the_dialect_the_gcode_is_written_for") {
   CHECK(p.printer.firmware == printer::Firmware::teacup);
   CHECK_THROWS_WITH_AS(printer::apply_override(p, "firmware=klipper"),
                        doctest::Contains("one of marlin, teacup, repetier"), printer::ConfigError);
+}
+
+TEST_CASE("shipped_profiles_print_with_supports_and_the_up_plus_2_on_a_raft") {
+  const PrinterProfile up = load_printer_profile("up-plus-2", kConfigDir);
+  CHECK(up.support.type == "everywhere");
+  CHECK(up.raft.enabled);
+  CHECK(up.raft.base_thickness == 0.3);
+  CHECK(up.brim_width == 0);
+  const PrinterProfile marlin = load_printer_profile("generic-marlin", kConfigDir);
+  CHECK(marlin.support.type == "everywhere");
+  CHECK_FALSE(marlin.raft.enabled);
+  const MaterialProfile abs = load_material_profile("abs", kConfigDir);
+  CHECK(abs.overhang_angle == 50);
+  CHECK(abs.bridge_length == 10);
+  const MaterialProfile pla = load_material_profile("pla", kConfigDir);
+  CHECK(pla.bridge_length == 20);
+  CHECK(pla.bridge_fan == 100);
+}
+
+TEST_CASE("support_keys_are_checked_like_every_key") {
+  CHECK(config_error([] { parse_printer_profile(kMinimalPrinter + "[support]\ntype = \"sometimes\"\n", "my.toml"); }) ==
+        "my.toml:11: key 'support.type' = \"sometimes\" is not allowed; it must be one of none, "
+        "buildplate, everywhere");
+  CHECK(config_error([] { parse_printer_profile(kMinimalPrinter + "[support]\nxy_gap = -1\n", "my.toml"); })
+            .starts_with("my.toml:11: key 'support.xy_gap' = -1 is not allowed"));
+  // Boxes: a list of [x0, y0, z0, x1, y1, z1], each with its corners in order.
+  const PrinterProfile boxes = parse_printer_profile(
+      kMinimalPrinter + "[support]\nenforcers = [[0, 0, 0, 10, 10, 5], [20, 20, 1, 30, 25, 2]]\n", "my.toml");
+  REQUIRE(boxes.support.enforcers.size() == 2);
+  CHECK(boxes.support.enforcers[1] == SupportBoxMm{20, 20, 1, 30, 25, 2});
+  CHECK(config_error([] { parse_printer_profile(kMinimalPrinter + "[support]\nblockers = [[0, 0, 0, 1, 2]]\n", "my.toml"); })
+            .starts_with("my.toml:11: key 'support.blockers' must be a list of boxes [x0, y0, z0, x1, y1, z1]"));
+  CHECK(config_error([] { parse_printer_profile(kMinimalPrinter + "[support]\nblockers = [[5, 0, 0, 1, 2, 3]]\n", "my.toml"); })
+            .starts_with("my.toml:11: key 'support.blockers' = [[5, 0, 0, 1, 2, 3]] is not allowed"));
+  // On the command line, boxes by semicolons; "none" clears them.
+  Profiles p{load_printer_profile("up-plus-2", kConfigDir), load_material_profile("abs", kConfigDir)};
+  apply_override(p, "support.blockers=1,2,3,4,5,6; 7,8,9,10,11,12");
+  CHECK(p.printer.support.blockers.size() == 2);
+  apply_override(p, "support.blockers=none");
+  CHECK(p.printer.support.blockers.empty());
+  CHECK(config_error([&] { apply_override(p, "support.blockers=1,2,3"); })
+            .starts_with("--set support.blockers=1,2,3: key 'support.blockers' must be a list of boxes"));
+  // A raft's layers must be thicknesses the printer prints.
+  CHECK(config_error([&] { apply_override(p, "raft.base_thickness=0.33"); })
+            .starts_with(kConfigDir + "/printers/up-plus-2.toml: raft.base_thickness = 0.33 mm is not a "
+                         "layer thickness this printer allows"));
+  CHECK(config_error([&] { apply_override(p, "material.bridge.flow=2"); })
+            .starts_with("--set material.bridge.flow=2: key 'bridge.flow' = 2 is not allowed"));
 }
 
 TEST_CASE("layer_tops_are_checked_against_the_printers_thicknesses") {

@@ -17,6 +17,7 @@ PrintedProgram read_printed_program(std::string_view gcode, const BeadSettings& 
   double x = 0, y = 0, z = 0, e = 0;
   bool relative_xyz = false, relative_e = false, homed = false;
   bool chain_open = false;
+  std::string type;
   std::size_t line_number = 0;
 
   auto reach = [&]() {
@@ -42,7 +43,8 @@ PrintedProgram read_printed_program(std::string_view gcode, const BeadSettings& 
         program.layers.push_back(layer);
         chain_open = false;
       } else if (comment.starts_with("TYPE:")) {
-        if (!program.layers.empty()) program.layers.back().types.push_back(comment.substr(5));
+        type = comment.substr(5);
+        if (!program.layers.empty()) program.layers.back().types.push_back(type);
         chain_open = false;
       } else if (program.layers.empty()) {
         const std::size_t colon = comment.find(':');
@@ -86,7 +88,10 @@ PrintedProgram read_printed_program(std::string_view gcode, const BeadSettings& 
         bead.filament = de;
         bead.width = printer::bead_width(de, bead.length(), layer.height,
                                          settings.filament_diameter, settings.flow);
-        if (!chain_open) layer.chains.emplace_back();
+        if (!chain_open) {
+          layer.chains.emplace_back();
+          layer.chain_types.push_back(type);
+        }
         layer.chains.back().push_back(bead);
         chain_open = true;
         layer.filament += de;
@@ -146,8 +151,15 @@ ClipperLib::Path disc(geometry::Vec2 c, double r) {
 }  // namespace
 
 geometry::Region bead_region(const PrintedLayer& layer) {
+  return bead_region(layer, [](const std::string&) { return true; });
+}
+
+geometry::Region bead_region(const PrintedLayer& layer,
+                             const std::function<bool(const std::string& type)>& keep) {
   ClipperLib::Paths all;
-  for (const std::vector<Bead>& chain : layer.chains) {
+  for (std::size_t c = 0; c < layer.chains.size(); ++c) {
+    if (!keep(layer.chain_types[c])) continue;
+    const std::vector<Bead>& chain = layer.chains[c];
     // A chain of one width, split where the width changes by more than 1 um.
     std::size_t start = 0;
     while (start < chain.size()) {

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <map>
 #include <string>
 #include <string_view>
@@ -39,6 +40,7 @@ struct PrintedLayer {
   double z = 0;          // nozzle height while extruding
   double height = 0;     // z minus the previous layer's z
   std::vector<std::vector<Bead>> chains;  // consecutive extruding moves
+  std::vector<std::string> chain_types;   // each chain's feature: the ";TYPE:" before it
   std::vector<std::string> types;         // ";TYPE:" comments, in order
   double filament = 0;
 };
@@ -57,8 +59,11 @@ struct PrintedProgram {
 
 PrintedProgram read_printed_program(std::string_view gcode, const BeadSettings& settings = {});
 
-// The union of a layer's beads as a Region (non-zero fill, outer CCW, holes CW).
+// The union of a layer's beads as a Region (non-zero fill, outer CCW, holes CW); with `keep`,
+// of the chains whose feature it keeps only.
 geometry::Region bead_region(const PrintedLayer& layer);
+geometry::Region bead_region(const PrintedLayer& layer,
+                             const std::function<bool(const std::string& type)>& keep);
 
 // How beads cover a region: the share of the region's area under beads, and the area of
 // beads outside it as a share of the region's area.

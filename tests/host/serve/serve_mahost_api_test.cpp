@@ -47,8 +47,9 @@ TEST_CASE("an_stl_upload_is_sliced_on_the_host_with_the_pages_settings_and_print
   CHECK(job["job"]["file"]["name"] == "cube.gcode");
   CHECK(job["mahost"]["contour"] == "mid");
   const json info = serve.get_json("/api/files/local/cube.gcode");
-  // 8 mm at 0.3 mm after the UP Plus 2's 0.3 mm first layer: ceil(8 / 0.3) layers.
-  CHECK(info["mahost"]["layers"] == 27);
+  // 8 mm at 0.3 mm after the UP Plus 2's 0.3 mm first layer: ceil(8 / 0.3) layers, on the
+  // raft the UP Plus 2 prints on by default (base, interface, two surface layers).
+  CHECK(info["mahost"]["layers"] == 27 + 4);
   CHECK(read_text(dirs.files + "/cube.gcode").find("; material: PLA") != std::string::npos);
 
   // The slice command as OctoPrint names it, on the stored model: 202 and the target's file,

@@ -1,0 +1,156 @@
+// Support and raft toolpaths: lines that stack, interfaces that reach their edges.
+#include "geometry/toolpaths/support_paths.h"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "geometry/toolpaths/toolpath_shapes.h"
+
+using namespace geometry;
+using namespace toolpath_shapes;
+
+namespace {
+
+constexpr double w = 0.45;
+
+// Whether every point of the path lies within the rectangle (mm, with a tolerance).
+bool within(const ExtrusionPath& path, double x0, double y0, double x1, double y1, double tol) {
+  for (Vec2 p : path.points) {
+    if (p.x < x0 - tol || p.x > x1 + tol || p.y < y0 - tol || p.y > y1 + tol) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+TEST_CASE("body_lines_lie_on_a_grid_fixed_in_the_part_so_layers_stack") {
+  SupportPathOptions o;
+  o.spacing = 2.5;
+  // Two regions, as two layers' support might be: the lines along x lie at the same heights.
+  for (const Region& body : {Region{{rectangle(0.3, 0.7, 20.1, 10.9)}}, Region{{rectangle(-3, -1, 12, 14)}}}) {
+    const auto paths = support_body_paths(body, w, o);
+    REQUIRE_FALSE(paths.empty());
+    std::size_t sheaths = 0;
+    for (const ExtrusionPath& path : paths) {
+      CHECK(path.role == PathRole::support);
+      CHECK(path.width == w);
+      CHECK(within(path, -3 + w / 2 - 1e-6, -1, 20.1, 14, 1e-6));
+      if (is_closed(path)) {  // the sheath, half a bead in
+        ++sheaths;
+        continue;
+      }
+      for (std::size_t i = 1; i < path.points.size(); ++i) {
+        const Vec2 a = path.points[i - 1], b = path.points[i];
+        if (std::abs(a.y - b.y) < 1e-9 && std::abs(a.x - b.x) > 1) {  // a line, not a connector
+          CHECK(std::abs(a.y / 2.5 - std::round(a.y / 2.5)) < 1e-6);
+        }
+      }
+    }
+    CHECK(sheaths == 1);
+  }
+}
+
+TEST_CASE("sheath_is_laid_only_where_the_layer_below_carries_it") {
+  SupportPathOptions o;
+  const Region body{{rectangle(0, 0, 10, 10)}};
+  // Below: the same island: the whole sheath. Below: only its left half: the sheath's left
+  // part (its left side, and the halves of the top and bottom).
+  const Region all{{rectangle(-1, -1, 11, 11)}}, left{{rectangle(-1, -1, 5, 11)}};
+  double full = 0, kept = 0;
+  for (const ExtrusionPath& path : support_body_paths(body, w, o, &all)) {
+    if (is_closed(path)) full += length(path.points);
+  }
+  for (const ExtrusionPath& path : support_body_paths(body, w, o, &left)) {
+    CHECK(within(path, 0, 0, 10, 10, 1e-6));
+    const bool line = path.points.size() == 2 && path.points[0].y == path.points[1].y &&
+                      std::abs(path.points[0].y / 2.5 - std::round(path.points[0].y / 2.5)) < 1e-6;
+    if (line) continue;  // the body's lines, zig-zagged or not, are laid anyway
+    bool sheath = true;  // on the sheath's line, half a bead in
+    for (Vec2 p : path.points) {
+      sheath = sheath && (std::abs(p.x - w / 2) < 1e-6 || std::abs(p.y - w / 2) < 1e-6 ||
+                          std::abs(p.y - (10 - w / 2)) < 1e-6 || std::abs(p.x - (10 - w / 2)) < 1e-6);
+    }
+    if (!sheath) continue;
+    for (Vec2 p : path.points) CHECK(p.x <= 5 + 1e-6);
+    kept += length(path.points);
+  }
+  // The left side and the left halves of the top and bottom.
+  CHECK(kept == doctest::Approx((10 - w) + 2 * (5 - w / 2)).epsilon(0.02));
+  CHECK(full == doctest::Approx(4 * (10 - w)).epsilon(1e-6));
+  o.sheath = false;
+  for (const ExtrusionPath& path : support_body_paths(body, w, o)) CHECK_FALSE(is_closed(path));
+}
+
+TEST_CASE("grid_body_lays_lines_both_ways") {
+  SupportPathOptions o;
+  o.pattern = SupportPattern::grid;
+  const auto paths = support_body_paths(Region{{rectangle(0, 0, 20, 20)}}, w, o);
+  bool along_x = false, along_y = false;
+  for (const ExtrusionPath& path : paths) {
+    for (std::size_t i = 1; i < path.points.size(); ++i) {
+      const Vec2 d = path.points[i] - path.points[i - 1];
+      along_x = along_x || (std::abs(d.y) < 1e-9 && std::abs(d.x) > 10);
+      along_y = along_y || (std::abs(d.x) < 1e-9 && std::abs(d.y) > 10);
+    }
+  }
+  CHECK(along_x);
+  CHECK(along_y);
+}
+
+TEST_CASE("interface_is_a_loop_round_its_edge_and_lines_across_the_body") {
+  SupportPathOptions o;
+  o.interface_density = 80;
+  const auto paths = support_interface_paths(Region{{rectangle(0, 0, 10, 6)}}, w, 0.2, o);
+  REQUIRE_FALSE(paths.empty());
+  std::size_t loops = 0, lines = 0;
+  for (const ExtrusionPath& path : paths) {
+    CHECK(path.role == PathRole::support_interface);
+    CHECK(within(path, w / 2, w / 2, 10 - w / 2, 6 - w / 2, 1e-6));
+    if (is_closed(path)) {
+      ++loops;
+    } else {
+      ++lines;
+      // Across the body's lines (90 degrees), from the loop's centre line to its centre line.
+      CHECK(path.points.size() == 2);
+      CHECK(std::abs(path.points[0].x - path.points[1].x) < 1e-9);
+      CHECK(std::abs(path.points[0].y - path.points[1].y) == doctest::Approx(6 - w).epsilon(1e-6));
+    }
+  }
+  CHECK(loops == 1);
+  // At 80% of solid: lines about (0.45 - 0.2 (1 - pi/4)) / 0.8 = 0.509 mm apart over the 9.55
+  // mm between the loop's sides.
+  CHECK(lines >= 17);
+  CHECK(lines <= 20);
+}
+
+TEST_CASE("raft_base_is_wide_lines_in_a_loop_and_the_surface_is_solid") {
+  SupportPathOptions o;
+  o.raft_base_width = 0.8;
+  o.raft_base_spacing = 2;
+  const Region area{{rectangle(0, 0, 20, 20)}};
+  const auto base = raft_paths(area, RaftPart::base, 0, 0.5, 0.3, o);
+  REQUIRE_FALSE(base.empty());
+  double base_length = 0;
+  for (const ExtrusionPath& path : base) {
+    CHECK(path.role == PathRole::raft);
+    CHECK(path.width == 0.8);
+    base_length += length(path.points);
+  }
+  // A loop (4 x 19.2) and lines 2 mm apart across the 18.4 mm inside it: about 9 x 19.2.
+  CHECK(base_length == doctest::Approx(4 * 19.2 + 9 * 19.2).epsilon(0.1));
+  const auto surface = raft_paths(area, RaftPart::surface, 3, w, 0.2, o);
+  double surface_length = 0;
+  for (const ExtrusionPath& path : surface) surface_length += length(path.points) * path.width;
+  // Solid: bead width times length about the area's... beads of share 0.407 fill 400 mm^2.
+  CHECK(surface_length == doctest::Approx(400.0 * w / 0.407).epsilon(0.1));
+}
+
+TEST_CASE("nothing_gives_no_support_paths") {
+  SupportPathOptions o;
+  CHECK(support_body_paths(Region{}, w, o).empty());
+  CHECK(support_interface_paths(Region{}, w, 0.2, o).empty());
+  CHECK(raft_paths(Region{}, RaftPart::base, 0, w, 0.3, o).empty());
+  o.spacing = 0;
+  CHECK(support_body_paths(Region{{rectangle(0, 0, 5, 5)}}, w, o).empty());
+}
