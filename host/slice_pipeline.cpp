@@ -8,11 +8,13 @@
 #include <cmath>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <ostream>
 #include <streambuf>
 
 #include <fmt/core.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 
 #include "geometry/contour/contour_strategy.h"
 #include "geometry/core/error.h"
@@ -397,14 +399,18 @@ LayerChoice plan_layers(const SliceOptions& options, const printer::PrinterProfi
 
 namespace {
 
-// The print time of the part sliced in these layers with mid sections (the estimate hardly
-// depends on the contour: the bunny's ma and mid estimates differ by 1%), s.
+// The print time of the part sliced in these layers with mid sections, supports and raft as
+// the profiles say (the estimate hardly depends on the contour: the bunny's ma and mid
+// estimates differ by 1%), s.
 double estimated_seconds(const geometry::LayerStack& index, const std::vector<geometry::Layer>& layers,
                          const printer::Profiles& profiles) {
   const geometry::LayerStack stack(index, layers);
   std::vector<geometry::Region> regions(layers.size());
   tbb::parallel_for(std::size_t{0}, layers.size(), [&](std::size_t i) { regions[i] = stack.mid(i); });
-  const auto toolpaths = geometry::plan_toolpaths(regions, layers, toolpath_options(profiles.printer));
+  const geometry::SupportPlan supports = geometry::plan_supports(
+      regions, layers, support_options(profiles), raft_options(profiles.printer));
+  const auto toolpaths =
+      geometry::plan_toolpaths(regions, layers, toolpath_options(profiles.printer), supports);
   struct Discard : std::streambuf {
     int overflow(int c) override { return c; }
     std::streamsize xsputn(const char*, std::streamsize n) override { return n; }
@@ -452,6 +458,30 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
   printer::check_part_fits(machine, size.x, size.y, size.z);
 
   const geometry::LayerStack index(mesh, {});
+  // The plan line compares an adaptive plan with uniform slicing at the thinnest layer and at
+  // about as many layers. The first needs no plan, so it is estimated beside the planning,
+  // whose rounds of measurements leave cores idle.
+  const geometry::AllowedThicknesses allowed = allowed_thicknesses(machine);
+  const std::vector<geometry::FlatLevel> flats = geometry::flat_levels(mesh);
+  const auto uniform_estimate = [&](double t) {
+    const auto plan = geometry::uniform_plan(size.z, t, allowed, flats);
+    return SliceResult::Uniform{t, plan.layers.size(),
+                                estimated_seconds(index, plan.layers, result.profiles)};
+  };
+  std::optional<SliceResult::Uniform> thinnest;
+  tbb::task_group beside;
+  // Joined on every way out: a failed slice does not leave the estimate running.
+  struct Joined {
+    tbb::task_group& group;
+    ~Joined() {
+      group.cancel();
+      try {
+        group.wait();
+      } catch (...) {
+      }
+    }
+  } joined{beside};
+  if (options.adaptive.adaptive) beside.run([&] { thinnest = uniform_estimate(allowed.thinnest()); });
   report(SliceStage::planning, 0, 0);
   result.choice = plan_layers(options, machine, index, size.z, contour,
                               [&](std::size_t measured) { report(SliceStage::planning, measured, 0); });
@@ -535,18 +565,14 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
   result.summary = printer::write_gcode_file(
       output, toolpaths, result.profiles, gcode_options,
       [&](std::size_t done) { report(SliceStage::writing, done, count); });
+  beside.wait();
   if (result.choice.adaptive && count > 1) {
     // What uniform slicing would take: at the thinnest layer, and at about as many layers.
-    const geometry::AllowedThicknesses allowed = allowed_thicknesses(machine);
-    const auto flats = geometry::flat_levels(mesh);
+    if (!thinnest) thinnest = uniform_estimate(allowed.thinnest());
+    result.uniform.push_back(*thinnest);
     const double same_count = nearest_allowed(
         allowed, (layers.back().z_hi - machine.first_layer_height) / static_cast<double>(count - 1));
-    for (double t : {allowed.thinnest(), same_count}) {
-      if (!result.uniform.empty() && std::abs(result.uniform.back().thickness - t) < 1e-9) continue;
-      const auto plan = geometry::uniform_plan(size.z, t, allowed, flats);
-      result.uniform.push_back({t, plan.layers.size(),
-                                estimated_seconds(index, plan.layers, result.profiles)});
-    }
+    if (std::abs(same_count - thinnest->thickness) > 1e-9) result.uniform.push_back(uniform_estimate(same_count));
   }
   return result;
 }

@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <system_error>
+#include <vector>
 
 #include <fmt/core.h>
 
@@ -24,6 +26,21 @@ constexpr double kSameHeight = 0.5e-3;
 std::string_view trim_left(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
   return s;
+}
+
+// mahost's header note on a raft, "; raft: 4 layers, 1.10 mm under the part (...)": how far
+// the part stands lifted, mm; 0 for any other line.
+double raft_lift(std::string_view line) {
+  constexpr std::string_view kNote = "; raft: ";
+  constexpr std::string_view kUnder = " mm under the part";
+  if (!line.starts_with(kNote)) return 0;
+  const std::size_t under = line.find(kUnder);
+  const std::size_t comma = line.rfind(", ", under);
+  if (under == std::string_view::npos || comma == std::string_view::npos) return 0;
+  double lift = 0;
+  const char* first = line.data() + comma + 2;
+  const auto [end, error] = std::from_chars(first, line.data() + under, lift);
+  return error == std::errc{} && end == line.data() + under && lift > 0 ? lift : 0;
 }
 
 }  // namespace
@@ -50,13 +67,19 @@ std::vector<double> layer_tops_from_gcode(std::string_view text, const std::stri
   std::vector<double> tops;
   bool relative_xyz = false, relative_e = false;
   double x = 0, y = 0, z = 0, e = 0;
+  double lift = 0;  // a mahost raft's, mm
   std::size_t line_number = 0;
   while (!text.empty()) {
     const std::size_t end = text.find('\n');
     const std::string_view line = trim_left(text.substr(0, end));
     text.remove_prefix(end == std::string_view::npos ? text.size() : end + 1);
     ++line_number;
-    // Only G and M commands matter; comments, blank lines and T, S... are skipped unparsed.
+    // Only G and M commands matter, and mahost's note of a raft; other comments, blank lines
+    // and T, S... are skipped unparsed.
+    if (!line.empty() && line.front() == ';') {
+      if (const double l = raft_lift(line); l > 0) lift = l;
+      continue;
+    }
     if (line.empty() || (line.front() != 'G' && line.front() != 'M' && line.front() != 'g' &&
                          line.front() != 'm')) {
       continue;
@@ -106,6 +129,17 @@ std::vector<double> layer_tops_from_gcode(std::string_view text, const std::stri
     throw ConfigError(fmt::format("{}: the G-code extrudes nothing, so it gives no layer "
                                   "boundaries",
                                   name));
+  }
+  // On a raft the part's layers are those above it, their tops as the part had them on the
+  // bed (the raft's layers and its air gap are no layers of the part).
+  if (lift > 0) {
+    std::erase_if(tops, [&](double top) { return top <= lift + kSameHeight; });
+    for (double& top : tops) top -= lift;
+    if (tops.empty()) {
+      throw ConfigError(fmt::format("{}: the G-code extrudes nothing above its raft, so it gives "
+                                    "no layer boundaries",
+                                    name));
+    }
   }
   // A spiral vase rises along its moves: thousands of "layers" a few um apart.
   for (std::size_t i = 1; i < tops.size(); ++i) {

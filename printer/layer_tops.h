@@ -13,7 +13,9 @@
 // So the comments are not what is read (they differ, Slic3r has none, an empty Cura layer has
 // one); the heights that filament is laid at are, which all four share. Z-hop travels and the
 // start G-code's moves lay nothing and do not count; G91/G90, M82/M83 and G92 are followed.
-// Heights closer than 0.5 um are one layer (they are written to 1 um).
+// Heights closer than 0.5 um are one layer (they are written to 1 um). A mahost file printed
+// on a raft (its header's "; raft: N layers, L mm under the part") gives the part's layers,
+// as on the bed: the raft's left out, L taken off the rest.
 // Throws ConfigError naming `name` when the file extrudes nothing, or goes back down to a
 // height below one it printed at (several objects printed one after another, or a spiral
 // vase, whose Z rises along every move: neither is a stack of layers).

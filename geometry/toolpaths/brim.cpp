@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "geometry/core/clipper.h"
+#include "geometry/toolpaths/skirt.h"
 
 namespace geometry {
 
@@ -21,22 +21,7 @@ double brim_extent(double width, double brim_width) {
 }
 
 std::vector<ExtrusionPath> brim(const Region& footprint, double width, double brim_width) {
-  std::vector<ExtrusionPath> result;
-  const int loops = loop_count(width, brim_width);
-  const clipper::Paths part = clipper::union_nonzero(to_clipper(footprint));
-  if (part.empty() || loops <= 0) return result;
-  for (int k = loops - 1; k >= 0; --k) {
-    for (const auto& path : clipper::offset(part, width / 2 + k * width, ClipperLib::jtRound)) {
-      if (!ClipperLib::Orientation(path)) continue;  // a hole of the grown outline
-      ExtrusionPath loop;
-      loop.role = PathRole::brim;
-      loop.width = width;
-      loop.points = from_clipper(path);
-      loop.points.push_back(loop.points.front());
-      result.push_back(std::move(loop));
-    }
-  }
-  return result;
+  return loops_around(footprint, width / 2, width, loop_count(width, brim_width), PathRole::brim);
 }
 
 }  // namespace geometry

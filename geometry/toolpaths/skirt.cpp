@@ -6,18 +6,16 @@
 
 namespace geometry {
 
-std::vector<ExtrusionPath> skirt(const Region& first_layer, double width, int loops,
-                                 double distance) {
+std::vector<ExtrusionPath> loops_around(const Region& part, double first, double width,
+                                        int loops, PathRole role) {
   std::vector<ExtrusionPath> result;
-  const clipper::Paths part = clipper::union_nonzero(to_clipper(first_layer));
-  if (part.empty() || loops <= 0 || !(width > 0)) return result;
-  distance = std::max(distance, 0.0);
+  const clipper::Paths outline = clipper::union_nonzero(to_clipper(part));
+  if (outline.empty() || loops <= 0 || !(width > 0)) return result;
   for (int k = loops - 1; k >= 0; --k) {
-    const double grow = distance + width / 2 + k * width;
-    for (const auto& path : clipper::offset(part, grow, ClipperLib::jtRound)) {
+    for (const auto& path : clipper::offset(outline, first + k * width, ClipperLib::jtRound)) {
       if (!ClipperLib::Orientation(path)) continue;  // a hole of the grown outline: inside
       ExtrusionPath loop;
-      loop.role = PathRole::skirt;
+      loop.role = role;
       loop.width = width;
       loop.points = from_clipper(path);
       loop.points.push_back(loop.points.front());
@@ -25,6 +23,12 @@ std::vector<ExtrusionPath> skirt(const Region& first_layer, double width, int lo
     }
   }
   return result;
+}
+
+std::vector<ExtrusionPath> skirt(const Region& first_layer, double width, int loops,
+                                 double distance) {
+  return loops_around(first_layer, std::max(distance, 0.0) + width / 2, width, loops,
+                      PathRole::skirt);
 }
 
 }  // namespace geometry

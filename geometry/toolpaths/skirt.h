@@ -17,6 +17,12 @@
 
 namespace geometry {
 
+// `loops` closed loops of `role` round the outline of `part` (non-zero union), outermost
+// first: the innermost's centre line `first` mm out, each next one `width` further; holes of
+// the grown outline (inside the part) left out. Empty for no loops or no width.
+std::vector<ExtrusionPath> loops_around(const Region& part, double first, double width,
+                                        int loops, PathRole role);
+
 std::vector<ExtrusionPath> skirt(const Region& first_layer, double width, int loops,
                                  double distance);
 

@@ -3,6 +3,7 @@
 # layers (issue 11). For the bunny (50 mm, --up y --units m; its hole-filled base, z < 2.25 mm,
 # left out of the percentile) and three OpenSCAD models (tests/bench/models/*.scad: a dome on
 # a plinth, stepped tiers with off-grid flat tops, a twisted vase), each run is one layer plan:
+#   (mahost slices without supports or raft here, as the peers do: --support none --no-raft)
 #   - mahost uniform, mid and ma contours, at 0.15, 0.2, 0.25 and 0.3 mm (0.3 mm first layer);
 #   - CuraEngine 4.13 adaptive layers (adaptive_layer_height_enabled, base 0.25 mm, variation
 #     0.1 mm in steps of 0.05: 0.15 to 0.35 mm, the UP Plus 2's grid) at several
@@ -73,7 +74,7 @@ judge() {
   # small to print) is not sliced: no time, and the reason under the table.
   local seconds=-1
   # shellcheck disable=SC2086
-  if "$mahost" slice "$model" $place --boundaries "$gcode" --contour "$contour" "${timing_printer[@]}" \
+  if "$mahost" slice "$model" $place --boundaries "$gcode" --contour "$contour" --support none --no-raft "${timing_printer[@]}" \
     -o "$timed" >"$work/slice.log" 2>&1; then
     seconds=$(grep -m1 '^;PRINT_TIME_S:' "$timed" | cut -d: -f2)
   else
@@ -113,7 +114,7 @@ for model_name in $models; do
     for contour in mid ma; do
       out=$work/mahost-$contour-$t.gcode
       # shellcheck disable=SC2086
-      "$mahost" slice "$model" $place --layer "$t" --contour "$contour" -o "$out" >/dev/null 2>&1
+      "$mahost" slice "$model" $place --layer "$t" --contour "$contour" --support none --no-raft -o "$out" >/dev/null 2>&1
       judge "mahost uniform $t $contour" "$model" "$place" "$excl" "$out" "$contour"
     done
   done
@@ -124,7 +125,7 @@ for model_name in $models; do
     out=$work/mahost-adaptive-$tolerance.gcode
     # shellcheck disable=SC2086
     timed "mahost adaptive $tolerance best" "$model_name" "$mahost" slice "$model" $place \
-      --adaptive --tolerance "$tolerance" --contour best -o "$out"
+      --adaptive --tolerance "$tolerance" --contour best --support none --no-raft -o "$out"
     judge "mahost adaptive $tolerance best" "$model" "$place" "$excl" "$out" best
   done
 

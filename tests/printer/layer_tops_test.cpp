@@ -143,6 +143,34 @@ G1 X22 Y12 E0.3 F900
   check_tops(layer_tops_from_gcode(ours, "ours.gcode"), {0.3, 0.45});
 }
 
+TEST_CASE("mahost_layers_on_a_raft_are_the_parts_layers_as_on_the_bed") {
+  // Two raft layers (0.3, 0.5), an air gap of 0.2 mm, then the part's 0.3 and 0.15 mm
+  // layers: the header says the part stands 0.7 mm up.
+  const std::string ours = R"(; raft: 2 layers, 0.70 mm under the part (air gap 0.2 mm), margin 3 mm
+G90
+M82
+;LAYER:0
+;Z:0.3
+G1 Z0.3 F480
+;TYPE:RAFT
+G1 X10 Y10 E1 F900
+;LAYER:1
+;Z:0.5
+G1 Z0.5 F480
+;TYPE:RAFT
+G1 X20 Y10 E2 F900
+;LAYER:2
+;Z:1
+G1 Z1.0 F480
+G1 X20 Y20 E3 F900
+;LAYER:3
+;Z:1.15
+G1 Z1.15 F480
+G1 X10 Y20 E4 F900
+)";
+  check_tops(layer_tops_from_gcode(ours, "ours.gcode"), {0.3, 0.45});
+}
+
 TEST_CASE("gcode_that_is_not_one_stack_of_layers_is_refused") {
   // Two objects printed one after another: Z goes back down.
   const std::string sequential = "G1 Z0.2\nG1 X1 Y0 E1\nG1 Z0.4\nG1 X2 Y0 E2\nG1 Z0.2\nG1 X3 Y0 E3\n";
