@@ -29,6 +29,7 @@
 #include "geometry/mesh/placement.h"
 #include "geometry/mesh/repair.h"
 #include "geometry/mesh/stl_io.h"
+#include "bench/bench_main.h"
 
 using namespace geometry;
 using Clock = std::chrono::steady_clock;
@@ -37,7 +38,7 @@ static double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-int main(int argc, char** argv) {
+static int run_bench(int argc, char** argv) {
   std::string path = std::string(MAHOST_DATA_DIR) + "/bunny.stl";
   double thickness = 0.15;
   std::string contours = contour_names(",");
@@ -187,3 +188,5 @@ int main(int argc, char** argv) {
   std::printf("peak resident memory: %.1f MB\n", usage.ru_maxrss / 1024.0);
   return 0;
 }
+
+int main(int argc, char** argv) { return bench::main(argc, argv, run_bench); }

@@ -36,6 +36,7 @@
 #include "printer/line_protocol.h"
 #include "printer/test_program.h"
 #include "sim/sim_link.h"
+#include "bench/bench_main.h"
 
 extern char** environ;
 
@@ -220,7 +221,7 @@ void report_pty(const std::string& host, const PtyRun& clean, const PtyRun& faul
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run_bench(int argc, char** argv) {
   const int layers = argc > 1 ? std::atoi(argv[1]) : 60;
   const auto limit = std::chrono::seconds(argc > 2 ? std::atoi(argv[2]) : 240);
   fmt::print("1. mahost, in-process simulated printer at 115200 baud, sim clock; ring program of "
@@ -258,3 +259,5 @@ int main(int argc, char** argv) {
   }
   return 0;
 }
+
+int main(int argc, char** argv) { return bench::main(argc, argv, run_bench); }

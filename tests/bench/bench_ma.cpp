@@ -33,6 +33,7 @@
 #include "geometry/mesh/placement.h"
 #include "geometry/mesh/repair.h"
 #include "geometry/mesh/stl_io.h"
+#include "bench/bench_main.h"
 
 using namespace geometry;
 using Clock = std::chrono::steady_clock;
@@ -89,7 +90,7 @@ static void compare_contours(const std::string& file, const std::vector<Region>&
               differing);
 }
 
-int main(int argc, char** argv) {
+static int run_bench(int argc, char** argv) {
   std::string path = std::string(MAHOST_DATA_DIR) + "/bunny.stl";
   double thickness = 0.15;
   MaOptions options;
@@ -260,3 +261,5 @@ int main(int argc, char** argv) {
   }
   return differing == 0 ? 0 : 1;
 }
+
+int main(int argc, char** argv) { return bench::main(argc, argv, run_bench); }

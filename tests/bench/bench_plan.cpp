@@ -23,6 +23,7 @@
 #include "geometry/mesh/repair.h"
 #include "geometry/mesh/stl_io.h"
 #include "geometry/plan/layer_plan.h"
+#include "bench/bench_main.h"
 
 using namespace geometry;
 using Clock = std::chrono::steady_clock;
@@ -86,7 +87,7 @@ void report(const char* label, const AdaptivePlan& plan, double wall, double cpu
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run_bench(int argc, char** argv) {
   std::string path = std::string(MAHOST_DATA_DIR) + "/bunny.stl";
   std::vector<std::string> tolerances{"0.1", "0.2", "0.3", "0.5"};
   std::vector<std::string> contours{"mid"};
@@ -143,4 +144,7 @@ int main(int argc, char** argv) {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   std::printf("peak resident memory: %.1f MB\n", static_cast<double>(usage.ru_maxrss) / 1024.0);
+  return 0;
 }
+
+int main(int argc, char** argv) { return bench::main(argc, argv, run_bench); }

@@ -37,6 +37,7 @@
 #include <nlohmann/json.hpp>
 
 #include "printer/gcode_file.h"
+#include "bench/bench_main.h"
 
 extern char** environ;
 
@@ -245,7 +246,7 @@ RunResult run(const std::string& dir, const std::string& text, const std::string
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run_bench(int argc, char** argv) {
   const std::string gcode = argc > 1 ? argv[1] : "/tmp/base/bunny_ma20.gcode";
   const int clients = argc > 2 ? std::atoi(argv[2]) : 20;
   const std::string time_scale = argc > 3 ? argv[3] : "500";
@@ -306,3 +307,5 @@ int main(int argc, char** argv) {
   fs::remove_all(dir);
   return alone.exact && polled_fast.exact && loaded.exact && quiet.exact && polled.exact ? 0 : 1;
 }
+
+int main(int argc, char** argv) { return bench::main(argc, argv, run_bench); }

@@ -41,6 +41,7 @@
 #include "sim/printed_part.h"
 #include "sim/printer.h"
 #include "sim/record.h"
+#include "bench/bench_main.h"
 
 extern char** environ;
 
@@ -256,7 +257,7 @@ void bench_gcode(const std::string& path, const std::string& profile) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run_bench(int argc, char** argv) {
   std::size_t count = 500000;
   bool pty = true;
   std::string gcode, profile;
@@ -279,3 +280,5 @@ int main(int argc, char** argv) {
   if (pty) bench_pty(115200);
   return 0;
 }
+
+int main(int argc, char** argv) { return bench::main(argc, argv, run_bench); }

@@ -24,6 +24,7 @@
 #include "geometry/mesh/repair.h"
 #include "geometry/slicing/slicer.h"
 #include "geometry/mesh/stl_io.h"
+#include "bench/bench_main.h"
 
 namespace {
 
@@ -73,7 +74,7 @@ Timing repeat(int times, F&& run) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run_bench(int argc, char** argv) {
   std::string path = MAHOST_DATA_DIR "/bunny.stl";
   double layer = 0.15;
   for (int i = 1; i < argc; ++i) {
@@ -165,3 +166,5 @@ int main(int argc, char** argv) {
     return 2;
   }
 }
+
+int main(int argc, char** argv) { return bench::main(argc, argv, run_bench); }

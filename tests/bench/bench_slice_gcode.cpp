@@ -27,6 +27,7 @@
 #include "geometry/toolpaths/toolpath_plan.h"
 #include "printer/gcode_writer.h"
 #include "printer/profile.h"
+#include "bench/bench_main.h"
 
 namespace {
 
@@ -59,7 +60,7 @@ struct Stage {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run_bench(int argc, char** argv) {
   const double thickness = argc > 1 ? std::atof(argv[1]) : 0.15;
   const std::string contour = argc > 2 ? argv[2] : "ma";
   const std::string bunny = MAHOST_DATA_DIR "/bunny.stl";
@@ -121,3 +122,5 @@ int main(int argc, char** argv) {
   std::remove(output.c_str());
   return status == 0 ? 0 : 1;
 }
+
+int main(int argc, char** argv) { return bench::main(argc, argv, run_bench); }

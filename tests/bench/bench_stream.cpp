@@ -22,6 +22,7 @@
 
 #include "printer/line_protocol.h"
 #include "printer/serial_link.h"
+#include "bench/bench_main.h"
 
 extern char** environ;
 
@@ -96,7 +97,7 @@ void run(int baud, std::size_t window, int lines) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run_bench(int argc, char** argv) {
   const int lines = argc > 1 ? std::atoi(argv[1]) : 3000;
   fmt::print("streaming {} lines to mahost sim --pty (time scale max, bytes paced at the baud rate)\n", lines);
   if (argc > 3) {
@@ -109,3 +110,5 @@ int main(int argc, char** argv) {
   }
   return 0;
 }
+
+int main(int argc, char** argv) { return bench::main(argc, argv, run_bench); }

@@ -35,6 +35,7 @@
 #include "geometry/slicing/layer_stack.h"
 #include "geometry/support/support_plan.h"
 #include "geometry/toolpaths/toolpath_plan.h"
+#include "bench/bench_main.h"
 
 namespace {
 
@@ -72,7 +73,7 @@ double path_length(const std::vector<geometry::LayerToolpaths>& plan) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run_bench(int argc, char** argv) {
   using namespace geometry;
   const std::string model = argc > 1 ? argv[1] : MAHOST_DATA_DIR "/bunny.stl";
   const double layer = argc > 2 ? std::stod(argv[2]) : 0.2;
@@ -133,3 +134,5 @@ int main(int argc, char** argv) {
               path_length(with) / 1000, path_length(without) / 1000);
   return 0;
 }
+
+int main(int argc, char** argv) { return bench::main(argc, argv, run_bench); }

@@ -36,6 +36,7 @@
 #include "geometry/mesh/repair.h"
 #include "geometry/mesh/stl_io.h"
 #include "geometry/toolpaths/toolpath_plan.h"
+#include "bench/bench_main.h"
 
 namespace {
 
@@ -65,7 +66,7 @@ double peak_mib() {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run_bench(int argc, char** argv) {
   using namespace geometry;
   const std::string model = argc > 1 ? argv[1] : MAHOST_DATA_DIR "/bunny.stl";
   const double layer = argc > 2 ? std::stod(argv[2]) : 0.15;
@@ -130,3 +131,5 @@ int main(int argc, char** argv) {
   std::printf("resident before plan %.1f MiB, peak %.1f MiB\n", rss_before, peak_mib());
   return 0;
 }
+
+int main(int argc, char** argv) { return bench::main(argc, argv, run_bench); }

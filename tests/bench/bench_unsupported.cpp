@@ -21,6 +21,7 @@
 #include "printer/gcode_line.h"
 #include "sim/gcode_deposition.h"
 #include "sim/unsupported_extrusion.h"
+#include "bench/bench_main.h"
 
 namespace {
 
@@ -67,7 +68,7 @@ std::map<std::string, double> filament_by_feature(const std::string& program) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run_bench(int argc, char** argv) {
   sim::SupportCheckOptions options;
   options.bridge_length = 10;
   options.contact_gap = 0.2;
@@ -128,3 +129,5 @@ int main(int argc, char** argv) {
   }
   return 0;
 }
+
+int main(int argc, char** argv) { return bench::main(argc, argv, run_bench); }
