@@ -444,8 +444,7 @@ void run_analyze(const AnalyzeOptions& options) {
   }
   const bool exporting = !options.export_layers.empty();
   const ContourStrategy& export_kind = contour_strategy_option(options.contour, "--contour");
-  const bool adaptive_plan = options.adaptive.adaptive || options.adaptive.tolerance > 0 ||
-                             options.adaptive.max_layers > 0;
+  const bool adaptive_plan = options.adaptive.wanted();
   if ((exporting || adaptive_plan) && index_of(kinds, export_kind.name) < 0) {
     kinds.push_back(&export_kind);
   }
@@ -766,8 +765,7 @@ void run_advise(const AdviseOptions& options) {
   }
   // A layer plan (--boundaries) is judged as one more row, against the same benchmark.
   nlohmann::json plan_row(nullptr);
-  const bool adaptive = options.adaptive.adaptive || options.adaptive.tolerance > 0 ||
-                        options.adaptive.max_layers > 0;
+  const bool adaptive = options.adaptive.wanted();
   if (!options.boundaries.empty() || adaptive) {
     std::optional<LayerChoice> plan;
     if (adaptive) plan = adaptive_choice(options.adaptive, options.printer, mesh, height, *kind);

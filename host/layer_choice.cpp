@@ -64,7 +64,7 @@ LayerChoice choose_layers(const AdaptiveRequest& request, const printer::Printer
   LayerChoice choice;
   const geometry::AllowedThicknesses allowed = allowed_thicknesses(machine);
   const std::vector<geometry::FlatLevel> flats = geometry::flat_levels(stack.mesh());
-  choice.adaptive = request.adaptive || request.tolerance > 0 || request.max_layers > 0;
+  choice.adaptive = request.wanted();
   if (!choice.adaptive) {
     geometry::UniformPlan uniform = geometry::uniform_plan(part_height, thickness, allowed, flats);
     choice.layers = std::move(uniform.layers);

@@ -24,6 +24,8 @@ struct AdaptiveRequest {
   bool adaptive = false;       // --adaptive (also set by --tolerance and --max-layers)
   double tolerance = 0;        // --tolerance, mm; 0: kDefaultTolerance
   std::size_t max_layers = 0;  // --max-layers; 0: none
+  // Is an adaptive plan asked for (by any of the three)?
+  bool wanted() const { return adaptive || tolerance > 0 || max_layers > 0; }
 };
 
 // The tolerance of a bare --adaptive, mm: about the bunny's D at PrusaSlicer's 0.15 mm layers.

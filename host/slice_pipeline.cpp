@@ -462,7 +462,9 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
   // about as many layers. The first needs no plan, so it is estimated beside the planning,
   // whose rounds of measurements leave cores idle.
   const geometry::AllowedThicknesses allowed = allowed_thicknesses(machine);
-  const std::vector<geometry::FlatLevel> flats = geometry::flat_levels(mesh);
+  const bool adaptive = options.adaptive.wanted();
+  const std::vector<geometry::FlatLevel> flats =
+      adaptive ? geometry::flat_levels(mesh) : std::vector<geometry::FlatLevel>{};
   const auto uniform_estimate = [&](double t) {
     const auto plan = geometry::uniform_plan(size.z, t, allowed, flats);
     return SliceResult::Uniform{t, plan.layers.size(),
@@ -481,7 +483,7 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
       }
     }
   } joined{beside};
-  if (options.adaptive.adaptive) beside.run([&] { thinnest = uniform_estimate(allowed.thinnest()); });
+  if (adaptive) beside.run([&] { thinnest = uniform_estimate(allowed.thinnest()); });
   report(SliceStage::planning, 0, 0);
   result.choice = plan_layers(options, machine, index, size.z, contour,
                               [&](std::size_t measured) { report(SliceStage::planning, measured, 0); });
@@ -568,7 +570,6 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
   beside.wait();
   if (result.choice.adaptive && count > 1) {
     // What uniform slicing would take: at the thinnest layer, and at about as many layers.
-    if (!thinnest) thinnest = uniform_estimate(allowed.thinnest());
     result.uniform.push_back(*thinnest);
     const double same_count = nearest_allowed(
         allowed, (layers.back().z_hi - machine.first_layer_height) / static_cast<double>(count - 1));
