@@ -15,22 +15,43 @@ namespace geometry {
 namespace {
 
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+// How far below a flat top its slab's surface is taken, mm: far below any printer's step.
+constexpr double kBelow = 1e-6;
 
-// The distance to the walls of the slab's corners on its bottom and top planes, up to the
-// first beyond `stop_above` (then that one's), mm.
-double farthest_end_point(const Slab& slab, const BoundaryGrid& walls, double stop_above) {
+// The farthest from the walls of the sections' vertices, up to the first beyond `stop_above`
+// (then that one's), mm.
+double farthest_vertex(std::span<const Region* const> sections, const BoundaryGrid& walls,
+                       double stop_above) {
   double farthest = 0;
-  for (const auto& facet : slab.facets) {
-    for (const Vec3& v : facet) {
-      if (v.z != slab.z_lo && v.z != slab.z_hi) continue;
-      farthest = std::max(farthest, walls.nearest_distance({v.x, v.y}));
-      if (farthest > stop_above) return farthest;
+  for (const Region* section : sections) {
+    for (const Loop& loop : section->loops) {
+      for (const Vec2& v : loop) {
+        farthest = std::max(farthest, walls.nearest_distance(v));
+        if (farthest > stop_above) return farthest;
+      }
     }
   }
   return farthest;
 }
 
 }  // namespace
+
+struct SlabMeter::Section {
+  std::once_flag cut;
+  std::shared_ptr<const Region> region;
+};
+
+std::shared_ptr<const Region> SlabMeter::section(double z) const {
+  std::shared_ptr<Section> entry;
+  {
+    std::lock_guard lock(sections_mutex_);
+    auto& slot = sections_[z];
+    if (!slot) slot = std::make_shared<Section>();
+    entry = slot;
+  }
+  std::call_once(entry->cut, [&] { entry->region = std::make_shared<Region>(stack_.cross_section(z)); });
+  return entry->region;
+}
 
 SlabMeter::SlabMeter(const LayerStack& stack, SlabErrorOptions options)
     : stack_(stack), options_(std::move(options)) {
@@ -117,17 +138,21 @@ SlabError SlabMeter::operator()(double z_lo, double z_hi,
   DistanceOptions distance = options_.distance;
   distance.reverse = false;
   if (refute && enough > 0) distance.stop_above = enough;
-  // What the strategies may use (contour_input.h): the slab and its surface now, the
-  // footprint's islands the first time one needs them; no columns (optimal-height builds its
-  // own).
+  // What the strategies may use (contour_input.h): the slab and its surface, cut out of the
+  // mesh the first time one is needed; the footprint's islands the first time one needs them;
+  // no columns (optimal-height builds its own).
   LayerReference reference;
   reference.layer = {z_lo, z_hi};
-  reference.slab = slab_of(stack_.mesh(), faces, z_lo, z_hi);
-  bool have_surface = false, have_islands = false;
+  bool have_slab = false, have_surface = false, have_islands = false;
+  const auto need_slab = [&] {
+    if (!have_slab) reference.slab = slab_of(stack_.mesh(), faces, z_lo, z_hi), have_slab = true;
+  };
   const auto need_surface = [&] {
+    need_slab();
     if (!have_surface) reference.surface = slab_surface(reference.slab, distance), have_surface = true;
   };
   const auto need_islands = [&]() -> const std::vector<BoundaryPair>& {
+    need_slab();
     if (!have_islands) reference.islands = slab_islands(reference.slab), have_islands = true;
     return reference.islands;
   };
@@ -135,18 +160,32 @@ SlabError SlabMeter::operator()(double z_lo, double z_hi,
     SlabTrial trial;
     trial.strategy = strategy;
     const bool section = strategy->cuts_at != nullptr;
-    if (!section) need_islands(), need_surface();
-    trial.region = strategy->contour({view, 0, options_.contour, &reference}).region;
+    if (section) {
+      trial.region = *this->section(strategy->cuts_at(reference.layer));
+    } else {
+      need_islands(), need_surface();
+      trial.region = strategy->contour({view, 0, options_.contour, &reference}).region;
+    }
     const BoundaryGrid walls(trial.region);
     if (section && !have_islands &&
         every_piece_crosses(faces, z_lo, z_hi, strategy->cuts_at(reference.layer))) {
-      // Every surface point then counts to the walls; the slab's two ends, where a section's
-      // walls stand farthest from the surface, first: one point past `enough` refuses the
-      // slab without the rest of the surface.
-      const double end_farthest =
-          std::isfinite(distance.stop_above)
-              ? farthest_end_point(reference.slab, walls, distance.stop_above)
-              : 0;
+      // Every surface point then counts to the walls; the sections on the slab's two planes,
+      // where a section's walls stand farthest from the surface, first: one point past
+      // `enough` refuses the slab without the rest of the surface.
+      double end_farthest = 0;
+      if (std::isfinite(distance.stop_above)) {
+        // A section is the limit from above: at a flat face on the top plane (a step's top)
+        // the slab's own surface there is the limit from below, a hair lower.
+        const Mesh& mesh = stack_.mesh();
+        const bool flat_top = std::any_of(faces.begin(), faces.end(), [&](std::uint32_t f) {
+          const auto& face = mesh.faces[f];
+          return mesh.vertices[face[0]].z == z_hi && mesh.vertices[face[1]].z == z_hi &&
+                 mesh.vertices[face[2]].z == z_hi;
+        });
+        const auto bottom = this->section(z_lo), top = this->section(flat_top ? z_hi - kBelow : z_hi);
+        const Region* ends[] = {bottom.get(), top.get()};
+        end_farthest = farthest_vertex(ends, walls, distance.stop_above);
+      }
       if (end_farthest > distance.stop_above) {
         trial.distance = end_farthest;
       } else {

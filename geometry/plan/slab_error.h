@@ -17,13 +17,21 @@
 // bounds D from above; and a section contour (lower, mid) touches every island holding a piece
 // of surface that crosses the section's height. When every connected piece of the slab's
 // surface does (found through the mesh's edges), no island is missed and that bound is D, with
-// no footprint built (about 45% of the work for a mid section).
+// no footprint built (about 45% of the work for a mid section). The surface's points on the
+// slab's two planes are then the sections there: a section strategy's slab is first judged by
+// those alone, before the slab is cut out of the mesh, and refused if one of them stands past
+// `enough` (most refused candidates are refused so). Sections are cut once per height and
+// kept (a grid height starts, ends or halves several candidates); the meter is safe to call
+// from several threads at once.
 #pragma once
 
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <mutex>
 #include <span>
+#include <unordered_map>
 #include <vector>
 
 #include "geometry/contour/contour_strategy.h"
@@ -68,9 +76,15 @@ class SlabMeter {
   bool every_piece_crosses(std::span<const std::uint32_t> faces, double z_lo, double z_hi,
                            double h) const;
 
+  // The model's section at height z, cut the first time it is asked for.
+  std::shared_ptr<const Region> section(double z) const;
+
   const LayerStack& stack_;
   SlabErrorOptions options_;
   std::vector<std::array<std::uint32_t, 3>> neighbours_;  // across edge k (corners k, k+1)
+  struct Section;
+  mutable std::mutex sections_mutex_;
+  mutable std::unordered_map<double, std::shared_ptr<Section>> sections_;
 };
 
 SlabError slab_error(const LayerStack& stack, double z_lo, double z_hi,
