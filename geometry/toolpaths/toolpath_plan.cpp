@@ -255,6 +255,10 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
   std::vector<Region> travel_region(n);  // where travels need no retraction
   std::atomic<std::size_t> done{0};
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+    if (i < o.planned.size() && !o.planned[i]) {
+      if (on_layer_done) on_layer_done(++done);
+      return;
+    }
     const double width = i == 0 ? o.first_layer_width : o.extrusion_width;
     const double height = layers[i].z_hi - layers[i].z_lo;
     const Region* core = cores[i] ? &*cores[i] : nullptr;

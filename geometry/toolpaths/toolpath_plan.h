@@ -64,6 +64,9 @@ struct ToolpathOptions {
   // With a support plan only (issue 12): the support's and the raft's lines, and the brim.
   SupportPathOptions support;
   double brim_width = 0;            // mm of brim round the first layer; 0 for none
+  // Only the part's layers marked here get paths (empty: every layer); the rest are left
+  // empty, for a print-time estimate from a sample of the layers (host's plan line).
+  std::vector<char> planned;
 };
 
 // Called once per finished layer with the count of layers done so far, possibly from several
