@@ -506,7 +506,7 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
   const geometry::LayerStack index(mesh, {});
   // The plan line compares an adaptive plan with uniform slicing at the thinnest layer and at
   // about as many layers. The first needs no plan, so it is estimated beside the planning,
-  // whose rounds of measurements leave cores idle.
+  // whose rounds of measurements leave cores idle; the second beside what follows the plan.
   const geometry::AllowedThicknesses allowed = allowed_thicknesses(machine);
   const bool adaptive = options.adaptive.wanted();
   const std::vector<geometry::FlatLevel> flats =
@@ -537,6 +537,14 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
   const std::vector<geometry::Layer>& layers = result.layers;
   const std::size_t count = layers.size();
   const geometry::LayerStack stack(index, layers);
+  // The second, at about the plan's count, beside the contours, toolpaths and writing (the
+  // writing leaves a core idle).
+  std::optional<SliceResult::Uniform> same_count;
+  if (result.choice.adaptive && count > 1) {
+    const double t = nearest_allowed(
+        allowed, (layers.back().z_hi - machine.first_layer_height) / static_cast<double>(count - 1));
+    if (std::abs(t - allowed.thinnest()) > 1e-9) beside.run([&, t] { same_count = uniform_estimate(t); });
+  }
 
   std::vector<geometry::Region> regions(count);
   report(SliceStage::contours, 0, count);
@@ -617,9 +625,7 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
   if (result.choice.adaptive && count > 1) {
     // What uniform slicing would take: at the thinnest layer, and at about as many layers.
     result.uniform.push_back(*thinnest);
-    const double same_count = nearest_allowed(
-        allowed, (layers.back().z_hi - machine.first_layer_height) / static_cast<double>(count - 1));
-    if (std::abs(same_count - thinnest->thickness) > 1e-9) result.uniform.push_back(uniform_estimate(same_count));
+    if (same_count) result.uniform.push_back(*same_count);
   }
   return result;
 }
