@@ -244,9 +244,11 @@ HeightGrid height_grid(double top, const AllowedThicknesses& allowed, std::span<
 }
 
 // A path's cost, compared in this order: flat levels crossed, layers over the tolerance,
-// layers. Unreached: the largest.
-using Cost = std::tuple<std::size_t, std::size_t, std::size_t>;
-constexpr Cost kUnreached{std::numeric_limits<std::size_t>::max(), 0, 0};
+// layers; among paths equal in those, the fewest slabs not yet measured (so that the search
+// keeps to what it has measured instead of wandering among equally short paths). Unreached:
+// the largest.
+using Cost = std::tuple<std::size_t, std::size_t, std::size_t, std::size_t>;
+constexpr Cost kUnreached{std::numeric_limits<std::size_t>::max(), 0, 0, 0};
 
 class LazyPlanner {
  public:
@@ -316,14 +318,15 @@ class LazyPlanner {
     const std::size_t n = grid_.z.size();
     std::vector<Cost> cost(n, kUnreached);
     std::vector<std::uint32_t> via(n, std::numeric_limits<std::uint32_t>::max());
-    cost[0] = {0, 0, 0};
+    cost[0] = {0, 0, 0, 0};
     for (std::size_t i = 0; i < n; ++i) {
       if (cost[i] == kUnreached) continue;
       for (std::uint32_t e = grid_.edge_begin[i]; e < grid_.edge_begin[i + 1]; ++e) {
         const bool met = value(e) <= tolerance;
         if (!met && !grid_.edge_thinnest[e]) continue;
-        const auto& [flats, unmet, layers] = cost[i];
-        const Cost through{flats + crossed_[e], unmet + (met ? 0 : 1), layers + 1};
+        const auto& [flats, unmet, layers, unmeasured] = cost[i];
+        const Cost through{flats + crossed_[e], unmet + (met ? 0 : 1), layers + 1,
+                           unmeasured + (std::isnan(exact_[e]) ? 1 : 0)};
         const std::uint32_t j = grid_.edge_to[e];
         if (through < cost[j]) cost[j] = through, via[j] = e;
       }
