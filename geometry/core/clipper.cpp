@@ -92,17 +92,45 @@ Paths boolean(const Paths& a, const Paths& b, ClipperLib::ClipType type,
   return result;
 }
 
+// The loops of `paths` whose boxes meet `box`: `paths` itself when all do, else those copied
+// into `kept`. A loop's winding counts only inside its box, so a loop clear of the other
+// operand's box neither adds to an intersection nor takes from a difference; left out, it
+// costs the sweep nothing (an island's booleans against a whole layer's regions meet its own
+// neighbourhood only).
+const Paths& meeting(const Paths& paths, const ClipperLib::IntRect& box, Paths& kept) {
+  std::vector<char> near(paths.size());
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    near[i] = boxes_meet(bounding_box(paths[i]), box);
+    count += near[i];
+  }
+  if (count == paths.size()) return paths;
+  kept.reserve(count);
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    if (near[i]) kept.push_back(paths[i]);
+  }
+  return kept;
+}
+
 }  // namespace
 
 Paths intersection(const Paths& a, const Paths& b) {
   if (a.empty() || b.empty()) return {};
-  return boolean(a, b, ClipperLib::ctIntersection, ClipperLib::pftNonZero);
+  Paths kept_a, kept_b;
+  const Paths& a_near = meeting(a, bounding_box(b), kept_a);
+  if (a_near.empty()) return {};
+  const Paths& b_near = meeting(b, bounding_box(a_near), kept_b);
+  if (b_near.empty()) return {};
+  return boolean(a_near, b_near, ClipperLib::ctIntersection, ClipperLib::pftNonZero);
 }
 
 Paths difference(const Paths& a, const Paths& b) {
   if (a.empty()) return {};
   if (b.empty()) return a;
-  return boolean(a, b, ClipperLib::ctDifference, ClipperLib::pftNonZero);
+  // Swept even when nothing of b is near: the result is `a` cleaned as the sweep cleans it.
+  Paths kept;
+  return boolean(a, meeting(b, bounding_box(a), kept), ClipperLib::ctDifference,
+                 ClipperLib::pftNonZero);
 }
 
 Paths symmetric_difference(const Paths& a, const Paths& b) {

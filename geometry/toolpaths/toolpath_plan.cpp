@@ -160,6 +160,47 @@ Island plan_island(const clipper::Paths& island, std::size_t layer, double width
   return result;
 }
 
+// What the layers' part plans are made of (plan_island's inputs), to find layers that plan
+// alike.
+struct PartInputs {
+  const std::vector<std::vector<clipper::Paths>>& islands;
+  const std::vector<Region>& outline;
+  const std::vector<std::optional<Region>>& cores;
+  const std::vector<Layer>& layers;
+  const ToolpathOptions& o;
+  const SupportPlan& support;
+
+  // Whether layers i and j plan their parts alike: the same islands, bead, thickness, core
+  // and neighbours (what the skins are cut by), no bridges on either. (Their parity too,
+  // which the caller sees to: the solid lines turn every layer.)
+  bool alike(std::size_t i, std::size_t j) const {
+    auto width = [&](std::size_t k) { return k == 0 ? o.first_layer_width : o.extrusion_width; };
+    auto thickness = [&](std::size_t k) { return layers[k].z_hi - layers[k].z_lo; };
+    auto bridged = [&](std::size_t k) {
+      return k < support.layers.size() && !support.layers[k].bridges.empty();
+    };
+    auto below = [&](std::size_t k) { return k > 0 ? &outline[k - 1] : nullptr; };
+    auto above = [&](std::size_t k) { return k + 1 < layers.size() ? &outline[k + 1] : nullptr; };
+    auto core = [&](std::size_t k) { return cores[k] ? &*cores[k] : nullptr; };
+    auto same = [](const Region* a, const Region* b) {
+      return a == b || (a && b && a->loops == b->loops);
+    };
+    return islands[i] == islands[j] && width(i) == width(j) && thickness(i) == thickness(j) &&
+           !bridged(i) && !bridged(j) && same(core(i), core(j)) && same(below(i), below(j)) &&
+           same(above(i), above(j));
+  }
+};
+
+// For every layer, the layer whose part plan it copies, itself if none: that of the layer
+// two below (the same parity) when the two plan alike. A prism's layers all copy two.
+std::vector<std::size_t> plan_sources(const PartInputs& inputs) {
+  std::vector<std::size_t> source(inputs.layers.size());
+  for (std::size_t i = 0; i < source.size(); ++i) {
+    source[i] = i >= 2 && inputs.alike(i, i - 2) ? source[i - 2] : i;
+  }
+  return source;
+}
+
 Vec2 front_left(const Region& region) {
   Vec2 corner{0, 0};
   bool any = false;
@@ -251,14 +292,23 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
     }
   }
 
+  // Each layer's part: planned, or copied from a layer that plans it alike (plan_sources);
+  // the planned layers first, in parallel, then the copies.
+  // Only the layers o.planned marks (all when it is empty); a layer planned copies only from
+  // a planned one.
+  const auto planned = [&](std::size_t i) { return i >= o.planned.size() || o.planned[i] != 0; };
+  std::vector<std::size_t> source = plan_sources({island_paths, outline, cores, layers, o, support});
+  for (std::size_t i = 0; i < n; ++i) {
+    if (planned(i) && !planned(source[i])) source[i] = i;
+  }
   std::vector<std::vector<Island>> islands(n);
-  std::vector<Region> travel_region(n);  // where travels need no retraction
   std::atomic<std::size_t> done{0};
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-    if (i < o.planned.size() && !o.planned[i]) {
+    if (!planned(i)) {
       if (on_layer_done) on_layer_done(++done);
       return;
     }
+    if (source[i] != i) return;
     const double width = i == 0 ? o.first_layer_width : o.extrusion_width;
     const double height = layers[i].z_hi - layers[i].z_lo;
     const Region* core = cores[i] ? &*cores[i] : nullptr;
@@ -269,6 +319,19 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
     for (const clipper::Paths& island : island_paths[i]) {
       islands[i].push_back(plan_island(island, i, width, height, o, core, below, above, bridges));
     }
+    if (on_layer_done) on_layer_done(++done);
+  });
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+    if (!planned(i) || source[i] == i) return;
+    islands[i] = islands[source[i]];
+    if (on_layer_done) on_layer_done(++done);
+  });
+
+  std::vector<Region> travel_region(n);  // where travels need no retraction
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+    if (!planned(i)) return;
+    const LayerSupport* held = support_at(i);
+    const double height = layers[i].z_hi - layers[i].z_lo;
     travel_region[i] = region[i];
     if (held && !(held->body.loops.empty() && held->interface.loops.empty())) {
       // The support's own islands, the body and the interface, in the nearest-first order.
@@ -289,7 +352,6 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
       }
       travel_region[i] = from_clipper(clipper::union_nonzero(all));
     }
-    if (on_layer_done) on_layer_done(++done);
   });
 
   // The raft's layers, and the first printed layer's brim and skirt: round the raft, or
