@@ -51,6 +51,10 @@ BestChoice best_choice(const ContourInput& input) {
     MetricOptions metrics;
     metrics.volumes = false;
     own = layer_reference(input.stack, input.layer, metrics);
+    // The columns once, for optimal-height's search and for ΔV where a tie needs it (without
+    // them each builds its own).
+    own->columns = slab_columns(own->slab, input.stack.lower(input.layer));
+    own->volumes = true;
   }
   const LayerReference& reference = own ? *own : *input.reference;
   const ContourInput candidate_input{input.stack, input.layer, input.options, &reference};
