@@ -111,3 +111,56 @@ TEST_CASE("analyze_adaptive_judges_the_plan_and_says_how_it_was_made") {
   CHECK(r.out.find("best ") != std::string::npos);
   CHECK(r.out.find("0.15 to 0.4 mm thick") != std::string::npos);
 }
+
+namespace {
+
+// "1 h 2 min 3 s", "33 min 53 s", "40 s" at `at` in `text`, in seconds; -1 if none.
+double duration_at(const std::string& text, std::size_t at) {
+  double seconds = 0;
+  bool any = false;
+  std::istringstream in(text.substr(at));
+  double value = 0;
+  std::string unit;
+  while (in >> value >> unit) {
+    if (unit == "h") seconds += 3600 * value;
+    else if (unit == "min") seconds += 60 * value;
+    else if (unit.starts_with("s")) seconds += value;
+    else break;
+    any = true;
+    if (unit.starts_with("s")) break;
+  }
+  return any ? seconds : -1;
+}
+
+}  // namespace
+
+TEST_CASE("the_plan_lines_uniform_estimate_is_what_slicing_uniformly_estimates") {
+  // The plan line's uniform estimates plan the toolpaths of a sample of the layers; a T (its
+  // bar on supports, over a raft) sliced uniformly at the thinnest layer must be estimated
+  // within 2% of what the plan line said, in as many layers.
+  const std::string dir = test_support::scratch_dir("plan_estimate");
+  const std::string stl = dir + "/tee.stl", adaptive = dir + "/a.gcode", uniform = dir + "/u.gcode";
+  geometry::write_stl_binary(
+      stl, solids::lying_prism({{-5, 0}, {5, 0}, {5, 20}, {25, 20}, {25, 25}, {-25, 25}, {-25, 20}, {-5, 20}},
+                               -5, 5).mesh);
+  const auto planned = run_mahost(
+      {"slice", stl, "--adaptive", "--tolerance", "0.1", "--contour", "mid", "-o", adaptive});
+  REQUIRE(planned.exit_code == 0);
+  const std::size_t against = planned.out.find(" against ");
+  REQUIRE(against != std::string::npos);
+  const double said = duration_at(planned.out, against + 9);
+  const std::size_t at = planned.out.find(" at uniform 0.15 mm (", against);
+  REQUIRE(at != std::string::npos);
+  const std::size_t said_layers = std::stoul(planned.out.substr(at + 21));
+
+  const auto sliced = run_mahost({"slice", stl, "--layer", "0.15", "--contour", "mid", "-o", uniform});
+  REQUIRE(sliced.exit_code == 0);
+  const std::size_t estimated = sliced.out.find("estimated print time ");
+  REQUIRE(estimated != std::string::npos);
+  const double full = duration_at(sliced.out, estimated + 21);
+  CAPTURE(planned.out);
+  CAPTURE(sliced.out);
+  REQUIRE(full > 0);
+  CHECK(std::abs(said - full) <= 0.02 * full);
+  CHECK(sliced.out.find(": " + std::to_string(said_layers) + " layers") != std::string::npos);
+}

@@ -297,6 +297,45 @@ TEST_CASE("stepped_part_gets_top_skin_on_the_lower_step_and_bottom_skin_over_air
   }
 }
 
+TEST_CASE("only_the_layers_marked_planned_get_paths_and_they_are_the_full_plans") {
+  // The stepped part above: layers 0, 9 (top skin outside the column), 20 (bottom skin over
+  // air) and 29 planned alone lay what the whole plan lays there (seams may start elsewhere,
+  // so by length per role); the others get nothing.
+  std::vector<Region> regions;
+  for (int i = 0; i < 30; ++i) {
+    const double side = i >= 10 && i < 20 ? 10 : 20;
+    regions.push_back(Region{{rectangle(0, 0, side, side)}});
+  }
+  ToolpathOptions options;
+  const auto full = plan_toolpaths(regions, layers_of(30), options);
+  options.planned.assign(30, 0);
+  for (std::size_t i : {0u, 9u, 20u, 29u}) options.planned[i] = 1;
+  const auto some = plan_toolpaths(regions, layers_of(30), options);
+  REQUIRE(some.size() == full.size());
+  const auto length_of = [](const LayerToolpaths& layer, PathRole role) {
+    double total = 0;
+    for (const auto& p : layer.paths) {
+      if (p.role != role) continue;
+      for (std::size_t k = 1; k < p.points.size(); ++k) total += length(p.points[k] - p.points[k - 1]);
+    }
+    return total;
+  };
+  for (std::size_t i = 0; i < 30; ++i) {
+    CAPTURE(i);
+    if (!options.planned[i]) {
+      CHECK(some[i].paths.empty());
+      continue;
+    }
+    CHECK(some[i].paths.size() == full[i].paths.size());
+    for (PathRole role : {PathRole::outer_wall, PathRole::inner_wall, PathRole::top_skin,
+                          PathRole::bottom_skin, PathRole::sparse_infill, PathRole::skirt}) {
+      CHECK(length_of(some[i], role) == doctest::Approx(length_of(full[i], role)).epsilon(1e-9));
+    }
+  }
+  CHECK(length_of(some[9], PathRole::top_skin) > 0);
+  CHECK(length_of(some[20], PathRole::bottom_skin) > 0);
+}
+
 TEST_CASE("sparse_layer_line_length_follows_density") {
   // In the middle of a 40 mm box: the infill area inside 2 walls is the square of side
   // 40 - 4 w grown by the overlap; its lines (at 45 and 135 degrees) total about
