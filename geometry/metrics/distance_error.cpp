@@ -1,6 +1,8 @@
 #include "geometry/metrics/distance_error.h"
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 
@@ -324,20 +326,30 @@ SlabSurface slab_surface(const Slab& slab, const DistanceOptions& options) {
     if (j - i == 1) surface.triangles.push_back({flat_edges[i].a, flat_edges[i].b, flat_edges[i].b});
     i = j;
   }
-  // Index the corners: sort them, give equal points one number.
-  std::vector<std::pair<Vec2, std::uint32_t>> all;
-  all.reserve(3 * surface.triangles.size());
-  for (std::uint32_t i = 0; i < surface.triangles.size(); ++i) {
-    for (std::uint32_t k = 0; k < 3; ++k) all.push_back({surface.triangles[i][k], 3 * i + k});
-  }
-  std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) {
-    return a.first.x < b.first.x || (a.first.x == b.first.x && a.first.y < b.first.y);
-  });
+  // Index the corners: equal points get one number, found through a hash table of their
+  // coordinates (open addressing, at most half full).
+  std::size_t slots = 16;
+  while (slots < 6 * surface.triangles.size()) slots <<= 1;
+  constexpr std::uint32_t kEmpty = std::numeric_limits<std::uint32_t>::max();
+  std::vector<std::uint32_t> table(slots, kEmpty);
+  const auto hash = [](Vec2 p) {
+    // + 0.0: -0 and 0 are one point.
+    const std::uint64_t x = std::bit_cast<std::uint64_t>(p.x + 0.0);
+    const std::uint64_t y = std::bit_cast<std::uint64_t>(p.y + 0.0);
+    return (x * 0x9E3779B97F4A7C15ull) ^ (y * 0xC2B2AE3D27D4EB4Full) ^ (x >> 29) ^ (y >> 31);
+  };
   surface.corners.resize(surface.triangles.size());
-  for (std::size_t j = 0; j < all.size(); ++j) {
-    if (j == 0 || !(all[j].first == all[j - 1].first)) surface.points.push_back(all[j].first);
-    surface.corners[all[j].second / 3][all[j].second % 3] =
-        static_cast<std::uint32_t>(surface.points.size() - 1);
+  for (std::size_t i = 0; i < surface.triangles.size(); ++i) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      const Vec2 p = surface.triangles[i][k];
+      std::size_t slot = hash(p) & (slots - 1);
+      while (table[slot] != kEmpty && !(surface.points[table[slot]] == p)) slot = (slot + 1) & (slots - 1);
+      if (table[slot] == kEmpty) {
+        table[slot] = static_cast<std::uint32_t>(surface.points.size());
+        surface.points.push_back(p);
+      }
+      surface.corners[i][k] = table[slot];
+    }
   }
   const int levels = options.reverse ? std::max(options.reverse_levels, 2) : 0;
   const double t = slab.z_hi - slab.z_lo;
