@@ -259,15 +259,25 @@ TEST_CASE("aligned_seams_line_up_layer_over_layer") {
   for (Vec2 s : seams) CHECK(std::hypot(s.x - seams[0].x, s.y - seams[0].y) < options.extrusion_width);
 }
 
-TEST_CASE("stepped_part_gets_top_skin_on_the_lower_step_and_bottom_skin_over_air") {
-  // 20 mm square for 10 layers, 10 mm square for 10 more, then 20 mm again for 10 (an
-  // overhang): top skin on layer 9 outside the upper step, bottom skin on layer 20 outside
-  // the column, only sparse infill in the middle of each part.
+namespace {
+
+// 20 mm square for 10 layers, 10 mm square for 10 more, then 20 mm again for 10.
+std::vector<Region> stepped_regions() {
   std::vector<Region> regions;
   for (int i = 0; i < 30; ++i) {
     const double side = i >= 10 && i < 20 ? 10 : 20;
     regions.push_back(Region{{rectangle(0, 0, side, side)}});
   }
+  return regions;
+}
+
+}  // namespace
+
+TEST_CASE("stepped_part_gets_top_skin_on_the_lower_step_and_bottom_skin_over_air") {
+  // 20 mm square for 10 layers, 10 mm square for 10 more, then 20 mm again for 10 (an
+  // overhang): top skin on layer 9 outside the upper step, bottom skin on layer 20 outside
+  // the column, only sparse infill in the middle of each part.
+  const std::vector<Region> regions = stepped_regions();
   ToolpathOptions options;
   options.skirt_loops = 0;
   const auto plan = plan_toolpaths(regions, layers_of(30), options);
@@ -301,11 +311,7 @@ TEST_CASE("only_the_layers_marked_planned_get_paths_and_they_are_the_full_plans"
   // The stepped part above: layers 0, 9 (top skin outside the column), 20 (bottom skin over
   // air) and 29 planned alone lay what the whole plan lays there (seams may start elsewhere,
   // so by length per role); the others get nothing.
-  std::vector<Region> regions;
-  for (int i = 0; i < 30; ++i) {
-    const double side = i >= 10 && i < 20 ? 10 : 20;
-    regions.push_back(Region{{rectangle(0, 0, side, side)}});
-  }
+  const std::vector<Region> regions = stepped_regions();
   ToolpathOptions options;
   const auto full = plan_toolpaths(regions, layers_of(30), options);
   options.planned.assign(30, 0);
