@@ -301,6 +301,8 @@ class LazyPlanner {
       // The lowest few first (LazySP's forward selector): a slab found worse than estimated
       // reroutes the path above it, so measuring the rest of this path would mostly be wasted.
       if (unmeasured.size() > batch_) unmeasured.resize(batch_);
+      // The sections far below are rarely wanted again (the path below is measured).
+      meter_.forget_below(grid_.z[grid_.edge_from[unmeasured.front()]] - 2 * max_thickness_);
       measure(unmeasured, tolerance);
     }
   }

@@ -53,6 +53,11 @@ std::shared_ptr<const Region> SlabMeter::section(double z) const {
   return entry->region;
 }
 
+void SlabMeter::forget_below(double z) const {
+  std::lock_guard lock(sections_mutex_);
+  std::erase_if(sections_, [&](const auto& entry) { return entry.first < z; });
+}
+
 SlabMeter::SlabMeter(const LayerStack& stack, SlabErrorOptions options)
     : stack_(stack), options_(std::move(options)) {
   const Mesh& mesh = stack.mesh();

@@ -71,6 +71,10 @@ class SlabMeter {
   SlabError operator()(double z_lo, double z_hi, std::span<const ContourStrategy* const> strategies,
                        double enough = 0, bool refute = false) const;
 
+  // Lets go of the sections kept below height z (a search that has moved on above them); one
+  // asked for again is cut again.
+  void forget_below(double z) const;
+
  private:
   // Does every connected piece of surface in [z_lo, z_hi] cross height h?
   bool every_piece_crosses(std::span<const std::uint32_t> faces, double z_lo, double z_hi,
