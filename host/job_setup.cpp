@@ -13,6 +13,7 @@
 #include <fmt/core.h>
 
 #include "host/cli_checks.h"
+#include "host/local_time.h"
 #include "printer/error.h"
 #include "printer/serial_link.h"
 #include "sim/dialect.h"
@@ -27,15 +28,6 @@ namespace {
 std::string lower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
   return s;
-}
-
-std::string timestamp() {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  localtime_r(&t, &tm);
-  char text[32];
-  std::strftime(text, sizeof text, "%Y%m%d-%H%M%S", &tm);
-  return text;
 }
 
 }  // namespace
@@ -186,7 +178,7 @@ std::chrono::milliseconds wait_real_time() {
 }
 
 std::string job_name(const std::string& stem) {
-  return fmt::format("{}-{}-{}", stem.empty() ? "job" : stem, timestamp(), ::getpid());
+  return fmt::format("{}-{}-{}", stem.empty() ? "job" : stem, local_time("%Y%m%d-%H%M%S"), ::getpid());
 }
 
 printer::JobOptions job_options_for(const printer::GcodeFile& file, const std::string& gcode_path,

@@ -17,6 +17,7 @@
 
 #include "geometry/core/error.h"
 #include "geometry/mesh/stl_io.h"
+#include "host/local_time.h"
 #include "host/serve/api_key.h"
 #include "host/serve/file_store.h"
 #include "host/serve/octoprint_json.h"
@@ -180,15 +181,6 @@ std::string names_of(const std::vector<std::string>& names) {
   std::string out;
   for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
   return out;
-}
-
-std::string clock() {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  localtime_r(&t, &tm);
-  char text[16];
-  std::strftime(text, sizeof text, "%H:%M:%S", &tm);
-  return text;
 }
 
 bool is_upload_path(const std::string& path) {
@@ -438,7 +430,7 @@ void HttpApi::install(httplib::Server& server) {
       what = e.what();
     } catch (...) {
     }
-    std::fprintf(stderr, "%s internal error on %s %s: %s\n", clock().c_str(), req.method.c_str(),
+    std::fprintf(stderr, "%s internal error on %s %s: %s\n", local_time().c_str(), req.method.c_str(),
                  req.path.c_str(), what.c_str());
     send_error(res, 500, "internal error (logged by the server)");
   });
@@ -464,7 +456,7 @@ void HttpApi::install(httplib::Server& server) {
         error = ": " + body["error"].get<std::string>();
       }
     }
-    std::fprintf(stderr, "%s %s %s %s -> %d%s\n", clock().c_str(),
+    std::fprintf(stderr, "%s %s %s %s -> %d%s\n", local_time().c_str(),
                  req.remote_addr.empty() ? "-" : req.remote_addr.c_str(),
                  req.method.empty() ? "(unreadable request)" : req.method.c_str(),
                  req.path.substr(0, 200).c_str(), res.status, error.c_str());

@@ -14,6 +14,7 @@
 
 #include "geometry/core/error.h"
 #include "host/control_socket.h"
+#include "host/local_time.h"
 #include "printer/error.h"
 #include "printer/gcode_file.h"
 #include "sim/record.h"
@@ -39,15 +40,6 @@ struct Halted {
 struct SliceCancelled {};
 
 std::int64_t unix_now() { return static_cast<std::int64_t>(std::time(nullptr)); }
-
-std::string local_time() {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  localtime_r(&t, &tm);
-  char text[16];
-  std::strftime(text, sizeof text, "%H:%M:%S", &tm);
-  return text;
-}
 
 std::string file_hash(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
