@@ -110,18 +110,23 @@ std::string unmet_ranges(const geometry::AdaptivePlan& plan) {
 
 std::string describe_choice(const LayerChoice& choice) {
   std::string text;
+  // The range leaves out the first layer (its own thickness) unless it is the only one.
   double thinnest = 0, thickest = 0;
-  for (std::size_t i = 1; i < choice.layers.size(); ++i) {
+  const std::size_t from = choice.layers.size() > 1 ? 1 : 0;
+  for (std::size_t i = from; i < choice.layers.size(); ++i) {
     const double t = choice.layers[i].thickness();
-    thinnest = i == 1 ? t : std::min(thinnest, t);
-    thickest = i == 1 ? t : std::max(thickest, t);
+    thinnest = i == from ? t : std::min(thinnest, t);
+    thickest = i == from ? t : std::max(thickest, t);
   }
   if (choice.adaptive) {
     const geometry::AdaptivePlan& plan = choice.plan;
-    text = fmt::format("adaptive: {} layers of {:g}-{:g} mm for D within {:.3g} mm ({}'s D, "
+    const std::string range =
+        thinnest == thickest ? fmt::format("{:g}", thinnest) : fmt::format("{:g}-{:g}", thinnest, thickest);
+    text = fmt::format("adaptive: {} layer{} of {} mm for D within {:.3g} mm ({}'s D, "
                        "planned in {:.1f} s: {} of {} candidate layers measured)",
-                       choice.layers.size(), thinnest, thickest, plan.tolerance,
-                       choice.planned_by, choice.seconds, plan.measured, plan.candidates);
+                       choice.layers.size(), choice.layers.size() == 1 ? "" : "s", range,
+                       plan.tolerance, choice.planned_by, choice.seconds, plan.measured,
+                       plan.candidates);
     if (plan.unmet > 0) {
       text += fmt::format("; {} layer{} could not meet it even at {:g} mm, where the surface is "
                           "nearly flat (z {} mm)",

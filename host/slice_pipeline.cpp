@@ -689,7 +689,7 @@ std::string slice_summary_text(const SliceResult& result) {
                                ? s.layers - result.layers.size()
                                : 0;
   std::string layers = result.layer_thickness > 0 || result.layers.empty()
-                           ? fmt::format("{} layers", s.layers - raft)
+                           ? fmt::format("{} layer{}", s.layers - raft, s.layers - raft == 1 ? "" : "s")
                            : describe_layers(result.layers);
   if (raft > 0) layers += fmt::format(", on {} raft layers", raft);
   const std::string support =
