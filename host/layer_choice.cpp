@@ -1,16 +1,46 @@
 #include "host/layer_choice.h"
 
 #include <algorithm>
+#include <cctype>
+#include <charconv>
 #include <chrono>
 
 #include <fmt/format.h>
 
 #include "geometry/plan/flat_levels.h"
+#include "printer/gcode_writer.h"
 
 namespace host {
 
+std::optional<double> parse_duration(std::string_view text) {
+  double seconds = 0;
+  int last_unit = -1;  // h, min, s in this order, each at most once
+  std::size_t at = 0;
+  if (text.empty()) return std::nullopt;
+  while (at < text.size()) {
+    std::size_t end = at;
+    while (end < text.size() && (std::isdigit(static_cast<unsigned char>(text[end])) || text[end] == '.')) ++end;
+    if (end == at || end == text.size()) return std::nullopt;  // no number, or no unit
+    double value = 0;
+    const auto [ptr, error] = std::from_chars(text.data() + at, text.data() + end, value);
+    if (error != std::errc{} || ptr != text.data() + end || !(value >= 0)) return std::nullopt;
+    const std::string_view rest = text.substr(end);
+    int unit = -1;
+    std::size_t length = 1;
+    if (rest.starts_with("min")) unit = 1, length = 3;
+    else if (rest.front() == 'h') unit = 0;
+    else if (rest.front() == 'm') unit = 1;
+    else if (rest.front() == 's') unit = 2;
+    if (unit <= last_unit) return std::nullopt;
+    seconds += value * (unit == 0 ? 3600 : unit == 1 ? 60 : 1);
+    last_unit = unit;
+    at = end + length;
+  }
+  return seconds;
+}
+
 std::vector<CLI::Option*> add_adaptive_options(CLI::App& command, AdaptiveRequest& request,
-                                               const std::string& group) {
+                                               const std::string& group, bool print_time) {
   std::vector<CLI::Option*> added;
   added.push_back(command.add_flag(
       "--adaptive", request.adaptive,
@@ -34,6 +64,26 @@ std::vector<CLI::Option*> add_adaptive_options(CLI::App& command, AdaptiveReques
                                   "tolerance that allows it (implies --adaptive; default: none)")
                       ->check(CLI::Range(std::size_t{1}, std::size_t{100000})));
   added[1]->excludes(added[2]);
+  if (print_time) {
+    added.push_back(
+        command
+            .add_option_function<std::string>(
+                "--max-time",
+                [&request](const std::string& text) {
+                  const std::optional<double> seconds = parse_duration(text);
+                  if (!seconds || !(*seconds > 0)) {
+                    throw CLI::ValidationError("--max-time",
+                                               "'" + text + "' is not a duration: give hours, "
+                                               "minutes and seconds, as 1h30m, 90m or 5400s");
+                  }
+                  request.max_seconds = *seconds;
+                },
+                "with --adaptive: an estimated print time the plan must fit, as 1h30m, 90m or "
+                "5400s: the least tolerance whose plan's estimate (mid sections, the profile's "
+                "supports and raft) is within it, to 2% (implies --adaptive; default: none)")
+            ->type_name("DURATION"));
+    added.back()->excludes(added[1])->excludes(added[2]);
+  }
   if (!group.empty()) {
     for (CLI::Option* option : added) option->group(group);
   }
@@ -59,7 +109,7 @@ std::vector<const geometry::ContourStrategy*> planning_strategies(
 LayerChoice choose_layers(const AdaptiveRequest& request, const printer::PrinterProfile& machine,
                           const geometry::LayerStack& stack, double part_height, double thickness,
                           const geometry::ContourStrategy& printed,
-                          const PlanningProgress& progress) {
+                          const PlanningProgress& progress, const PrintEstimate& estimate) {
   const auto start = std::chrono::steady_clock::now();
   LayerChoice choice;
   const geometry::AllowedThicknesses allowed = allowed_thicknesses(machine);
@@ -73,11 +123,18 @@ LayerChoice choose_layers(const AdaptiveRequest& request, const printer::Printer
     geometry::AdaptiveOptions options;
     options.tolerance = request.tolerance > 0 ? request.tolerance : kDefaultTolerance;
     options.max_layers = request.max_layers;
+    if (request.max_seconds > 0 && estimate) {
+      choice.budget_seconds = request.max_seconds;
+      options.fits = [&](const std::vector<geometry::Layer>& layers) {
+        return estimate(layers) <= request.max_seconds;
+      };
+    }
     options.contours = planning_strategies(printed);
     choice.planned_by = std::string(options.contours.front()->name);
     choice.plan = geometry::adaptive_plan(stack, part_height, allowed, flats, options, progress);
     choice.layers = choice.plan.layers;
     choice.flats = choice.plan.flats;
+    if (choice.budget_seconds > 0) choice.estimated_seconds = estimate(choice.layers);
   }
   choice.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -127,6 +184,15 @@ std::string describe_choice(const LayerChoice& choice) {
                        choice.layers.size(), choice.layers.size() == 1 ? "" : "s", range,
                        plan.tolerance, choice.planned_by, choice.seconds, plan.measured,
                        plan.candidates);
+    if (choice.budget_seconds > 0) {
+      text += choice.estimated_seconds <= choice.budget_seconds
+                  ? fmt::format(", the least tolerance whose print fits --max-time {} (estimated {})",
+                                printer::format_duration(choice.budget_seconds),
+                                printer::format_duration(choice.estimated_seconds))
+                  : fmt::format("; no plan fits --max-time {}: the thickest layers take {}",
+                                printer::format_duration(choice.budget_seconds),
+                                printer::format_duration(choice.estimated_seconds));
+    }
     if (plan.unmet > 0) {
       text += fmt::format("; {} layer{} could not meet it even at {:g} mm, where the surface is "
                           "nearly flat (z {} mm)",

@@ -8,7 +8,9 @@
 
 #include <cstddef>
 #include <functional>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -24,17 +26,24 @@ struct AdaptiveRequest {
   bool adaptive = false;       // --adaptive (also set by --tolerance and --max-layers)
   double tolerance = 0;        // --tolerance, mm; 0: kDefaultTolerance
   std::size_t max_layers = 0;  // --max-layers; 0: none
-  // Is an adaptive plan asked for (by any of the three)?
-  bool wanted() const { return adaptive || tolerance > 0 || max_layers > 0; }
+  double max_seconds = 0;      // --max-time (slice and print only), s; 0: none
+  // Is an adaptive plan asked for (by any of them)?
+  bool wanted() const { return adaptive || tolerance > 0 || max_layers > 0 || max_seconds > 0; }
 };
 
 // The tolerance of a bare --adaptive, mm: about the bunny's D at PrusaSlicer's 0.15 mm layers.
 inline constexpr double kDefaultTolerance = 0.3;
 
-// Adds --adaptive, --tolerance and --max-layers, listed under `group` ("" leaves them with the
-// command's other options); returns them, for the caller's excludes.
+// Adds --adaptive, --tolerance and --max-layers, and with `print_time` --max-time (a budget
+// of estimated print time: slice and print, which estimate it), listed under `group` (""
+// leaves them with the command's other options); returns them, for the caller's excludes.
 std::vector<CLI::Option*> add_adaptive_options(CLI::App& command, AdaptiveRequest& request,
-                                               const std::string& group = {});
+                                               const std::string& group = {},
+                                               bool print_time = false);
+
+// "1h30m", "90m", "45m30s", "5400s", "2h" in seconds; nullopt for anything else (a bare
+// number has no unit).
+std::optional<double> parse_duration(std::string_view text);
 
 // The printer's thicknesses as the planner takes them (the first layer its own).
 geometry::AllowedThicknesses allowed_thicknesses(const printer::PrinterProfile& machine);
@@ -52,17 +61,24 @@ struct LayerChoice {
   std::vector<geometry::FlatPlacement> flats;     // both
   std::string planned_by;                         // the strategy whose D the plan measured
   double seconds = 0;                             // wall time of the planning
+  double budget_seconds = 0;                      // --max-time, s (0: none)
+  double estimated_seconds = 0;                   // with a budget: the plan's estimate, s
 };
 
 // Called with the candidate slabs measured so far.
 using PlanningProgress = std::function<void(std::size_t measured)>;
 
+// The estimated print time of a part in these layers, s (for --max-time).
+using PrintEstimate = std::function<double(const std::vector<geometry::Layer>& layers)>;
+
 // Uniform at `thickness` (first layer the printer's), or the adaptive plan the request asks
-// for, over `stack`'s mesh (its layers are not used). Thicknesses are the printer's.
+// for, over `stack`'s mesh (its layers are not used). Thicknesses are the printer's. A print-
+// time budget needs `estimate`.
 LayerChoice choose_layers(const AdaptiveRequest& request, const printer::PrinterProfile& machine,
                           const geometry::LayerStack& stack, double part_height, double thickness,
                           const geometry::ContourStrategy& printed,
-                          const PlanningProgress& progress = {});
+                          const PlanningProgress& progress = {},
+                          const PrintEstimate& estimate = {});
 
 // "adaptive: 187 layers of 0.15-0.4 mm for D within 0.3 mm (mid's D, planned in 1.2 s);
 // 12 layers could not meet it even at 0.15 mm (nearly flat surface at z 30.1-31.9 mm)", and

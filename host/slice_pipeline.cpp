@@ -266,7 +266,7 @@ void add_slice_options(CLI::App& command, SliceOptions& options, const std::stri
                                   "one a thickness it allows (default: none)")
                       ->excludes(layer));
   CLI::Option* boundaries = added.back();
-  for (CLI::Option* option : add_adaptive_options(command, options.adaptive)) {
+  for (CLI::Option* option : add_adaptive_options(command, options.adaptive, {}, true)) {
     option->excludes(layer)->excludes(boundaries);
     added.push_back(option);
   }
@@ -299,7 +299,8 @@ const std::vector<std::string>& model_only_slice_options() {
   static const std::vector<std::string> names{
       "--units", "--scale",      "--height", "--up",  "--ignore-normals", "--rotate", "--orient",
       "--material",
-      "--layer", "--boundaries", "--adaptive", "--tolerance", "--max-layers", "--contour",
+      "--layer", "--boundaries", "--adaptive", "--tolerance", "--max-layers", "--max-time",
+      "--contour",
       "--perimeters", "--infill", "--set",
       // issue 12
       "--support", "--overhang-angle", "--support-xy-gap", "--support-top-distance",
@@ -363,7 +364,7 @@ std::string_view stage_name(SliceStage stage) {
 LayerChoice plan_layers(const SliceOptions& options, const printer::PrinterProfile& machine,
                         const geometry::LayerStack& index, double part_height,
                         const geometry::ContourStrategy& printed,
-                        const PlanningProgress& progress) {
+                        const PlanningProgress& progress, const PrintEstimate& estimate) {
   LayerChoice choice;
   double thickness = 0;  // for the build-height message: the last layer's
   if (!options.boundaries.empty()) {
@@ -385,7 +386,7 @@ LayerChoice plan_layers(const SliceOptions& options, const printer::PrinterProfi
     thickness = options.layer > 0 ? options.layer : machine.layer.default_thickness;
     printer::check_layer_thickness(machine, thickness);
     choice = choose_layers(options.adaptive, machine, index, part_height, thickness, printed,
-                           progress);
+                           progress, estimate);
   }
   // The last layer is a whole layer thick, so it can end above the part: refused now rather
   // than when the G-code is checked against the build volume after all the slicing.
@@ -531,8 +532,12 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
   } joined{beside};
   if (adaptive) beside.run([&] { thinnest = uniform_estimate(allowed.thinnest()); });
   report(SliceStage::planning, 0, 0);
-  result.choice = plan_layers(options, machine, index, size.z, contour,
-                              [&](std::size_t measured) { report(SliceStage::planning, measured, 0); });
+  result.choice = plan_layers(
+      options, machine, index, size.z, contour,
+      [&](std::size_t measured) { report(SliceStage::planning, measured, 0); },
+      [&](const std::vector<geometry::Layer>& layers) {
+        return estimated_seconds(index, layers, result.profiles);
+      });
   result.layers = result.choice.layers;
   const std::vector<geometry::Layer>& layers = result.layers;
   const std::size_t count = layers.size();

@@ -94,7 +94,8 @@ printer::Profiles load_slice_profiles(const SliceOptions& options);
 LayerChoice plan_layers(const SliceOptions& options, const printer::PrinterProfile& machine,
                         const geometry::LayerStack& index, double part_height,
                         const geometry::ContourStrategy& printed,
-                        const PlanningProgress& progress = {});
+                        const PlanningProgress& progress = {},
+                        const PrintEstimate& estimate = {});
 
 // The pipeline's stages, in order; progress is reported per stage.
 enum class SliceStage { planning, contours, supports, toolpaths, writing };

@@ -438,26 +438,41 @@ AdaptivePlan adaptive_plan(const LayerStack& stack, double part_height,
   const std::vector<double> targets = flat_targets(flats, allowed);
   LazyPlanner planner(stack, part_height, allowed, targets, options, progress);
   plan.candidates = planner.candidates();
-  if (options.measure_all) planner.measure_all(options.max_layers > 0 ? 0 : options.tolerance);
+  if (options.measure_all) {
+    planner.measure_all(options.max_layers > 0 || options.fits ? 0 : options.tolerance);
+  }
 
   double tolerance = std::max(0.0, options.tolerance);
   std::vector<std::uint32_t> path;
-  if (options.max_layers == 0) {
+  const auto layers_of = [&](const std::vector<std::uint32_t>& edges) {
+    std::vector<Layer> layers;
+    for (std::uint32_t e : edges) layers.push_back({planner.z(planner.from(e)), planner.z(planner.to(e))});
+    return layers;
+  };
+  if (options.max_layers == 0 && !options.fits) {
     path = planner.plan(tolerance);
   } else {
-    // The least tolerance whose plan fits the budget, by bisection between 0 and one that
-    // every candidate meets (the thickest layers everywhere). A budget below even that plan's
-    // count gets that plan.
-    double lo = 0, hi = planner.largest_estimate() + 1;
+    // The least tolerance whose plan the budget accepts, by bisection between 0 and one that
+    // every candidate meets (the thickest layers everywhere); for `fits`, whose every trial
+    // costs what it costs (an estimate of the print), on a log scale from a micrometre and
+    // to within 2%. A budget even that plan breaks gets that plan.
+    const bool by_count = options.max_layers > 0;
+    const auto accepts = [&](const std::vector<std::uint32_t>& edges) {
+      return by_count ? edges.size() <= options.max_layers : options.fits(layers_of(edges));
+    };
+    double lo = by_count ? 0 : 1e-3, hi = planner.largest_estimate() + 1;
+    const auto open = [&] { return by_count ? hi - lo > 1e-3 * std::max(1.0, hi) * 0.5 : hi > 1.02 * lo; };
     path = planner.plan(hi);
-    while (path.size() <= options.max_layers && hi - lo > 1e-3 * std::max(1.0, hi) * 0.5) {
-      const double mid = 0.5 * (lo + hi);
-      std::vector<std::uint32_t> tried = planner.plan(mid);
-      if (tried.size() <= options.max_layers) {
-        hi = mid;
-        path = std::move(tried);
-      } else {
-        lo = mid;
+    if (accepts(path)) {
+      while (open()) {
+        const double mid = by_count ? 0.5 * (lo + hi) : std::sqrt(lo * hi);
+        std::vector<std::uint32_t> tried = planner.plan(mid);
+        if (accepts(tried)) {
+          hi = mid;
+          path = std::move(tried);
+        } else {
+          lo = mid;
+        }
       }
     }
     tolerance = hi;

@@ -13,7 +13,8 @@
 // contour) is within `tolerance`; where no allowed thickness meets it (a nearly flat surface),
 // that layer is the thinnest and counted as unmet. Flat levels land on boundaries first of all
 // (a plan crossing fewer of them always wins), then fewest unmet layers, then fewest layers.
-// Or, with max_layers, the least tolerance whose plan has at most that many layers.
+// Or, with max_layers, the least tolerance whose plan has at most that many layers; or, with
+// `fits` (a print-time budget, say), the least one whose plan it accepts, to within 2%.
 // The optimum over all allowed thickness sequences is a shortest path over the grid of
 // reachable heights (Alexa, Hildebrand, Lefebvre, "Optimal Discrete Slicing", ACM TOG 2017).
 // Measuring every candidate slab exactly costs a few ms each, thousands of them, so the path
@@ -70,6 +71,9 @@ UniformPlan uniform_plan(double part_height, double thickness, const AllowedThic
 struct AdaptiveOptions {
   double tolerance = 0.3;       // D within this, mm
   std::size_t max_layers = 0;   // > 0: the least tolerance with at most this many layers instead
+  // Set (and max_layers 0): the least tolerance whose plan this accepts instead. Called only
+  // from the calling thread; the search takes a plan it accepts for one with more tolerance.
+  std::function<bool(const std::vector<Layer>& layers)> fits;
   // The contours a layer may print; a layer meets the tolerance when one of them does (one
   // kind for a plain strategy; mid, ma and optimal-height for `best`). Cheapest first.
   std::vector<const ContourStrategy*> contours{&contour_strategy("mid")};

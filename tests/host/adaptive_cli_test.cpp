@@ -164,3 +164,48 @@ TEST_CASE("the_plan_lines_uniform_estimate_is_what_slicing_uniformly_estimates")
   CHECK(std::abs(said - full) <= 0.02 * full);
   CHECK(sliced.out.find(": " + std::to_string(said_layers) + " layers") != std::string::npos);
 }
+
+TEST_CASE("slice_adaptive_keeps_a_print_time_budget") {
+  // A cone, between its print times at the thinnest and the thickest uniform layers: the plan
+  // fits the budget (the plan's own estimate is of mid sections, as the G-code here is), and
+  // a budget under the thickest layers' time gets those and says so.
+  const std::string dir = test_support::scratch_dir("plan_adaptive_time");
+  const std::string stl = dir + "/cone.stl", gcode = dir + "/cone.gcode";
+  geometry::write_stl_binary(stl, solids::cone(10, 20, 64).mesh);
+  const auto time_of = [&](const std::vector<std::string>& args) {
+    const auto r = run_mahost(args);
+    REQUIRE(r.exit_code == 0);
+    const std::size_t at = r.out.find("estimated print time ");
+    REQUIRE(at != std::string::npos);
+    return std::pair{duration_at(r.out, at + 21), r.out};
+  };
+  const double thin = time_of({"slice", stl, "--no-raft", "--layer", "0.15", "--contour", "mid", "-o", gcode}).first;
+  const double thick = time_of({"slice", stl, "--no-raft", "--layer", "0.4", "--contour", "mid", "-o", gcode}).first;
+  REQUIRE(thick < thin);
+  const int budget = static_cast<int>((thin + thick) / 2);
+  const auto [fitted, said] = time_of({"slice", stl, "--no-raft", "--max-time", std::to_string(budget) + "s",
+                                       "--contour", "mid", "-o", gcode});
+  CAPTURE(said);
+  CHECK(said.find("the least tolerance whose print fits --max-time") != std::string::npos);
+  CHECK(fitted <= 1.02 * budget);
+  CHECK(fitted >= thick);
+  const auto [fastest, refused] = time_of({"slice", stl, "--no-raft", "--max-time", "1s", "--contour", "mid", "-o", gcode});
+  CHECK(refused.find("no plan fits --max-time 1 s") != std::string::npos);
+  CHECK(fastest <= 1.02 * thick);
+}
+
+TEST_CASE("a_print_time_budget_that_is_not_a_duration_is_refused_in_one_line") {
+  const std::string dir = test_support::scratch_dir("plan_adaptive_time_bad");
+  const std::string stl = dir + "/cone.stl";
+  geometry::write_stl_binary(stl, solids::cone(10, 20, 16).mesh);
+  for (const std::string bad : {"90", "1m30h", "abc", "-5m", "0s"}) {
+    CAPTURE(bad);
+    const auto r = run_mahost({"slice", stl, "--max-time", bad, "-o", dir + "/x.gcode"});
+    CHECK(r.exit_code != 0);
+    CHECK(r.err.find("--max-time") != std::string::npos);
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+  }
+  const auto both = run_mahost({"slice", stl, "--max-time", "1h", "--max-layers", "50", "-o", dir + "/x.gcode"});
+  CHECK(both.exit_code != 0);
+  CHECK(both.err.find("excludes") != std::string::npos);
+}

@@ -305,6 +305,30 @@ TEST_CASE("adaptive_plan_with_a_layer_budget_finds_the_least_tolerance") {
   CHECK(geometry::adaptive_plan(stack, 20, kUpPlus2, flats, options).layers.size() > 60);
 }
 
+TEST_CASE("adaptive_plan_with_any_budget_finds_the_least_tolerance_it_accepts") {
+  // The cone above under a budget that only a plan's layers can judge (here their count, as a
+  // print-time estimate would be): the same least tolerance, D = t / 4 at 0.35 mm layers.
+  const solids::Solid cone = solids::cone(10, 20, 64);
+  const geometry::LayerStack stack(cone.mesh, {});
+  AdaptiveOptions options;
+  std::size_t asked = 0;
+  options.fits = [&](const std::vector<geometry::Layer>& layers) {
+    ++asked;
+    check_thicknesses(layers, kUpPlus2);
+    return layers.size() <= 60;
+  };
+  const auto flats = geometry::flat_levels(cone.mesh);
+  const AdaptivePlan plan = geometry::adaptive_plan(stack, 20, kUpPlus2, flats, options);
+  CHECK(plan.layers.size() <= 60);
+  CHECK(plan.tolerance == doctest::Approx(0.0875).epsilon(0.03));
+  CHECK(asked <= 12);  // a log-scale bisection to 2%, not a scan
+  // A budget no plan meets gets the thickest plan (every layer within its tolerance).
+  options.fits = [](const std::vector<geometry::Layer>&) { return false; };
+  const AdaptivePlan thickest = geometry::adaptive_plan(stack, 20, kUpPlus2, flats, options);
+  CHECK(thickest.unmet == 0);
+  CHECK(thickest.layers.size() <= 1 + 50 + 1);  // 19.7 mm of 0.4 mm layers
+}
+
 TEST_CASE("adaptive_plan_distance_is_what_analyze_measures") {
   const solids::Solid ball = solids::sphere(8, 48, 24, {0, 0, 8});
   const AdaptivePlan plan = plan_for(ball.mesh, 0.15, kUpPlus2,
