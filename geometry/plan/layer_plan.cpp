@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <thread>
 #include <tuple>
 
@@ -105,22 +106,26 @@ UniformPlan uniform_plan(double part_height, double thickness, const AllowedThic
   // plain grid puts it.
   std::vector<Layer> layers{plan.layers.front()};
   double bottom = first;
-  for (double level : flats) {
-    double z = level;
-    const double gap = z - bottom;
-    if (gap < allowed.thinnest() - kSameHeight) continue;  // too close to the one before
-    std::size_t count = static_cast<std::size_t>(std::max(1.0, std::round(gap / thickness)));
+  // Fills [bottom, level] with `count` layers of about `thickness`: the landed height (the
+  // level, or with fixed steps the nearest height they reach) and what each layer adds to
+  // `thickness`; nothing if the allowed thicknesses cannot do it.
+  struct Segment {
+    double z;
+    std::vector<double> extra;  // mm, per layer of the segment
+  };
+  const auto segment = [&](double bottom, double level, std::size_t count) -> std::optional<Segment> {
+    const double gap = level - bottom;
     // Enough layers that none must be thicker than allowed, few enough that none is thinner.
     while (gap / static_cast<double>(count) > allowed.thickest() + kSameHeight) ++count;
     while (count > 1 && gap / static_cast<double>(count) < allowed.thinnest() - kSameHeight) --count;
-    std::vector<double> extra(count, 0);  // added to each layer of the segment, mm
+    Segment found{level, std::vector<double>(count, 0)};
     if (step > 0) {
       // A level between two reachable heights lands on the nearer one (8.03 mm on 8.05).
       const double steps = (gap - static_cast<double>(count) * thickness) / step;
       long units = std::lround(steps);
       const double reached = bottom + static_cast<double>(count) * thickness +
                              static_cast<double>(units) * step;
-      if (std::abs(reached - level) > kSameHeight) z = reached;
+      if (std::abs(reached - level) > kSameHeight) found.z = reached;
       // How many steps a layer may grow or shrink and stay allowed.
       long room_up = 0, room_down = 0;
       while (allowed.allows(thickness + static_cast<double>(room_up + 1) * step)) ++room_up;
@@ -133,29 +138,50 @@ UniformPlan uniform_plan(double part_height, double thickness, const AllowedThic
           if (units < 0 && -taken[k] < room_down) --taken[k], ++units;
         }
       }
-      if (units != 0) continue;
-      for (std::size_t k = 0; k < count; ++k) extra[k] = static_cast<double>(taken[k]) * step;
+      if (units != 0) return std::nullopt;
+      for (std::size_t k = 0; k < count; ++k) found.extra[k] = static_cast<double>(taken[k]) * step;
+    } else if (double left = gap - static_cast<double>(count) * thickness; left < 0) {
+      // Any thickness, thinner: every layer of the segment a little, none far from the rest.
+      const double each = left / static_cast<double>(count);
+      if (thickness + each < allowed.thinnest() - kSameHeight) return std::nullopt;
+      std::fill(found.extra.begin(), found.extra.end(), each);
     } else {
-      // Any thickness: the difference on the top layers, as few as stay within range.
-      double left = gap - static_cast<double>(count) * thickness;
+      // Any thickness, thicker: the difference on the top layers, as few as stay within range.
       for (std::size_t k = count; k-- > 0 && std::abs(left) > kSameHeight;) {
         const double room =
             left > 0 ? allowed.thickest() - thickness : allowed.thinnest() - thickness;
-        extra[k] = left > 0 ? std::min(left, room) : std::max(left, room);
-        left -= extra[k];
+        found.extra[k] = left > 0 ? std::min(left, room) : std::max(left, room);
+        left -= found.extra[k];
       }
-      if (std::abs(left) > kSameHeight) continue;
+      if (std::abs(left) > kSameHeight) return std::nullopt;
     }
+    return found;
+  };
+  for (double level : flats) {
+    const double gap = level - bottom;
+    if (gap < allowed.thinnest() - kSameHeight) continue;  // too close to the one before
+    // As many layers as the grid's nearest to the level asks for; half way, one more, thinner
+    // ones (they follow a slope closer and keep an overhang within its reach, for a layer's
+    // time), not fewer thicker ones. If the thicknesses cannot do that, the other way.
+    const double needed = gap / thickness;
+    const std::size_t most = static_cast<std::size_t>(std::max(1.0, std::ceil(needed - 1e-6)));
+    const std::size_t fewest = static_cast<std::size_t>(std::max(1.0, std::floor(needed + 1e-6)));
+    const bool thinner = needed - std::floor(needed + 1e-6) >= 0.5 - 1e-6;
+    std::optional<Segment> found = segment(bottom, level, thinner ? most : fewest);
+    if (!found && fewest != most) found = segment(bottom, level, thinner ? fewest : most);
+    if (!found) continue;  // left where the plain grid puts it
     double z_lo = bottom;
     double offset = 0;
+    const std::size_t count = found->extra.size();
     for (std::size_t k = 0; k < count; ++k) {
-      offset += extra[k];
+      offset += found->extra[k];
       // From the segment's bottom, not accumulated, as uniform_layers does.
-      const double z_hi = k + 1 == count ? z : bottom + static_cast<double>(k + 1) * thickness + offset;
+      const double z_hi =
+          k + 1 == count ? found->z : bottom + static_cast<double>(k + 1) * thickness + offset;
       layers.push_back({z_lo, z_hi});
       z_lo = z_hi;
     }
-    bottom = z;
+    bottom = found->z;
   }
   if (bottom == first) {
     plan.flats = placements(flats, plan.layers);

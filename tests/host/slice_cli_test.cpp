@@ -81,17 +81,17 @@ TEST_CASE("slice_writes_gcode_and_reports_one_line") {
   CHECK(result.exit_code == 0);
   CHECK(result.err.empty());
   // UP Plus 2 defaults: 0.3 mm first layer, then 0.2 up to the flat top, which lands on a
-  // boundary at 20.0 mm: 19.7 mm = 96 x 0.2 + 2 x 0.25 (the two under the top a step thicker),
-  // 1 + 98 = 99 layers (plain 0.2 mm layers would need 99 above the first, to 20.1 mm), on a
-  // raft of 4 (base, interface, two surface layers). A cube needs no support.
-  CHECK(result.out.starts_with(out + ": 99 layers, on 4 raft layers, estimated print time "));
+  // boundary at 20.0 mm: 19.7 mm, 98.5 layers of 0.2, = 97 x 0.2 + 2 x 0.15 (half way: the two
+  // under the top a step thinner, not 96 x 0.2 + 2 x 0.25), 1 + 99 = 100 layers, on a raft of
+  // 4 (base, interface, two surface layers). A cube needs no support.
+  CHECK(result.out.starts_with(out + ": 100 layers, on 4 raft layers, estimated print time "));
   CHECK(result.out.find(" g ABS; ") != std::string::npos);
   CHECK(result.out.find(" m of it support and raft), ") != std::string::npos);
   CHECK(std::count(result.out.begin(), result.out.end(), '\n') == 1);
   const std::string gcode = read_file(out);
   const test_support::PrintedProgram program = test_support::read_printed_program(gcode);
-  CHECK(program.layers.size() == 103);
-  CHECK(program.header.at("LAYER_COUNT") == "103");
+  CHECK(program.layers.size() == 104);
+  CHECK(program.header.at("LAYER_COUNT") == "104");
   CHECK(program.layers.back().z == doctest::Approx(20.0 + 1.1));  // on the 1.1 mm raft
   CHECK(gcode.find(";TYPE:RAFT\n") != std::string::npos);
   CHECK(gcode.find(";TYPE:SUPPORT\n") == std::string::npos);
@@ -156,8 +156,9 @@ TEST_CASE("every_contour_strategy_prints_a_vertical_wall_part_alike") {
                                     "print.skirt_loops=0"});
     REQUIRE(result.exit_code == 0);
     const test_support::PrintedProgram program = test_support::read_printed_program(read_file(out));
-    // 0.3 mm, then 11.7 mm = 56 x 0.2 + 2 x 0.25 up to the top at 12.0: 1 + 58 layers.
-    CHECK(program.layers.size() == 1 + 58);
+    // 0.3 mm, then 11.7 mm = 57 x 0.2 + 2 x 0.15 up to the top at 12.0 (58.5 layers of 0.2:
+    // half way, thinner): 1 + 59 layers.
+    CHECK(program.layers.size() == 1 + 59);
     CHECK(read_file(out).find("; contour: " + contour + "\n") != std::string::npos);
     const auto layers = geometry::layers_from_tops(printer::layer_tops_from_gcode(read_file(out), out));
     REQUIRE(layers.size() == program.layers.size());
