@@ -14,8 +14,11 @@
 # one layer per Z level, each as tall as the distance to the level below, so its support
 # beads look like beads hanging over the air between them.
 #
-# Usage: [CONTOURS=ma,best] tests/bench/compare_supports.sh [BUILD_DIR]   (default: build)
+# Usage: [CONTOURS=ma,best] [NO_SHEATH=1] tests/bench/compare_supports.sh [BUILD_DIR]   (default: build)
 # CONTOURS: mahost's --contour strategies to slice with, one row each (default: ma, best).
+# NO_SHEATH=1: one more mahost row, "-sheath" (the last of CONTOURS), without the loop round the support
+# body (--set support.sheath=false), as the peers are set here (PrusaSlicer's
+# support_material_with_sheath = 0, Cura's support_wall_count = 0).
 # Models: the bunny (50 mm), a T (a 10 x 10 x 20 mm stem under a 50 x 10 x 5 mm bar), a
 # sphere (30 mm), an arch (40 x 10 x 25 mm, a 24 mm semicircular opening); openscad makes
 # the closed forms, mahost info --export places and repairs every model once, and all three
@@ -170,6 +173,13 @@ for m in "${models[@]}"; do
       --bridge-length 10 -o "$out"
     row "$m" "mahost ($contour)" "$(grep -m1 '^;PRINT_TIME_S:' "$out" | cut -d: -f2)" "$out"
   done
+  if [[ -n ${NO_SHEATH:-} ]]; then  # as the peers lay it: no loop round the body
+    timed "$mahost" slice "$model" --contour "${contours##*,}" --layer 0.2 --support everywhere --no-raft \
+      --overhang-angle 50 --support-spacing 2.5 --support-interface-thickness 0.4 \
+      --support-top-distance 0.2 --support-bottom-distance 0.2 --support-xy-gap 0.2 \
+      --bridge-length 10 --set support.sheath=false -o "$out"
+    row "$m" "mahost -sheath" "$(grep -m1 '^;PRINT_TIME_S:' "$out" | cut -d: -f2)" "$out"
+  fi
 
   out=$work/cura-$m.gcode
   timed CuraEngine slice -j "$cura_resources/definitions/fdmprinter.def.json" \
