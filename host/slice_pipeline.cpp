@@ -163,8 +163,8 @@ void add_support_options(CLI::App& command, SupportCliOptions& options,
                                      "(default: support.bottom_contact_distance)")
                       ->check(CLI::Range(0.0, 2.0)));
   added.push_back(command.add_option("--support-interface-thickness", options.interface_thickness,
-                                     "mm of dense layers at the top of the support, the whole "
-                                     "layers nearest it and at least one; 0 for none (default: "
+                                     "mm of dense layers at the top of the support at least, "
+                                     "rounded up to the layers' own tops; 0 for none (default: "
                                      "support.interface_thickness)")
                       ->check(CLI::Range(0.0, 5.0)));
   added.push_back(command.add_option("--support-pattern", options.pattern,

@@ -165,15 +165,12 @@ long top_support_layer(const std::vector<Layer>& layers, std::size_t k, double g
   return -1;
 }
 
-// The lowest layer of the interface under a contact whose support's top is layer t: the
-// layers below t's top by less than `thickness` at their middle (the whole layers nearest
-// the thickness), at least t itself.
+// The lowest layer of the interface under a contact whose support's top is layer t: whole
+// layers down from t until they are `thickness` thick at least (rounded up to the layers
+// there, as the contact distances are).
 std::size_t lowest_interface_layer(const std::vector<Layer>& layers, std::size_t t, double thickness) {
   std::size_t lowest = t;
-  while (lowest > 0 &&
-         layers[t].z_hi - (layers[lowest - 1].z_lo + layers[lowest - 1].z_hi) / 2 < thickness - kHeight) {
-    --lowest;
-  }
+  while (lowest > 0 && layers[t].z_hi - layers[lowest].z_lo < thickness - kHeight) --lowest;
   return lowest;
 }
 
