@@ -82,7 +82,7 @@ geometry::SupportOptions support_options(const printer::Profiles& profiles) {
   options.xy_gap = s.xy_gap;
   options.top_contact_distance = s.top_contact_distance;
   options.bottom_contact_distance = s.bottom_contact_distance;
-  options.interface_layers = s.interface_layers;
+  options.interface_thickness = s.interface_thickness;
   options.bridge_length = profiles.material.bridge_length;
   options.pattern = geometry::parse_support_pattern(s.pattern).value_or(geometry::SupportPattern::lines);
   options.line_spacing = s.spacing;
@@ -162,10 +162,11 @@ void add_support_options(CLI::App& command, SupportCliOptions& options,
                                      "mm of air between the part and support standing on it "
                                      "(default: support.bottom_contact_distance)")
                       ->check(CLI::Range(0.0, 2.0)));
-  added.push_back(command.add_option("--support-interface-layers", options.interface_layers,
-                                     "dense layers at the top of the support (default: "
-                                     "support.interface_layers)")
-                      ->check(CLI::Range(0, 20)));
+  added.push_back(command.add_option("--support-interface-thickness", options.interface_thickness,
+                                     "mm of dense layers at the top of the support at least, "
+                                     "rounded up to the layers' own tops; 0 for none (default: "
+                                     "support.interface_thickness)")
+                      ->check(CLI::Range(0.0, 5.0)));
   added.push_back(command.add_option("--support-pattern", options.pattern,
                                      "the support's sparse body: lines or grid (default: "
                                      "support.pattern)")
@@ -211,7 +212,7 @@ void apply_support_options(const SupportCliOptions& options, printer::Profiles& 
   if (options.xy_gap >= 0) s.xy_gap = options.xy_gap;
   if (options.top_distance >= 0) s.top_contact_distance = options.top_distance;
   if (options.bottom_distance >= 0) s.bottom_contact_distance = options.bottom_distance;
-  if (options.interface_layers >= 0) s.interface_layers = options.interface_layers;
+  if (options.interface_thickness >= 0) s.interface_thickness = options.interface_thickness;
   if (!options.pattern.empty()) s.pattern = options.pattern;
   if (options.spacing > 0) s.spacing = options.spacing;
   for (const std::string& box : options.enforcers) s.enforcers.push_back(parse_box(box, "--support-enforcer"));
@@ -304,7 +305,7 @@ const std::vector<std::string>& model_only_slice_options() {
       "--perimeters", "--infill", "--set",
       // issue 12
       "--support", "--overhang-angle", "--support-xy-gap", "--support-top-distance",
-      "--support-bottom-distance", "--support-interface-layers", "--support-pattern",
+      "--support-bottom-distance", "--support-interface-thickness", "--support-pattern",
       "--support-spacing", "--support-enforcer", "--support-blocker", "--bridge-length",
       "--brim", "--raft", "--no-raft"};
   return names;
@@ -610,10 +611,10 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
   if (support.placement != geometry::SupportPlacement::none) {
     const printer::SupportSettings& s = machine.support;
     gcode_options.notes.push_back(fmt::format(
-        "support: {}, overhang {:g} deg, xy gap {:g} mm, top/bottom contact {:g}/{:g} mm, {} "
-        "interface layers, {} {:g} mm; bridges up to {:g} mm ({} laid)",
+        "support: {}, overhang {:g} deg, xy gap {:g} mm, top/bottom contact {:g}/{:g} mm, "
+        "interface {:g} mm, {} {:g} mm; bridges up to {:g} mm ({} laid)",
         s.type, result.profiles.material.overhang_angle, s.xy_gap, s.top_contact_distance,
-        s.bottom_contact_distance, s.interface_layers, s.pattern, s.spacing,
+        s.bottom_contact_distance, s.interface_thickness, s.pattern, s.spacing,
         result.profiles.material.bridge_length, result.bridges));
   }
   if (!plan.raft.empty()) {

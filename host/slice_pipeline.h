@@ -34,7 +34,7 @@ struct SupportCliOptions {
   double xy_gap = -1;              // mm; -1: support.xy_gap
   double top_distance = -1;        // mm; -1: support.top_contact_distance
   double bottom_distance = -1;     // mm; -1: support.bottom_contact_distance
-  int interface_layers = -1;       // -1: support.interface_layers
+  double interface_thickness = -1;  // mm; -1: support.interface_thickness
   std::string pattern;             // lines, grid; "": support.pattern
   double spacing = -1;             // mm; -1: support.spacing
   std::vector<std::string> enforcers, blockers;  // "x0,y0,z0,x1,y1,z1", added to the profile's
@@ -61,7 +61,7 @@ struct SliceOptions {
 // --up, --ignore-normals; not the MODEL argument itself), --printer, --material, --layer,
 // --boundaries, --contour, --perimeters, --infill, --set, and the support options (--support,
 // --overhang-angle, --support-xy-gap, --support-top-distance, --support-bottom-distance,
-// --support-interface-layers, --support-pattern, --support-spacing, --support-enforcer,
+// --support-interface-thickness, --support-pattern, --support-spacing, --support-enforcer,
 // --support-blocker, --bridge-length, --brim, --raft, --no-raft). They are listed under
 // `group` in the command's help ("" leaves them among its other options).
 void add_slice_options(CLI::App& command, SliceOptions& options, const std::string& group = {});

@@ -424,8 +424,8 @@ const Rules<P>& printer_rules() {
                           [](P& p, double v) { p.support.top_contact_distance = v; }));
     r.push_back(number<P>("support.bottom_contact_distance", 0, 2, "mm",
                           [](P& p, double v) { p.support.bottom_contact_distance = v; }));
-    r.push_back(integer<P>("support.interface_layers", 0, 20, "",
-                           [](P& p, int v) { p.support.interface_layers = v; }));
+    r.push_back(number<P>("support.interface_thickness", 0, 5, "mm",
+                          [](P& p, double v) { p.support.interface_thickness = v; }));
     r.push_back(number<P>("support.interface_density", 10, 100, "%",
                           [](P& p, double v) { p.support.interface_density = v; }));
     r.push_back(text<P>("support.pattern", {"lines", "grid"},

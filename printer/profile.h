@@ -50,7 +50,7 @@ struct SupportSettings {
   double xy_gap = 0.2;                // mm between support and the part in the same layer
   double top_contact_distance = 0.2;  // mm of air under the part
   double bottom_contact_distance = 0.2;  // mm of air over the part, under support on it
-  int interface_layers = 2;
+  double interface_thickness = 0.4;  // mm of dense layers at the support's top
   double interface_density = 80;      // percent
   std::string pattern = "lines";      // "lines" or "grid"
   bool sheath = true;                 // a loop round the body's islands

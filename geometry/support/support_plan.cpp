@@ -165,6 +165,15 @@ long top_support_layer(const std::vector<Layer>& layers, std::size_t k, double g
   return -1;
 }
 
+// The lowest layer of the interface under a contact whose support's top is layer t: whole
+// layers down from t until they are `thickness` thick at least (rounded up to the layers
+// there, as the contact distances are).
+std::size_t lowest_interface_layer(const std::vector<Layer>& layers, std::size_t t, double thickness) {
+  std::size_t lowest = t;
+  while (lowest > 0 && layers[t].z_hi - layers[lowest].z_lo < thickness - kHeight) --lowest;
+  return lowest;
+}
+
 // Step 4: the columns, from the top down; each layer's support is what comes down from the
 // layer above plus the contacts whose top is here, less what must stay clear of the part.
 std::vector<clipper::Paths> columns(const std::vector<clipper::Paths>& part, const std::vector<Layer>& layers,
@@ -293,15 +302,20 @@ SupportPlan plan_supports(const std::vector<Region>& regions, const std::vector<
     }
     // Step 4.
     support = columns(part, layers, tops, options);
-    // Step 5.
-    const std::size_t dense = static_cast<std::size_t>(std::max(options.interface_layers, 0));
+    // Step 5: per layer, the contacts above whose interface reaches down to it.
+    std::vector<clipper::Paths> under(n);
+    if (options.interface_thickness > 0) {
+      for (std::size_t t = 0; t < n; ++t) {
+        if (tops[t].empty()) continue;
+        for (std::size_t j = lowest_interface_layer(layers, t, options.interface_thickness); j <= t; ++j) {
+          under[j].insert(under[j].end(), tops[t].begin(), tops[t].end());
+        }
+      }
+    }
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t j) {
       if (support[j].empty()) return;
-      clipper::Paths under;
-      for (std::size_t m = 0; m < dense && j + m < n; ++m) {
-        under.insert(under.end(), tops[j + m].begin(), tops[j + m].end());
-      }
-      const clipper::Paths interface = clipper::intersection(support[j], under);
+      const clipper::Paths interface =
+          under[j].empty() ? clipper::Paths{} : clipper::intersection(support[j], under[j]);
       plan.layers[j].interface = from_clipper(interface);
       plan.layers[j].body = from_clipper(interface.empty() ? support[j]
                                                            : clipper::difference(support[j], interface));

@@ -24,7 +24,9 @@
 //                  layer: never within xy_gap of the part's region in the same layer, never
 //                  under the part closer than top_contact_distance, never over it closer
 //                  than bottom_contact_distance (so supports come off);
-//   5. interfaces: the top interface_layers of each column under a contact are dense;
+//   5. interfaces: the top interface_thickness of each column under a contact is dense:
+//                  whole layers from the column's top down until they are that thick
+//                  at least (rounded up to the layers there, as the gaps are);
 //   6. raft:       under the first layer (part and support) grown by the raft's margin,
 //                  holes filled: base, interface and surface layers, then the air gap.
 // A contact within top_contact_distance of the bed has no layer to rest on: the bed,
@@ -72,7 +74,9 @@ struct SupportOptions {
   double xy_gap = 0.2;              // mm between support and the part in the same layer
   double top_contact_distance = 0.2;     // mm of air between the support's top and the part
   double bottom_contact_distance = 0.2;  // mm of air between the part and support on it
-  int interface_layers = 2;         // dense layers at the top of each column
+  // mm of dense layers at the top of each column, at least: whole layers down from its top
+  // until they are this thick; 0: none.
+  double interface_thickness = 0.4;
   double bridge_length = 10;        // mm a bridge may span; 0: nothing is bridged
   // The body's lines (toolpaths/support_paths.h lays them): contacts are widened to them.
   SupportPattern pattern = SupportPattern::lines;

@@ -2,8 +2,9 @@
 # Supports beside CuraEngine 4.13 and PrusaSlicer 2.5 (issue 12): the same placed meshes, the
 # same overhang angle (50 degrees from vertical; PrusaSlicer's threshold is the slope from
 # horizontal, 40), support everywhere, no raft, the same support pattern and density (lines
-# 2.5 mm apart, 2 interface layers at 80% of solid), 0.2 mm of air above and below the
-# support, 0.2 mm beside it, 0.2 mm layers on the UP Plus 2 settings of compare_slicers.sh.
+# 2.5 mm apart, 0.4 mm of interface at 80% of solid: Cura's roof height, PrusaSlicer's 2
+# layers), 0.2 mm of air above and below the support, 0.2 mm beside it, 0.2 mm layers on the
+# UP Plus 2 settings of compare_slicers.sh.
 # Per model and slicer: support filament (support and interface, from the ;TYPE: comments),
 # all filament, the slicer's own print-time estimate, the unsupported extrusion by mahost's
 # independent check (bridges up to 10 mm, contact gap 0.2 mm; bench_unsupported), wall and
@@ -13,8 +14,11 @@
 # one layer per Z level, each as tall as the distance to the level below, so its support
 # beads look like beads hanging over the air between them.
 #
-# Usage: [CONTOURS=ma,best] tests/bench/compare_supports.sh [BUILD_DIR]   (default: build)
+# Usage: [CONTOURS=ma,best] [NO_SHEATH=1] tests/bench/compare_supports.sh [BUILD_DIR]   (default: build)
 # CONTOURS: mahost's --contour strategies to slice with, one row each (default: ma, best).
+# NO_SHEATH=1: one more mahost row, "-sheath" (the last of CONTOURS), without the loop round the support
+# body (--set support.sheath=false), as the peers are set here (PrusaSlicer's
+# support_material_with_sheath = 0, Cura's support_wall_count = 0).
 # Models: the bunny (50 mm), a T (a 10 x 10 x 20 mm stem under a 50 x 10 x 5 mm bar), a
 # sphere (30 mm), an arch (40 x 10 x 25 mm, a 24 mm semicircular opening); openscad makes
 # the closed forms, mahost info --export places and repairs every model once, and all three
@@ -164,11 +168,18 @@ for m in "${models[@]}"; do
   out=$work/mahost-$m.gcode
   for contour in ${contours//,/ }; do
     timed "$mahost" slice "$model" --contour "$contour" --layer 0.2 --support everywhere --no-raft \
-      --overhang-angle 50 --support-spacing 2.5 --support-interface-layers 2 \
+      --overhang-angle 50 --support-spacing 2.5 --support-interface-thickness 0.4 \
       --support-top-distance 0.2 --support-bottom-distance 0.2 --support-xy-gap 0.2 \
       --bridge-length 10 -o "$out"
     row "$m" "mahost ($contour)" "$(grep -m1 '^;PRINT_TIME_S:' "$out" | cut -d: -f2)" "$out"
   done
+  if [[ -n ${NO_SHEATH:-} ]]; then  # as the peers lay it: no loop round the body
+    timed "$mahost" slice "$model" --contour "${contours##*,}" --layer 0.2 --support everywhere --no-raft \
+      --overhang-angle 50 --support-spacing 2.5 --support-interface-thickness 0.4 \
+      --support-top-distance 0.2 --support-bottom-distance 0.2 --support-xy-gap 0.2 \
+      --bridge-length 10 --set support.sheath=false -o "$out"
+    row "$m" "mahost -sheath" "$(grep -m1 '^;PRINT_TIME_S:' "$out" | cut -d: -f2)" "$out"
+  fi
 
   out=$work/cura-$m.gcode
   timed CuraEngine slice -j "$cura_resources/definitions/fdmprinter.def.json" \
@@ -219,7 +230,7 @@ for m in "${models[@]}"; do
   [[ -n ${KEEP:-} ]] && cp "$work"/*-"$m".gcode "$KEEP"/ 2>/dev/null || true
 done
 
-echo "supports everywhere, 50 deg from vertical, lines 2.5 mm, 2 interface layers at 80%, 0.2 mm gaps; 0.2 mm layers"
+echo "supports everywhere, 50 deg from vertical, lines 2.5 mm, 0.4 mm interface at 80%, 0.2 mm gaps; 0.2 mm layers"
 echo "unsupported: mahost's check (bench_unsupported, bridges up to 10 mm, contact gap 0.2 mm); wall, cpu: median of $repeat"
 printf '%-7s %-16s %11s %11s %10s %13s %9s %9s\n' model slicer support filament "est. time" unsupported wall cpu
 printf '%s\n' "${rows[@]}"

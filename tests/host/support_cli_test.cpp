@@ -431,7 +431,7 @@ TEST_CASE("support_options_are_checked_and_listed_in_the_help") {
   const auto help = run_mahost({"slice", "--help"});
   for (const std::string option : {"--support", "--overhang-angle", "--support-xy-gap",
                                    "--support-top-distance", "--support-bottom-distance",
-                                   "--support-interface-layers", "--support-pattern",
+                                   "--support-interface-thickness", "--support-pattern",
                                    "--support-spacing", "--support-enforcer", "--support-blocker",
                                    "--bridge-length", "--brim", "--raft", "--no-raft", "--rotate",
                                    "--orient"}) {

@@ -273,6 +273,8 @@ TEST_CASE("shipped_profiles_print_with_supports_and_the_up_plus_2_on_a_raft") {
   const PrinterProfile marlin = load_printer_profile("generic-marlin", kConfigDir);
   CHECK(marlin.support.type == "everywhere");
   CHECK_FALSE(marlin.raft.enabled);
+  CHECK(up.support.interface_thickness == 0.4);  // mm, whatever the layers
+  CHECK(marlin.support.interface_thickness == 0.4);
   const MaterialProfile abs = load_material_profile("abs", kConfigDir);
   CHECK(abs.overhang_angle == 50);
   CHECK(abs.bridge_length == 10);
@@ -287,6 +289,16 @@ TEST_CASE("support_keys_are_checked_like_every_key") {
         "buildplate, everywhere");
   CHECK(config_error([] { parse_printer_profile(kMinimalPrinter + "[support]\nxy_gap = -1\n", "my.toml"); })
             .starts_with("my.toml:11: key 'support.xy_gap' = -1 is not allowed"));
+  // The interface in mm; the count of layers it was once is no key any more, and the error
+  // names the one that is.
+  CHECK(parse_printer_profile(kMinimalPrinter + "[support]\ninterface_thickness = 0.25\n", "my.toml")
+            .support.interface_thickness == 0.25);
+  CHECK(config_error([] { parse_printer_profile(kMinimalPrinter + "[support]\ninterface_thickness = 6\n", "my.toml"); })
+            .starts_with("my.toml:11: key 'support.interface_thickness' = 6 is not allowed"));
+  const std::string old_key =
+      config_error([] { parse_printer_profile(kMinimalPrinter + "[support]\ninterface_layers = 2\n", "my.toml"); });
+  CHECK(old_key.find("unknown key 'support.interface_layers'") != std::string::npos);
+  CHECK(old_key.find("interface_thickness") != std::string::npos);
   // Boxes: a list of [x0, y0, z0, x1, y1, z1], each with its corners in order.
   const PrinterProfile boxes = parse_printer_profile(
       kMinimalPrinter + "[support]\nenforcers = [[0, 0, 0, 10, 10, 5], [20, 20, 1, 30, 25, 2]]\n", "my.toml");

@@ -140,6 +140,49 @@ TEST_CASE("support_keeps_the_top_contact_distance_on_layers_of_any_thickness") {
   }
 }
 
+TEST_CASE("interface_is_a_thickness_in_mm_rounded_up_to_whole_layers_on_any_stack") {
+  // The T on stacks of 0.1, 0.2, 0.25 and 0.4 mm layers under the bar (0.2 mm in it), the
+  // support's top 0.2 mm under the bar at least. The interface: whole layers down from the
+  // support's top until they are the thickness at least: 0.4 mm is 4 x 0.1, 2 x 0.2,
+  // 2 x 0.25 (0.5 mm) or 1 x 0.4 mm (a count of two layers would be 0.8 mm there); 0.3 mm is
+  // 2 x 0.25 or 1 x 0.4; 0.05 mm one layer of any.
+  struct Case {
+    double layer, interface;
+    std::size_t dense;
+  };
+  for (const Case c : {Case{0.1, 0.4, 4}, Case{0.2, 0.4, 2}, Case{0.25, 0.4, 2}, Case{0.4, 0.4, 1},
+                       Case{0.25, 0.3, 2}, Case{0.4, 0.3, 1}, Case{0.1, 0.05, 1}}) {
+    CAPTURE(c.layer);
+    CAPTURE(c.interface);
+    std::vector<double> tops;
+    for (int k = 1; k * c.layer < 20 + 1e-9; ++k) tops.push_back(k * c.layer);
+    for (int k = 1; k <= 25; ++k) tops.push_back(20 + 0.2 * k);
+    const std::vector<Layer> layers = layers_from_tops(tops);
+    const std::vector<Region> regions = regions_of(layers, t_section);
+    SupportOptions o = everywhere();
+    o.interface_thickness = c.interface;
+    const SupportPlan plan = plan_supports(regions, layers, o);
+    const std::size_t bar = layer_from(layers, 20);
+    REQUIRE(bar < layers.size());
+    // The support's top: the highest layer ending at least 0.2 mm under the bar.
+    std::size_t top = bar - 1;
+    while (layers[top].z_hi > 19.8 + 1e-9) --top;
+    for (const Vec2 p : {Vec2{15, 0}, Vec2{-20, 3}}) {
+      for (std::size_t j = 0; j <= top; ++j) {
+        CAPTURE(j);
+        CHECK(inside(plan.layers[j].interface, p) == (j + c.dense > top));
+        CHECK(inside(plan.layers[j].body, p) == (j + c.dense <= top));
+      }
+    }
+    o.interface_thickness = 0;  // none: all of it sparse
+    const SupportPlan sparse = plan_supports(regions, layers, o);
+    for (std::size_t j = 0; j <= top; ++j) {
+      CHECK(sparse.layers[j].interface.loops.empty());
+      CHECK(inside(sparse.layers[j].body, {15, 0}));
+    }
+  }
+}
+
 TEST_CASE("buildplate_support_stands_only_on_the_bed_and_everywhere_also_on_the_part") {
   // A 40 mm foot 2 mm tall, a stem, and a 40 mm bar at 10 mm: the bar's wings are over the
   // foot.
