@@ -413,14 +413,12 @@ namespace {
 constexpr std::size_t kEstimatePairs = 3;
 constexpr double kEstimateChange = 0.10;
 
-double estimated_seconds(const geometry::LayerStack& index, const std::vector<geometry::Layer>& layers,
-                         const printer::Profiles& profiles) {
-  const geometry::LayerStack stack(index, layers);
-  const std::size_t n = layers.size();
-  std::vector<geometry::Region> regions(n);
-  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) { regions[i] = stack.mid(i); });
-  const geometry::SupportPlan supports = geometry::plan_supports(
-      regions, layers, support_options(profiles), raft_options(profiles.printer));
+// Which layer's paths each layer prints in the estimate (itself where it is planned), and in
+// `options.planned` the layers to plan (see estimated_seconds).
+std::vector<std::size_t> estimate_sources(const std::vector<geometry::Region>& regions,
+                                          const geometry::SupportPlan& supports,
+                                          geometry::ToolpathOptions& options) {
+  const std::size_t n = regions.size();
   std::vector<double> part(n), support(n, 0);
   std::vector<char> special(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
@@ -434,7 +432,6 @@ double estimated_seconds(const geometry::LayerStack& index, const std::vector<ge
   const auto unlike = [](double a, double b) {
     return std::abs(a - b) > kEstimateChange * std::max(a, b);
   };
-  geometry::ToolpathOptions options = toolpath_options(profiles.printer);
   // Skins: a layer within the top or bottom layers' reach of a change of area is planned.
   const std::size_t reach =
       static_cast<std::size_t>(std::max({options.top_layers, options.bottom_layers, 0})) + 1;
@@ -454,6 +451,19 @@ double estimated_seconds(const geometry::LayerStack& index, const std::vector<ge
     }
     source[i] = last[i % 2];
   }
+  return source;
+}
+
+double estimated_seconds(const geometry::LayerStack& index, const std::vector<geometry::Layer>& layers,
+                         const printer::Profiles& profiles) {
+  const geometry::LayerStack stack(index, layers);
+  const std::size_t n = layers.size();
+  std::vector<geometry::Region> regions(n);
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) { regions[i] = stack.mid(i); });
+  const geometry::SupportPlan supports = geometry::plan_supports(
+      regions, layers, support_options(profiles), raft_options(profiles.printer));
+  geometry::ToolpathOptions options = toolpath_options(profiles.printer);
+  const std::vector<std::size_t> source = estimate_sources(regions, supports, options);
   auto toolpaths = geometry::plan_toolpaths(regions, layers, options, supports);
   const std::size_t raft = toolpaths.size() - n;  // the part's layers follow the raft's
   for (std::size_t i = 0; i < n; ++i) {
