@@ -498,11 +498,25 @@ const Rule<Target>* find_rule(const Rules<Target>& rules, std::string_view key) 
   return nullptr;
 }
 
+// Keys an earlier mahost read and what took their place, for a profile written for it.
+struct RenamedKey {
+  std::string_view old_key, now;
+};
+constexpr RenamedKey kRenamedKeys[] = {
+    {"support.interface_layers",
+     "'support.interface_thickness', in mm (0.4 for the old 2 layers at 0.2 mm)"},
+};
+
 // "unknown key 'speed.outer_wal'; keys under 'speed': outer_wall, inner_wall, ..." so that a
-// typo is one glance from its fix.
+// typo is one glance from its fix; a renamed key says what it is now.
 template <class Target>
 std::string unknown_key_message(const Rules<Target>& rules, std::string_view key,
                                 const std::string& where) {
+  for (const RenamedKey& renamed : kRenamedKeys) {
+    if (key == renamed.old_key) {
+      return fmt::format("{}: unknown key '{}': it is now {}", where, key, renamed.now);
+    }
+  }
   const std::size_t dot = key.rfind('.');
   const std::string_view section = dot == std::string_view::npos ? "" : key.substr(0, dot);
   std::vector<std::string_view> siblings;
