@@ -170,6 +170,9 @@ struct PartInputs {
   const ToolpathOptions& o;
   const SupportPlan& support;
 
+  // Whether layer k gets paths at all (o.planned; every layer when it is empty).
+  bool planned(std::size_t k) const { return k >= o.planned.size() || o.planned[k] != 0; }
+
   // Whether layers i and j plan their parts alike: the same islands, bead, thickness, core
   // and neighbours (what the skins are cut by), no bridges on either. (Their parity too,
   // which the caller sees to: the solid lines turn every layer.)
@@ -192,11 +195,14 @@ struct PartInputs {
 };
 
 // For every layer, the layer whose part plan it copies, itself if none: that of the layer
-// two below (the same parity) when the two plan alike. A prism's layers all copy two.
+// two below (the same parity) when the two plan alike and it is planned. A prism's layers all
+// copy two. (A layer left unplanned is its own, and nothing copies it.)
 std::vector<std::size_t> plan_sources(const PartInputs& inputs) {
   std::vector<std::size_t> source(inputs.layers.size());
   for (std::size_t i = 0; i < source.size(); ++i) {
-    source[i] = i >= 2 && inputs.alike(i, i - 2) ? source[i - 2] : i;
+    const bool copies = i >= 2 && inputs.planned(i) && inputs.planned(source[i - 2]) &&
+                        inputs.alike(i, i - 2);
+    source[i] = copies ? source[i - 2] : i;
   }
   return source;
 }
@@ -292,15 +298,11 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
     }
   }
 
-  // Each layer's part: planned, or copied from a layer that plans it alike (plan_sources);
-  // the planned layers first, in parallel, then the copies.
-  // Only the layers o.planned marks (all when it is empty); a layer planned copies only from
-  // a planned one.
-  const auto planned = [&](std::size_t i) { return i >= o.planned.size() || o.planned[i] != 0; };
-  std::vector<std::size_t> source = plan_sources({island_paths, outline, cores, layers, o, support});
-  for (std::size_t i = 0; i < n; ++i) {
-    if (planned(i) && !planned(source[i])) source[i] = i;
-  }
+  // Each layer's part, of those o.planned marks: planned, or copied from a layer that plans
+  // it alike (plan_sources); the planned layers first, in parallel, then the copies.
+  const PartInputs inputs{island_paths, outline, cores, layers, o, support};
+  const auto planned = [&](std::size_t i) { return inputs.planned(i); };
+  const std::vector<std::size_t> source = plan_sources(inputs);
   std::vector<std::vector<Island>> islands(n);
   std::atomic<std::size_t> done{0};
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
