@@ -505,8 +505,8 @@ AdaptivePlan adaptive_plan(const LayerStack& stack, double part_height,
   }
   plan.tolerance = tolerance;
 
+  plan.layers = layers_of(path);
   for (std::uint32_t e : path) {
-    plan.layers.push_back({planner.z(planner.from(e)), planner.z(planner.to(e))});
     plan.distance.push_back(planner.exact(e));
     plan.met.push_back(planner.exact(e) <= tolerance);
     if (!plan.met.back()) ++plan.unmet;
