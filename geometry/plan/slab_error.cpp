@@ -78,7 +78,12 @@ SlabMeter::SlabMeter(const LayerStack& stack, SlabErrorOptions options)
       neighbours_[other / 3][other % 3] = f;
       open.erase(it);
     }
+    const auto& face = mesh.faces[f];
+    const double z = mesh.vertices[face[0]].z;
+    if (mesh.vertices[face[1]].z == z && mesh.vertices[face[2]].z == z) flat_heights_.push_back(z);
   }
+  std::sort(flat_heights_.begin(), flat_heights_.end());
+  flat_heights_.erase(std::unique(flat_heights_.begin(), flat_heights_.end()), flat_heights_.end());
 }
 
 bool SlabMeter::every_piece_crosses(std::span<const std::uint32_t> faces, double z_lo,
@@ -181,12 +186,7 @@ SlabError SlabMeter::operator()(double z_lo, double z_hi,
       if (std::isfinite(distance.stop_above)) {
         // A section is the limit from above: at a flat face on the top plane (a step's top)
         // the slab's own surface there is the limit from below, a hair lower.
-        const Mesh& mesh = stack_.mesh();
-        const bool flat_top = std::any_of(faces.begin(), faces.end(), [&](std::uint32_t f) {
-          const auto& face = mesh.faces[f];
-          return mesh.vertices[face[0]].z == z_hi && mesh.vertices[face[1]].z == z_hi &&
-                 mesh.vertices[face[2]].z == z_hi;
-        });
+        const bool flat_top = std::binary_search(flat_heights_.begin(), flat_heights_.end(), z_hi);
         const auto bottom = this->section(z_lo), top = this->section(flat_top ? z_hi - kBelow : z_hi);
         const Region* ends[] = {bottom.get(), top.get()};
         end_farthest = farthest_vertex(ends, walls, distance.stop_above);

@@ -86,6 +86,7 @@ class SlabMeter {
   const LayerStack& stack_;
   SlabErrorOptions options_;
   std::vector<std::array<std::uint32_t, 3>> neighbours_;  // across edge k (corners k, k+1)
+  std::vector<double> flat_heights_;  // of the exactly horizontal faces, ascending, once each
   struct Section;
   mutable std::mutex sections_mutex_;
   mutable std::unordered_map<double, std::shared_ptr<Section>> sections_;
