@@ -26,16 +26,10 @@
 #include "geometry/toolpaths/toolpath_plan.h"
 #include "host/layer_boundaries.h"
 #include "host/progress.h"
+#include "host/uniform_estimate.h"
 #include "printer/error.h"
 
 namespace host {
-namespace {
-
-std::string size_text(std::size_t bytes) {
-  if (bytes >= (1u << 20)) return fmt::format("{:.1f} MiB", bytes / 1048576.0);
-  if (bytes >= 1024) return fmt::format("{:.1f} KiB", bytes / 1024.0);
-  return fmt::format("{} bytes", bytes);
-}
 
 geometry::ToolpathOptions toolpath_options(const printer::PrinterProfile& machine) {
   geometry::ToolpathOptions options;
@@ -107,6 +101,14 @@ geometry::RaftOptions raft_options(const printer::PrinterProfile& machine) {
   options.surface_layers = r.surface_layers;
   options.layer_thickness = r.layer_thickness;
   return options;
+}
+
+namespace {
+
+std::string size_text(std::size_t bytes) {
+  if (bytes >= (1u << 20)) return fmt::format("{:.1f} MiB", bytes / 1048576.0);
+  if (bytes >= 1024) return fmt::format("{:.1f} KiB", bytes / 1024.0);
+  return fmt::format("{} bytes", bytes);
 }
 
 // "x0,y0,z0,x1,y1,z1" as a box, or ConfigError naming the option.
@@ -401,82 +403,6 @@ LayerChoice plan_layers(const SliceOptions& options, const printer::PrinterProfi
 
 namespace {
 
-// The print time of the part sliced in these layers with mid sections, supports and raft as
-// the profiles say (the estimate hardly depends on the contour: the bunny's ma and mid
-// estimates differ by 1%), s. From a sample of the layers: one pair of neighbouring layers in
-// kEstimatePairs has its toolpaths planned, and a layer between prints the paths of the
-// planned one of its parity below it (infill and support lines alternate their direction
-// layer by layer). A layer is planned anyway where it is unlike that one: its part's or its
-// support's area more than kEstimateChange different, support interface or bridges on
-// either, or a change of the part's area within the skins' reach. Against planning every
-// layer (bunny, sphere, T, with and without supports): within 1.5% (the T at 0.4 mm).
-constexpr std::size_t kEstimatePairs = 3;
-constexpr double kEstimateChange = 0.10;
-
-// Which layer's paths each layer prints in the estimate (itself where it is planned), and in
-// `options.planned` the layers to plan (see estimated_seconds).
-std::vector<std::size_t> estimate_sources(const std::vector<geometry::Region>& regions,
-                                          const geometry::SupportPlan& supports,
-                                          geometry::ToolpathOptions& options) {
-  const std::size_t n = regions.size();
-  std::vector<double> part(n), support(n, 0);
-  std::vector<char> special(n, 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    part[i] = geometry::area(regions[i]);
-    if (i < supports.layers.size()) {
-      const geometry::LayerSupport& held = supports.layers[i];
-      support[i] = geometry::area(held.body);
-      special[i] = !held.interface.loops.empty() || !held.bridges.empty();
-    }
-  }
-  const auto unlike = [](double a, double b) {
-    return std::abs(a - b) > kEstimateChange * std::max(a, b);
-  };
-  // Skins: a layer within the top or bottom layers' reach of a change of area is planned.
-  const std::size_t reach =
-      static_cast<std::size_t>(std::max({options.top_layers, options.bottom_layers, 0})) + 1;
-  for (std::size_t i = 1; i < n; ++i) {
-    if (!unlike(part[i], part[i - 1])) continue;
-    for (std::size_t k = i > reach ? i - reach : 0; k < std::min(n, i + reach); ++k) special[k] = 1;
-  }
-  options.planned.assign(n, 0);
-  std::vector<std::size_t> source(n);
-  std::size_t last[2] = {0, 0};  // the last layer planned of each parity
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t from = last[i % 2];
-    if (i < 2 || (i / 2) % kEstimatePairs == 0 || special[i] || special[from] ||
-        unlike(part[i], part[from]) || unlike(support[i], support[from])) {
-      options.planned[i] = 1;
-      last[i % 2] = i;
-    }
-    source[i] = last[i % 2];
-  }
-  return source;
-}
-
-double estimated_seconds(const geometry::LayerStack& index, const std::vector<geometry::Layer>& layers,
-                         const printer::Profiles& profiles) {
-  const geometry::LayerStack stack(index, layers);
-  const std::size_t n = layers.size();
-  std::vector<geometry::Region> regions(n);
-  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) { regions[i] = stack.mid(i); });
-  const geometry::SupportPlan supports = geometry::plan_supports(
-      regions, layers, support_options(profiles), raft_options(profiles.printer));
-  geometry::ToolpathOptions options = toolpath_options(profiles.printer);
-  const std::vector<std::size_t> source = estimate_sources(regions, supports, options);
-  auto toolpaths = geometry::plan_toolpaths(regions, layers, options, supports);
-  const std::size_t raft = toolpaths.size() - n;  // the part's layers follow the raft's
-  for (std::size_t i = 0; i < n; ++i) {
-    if (source[i] != i) toolpaths[raft + i].paths = toolpaths[raft + source[i]].paths;
-  }
-  struct Discard : std::streambuf {
-    int overflow(int c) override { return c; }
-    std::streamsize xsputn(const char*, std::streamsize n) override { return n; }
-  } discard;
-  std::ostream nowhere(&discard);
-  return printer::write_gcode(nowhere, toolpaths, profiles).print_seconds;
-}
-
 // The allowed thickness nearest to `wanted`.
 double nearest_allowed(const geometry::AllowedThicknesses& allowed, double wanted) {
   if (!allowed.listed.empty()) {
@@ -517,18 +443,19 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
 
   const geometry::LayerStack index(mesh, {});
   // The plan line compares an adaptive plan with uniform slicing at the thinnest layer and at
-  // about as many layers. The first needs no plan, so it is estimated beside the planning,
-  // whose rounds of measurements leave cores idle; the second beside what follows the plan.
+  // about as many layers (uniform_estimate.h): a sample of each is timed beside the work, the
+  // first beside the planning, whose rounds of measurements leave cores idle, the second
+  // beside what follows the plan; the plan's own program fills in the rest at the end.
   const geometry::AllowedThicknesses allowed = allowed_thicknesses(machine);
   const bool adaptive = options.adaptive.wanted();
   const std::vector<geometry::FlatLevel> flats =
       adaptive ? geometry::flat_levels(mesh) : std::vector<geometry::FlatLevel>{};
-  const auto uniform_estimate = [&](double t) {
-    const auto plan = geometry::uniform_plan(size.z, t, allowed, flats);
-    return SliceResult::Uniform{t, plan.layers.size(),
-                                estimated_seconds(index, plan.layers, result.profiles)};
+  using Sampled = std::pair<double, LayerSample>;  // the thickness, the sample
+  const auto sample_uniform = [&](double t) {
+    return Sampled{t, sample_layers(index, geometry::uniform_plan(size.z, t, allowed, flats).layers,
+                                    result.profiles)};
   };
-  std::optional<SliceResult::Uniform> thinnest;
+  std::optional<Sampled> thinnest;
   tbb::task_group beside;
   // Joined on every way out: a failed slice does not leave the estimate running.
   struct Joined {
@@ -541,7 +468,7 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
       }
     }
   } joined{beside};
-  if (adaptive) beside.run([&] { thinnest = uniform_estimate(allowed.thinnest()); });
+  if (adaptive) beside.run([&] { thinnest = sample_uniform(allowed.thinnest()); });
   report(SliceStage::planning, 0, 0);
   result.choice = plan_layers(
       options, machine, index, size.z, contour,
@@ -553,13 +480,12 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
   const std::vector<geometry::Layer>& layers = result.layers;
   const std::size_t count = layers.size();
   const geometry::LayerStack stack(index, layers);
-  // The second, at about the plan's count, beside the contours, toolpaths and writing (the
-  // writing leaves a core idle).
-  std::optional<SliceResult::Uniform> same_count;
+  // The second, at about the plan's count, beside the contours, toolpaths and writing.
+  std::optional<Sampled> same_count;
   if (result.choice.adaptive && count > 1) {
     const double t = nearest_allowed(
         allowed, (layers.back().z_hi - machine.first_layer_height) / static_cast<double>(count - 1));
-    if (std::abs(t - allowed.thinnest()) > 1e-9) beside.run([&, t] { same_count = uniform_estimate(t); });
+    if (std::abs(t - allowed.thinnest()) > 1e-9) beside.run([&, t] { same_count = sample_uniform(t); });
   }
 
   std::vector<geometry::Region> regions(count);
@@ -640,8 +566,11 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
   beside.wait();
   if (result.choice.adaptive && count > 1) {
     // What uniform slicing would take: at the thinnest layer, and at about as many layers.
-    result.uniform.push_back(*thinnest);
-    if (same_count) result.uniform.push_back(*same_count);
+    for (const std::optional<Sampled>* sampled : {&thinnest, &same_count}) {
+      if (!*sampled) continue;
+      const auto& [t, sample] = **sampled;
+      result.uniform.push_back({t, sample.layers.size(), uniform_seconds(sample, layers, result.summary)});
+    }
   }
   return result;
 }

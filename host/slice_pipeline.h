@@ -15,6 +15,8 @@
 
 #include "geometry/core/polygon.h"
 #include "geometry/slicing/layer_stack.h"
+#include "geometry/support/support_plan.h"
+#include "geometry/toolpaths/toolpath_plan.h"
 #include "host/layer_choice.h"
 #include "host/model_input.h"
 #include "printer/gcode_writer.h"
@@ -56,6 +58,12 @@ struct SliceOptions {
   std::vector<std::string> overrides;  // "key=value", one per --set
   SupportCliOptions support;
 };
+
+// The profiles' settings as the geometry stages take them: toolpaths, supports (boxes in the
+// part's frame: the part is centred on the bed), the raft.
+geometry::ToolpathOptions toolpath_options(const printer::PrinterProfile& machine);
+geometry::SupportOptions support_options(const printer::Profiles& profiles);
+geometry::RaftOptions raft_options(const printer::PrinterProfile& machine);
 
 // Adds the slice options to a command: the model's placement (--units, --scale, --height,
 // --up, --ignore-normals; not the MODEL argument itself), --printer, --material, --layer,

@@ -598,6 +598,7 @@ GcodeSummary write_gcode(std::ostream& out, const std::vector<LayerToolpaths>& l
   summary.filament_grams = filament_weight(summary.filament_mm, profiles.printer.filament_diameter,
                                            profiles.material.density);
   summary.lines = header.lines() + body.lines();
+  summary.layer_starts = clock.layer_times();
   summary.bytes = header.write(out, seconds, {});
   summary.bytes += body.write(out, seconds, clock.layer_times());
   return summary;

@@ -44,6 +44,10 @@ struct GcodeSummary {
   double filament_grams = 0;
   std::size_t bytes = 0;      // size of the program written
   std::size_t lines = 0;
+  // When each layer starts (its ;LAYER: line), s from the program's start, as the M73 lines
+  // count it: layer k prints from layer_starts[k] to layer_starts[k + 1] (the last to
+  // print_seconds, with the end G-code).
+  std::vector<double> layer_starts;
 };
 
 // Called after each layer is written with the count written so far.
