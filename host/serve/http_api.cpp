@@ -17,6 +17,7 @@
 
 #include "geometry/core/error.h"
 #include "geometry/mesh/stl_io.h"
+#include "host/layer_choice.h"
 #include "host/local_time.h"
 #include "host/serve/api_key.h"
 #include "host/serve/file_store.h"
@@ -239,10 +240,124 @@ int admit(const Request& req, Response& res, const std::string& key, const Serve
   return 0;
 }
 
+// The fields a slice request may carry, as the slice command's JSON keys and an STL upload's
+// form fields (OctoPrint's slicing plugins take their options as extra form fields): what the
+// upload passes on, and what a "profile." prefix may name. Each is a `mahost slice` option.
+constexpr const char* kSliceFields[] = {
+    "gcode",     "printer",  "material",  "layer",   "contour", "units", "up",
+    "height",    "scale",    "perimeters", "infill", "support", "brim",  "raft",
+    "adaptive",  "tolerance", "maxLayers", "maxTime", "orient"};
+
+bool is_slice_field(const std::string& key) {
+  return std::any_of(std::begin(kSliceFields), std::end(kSliceFields),
+                     [&](const char* field) { return key == field; });
+}
+
+std::string slice_field_list() {
+  std::string out;
+  for (const char* field : kSliceFields) out += (out.empty() ? "" : ", ") + std::string(field);
+  return out;
+}
+
+// OctoPrint's slice command names the printer profile "printerProfile" and overrides its slicing
+// profile's keys as "profile.<key>": both taken as mahost's own fields. "_default" (the one
+// printer profile GET /api/printerprofiles lists) is the server's printer. A "profile." key that
+// is no slice field is refused, not ignored: the client meant something by it.
+json with_octoprint_names(const json& body) {
+  json merged = body;
+  for (const auto& [key, value] : body.items()) {
+    std::string field;
+    if (key == "printerProfile") {
+      if (value.is_string() && value.get<std::string>() == "_default") continue;
+      field = "printer";
+    } else if (key.rfind("profile.", 0) == 0) {
+      field = key.substr(8);
+      if (!is_slice_field(field) || field == "gcode") {
+        throw Refusal{400, fmt::format("\"{}\": mahost slices with profile.<field> for the fields {}", key,
+                                       slice_field_list())};
+      }
+    } else {
+      continue;
+    }
+    if (body.contains(field) && body[field] != value) {
+      throw Refusal{400, fmt::format("\"{}\" and \"{}\" disagree: give one", key, field)};
+    }
+    merged[field] = value;
+  }
+  return merged;
+}
+
+// A true/false field that may be left out: nullopt then (the profile decides).
+std::optional<bool> optional_bool_field(const json& body, const char* key) {
+  const auto it = body.find(key);
+  if (it == body.end() || it->is_null()) return std::nullopt;
+  if (it->is_boolean()) return it->get<bool>();
+  if (it->is_string()) {
+    std::string v = it->get<std::string>();
+    std::transform(v.begin(), v.end(), v.begin(), [](unsigned char c) { return std::tolower(c); });
+    if (v == "true" || v == "1" || v == "yes" || v == "on") return true;
+    if (v == "false" || v == "0" || v == "no" || v == "off") return false;
+  }
+  throw Refusal{400, fmt::format("\"{}\" must be true or false", key)};
+}
+
+// Supports, brim, raft, the adaptive plan and the orientation, as `mahost slice` takes them
+// (--support, --brim, --raft/--no-raft, --adaptive, --tolerance, --max-layers, --max-time,
+// --orient auto), with the command line's ranges and exclusions; each left out is the profile's.
+void apply_slice_extras(const json& body, SliceOptions& o) {
+  const std::string support = string_field(body, "support");
+  if (!support.empty()) {
+    if (support != "none" && support != "buildplate" && support != "everywhere") {
+      throw Refusal{400, fmt::format("support: '{}' is not none, buildplate or everywhere", support)};
+    }
+    o.support.placement = support;
+  }
+  if (const auto brim = number_field(body, "brim")) {
+    if (!(*brim >= 0) || *brim > 50) throw Refusal{400, "brim must be 0 to 50 mm (0 for none)"};
+    o.support.brim = *brim;
+  }
+  if (const auto raft = optional_bool_field(body, "raft")) {
+    o.support.raft = *raft;
+    o.support.no_raft = !*raft;
+  }
+  AdaptiveRequest& a = o.adaptive;
+  a.adaptive = optional_bool_field(body, "adaptive").value_or(false);
+  if (const auto tolerance = number_field(body, "tolerance")) {
+    if (!(*tolerance > 0) || *tolerance > 10) throw Refusal{400, "tolerance must be above 0 mm (10 at most)"};
+    a.tolerance = *tolerance;
+  }
+  if (const auto layers = number_field(body, "maxLayers")) {
+    if (!(*layers >= 1) || *layers > 100000 || *layers != std::floor(*layers)) {
+      throw Refusal{400, "maxLayers must be a whole number of layers, 1 to 100000"};
+    }
+    a.max_layers = static_cast<std::size_t>(*layers);
+  }
+  const std::string max_time = string_field(body, "maxTime");
+  if (!max_time.empty()) {
+    const std::optional<double> seconds = parse_duration(max_time);
+    if (!seconds || !(*seconds > 0)) {
+      throw Refusal{400, fmt::format("maxTime: '{}' is not a duration: give hours, minutes and seconds, as "
+                                     "1h30m, 90m or 5400s", max_time)};
+    }
+    a.max_seconds = *seconds;
+  }
+  const int budgets = (a.tolerance > 0) + (a.max_layers > 0) + (a.max_seconds > 0);
+  if (budgets > 1) throw Refusal{400, "give one of tolerance, maxLayers and maxTime, not two"};
+  if (a.wanted() && o.layer > 0) {
+    throw Refusal{400, "layer and adaptive layers: give one (an adaptive plan chooses each layer's thickness)"};
+  }
+  const std::string orient = string_field(body, "orient");
+  if (!orient.empty()) {
+    if (orient != "none" && orient != "auto") throw Refusal{400, fmt::format("orient: '{}' is not none or auto", orient)};
+    o.model.orient = orient;
+  }
+}
+
 // The slice command's fields (or an STL upload's form fields, as strings) as a request to
 // slice `model`; Refusal (400) for a field out of its range, a profile the server does not
 // have, or a layer thickness the printer cannot print.
-SliceRequest slice_request(const json& body, const std::string& name, const printer::Profiles& serving) {
+SliceRequest slice_request(const json& given, const std::string& name, const printer::Profiles& serving) {
+  const json body = with_octoprint_names(given);
   SliceRequest request;
   request.model = name;
   std::string gcode = string_field(body, "gcode");
@@ -312,9 +427,10 @@ SliceRequest slice_request(const json& body, const std::string& name, const prin
     if (*infill < 0 || *infill > 100) throw Refusal{400, "infill must be 0 to 100 (percent)"};
     o.infill = *infill;
   }
+  apply_slice_extras(body, o);
   request.print = bool_field(body, "print");
   request.select = request.print || bool_field(body, "select");
-  // The printer must allow the layer: said now, not after slicing.
+  // The printer must allow the layer (and a raft's): said now, not after slicing.
   try {
     const printer::Profiles profiles = load_slice_profiles(o);
     printer::check_layer_thickness(profiles.printer, o.layer > 0 ? o.layer : profiles.printer.layer.default_thickness);
@@ -657,33 +773,35 @@ void HttpApi::upload(const Request& req, Response& res, const httplib::ContentRe
                                      what.rfind(temp, 0) == 0 ? what.substr(temp.size()) : what)};
     }
   }
+  const bool print = truthy(fields["print"]);
+  const bool select = print || truthy(fields["select"]);
+  // mahost's own fields: an STL is sliced on the host with the page's settings. They are checked
+  // before the file is stored: a value out of range is a 400 and leaves the folder as it was.
+  std::optional<SliceRequest> slicing;
+  if (kind == FileKind::model && (truthy(fields["slice"]) || select)) {
+    json body = json::object();
+    for (const auto& [key, value] : fields) {
+      if (!value.empty() && (is_slice_field(key) || key == "printerProfile" || key.rfind("profile.", 0) == 0)) {
+        body[key] = value;
+      }
+    }
+    body["select"] = select;
+    body["print"] = print;
+    slicing = slice_request(body, name, session_.profiles());
+  }
   if (!file->commit(name)) throw Refusal{500, fmt::format("{}: the upload could not be stored", name)};
   if (kind == FileKind::gcode) files_.remember(name, analysis);
   session_.file_changed(name);
 
-  const bool print = truthy(fields["print"]);
-  const bool select = print || truthy(fields["select"]);
   bool effective_select = false, effective_print = false, done = true;
   if (kind == FileKind::gcode && select) {
     const Outcome o = session_.select(name, print);
     effective_select = o.ok() || (print && session_.status().selected && session_.status().selected->name == name);
     effective_print = print && o.ok();
-  } else if (kind == FileKind::model && (truthy(fields["slice"]) || select)) {
-    // mahost's own fields: an STL is sliced on the host with the page's settings.
-    json body = json::object();
-    for (const char* key : {"gcode", "printer", "material", "layer", "contour", "units", "up", "height", "scale",
-                            "perimeters", "infill"}) {
-      if (fields.count(key) && !fields[key].empty()) body[key] = fields[key];
-    }
-    body["select"] = select;
-    body["print"] = print;
+  } else if (slicing) {
     std::string refused;
-    try {
-      const Outcome o = session_.slice(slice_request(body, name, session_.profiles()));
-      if (!o.ok()) refused = o.message;
-    } catch (const Refusal& r) {
-      refused = r.message;
-    }
+    const Outcome o = session_.slice(std::move(*slicing));
+    if (!o.ok()) refused = o.message;
     if (!refused.empty()) {
       // Stored, but not sliced: the answer says why; the file stays for another try.
       res.set_header("Location", base_url(req) + "/api/files/local/" + name);
@@ -904,10 +1022,14 @@ void HttpApi::get_profiles(const Request&, Response& res) {
           allowed.push_back(std::round((p.layer.min + i * p.layer.step) * 1e6) / 1e6);
         }
       }
+      // What a slice with this printer does where the request leaves a field out.
       printers.push_back({{"id", id}, {"name", p.name}, {"layers", allowed},
                           {"minLayer", p.layer.min}, {"maxLayer", p.layer.max},
                           {"defaultLayer", p.layer.default_thickness},
-                          {"material", p.default_material}});
+                          {"material", p.default_material},
+                          {"defaults", {{"support", p.support.type}, {"brim", p.brim_width},
+                                        {"raft", p.raft.enabled}, {"adaptive", false},
+                                        {"tolerance", kDefaultTolerance}, {"orient", "none"}}}});
     } catch (const printer::ConfigError&) {
       // a broken profile is left out of the choice; slicing with it would say why
     }
@@ -923,6 +1045,7 @@ void HttpApi::get_profiles(const Request&, Response& res) {
   send_json(res, {{"printers", printers},
                   {"materials", materials},
                   {"contours", contour_strategy_names()},
+                  {"supports", {"none", "buildplate", "everywhere"}},
                   {"serving",
                    {{"printer", fs::path(serving.printer.source).stem().string()},
                     {"printerName", serving.printer.name},

@@ -245,7 +245,7 @@ json page_status_json(const Status& s, const std::vector<Event>& events) {
     const SliceStatus& sl = *s.slicing;
     j["slicing"] = {{"model", sl.model}, {"gcode", sl.gcode}, {"stage", sl.stage},
                     {"done", sl.done}, {"total", sl.total}, {"error", sl.error},
-                    {"summary", sl.summary}};
+                    {"summary", sl.summary}, {"plan", sl.plan}};
   } else {
     j["slicing"] = nullptr;
   }

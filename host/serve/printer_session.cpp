@@ -49,6 +49,24 @@ std::string file_hash(const std::string& path) {
   return printer::content_hash(bytes.str());
 }
 
+// "mid contour, support buildplate, brim 5 mm, no raft, adaptive within 0.25 mm, orient auto":
+// the settings of a slice, those left to the profile left out, for the event log.
+std::string slice_settings_text(const SliceOptions& o) {
+  std::string text = o.contour + " contour";
+  const auto add = [&](const std::string& part) { text += ", " + part; };
+  if (o.layer > 0) add(fmt::format("layer {:g} mm", o.layer));
+  if (!o.support.placement.empty()) add("support " + o.support.placement);
+  if (o.support.brim >= 0) add(fmt::format("brim {:g} mm", o.support.brim));
+  if (o.support.raft) add("raft");
+  if (o.support.no_raft) add("no raft");
+  const AdaptiveRequest& a = o.adaptive;
+  if (a.max_layers > 0) add(fmt::format("adaptive, at most {} layers", a.max_layers));
+  else if (a.max_seconds > 0) add(fmt::format("adaptive, within {}", printer::format_duration(a.max_seconds)));
+  else if (a.wanted()) add(fmt::format("adaptive within {:g} mm", a.tolerance > 0 ? a.tolerance : kDefaultTolerance));
+  if (o.model.orient != "none") add("orient " + o.model.orient);
+  return text;
+}
+
 }  // namespace
 
 std::string state_text(const Status& s) {
@@ -403,7 +421,7 @@ Outcome PrinterSession::slice(SliceRequest request) {
       return {409, fmt::format("{} is being printed: slice to another name", request.gcode)};
     }
     slicing_ = true;
-    status_.slicing = SliceStatus{request.model, request.gcode, "starting", 0, 0, {}, {}};
+    status_.slicing = SliceStatus{request.model, request.gcode, "starting", 0, 0, {}, {}, {}};
     publish();
   }
   if (slice_thread_.joinable()) slice_thread_.join();  // the last one, done
@@ -432,8 +450,8 @@ void PrinterSession::slice_worker(SliceRequest request) {
   const std::string output = files_.path_of(request.gcode);
   auto last = std::chrono::steady_clock::now() - 1s;
   bool ok = false;
-  std::string summary, error;
-  add_event(fmt::format("slicing {} to {} ({} contour)", request.model, request.gcode, options.contour));
+  std::string summary, plan, error;
+  add_event(fmt::format("slicing {} to {} ({})", request.model, request.gcode, slice_settings_text(options)));
   try {
     const SliceResult result = slice_to_gcode(
         options, output, [&](SliceStage stage, std::size_t done, std::size_t total) {
@@ -450,6 +468,7 @@ void PrinterSession::slice_worker(SliceRequest request) {
           publish();
         });
     summary = slice_summary_text(result);
+    plan = slice_plan_text(result);
     ok = true;
   } catch (const SliceCancelled&) {
     error = "the server is shutting down";
@@ -467,10 +486,11 @@ void PrinterSession::slice_worker(SliceRequest request) {
       status_.slicing->stage = ok ? "done" : "failed";
       status_.slicing->error = error;
       status_.slicing->summary = summary;
+      status_.slicing->plan = plan;
     }
     publish();
   }
-  add_event(ok ? fmt::format("sliced {}: {}", request.gcode, summary)
+  add_event(ok ? fmt::format("sliced {}: {}{}", request.gcode, summary, plan.empty() ? "" : "; " + plan)
                : fmt::format("slicing {} failed: {}", request.model, error));
   if (ok && (request.select || request.print)) {
     const Outcome o = select(request.gcode, request.print);

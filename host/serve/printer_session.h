@@ -56,6 +56,7 @@ struct SliceStatus {
   std::size_t done = 0, total = 0;
   std::string error;
   std::string summary;           // slice_summary_text once done
+  std::string plan;              // slice_plan_text once done ("" for uniform layers)
 };
 
 // An interrupted job found in the job directory.

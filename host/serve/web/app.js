@@ -193,7 +193,8 @@ function render(s) {
   const slicing = s.slicing;
   $("slicing").hidden = !slicing;
   if (slicing) {
-    $("slicing").textContent = slicing.stage === "done" ? `Sliced ${slicing.gcode}: ${slicing.summary}`
+    $("slicing").textContent = slicing.stage === "done"
+      ? `Sliced ${slicing.gcode}: ${slicing.summary}${slicing.plan ? "; " + slicing.plan : ""}`
       : slicing.stage === "failed" ? `Slicing ${slicing.model} failed: ${slicing.error}`
       : `Slicing ${slicing.model} → ${slicing.gcode}: ${slicing.stage} ${slicing.total ? `${slicing.done}/${slicing.total}` : ""}`;
   }
@@ -362,23 +363,41 @@ async function loadFiles() {
   }
 }
 
+// The form's settings as the slice command's fields (the upload sends the same as form fields).
+// Values are sent as typed: the server checks them and says what is wrong in one line.
 function sliceOptions() {
   const options = {
     printer: $("opt-printer").value, material: $("opt-material").value,
-    layer: $("opt-layer").value, contour: $("opt-contour").value,
-    units: $("opt-units").value, up: $("opt-up").value,
+    contour: $("opt-contour").value, units: $("opt-units").value, up: $("opt-up").value,
+    support: $("opt-support").value, raft: $("opt-raft").checked ? "true" : "false",
   };
   if ($("opt-height").value) options.height = $("opt-height").value;
+  if ($("opt-brim").value !== "") options.brim = $("opt-brim").value;
+  if ($("opt-orient").checked) options.orient = "auto";
+  if ($("opt-adaptive").checked) {
+    options.adaptive = "true";
+    if ($("opt-tolerance").value !== "") options.tolerance = $("opt-tolerance").value;
+    if ($("opt-max-layers").value !== "") options.maxLayers = $("opt-max-layers").value;
+  } else {
+    options.layer = $("opt-layer").value;
+  }
   return options;
 }
 
 async function sliceStored(name) {
   $("slice-options").hidden = false;
-  await act("POST", `/api/files/local/${encodeURIComponent(name)}`,
-    Object.assign({ command: "slice", print: $("upload-print").checked }, sliceOptions()));
+  try {
+    await api("POST", `/api/files/local/${encodeURIComponent(name)}`,
+      Object.assign({ command: "slice", print: $("upload-print").checked }, sliceOptions()));
+    $("upload-message").textContent = `Slicing ${name} on the host…`;
+  } catch (e) {
+    if (!(e instanceof KeyRefused)) $("upload-message").textContent = `Refused: ${e.message}`;
+    report(e);
+  }
 }
 
-function fillLayers() {
+// The chosen printer's thicknesses and, for every field the printer profile decides, its value.
+function fillDefaults() {
   const printer = (state.profiles.printers || []).find((p) => p.id === $("opt-printer").value);
   const select = $("opt-layer");
   select.replaceChildren();
@@ -391,6 +410,27 @@ function fillLayers() {
     select.append(o);
   }
   if (printer.material) $("opt-material").value = printer.material;
+  const d = printer.defaults || {};
+  if (d.support) $("opt-support").value = d.support;
+  $("opt-brim").value = d.brim !== undefined ? d.brim : "";
+  $("opt-raft").checked = !!d.raft;
+  $("opt-orient").checked = d.orient === "auto";
+  $("opt-adaptive").checked = !!d.adaptive;
+  $("opt-tolerance").value = "";
+  $("opt-tolerance").placeholder = d.tolerance !== undefined ? `${d.tolerance}` : "";
+  $("opt-max-layers").value = "";
+  adaptiveChanged();
+  $("opt-defaults").textContent = `${printer.name}'s defaults: support ${d.support}, brim ${d.brim} mm, ` +
+    `${d.raft ? "on a raft" : "no raft"}, ${printer.defaultLayer} mm layers` +
+    (d.tolerance !== undefined ? ` (adaptive: tolerance ${d.tolerance} mm)` : "");
+}
+
+// Adaptive layers choose their own thicknesses: the layer choice gives way to the plan's.
+function adaptiveChanged() {
+  const adaptive = $("opt-adaptive").checked;
+  $("opt-layer").disabled = adaptive;
+  $("opt-tolerance").disabled = !adaptive;
+  $("opt-max-layers").disabled = !adaptive;
 }
 
 async function loadProfiles() {
@@ -408,11 +448,13 @@ async function loadProfiles() {
   fill("opt-printer", state.profiles.printers, state.profiles.serving.printer);
   fill("opt-material", state.profiles.materials, state.profiles.serving.material);
   fill("opt-contour", state.profiles.contours, "best");
-  fillLayers();
+  fill("opt-support", state.profiles.supports || [], "");
+  fillDefaults();
   $("opt-material").value = state.profiles.serving.material;
 }
 
-$("opt-printer").addEventListener("change", fillLayers);
+$("opt-printer").addEventListener("change", fillDefaults);
+$("opt-adaptive").addEventListener("change", adaptiveChanged);
 
 $("upload-file").addEventListener("change", () => {
   const file = $("upload-file").files[0];
@@ -454,7 +496,9 @@ $("upload-form").addEventListener("submit", (event) => {
     } else if (request.status === 201) {
       $("upload-message").textContent = data && data.error ? `Stored, not sliced: ${data.error}`
         : data && !data.done ? "Uploaded: slicing on the host…" : "Uploaded.";
-      $("upload-form").reset();
+      // The slice settings stay for the next upload; the file and "print" do not.
+      $("upload-file").value = "";
+      $("upload-print").checked = false;
       $("upload-name").textContent = "Choose a G-code or STL file…";
       $("slice-options").hidden = true;
     } else {

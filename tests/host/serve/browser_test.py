@@ -2,8 +2,10 @@
 """The mahost serve page in a real browser: headless Chromium driven by Selenium.
 
 Opens the page, gives it the API key, uploads a G-code file, starts it, pauses, checks the
-layer holds, resumes, sees the layer advance, cancels; checks the layer drawing and that the
-page fits a phone's width. Against `mahost serve --dry-run` on a free loopback port.
+layer holds, resumes, sees the layer advance, cancels; checks the layer drawing; uploads an STL
+T with supports and adaptive layers set on the form (a bad brim refused first) and finds them in
+the sliced G-code, and no support where the form says none; checks that the page fits a phone's
+width. Against `mahost serve --dry-run` on a free loopback port.
 
 Usage: browser_test.py MAHOST SCRATCH_DIR [--screenshot PNG]
 Exit 0: passed; 1: failed (the reason on stderr); 77: Chromium, chromedriver or Selenium
@@ -22,6 +24,7 @@ try:
     from selenium.common.exceptions import WebDriverException
     from selenium.webdriver.chrome.service import Service
     from selenium.webdriver.common.by import By
+    from selenium.webdriver.support.ui import Select
 except ImportError:
     print("browser_test: python3-selenium is not installed (scripts/setup installs it)", file=sys.stderr)
     sys.exit(77)
@@ -47,6 +50,38 @@ def ring_program(layers, segments):
         g.append(f"G1 E{e - 1:.5f} F1800")
     g += ["M104 S0", "M140 S0", "G91", "G1 Z10 F600", "G90", "M84"]
     return "\n".join(g) + "\n"
+
+
+def tee_stl(path):
+    """An ASCII STL T lying along x: a 10 x 10 x 20 mm stem under a 10 x 50 x 5 mm bar whose
+    wings overhang 20 mm each side, so standing as given it needs support under them."""
+    profile = [(-5, 0), (5, 0), (5, 20), (25, 20), (25, 25), (5, 25), (-5, 25), (-25, 25), (-25, 20), (-5, 20)]
+    x0, x1 = -5, 5
+    # The cap in rectangles whose corners are all profile points (no vertex inside an edge).
+    rectangles = [[0, 1, 2, 9], [9, 2, 5, 6], [8, 9, 6, 7], [2, 3, 4, 5]]
+    triangles = []
+    for a, b, c, d in rectangles:
+        for tri in ([a, b, c], [a, c, d]):
+            triangles.append([(x1,) + profile[i] for i in tri])            # +x cap, counter-clockwise
+            triangles.append([(x0,) + profile[i] for i in reversed(tri)])  # -x cap
+    for i in range(len(profile)):
+        p, q = profile[i], profile[(i + 1) % len(profile)]
+        # The profile runs counter-clockwise in (y, z): outward is to the right of p -> q.
+        triangles.append([(x0,) + p, (x0,) + q, (x1,) + q])
+        triangles.append([(x0,) + p, (x1,) + q, (x1,) + p])
+    lines = ["solid tee"]
+    for t in triangles:
+        u = [t[1][k] - t[0][k] for k in range(3)]
+        v = [t[2][k] - t[0][k] for k in range(3)]
+        n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]]
+        length = math.sqrt(sum(c * c for c in n))
+        lines.append("facet normal %g %g %g" % tuple(c / length for c in n))
+        lines.append("outer loop")
+        lines += ["vertex %g %g %g" % point for point in t]
+        lines += ["endloop", "endfacet"]
+    lines.append("endsolid tee")
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
 
 
 class Failed(Exception):
@@ -161,6 +196,55 @@ def main():
             raise Failed("the print completed instead of being cancelled")
         if "cancelled at layer" not in text("events"):
             raise Failed(f"no cancel event in the log: {text('events')[:300]}")
+
+        # An STL sliced with the form's supports and adaptive layers. The UP Plus 2 supports
+        # everywhere by default: buildplate shows the form's choice reached the slicer.
+        tee = os.path.join(scratch, "tee.stl")
+        tee_stl(tee)
+        find("upload-file").send_keys(tee)
+        wait_until("the slice settings", lambda: find("slice-options").is_displayed())
+        wait_until("the support choice", lambda: len(Select(find("opt-support")).options) == 3)
+        defaults = driver.execute_script(
+            "return state.profiles.printers.find((p) => p.id === document.getElementById('opt-printer').value).defaults")
+        if find("opt-support").get_attribute("value") != defaults["support"] or \
+                find("opt-raft").is_selected() != defaults["raft"]:
+            raise Failed(f"the form does not show the printer's defaults {defaults}")
+        find("opt-brim").clear()
+        find("opt-brim").send_keys("-1")
+        find("upload-button").click()
+        wait_until("the bad brim refused", lambda: "Refused: brim" in text("upload-message"))
+        find("opt-brim").clear()
+        find("opt-brim").send_keys("0")
+        Select(find("opt-support")).select_by_value("buildplate")
+        if find("opt-raft").is_selected():
+            find("opt-raft").click()
+        find("opt-adaptive").click()
+        if find("opt-layer").is_enabled() or not find("opt-tolerance").is_enabled():
+            raise Failed("adaptive layers leave the layer choice enabled, or the tolerance disabled")
+        find("opt-tolerance").send_keys("0.3")
+        find("upload-button").click()
+        wait_until("tee.gcode sliced", lambda: text("slicing").startswith("Sliced tee.gcode"), timeout=180)
+        with open(os.path.join(scratch, "files", "tee.gcode")) as f:
+            sliced = f.read()
+        for wanted in [";TYPE:SUPPORT", "\n; support: buildplate, ", "(adaptive, D within 0.3 mm)"]:
+            if wanted not in sliced:
+                raise Failed(f"the sliced tee.gcode lacks {wanted!r}")
+        if ";TYPE:RAFT" in sliced:
+            raise Failed("tee.gcode stands on a raft, though the form said none")
+        if "adaptive:" not in text("slicing"):
+            raise Failed(f"the page does not show the plan: {text('slicing')!r}")
+
+        # The settings stay for the next upload; support none leaves the wings unsupported.
+        tee2 = os.path.join(scratch, "tee2.stl")
+        shutil.copy(tee, tee2)
+        find("upload-file").send_keys(tee2)
+        Select(find("opt-support")).select_by_value("none")
+        find("upload-button").click()
+        wait_until("tee2.gcode sliced", lambda: text("slicing").startswith("Sliced tee2.gcode"), timeout=180)
+        with open(os.path.join(scratch, "files", "tee2.gcode")) as f:
+            sliced = f.read()
+        if ";TYPE:SUPPORT" in sliced or "(adaptive, D within 0.3 mm)" not in sliced:
+            raise Failed("tee2.gcode has support, or lost the adaptive layers kept on the form")
 
         # A phone's width: nothing wider than the screen.
         driver.set_window_size(390, 844)

@@ -3,7 +3,9 @@
 // checked field by field), as PrusaSlicer's and Cura's OctoPrint clients read them.
 #include <doctest/doctest.h>
 
+#include "geometry/mesh/stl_io.h"
 #include "serve_fixture.h"
+#include "support/solids.h"
 
 using namespace serve_test;
 
@@ -25,6 +27,51 @@ std::string docs_upload_body(const std::string& boundary) {
          "true\r\n"
          "--" + boundary + "--\r\n";
 }
+
+// A T, one closed mesh: a 10 x 10 x 20 mm stem under a 10 x 50 x 5 mm bar whose wings overhang
+// 20 mm on each side: standing as given it needs support under both wings; resting on its bar
+// or on a T-shaped end it needs none.
+std::string tee_stl(const std::string& dir) {
+  const std::string path = dir + "/tee.stl";
+  geometry::write_stl_binary(path, solids::lying_prism({{-5, 0}, {5, 0}, {5, 20}, {25, 20}, {25, 25},
+                                                        {-25, 25}, {-25, 20}, {-5, 20}},
+                                                       -5, 5).mesh);
+  return read_text(path);
+}
+
+// POST /api/files/local/<model> {"command": "slice", ...}: the status, and once the slice is
+// done the G-code it wrote ("" when refused or failed; the failure in the INFO).
+struct Sliced {
+  int status = 0;
+  std::string error;  // the refusal's "error"
+  std::string gcode;
+};
+
+Sliced slice_command(const Serve& serve, const ServeDirs& dirs, const std::string& model, json body) {
+  body["command"] = "slice";
+  auto c = serve.client();
+  auto r = c.Post("/api/files/local/" + model, body.dump(), "application/json");
+  REQUIRE(r);
+  Sliced out;
+  out.status = r->status;
+  if (r->status != 202) {
+    const json reply = json::parse(r->body, nullptr, false);
+    if (reply.is_object() && reply.contains("error")) out.error = reply["error"].get<std::string>();
+    return out;
+  }
+  const std::string gcode = json::parse(r->body)["name"].get<std::string>();
+  REQUIRE(wait_for([&] {
+    const json s = serve.get_json("/api/mahost/status")["slicing"];
+    return !s.is_null() && s["gcode"] == gcode && (s["stage"] == "done" || s["stage"] == "failed");
+  }, 120s));
+  const json s = serve.get_json("/api/mahost/status")["slicing"];
+  INFO(s.dump());
+  REQUIRE(s["stage"] == "done");
+  out.gcode = read_text(dirs.files + "/" + gcode);
+  return out;
+}
+
+bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 }  // namespace
 
@@ -195,5 +242,123 @@ TEST_CASE("select_and_start_as_in_the_docs_and_a_second_start_conflicts") {
   REQUIRE(wait_for([&] { return serve.get_json("/api/job")["mahost"]["jobState"] == "cancelled"; }, 60s));
   CHECK(serve.state() == "Operational");
   CHECK(serve.post_json("/api/job", {{"command", "cancel"}}) == 409);
+  CHECK(serve.stop() == 0);
+}
+
+// The slice command of the docs ("Issue a file command", slice: gcode, printerProfile, profile.*
+// overrides, select, print), with mahost's fields for supports, brim, raft, adaptive layers and
+// the orientation; each left out is the printer profile's (the UP Plus 2: support everywhere,
+// on a raft, no brim, 0.3 mm layers).
+TEST_CASE("the_slice_command_carries_supports_brim_raft_adaptive_layers_and_orientation") {
+  ServeDirs dirs("serve_slice_fields");
+  Serve serve(dirs, {"--time-scale", "max"});
+  REQUIRE(serve.upload("tee.stl", tee_stl(dirs.root))->status == 201);
+
+  // The profile's own: support under the wings, on a raft, no brim.
+  const Sliced plain = slice_command(serve, dirs, "tee.stl", {{"gcode", "plain.gcode"}});
+  CHECK(has(plain.gcode, ";TYPE:SUPPORT"));
+  CHECK(has(plain.gcode, ";TYPE:RAFT"));
+  CHECK_FALSE(has(plain.gcode, ";TYPE:BRIM"));
+
+  // No support, a 5 mm brim, no raft: none of either, the brim there.
+  const Sliced bare = slice_command(serve, dirs, "tee.stl",
+                                    {{"gcode", "bare.gcode"}, {"support", "none"}, {"brim", 5}, {"raft", false}});
+  CHECK(bare.status == 202);
+  CHECK_FALSE(has(bare.gcode, ";TYPE:SUPPORT"));
+  CHECK_FALSE(has(bare.gcode, ";TYPE:RAFT"));
+  CHECK(has(bare.gcode, ";TYPE:BRIM"));
+  CHECK(has(bare.gcode, "\n; brim: 5 mm\n"));
+
+  // OctoPrint's names: the slicer, slicing profile and position it sends are taken as given
+  // (there is one slicer, and the part is centred), printerProfile "_default" is the server's
+  // printer, and profile.<field> is mahost's field (form values are strings).
+  const Sliced octo = slice_command(serve, dirs, "tee.stl",
+                                    {{"slicer", "cura"}, {"gcode", "octo.gcode"}, {"printerProfile", "_default"},
+                                     {"profile", "high_quality"}, {"profile.support", "buildplate"},
+                                     {"profile.raft", "false"}, {"profile.brim", "2.5"},
+                                     {"position", {{"x", 100}, {"y", 100}}}});
+  CHECK(octo.status == 202);
+  CHECK(has(octo.gcode, ";TYPE:SUPPORT"));  // the wings' columns stand on the bed
+  CHECK(has(octo.gcode, "\n; support: buildplate, "));
+  CHECK(has(octo.gcode, "\n; brim: 2.5 mm\n"));
+  CHECK_FALSE(has(octo.gcode, ";TYPE:RAFT"));
+
+  // Adaptive layers within 0.25 mm: the plan's header line says so.
+  const Sliced adaptive = slice_command(serve, dirs, "tee.stl",
+                                        {{"gcode", "adaptive.gcode"}, {"adaptive", true}, {"tolerance", 0.25},
+                                         {"support", "none"}, {"raft", false}});
+  CHECK(adaptive.status == 202);
+  CHECK(has(adaptive.gcode, "(adaptive, D within 0.25 mm)"));
+  // At most 80 layers: 25 mm needs 63 at the thickest (0.3 mm first, then 0.4 mm).
+  const Sliced budget = slice_command(serve, dirs, "tee.stl",
+                                      {{"gcode", "budget.gcode"}, {"maxLayers", 80}, {"raft", false}});
+  CHECK(budget.status == 202);
+  const int layers = serve.get_json("/api/files/local/budget.gcode")["mahost"]["layers"];
+  CHECK(layers <= 80);
+  CHECK(layers >= 1 + static_cast<int>(std::ceil((25 - 0.3) / 0.4 - 1e-9)));
+
+  // Turned for least support: the T rests on its bar or on an end, and needs none, though
+  // support is asked for everywhere.
+  const Sliced turned = slice_command(serve, dirs, "tee.stl",
+                                      {{"gcode", "turned.gcode"}, {"orient", "auto"}, {"support", "everywhere"}});
+  CHECK(turned.status == 202);
+  CHECK_FALSE(has(turned.gcode, ";TYPE:SUPPORT"));
+  CHECK(has(turned.gcode, "\n; support: everywhere, "));
+  CHECK(serve.stop() == 0);
+}
+
+// Values out of range, unknown names and contradictions: 400 with OctoPrint's {"error": ...},
+// one line naming the field, for the slice command and for an upload's form fields alike (the
+// upload then stores nothing); the server serves on.
+TEST_CASE("bad_slice_fields_are_refused_in_one_line_naming_the_field") {
+  ServeDirs dirs("serve_slice_refusals");
+  Serve serve(dirs, {"--time-scale", "max"});
+  const std::string tee = tee_stl(dirs.root);
+  REQUIRE(serve.upload("tee.stl", tee)->status == 201);
+  const std::vector<std::pair<json, std::string>> refused{
+      {{{"brim", -1}}, "brim"},
+      {{{"brim", "wide"}}, "brim"},
+      {{{"brim", 51}}, "brim"},
+      {{{"tolerance", 0}}, "tolerance"},
+      {{{"tolerance", -0.2}}, "tolerance"},
+      {{{"support", "sometimes"}}, "support"},
+      {{{"support", 3}}, "support"},
+      {{{"tolerance", 0.3}, {"maxLayers", 100}}, "not two"},
+      {{{"maxLayers", 100}, {"maxTime", "1h"}}, "not two"},
+      {{{"maxLayers", 2.5}}, "maxLayers"},
+      {{{"maxLayers", 0}}, "maxLayers"},
+      {{{"maxTime", "90"}}, "maxTime"},
+      {{{"raft", "maybe"}}, "raft"},
+      {{{"adaptive", "perhaps"}}, "adaptive"},
+      {{{"orient", "upside-down"}}, "orient"},
+      {{{"adaptive", true}, {"layer", 0.3}}, "layer and adaptive"},
+      {{{"profile.fill_density", 15}}, "profile.fill_density"},
+      {{{"profile.brim", 5}, {"brim", 3}}, "disagree"},
+  };
+  for (const auto& [body, named] : refused) {
+    const Sliced s = slice_command(serve, dirs, "tee.stl", body);
+    INFO(body.dump() << " -> " << s.status << " " << s.error);
+    CHECK(s.status == 400);
+    CHECK(has(s.error, named));
+    CHECK_FALSE(has(s.error, "\n"));
+  }
+  // The same as an upload's form fields: 400, and the model is not stored.
+  for (const std::vector<std::pair<std::string, std::string>>& fields :
+       {std::vector<std::pair<std::string, std::string>>{{"slice", "true"}, {"brim", "-1"}},
+        {{"slice", "true"}, {"adaptive", "true"}, {"tolerance", "0.3"}, {"maxLayers", "50"}},
+        {{"select", "true"}, {"support", "sometimes"}}}) {
+    auto r = serve.upload("other.stl", tee, fields);
+    REQUIRE(r);
+    INFO(r->body);
+    CHECK(r->status == 400);
+    const json reply = json::parse(r->body);
+    CHECK(reply["error"].is_string());
+    CHECK_FALSE(has(reply["error"].get<std::string>(), "\n"));
+    auto c = serve.client();
+    CHECK(c.Get("/api/files/local/other.stl")->status == 404);
+  }
+  // Nothing was sliced, and the server answers as before.
+  CHECK(serve.get_json("/api/mahost/status")["slicing"].is_null());
+  CHECK(serve.get_json("/api/version")["api"] == "0.1");
   CHECK(serve.stop() == 0);
 }

@@ -6,6 +6,7 @@
 #include <fmt/core.h>
 
 #include "geometry/mesh/stl_io.h"
+#include "printer/profile.h"
 #include "serve_fixture.h"
 #include "support/solids.h"
 
@@ -18,14 +19,13 @@ TEST_CASE("an_stl_upload_is_sliced_on_the_host_with_the_pages_settings_and_print
   geometry::write_stl_binary(stl_path, solids::cube(8).mesh);
   const std::string stl = read_text(stl_path);
 
-  // A layer the printer lacks: stored, not sliced, and the answer says why.
+  // A layer the printer lacks: refused before the file is stored (400), and the answer says why.
   auto r = serve.upload("cube.stl", stl, {{"slice", "true"}, {"layer", "0.1"}});
   REQUIRE(r);
-  CHECK(r->status == 201);
+  CHECK(r->status == 400);
   json reply = json::parse(r->body);
-  CHECK(reply["done"] == true);
   CHECK(reply["error"].get<std::string>().find("layer thickness 0.1 mm is not allowed") != std::string::npos);
-  CHECK(serve.get_json("/api/files/local/cube.stl")["type"] == "model");
+  CHECK(serve.client().Get("/api/files/local/cube.stl")->status == 404);
 
   // The page's settings: sliced in the background (done false), then selected and printed.
   r = serve.upload("cube.stl", stl, {{"slice", "true"}, {"layer", "0.3"}, {"contour", "mid"},
@@ -129,8 +129,16 @@ TEST_CASE("profiles_layer_drawing_and_restart_serve_the_page") {
       up = true;
       CHECK(p["layers"] == json::array({0.15, 0.2, 0.25, 0.3, 0.35, 0.4}));
     }
+    // What a slice leaves to the printer profile, as its file says.
+    const printer::PrinterProfile profile =
+        printer::load_printer_profile(p["id"].get<std::string>(), MAHOST_SOURCE_DIR "/configs");
+    CHECK(p["defaults"]["support"] == profile.support.type);
+    CHECK(p["defaults"]["brim"] == profile.brim_width);
+    CHECK(p["defaults"]["raft"] == profile.raft.enabled);
+    CHECK(p["defaults"]["adaptive"] == false);
   }
   CHECK(up);
+  CHECK(profiles["supports"] == json::array({"none", "buildplate", "everywhere"}));
   // The slicer's table of strategies, as --contour takes them.
   std::set<std::string> contours;
   for (const json& c : profiles["contours"]) contours.insert(c.get<std::string>());
