@@ -15,11 +15,11 @@
 namespace host {
 namespace {
 
-// A sampled layer is compared with the last sampled one of its parity below it: a layer
-// whose part's or support's area differs from it by more than kEstimateChange is sampled too.
+// The sample's one pair in so many: estimated_seconds's, uniform_seconds's.
 constexpr std::size_t kEstimatePairs = 3;
-// uniform_seconds's: one pair in so many.
 constexpr std::size_t kScaledPairs = 6;
+// A sampled layer is compared with the last sampled one of its parity below it: a layer
+// whose part's or support's area differs from it by more than this share is sampled too.
 constexpr double kEstimateChange = 0.10;
 
 // How a layer came into the sample (ToolpathOptions::planned takes any non-zero as planned).
@@ -144,8 +144,7 @@ LayerSample sample_layers(const geometry::LayerStack& index, const std::vector<g
   timed_layers.before = starts[sample.raft];
   for (std::size_t i = 0; i < layers.size(); ++i) {
     if (sample.source[i] != i) continue;
-    const std::size_t k = sample.raft + i;
-    timed_layers.seconds[i] = (k + 1 < starts.size() ? starts[k + 1] : summary.print_seconds) - starts[k];
+    timed_layers.seconds[i] = summary.layer_seconds(sample.raft + i);
   }
   return timed_layers;
 }
@@ -162,8 +161,7 @@ double uniform_seconds(const LayerSample& sample, const std::vector<geometry::La
   for (std::size_t j = 0, i = 0; timed && j < n; ++j) {
     const double middle = 0.5 * (sample.layers[j].z_lo + sample.layers[j].z_hi);
     while (i + 1 < printed.size() && printed[i].z_hi <= middle) ++i;
-    const std::size_t k = raft + i;
-    printed_seconds[j] = (k + 1 < starts.size() ? starts[k + 1] : summary.print_seconds) - starts[k];
+    printed_seconds[j] = summary.layer_seconds(raft + i);
   }
   const auto sampled = [&](std::size_t j) { return sample.seconds[j] >= 0; };
   // A sampled layer's time against its printed layer's; where that one takes no time, its

@@ -48,6 +48,10 @@ struct GcodeSummary {
   // count it: layer k prints from layer_starts[k] to layer_starts[k + 1] (the last to
   // print_seconds, with the end G-code).
   std::vector<double> layer_starts;
+  // Layer k's print time from layer_starts, s.
+  double layer_seconds(std::size_t k) const {
+    return (k + 1 < layer_starts.size() ? layer_starts[k + 1] : print_seconds) - layer_starts[k];
+  }
 };
 
 // Called after each layer is written with the count written so far.
