@@ -146,7 +146,7 @@ void add_support_options(CLI::App& command, SupportCliOptions& options,
                                      "the bed only) or everywhere (also from the part's top "
                                      "surfaces); bridges are laid with supports only (default: "
                                      "the printer profile's support.type)")
-                      ->check(CLI::IsMember({"none", "buildplate", "everywhere"})));
+                      ->check(CLI::IsMember(support_placement_names())));
   added.push_back(command.add_option("--overhang-angle", options.overhang_angle,
                                      "degrees from vertical a wall may lean without support "
                                      "(default: the material's support.overhang_angle)")
@@ -324,6 +324,14 @@ printer::Profiles load_slice_profiles(const SliceOptions& options) {
   if (options.infill >= 0) profiles.printer.print.infill_density = options.infill;
   apply_support_options(options.support, profiles);
   return profiles;
+}
+
+std::vector<std::string> support_placement_names() {
+  std::vector<std::string> names;
+  for (const geometry::SupportPlacement placement : geometry::kSupportPlacements) {
+    names.emplace_back(geometry::support_placement_name(placement));
+  }
+  return names;
 }
 
 std::vector<std::string> contour_strategy_names() {

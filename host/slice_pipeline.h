@@ -77,6 +77,8 @@ void add_slice_options(CLI::App& command, SliceOptions& options, const std::stri
 // The contour strategies (geometry/contour/contour_strategy.h's table) as --contour options
 // show them: their names, and "name (description), ..." for a help text.
 std::vector<std::string> contour_strategy_names();
+// "none", "buildplate", "everywhere": --support's values.
+std::vector<std::string> support_placement_names();
 std::string contour_strategies_help();
 
 // The strategy the user named after `flag` ("--contour"); an unknown name throws

@@ -52,6 +52,9 @@ enum class SupportPlacement {
   everywhere,  // columns from the bed or from the part's top surfaces
 };
 
+inline constexpr SupportPlacement kSupportPlacements[] = {
+    SupportPlacement::none, SupportPlacement::buildplate, SupportPlacement::everywhere};
+
 std::string_view support_placement_name(SupportPlacement placement);  // "none", ...
 std::optional<SupportPlacement> parse_support_placement(std::string_view name);
 

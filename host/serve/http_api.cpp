@@ -17,6 +17,7 @@
 
 #include "geometry/core/error.h"
 #include "geometry/mesh/stl_io.h"
+#include "geometry/support/support_plan.h"
 #include "host/layer_choice.h"
 #include "host/local_time.h"
 #include "host/serve/api_key.h"
@@ -307,7 +308,7 @@ std::optional<bool> optional_bool_field(const json& body, const char* key) {
 void apply_slice_extras(const json& body, SliceOptions& o) {
   const std::string support = string_field(body, "support");
   if (!support.empty()) {
-    if (support != "none" && support != "buildplate" && support != "everywhere") {
+    if (!geometry::parse_support_placement(support)) {
       throw Refusal{400, fmt::format("support: '{}' is not none, buildplate or everywhere", support)};
     }
     o.support.placement = support;
@@ -1045,7 +1046,7 @@ void HttpApi::get_profiles(const Request&, Response& res) {
   send_json(res, {{"printers", printers},
                   {"materials", materials},
                   {"contours", contour_strategy_names()},
-                  {"supports", {"none", "buildplate", "everywhere"}},
+                  {"supports", support_placement_names()},
                   {"serving",
                    {{"printer", fs::path(serving.printer.source).stem().string()},
                     {"printerName", serving.printer.name},
