@@ -123,6 +123,7 @@ LayerChoice choose_layers(const AdaptiveRequest& request, const printer::Printer
     geometry::AdaptiveOptions options;
     options.tolerance = request.tolerance > 0 ? request.tolerance : kDefaultTolerance;
     options.max_layers = request.max_layers;
+    options.thick_overhangs = request.thick_overhangs;
     if (request.max_seconds > 0 && estimate) {
       choice.budget_seconds = request.max_seconds;
       options.fits = [&](const std::vector<geometry::Layer>& layers) {
@@ -197,6 +198,13 @@ std::string describe_choice(const LayerChoice& choice) {
       text += fmt::format("; {} layer{} could not meet it even at {:g} mm, where the surface is "
                           "nearly flat (z {} mm)",
                           plan.unmet, plan.unmet == 1 ? "" : "s", thinnest, unmet_ranges(plan));
+    }
+    if (plan.refused_for_overhangs > 0) {
+      text += fmt::format("; with supports on, {} candidate layer{} refused as too thick for the "
+                          "slopes under {} (each would step out past half a bead, and need support "
+                          "a thinner one does not)",
+                          plan.refused_for_overhangs, plan.refused_for_overhangs == 1 ? "" : "s",
+                          plan.refused_for_overhangs == 1 ? "it" : "them");
     }
   }
   std::vector<std::string> missed;

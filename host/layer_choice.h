@@ -27,6 +27,10 @@ struct AdaptiveRequest {
   double tolerance = 0;        // --tolerance, mm; 0: kDefaultTolerance
   std::size_t max_layers = 0;  // --max-layers; 0: none
   double max_seconds = 0;      // --max-time (slice and print only), s; 0: none
+  // Not an option: with supports on, slice and print keep layers thin where thick ones would
+  // step out past half a bead on slopes the material holds (the support's overhang angle and
+  // bead); analyze and advise plan for D alone.
+  geometry::AdaptiveOptions::ThickOverhangs thick_overhangs;
   // Is an adaptive plan asked for (by any of them)?
   bool wanted() const { return adaptive || tolerance > 0 || max_layers > 0 || max_seconds > 0; }
 };

@@ -372,10 +372,12 @@ std::string_view stage_name(SliceStage stage) {
   return "slicing";
 }
 
-LayerChoice plan_layers(const SliceOptions& options, const printer::PrinterProfile& machine,
+LayerChoice plan_layers(const SliceOptions& options, const printer::Profiles& profiles,
                         const geometry::LayerStack& index, double part_height,
                         const geometry::ContourStrategy& printed,
                         const PlanningProgress& progress, const PrintEstimate& estimate) {
+  const printer::PrinterProfile& machine = profiles.printer;
+  const geometry::SupportOptions supports = support_options(profiles);
   LayerChoice choice;
   double thickness = 0;  // for the build-height message: the last layer's
   if (!options.boundaries.empty()) {
@@ -396,8 +398,12 @@ LayerChoice plan_layers(const SliceOptions& options, const printer::PrinterProfi
   } else {
     thickness = options.layer > 0 ? options.layer : machine.layer.default_thickness;
     printer::check_layer_thickness(machine, thickness);
-    choice = choose_layers(options.adaptive, machine, index, part_height, thickness, printed,
-                           progress, estimate);
+    AdaptiveRequest request = options.adaptive;
+    if (supports.placement != geometry::SupportPlacement::none) {
+      request.thick_overhangs = {supports.overhang_angle, supports.bead_width, supports.min_area};
+    }
+    choice = choose_layers(request, machine, index, part_height, thickness, printed, progress,
+                           estimate);
   }
   // The last layer is a whole layer thick, so it can end above the part: refused now rather
   // than when the G-code is checked against the build volume after all the slicing.
@@ -479,7 +485,7 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
   if (adaptive) beside.run([&] { thinnest = sample_uniform(allowed.thinnest()); });
   report(SliceStage::planning, 0, 0);
   result.choice = plan_layers(
-      options, machine, index, size.z, contour,
+      options, result.profiles, index, size.z, contour,
       [&](std::size_t measured) { report(SliceStage::planning, measured, 0); },
       [&](const std::vector<geometry::Layer>& layers) {
         return estimated_seconds(index, layers, result.profiles);

@@ -99,9 +99,11 @@ printer::Profiles load_slice_profiles(const SliceOptions& options);
 // --boundaries given; else --adaptive's plan (host/layer_choice.h) for the contour printed;
 // else uniform layers of --layer (or the printer's default) after the printer's first layer,
 // flat tops and floors on boundaries. `index` is a stack over the model (its layers unused).
-// Every thickness is checked against the printer (ConfigError naming the layer and what is
-// allowed), and the last layer must end within the build height.
-LayerChoice plan_layers(const SliceOptions& options, const printer::PrinterProfile& machine,
+// With supports on, the adaptive plan keeps layers thin where thick ones would need support
+// that thin ones do not (AdaptiveRequest::thick_overhangs). Every thickness is checked
+// against the printer (ConfigError naming the layer and what is allowed), and the last layer
+// must end within the build height.
+LayerChoice plan_layers(const SliceOptions& options, const printer::Profiles& profiles,
                         const geometry::LayerStack& index, double part_height,
                         const geometry::ContourStrategy& printed,
                         const PlanningProgress& progress = {},

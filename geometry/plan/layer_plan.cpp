@@ -286,12 +286,17 @@ class LazyPlanner {
         max_thickness_(allowed.thickest()) {
     const std::size_t edges = grid_.edge_to.size();
     const SlabSpreadEstimate estimate(stack.mesh());
+    const AdaptiveOptions::ThickOverhangs& thick = options.thick_overhangs;
+    std::optional<ThickOverhangEstimate> overhangs;
+    if (thick.overhang_angle > 0) overhangs.emplace(stack.mesh(), thick.overhang_angle, thick.bead_width);
     estimate_.resize(edges);
     crossed_.resize(edges);
+    refused_.assign(edges, 0);
     tbb::parallel_for(std::size_t{0}, edges, [&](std::size_t e) {
       const double a = grid_.z[grid_.edge_from[e]], b = grid_.z[grid_.edge_to[e]];
       estimate_[e] = estimate(a, b);
       crossed_[e] = static_cast<std::uint32_t>(crossed(flats_, a, b));
+      refused_[e] = overhangs && !grid_.edge_thinnest[e] && (*overhangs)(a, b) > thick.min_area;
     });
     exact_.assign(edges, NAN);
   }
@@ -304,6 +309,7 @@ class LazyPlanner {
   }
 
   std::size_t candidates() const { return grid_.edge_to.size(); }
+  std::size_t refused() const { return static_cast<std::size_t>(std::count(refused_.begin(), refused_.end(), 1)); }
   std::size_t measured() const { return measured_; }
   std::size_t rounds() const { return rounds_; }
   double largest_estimate() const {
@@ -350,6 +356,7 @@ class LazyPlanner {
     for (std::size_t i = 0; i < n; ++i) {
       if (cost[i] == kUnreached) continue;
       for (std::uint32_t e = grid_.edge_begin[i]; e < grid_.edge_begin[i + 1]; ++e) {
+        if (refused_[e]) continue;
         const bool met = value(e) <= tolerance;
         if (!met && !grid_.edge_thinnest[e]) continue;
         const auto& [flats, unmet, layers, unmeasured] = cost[i];
@@ -427,6 +434,7 @@ class LazyPlanner {
   double max_thickness_;
   std::vector<double> estimate_, exact_;
   std::vector<std::uint32_t> crossed_;
+  std::vector<char> refused_;  // thick_overhangs: not a layer of any path
   std::size_t measured_ = 0, rounds_ = 0;
   std::size_t batch_ = 2 * std::max(1u, std::thread::hardware_concurrency());
 };
@@ -464,6 +472,7 @@ AdaptivePlan adaptive_plan(const LayerStack& stack, double part_height,
   const std::vector<double> targets = flat_targets(flats, allowed);
   LazyPlanner planner(stack, part_height, allowed, targets, options, progress);
   plan.candidates = planner.candidates();
+  plan.refused_for_overhangs = planner.refused();
   if (options.measure_all) {
     planner.measure_all(options.max_layers > 0 || options.fits ? 0 : options.tolerance);
   }

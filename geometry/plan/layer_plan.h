@@ -80,6 +80,15 @@ struct AdaptiveOptions {
   // The contours a layer may print; a layer meets the tolerance when one of them does (one
   // kind for a plain strategy; mid, ma and optimal-height for `best`). Cheapest first.
   std::vector<const ContourStrategy*> contours{&contour_strategy("mid")};
+  // With supports (overhang_angle > 0): a layer thicker than the thinnest is refused where it
+  // would have more than min_area mm^2 of overhang only for being thick (slab_bound.h's
+  // ThickOverhangEstimate), so that supports go where the part's slopes need them and not
+  // where the plan's thick layers step out past half a bead.
+  struct ThickOverhangs {
+    double overhang_angle = 0;  // degrees from vertical; 0: no such limit
+    double bead_width = 0.45;   // mm
+    double min_area = 0.2;      // mm^2
+  } thick_overhangs;
   double grid = 0.02;           // planning resolution when the printer's step is 0, mm
   bool measure_all = false;     // measure every candidate first (to check the lazy search)
   SlabErrorOptions error;
@@ -97,6 +106,8 @@ struct AdaptivePlan {
   // The search: candidate slabs (edges of the height grid), how many were measured exactly,
   // and how many times the shortest path was found.
   std::size_t candidates = 0, measured = 0, rounds = 0;
+  // Candidate slabs refused for the overhang a thick layer there would have (thick_overhangs).
+  std::size_t refused_for_overhangs = 0;
 };
 
 // Called with the number of candidate slabs measured so far, from the calling thread.

@@ -2,60 +2,114 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace geometry {
 
-SlabSpreadEstimate::SlabSpreadEstimate(const Mesh& mesh) {
+FacetsByHeight::FacetsByHeight(std::vector<std::pair<double, double>> ranges, double bucket_height)
+    : ranges_(std::move(ranges)), bucket_height_(bucket_height) {
+  if (ranges_.empty()) return;
   double z_lo = INFINITY, z_hi = -INFINITY;
-  for (const auto& face : mesh.faces) {
-    const Vec3 a = mesh.vertices[face[0]], b = mesh.vertices[face[1]], c = mesh.vertices[face[2]];
-    const Vec3 n = cross(b - a, c - a);
-    const double horizontal = std::hypot(n.x, n.y), vertical = std::abs(n.z);
-    const double low = std::min({a.z, b.z, c.z}), high = std::max({a.z, b.z, c.z});
-    // Vertical facets spread nothing; horizontal ones (no height) are flat_levels.h's.
-    if (!(high > low) || !(vertical > 0) || !(horizontal > 0)) continue;
-    facets_.push_back({low, high, vertical / horizontal});
-    z_lo = std::min(z_lo, low);
-    z_hi = std::max(z_hi, high);
-  }
-  if (facets_.empty()) return;
+  for (const auto& [low, high] : ranges_) z_lo = std::min(z_lo, low), z_hi = std::max(z_hi, high);
   z_0_ = z_lo;
-  const std::size_t buckets =
-      static_cast<std::size_t>(std::ceil((z_hi - z_lo) / bucket_height_)) + 1;
-  auto bucket = [&](double z) {
-    return std::min(buckets - 1, static_cast<std::size_t>(std::max(0.0, (z - z_0_) / bucket_height_)));
-  };
+  const std::size_t buckets = static_cast<std::size_t>(std::ceil((z_hi - z_lo) / bucket_height_)) + 1;
   bucket_begin_.assign(buckets + 1, 0);
-  for (const Facet& f : facets_) {
-    for (std::size_t b = bucket(f.z_min); b <= bucket(f.z_max); ++b) ++bucket_begin_[b + 1];
+  for (const auto& [low, high] : ranges_) {
+    for (std::size_t b = bucket_of(low); b <= bucket_of(high); ++b) ++bucket_begin_[b + 1];
   }
   for (std::size_t b = 0; b < buckets; ++b) bucket_begin_[b + 1] += bucket_begin_[b];
   bucket_facets_.resize(bucket_begin_.back());
   std::vector<std::uint32_t> fill(bucket_begin_.begin(), bucket_begin_.end() - 1);
-  for (std::uint32_t i = 0; i < facets_.size(); ++i) {
-    for (std::size_t b = bucket(facets_[i].z_min); b <= bucket(facets_[i].z_max); ++b) {
-      bucket_facets_[fill[b]++] = i;
+  for (std::uint32_t k = 0; k < ranges_.size(); ++k) {
+    for (std::size_t b = bucket_of(ranges_[k].first); b <= bucket_of(ranges_[k].second); ++b) {
+      bucket_facets_[fill[b]++] = k;
     }
   }
 }
 
-double SlabSpreadEstimate::operator()(double z_lo, double z_hi) const {
-  if (facets_.empty() || !(z_hi > z_lo)) return 0;
+std::size_t FacetsByHeight::bucket_of(double z) const {
   const std::size_t buckets = bucket_begin_.size() - 1;
-  const double first = std::floor((z_lo - z_0_) / bucket_height_);
-  const double last = std::floor((z_hi - z_0_) / bucket_height_);
-  if (last < 0 || first >= static_cast<double>(buckets)) return 0;
-  double widest = 0;
-  for (std::size_t b = static_cast<std::size_t>(std::max(first, 0.0)),
-                   e = std::min(buckets - 1, static_cast<std::size_t>(last));
-       b <= e; ++b) {
-    for (std::uint32_t k = bucket_begin_[b]; k < bucket_begin_[b + 1]; ++k) {
-      const Facet& f = facets_[bucket_facets_[k]];
-      const double overlap = std::min(z_hi, f.z_max) - std::max(z_lo, f.z_min);
-      if (overlap > 0) widest = std::max(widest, overlap * f.spread_per_mm);
-    }
+  return std::min(buckets - 1, static_cast<std::size_t>(std::max(0.0, (z - z_0_) / bucket_height_)));
+}
+
+namespace {
+
+struct SlopedFacet {
+  double low, high;
+  double heights[3];  // its corners'
+  Vec3 normal;        // cross(b - a, c - a): twice the area, outward for a consistent mesh
+};
+
+// Every facet with some height and some slope (neither vertical nor horizontal).
+std::vector<SlopedFacet> sloped_facets(const Mesh& mesh) {
+  std::vector<SlopedFacet> sloped;
+  for (const auto& face : mesh.faces) {
+    const Vec3 a = mesh.vertices[face[0]], b = mesh.vertices[face[1]], c = mesh.vertices[face[2]];
+    const Vec3 n = cross(b - a, c - a);
+    const double low = std::min({a.z, b.z, c.z}), high = std::max({a.z, b.z, c.z});
+    // Vertical facets spread nothing; horizontal ones (no height) are flat_levels.h's.
+    if (!(high > low) || !(std::abs(n.z) > 0) || !(std::hypot(n.x, n.y) > 0)) continue;
+    sloped.push_back({low, high, {a.z, b.z, c.z}, n});
   }
+  return sloped;
+}
+
+}  // namespace
+
+SlabSpreadEstimate::SlabSpreadEstimate(const Mesh& mesh) {
+  std::vector<std::pair<double, double>> ranges;
+  for (const SlopedFacet& f : sloped_facets(mesh)) {
+    spread_per_mm_.push_back(std::abs(f.normal.z) / std::hypot(f.normal.x, f.normal.y));
+    ranges.emplace_back(f.low, f.high);
+  }
+  by_height_ = FacetsByHeight(std::move(ranges));
+}
+
+double SlabSpreadEstimate::operator()(double z_lo, double z_hi) const {
+  double widest = 0;
+  by_height_.for_each(z_lo, z_hi, [&](std::size_t k) {
+    const auto [low, high] = by_height_.range(k);
+    widest = std::max(widest, (std::min(z_hi, high) - std::max(z_lo, low)) * spread_per_mm_[k]);
+  });
   return 0.5 * widest;
+}
+
+ThickOverhangEstimate::ThickOverhangEstimate(const Mesh& mesh, double overhang_angle_degrees,
+                                             double bead_width)
+    : half_bead_(bead_width / 2) {
+  const double most = std::tan(std::clamp(overhang_angle_degrees, 0.0, 89.9) * std::numbers::pi / 180);
+  std::vector<std::pair<double, double>> ranges;
+  for (const SlopedFacet& f : sloped_facets(mesh)) {
+    if (f.normal.z >= 0) continue;  // facing up: the layer below carries it
+    const double lean = -f.normal.z / std::hypot(f.normal.x, f.normal.y);
+    if (lean > most) continue;      // supported at any thickness
+    Facet facet{lean, -0.5 * f.normal.z, {f.heights[0], f.heights[1], f.heights[2]}};
+    std::sort(std::begin(facet.z), std::end(facet.z));
+    facets_.push_back(facet);
+    ranges.emplace_back(f.low, f.high);
+  }
+  by_height_ = FacetsByHeight(std::move(ranges));
+}
+
+// A plane triangle's part below h grows as (h - z0)^2 up to its middle corner and is the
+// whole less (z2 - h)^2 above it, each scaled to meet the whole at the corners.
+double ThickOverhangEstimate::Facet::area_below(double h) const {
+  if (h <= z[0]) return 0;
+  if (h >= z[2]) return area;
+  if (h <= z[1]) return area * (h - z[0]) * (h - z[0]) / ((z[2] - z[0]) * (z[1] - z[0]));
+  return area * (1 - (z[2] - h) * (z[2] - h) / ((z[2] - z[0]) * (z[2] - z[1])));
+}
+
+double ThickOverhangEstimate::operator()(double z_lo, double z_hi) const {
+  const double t = z_hi - z_lo;
+  double area = 0;
+  by_height_.for_each(z_lo, z_hi, [&](std::size_t k) {
+    const Facet& f = facets_[k];
+    const double step = t * f.lean;
+    if (step <= half_bead_) return;
+    area += (f.area_below(z_hi) - f.area_below(z_lo)) * (1 - half_bead_ / step);
+  });
+  return area;
 }
 
 }  // namespace geometry
