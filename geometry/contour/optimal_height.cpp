@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+
+#include <boost/math/tools/minima.hpp>
 
 #include "geometry/contour/contour_strategy.h"
 #include "geometry/metrics/volume_deviation.h"
@@ -218,27 +221,23 @@ OptimalHeight optimal_height(const LayerStack& stack, std::size_t layer,
     deviation[k] = try_height(k + 1 == samples ? bounds.z_hi : bounds.z_lo + k * step);
     if (deviation[k] < deviation[best_sample]) best_sample = k;
   }
-  // Golden section inside the bracket of the best sample.
-  double a = bounds.z_lo + std::max(best_sample - 1, 0) * step;
-  double b = std::min(bounds.z_lo + (best_sample + 1) * step, bounds.z_hi);
-  constexpr double kInvPhi = 0.6180339887498949;
-  double c = b - kInvPhi * (b - a), d = a + kInvPhi * (b - a);
-  double fc = try_height(c), fd = try_height(d);
+  // Brent's search (parabolic steps where ΔV is smooth, golden ones where not) inside the
+  // bracket of the best sample, until the bracket is shorter than the tolerance. Boost's
+  // search stops at a share of its argument's size, so it runs on s in [1, 2] for h from a
+  // to b: its bracket, about 8 shares of 2^(1 - bits) wide when it stops, times b - a.
+  const double a = bounds.z_lo + std::max(best_sample - 1, 0) * step;
+  const int upper = std::min(best_sample + 1, samples - 1);
+  const double b = upper + 1 == samples ? bounds.z_hi : bounds.z_lo + upper * step;
   const double tolerance = std::max(options.tolerance, 1e-9);
-  while (b - a > tolerance) {
-    if (fc <= fd) {
-      b = d;
-      d = c;
-      fd = fc;
-      c = b - kInvPhi * (b - a);
-      fc = try_height(c);
-    } else {
-      a = c;
-      c = d;
-      fc = fd;
-      d = a + kInvPhi * (b - a);
-      fd = try_height(d);
-    }
+  if (b - a > tolerance) {
+    const int bits = static_cast<int>(std::ceil(1 - std::log2(tolerance / (8 * (b - a)))));
+    std::uintmax_t iterations = 100;
+    boost::math::tools::brent_find_minima(
+        [&](double s) {
+          // Its first try is the bracket's top, a sample already tried.
+          return s == 2 ? deviation[upper] : try_height(a + (s - 1) * (b - a));
+        },
+        1.0, 2.0, bits, iterations);
   }
   best.section = stack.cross_section(best.height);
   return best;

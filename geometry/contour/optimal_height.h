@@ -3,8 +3,9 @@
 //
 // ΔV(h) need not be convex (the paper's CATIA experiment used simulated annealing for that
 // reason, 90 s per slice), so the search first scans `coarse_samples` equally spaced heights
-// (both ends included), then narrows the bracket around the best of them by golden-section
-// search until it is shorter than `tolerance`. A minimum between two coarse samples that is not in the best
+// (both ends included), then narrows the bracket around the best of them by Brent's search
+// (Boost's brent_find_minima: parabolic steps where ΔV is smooth, golden-section ones where
+// not) until it is shorter than `tolerance`. A minimum between two coarse samples that is not in the best
 // sample's bracket can be missed; the coarse scan makes that a minimum narrower than t/8.
 //
 // Each evaluation is SectionDeviation below: no section is built but the best one.
