@@ -3,8 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <ostream>
-#include <streambuf>
 
 #include <tbb/parallel_for.h>
 
@@ -105,16 +103,6 @@ SampledPaths sampled_paths(const geometry::LayerStack& index, const std::vector<
   return sample;
 }
 
-printer::GcodeSummary timed(const std::vector<geometry::LayerToolpaths>& toolpaths,
-                            const printer::Profiles& profiles) {
-  struct Discard : std::streambuf {
-    int overflow(int c) override { return c; }
-    std::streamsize xsputn(const char*, std::streamsize n) override { return n; }
-  } discard;
-  std::ostream nowhere(&discard);
-  return printer::write_gcode(nowhere, toolpaths, profiles);
-}
-
 }  // namespace
 
 double estimated_seconds(const geometry::LayerStack& index, const std::vector<geometry::Layer>& layers,
@@ -125,13 +113,13 @@ double estimated_seconds(const geometry::LayerStack& index, const std::vector<ge
       sample.toolpaths[sample.raft + i].paths = sample.toolpaths[sample.raft + sample.source[i]].paths;
     }
   }
-  return timed(sample.toolpaths, profiles).print_seconds;
+  return printer::time_gcode(sample.toolpaths, profiles).print_seconds;
 }
 
 LayerSample sample_layers(const geometry::LayerStack& index, const std::vector<geometry::Layer>& layers,
                           const printer::Profiles& profiles) {
   const SampledPaths sample = sampled_paths(index, layers, profiles, kScaledPairs);
-  const printer::GcodeSummary summary = timed(sample.toolpaths, profiles);
+  const printer::GcodeSummary summary = printer::time_gcode(sample.toolpaths, profiles);
   LayerSample timed_layers;
   timed_layers.layers = layers;
   timed_layers.seconds.assign(layers.size(), -1);

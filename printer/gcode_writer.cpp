@@ -604,6 +604,24 @@ GcodeSummary write_gcode(std::ostream& out, const std::vector<LayerToolpaths>& l
   return summary;
 }
 
+GcodeSummary time_gcode(const std::vector<LayerToolpaths>& layers, const Profiles& profiles,
+                        const GcodeOptions& options) {
+  const Vec2 offset{profiles.printer.bed_x / 2, profiles.printer.bed_y / 2};
+  check_build_volume(layers, profiles.printer, offset);
+  ClockSink clock(profiles.printer.motion);
+  Emitter timing(profiles, options, offset, clock);
+  timing.program(layers);
+  GcodeSummary summary;
+  summary.layers = layers.size();
+  summary.print_seconds = clock.finish();
+  summary.filament_mm = timing.filament();
+  summary.support_filament_mm = timing.support_filament();
+  summary.filament_grams = filament_weight(summary.filament_mm, profiles.printer.filament_diameter,
+                                           profiles.material.density);
+  summary.layer_starts = clock.layer_times();
+  return summary;
+}
+
 GcodeSummary write_gcode_file(const std::string& path, const std::vector<LayerToolpaths>& layers,
                               const Profiles& profiles, const GcodeOptions& options,
                               const LayersWritten& on_layer) {

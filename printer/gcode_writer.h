@@ -61,6 +61,11 @@ GcodeSummary write_gcode(std::ostream& out, const std::vector<geometry::LayerToo
                          const Profiles& profiles, const GcodeOptions& options = {},
                          const LayersWritten& on_layer = {});
 
+// The same summary without the text (bytes and lines 0): the program run through the clock
+// alone, for estimates of layer stacks that are not written.
+GcodeSummary time_gcode(const std::vector<geometry::LayerToolpaths>& layers,
+                        const Profiles& profiles, const GcodeOptions& options = {});
+
 // The same into a file; a file that cannot be written throws ConfigError naming it.
 GcodeSummary write_gcode_file(const std::string& path,
                               const std::vector<geometry::LayerToolpaths>& layers,

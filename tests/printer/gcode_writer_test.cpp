@@ -216,6 +216,21 @@ TEST_CASE("estimate_equals_the_motion_model_over_the_written_program") {
   }
 }
 
+TEST_CASE("timing_without_the_text_is_the_written_programs_time_layer_by_layer") {
+  const Profiles p = profiles("up-plus-2", "abs");
+  GcodeSummary written;
+  const std::string text = write(square_part(), p, &written);
+  const GcodeSummary timed = time_gcode(square_part(), p);
+  CHECK(timed.print_seconds == doctest::Approx(estimate_print_time(text, p.printer.motion)).epsilon(1e-12));
+  REQUIRE(timed.layer_starts.size() == written.layer_starts.size());
+  REQUIRE(timed.layer_starts.size() == 3);
+  for (std::size_t k = 0; k < timed.layer_starts.size(); ++k) {
+    CHECK(timed.layer_starts[k] == written.layer_starts[k]);
+  }
+  CHECK(timed.filament_mm == doctest::Approx(written.filament_mm).epsilon(1e-12));
+  CHECK(timed.bytes == 0);
+}
+
 TEST_CASE("filament_in_header_is_the_filament_in_the_beads") {
   const Profiles p = profiles("up-plus-2", "abs");
   GcodeSummary summary;
