@@ -378,6 +378,7 @@ function sliceOptions() {
     options.adaptive = "true";
     if ($("opt-tolerance").value !== "") options.tolerance = $("opt-tolerance").value;
     if ($("opt-max-layers").value !== "") options.maxLayers = $("opt-max-layers").value;
+    if ($("opt-max-time").value.trim() !== "") options.maxTime = $("opt-max-time").value.trim();
   } else {
     options.layer = $("opt-layer").value;
   }
@@ -419,6 +420,7 @@ function fillDefaults() {
   $("opt-tolerance").value = "";
   $("opt-tolerance").placeholder = d.tolerance !== undefined ? `${d.tolerance}` : "";
   $("opt-max-layers").value = "";
+  $("opt-max-time").value = "";
   adaptiveChanged();
   $("opt-defaults").textContent = `${printer.name}'s defaults: support ${d.support}, brim ${d.brim} mm, ` +
     `${d.raft ? "on a raft" : "no raft"}, ${printer.defaultLayer} mm layers` +
@@ -431,6 +433,7 @@ function adaptiveChanged() {
   $("opt-layer").disabled = adaptive;
   $("opt-tolerance").disabled = !adaptive;
   $("opt-max-layers").disabled = !adaptive;
+  $("opt-max-time").disabled = !adaptive;
 }
 
 async function loadProfiles() {

@@ -246,6 +246,24 @@ def main():
         if ";TYPE:SUPPORT" in sliced or "(adaptive, D within 0.3 mm)" not in sliced:
             raise Failed("tee2.gcode has support, or lost the adaptive layers kept on the form")
 
+        # A print-time budget instead of a tolerance: a bad one is refused in one line, a
+        # good one plans the least tolerance whose print fits it.
+        tee3 = os.path.join(scratch, "tee3.stl")
+        shutil.copy(tee, tee3)
+        find("upload-file").send_keys(tee3)
+        if not find("opt-max-time").is_enabled():
+            raise Failed("adaptive layers leave the print-time budget disabled")
+        find("opt-tolerance").clear()
+        find("opt-max-time").send_keys("ninety")
+        find("upload-button").click()
+        wait_until("the bad budget refused", lambda: "Refused: maxTime" in text("upload-message"))
+        find("opt-max-time").clear()
+        find("opt-max-time").send_keys("1h")
+        find("upload-button").click()
+        wait_until("tee3.gcode sliced", lambda: text("slicing").startswith("Sliced tee3.gcode"), timeout=180)
+        if "fits --max-time 1 h" not in text("slicing"):
+            raise Failed(f"the page does not show the budget's plan: {text('slicing')!r}")
+
         # A phone's width: nothing wider than the screen.
         driver.set_window_size(390, 844)
         time.sleep(0.5)
