@@ -15,7 +15,7 @@ namespace {
 
 // The sample's one pair in so many: estimated_seconds's, uniform_seconds's.
 constexpr std::size_t kEstimatePairs = 3;
-constexpr std::size_t kScaledPairs = 6;
+constexpr std::size_t kScaledPairs = 12;
 // A sampled layer is compared with the last sampled one of its parity below it: a layer
 // whose part's or support's area differs from it by more than this share is sampled too.
 constexpr double kEstimateChange = 0.10;

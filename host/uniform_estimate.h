@@ -4,7 +4,7 @@
 //
 // Both plan the toolpaths of a sample of the stack's layers (mid sections, supports and
 // raft as the profiles say): one pair of neighbouring layers in so many (3 for
-// estimated_seconds, 6 for uniform_seconds), and every layer unlike the sampled one of its
+// estimated_seconds, 12 for uniform_seconds), and every layer unlike the sampled one of its
 // parity below it (its part's or its support's area more than 10% different, support
 // interface or bridges on either), or within the skins' reach (in layers: the top and bottom
 // layers and thicknesses, at the thinnest layer) of a change of the part's area, of the bed
@@ -23,7 +23,7 @@
 // differ by more than 10% from this one's: then the sampled one below's own time). The
 // printed program follows the part's shape layer by layer, and the ratio carries what
 // thinner layers change (more lines a fill, other skins and supports). Against slicing
-// uniformly with the same contour, tests/bench/estimate_accuracy.sh: within 1.4% on the
+// uniformly with the same contour, tests/bench/estimate_accuracy.sh: within 1.2% on the
 // bunny, a sphere, a T, stepped tiers, a dome, a vase and a frustum.
 #pragma once
 
