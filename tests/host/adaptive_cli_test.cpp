@@ -77,6 +77,34 @@ TEST_CASE("slice_adaptive_plans_by_the_error_and_reports_it_in_one_line") {
   CHECK(read_file(gcode).find("; layers: ") != std::string::npos);
 }
 
+TEST_CASE("slice_adaptive_with_supports_keeps_layers_thin_where_thick_ones_would_need_support") {
+  const std::string dir = test_support::scratch_dir("plan_adaptive_overhang");
+  const std::string stl = dir + "/frustum.stl";
+  // Widening upwards at 40 degrees from vertical, which the material holds (50): a layer
+  // t thick steps out t tan 40, past half a 0.45 mm bead above t = 0.268 mm. A tolerance of
+  // 1 mm allows any thickness (mid's D is t tan 40 / 2).
+  const double lean = std::tan(40 * 3.141592653589793 / 180);
+  geometry::write_stl_binary(stl, solids::frustum(5, 5 + 10 * lean / std::cos(3.141592653589793 / 64), 10, 64).mesh);
+  const auto thickest = [](const std::vector<double>& tops) {
+    double t = 0;
+    for (std::size_t i = 1; i < tops.size(); ++i) t = std::max(t, tops[i] - tops[i - 1]);
+    return t;
+  };
+  const std::string held = dir + "/held.gcode", free = dir + "/free.gcode";
+  auto r = run_mahost({"slice", stl, "--no-raft", "--support", "buildplate", "--adaptive",
+                       "--tolerance", "1", "-o", held});
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.out.find("refused as too thick for the slopes under them") != std::string::npos);
+  CHECK(thickest(tops_of(held)) <= 0.25 + 1e-6);
+  // So nothing needs support: every layer stands within half a bead of the one below.
+  CHECK(read_file(held).find(";TYPE:SUPPORT") == std::string::npos);
+  r = run_mahost({"slice", stl, "--no-raft", "--support", "none", "--adaptive", "--tolerance", "1",
+                  "-o", free});
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.out.find("refused as too thick") == std::string::npos);
+  CHECK(thickest(tops_of(free)) == doctest::Approx(0.4));
+}
+
 TEST_CASE("slice_adaptive_keeps_a_layer_budget") {
   const std::string dir = test_support::scratch_dir("plan_adaptive_budget");
   const std::string stl = dir + "/cone.stl", gcode = dir + "/cone.gcode";
