@@ -12,8 +12,11 @@ namespace geometry {
 
 namespace {
 
-// Longest connector, in line spacings, of the body's zig-zags.
-constexpr double kBodyConnector = 3;
+// Longest connector, in line spacings, of the body's zig-zags: along an edge at less than
+// 30 degrees to the lines a connector carries nothing the lines do not (the bunny at three:
+// 0.603 m of support filament, at two 0.577 m, unsupported 208.9 and 208.6 mm; at one and a
+// half 0.561 m but 220.6 mm, the connectors across the lines carry the interface's loop).
+constexpr double kBodyConnector = 2;
 // Support regions are straightened within this first (mm): where sparse lines end matters
 // to tens of micrometres at most.
 constexpr double kTolerance = 0.01;

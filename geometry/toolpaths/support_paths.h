@@ -1,11 +1,11 @@
 // Support and raft toolpaths: the lines that fill a layer's support regions and the raft's
 // layers (issue 12; the regions come from geometry/support/support_plan.h).
 //
-// Support body: with `sheath`, a loop round each island (PrusaSlicer's support sheath): it
-//   carries the edges of what stands on the body where the part cut its island along the
-//   lines; inside it lines `spacing` apart at `angle` (lines) or at angle and angle + 90
+// Support body: with `sheath`, of a loop round each island (PrusaSlicer's support sheath)
+//   the stretches that carry the edges of what stands on the body where the part cut its
+//   island along the lines, off them (support_sheath below); inside it lines `spacing` apart at `angle` (lines) or at angle and angle + 90
 //   (grid), on a grid fixed in the part's frame, so that the lines of every layer stack on
-//   those of the layer below; joined into zig-zags along the edge (connectors up to three
+//   those of the layer below; joined into zig-zags along the edge (connectors up to two
 //   spacings), role support.
 // Support interface: per island a loop round its edge, half a bead in (an island narrower
 //   than a bead gets nothing), so that the beads reach the edge whatever its shape, and

@@ -128,6 +128,29 @@ TEST_CASE("sheath_is_laid_only_where_the_layer_below_carries_it") {
   for (const ExtrusionPath& path : support_body_paths(body, w, o)) CHECK_FALSE(on_sheath(path));
 }
 
+TEST_CASE("body_lines_are_joined_along_the_edge_up_to_two_spacings") {
+  SupportPathOptions o;
+  o.spacing = 2.5;
+  o.sheath = false;
+  // A parallelogram 20 mm along x, its slanted sides rising at `degrees` to the lines: the
+  // ends of neighbouring lines (2.5 mm apart across them) lie 2.5 / sin(degrees) apart along
+  // those sides, 3.5 mm at 45 degrees (joined), 5.9 mm at 25 (not: more than two spacings).
+  for (const double degrees : {45.0, 25.0}) {
+    CAPTURE(degrees);
+    const double run = 10 / std::tan(degrees * M_PI / 180);
+    const Region body{{{{0, 0.3}, {20, 0.3}, {20 + run, 10.3}, {run, 10.3}}}};
+    std::size_t lines = 0, paths = 0;
+    for (const ExtrusionPath& path : support_body_paths(body, w, o)) {
+      ++paths;
+      for (std::size_t i = 1; i < path.points.size(); ++i) {
+        if (std::abs(path.points[i].y - path.points[i - 1].y) < 1e-9) ++lines;
+      }
+    }
+    CHECK(lines == 4);  // y = 2.5, 5, 7.5, 10
+    CHECK(paths == (degrees > 30 ? 1u : 4u));
+  }
+}
+
 TEST_CASE("grid_body_lays_lines_both_ways") {
   SupportPathOptions o;
   o.pattern = SupportPattern::grid;
