@@ -44,12 +44,13 @@ clipper::Paths boxes_at(const std::vector<SupportBox>& boxes, const Layer& layer
 }
 
 // The region widened across lines `spacing` apart at `angle` (through the origin) to the
-// nearest line on each side and `past` beyond it, and by `along` along them: per band
-// between two neighbouring lines, each piece of the region in it becomes the band's full
-// width over the piece's extent along the lines; a piece within `past` less kOnLine of one
-// line, which the widened region covers anyway, only that line's strip.
+// nearest line on each side and `past` beyond it: per band between two neighbouring lines,
+// each piece of the region in it becomes the band's full width over the piece's extent
+// along the lines, that extent made `shortest` at least (about its middle); a piece within
+// `past` less kOnLine of one line, which the widened region covers anyway, only that line's
+// strip.
 clipper::Paths widened_to_lines(const clipper::Paths& region, double angle, double spacing, double past,
-                           double along) {
+                                double shortest) {
   if (region.empty() || !(spacing > 0)) return region;
   const double a = angle * std::numbers::pi / 180;
   const double c = std::cos(a), s = std::sin(a);
@@ -84,8 +85,9 @@ clipper::Paths widened_to_lines(const clipper::Paths& region, double angle, doub
         bottom = std::min(bottom, p.y);
         top = std::max(top, p.y);
       }
-      lo -= along;
-      hi += along;
+      const double short_by = std::max(0.0, shortest - (hi - lo)) / 2;
+      lo -= short_by;
+      hi += short_by;
       // A piece within the slack of one line needs only that line.
       double from = y0 - past, to = y1 + past;
       if (top <= y0 + slack) {
@@ -143,14 +145,14 @@ LayerContacts layer_contacts(const std::vector<clipper::Paths>& part, const std:
   }
   if (!contact.empty()) {
     // Out to the body's lines across them, a bead's half past the line (the interface's
-    // ends then rest on the line), and half a bead along them.
-    const double past = o.bead_width / 2 + kOnLine, along = o.bead_width / 2;
+    // ends then rest on the line), and along them at least as long as a loop fits in.
+    const double past = o.bead_width / 2 + kOnLine, shortest = o.bead_width + 2 * kOnLine;
     clipper::Paths grown = clipper::union_nonzero(contact);
     if (o.pattern == SupportPattern::grid) {
       grown = widened_to_lines(grown, o.line_angle, o.line_spacing, past, 0);
       grown = widened_to_lines(grown, o.line_angle + 90, o.line_spacing, past, 0);
     } else {
-      grown = widened_to_lines(grown, o.line_angle, o.line_spacing, past, along);
+      grown = widened_to_lines(grown, o.line_angle, o.line_spacing, past, shortest);
     }
     result.contact = std::move(grown);
   }

@@ -15,8 +15,9 @@
 //   3. contacts:   the other pieces are what the support's top
 //                  carries: the highest layer whose top is at least top_contact_distance
 //                  below the piece's layer. Each is widened across the body's lines to the
-//                  nearest line on either side and half a bead past it, and half a bead
-//                  along them (with a grid, across both), so that every interface line over the sparse body
+//                  nearest line on either side and half a bead past it, along them only
+//                  to a loop's width if shorter (with a grid, across both), so that every
+//                  interface line over the sparse body
 //                  ends on a body line instead of in the air between two (PrusaSlicer's
 //                  support areas are snapped to its support grid the same way);
 //   4. columns:    from each contact down to the bed (buildplate: contacts over any part

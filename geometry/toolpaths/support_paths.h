@@ -1,11 +1,11 @@
 // Support and raft toolpaths: the lines that fill a layer's support regions and the raft's
 // layers (issue 12; the regions come from geometry/support/support_plan.h).
 //
-// Support body: with `sheath`, a loop round each island (PrusaSlicer's support sheath): it
-//   carries the edges of what stands on the body where the part cut its island along the
-//   lines; inside it lines `spacing` apart at `angle` (lines) or at angle and angle + 90
+// Support body: with `sheath`, of a loop round each island (PrusaSlicer's support sheath)
+//   the stretches that carry the edges of what stands on the body where the part cut its
+//   island along the lines, off them (support_sheath below); inside it lines `spacing` apart at `angle` (lines) or at angle and angle + 90
 //   (grid), on a grid fixed in the part's frame, so that the lines of every layer stack on
-//   those of the layer below; joined into zig-zags along the edge (connectors up to three
+//   those of the layer below; joined into zig-zags along the edge (connectors up to two
 //   spacings), role support.
 // Support interface: per island a loop round its edge, half a bead in (an island narrower
 //   than a bead gets nothing), so that the beads reach the edge whatever its shape, and
@@ -21,6 +21,8 @@
 // Beads are `width` wide on a layer `height` thick; lines lie inside the region, each bead's
 // side on its edge at most. Empty regions, width <= 0 or spacing <= 0 give no paths.
 #pragma once
+
+#include <polyclipping/clipper.hpp>
 
 #include <cstddef>
 #include <optional>
@@ -44,10 +46,30 @@ struct SupportPathOptions {
   double raft_interface_spacing = 1.0;  // mm
 };
 
-// `carried`: where the layer below carries a sheath (its own sheath's bead, and the part);
-// only the sheath's pieces over it are laid (a part receding under a steep overhang moves
-// the body's edge, and its sheath, out by more than half a bead each layer: a sheath there
-// would hang between the lines below). nullptr: all of it (on the bed).
+// The sheath: of a loop half a bead inside the edge of each island of `support` (a layer's
+// body and interface), what lies in `body` and its lines do not stand in for: with lines,
+// the loop's stretches that run along them (within 45 degrees) farther than a quarter bead
+// from the nearest line on the body's side (across the lines, what stands on the edge
+// bridges from line to line; on a line, the line carries it); with a grid, all of it.
+// `paths`: open stretches, or a closed loop where all of one is kept; role support.
+// `beads`: their beads (open ends cut square), mm. None without options.sheath.
+struct SupportSheath {
+  std::vector<ExtrusionPath> paths;
+  ClipperLib::Paths beads;
+};
+SupportSheath support_sheath(const ClipperLib::Paths& support, const Region& body, double width,
+                             const SupportPathOptions& options);
+
+// `sheath`: support_sheath's of the body; `carried`: where the layer below carries a sheath
+// (its own sheath's bead, and the part); only the sheath's pieces over it are laid (a part
+// receding under a steep overhang moves the body's edge, and its sheath, out by more than
+// half a bead each layer: a sheath there would hang between the lines below). nullptr: all
+// of it (on the bed). The lines run half a bead in from the body's edge and a bead off the
+// sheath's centre line.
+std::vector<ExtrusionPath> support_body_paths(const Region& body, double width,
+                                              const SupportPathOptions& options,
+                                              const SupportSheath& sheath, const Region* carried);
+// The same with the body's own support_sheath.
 std::vector<ExtrusionPath> support_body_paths(const Region& body, double width,
                                               const SupportPathOptions& options,
                                               const Region* carried = nullptr);

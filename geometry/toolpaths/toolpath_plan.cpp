@@ -267,9 +267,14 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
   // its own sheath (the outer bead of its support) as far as that is laid, which is as far
   // as the layer below offers (so a sheath never stands on one that was left out). In turn,
   // layer by layer; each layer's ring first, in parallel.
+  // The sheath itself (support_paths.h) is each layer's own, in parallel too.
+  // On the bed (layer 0 without a raft) the support's beads are the first layer's width.
+  const auto support_bead = [&](std::size_t i) { return i == 0 && !raft ? o.first_layer_width : o.extrusion_width; };
   std::vector<clipper::Paths> carries;
+  std::vector<SupportSheath> sheath;
   if (!support.layers.empty()) {
     carries.resize(n);
+    sheath.resize(n);
     std::vector<clipper::Paths> ring(n), interface_ring(n);
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
       const LayerSupport* held = support_at(i);
@@ -278,10 +283,11 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
       clipper::Paths all = to_clipper(held->body);
       all.insert(all.end(), interface.begin(), interface.end());
       all = clipper::union_nonzero(all);
-      // The loop's bead: where a loop fits (a part narrower than a bead gets none), less
-      // what lies inside it.
+      // The sheath's bead, and the interface's loop's: where a loop fits (a part narrower
+      // than a bead gets none), less what lies inside it.
       const double w = o.extrusion_width;
-      ring[i] = clipper::difference(clipper::opening(all, w / 2), clipper::offset(all, -w));
+      sheath[i] = support_sheath(all, held->body, support_bead(i), o.support);
+      ring[i] = sheath[i].beads;
       if (!interface.empty()) {
         interface_ring[i] = clipper::difference(clipper::opening(interface, w / 2), clipper::offset(interface, -w));
       }
@@ -292,8 +298,8 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
         const clipper::Paths laid = i == 0 ? ring[i]
                                       : clipper::intersection(ring[i], clipper::offset(carries[i - 1], o.extrusion_width / 2));
         offered.insert(offered.end(), laid.begin(), laid.end());
-        offered.insert(offered.end(), interface_ring[i].begin(), interface_ring[i].end());
       }
+      offered.insert(offered.end(), interface_ring[i].begin(), interface_ring[i].end());
       carries[i] = clipper::union_nonzero(offered);
     }
   }
@@ -337,13 +343,12 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
     travel_region[i] = region[i];
     if (held && !(held->body.loops.empty() && held->interface.loops.empty())) {
       // The support's own islands, the body and the interface, in the nearest-first order.
-      // On the bed (layer 0 without a raft) its beads are the first layer's width.
-      const double bead = i == 0 && !raft ? o.first_layer_width : o.extrusion_width;
+      const double bead = support_bead(i);
       // What carries a sheath here: the layer below's sheath where it is laid, and its part;
       // on the bed or the raft, anything.
       std::optional<Region> carried;
       if (i > 0) carried = from_clipper(carries[i - 1]);
-      for (auto paths : {support_body_paths(held->body, bead, o.support, carried ? &*carried : nullptr),
+      for (auto paths : {support_body_paths(held->body, bead, o.support, sheath[i], carried ? &*carried : nullptr),
                          support_interface_paths(held->interface, bead, height, o.support)}) {
         if (!paths.empty()) islands[i].push_back(Island{{std::move(paths)}});
       }

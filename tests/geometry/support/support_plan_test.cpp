@@ -183,6 +183,33 @@ TEST_CASE("interface_is_a_thickness_in_mm_rounded_up_to_whole_layers_on_any_stac
   }
 }
 
+TEST_CASE("contacts_are_widened_across_the_lines_not_along_them") {
+  // A 10 mm square stem, 10 mm tall, under a plate reaching 0.6 mm past it in +y: the
+  // overhang, x in [-5, 5], y in [5, 5.6], lies between the body's lines at y = 5 and 7.5
+  // (2.5 mm apart along x). Its interface spans that band, line to line and half a bead
+  // past (its lines cross the body's and end on them), over the overhang's own extent along
+  // the lines: a bead longer would hang past the plate's end for nothing.
+  auto section = [](double z) {
+    if (z < 10) return rectangle(-5, -5, 5, 5);
+    if (z < 12) return rectangle(-5, -5, 5, 5.6);
+    return Region{};
+  };
+  const std::vector<Layer> layers = uniform_layers(12, 0.2, 0.2);
+  SupportOptions o = everywhere();
+  o.bridge_length = 0;
+  const SupportPlan plan = plan_supports(regions_of(layers, section), layers, o);
+  const std::size_t top = layer_from(layers, 10) - 2;  // 0.2 mm of air, 2 layers of interface
+  const double w = o.bead_width;
+  for (const std::size_t j : {top - 1, top}) {
+    CAPTURE(j);
+    for (const Vec2 p : {Vec2{0, 5.4}, Vec2{-4.95, 6.5}, Vec2{4.95, 7.7}}) CHECK(inside(plan.layers[j].interface, p));
+    for (const Vec2 p : {Vec2{5.05, 5.4}, Vec2{-5.05, 6.5}, Vec2{0, 7.5 + w / 2 + 0.02}}) {
+      CHECK_FALSE(supported_at(plan, j, p));
+    }
+    CHECK(area(plan.layers[j].interface) == doctest::Approx(10 * (7.5 + w / 2 + 0.01 - 5.2)).epsilon(0.01));
+  }
+}
+
 TEST_CASE("buildplate_support_stands_only_on_the_bed_and_everywhere_also_on_the_part") {
   // A 40 mm foot 2 mm tall, a stem, and a 40 mm bar at 10 mm: the bar's wings are over the
   // foot.

@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "geometry/core/clipper.h"
 #include "geometry/toolpaths/toolpath_shapes.h"
 
 using namespace geometry;
@@ -31,55 +32,123 @@ TEST_CASE("body_lines_lie_on_a_grid_fixed_in_the_part_so_layers_stack") {
   for (const Region& body : {Region{{rectangle(0.3, 0.7, 20.1, 10.9)}}, Region{{rectangle(-3, -1, 12, 14)}}}) {
     const auto paths = support_body_paths(body, w, o);
     REQUIRE_FALSE(paths.empty());
-    std::size_t sheaths = 0;
     for (const ExtrusionPath& path : paths) {
       CHECK(path.role == PathRole::support);
       CHECK(path.width == w);
       CHECK(within(path, -3 + w / 2 - 1e-6, -1, 20.1, 14, 1e-6));
-      if (is_closed(path)) {  // the sheath, half a bead in
-        ++sheaths;
-        continue;
-      }
       for (std::size_t i = 1; i < path.points.size(); ++i) {
         const Vec2 a = path.points[i - 1], b = path.points[i];
         if (std::abs(a.y - b.y) < 1e-9 && std::abs(a.x - b.x) > 1) {  // a line, not a connector
-          CHECK(std::abs(a.y / 2.5 - std::round(a.y / 2.5)) < 1e-6);
+          const bool sheath = std::abs(a.y - (body.loops[0][0].y + w / 2)) < 1e-6 ||
+                              std::abs(a.y - (body.loops[0][2].y - w / 2)) < 1e-6;
+          CHECK((sheath || std::abs(a.y / 2.5 - std::round(a.y / 2.5)) < 1e-6));
         }
       }
     }
-    CHECK(sheaths == 1);
   }
+}
+
+TEST_CASE("sheath_runs_only_along_the_lines_off_them") {
+  SupportPathOptions o;
+  o.spacing = 2.5;
+  // The sheath of a body whose edges along the lines (along x, at y = 2.5 k) lie off every
+  // line: those two sides, half a bead in; none across the lines (x = 0, 10), where what
+  // stands on the edge bridges from line to line. Off by 0.675 and 0.925 mm here.
+  auto sheath_length = [&](const Region& body, double y_lo, double y_hi) {
+    double along = 0;
+    for (const ExtrusionPath& path : support_sheath(to_clipper(body), body, w, o).paths) {
+      for (Vec2 p : path.points) {
+        CHECK((std::abs(p.y - y_lo) < 1e-6 || std::abs(p.y - y_hi) < 1e-6));
+      }
+      along += length(path.points);
+    }
+    return along;
+  };
+  CHECK(sheath_length(Region{{rectangle(0, 0.7, 10, 10.9)}}, 0.7 + w / 2, 10.9 - w / 2) ==
+        doctest::Approx(2 * (10 - w)).epsilon(1e-6));
+  // Its sides on the lines at y = 0 and 5 (a body widened to them, half a bead past):
+  // no sheath; the lines, half a bead in from every edge, carry what stands on it.
+  const Region on_lines{{rectangle(0, -w / 2 - 0.01, 10, 5 + w / 2 + 0.01)}};
+  CHECK(sheath_length(on_lines, 0, 0) == 0);
+  bool lines[3] = {false, false, false};
+  for (const ExtrusionPath& path : support_body_paths(on_lines, w, o)) {
+    for (std::size_t i = 1; i < path.points.size(); ++i) {
+      const Vec2 a = path.points[i - 1], b = path.points[i];
+      if (std::abs(a.y - b.y) > 1e-9) continue;
+      for (int k = 0; k < 3; ++k) {
+        if (std::abs(a.y - 2.5 * k) < 1e-6 && std::min(a.x, b.x) < w / 2 + 1e-6 &&
+            std::max(a.x, b.x) > 10 - w / 2 - 1e-6) {
+          lines[k] = true;
+        }
+      }
+    }
+  }
+  CHECK(lines[0]);
+  CHECK(lines[1]);
+  CHECK(lines[2]);
+  // Beside an interface, none: the interface has its own loop.
+  const Region body{{rectangle(0, 0.7, 10, 5.6)}};
+  clipper::Paths support = to_clipper(body);
+  const clipper::Paths interface = to_clipper(Region{{rectangle(0, 5.6, 10, 10.9)}});
+  support = clipper::union_nonzero(support, interface);
+  double beside = 0;
+  for (const ExtrusionPath& path : support_sheath(support, body, w, o).paths) {
+    for (Vec2 p : path.points) CHECK(p.y < 5.6 + 1e-6);
+    beside += length(path.points);
+  }
+  CHECK(beside == doctest::Approx(10 - w).epsilon(1e-6));  // the bottom side alone
 }
 
 TEST_CASE("sheath_is_laid_only_where_the_layer_below_carries_it") {
   SupportPathOptions o;
-  const Region body{{rectangle(0, 0, 10, 10)}};
+  const Region body{{rectangle(0, 0.7, 10, 10.9)}};
   // Below: the same island: the whole sheath. Below: only its left half: the sheath's left
-  // part (its left side, and the halves of the top and bottom).
-  const Region all{{rectangle(-1, -1, 11, 11)}}, left{{rectangle(-1, -1, 5, 11)}};
+  // halves.
+  const Region all{{rectangle(-1, -1, 11, 12)}}, left{{rectangle(-1, -1, 5, 12)}};
+  auto on_sheath = [&](const ExtrusionPath& path) {
+    bool sheath = !path.points.empty();
+    for (Vec2 p : path.points) {
+      sheath = sheath && (std::abs(p.y - (0.7 + w / 2)) < 1e-6 || std::abs(p.y - (10.9 - w / 2)) < 1e-6);
+    }
+    return sheath;
+  };
   double full = 0, kept = 0;
   for (const ExtrusionPath& path : support_body_paths(body, w, o, &all)) {
-    if (is_closed(path)) full += length(path.points);
+    if (on_sheath(path)) full += length(path.points);
   }
   for (const ExtrusionPath& path : support_body_paths(body, w, o, &left)) {
-    CHECK(within(path, 0, 0, 10, 10, 1e-6));
-    const bool line = path.points.size() == 2 && path.points[0].y == path.points[1].y &&
-                      std::abs(path.points[0].y / 2.5 - std::round(path.points[0].y / 2.5)) < 1e-6;
-    if (line) continue;  // the body's lines, zig-zagged or not, are laid anyway
-    bool sheath = true;  // on the sheath's line, half a bead in
-    for (Vec2 p : path.points) {
-      sheath = sheath && (std::abs(p.x - w / 2) < 1e-6 || std::abs(p.y - w / 2) < 1e-6 ||
-                          std::abs(p.y - (10 - w / 2)) < 1e-6 || std::abs(p.x - (10 - w / 2)) < 1e-6);
-    }
-    if (!sheath) continue;
+    CHECK(within(path, 0, 0.7, 10, 10.9, 1e-6));
+    if (!on_sheath(path)) continue;
     for (Vec2 p : path.points) CHECK(p.x <= 5 + 1e-6);
     kept += length(path.points);
   }
-  // The left side and the left halves of the top and bottom.
-  CHECK(kept == doctest::Approx((10 - w) + 2 * (5 - w / 2)).epsilon(0.02));
-  CHECK(full == doctest::Approx(4 * (10 - w)).epsilon(1e-6));
+  CHECK(full == doctest::Approx(2 * (10 - w)).epsilon(1e-6));
+  CHECK(kept == doctest::Approx(2 * (5 - w / 2)).epsilon(1e-6));
   o.sheath = false;
-  for (const ExtrusionPath& path : support_body_paths(body, w, o)) CHECK_FALSE(is_closed(path));
+  for (const ExtrusionPath& path : support_body_paths(body, w, o)) CHECK_FALSE(on_sheath(path));
+}
+
+TEST_CASE("body_lines_are_joined_along_the_edge_up_to_two_spacings") {
+  SupportPathOptions o;
+  o.spacing = 2.5;
+  o.sheath = false;
+  // A parallelogram 20 mm along x, its slanted sides rising at `degrees` to the lines: the
+  // ends of neighbouring lines (2.5 mm apart across them) lie 2.5 / sin(degrees) apart along
+  // those sides, 3.5 mm at 45 degrees (joined), 5.9 mm at 25 (not: more than two spacings).
+  for (const double degrees : {45.0, 25.0}) {
+    CAPTURE(degrees);
+    const double run = 10 / std::tan(degrees * M_PI / 180);
+    const Region body{{{{0, 0.3}, {20, 0.3}, {20 + run, 10.3}, {run, 10.3}}}};
+    std::size_t lines = 0, paths = 0;
+    for (const ExtrusionPath& path : support_body_paths(body, w, o)) {
+      ++paths;
+      for (std::size_t i = 1; i < path.points.size(); ++i) {
+        if (std::abs(path.points[i].y - path.points[i - 1].y) < 1e-9) ++lines;
+      }
+    }
+    CHECK(lines == 4);  // y = 2.5, 5, 7.5, 10
+    CHECK(paths == (degrees > 30 ? 1u : 4u));
+  }
 }
 
 TEST_CASE("grid_body_lays_lines_both_ways") {
