@@ -559,6 +559,20 @@ void write_header(TextSink& text, const std::vector<LayerToolpaths>& layers, con
   text.write_line(fmt::format(";FILAMENT_G:{:.3f}", grams));
 }
 
+// What the clock's run of a program says of it: the summary but for the text's lines and bytes.
+GcodeSummary clock_summary(std::size_t layers, double seconds, const Emitter& timing,
+                           const ClockSink& clock, const Profiles& profiles) {
+  GcodeSummary summary;
+  summary.layers = layers;
+  summary.print_seconds = seconds;
+  summary.filament_mm = timing.filament();
+  summary.support_filament_mm = timing.support_filament();
+  summary.filament_grams = filament_weight(summary.filament_mm, profiles.printer.filament_diameter,
+                                           profiles.material.density);
+  summary.layer_starts = clock.layer_times();
+  return summary;
+}
+
 }  // namespace
 
 std::string format_duration(double seconds) {
@@ -590,15 +604,8 @@ GcodeSummary write_gcode(std::ostream& out, const std::vector<LayerToolpaths>& l
   TextSink header;
   write_header(header, layers, profiles, options, seconds, timing.filament());
 
-  GcodeSummary summary;
-  summary.layers = layers.size();
-  summary.print_seconds = seconds;
-  summary.filament_mm = writing.filament();
-  summary.support_filament_mm = writing.support_filament();
-  summary.filament_grams = filament_weight(summary.filament_mm, profiles.printer.filament_diameter,
-                                           profiles.material.density);
+  GcodeSummary summary = clock_summary(layers.size(), seconds, timing, clock, profiles);
   summary.lines = header.lines() + body.lines();
-  summary.layer_starts = clock.layer_times();
   summary.bytes = header.write(out, seconds, {});
   summary.bytes += body.write(out, seconds, clock.layer_times());
   return summary;
@@ -611,15 +618,8 @@ GcodeSummary time_gcode(const std::vector<LayerToolpaths>& layers, const Profile
   ClockSink clock(profiles.printer.motion);
   Emitter timing(profiles, options, offset, clock);
   timing.program(layers);
-  GcodeSummary summary;
-  summary.layers = layers.size();
-  summary.print_seconds = clock.finish();
-  summary.filament_mm = timing.filament();
-  summary.support_filament_mm = timing.support_filament();
-  summary.filament_grams = filament_weight(summary.filament_mm, profiles.printer.filament_diameter,
-                                           profiles.material.density);
-  summary.layer_starts = clock.layer_times();
-  return summary;
+  const double seconds = clock.finish();
+  return clock_summary(layers.size(), seconds, timing, clock, profiles);
 }
 
 GcodeSummary write_gcode_file(const std::string& path, const std::vector<LayerToolpaths>& layers,
