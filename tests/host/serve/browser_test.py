@@ -209,12 +209,17 @@ def main():
         if find("opt-support").get_attribute("value") != defaults["support"] or \
                 find("opt-raft").is_selected() != defaults["raft"]:
             raise Failed(f"the form does not show the printer's defaults {defaults}")
-        find("opt-brim").clear()
-        find("opt-brim").send_keys("-1")
-        find("upload-button").click()
-        wait_until("the bad brim refused", lambda: "Refused: brim" in text("upload-message"))
-        find("opt-brim").clear()
-        find("opt-brim").send_keys("0")
+        def refused_then(field, bad, reply, good):
+            """Uploads with `bad` in the form's `field`, waits for the one-line refusal
+            `reply`, then types `good` there instead."""
+            find(field).clear()
+            find(field).send_keys(bad)
+            find("upload-button").click()
+            wait_until(f"the bad {field} refused", lambda: reply in text("upload-message"))
+            find(field).clear()
+            find(field).send_keys(good)
+
+        refused_then("opt-brim", "-1", "Refused: brim", "0")
         Select(find("opt-support")).select_by_value("buildplate")
         if find("opt-raft").is_selected():
             find("opt-raft").click()
@@ -254,11 +259,7 @@ def main():
         if not find("opt-max-time").is_enabled():
             raise Failed("adaptive layers leave the print-time budget disabled")
         find("opt-tolerance").clear()
-        find("opt-max-time").send_keys("ninety")
-        find("upload-button").click()
-        wait_until("the bad budget refused", lambda: "Refused: maxTime" in text("upload-message"))
-        find("opt-max-time").clear()
-        find("opt-max-time").send_keys("1h")
+        refused_then("opt-max-time", "ninety", "Refused: maxTime", "1h")
         find("upload-button").click()
         wait_until("tee3.gcode sliced", lambda: text("slicing").startswith("Sliced tee3.gcode"), timeout=180)
         if "fits --max-time 1 h" not in text("slicing"):
