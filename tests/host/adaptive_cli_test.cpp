@@ -17,6 +17,8 @@
 #include "support/run_command.h"
 #include "support/solids.h"
 
+namespace adaptive_cli_test {
+
 using test_support::run_mahost;
 
 namespace {
@@ -264,3 +266,5 @@ TEST_CASE("a_print_time_budget_that_is_not_a_duration_is_refused_in_one_line") {
   CHECK(both.exit_code != 0);
   CHECK(both.err.find("excludes") != std::string::npos);
 }
+
+}  // namespace adaptive_cli_test

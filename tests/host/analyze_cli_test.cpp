@@ -19,6 +19,8 @@
 #include "support/run_command.h"
 #include "support/solids.h"
 
+namespace analyze_cli_test {
+
 using test_support::run_mahost;
 
 namespace {
@@ -230,3 +232,5 @@ TEST_CASE("analyze_compares_with_a_zero_baseline_by_absolute_difference") {
     CHECK(std::abs(c["mean_distance_change"].get<double>()) <= 1e-9);
   }
 }
+
+}  // namespace analyze_cli_test

@@ -19,6 +19,8 @@
 #include "support/run_command.h"
 #include "support/solids.h"
 
+namespace boundaries_cli_test {
+
 using test_support::run_mahost;
 
 namespace {
@@ -221,3 +223,5 @@ TEST_CASE("advise_judges_a_plan_beside_the_uniform_thicknesses") {
   CHECK(j["plan"]["mean_distance"].get<double>() ==
         doctest::Approx(j["thicknesses"][1]["mean_distance"].get<double>()).epsilon(0.1));
 }
+
+}  // namespace boundaries_cli_test

@@ -26,6 +26,8 @@
 
 extern char** environ;
 
+namespace cmd_sim_test {
+
 using test_support::run_command;
 using test_support::run_mahost;
 
@@ -349,3 +351,5 @@ TEST_CASE("sim_speaks_the_dialect_it_is_told") {
   CHECK(bad.exit_code == 2);
   CHECK(bad.err.find("--dialect") != std::string::npos);
 }
+
+}  // namespace cmd_sim_test

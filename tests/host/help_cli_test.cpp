@@ -8,6 +8,8 @@
 
 #include "support/run_command.h"
 
+namespace help_cli_test {
+
 using test_support::run_mahost;
 
 namespace {
@@ -89,3 +91,5 @@ TEST_CASE("print_help_groups_the_slice_options_and_says_how_layers_are_numbered"
   CHECK(r.out.find("numbered from 1 as the progress line shows them (layer n is the file's "
                    ";LAYER:n-1)") != std::string::npos);
 }
+
+}  // namespace help_cli_test

@@ -12,6 +12,8 @@
 #include "geometry/mesh/stl_io.h"
 #include "support/run_command.h"
 
+namespace info_cli_test {
+
 using test_support::run_mahost;
 
 namespace {
@@ -173,3 +175,5 @@ TEST_CASE("info_help_lists_its_options") {
     CHECK(result.out.find(option) != std::string::npos);
   }
 }
+
+}  // namespace info_cli_test

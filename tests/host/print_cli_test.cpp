@@ -33,6 +33,8 @@
 
 extern char** environ;
 
+namespace print_cli_test {
+
 using test_support::run_mahost;
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
@@ -766,3 +768,5 @@ TEST_CASE("pause_at_layer_on_a_variable_stack_stops_at_that_layers_height") {
   CHECK(out.find("completed: dry run on the simulated printer, ") != std::string::npos);
   CHECK(out.find(", 7 layers\n") != std::string::npos);
 }
+
+}  // namespace print_cli_test

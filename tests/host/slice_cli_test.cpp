@@ -23,6 +23,8 @@
 #include "support/run_command.h"
 #include "support/solids.h"
 
+namespace slice_cli_test {
+
 using test_support::run_mahost;
 
 namespace {
@@ -371,3 +373,4 @@ TEST_CASE("unwritable_output_is_refused_naming_it") {
   CHECK(result.err.starts_with("mahost: cannot write '" + dir + "/no/such/folder/c.gcode'"));
 }
 
+}  // namespace slice_cli_test

@@ -23,6 +23,8 @@
 #include "support/run_command.h"
 #include "support/solids.h"
 
+namespace support_cli_test {
+
 using test_support::run_mahost;
 namespace clipper = geometry::clipper;
 
@@ -439,3 +441,5 @@ TEST_CASE("support_options_are_checked_and_listed_in_the_help") {
     CHECK(help.out.find(option + " ") != std::string::npos);
   }
 }
+
+}  // namespace support_cli_test

@@ -7,6 +7,8 @@
 #include "geometry/toolpaths/bead_spacing.h"
 #include "printer/bead_model.h"
 
+namespace bead_model_test {
+
 using namespace printer;
 constexpr double pi = std::numbers::pi;
 
@@ -61,3 +63,5 @@ TEST_CASE("geometry_bead_spacing_fills_the_writers_bead_cross_section") {
     }
   }
 }
+
+}  // namespace bead_model_test

@@ -6,6 +6,8 @@
 #include "printer/error.h"
 #include "printer/print_state.h"
 
+namespace gcode_file_test {
+
 using namespace printer;
 
 TEST_CASE("commands_without_comments_and_layers_from_marks") {
@@ -84,3 +86,5 @@ TEST_CASE("one_bad_line_among_valid_gcode_is_refused_by_its_number_or_skipped_an
   REQUIRE(kept.layers.size() == 1);
   CHECK(kept.layers[0].first_command == 4);  // the layer starts at G1 X4, "hello" left out
 }
+
+}  // namespace gcode_file_test

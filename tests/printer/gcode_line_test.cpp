@@ -4,6 +4,8 @@
 
 #include "printer/gcode_line.h"
 
+namespace gcode_line_test {
+
 TEST_CASE("checksum_is_the_xor_of_the_bytes") {
   CHECK(printer::gcode_checksum("") == 0);
   CHECK(printer::gcode_checksum("N1 M105") == 38);
@@ -97,3 +99,5 @@ TEST_CASE("gcode_problem_names_what_is_wrong") {
   CHECK(printer::gcode_problem("M862.3 P \"MK3S") == "a quoted parameter is not closed");
   CHECK(printer::gcode_problem("G1- X1") == "its command word is followed by something that is not a parameter");
 }
+
+}  // namespace gcode_line_test

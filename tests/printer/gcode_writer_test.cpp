@@ -20,6 +20,8 @@
 #include "printer/profile.h"
 #include "support/gcode_beads.h"
 
+namespace gcode_writer_test {
+
 using geometry::ExtrusionPath;
 using geometry::LayerToolpaths;
 using geometry::Loop;
@@ -681,3 +683,5 @@ TEST_CASE("each_layer_is_laid_at_its_own_thickness") {
   CHECK(program.header.at("LAYER_COUNT") == "4");
   CHECK(summary.layers == 4);
 }
+
+}  // namespace gcode_writer_test

@@ -16,6 +16,8 @@
 #include "sim/sim_link.h"
 #include "support/run_command.h"
 
+namespace job_test {
+
 using namespace printer;
 
 namespace {
@@ -675,3 +677,5 @@ TEST_CASE("temperatures_on_the_progress_line_follow_the_printer_while_printing")
                                     << " C from the printer's over " << checked << " ticks");
   }
 }
+
+}  // namespace job_test

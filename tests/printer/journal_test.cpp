@@ -10,6 +10,8 @@
 #include "printer/error.h"
 #include "support/run_command.h"
 
+namespace journal_test {
+
 using namespace printer;
 
 namespace {
@@ -61,3 +63,5 @@ TEST_CASE("resume_command_names_the_port_or_a_dry_run") {
   CHECK(resume_command("/run/j.journal", kAnyPort) == "mahost resume /run/j.journal --port PORT");
   CHECK(resume_command("/run/j.journal", "") == "mahost resume /run/j.journal --dry-run");
 }
+
+}  // namespace journal_test

@@ -11,6 +11,8 @@
 #include "printer/error.h"
 #include "printer/layer_tops.h"
 
+namespace layer_tops_test {
+
 using namespace printer;
 
 namespace {
@@ -220,3 +222,5 @@ TEST_CASE("boundaries_argument_is_a_file_or_a_list") {
             "line) or tops in mm, e.g. --boundaries 0.3,0.5,0.7");
   std::filesystem::remove_all(dir);
 }
+
+}  // namespace layer_tops_test

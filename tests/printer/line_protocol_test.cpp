@@ -8,6 +8,8 @@
 #include "printer/gcode_line.h"
 #include "printer/scripted_firmware.h"
 
+namespace line_protocol_test {
+
 using printer::LineProtocol;
 using printer::ProtocolOptions;
 using test_support::ScriptedFirmware;
@@ -570,3 +572,5 @@ TEST_CASE("unknown_firmwares_m105_probe_whose_own_ok_is_lost_is_followed_by_a_sk
   CHECK(protocol.stats().probes == 2);
   CHECK(firmware.now() - start < 2 * (ProtocolOptions{}.probe_after + 1s) + 2s);
 }
+
+}  // namespace line_protocol_test

@@ -6,6 +6,8 @@
 
 #include "printer/motion_model.h"
 
+namespace motion_model_test {
+
 using printer::AxisPosition;
 using printer::MotionLimits;
 using printer::MotionModel;
@@ -242,3 +244,5 @@ TEST_CASE("limits_change_applies_to_later_moves") {
   model.push({0, 0, 0, 0}, 50);
   CHECK(model.flush() == doctest::Approx(trapezoid(100, 50, 500, 0, 0)).epsilon(1e-12));
 }
+
+}  // namespace motion_model_test

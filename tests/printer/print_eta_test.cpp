@@ -16,6 +16,8 @@
 #include "printer/test_program.h"
 #include "sim/sim_link.h"
 
+namespace print_eta_test {
+
 using namespace printer;
 
 namespace {
@@ -202,3 +204,5 @@ TEST_CASE("eta_stands_still_while_paused_and_leaves_the_pause_out") {
   CHECK(worst_after < 0.01);
   MESSAGE("after the pause, predicted end within " << worst_after * 100 << "%");
 }
+
+}  // namespace print_eta_test

@@ -3,6 +3,8 @@
 
 #include "printer/print_state.h"
 
+namespace print_state_test {
+
 using printer::apply;
 using printer::PrintState;
 
@@ -23,3 +25,5 @@ TEST_CASE("a_heater_target_counts_as_set_only_by_a_command_with_s") {
   CHECK(s.bed_target_set);
   CHECK(s.bed_target == 0);
 }
+
+}  // namespace print_state_test

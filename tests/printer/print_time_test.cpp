@@ -6,6 +6,8 @@
 
 #include "printer/print_time.h"
 
+namespace print_time_test {
+
 using namespace printer;
 
 namespace {
@@ -103,3 +105,5 @@ TEST_CASE("moves_become_final_a_window_later") {
   CHECK(clock.moves_final() == 3);
   CHECK(clock.elapsed() == doctest::Approx(rest_to_rest(30, 50, 1000)).epsilon(1e-12));
 }
+
+}  // namespace print_time_test

@@ -9,6 +9,8 @@
 #include "printer/error.h"
 #include "printer/profile.h"
 
+namespace profile_test {
+
 using namespace printer;
 
 namespace {
@@ -359,3 +361,5 @@ TEST_CASE("skin_thicknesses_are_profile_keys_in_mm") {
   CHECK(profiles.printer.print.top_thickness == doctest::Approx(1.2));
   CHECK(config_error([&] { apply_override(profiles, "print.bottom_thickness=-1"); }) != "");
 }
+
+}  // namespace profile_test

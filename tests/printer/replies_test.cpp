@@ -3,6 +3,8 @@
 
 #include <doctest/doctest.h>
 
+namespace replies_test {
+
 using printer::classify_reply;
 using printer::ReplyKind;
 
@@ -122,3 +124,5 @@ TEST_CASE("a_heating_wait_report_is_told_from_an_auto_report") {
   CHECK(classify_reply("T:185.2 /210.0 B:60.0 /60.0 @:127 B@:0 W:4").heating_wait);
   CHECK_FALSE(classify_reply(" T:185.23 /210.00 B:59.80 /60.00 @:127 B@:0").heating_wait);
 }
+
+}  // namespace replies_test

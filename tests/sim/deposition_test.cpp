@@ -11,6 +11,8 @@
 #include "sim/deposition.h"
 #include "sim/printed_part.h"
 
+namespace deposition_test {
+
 namespace {
 
 // A square loop of four beads of width w around (0,0)-(20,20) at height z, layer height h.
@@ -98,3 +100,5 @@ TEST_CASE("beads_of_a_variable_stack_are_as_wide_as_laid_at_each_layers_height")
     for (const sim::Bead& bead : layers[i].beads) CHECK(bead.width == doctest::Approx(0.45));
   }
 }
+
+}  // namespace deposition_test

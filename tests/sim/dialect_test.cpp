@@ -8,6 +8,8 @@
 
 #include "sim/printer.h"
 
+namespace dialect_test {
+
 namespace {
 
 struct Bench {
@@ -98,3 +100,5 @@ TEST_CASE("drop_blocking_ok_loses_the_ok_of_the_next_blocking_commands_only") {
   CHECK(bench.printer.lost_ok_waits()[0] > 30);
   CHECK(bench.printer.counters().longest_idle >= bench.printer.lost_ok_waits()[0]);
 }
+
+}  // namespace dialect_test

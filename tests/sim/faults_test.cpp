@@ -11,6 +11,8 @@
 #include "sim/faults.h"
 #include "sim/printer.h"
 
+namespace faults_test {
+
 namespace {
 
 std::string message_of(std::string_view spec) {
@@ -234,3 +236,5 @@ TEST_CASE("faults_repeat_exactly_with_the_same_seed") {
   CHECK(a == run("drop-ok=0.3,dup-ok=0.3,seed=5"));
   CHECK(a != run("drop-ok=0.3,dup-ok=0.3,seed=6"));
 }
+
+}  // namespace faults_test

@@ -6,6 +6,8 @@
 
 #include "sim/heater.h"
 
+namespace heater_test {
+
 namespace {
 sim::HeaterConstants hotend() { return {120, 4, 1, 10}; }  // ceiling 20 + 480 = 500 °C
 }  // namespace
@@ -64,3 +66,5 @@ TEST_CASE("failed_heater_falls_whatever_its_target") {
   CHECK(heater.time_reaching(196) == doctest::Approx(300 + 120 * std::log(180.0 / 176.0)));
   CHECK(heater.time_reaching(200.5) == std::numeric_limits<double>::infinity());
 }
+
+}  // namespace heater_test

@@ -10,6 +10,8 @@
 #include "printer/print_time.h"
 #include "sim/printer.h"
 
+namespace printer_test {
+
 namespace {
 
 // A printer past its power-on banner.
@@ -500,3 +502,5 @@ TEST_CASE("bytes_at_a_baud_rate_still_arrive_after_hours_of_sim_time") {
     printer.run_until(t + 2);
   }
 }
+
+}  // namespace printer_test

@@ -10,6 +10,8 @@
 #include "sim/record.h"
 #include "support/run_command.h"
 
+namespace record_test {
+
 TEST_CASE("record_json_holds_the_log_counters_moves_and_beads") {
   sim::Config config;
   config.faults = sim::parse_fault_spec("dup-ok=0.5,seed=2");
@@ -48,3 +50,5 @@ TEST_CASE("record_to_an_unwritable_path_names_it") {
                        "directory; check the folder exists and is writable",
                        printer::ConfigError);
 }
+
+}  // namespace record_test

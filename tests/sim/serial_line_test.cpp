@@ -5,6 +5,8 @@
 
 #include "sim/serial_line.h"
 
+namespace serial_line_test {
+
 namespace {
 std::string assemble(std::string_view bytes, int max_cmd_size = 96) {
   sim::LineAssembler line(max_cmd_size);
@@ -81,3 +83,5 @@ TEST_CASE("emergency_parser_sees_m112_in_any_line_form") {
   CHECK(last("M1120\n") == sim::Emergency::m112);  // as Marlin's: what follows is not read
   CHECK(last("M105\nM112\n") == sim::Emergency::m112);
 }
+
+}  // namespace serial_line_test

@@ -9,6 +9,8 @@
 #include "sim/faults.h"
 #include "sim/sim_link.h"
 
+namespace sim_link_test {
+
 using namespace std::chrono_literals;
 
 TEST_CASE("simlink_says_start_on_power_on") {
@@ -64,3 +66,5 @@ TEST_CASE("same_seed_same_bytes_at_the_same_sim_times") {
   };
   CHECK(run() == run());
 }
+
+}  // namespace sim_link_test

@@ -11,6 +11,8 @@
 #include "printer/bead_model.h"
 #include "sim/gcode_deposition.h"
 
+namespace unsupported_extrusion_test {
+
 using geometry::Vec2;
 
 namespace {
@@ -166,3 +168,5 @@ TEST_CASE("gcode_read_straight_through_records_what_the_sim_records") {
   CHECK(record.moves[2].layer == 1);
   CHECK(record.moves[2].z == doctest::Approx(0.4));
 }
+
+}  // namespace unsupported_extrusion_test

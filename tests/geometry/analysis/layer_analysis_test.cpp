@@ -10,6 +10,8 @@
 #include "geometry/metrics/layer_metrics.h"
 #include "support/solids.h"
 
+namespace layer_analysis_test {
+
 using geometry::LayerAnalysis;
 using geometry::StrategyLayer;
 
@@ -132,3 +134,5 @@ TEST_CASE("percentile_by_height_weighs_layers_by_thickness_outside_the_excluded_
   // The summary carries it.
   CHECK(geometry::summarize(layers)[0].p95_distance_by_height == 2.0);
 }
+
+}  // namespace layer_analysis_test

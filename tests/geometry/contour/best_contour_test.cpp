@@ -14,6 +14,8 @@
 #include "geometry/mesh/stl_io.h"
 #include "support/solids.h"
 
+namespace best_contour_test {
+
 using geometry::ContourStrategy;
 
 namespace {
@@ -100,3 +102,5 @@ TEST_CASE("best_on_the_bunny_misses_no_feature_and_is_never_worse_than_ma") {
   CHECK(mid_missing > 0);  // the layers this test is about are among those checked
   CHECK(worse_than_mid <= mid_missing);
 }
+
+}  // namespace best_contour_test

@@ -14,6 +14,8 @@
 #include "geometry/slicing/layer_stack.h"
 #include "support/solids.h"
 
+namespace contour_strategy_test {
+
 using geometry::ContourStrategy;
 using geometry::LayerStack;
 using geometry::Region;
@@ -142,3 +144,5 @@ TEST_CASE("out_of_range_layer_gives_an_empty_contour") {
   CHECK(geometry::layer_contour(stack, 99, strategy("ma")).loops.empty());
   CHECK(geometry::layer_contour(stack, 4, strategy("lower")).loops.empty());
 }
+
+}  // namespace contour_strategy_test

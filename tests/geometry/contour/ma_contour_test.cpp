@@ -32,6 +32,8 @@
 #include "geometry/mesh/stl_io.h"
 #include "support/solids.h"
 
+namespace ma_contour_test {
+
 using namespace geometry;
 
 namespace {
@@ -653,3 +655,5 @@ TEST_CASE("bunny_every_layer_is_closed_valid_and_touches_every_island") {
                     << total_islands << " footprint islands touched");
   CHECK(touched == total_islands);
 }
+
+}  // namespace ma_contour_test

@@ -13,6 +13,8 @@
 #include "geometry/metrics/volume_deviation.h"
 #include "support/solids.h"
 
+namespace optimal_height_test {
+
 using geometry::LayerStack;
 
 TEST_CASE("cone_optimal_height_is_the_mid_plane") {
@@ -101,3 +103,5 @@ TEST_CASE("optimal_height_of_a_missing_layer_is_empty") {
   CHECK(none.section.loops.empty());
   CHECK(none.evaluations == 0);
 }
+
+}  // namespace optimal_height_test

@@ -8,6 +8,8 @@
 #include "geometry/core/clipper.h"
 #include "geometry/core/polygon.h"
 
+namespace clipper_test {
+
 using geometry::Loop;
 using geometry::Region;
 using geometry::Vec2;
@@ -110,3 +112,5 @@ TEST_CASE("offset_gives_the_region_clippers_offsetter_gives") {
     }
   }
 }
+
+}  // namespace clipper_test

@@ -7,6 +7,8 @@
 #include "geometry/core/douglas_peucker.h"
 #include "geometry/core/polygon.h"
 
+namespace douglas_peucker_test {
+
 using geometry::Vec2;
 
 namespace {
@@ -42,3 +44,5 @@ TEST_CASE("douglas_peucker_is_total") {
   CHECK(keep({}, 1).empty());
   CHECK(keep({{1, 2}}, 1) == std::vector<char>{1});
 }
+
+}  // namespace douglas_peucker_test

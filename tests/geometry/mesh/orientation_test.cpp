@@ -9,6 +9,8 @@
 #include "geometry/mesh/placement.h"
 #include "support/solids.h"
 
+namespace orientation_test {
+
 using namespace geometry;
 
 namespace {
@@ -111,3 +113,5 @@ TEST_CASE("orient_auto_of_nothing_keeps_the_orientation") {
   CHECK(o.chosen.rotation.identity());
   CHECK(o.stable_faces == 0);
 }
+
+}  // namespace orientation_test

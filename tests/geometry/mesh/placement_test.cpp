@@ -3,6 +3,8 @@
 
 #include <doctest/doctest.h>
 
+namespace placement_test {
+
 using namespace geometry;
 
 namespace {
@@ -140,3 +142,5 @@ TEST_CASE("faces_flat_up_to_float_noise_come_out_exactly_flat") {
   const Mesh placed = place(m, Placement{});
   for (const Vec3& v : placed.vertices) CHECK((v.z == 0.0 || v.z == 8.0));
 }
+
+}  // namespace placement_test

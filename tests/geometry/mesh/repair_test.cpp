@@ -15,6 +15,8 @@
 #include "geometry/mesh/placement.h"
 #include "geometry/mesh/stl_io.h"
 
+namespace repair_test {
+
 using namespace geometry;
 
 namespace {
@@ -307,3 +309,5 @@ TEST_CASE("bunny_closed_after_filling_its_five_holes") {
   const double factor = 50 / (r.bounds.max.y - r.bounds.min.y);
   CHECK(volume == doctest::Approx(r.volume * factor * factor * factor).epsilon(1e-9));
 }
+
+}  // namespace repair_test

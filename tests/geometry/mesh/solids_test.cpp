@@ -13,6 +13,8 @@
 #include "geometry/core/polygon.h"
 #include "support/solids.h"
 
+namespace solids_test {
+
 using namespace solids;
 using geometry::Mesh;
 using geometry::Vec3;
@@ -224,3 +226,5 @@ TEST_CASE("torus_section_is_annulus") {
   CHECK(t.area(0) == doctest::Approx(regular_polygon_area(24, 13) - regular_polygon_area(24, 7))
                          .epsilon(1e-14));
 }
+
+}  // namespace solids_test

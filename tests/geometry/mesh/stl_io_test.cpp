@@ -17,6 +17,8 @@
 #include "geometry/mesh/repair.h"
 #include "support/run_command.h"
 
+namespace stl_io_test {
+
 using namespace geometry;
 
 namespace {
@@ -305,3 +307,5 @@ TEST_CASE("garbage_refused_in_one_line") {
   CHECK(message.find("expected 'facet' or 'endsolid', found 'AAAA") != std::string::npos);
   CHECK(message.size() < 200);
 }
+
+}  // namespace stl_io_test

@@ -18,6 +18,8 @@
 #include "geometry/slab/slab.h"
 #include "support/solids.h"
 
+namespace distance_error_test {
+
 using geometry::DistanceError;
 using geometry::LayerStack;
 using geometry::Region;
@@ -146,3 +148,5 @@ TEST_CASE("reverse_distance_is_sampled_at_its_levels_and_forward_is_not") {
   CHECK(two.reverse <= bound);
   CHECK(std::abs(three.reverse - 0.4 * std::cos(kPi / n)) <= bound);
 }
+
+}  // namespace distance_error_test

@@ -1,12 +1,21 @@
 // The layered part as a mesh: closed, outward, with the volume of its prisms.
 #include <doctest/doctest.h>
 
+#include <cmath>
+#include <filesystem>
 #include <map>
+#include <numbers>
 #include <utility>
 
+#include <unistd.h>
+
+#include "geometry/mesh/repair.h"
+#include "geometry/mesh/stl_io.h"
 #include "geometry/metrics/extruded_layers.h"
 #include "geometry/slicing/layer_stack.h"
 #include "support/solids.h"
+
+namespace extruded_layers_test {
 
 using geometry::Layer;
 using geometry::Region;
@@ -71,14 +80,6 @@ TEST_CASE("extruding_nothing_gives_an_empty_mesh") {
 // As a file: the STL a user exports, read back and repaired as `mahost info` does. A valid
 // solid needs no repair at all: no open or non-manifold edge, no degenerate facet, no vertex
 // to split, no facet to turn.
-
-#include <cmath>
-#include <filesystem>
-#include <numbers>
-#include <unistd.h>
-
-#include "geometry/mesh/repair.h"
-#include "geometry/mesh/stl_io.h"
 
 namespace {
 
@@ -202,3 +203,5 @@ TEST_CASE("a_gap_between_layers_leaves_two_closed_solids") {
       geometry::extruded_layers(layers, std::vector<Region>{square, Region{}, square});
   check_valid_solid(mesh, 2 * 4 * 0.2, "gap");
 }
+
+}  // namespace extruded_layers_test

@@ -8,6 +8,8 @@
 #include "geometry/metrics/layer_metrics.h"
 #include "support/solids.h"
 
+namespace layer_metrics_test {
+
 TEST_CASE("cone_layer_metrics_in_one_call") {
   const int n = 48;
   const double r = 10, h = 20;
@@ -76,3 +78,5 @@ TEST_CASE("layer_metrics_of_a_missing_layer_are_zero") {
   CHECK(m.distance == 0);
   CHECK(m.missed_features == 0);
 }
+
+}  // namespace layer_metrics_test

@@ -7,6 +7,8 @@
 #include "geometry/slab/slab.h"
 #include "support/solids.h"
 
+namespace missed_features_test {
+
 using geometry::LayerStack;
 using geometry::Region;
 
@@ -44,3 +46,5 @@ TEST_CASE("region_touching_an_island_only_at_its_edge_misses_it") {
   CHECK(geometry::missed_features(island, beside).size() == 1);
   CHECK(geometry::missed_features(island, overlapping).empty());
 }
+
+}  // namespace missed_features_test

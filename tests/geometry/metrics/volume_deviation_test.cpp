@@ -21,6 +21,8 @@
 #include "geometry/metrics/volume_deviation.h"
 #include "support/solids.h"
 
+namespace volume_deviation_test {
+
 using geometry::Layer;
 using geometry::LayerStack;
 using geometry::Region;
@@ -281,3 +283,5 @@ TEST_CASE("deviation_handles_regions_on_facet_edges_and_corners") {
   CHECK(deviation_of(stack, top, square(5, 3, 2)) ==
         doctest::Approx(0.3 * 60 - 0.3 * 16 + 0.1 * 16).epsilon(1e-9));
 }
+
+}  // namespace volume_deviation_test

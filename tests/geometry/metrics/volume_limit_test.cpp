@@ -13,6 +13,8 @@
 #include "geometry/metrics/volume_limit.h"
 #include "support/solids.h"
 
+namespace volume_limit_test {
+
 using geometry::LayerStack;
 using geometry::Region;
 
@@ -105,3 +107,5 @@ TEST_CASE("no_region_beats_the_limit") {
     }
   }
 }
+
+}  // namespace volume_limit_test

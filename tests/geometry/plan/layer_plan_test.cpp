@@ -19,6 +19,8 @@
 #include "geometry/slicing/layer_stack.h"
 #include "support/solids.h"
 
+namespace layer_plan_test {
+
 using geometry::AdaptiveOptions;
 using geometry::AdaptivePlan;
 using geometry::Layer;
@@ -380,3 +382,5 @@ TEST_CASE("plans_with_a_listed_set_of_thicknesses_use_only_those") {
     CHECK(layers.back().z_hi == 7.5);
   }
 }
+
+}  // namespace layer_plan_test

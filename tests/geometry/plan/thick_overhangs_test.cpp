@@ -15,6 +15,8 @@
 #include "geometry/slicing/layer_stack.h"
 #include "support/solids.h"
 
+namespace thick_overhangs_test {
+
 using geometry::AdaptiveOptions;
 using geometry::AdaptivePlan;
 using geometry::AllowedThicknesses;
@@ -104,3 +106,5 @@ TEST_CASE("adaptive_plan_with_supports_keeps_thick_layers_where_support_goes_any
     CHECK(held.layers[i].z_hi == free.layers[i].z_hi);
   }
 }
+
+}  // namespace thick_overhangs_test

@@ -7,6 +7,8 @@
 #include "geometry/slab/boundary_pair.h"
 #include "geometry/core/polygon.h"
 
+namespace boundary_pair_test {
+
 using namespace geometry;
 
 namespace {
@@ -75,3 +77,5 @@ TEST_CASE("point_in_region_follows_the_winding") {
   CHECK(point_in_region(ring, {0, 5}));  // on the boundary
   CHECK_FALSE(point_in_region(Region{}, {0, 0}));
 }
+
+}  // namespace boundary_pair_test

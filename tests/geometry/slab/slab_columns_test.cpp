@@ -13,6 +13,8 @@
 #include "geometry/slab/slab_columns.h"
 #include "support/solids.h"
 
+namespace slab_columns_test {
+
 using geometry::AreaMoments;
 using geometry::Region;
 using geometry::Vec2;
@@ -141,3 +143,5 @@ TEST_CASE("empty_slab_has_no_columns") {
   CHECK(columns.facets.empty());
   CHECK(geometry::occupied_volume_inside(columns, lattice_region()) == 0);
 }
+
+}  // namespace slab_columns_test

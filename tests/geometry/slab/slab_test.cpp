@@ -10,6 +10,8 @@
 #include "geometry/slab/slab.h"
 #include "support/solids.h"
 
+namespace slab_test {
+
 using namespace geometry;
 
 namespace {
@@ -183,3 +185,5 @@ TEST_CASE("empty_slab_has_an_empty_footprint") {
   CHECK(slab_of(stack, 0).facets.empty());
   CHECK(slab_footprint(slab_of(stack, 0)).loops.empty());
 }
+
+}  // namespace slab_test

@@ -15,6 +15,8 @@
 #include "geometry/slicing/slicer.h"
 #include "support/solids.h"
 
+namespace layer_stack_test {
+
 using namespace solids;
 using geometry::Layer;
 using geometry::LayerStack;
@@ -231,3 +233,5 @@ TEST_CASE("layer_stack_moves_keep_the_index") {
   CHECK(b.size() == 8);
   CHECK(geometry::area(b.mid(3)) == doctest::Approx(regular_polygon_area(20, 4)).epsilon(1e-12));
 }
+
+}  // namespace layer_stack_test

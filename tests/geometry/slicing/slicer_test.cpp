@@ -16,6 +16,8 @@
 #include "geometry/mesh/stl_io.h"
 #include "support/solids.h"
 
+namespace slicer_test {
+
 using namespace solids;
 using geometry::Region;
 using geometry::Vec2;
@@ -281,3 +283,5 @@ TEST_CASE("bunny_sections_are_valid_regions_even_through_its_vertices") {
   // Midpoint rule over 0.15 mm layers: the repaired mesh's volume to well within 0.1 %.
   CHECK(volume == doctest::Approx(geometry::signed_volume(bunny)).epsilon(1e-3));
 }
+
+}  // namespace slicer_test

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <numbers>
 
+namespace bridge_detector_test {
+
 using namespace geometry;
 
 namespace {
@@ -81,3 +83,5 @@ TEST_CASE("nothing_to_bridge_or_nothing_to_hold_it_is_no_bridge") {
   CHECK_FALSE(bridge_direction(gap, Region{}, 0.45).anchored);
   CHECK_FALSE(bridge_direction(gap, gap, 0).anchored);
 }
+
+}  // namespace bridge_detector_test

@@ -5,6 +5,8 @@
 
 #include <cmath>
 
+namespace overhang_test {
+
 using namespace geometry;
 
 namespace {
@@ -59,3 +61,5 @@ TEST_CASE("an_island_over_nothing_overhangs_whole") {
 TEST_CASE("an_empty_layer_has_no_overhang") {
   CHECK(overhang(Region{}, square(10), 0.2, 0.2).loops.empty());
 }
+
+}  // namespace overhang_test

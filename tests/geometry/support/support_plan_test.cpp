@@ -11,6 +11,8 @@
 
 #include "geometry/core/clipper.h"
 
+namespace support_plan_test {
+
 using namespace geometry;
 
 namespace {
@@ -342,3 +344,5 @@ TEST_CASE("support_volume_is_the_support_area_times_each_layers_thickness") {
   CHECK(expected > 2 * 19.8 * 10 * 19.8 * 0.98);
   CHECK(expected < 2 * 21 * 15 * 19.8);
 }
+
+}  // namespace support_plan_test

@@ -6,6 +6,8 @@
 
 #include <doctest/doctest.h>
 
+namespace bead_spacing_test {
+
 using geometry::bead_spacing;
 using geometry::bead_width_for_spacing;
 
@@ -40,3 +42,5 @@ TEST_CASE("bead_spacing_is_total") {
   CHECK(bead_width_for_spacing(0, 0.2) == 0);
   CHECK(bead_width_for_spacing(0.4, 0) == 0.4);
 }
+
+}  // namespace bead_spacing_test

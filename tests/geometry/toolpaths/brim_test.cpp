@@ -9,6 +9,8 @@
 
 #include "geometry/toolpaths/toolpath_shapes.h"
 
+namespace brim_test {
+
 using namespace geometry;
 using namespace toolpath_shapes;
 
@@ -55,3 +57,5 @@ TEST_CASE("no_width_or_nothing_to_hold_gives_no_brim") {
   CHECK(brim(square, 0, 3).empty());
   CHECK(brim_extent(w, 0) == 0);
 }
+
+}  // namespace brim_test

@@ -9,6 +9,8 @@
 #include "geometry/toolpaths/bead_coverage.h"
 #include "geometry/toolpaths/toolpath_shapes.h"
 
+namespace infill_test {
+
 using namespace geometry;
 using namespace toolpath_shapes;
 
@@ -250,3 +252,5 @@ TEST_CASE("infill_pattern_names_round_trip") {
   }
   CHECK(!parse_infill_pattern("honeycomb"));
 }
+
+}  // namespace infill_test

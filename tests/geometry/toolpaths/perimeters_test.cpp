@@ -9,6 +9,8 @@
 #include "geometry/toolpaths/bead_coverage.h"
 #include "geometry/toolpaths/toolpath_shapes.h"
 
+namespace perimeters_test {
+
 using namespace geometry;
 using namespace toolpath_shapes;
 
@@ -178,3 +180,5 @@ TEST_CASE("empty_island_gives_nothing") {
   CHECK(p.infill_area.loops.empty());
   CHECK(perimeters(Region{{rectangle(0, 0, 5, 5)}}, 0, 3).walls.empty());
 }
+
+}  // namespace perimeters_test

@@ -10,6 +10,8 @@
 
 #include "geometry/toolpaths/segment_medial_axis.h"
 
+namespace segment_medial_axis_test {
+
 using geometry::Region;
 using geometry::SegmentMedialAxis;
 
@@ -102,3 +104,5 @@ TEST_CASE("thin_ring_axis_is_equidistant_from_its_nearly_parallel_sides") {
     CHECK(std::abs(axis.radius[i] - 0.2e6) < 250);
   }
 }
+
+}  // namespace segment_medial_axis_test

@@ -5,6 +5,8 @@
 
 #include "geometry/toolpaths/toolpath_shapes.h"
 
+namespace skins_test {
+
 using namespace geometry;
 using namespace toolpath_shapes;
 
@@ -183,3 +185,5 @@ TEST_CASE("a_step_top_on_thin_layers_gets_a_skin_of_its_thickness") {
   const auto counted = sparse_cores(regions, layers, {3, 3, 0, 0});
   CHECK(area(skins_of(regions, counted, 6).sparse) == doctest::Approx(400));
 }
+
+}  // namespace skins_test

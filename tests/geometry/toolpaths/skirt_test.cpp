@@ -8,6 +8,8 @@
 
 #include "geometry/toolpaths/toolpath_shapes.h"
 
+namespace skirt_test {
+
 using namespace geometry;
 using namespace toolpath_shapes;
 
@@ -68,3 +70,5 @@ TEST_CASE("no_part_or_no_loops_gives_no_skirt") {
   CHECK(skirt(Region{{rectangle(0, 0, 1, 1)}}, w, 0, 3).empty());
   CHECK(skirt(Region{{rectangle(0, 0, 1, 1)}}, 0, 1, 3).empty());
 }
+
+}  // namespace skirt_test

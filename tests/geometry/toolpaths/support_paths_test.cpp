@@ -8,6 +8,8 @@
 #include "geometry/core/clipper.h"
 #include "geometry/toolpaths/toolpath_shapes.h"
 
+namespace support_paths_test {
+
 using namespace geometry;
 using namespace toolpath_shapes;
 
@@ -223,3 +225,5 @@ TEST_CASE("nothing_gives_no_support_paths") {
   o.spacing = 0;
   CHECK(support_body_paths(Region{{rectangle(0, 0, 5, 5)}}, w, o).empty());
 }
+
+}  // namespace support_paths_test

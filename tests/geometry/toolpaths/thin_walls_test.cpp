@@ -9,6 +9,8 @@
 #include "geometry/toolpaths/bead_coverage.h"
 #include "geometry/toolpaths/toolpath_shapes.h"
 
+namespace thin_walls_test {
+
 using namespace geometry;
 using namespace toolpath_shapes;
 
@@ -174,3 +176,5 @@ TEST_CASE("thin_walls_of_nothing_is_nothing") {
   CHECK(thin_walls(Region{{rectangle(0, 0, 1, 1)}}, 0, 0.45).empty());
   CHECK(thin_walls(Region{{Loop{{0, 0}, {1, 0}}}}, 0.1, 0.45).empty());
 }
+
+}  // namespace thin_walls_test

@@ -16,6 +16,8 @@
 #include "geometry/mesh/stl_io.h"
 #include "support/solids.h"
 
+namespace toolpath_plan_test {
+
 using namespace geometry;
 using namespace toolpath_shapes;
 
@@ -512,3 +514,5 @@ TEST_CASE("solid_plan_covers_the_bunny_layer_by_layer") {
   CHECK(inside / total >= 0.99);
   CHECK(outside / total <= 0.01);
 }
+
+}  // namespace toolpath_plan_test

@@ -6,6 +6,8 @@
 #include <set>
 #include <string>
 
+namespace toolpaths_test {
+
 using namespace geometry;
 
 TEST_CASE("role_names_are_cura_words_and_distinct") {
@@ -38,3 +40,5 @@ TEST_CASE("support_roles_are_support_interface_and_raft") {
   CHECK_FALSE(is_support_role(PathRole::brim));
   CHECK_FALSE(is_support_role(PathRole::outer_wall));
 }
+
+}  // namespace toolpaths_test

@@ -8,6 +8,8 @@
 
 #include "geometry/toolpaths/toolpath_shapes.h"
 
+namespace travel_order_test {
+
 using namespace geometry;
 using namespace toolpath_shapes;
 
@@ -205,3 +207,5 @@ TEST_CASE("seam_names_round_trip") {
   }
   CHECK(!parse_seam_position("random"));
 }
+
+}  // namespace travel_order_test

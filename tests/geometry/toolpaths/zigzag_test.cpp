@@ -7,6 +7,8 @@
 
 #include "geometry/toolpaths/toolpath_shapes.h"
 
+namespace zigzag_test {
+
 using namespace geometry;
 using namespace toolpath_shapes;
 
@@ -173,3 +175,5 @@ TEST_CASE("nothing_to_scan_gives_no_paths") {
   CHECK(zigzag(square, {0, 1e-9, 0}, 3, nullptr, PathRole::sparse_infill, 0.45).empty());
   CHECK(zigzag(square, {0, 1, NAN}, 3, nullptr, PathRole::sparse_infill, 0.45).empty());
 }
+
+}  // namespace zigzag_test

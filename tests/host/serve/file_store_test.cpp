@@ -10,6 +10,8 @@
 #include "printer/error.h"
 #include "serve_fixture.h"
 
+namespace file_store_test {
+
 using namespace host::serve;
 
 TEST_CASE("clean_file_name_refuses_paths_dots_and_control_characters_and_cleans_the_rest") {
@@ -123,3 +125,5 @@ TEST_CASE("the_key_comparison_answers_only_an_exact_match") {
   CHECK(a != b);
   CHECK(a.find_first_not_of("0123456789abcdef") == std::string::npos);
 }
+
+}  // namespace file_store_test

@@ -7,6 +7,8 @@
 #include "serve_fixture.h"
 #include "support/solids.h"
 
+namespace octoprint_api_test {
+
 using namespace serve_test;
 
 namespace {
@@ -362,3 +364,5 @@ TEST_CASE("bad_slice_fields_are_refused_in_one_line_naming_the_field") {
   CHECK(serve.get_json("/api/version")["api"] == "0.1");
   CHECK(serve.stop() == 0);
 }
+
+}  // namespace octoprint_api_test

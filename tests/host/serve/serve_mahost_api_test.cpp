@@ -10,6 +10,8 @@
 #include "serve_fixture.h"
 #include "support/solids.h"
 
+namespace serve_mahost_api_test {
+
 using namespace serve_test;
 
 TEST_CASE("an_stl_upload_is_sliced_on_the_host_with_the_pages_settings_and_printed") {
@@ -197,3 +199,5 @@ TEST_CASE("planned_pauses_stop_before_their_layers_as_print_pause_at_layer_does"
   CHECK(serve.get_json("/api/mahost/status")["pauseAt"].empty());  // each taken once
   CHECK(serve.stop() == 0);
 }
+
+}  // namespace serve_mahost_api_test

@@ -10,6 +10,8 @@
 
 #include "serve_fixture.h"
 
+namespace serve_print_test {
+
 using namespace serve_test;
 
 namespace {
@@ -266,3 +268,5 @@ TEST_CASE("a_link_that_fails_mid_print_is_reopened_and_the_job_is_offered_to_fin
   REQUIRE(printed.size() > file.size());  // the lines before the failure, then the rest again
   CHECK(std::equal(printed.end() - 200, printed.end(), file.end() - 200));
 }
+
+}  // namespace serve_print_test

@@ -8,6 +8,8 @@
 
 #include "serve_fixture.h"
 
+namespace serve_security_test {
+
 using namespace serve_test;
 
 namespace {
@@ -316,3 +318,5 @@ TEST_CASE("serve_invocations_that_cannot_work_say_so_in_one_line") {
   CHECK(wide.log().find("warning: listening on 0.0.0.0:") != std::string::npos);
   CHECK(wide.stop() == 0);
 }
+
+}  // namespace serve_security_test

@@ -8,6 +8,8 @@
 
 #include "geometry/contour/ma/axis.h"
 
+namespace axis_test {
+
 using geometry::Loop;
 using geometry::Vec2;
 using geometry::ma::SampleTriangulation;
@@ -62,3 +64,5 @@ TEST_CASE("axis_of_a_ring_is_one_loop_equidistant_from_both_loops") {
     }
   }
 }
+
+}  // namespace axis_test

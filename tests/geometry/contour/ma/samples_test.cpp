@@ -6,6 +6,8 @@
 
 #include "geometry/contour/ma/samples.h"
 
+namespace samples_test {
+
 using geometry::Loop;
 using geometry::Vec2;
 using geometry::ma::Sample;
@@ -54,3 +56,5 @@ TEST_CASE("samples_over_the_cap_widen_the_spacing_then_thin_the_vertices") {
   REQUIRE(thinned.size() == 34);  // vertices 0, 3, ..., 99
   for (std::size_t i = 0; i < thinned.size(); ++i) CHECK(thinned[i].segment == 3 * i);
 }
+
+}  // namespace samples_test

@@ -5,6 +5,8 @@
 #include "geometry/contour/ma/samples.h"
 #include "geometry/contour/ma/triangulation.h"
 
+namespace triangulation_test {
+
 using geometry::Loop;
 using geometry::ma::SampleTriangulation;
 
@@ -52,3 +54,5 @@ TEST_CASE("triangulation_of_collinear_samples_has_no_faces") {
   const auto samples = geometry::ma::sample_boundary_pair({&flat}, options);
   CHECK(geometry::ma::triangulate_samples(samples).faces.empty());
 }
+
+}  // namespace triangulation_test
