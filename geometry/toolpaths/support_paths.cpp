@@ -206,7 +206,7 @@ std::vector<ExtrusionPath> support_body_paths(const Region& body, double width,
   const Region centre_area = from_clipper(centres);
   auto lay = [&](double angle) {
     if (centre_area.loops.empty()) return;
-    auto lines = zigzag(centre_area, ScanLines{angle, o.spacing, 0}, kBodyConnector * o.spacing, nullptr,
+    auto lines = zigzag(centre_area, ScanLines{angle, o.spacing, 0}, o.connectors ? kBodyConnector * o.spacing : 0, nullptr,
                         PathRole::support, width);
     paths.insert(paths.end(), std::make_move_iterator(lines.begin()), std::make_move_iterator(lines.end()));
   };

@@ -6,7 +6,7 @@
 //   island along the lines, off them (support_sheath below); inside it lines `spacing` apart at `angle` (lines) or at angle and angle + 90
 //   (grid), on a grid fixed in the part's frame, so that the lines of every layer stack on
 //   those of the layer below; joined into zig-zags along the edge (connectors up to two
-//   spacings), role support.
+//   spacings; with options.connectors), role support.
 // Support interface: per island a loop round its edge, half a bead in (an island narrower
 //   than a bead gets nothing), so that the beads reach the edge whatever its shape, and
 //   inside it separate lines at angle + 90, across the body's lines below them, at `density`
@@ -38,6 +38,9 @@ namespace geometry {
 struct SupportPathOptions {
   SupportPattern pattern = SupportPattern::lines;
   bool sheath = true;              // a loop round the body's islands
+  // The body's lines joined into zig-zags along the edge (plan_toolpaths keeps them only
+  // under an edge that carries something: toolpath_plan.cpp).
+  bool connectors = true;
   double spacing = 2.5;            // mm between the body's lines
   double angle = 0;                // degrees from +X, the body's lines
   double interface_density = 80;   // percent of solid

@@ -40,6 +40,10 @@ constexpr double kMinWidth = 0.01;  // mm
 constexpr double kBridgeAnchor = 2;
 // A bridge's piece of an island smaller than this is nothing to lay (mm^2).
 constexpr double kNoBridge = 1e-4;
+// A body that grows by more than this area past the layer below's, grown by the slack, has
+// line ends reaching past the lines below (mm^2, mm): the layer below gets its connectors.
+constexpr double kBodyGrowthArea = 0.01;
+constexpr double kBodyGrowthSlack = 0.01;
 
 ToolpathOptions sane(ToolpathOptions o) {
   auto width = [](double w, double fallback) {
@@ -335,6 +339,23 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
     if (on_layer_done) on_layer_done(++done);
   });
 
+  // The body's zig-zag connectors run along its edge: they are laid where something stands
+  // on that edge in the layer above, the interface's loop or the body's own line ends where
+  // the body grows (a line end reaching past the one below rests on its connector), and
+  // nowhere else (a body that only goes on up, or narrows, has its lines on the lines below:
+  // connectors there are filament that carries nothing; 9% of the T's support).
+  const auto body_connected = [&](std::size_t i) {
+    const LayerSupport* held = support_at(i);
+    const LayerSupport* up = i + 1 < n ? support_at(i + 1) : nullptr;
+    if (!held || !up) return false;
+    if (!up->interface.loops.empty()) return true;
+    if (up->body.loops.empty()) return false;
+    const clipper::Paths grown = clipper::difference(
+        to_clipper(up->body), clipper::offset(to_clipper(held->body), kBodyGrowthSlack));
+    double grown_area = 0;
+    for (const auto& path : grown) grown_area += std::abs(ClipperLib::Area(path));
+    return grown_area / (kClipperScale * kClipperScale) > kBodyGrowthArea;
+  };
   std::vector<Region> travel_region(n);  // where travels need no retraction
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
     if (!planned(i)) return;
@@ -348,7 +369,9 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
       // on the bed or the raft, anything.
       std::optional<Region> carried;
       if (i > 0) carried = from_clipper(carries[i - 1]);
-      for (auto paths : {support_body_paths(held->body, bead, o.support, sheath[i], carried ? &*carried : nullptr),
+      SupportPathOptions body_options = o.support;
+      body_options.connectors = o.support.connectors && body_connected(i);
+      for (auto paths : {support_body_paths(held->body, bead, body_options, sheath[i], carried ? &*carried : nullptr),
                          support_interface_paths(held->interface, bead, height, o.support)}) {
         if (!paths.empty()) islands[i].push_back(Island{{std::move(paths)}});
       }

@@ -515,4 +515,52 @@ TEST_CASE("solid_plan_covers_the_bunny_layer_by_layer") {
   CHECK(outside / total <= 0.01);
 }
 
+// The support body's zig-zag connectors (issue 12): laid under an edge that carries something
+// in the layer above (the interface's loop; a wider body's line ends), not in a body that
+// only goes on up. Lines 2.5 mm apart in a 20 x 10 mm body; separate lines are two points
+// each, a zig-zag more.
+TEST_CASE("support_body_lines_are_joined_only_under_what_stands_on_their_edge") {
+  const Region narrow{{rectangle(0, 0, 20, 10)}}, wide{{rectangle(0, 0, 20, 14)}};
+  std::vector<Layer> layers;
+  for (int k = 0; k < 6; ++k) layers.push_back({0.2 * k, 0.2 * (k + 1)});
+  SupportPlan plan;
+  plan.layers.resize(layers.size());
+  // 0, 1: the same body; 2 under a wider 3; 3 under 4, the same; 4 under the interface (5).
+  plan.layers[0].body = narrow;
+  plan.layers[1].body = narrow;
+  plan.layers[2].body = narrow;
+  plan.layers[3].body = wide;
+  plan.layers[4].body = wide;
+  plan.layers[5].interface = wide;
+  ToolpathOptions o;
+  o.support.sheath = false;
+  const std::vector<Region> part(layers.size());
+  const std::vector<LayerToolpaths> planned = plan_toolpaths(part, layers, o, plan);
+  REQUIRE(planned.size() == layers.size());
+  const auto joined = [&](std::size_t layer) {
+    std::size_t lines = 0, zigzags = 0;
+    for (const ExtrusionPath& path : planned[layer].paths) {
+      if (path.role != PathRole::support) continue;
+      ++lines;
+      if (path.points.size() > 2) ++zigzags;
+    }
+    CAPTURE(layer);
+    CHECK(lines > 0);
+    return zigzags;
+  };
+  CHECK(joined(0) == 0);
+  CHECK(joined(1) == 0);
+  CHECK(joined(2) > 0);   // the wider body above: its line ends past these
+  CHECK(joined(3) == 0);  // the same body above
+  CHECK(joined(4) > 0);   // under the interface's loop
+  // Off, never.
+  o.support.connectors = false;
+  const std::vector<LayerToolpaths> separate = plan_toolpaths(part, layers, o, plan);
+  for (const LayerToolpaths& layer : separate) {
+    for (const ExtrusionPath& path : layer.paths) {
+      if (path.role == PathRole::support) CHECK(path.points.size() == 2);
+    }
+  }
+}
+
 }  // namespace toolpath_plan_test
