@@ -206,7 +206,8 @@ std::vector<ExtrusionPath> support_body_paths(const Region& body, double width,
   const Region centre_area = from_clipper(centres);
   auto lay = [&](double angle) {
     if (centre_area.loops.empty()) return;
-    auto lines = zigzag(centre_area, ScanLines{angle, o.spacing, 0}, o.connectors ? kBodyConnector * o.spacing : 0, nullptr,
+    const double max_connector = o.connectors ? kBodyConnector * o.spacing : 0;
+    auto lines = zigzag(centre_area, ScanLines{angle, o.spacing, 0}, max_connector, nullptr,
                         PathRole::support, width);
     paths.insert(paths.end(), std::make_move_iterator(lines.begin()), std::make_move_iterator(lines.end()));
   };

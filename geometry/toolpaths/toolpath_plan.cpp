@@ -352,9 +352,7 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
     if (up->body.loops.empty()) return false;
     const clipper::Paths grown = clipper::difference(
         to_clipper(up->body), clipper::offset(to_clipper(held->body), kBodyGrowthSlack));
-    double grown_area = 0;
-    for (const auto& path : grown) grown_area += std::abs(ClipperLib::Area(path));
-    return grown_area / (kClipperScale * kClipperScale) > kBodyGrowthArea;
+    return clipper::area_mm2(grown) > kBodyGrowthArea;
   };
   std::vector<Region> travel_region(n);  // where travels need no retraction
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {

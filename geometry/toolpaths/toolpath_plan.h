@@ -82,11 +82,11 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
 //   raft layers first, each its own LayerToolpaths (support_paths.h), then the part's layers
 //   `support.lift` higher; each part layer's support body and interface paths are islands
 //   of their own in the nearest-first order, the body's lines joined by connectors only
-//   where the layer above has interface or a wider body (what stands on the edge); bottom skin over a bridge, reaching two beads
-//   into its anchors, is laid as bridge lines at the bridge's angle (role bridge, solid
-//   spacing); the brim (brim.h) goes round the first printed layer (the raft, or the part
-//   and its support), the skirt round that and the brim; a travel that stays inside the
-//   part, its support or the raft does not retract.
+//   where the layer above has interface or a wider body (what stands on the edge); bottom
+//   skin over a bridge, reaching two beads into its anchors, is laid as bridge lines at the
+//   bridge's angle (role bridge, solid spacing); the brim (brim.h) goes round the first
+//   printed layer (the raft, or the part and its support), the skirt round that and the
+//   brim; a travel that stays inside the part, its support or the raft does not retract.
 // With an empty plan and no brim this is plan_toolpaths above, path for path.
 std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
                                            const std::vector<Layer>& layers,
