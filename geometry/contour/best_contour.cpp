@@ -94,14 +94,26 @@ BestChoice best_choice(const ContourInput& input) {
   for (const Candidate& c : candidates) fewest = std::min(fewest, c.missed.size());
   std::vector<std::size_t> order{2, 0, 1};
   for (std::size_t k = 3; k < candidates.size(); ++k) order.push_back(k);
+  // A candidate whose region is one already measured (optimal-height's search often ends
+  // at mid's height: 142 of a sphere's 150 layers) takes that one's D: exact if it was, else
+  // a lower bound above a threshold at least this one's.
   double least = std::numeric_limits<double>::infinity();
+  std::vector<std::size_t> measured;
   for (std::size_t k : order) {
     Candidate& c = candidates[k];
     if (c.missed.size() != fewest) continue;
-    distance_options.stop_above = least + kDistanceTie;
-    c.distance = distance_error(reference.surface, BoundaryGrid(c.result.region), c.missed,
-                                distance_options)
-                     .forward;
+    const auto same = std::find_if(measured.begin(), measured.end(), [&](std::size_t m) {
+      return candidates[m].result.region.loops == c.result.region.loops;
+    });
+    if (same != measured.end()) {
+      c.distance = candidates[*same].distance;
+    } else {
+      distance_options.stop_above = least + kDistanceTie;
+      c.distance = distance_error(reference.surface, BoundaryGrid(c.result.region), c.missed,
+                                  distance_options)
+                       .forward;
+      measured.push_back(k);
+    }
     least = std::min(least, c.distance);
   }
   BestChoice choice{};

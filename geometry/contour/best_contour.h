@@ -17,7 +17,9 @@
 // the candidates' D, in best_choice().
 // Cost: the three candidates and their measurements, ma first: a candidate is measured only
 // until its D is more than a tie above the least so far (distance_error's stop_above), and one
-// that misses more features than another is not measured. About three times ma's time.
+// that misses more features than another is not measured, nor one whose region is one
+// measured already (it takes that one's D: optimal-height often ends at mid's height). About
+// three times ma's time.
 #pragma once
 
 #include <limits>
