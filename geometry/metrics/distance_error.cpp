@@ -90,6 +90,25 @@ double feet_bound(const std::array<Vec2, N>& corners, const std::array<Vec2, F>&
   return std::sqrt(best);
 }
 
+// Every wall segment bounds the distance from above too, and the distance to one segment is
+// convex: its maximum over a convex piece is at a corner. So the least over the corners'
+// nearest segments of the largest corner distance to it bounds the piece's maximum: tight
+// where the wall is smooth and the piece spans several of its segments (the feet bound is
+// then loose by the piece's extent along the wall).
+template <std::size_t N>
+double segment_bound(const BoundaryGrid& grid, const std::array<Vec2, N>& corners,
+                     const std::array<Nearest, N>& nearest) {
+  double bound = std::numeric_limits<double>::infinity();  // squared until the end
+  for (std::size_t i = 0; i < N; ++i) {
+    if (nearest[i].segment == Nearest::npos) continue;
+    const Segment2& s = grid.segments()[nearest[i].segment];
+    double far = 0;
+    for (const Vec2& c : corners) far = std::max(far, squared_distance_to_segment(c, s.a, s.b));
+    bound = std::min(bound, far);
+  }
+  return std::sqrt(bound);
+}
+
 // max over the triangle of the distance to the nearest wall, raising `best` (see the header).
 // The three corners' nearest walls are given. Where all three share one wall segment the
 // distance is convex on the piece (distance to one segment), so its maximum is a corner's.
@@ -108,7 +127,9 @@ void search_triangle(const std::array<Vec2, 3>& corners, const std::array<Neares
       return low;
     const double lipschitz = low + longest(piece.p) * kInvSqrt3;
     if (lipschitz <= best + tolerance) return lipschitz;
-    return std::min(lipschitz, feet_bound(piece.p, std::array<Vec2, 3>{piece.n[0].foot, piece.n[1].foot,
+    const double by_segment = std::min(lipschitz, segment_bound(grid, piece.p, piece.n));
+    if (by_segment <= best + tolerance) return by_segment;
+    return std::min(by_segment, feet_bound(piece.p, std::array<Vec2, 3>{piece.n[0].foot, piece.n[1].foot,
                                                                         piece.n[2].foot}));
   };
   Piece first{corners, at};
@@ -152,7 +173,10 @@ void search_segment(Vec2 a, Vec2 b, const Nearest& at_a, const Nearest& at_b,
     if (piece.na.segment == piece.nb.segment) return low;
     const double lipschitz = low + length(piece.a, piece.b) / 2;
     if (lipschitz <= best + tolerance) return lipschitz;
-    return std::min(lipschitz, feet_bound(std::array<Vec2, 2>{piece.a, piece.b},
+    const double by_segment = std::min(
+        lipschitz, segment_bound(grid, std::array<Vec2, 2>{piece.a, piece.b}, std::array<Nearest, 2>{piece.na, piece.nb}));
+    if (by_segment <= best + tolerance) return by_segment;
+    return std::min(by_segment, feet_bound(std::array<Vec2, 2>{piece.a, piece.b},
                                           std::array<Vec2, 2>{piece.na.foot, piece.nb.foot}));
   };
   const Piece first{a, b, at_a, at_b};
