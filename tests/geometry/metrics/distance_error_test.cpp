@@ -149,4 +149,61 @@ TEST_CASE("reverse_distance_is_sampled_at_its_levels_and_forward_is_not") {
   CHECK(std::abs(three.reverse - 0.4 * std::cos(kPi / n)) <= bound);
 }
 
+TEST_CASE("search_finds_the_maximum_where_each_facet_spans_several_wall_segments") {
+  // A sphere's band of 0.65 mm facets judged against a 360-gon of 0.17 mm segments: each
+  // facet (and each wall segment against the band's level lines) faces several segments, so
+  // the search's bounds are the corners' nearest segments and feet, not one segment. The
+  // result is a lower bound within the tolerance of the true maximum: at least what a dense
+  // sampling of every triangle (and every wall segment, at the levels) finds, less the
+  // tolerance; at most that sampling's value plus the distance between its samples.
+  const solids::Solid sphere = solids::sphere(10, 96, 48, {0, 0, 10});
+  const LayerStack stack(sphere.mesh, geometry::uniform_layers(20, 0.4));
+  const int sides = 360;
+  for (std::size_t i : {5u, 30u, 44u}) {  // [2, 2.4], [12, 12.4], [17.6, 18]
+    CAPTURE(i);
+    const double z = stack.layers()[i].z_mid();
+    const double radius = std::sqrt(100 - (z - 10) * (z - 10)) - 0.05;
+    geometry::Loop circle;
+    for (int k = 0; k < sides; ++k) {
+      const double a = 2 * kPi * k / sides;
+      circle.push_back({radius * std::cos(a), radius * std::sin(a)});
+    }
+    const Region region{{circle}};
+    const geometry::Slab slab = geometry::slab_of(stack, i);
+    geometry::DistanceOptions options;
+    options.tolerance = kTolerance;
+    const geometry::SlabSurface surface = geometry::slab_surface(slab, options);
+    const geometry::BoundaryGrid walls(region);
+    const DistanceError d = geometry::distance_error(surface, walls, {}, options);
+    constexpr int kSteps = 40;
+    double forward = 0, forward_step = 0;
+    for (const auto& t : surface.triangles) {
+      for (int u = 0; u <= kSteps; ++u) {
+        for (int v = 0; u + v <= kSteps; ++v) {
+          const double a = double(u) / kSteps, b = double(v) / kSteps;
+          const geometry::Vec2 p = t[0] + a * (t[1] - t[0]) + b * (t[2] - t[0]);
+          forward = std::max(forward, walls.nearest(p).distance);
+        }
+      }
+      for (int k = 0; k < 3; ++k) {
+        forward_step = std::max(forward_step, geometry::length(t[(k + 1) % 3] - t[k]) / kSteps);
+      }
+    }
+    double reverse = 0, reverse_step = 0;
+    for (const geometry::BoundaryGrid& level : surface.levels) {
+      for (const geometry::Segment2& s : walls.segments()) {
+        for (int k = 0; k <= kSteps; ++k) {
+          reverse = std::max(reverse, level.nearest(s.a + (double(k) / kSteps) * (s.b - s.a)).distance);
+        }
+        reverse_step = std::max(reverse_step, geometry::length(s.b - s.a) / kSteps);
+      }
+    }
+    CHECK(forward > 0.05);
+    CHECK(d.forward >= forward - kTolerance - kRounding);
+    CHECK(d.forward <= forward + forward_step);
+    CHECK(d.reverse >= reverse - kTolerance - kRounding);
+    CHECK(d.reverse <= reverse + reverse_step);
+  }
+}
+
 }  // namespace distance_error_test
