@@ -6,10 +6,13 @@
 //   the walls is the 2D distance from its projection to ∂R_i, so D_i is the maximum of the
 //   distance to ∂R_i over the projected facets. It can lie inside a facet (near-horizontal
 //   facets, caps), so each facet is searched by branch and bound: a lower bound from its
-//   corners, an upper bound min over nearby walls s of max over corners of dist(corner, s)
-//   (the distance to one segment is convex, so its maximum over a triangle is at a corner),
-//   and subdivision where the nearest wall changes inside the facet, until the bounds are
-//   within `tolerance`. The result is never above the true maximum and at most `tolerance`
+//   corners; upper bounds from the distance being 1-Lipschitz, from the min over the corners'
+//   nearest walls s of max over corners of dist(corner, s) (the distance to one segment is
+//   convex, so its maximum over a triangle is at a corner), and from the max over the piece of
+//   the distance to the nearest of the corners' feet; and subdivision where the nearest wall
+//   changes inside the facet, until the bounds are within `tolerance`. (Without the bound by
+//   segments, on a smooth wall that each piece faces several segments of, the search took
+//   twice as long: best on a sphere at 0.2 mm 0.57 against 0.31 s.) The result is never above the true maximum and at most `tolerance`
 //   below it. Walls are found through a grid over ∂R_i (boundary_grid.h), not through the
 //   Voronoi diagram of §3.4, so any strategy's region can be judged.
 // reverse: the largest distance from a wall point at height z to the model's surface at that
