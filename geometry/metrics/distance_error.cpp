@@ -129,8 +129,9 @@ void search_triangle(const std::array<Vec2, 3>& corners, const std::array<Neares
     if (lipschitz <= best + tolerance) return lipschitz;
     const double by_segment = std::min(lipschitz, segment_bound(grid, piece.p, piece.n));
     if (by_segment <= best + tolerance) return by_segment;
-    return std::min(by_segment, feet_bound(piece.p, std::array<Vec2, 3>{piece.n[0].foot, piece.n[1].foot,
-                                                                        piece.n[2].foot}));
+    return std::min(by_segment,
+                    feet_bound(piece.p, std::array<Vec2, 3>{piece.n[0].foot, piece.n[1].foot,
+                                                            piece.n[2].foot}));
   };
   Piece first{corners, at};
   const double first_low = std::max({at[0].distance, at[1].distance, at[2].distance});
@@ -173,11 +174,12 @@ void search_segment(Vec2 a, Vec2 b, const Nearest& at_a, const Nearest& at_b,
     if (piece.na.segment == piece.nb.segment) return low;
     const double lipschitz = low + length(piece.a, piece.b) / 2;
     if (lipschitz <= best + tolerance) return lipschitz;
-    const double by_segment = std::min(
-        lipschitz, segment_bound(grid, std::array<Vec2, 2>{piece.a, piece.b}, std::array<Nearest, 2>{piece.na, piece.nb}));
+    const double by_segment =
+        std::min(lipschitz, segment_bound(grid, std::array<Vec2, 2>{piece.a, piece.b},
+                                          std::array<Nearest, 2>{piece.na, piece.nb}));
     if (by_segment <= best + tolerance) return by_segment;
     return std::min(by_segment, feet_bound(std::array<Vec2, 2>{piece.a, piece.b},
-                                          std::array<Vec2, 2>{piece.na.foot, piece.nb.foot}));
+                                           std::array<Vec2, 2>{piece.na.foot, piece.nb.foot}));
   };
   const Piece first{a, b, at_a, at_b};
   const double first_low = std::max(at_a.distance, at_b.distance);

@@ -12,9 +12,10 @@
 //   the distance to the nearest of the corners' feet; and subdivision where the nearest wall
 //   changes inside the facet, until the bounds are within `tolerance`. (Without the bound by
 //   segments, on a smooth wall that each piece faces several segments of, the search took
-//   twice as long: best on a sphere at 0.2 mm 0.57 against 0.31 s.) The result is never above the true maximum and at most `tolerance`
-//   below it. Walls are found through a grid over ∂R_i (boundary_grid.h), not through the
-//   Voronoi diagram of §3.4, so any strategy's region can be judged.
+//   twice as long: best on a sphere at 0.2 mm 0.57 against 0.31 s.) The result is never
+//   above the true maximum and at most `tolerance` below it. Walls are found through a grid
+//   over ∂R_i (boundary_grid.h), not through the Voronoi diagram of §3.4, so any strategy's
+//   region can be judged.
 // reverse: the largest distance from a wall point at height z to the model's surface at that
 //   height, the section boundary ∂C(z), over heights z in the slab. Measured at
 //   `reverse_levels` heights: z_lo (the limit from above), z_hi (from below) and equally

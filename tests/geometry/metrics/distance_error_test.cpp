@@ -193,7 +193,8 @@ TEST_CASE("search_finds_the_maximum_where_each_facet_spans_several_wall_segments
     for (const geometry::BoundaryGrid& level : surface.levels) {
       for (const geometry::Segment2& s : walls.segments()) {
         for (int k = 0; k <= kSteps; ++k) {
-          reverse = std::max(reverse, level.nearest(s.a + (double(k) / kSteps) * (s.b - s.a)).distance);
+          const geometry::Vec2 p = s.a + (double(k) / kSteps) * (s.b - s.a);
+          reverse = std::max(reverse, level.nearest(p).distance);
         }
         reverse_step = std::max(reverse_step, geometry::length(s.b - s.a) / kSteps);
       }
