@@ -243,15 +243,17 @@ double forward_distance(const SlabSurface& surface, const BoundaryGrid& walls,
       if (best > stop_above) return best;
     }
   }
-  const auto top = [&](std::uint32_t i) {
-    return std::max({corner[i][0].distance, corner[i][1].distance, corner[i][2].distance});
-  };
-  // Most promising first, so the bound prunes the rest.
+  // Most promising first, so the bound prunes the rest: by the farthest corner, taken once
+  // per triangle rather than at every comparison of the sort.
+  std::vector<double> top(surface.triangles.size());
   std::vector<std::uint32_t> order;
   order.reserve(surface.triangles.size());
-  for (std::uint32_t i = 0; i < surface.triangles.size(); ++i)
-    if (!grid_of[i]->empty()) order.push_back(i);
-  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return top(a) > top(b); });
+  for (std::uint32_t i = 0; i < surface.triangles.size(); ++i) {
+    if (grid_of[i]->empty()) continue;
+    top[i] = std::max({corner[i][0].distance, corner[i][1].distance, corner[i][2].distance});
+    order.push_back(i);
+  }
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return top[a] > top[b]; });
   std::vector<std::uint32_t> near;
   for (std::uint32_t i : order) {
     const auto& p = surface.triangles[i];
