@@ -505,8 +505,16 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
   std::vector<geometry::Region> regions(count);
   report(SliceStage::contours, 0, count);
   std::atomic<std::size_t> contours_done{0};
+  // A plan by mid's D has measured it on every layer: a strategy that compares mid (best)
+  // takes it from there.
+  const std::vector<double>& planned = result.choice.plan.distance;
+  const bool mid_measured =
+      result.choice.adaptive && result.choice.planned_by == "mid" && planned.size() == count;
+  const geometry::ContourOptions contour_options;
   tbb::parallel_for(std::size_t{0}, count, [&](std::size_t i) {
-    regions[i] = geometry::layer_contour(stack, i, contour);
+    geometry::ContourInput input{stack, i, contour_options};
+    if (mid_measured) input.mid_distance = planned[i];
+    regions[i] = contour.contour(input).region;
     report(SliceStage::contours, ++contours_done, count);
   });
 

@@ -99,9 +99,19 @@ BestChoice best_choice(const ContourInput& input) {
   // a lower bound above a threshold at least this one's.
   double least = std::numeric_limits<double>::infinity();
   std::vector<std::size_t> measured;
+  // mid's D known (the layer plan's): it stands first, so that ma is measured only until it is
+  // seen to lose by more than a tie. The same choice as measuring it: the least D and the
+  // candidates within a tie of it do not depend on the order.
+  bool mid_known = false;
+  if (!std::isnan(input.mid_distance) && candidates[0].missed.size() == fewest) {
+    candidates[0].distance = input.mid_distance;
+    least = input.mid_distance;
+    measured.push_back(0);
+    mid_known = true;
+  }
   for (std::size_t k : order) {
     Candidate& c = candidates[k];
-    if (c.missed.size() != fewest) continue;
+    if (c.missed.size() != fewest || (k == 0 && mid_known)) continue;
     const auto same = std::find_if(measured.begin(), measured.end(), [&](std::size_t m) {
       return candidates[m].result.region.loops == c.result.region.loops;
     });

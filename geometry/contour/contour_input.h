@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <limits>
 
 #include "geometry/core/polygon.h"
 #include "geometry/metrics/layer_metrics.h"
@@ -24,6 +25,11 @@ struct ContourInput {
   // that measures candidate regions measures them against it, or builds one
   // (layer_reference) when it is null, as `mahost slice` leaves it.
   const LayerReference* reference = nullptr;
+  // mid's D on this layer (distance_error.h, forward, as analyze measures it) when the caller
+  // has it already: the layer plan measures it for every layer it plans by mid
+  // (plan/layer_plan.h, AdaptivePlan::distance). best takes it instead of measuring mid
+  // again. NaN: not known.
+  double mid_distance = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct ContourResult {
