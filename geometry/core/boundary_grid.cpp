@@ -78,6 +78,29 @@ void BoundaryGrid::build() {
 
 double BoundaryGrid::nearest_distance(Vec2 p) const { return nearest(p).distance; }
 
+bool BoundaryGrid::any_within(Vec2 p, double r) const {
+  if (segments_.empty() || !(r > 0)) return false;
+  const double r2 = r * r * (1 - 1e-12);
+  const auto [cx, cy] = cell_of(p);
+  // p's own cell first (the nearest segment is mostly there), then the rest of the block of
+  // cells that holds every point within r.
+  const auto near_in = [&](std::size_t c) {
+    for (std::uint32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
+      if (distance_squared_to_segment(p, segments_[ids_[k]]) < r2) return true;
+    }
+    return false;
+  };
+  if (near_in(static_cast<std::size_t>(cy) * nx_ + cx)) return true;
+  const auto [x0, y0] = cell_of({p.x - r, p.y - r});
+  const auto [x1, y1] = cell_of({p.x + r, p.y + r});
+  for (int y = y0; y <= y1; ++y) {
+    for (int x = x0; x <= x1; ++x) {
+      if ((x != cx || y != cy) && near_in(static_cast<std::size_t>(y) * nx_ + x)) return true;
+    }
+  }
+  return false;
+}
+
 BoundaryGrid::Nearest BoundaryGrid::nearest(Vec2 p) const {
   Nearest found{std::numeric_limits<double>::infinity(), Nearest::npos, p};
   if (segments_.empty()) return found;

@@ -41,6 +41,12 @@ class BoundaryGrid {
   // Distance from p to the nearest segment, mm; +infinity for an empty grid.
   double nearest_distance(Vec2 p) const;
 
+  // Whether some segment is nearer to p than r, which is cheaper to tell than how near the
+  // nearest is: the first one found nearer ends the search. A segment about r away (within a
+  // relative 1e-12) may go either way, so a caller that needs the sharp answer asks
+  // nearest_distance where this says false. Empty grid: false.
+  bool any_within(Vec2 p, double r) const;
+
   // The nearest segment to p, the nearest point on it, and the distance (mm). Empty grid:
   // segment = npos, distance +infinity.
   struct Nearest {

@@ -18,20 +18,21 @@ constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 // How far below a flat top its slab's surface is taken, mm: far below any printer's step.
 constexpr double kBelow = 1e-6;
 
-// The farthest from the walls of the sections' vertices, up to the first beyond `stop_above`
-// (then that one's), mm.
-double farthest_vertex(std::span<const Region* const> sections, const BoundaryGrid& walls,
-                       double stop_above) {
-  double farthest = 0;
+// The distance from the walls of the first of the sections' vertices farther than
+// `stop_above` from them, mm; 0 when there is none. A vertex with a wall nearer than that is
+// passed over without finding the nearest.
+double first_beyond(std::span<const Region* const> sections, const BoundaryGrid& walls,
+                    double stop_above) {
   for (const Region* section : sections) {
     for (const Loop& loop : section->loops) {
       for (const Vec2& v : loop) {
-        farthest = std::max(farthest, walls.nearest_distance(v));
-        if (farthest > stop_above) return farthest;
+        if (walls.any_within(v, stop_above)) continue;
+        const double d = walls.nearest_distance(v);
+        if (d > stop_above) return d;
       }
     }
   }
-  return farthest;
+  return 0;
 }
 
 }  // namespace
@@ -189,7 +190,7 @@ SlabError SlabMeter::operator()(double z_lo, double z_hi,
         const bool flat_top = std::binary_search(flat_heights_.begin(), flat_heights_.end(), z_hi);
         const auto bottom = this->section(z_lo), top = this->section(flat_top ? z_hi - kBelow : z_hi);
         const Region* ends[] = {bottom.get(), top.get()};
-        end_farthest = farthest_vertex(ends, walls, distance.stop_above);
+        end_farthest = first_beyond(ends, walls, distance.stop_above);
       }
       if (end_farthest > distance.stop_above) {
         trial.distance = end_farthest;

@@ -1,0 +1,84 @@
+// BoundaryGrid's distance queries (boundary_grid.h) against closed forms: a square's edges cut
+// into many short segments (so that a query crosses cells) and a 360-gon.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "geometry/core/boundary_grid.h"
+#include "geometry/core/polygon.h"
+
+namespace boundary_grid_test {
+
+using geometry::BoundaryGrid;
+using geometry::Loop;
+using geometry::Region;
+using geometry::Vec2;
+
+namespace {
+
+// The square [0, 10]^2, each side cut into 40 segments.
+Region square() {
+  Loop loop;
+  const Vec2 corners[] = {{0, 0}, {10, 0}, {10, 10}, {0, 10}};
+  for (int side = 0; side < 4; ++side) {
+    const Vec2 a = corners[side], b = corners[(side + 1) % 4];
+    for (int k = 0; k < 40; ++k) loop.push_back(a + (k / 40.0) * (b - a));
+  }
+  return Region{{loop}};
+}
+
+// Distance from p to the square's boundary, by hand.
+double to_square(Vec2 p) {
+  const double dx = std::max({0.0 - p.x, 0.0, p.x - 10}), dy = std::max({0.0 - p.y, 0.0, p.y - 10});
+  if (dx > 0 || dy > 0) return std::hypot(dx, dy);
+  return std::min({p.x, 10 - p.x, p.y, 10 - p.y});
+}
+
+}  // namespace
+
+TEST_CASE("any_within_tells_a_square_s_edges_nearer_than_r_as_the_closed_form_does") {
+  const BoundaryGrid grid(square());
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> coordinate(-30, 40), radius(0.01, 25);
+  int near = 0, far = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const Vec2 p{coordinate(random), coordinate(random)};
+    const double r = radius(random);
+    const double d = to_square(p);
+    if (std::abs(d - r) < 1e-9) continue;  // the documented band either way
+    CHECK(grid.any_within(p, r) == (d < r));
+    CHECK(std::abs(grid.nearest_distance(p) - d) < 1e-9);
+    (d < r ? near : far) += 1;
+  }
+  // Both answers were asked for, inside the square and far outside the grid's cells.
+  CHECK(near > 1000);
+  CHECK(far > 1000);
+}
+
+TEST_CASE("any_within_on_a_360_gon_and_at_its_edges") {
+  Loop loop;
+  for (int k = 0; k < 360; ++k) {
+    const double a = k * std::numbers::pi / 180;
+    loop.push_back({10 * std::cos(a), 10 * std::sin(a)});
+  }
+  const BoundaryGrid grid(Region{{loop}});
+  // The chords sag 10 (1 - cos 0.5 deg) = 0.38 um inside the circle at most.
+  const double sag = 10 * (1 - std::cos(std::numbers::pi / 360));
+  for (double rho : {0.0, 3.0, 9.5, 9.99, 10.01, 10.5, 14.0, 60.0}) {
+    for (double angle : {0.1, 1.3, 2.9, 4.4, 6.0}) {
+      const Vec2 p{rho * std::cos(angle), rho * std::sin(angle)};
+      const double d = std::abs(rho - 10);
+      CHECK(grid.any_within(p, d + sag + 1e-3));
+      CHECK_FALSE(grid.any_within(p, d - sag - 1e-3));
+    }
+  }
+  // A vertex is at distance 0: nothing is nearer than 0, and everything nearer than a micron.
+  CHECK_FALSE(grid.any_within(loop[17], 0));
+  CHECK(grid.any_within(loop[17], 1e-6));
+  CHECK_FALSE(BoundaryGrid().any_within({0, 0}, 1e9));
+}
+
+}  // namespace boundary_grid_test
