@@ -292,11 +292,18 @@ class LazyPlanner {
     estimate_.resize(edges);
     crossed_.resize(edges);
     refused_.assign(edges, 0);
-    tbb::parallel_for(std::size_t{0}, edges, [&](std::size_t e) {
-      const double a = grid_.z[grid_.edge_from[e]], b = grid_.z[grid_.edge_to[e]];
-      estimate_[e] = estimate(a, b);
-      crossed_[e] = static_cast<std::uint32_t>(crossed(flats_, a, b));
-      refused_[e] = overhangs && !grid_.edge_thinnest[e] && (*overhangs)(a, b) > thick.min_area;
+    // Node by node: its candidates share their bottom, and the estimate takes them together.
+    tbb::parallel_for(std::size_t{0}, grid_.z.size(), [&](std::size_t i) {
+      const std::uint32_t first = grid_.edge_begin[i], last = grid_.edge_begin[i + 1];
+      if (first == last) return;
+      std::vector<double> tops;
+      for (std::uint32_t e = first; e < last; ++e) tops.push_back(grid_.z[grid_.edge_to[e]]);
+      estimate(grid_.z[i], tops, std::span(estimate_).subspan(first, last - first));
+      for (std::uint32_t e = first; e < last; ++e) {
+        const double a = grid_.z[i], b = grid_.z[grid_.edge_to[e]];
+        crossed_[e] = static_cast<std::uint32_t>(crossed(flats_, a, b));
+        refused_[e] = overhangs && !grid_.edge_thinnest[e] && (*overhangs)(a, b) > thick.min_area;
+      }
     });
     exact_.assign(edges, NAN);
   }

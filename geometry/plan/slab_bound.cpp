@@ -74,6 +74,21 @@ double SlabSpreadEstimate::operator()(double z_lo, double z_hi) const {
   return 0.5 * widest;
 }
 
+void SlabSpreadEstimate::operator()(double z_lo, std::span<const double> z_hi,
+                                    std::span<double> out) const {
+  std::fill(out.begin(), out.end(), 0.0);
+  if (z_hi.empty()) return;
+  by_height_.for_each(z_lo, *std::max_element(z_hi.begin(), z_hi.end()), [&](std::size_t k) {
+    const auto [low, high] = by_height_.range(k);
+    const double from = std::max(z_lo, low);
+    // A facet starting at or above a thinner slab's top adds nothing to it (overlap <= 0).
+    for (std::size_t j = 0; j < z_hi.size(); ++j) {
+      out[j] = std::max(out[j], (std::min(z_hi[j], high) - from) * spread_per_mm_[k]);
+    }
+  });
+  for (double& w : out) w *= 0.5;
+}
+
 ThickOverhangEstimate::ThickOverhangEstimate(const Mesh& mesh, double overhang_angle_degrees,
                                              double bead_width)
     : half_bead_(bead_width / 2) {

@@ -20,6 +20,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -70,6 +71,9 @@ class SlabSpreadEstimate {
  public:
   explicit SlabSpreadEstimate(const Mesh& mesh);
   double operator()(double z_lo, double z_hi) const;
+  // The same for slabs sharing their bottom, [z_lo, z_hi[j]] into out[j] (as many as z_hi),
+  // in one pass over the facets of the thickest: a grid node's candidates.
+  void operator()(double z_lo, std::span<const double> z_hi, std::span<double> out) const;
 
  private:
   std::vector<double> spread_per_mm_;  // per sloped facet: |n_z| / |n_xy|
