@@ -61,12 +61,14 @@ BestChoice best_choice(const ContourInput& input) {
   DistanceOptions distance_options;
   distance_options.reverse = false;
 
+  constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
   struct Candidate {
     std::string_view name;
     ContourResult result;
     std::vector<BoundaryPair> missed;
     double distance = kNotMeasured;
     double deviation = -1;  // ΔV, once a tie needs it
+    std::size_t same_as = kNone;  // a candidate measured before with this very region
   };
   std::vector<Candidate> candidates;
   const auto add = [&](std::string_view name, ContourResult result) {
@@ -117,6 +119,7 @@ BestChoice best_choice(const ContourInput& input) {
     });
     if (same != measured.end()) {
       c.distance = candidates[*same].distance;
+      c.same_as = *same;
     } else {
       distance_options.stop_above = least + kDistanceTie;
       c.distance = distance_error(reference.surface, BoundaryGrid(c.result.region), c.missed,
@@ -133,6 +136,8 @@ BestChoice best_choice(const ContourInput& input) {
   const SlabColumns* columns = reference.volumes ? &reference.columns : nullptr;
   SlabColumns built;
   const auto volume_of = [&](Candidate& c) {
+    // A region measured already under another name has its ΔV too.
+    if (c.deviation < 0 && c.same_as != kNone) c.deviation = candidates[c.same_as].deviation;
     if (c.deviation < 0) {
       if (!columns) {
         built = slab_columns(reference.slab, input.stack.lower(input.layer));
