@@ -18,8 +18,10 @@
 // Cost: the three candidates and their measurements, ma first: a candidate is measured only
 // until its D is more than a tie above the least so far (distance_error's stop_above), and one
 // that misses more features than another is not measured, nor one whose region is one
-// measured already (it takes that one's D: optimal-height often ends at mid's height). About
-// three times ma's time. Tried and dropped (the sphere at 0.2 mm with supports, median of 7):
+// measured already (it takes that one's D and ΔV: optimal-height often ends at mid's height).
+// Where the caller knows mid's D (ContourInput::mid_distance: the layer plan measured it on
+// every layer it planned by mid) mid is not measured again, and ma is measured only until it
+// loses to it by more than a tie. About three times ma's time. Tried and dropped (the sphere at 0.2 mm with supports, median of 7):
 // measuring the candidates in the order of a cheap lower bound of D (their surface corners'
 // largest distance), 0.65 -> 0.67 s; a first pass to 10 um to refuse the far ones before
 // the exact measure, 0.64 -> 0.86 s, as ma's and mid's D are within a tie of each other on
