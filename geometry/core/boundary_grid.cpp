@@ -18,9 +18,21 @@ BoundaryGrid::BoundaryGrid(const Region& region) {
   std::size_t corners = 0;
   for (const Loop& loop : region.loops) corners += loop.size();
   segments_.reserve(corners);
+  std::vector<Vec2> kept;
   for (const Loop& loop : region.loops) {
-    for (std::size_t i = 0, n = loop.size(); i < n && n > 1; ++i) {
-      const Vec2 a = loop[i], b = loop[(i + 1) % n];
+    const std::size_t n = loop.size();
+    if (n < 2) continue;
+    // A vertex where the loop runs straight on (within a sine of 1e-12: 0.1 nm off the line
+    // on a 10 cm edge) is no corner: its two edges are one segment.
+    kept.clear();
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec2 u = loop[i] - loop[(i + n - 1) % n], v = loop[(i + 1) % n] - loop[i];
+      const bool straight = dot(u, v) > 0 && std::abs(cross(u, v)) <= 1e-12 * length(u) * length(v);
+      if (!straight) kept.push_back(loop[i]);
+    }
+    if (kept.size() < 2) kept.assign(loop.begin(), loop.end());
+    for (std::size_t i = 0, m = kept.size(); i < m; ++i) {
+      const Vec2 a = kept[i], b = kept[(i + 1) % m];
       if (!(a == b)) segments_.push_back({a, b});
     }
   }

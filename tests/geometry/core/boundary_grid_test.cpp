@@ -58,6 +58,23 @@ TEST_CASE("any_within_tells_a_square_s_edges_nearer_than_r_as_the_closed_form_do
   CHECK(far > 1000);
 }
 
+TEST_CASE("a_loop_s_edges_that_run_straight_on_are_one_segment") {
+  // The square's 160 edges are its 4 sides; a point's distance and side are the same.
+  const BoundaryGrid grid(square());
+  CHECK(grid.segments().size() == 4);
+  CHECK(grid.nearest_distance({5, 4}) == doctest::Approx(4));
+  CHECK(grid.nearest({3.3, -2}).foot.x == doctest::Approx(3.3));
+  CHECK(grid.winding_number({5, 5}) == 1);
+  CHECK(grid.winding_number({5, 11}) == 0);
+  // A spike (the loop running back on itself) and a bend of a thousandth of a degree are
+  // corners.
+  const BoundaryGrid spike(Region{{{{0, 0}, {4, 0}, {2, 0}, {2, 3}}}});
+  CHECK(spike.segments().size() == 4);
+  const double bend = 1e-3 * std::numbers::pi / 180;
+  const BoundaryGrid bent(Region{{{{0, 0}, {5, 0}, {5 + 5 * std::cos(bend), 5 * std::sin(bend)}, {5, 5}}}});
+  CHECK(bent.segments().size() == 4);
+}
+
 TEST_CASE("any_within_on_a_360_gon_and_at_its_edges") {
   Loop loop;
   for (int k = 0; k < 360; ++k) {
