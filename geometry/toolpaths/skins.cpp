@@ -22,7 +22,8 @@ std::vector<std::optional<Region>> sparse_cores(const std::vector<Region>& regio
 
 std::vector<std::optional<Region>> sparse_cores(const std::vector<Region>& regions,
                                                 const std::vector<Layer>& layers,
-                                                const SkinDepth& depth) {
+                                                const SkinDepth& depth,
+                                                const std::vector<char>& wanted) {
   const long n = static_cast<long>(std::min(regions.size(), layers.size()));
   std::vector<std::optional<Region>> cores(regions.size());
   const int top_layers = std::max(depth.top_layers, 0);
@@ -65,36 +66,57 @@ std::vector<std::optional<Region>> sparse_cores(const std::vector<Region>& regio
     first[i] = i - below;
     last[i] = i + above;
   }
-  long longest = 1;
-  for (long i = 0; i < n; ++i) longest = std::max(longest, last[i] - first[i] + 1);
+  const auto is_wanted = [&](long i) {
+    return static_cast<std::size_t>(i) >= wanted.size() || wanted[i] != 0;
+  };
   // core_i is the intersection of the window regions[first .. last]: layer i itself is in it
   // too, which changes nothing inside layer i. Windows of 2^k layers come from halves of
   // 2^(k-1) (a sparse table), so a window of any length L costs log2(L) + 1 intersections per
-  // layer rather than L - 1.
+  // layer rather than L - 1. Each wanted window takes two spans of its level (they overlap:
+  // together they are exact), and a span its two halves: only those are made.
   // (A window of two or more layers comes out of an intersection, which takes its inputs
   // with the non-zero rule: no cleaning needed first.)
-  std::vector<std::vector<clipper::Paths>> spans(1, std::vector<clipper::Paths>(n));  // [k][i]: i .. i + 2^k - 1
-  tbb::parallel_for(long{0}, n, [&](long i) { spans[0][i] = to_clipper(regions[i]); });
-  for (long width = 1; 2 * width <= longest; width *= 2) {
-    const std::vector<clipper::Paths>& span = spans.back();
-    std::vector<clipper::Paths> wider(n);
+  const auto level_of = [&](long i) {
+    std::size_t level = 0;
+    while ((2L << level) <= last[i] - first[i] + 1) ++level;
+    return level;
+  };
+  std::size_t levels = 1;
+  for (long i = 0; i < n; ++i) {
+    if (is_wanted(i) && first[i] >= 0 && last[i] < n) levels = std::max(levels, level_of(i) + 1);
+  }
+  std::vector<std::vector<char>> needed(levels, std::vector<char>(n, 0));  // [k][i]
+  for (long i = 0; i < n; ++i) {
+    if (!is_wanted(i) || first[i] < 0 || last[i] >= n) continue;
+    const std::size_t level = level_of(i);
+    needed[level][first[i]] = 1;
+    needed[level][last[i] - (1L << level) + 1] = 1;
+  }
+  for (std::size_t k = levels; k-- > 1;) {
+    const long half = 1L << (k - 1);
+    for (long i = 0; i < n; ++i) {
+      if (needed[k][i]) needed[k - 1][i] = needed[k - 1][i + half] = 1;
+    }
+  }
+  std::vector<std::vector<clipper::Paths>> spans(levels, std::vector<clipper::Paths>(n));  // [k][i]: i .. i + 2^k - 1
+  tbb::parallel_for(long{0}, n, [&](long i) {
+    if (needed[0][i]) spans[0][i] = to_clipper(regions[i]);
+  });
+  for (std::size_t k = 1; k < levels; ++k) {
+    const long half = 1L << (k - 1);
     tbb::parallel_for(long{0}, n, [&](long i) {
-      if (i + width < n) wider[i] = clipper::intersection(span[i], span[i + width]);
+      if (needed[k][i]) spans[k][i] = clipper::intersection(spans[k - 1][i], spans[k - 1][i + half]);
     });
-    spans.push_back(std::move(wider));
   }
   tbb::parallel_for(long{0}, n, [&](long i) {
     // A window reaching past either end of the stack covers nothing.
-    if (first[i] < 0 || last[i] >= n) {
+    if (!is_wanted(i) || first[i] < 0 || last[i] >= n) {
       cores[i] = Region{};
       return;
     }
-    const long length = last[i] - first[i] + 1;
-    std::size_t level = 0;
-    while ((2L << level) <= length) ++level;
-    const long width = 1L << level;
+    const std::size_t level = level_of(i);
     const std::vector<clipper::Paths>& span = spans[level];
-    const long second = last[i] - width + 1;  // the two spans overlap: together they are exact
+    const long second = last[i] - (1L << level) + 1;
     cores[i] = from_clipper(second == first[i] ? span[first[i]]
                                                : clipper::intersection(span[first[i]], span[second]));
   });

@@ -51,9 +51,14 @@ struct SkinDepth {
   int top_layers = 0, bottom_layers = 0;
   double top_thickness = 0, bottom_thickness = 0;  // mm
 };
+// With `wanted` (a flag per layer, as ToolpathOptions::planned: layers past its end, and all
+// when it is empty, are wanted), only the wanted layers' cores are made, each the same as
+// without it; the others are left an empty Region (a plan of a sample of the layers). The
+// intersections are then only those the wanted windows need.
 std::vector<std::optional<Region>> sparse_cores(const std::vector<Region>& regions,
                                                 const std::vector<Layer>& layers,
-                                                const SkinDepth& depth);
+                                                const SkinDepth& depth,
+                                                const std::vector<char>& wanted = {});
 
 struct Skins {
   Region bottom, top, solid, sparse;

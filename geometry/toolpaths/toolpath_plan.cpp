@@ -262,7 +262,8 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
   });
   // Skins need the neighbours' regions: every layer's core first, then the layers in parallel.
   const std::vector<std::optional<Region>> cores = sparse_cores(
-      outline, layers, {o.top_layers, o.bottom_layers, o.top_thickness, o.bottom_thickness});
+      outline, layers, {o.top_layers, o.bottom_layers, o.top_thickness, o.bottom_thickness},
+      o.planned);
   const bool top_skins = o.top_layers > 0 || o.top_thickness > 0;
   const bool bottom_skins = o.bottom_layers > 0 || o.bottom_thickness > 0;
   const Region nothing;

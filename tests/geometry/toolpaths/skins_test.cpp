@@ -187,3 +187,40 @@ TEST_CASE("a_step_top_on_thin_layers_gets_a_skin_of_its_thickness") {
 }
 
 }  // namespace skins_test
+
+namespace skins_test {
+
+TEST_CASE("cores_of_the_wanted_layers_only_are_those_of_every_layer") {
+  // A cone of squares shrinking by 0.5 mm a layer (every core differs from its neighbours'),
+  // on layers of mixed thickness, skins of 3 layers and 0.6 mm: the wanted layers (a sparse
+  // sample, a run, both ends, and one past the flags' end) get the same core as when every
+  // layer is wanted, the others an empty one.
+  std::vector<Region> regions;
+  std::vector<double> t;
+  for (int i = 0; i < 40; ++i) {
+    const double side = 30 - 0.5 * i;
+    regions.push_back(Region{{rectangle(-side / 2, -side / 2, side / 2, side / 2)}});
+    t.push_back(i % 3 == 0 ? 0.3 : 0.15);
+  }
+  const std::vector<Layer> layers = stack_of(t);
+  const SkinDepth depth{3, 3, 0.6, 0.6};
+  const auto every = sparse_cores(regions, layers, depth);
+  std::vector<char> wanted(39, 0);  // layer 39 lies past the flags: wanted
+  for (std::size_t i : {0, 1, 7, 8, 15, 16, 17, 18, 19, 30, 37, 38}) wanted[i] = 1;
+  const auto some = sparse_cores(regions, layers, depth, wanted);
+  REQUIRE(some.size() == every.size());
+  int cores_with_area = 0;
+  for (std::size_t i = 0; i < regions.size(); ++i) {
+    CAPTURE(i);
+    REQUIRE(some[i].has_value());
+    if (i >= wanted.size() || wanted[i]) {
+      CHECK(some[i]->loops == every[i]->loops);
+      if (area(*every[i]) > 1) ++cores_with_area;
+    } else {
+      CHECK(some[i]->loops.empty());
+    }
+  }
+  CHECK(cores_with_area >= 6);  // the middle ones have sparse cores to compare
+}
+
+}  // namespace skins_test
