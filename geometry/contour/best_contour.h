@@ -21,8 +21,8 @@
 // measured already (it takes that one's D and ΔV: optimal-height often ends at mid's height).
 // Where the caller knows mid's D (ContourInput::mid_distance: the layer plan measured it on
 // every layer it planned by mid) mid is not measured again, and ma is measured only until it
-// loses to it by more than a tie. About three times ma's time. Tried and dropped (the sphere at 0.2 mm with supports, median of 7):
-// measuring the candidates in the order of a cheap lower bound of D (their surface corners'
+// loses to it by more than a tie. About three times ma's time. Tried and dropped (the sphere
+// at 0.2 mm with supports, median of 7): measuring the candidates in the order of a cheap lower bound of D (their surface corners'
 // largest distance), 0.65 -> 0.67 s; a first pass to 10 um to refuse the far ones before
 // the exact measure, 0.64 -> 0.86 s, as ma's and mid's D are within a tie of each other on
 // 114 of the sphere's 149 layers (no gain on the bunny either: 2.11 -> 2.15 s adaptive).

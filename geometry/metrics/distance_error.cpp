@@ -253,7 +253,8 @@ double forward_distance(const SlabSurface& surface, const BoundaryGrid& walls,
     top[i] = std::max({corner[i][0].distance, corner[i][1].distance, corner[i][2].distance});
     order.push_back(i);
   }
-  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return top[a] > top[b]; });
+  std::sort(order.begin(), order.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return top[a] > top[b]; });
   std::vector<std::uint32_t> near;
   for (std::uint32_t i : order) {
     const auto& p = surface.triangles[i];

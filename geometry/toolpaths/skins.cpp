@@ -98,14 +98,16 @@ std::vector<std::optional<Region>> sparse_cores(const std::vector<Region>& regio
       if (needed[k][i]) needed[k - 1][i] = needed[k - 1][i + half] = 1;
     }
   }
-  std::vector<std::vector<clipper::Paths>> spans(levels, std::vector<clipper::Paths>(n));  // [k][i]: i .. i + 2^k - 1
+  // spans[k][i]: the intersection of regions[i .. i + 2^k - 1].
+  std::vector<std::vector<clipper::Paths>> spans(levels, std::vector<clipper::Paths>(n));
   tbb::parallel_for(long{0}, n, [&](long i) {
     if (needed[0][i]) spans[0][i] = to_clipper(regions[i]);
   });
   for (std::size_t k = 1; k < levels; ++k) {
     const long half = 1L << (k - 1);
     tbb::parallel_for(long{0}, n, [&](long i) {
-      if (needed[k][i]) spans[k][i] = clipper::intersection(spans[k - 1][i], spans[k - 1][i + half]);
+      if (!needed[k][i]) return;
+      spans[k][i] = clipper::intersection(spans[k - 1][i], spans[k - 1][i + half]);
     });
   }
   tbb::parallel_for(long{0}, n, [&](long i) {

@@ -71,7 +71,8 @@ TEST_CASE("a_loop_s_edges_that_run_straight_on_are_one_segment") {
   const BoundaryGrid spike(Region{{{{0, 0}, {4, 0}, {2, 0}, {2, 3}}}});
   CHECK(spike.segments().size() == 4);
   const double bend = 1e-3 * std::numbers::pi / 180;
-  const BoundaryGrid bent(Region{{{{0, 0}, {5, 0}, {5 + 5 * std::cos(bend), 5 * std::sin(bend)}, {5, 5}}}});
+  const Vec2 turned{5 + 5 * std::cos(bend), 5 * std::sin(bend)};
+  const BoundaryGrid bent(Region{{{{0, 0}, {5, 0}, turned, {5, 5}}}});
   CHECK(bent.segments().size() == 4);
 }
 
