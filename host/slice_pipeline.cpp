@@ -510,11 +510,9 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
   const std::vector<double>& planned = result.choice.plan.distance;
   const bool mid_measured =
       result.choice.adaptive && result.choice.planned_by == "mid" && planned.size() == count;
-  const geometry::ContourOptions contour_options;
   tbb::parallel_for(std::size_t{0}, count, [&](std::size_t i) {
-    geometry::ContourInput input{stack, i, contour_options};
-    if (mid_measured) input.mid_distance = planned[i];
-    regions[i] = contour.contour(input).region;
+    regions[i] = geometry::layer_contour(stack, i, contour, {},
+                                         mid_measured ? planned[i] : std::nan(""));
     report(SliceStage::contours, ++contours_done, count);
   });
 

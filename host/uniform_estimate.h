@@ -3,8 +3,8 @@
 // --max-time search's estimate of each candidate plan.
 //
 // Both plan the toolpaths of a sample of the stack's layers (mid sections straightened within
-// 25 um, supports and raft as the profiles say): one pair of neighbouring layers in so many (3 for
-// estimated_seconds, 12 for uniform_seconds), and every layer unlike the sampled one of its
+// 25 um, supports and raft as the profiles say): one pair of neighbouring layers in so many
+// (3 for estimated_seconds, 12 for uniform_seconds), and every layer unlike the sampled one of its
 // parity below it (its part's or its support's area more than 10% different, support
 // interface or bridges on either), or within the skins' reach (in layers: the top and bottom
 // layers and thicknesses, at the thinnest layer) of a change of the part's area, of the bed

@@ -60,9 +60,9 @@ std::string contour_names(std::string_view separator) {
 }
 
 Region layer_contour(const LayerStack& stack, std::size_t layer, const ContourStrategy& strategy,
-                     const ContourOptions& options) {
+                     const ContourOptions& options, double mid_distance) {
   if (layer >= stack.size()) return {};
-  return strategy.contour({stack, layer, options}).region;
+  return strategy.contour({stack, layer, options, nullptr, mid_distance}).region;
 }
 
 }  // namespace geometry

@@ -16,6 +16,7 @@
 #pragma once
 
 #include <cstddef>
+#include <limits>
 #include <span>
 #include <string>
 #include <string_view>
@@ -57,8 +58,10 @@ const ContourStrategy& contour_strategy(std::string_view name);
 // The strategies' names joined: "lower, mid, optimal-height, ma" (for help and errors).
 std::string contour_names(std::string_view separator = ", ");
 
-// The region of one layer; an out-of-range layer gives an empty one.
+// The region of one layer; an out-of-range layer gives an empty one. mid_distance: mid's D on
+// the layer where the caller has measured it (ContourInput::mid_distance), else NaN.
 Region layer_contour(const LayerStack& stack, std::size_t layer, const ContourStrategy& strategy,
-                     const ContourOptions& options = {});
+                     const ContourOptions& options = {},
+                     double mid_distance = std::numeric_limits<double>::quiet_NaN());
 
 }  // namespace geometry

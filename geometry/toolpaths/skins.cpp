@@ -66,8 +66,11 @@ std::vector<std::optional<Region>> sparse_cores(const std::vector<Region>& regio
     first[i] = i - below;
     last[i] = i + above;
   }
-  const auto is_wanted = [&](long i) {
-    return static_cast<std::size_t>(i) >= wanted.size() || wanted[i] != 0;
+  // Layer i gets a core of its own: wanted, and its window inside the stack (a window reaching
+  // past either end covers nothing).
+  const auto has_core = [&](long i) {
+    const bool is_wanted = static_cast<std::size_t>(i) >= wanted.size() || wanted[i] != 0;
+    return is_wanted && first[i] >= 0 && last[i] < n;
   };
   // core_i is the intersection of the window regions[first .. last]: layer i itself is in it
   // too, which changes nothing inside layer i. Windows of 2^k layers come from halves of
@@ -81,16 +84,17 @@ std::vector<std::optional<Region>> sparse_cores(const std::vector<Region>& regio
     while ((2L << level) <= last[i] - first[i] + 1) ++level;
     return level;
   };
+  // The second of window i's two spans (the first starts at first[i]).
+  const auto second_of = [&](long i) { return last[i] - (1L << level_of(i)) + 1; };
   std::size_t levels = 1;
   for (long i = 0; i < n; ++i) {
-    if (is_wanted(i) && first[i] >= 0 && last[i] < n) levels = std::max(levels, level_of(i) + 1);
+    if (has_core(i)) levels = std::max(levels, level_of(i) + 1);
   }
   std::vector<std::vector<char>> needed(levels, std::vector<char>(n, 0));  // [k][i]
   for (long i = 0; i < n; ++i) {
-    if (!is_wanted(i) || first[i] < 0 || last[i] >= n) continue;
-    const std::size_t level = level_of(i);
-    needed[level][first[i]] = 1;
-    needed[level][last[i] - (1L << level) + 1] = 1;
+    if (!has_core(i)) continue;
+    needed[level_of(i)][first[i]] = 1;
+    needed[level_of(i)][second_of(i)] = 1;
   }
   for (std::size_t k = levels; k-- > 1;) {
     const long half = 1L << (k - 1);
@@ -111,14 +115,12 @@ std::vector<std::optional<Region>> sparse_cores(const std::vector<Region>& regio
     });
   }
   tbb::parallel_for(long{0}, n, [&](long i) {
-    // A window reaching past either end of the stack covers nothing.
-    if (!is_wanted(i) || first[i] < 0 || last[i] >= n) {
+    if (!has_core(i)) {
       cores[i] = Region{};
       return;
     }
-    const std::size_t level = level_of(i);
-    const std::vector<clipper::Paths>& span = spans[level];
-    const long second = last[i] - (1L << level) + 1;
+    const std::vector<clipper::Paths>& span = spans[level_of(i)];
+    const long second = second_of(i);
     cores[i] = from_clipper(second == first[i] ? span[first[i]]
                                                : clipper::intersection(span[first[i]], span[second]));
   });
