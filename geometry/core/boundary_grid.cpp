@@ -27,7 +27,8 @@ BoundaryGrid::BoundaryGrid(const Region& region) {
     kept.clear();
     for (std::size_t i = 0; i < n; ++i) {
       const Vec2 u = loop[i] - loop[(i + n - 1) % n], v = loop[(i + 1) % n] - loop[i];
-      const bool straight = dot(u, v) > 0 && std::abs(cross(u, v)) <= 1e-12 * length(u) * length(v);
+      const double c = cross(u, v);  // squared, against squared lengths: no roots per vertex
+      const bool straight = dot(u, v) > 0 && c * c <= 1e-24 * dot(u, u) * dot(v, v);
       if (!straight) kept.push_back(loop[i]);
     }
     if (kept.size() < 2) kept.assign(loop.begin(), loop.end());
