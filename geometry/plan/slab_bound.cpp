@@ -67,11 +67,8 @@ SlabSpreadEstimate::SlabSpreadEstimate(const Mesh& mesh) {
 
 double SlabSpreadEstimate::operator()(double z_lo, double z_hi) const {
   double widest = 0;
-  by_height_.for_each(z_lo, z_hi, [&](std::size_t k) {
-    const auto [low, high] = by_height_.range(k);
-    widest = std::max(widest, (std::min(z_hi, high) - std::max(z_lo, low)) * spread_per_mm_[k]);
-  });
-  return 0.5 * widest;
+  (*this)(z_lo, std::span(&z_hi, 1), std::span(&widest, 1));
+  return widest;
 }
 
 void SlabSpreadEstimate::operator()(double z_lo, std::span<const double> z_hi,
