@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -12,6 +13,33 @@
 #include "printer/serial_link.h"
 
 namespace host {
+
+// A finite number within [lo, hi] (or above lo where `above_lo`), said as a user reads it
+// ("needs a number from 0 to 50, not '-3'"): CLI11's own Range prints its bounds with six
+// decimals and PositiveNumber a bound of 308 digits, and both let "inf" through.
+inline CLI::Validator number_check(double lo, double hi, bool above_lo, const std::string& unit) {
+  const std::string wanted =
+      std::isinf(hi) ? fmt::format("a number {} {:g}", above_lo ? "greater than" : "of at least", lo)
+                     : fmt::format("a number from {:g} to {:g}", lo, hi);
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        double value = 0;
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+        const bool in = ec == std::errc() && end == text.data() + text.size() &&
+                        std::isfinite(value) && (above_lo ? value > lo : value >= lo) && value <= hi;
+        return in ? std::string() : fmt::format("needs {}, not '{}'", wanted, text);
+      },
+      unit);
+}
+inline CLI::Validator positive_number(const std::string& unit = "> 0") {
+  return number_check(0, INFINITY, true, unit);
+}
+inline CLI::Validator non_negative_number(const std::string& unit = ">= 0") {
+  return number_check(0, INFINITY, false, unit);
+}
+inline CLI::Validator number_in(double lo, double hi, const std::string& unit = {}) {
+  return number_check(lo, hi, false, unit.empty() ? fmt::format("{:g}-{:g}", lo, hi) : unit);
+}
 
 // --baud: one of the standard serial speeds (printer::standard_baud_rates).
 inline CLI::Validator standard_baud_rate() {

@@ -48,6 +48,7 @@
 #include "geometry/slab/slab.h"
 #include "geometry/mesh/stl_io.h"
 #include "geometry/plan/flat_levels.h"
+#include "host/cli_checks.h"
 #include "host/commands.h"
 #include "host/layer_boundaries.h"
 #include "host/model_input.h"
@@ -825,7 +826,7 @@ void add_analyze_command(CLI::App& app) {
       "part as STL.");
   add_model_options(*analyze, options->model);
   CLI::Option* layer = analyze->add_option("--layer", options->layer, "layer thickness, mm")
-                           ->check(CLI::PositiveNumber)
+                           ->check(positive_number())
                            ->capture_default_str();
   analyze->add_option("--boundaries", options->boundaries,
                       "judge these layers instead of --layer: layer tops as a comma list in mm "
@@ -852,7 +853,7 @@ void add_analyze_command(CLI::App& app) {
   analyze->add_option("--layer-index", options->layer_index,
                       "draw this layer's footprint and contours as layer-N.svg (in --plots, or "
                       "here) and print its metrics")
-      ->check(CLI::NonNegativeNumber);
+      ->check(non_negative_number());
   analyze->add_option("--export-layers", options->export_layers,
                       "write the layered part (each layer's region extruded) as an STL file");
   for (CLI::Option* option : add_adaptive_options(*analyze, options->adaptive)) {
@@ -893,7 +894,7 @@ void add_analyze_command(CLI::App& app) {
                      "thinnest is the benchmark");
   advise->add_option("--share", advise_options->share,
                      "percent of layers that must stay within the benchmark")
-      ->check(CLI::Range(0.0, 100.0))
+      ->check(number_in(0.0, 100.0))
       ->capture_default_str();
   advise->add_option("--json", advise_options->json, "write the table to this JSON file");
   advise->callback([advise_options] { run_advise(*advise_options); });

@@ -21,6 +21,7 @@
 #include <fmt/core.h>
 #include <httplib.h>
 
+#include "host/cli_checks.h"
 #include "host/commands.h"
 #include "host/job_setup.h"
 #include "host/serve/api_key.h"
@@ -255,7 +256,7 @@ void add_serve_command(CLI::App& app) {
                     "~/.local/share/mahost/files)")
       ->group(kServeGroup);
   serve->add_option("--max-upload", options->max_upload_mib, "the largest upload taken, MiB (default: 512)")
-      ->check(CLI::Range(0.001, 65536.0))
+      ->check(number_in(0.001, 65536.0))
       ->group(kServeGroup);
   serve->add_option("--printer", options->printer,
                     "the printer's profile: a name (up-plus-2, generic-marlin) or a .toml path; "

@@ -52,7 +52,7 @@ void add_link_options(CLI::App& command, LinkOptions& link, const std::string& b
       ->group(kLinkGroup);
   command.add_option("--timeout", link.probe_after,
                      "silence before the host probes the printer with M105, s (default: 3)")
-      ->check(CLI::Range(0.1, 600.0))
+      ->check(number_in(0.1, 600.0))
       ->group(kLinkGroup);
   command.add_option("--faults", link.faults,
                      "faults of the simulated printer, e.g. corrupt=0.01,drop-ok=0.01,seed=3 "
@@ -76,10 +76,10 @@ void add_link_options(CLI::App& command, LinkOptions& link, const std::string& b
       ->expected(2)
       ->group(kJobGroup);
   command.add_option("--lift", link.lift, "how far a pause lifts the nozzle, mm (default: 5)")
-      ->check(CLI::Range(0.0, 100.0))
+      ->check(number_in(0.0, 100.0))
       ->group(kJobGroup);
   command.add_option("--retract", link.retract, "filament a pause retracts, mm (default: 1)")
-      ->check(CLI::Range(0.0, 20.0))
+      ->check(number_in(0.0, 20.0))
       ->group(kJobGroup);
 }
 

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "geometry/plan/flat_levels.h"
+#include "host/cli_checks.h"
 #include "printer/gcode_writer.h"
 
 namespace host {
@@ -57,7 +58,7 @@ std::vector<CLI::Option*> add_adaptive_options(CLI::App& command, AdaptiveReques
                                               "printed thinnest and counted (default: {:g} "
                                               "with --adaptive, none without)",
                                               kDefaultTolerance))
-                      ->check(CLI::PositiveNumber));
+                      ->check(positive_number()));
   added.push_back(command
                       .add_option("--max-layers", request.max_layers,
                                   "with --adaptive: at most this many layers, with the least "
@@ -123,6 +124,7 @@ LayerChoice choose_layers(const AdaptiveRequest& request, const printer::Printer
     geometry::AdaptiveOptions options;
     options.tolerance = request.tolerance > 0 ? request.tolerance : kDefaultTolerance;
     options.max_layers = request.max_layers;
+    choice.max_layers = request.max_layers;
     options.thick_overhangs = request.thick_overhangs;
     if (request.max_seconds > 0 && estimate) {
       choice.budget_seconds = request.max_seconds;
@@ -193,6 +195,11 @@ std::string describe_choice(const LayerChoice& choice) {
                   : fmt::format("; no plan fits --max-time {}: the thickest layers take {}",
                                 printer::format_duration(choice.budget_seconds),
                                 printer::format_duration(choice.estimated_seconds));
+    }
+    if (choice.max_layers > 0 && choice.layers.size() > choice.max_layers) {
+      text += fmt::format("; no plan has at most --max-layers {}: the thickest layers the "
+                          "printer allows make {}",
+                          choice.max_layers, choice.layers.size());
     }
     if (plan.unmet > 0) {
       text += fmt::format("; {} layer{} could not meet it even at {:g} mm, where the surface is "

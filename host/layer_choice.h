@@ -67,6 +67,7 @@ struct LayerChoice {
   double seconds = 0;                             // wall time of the planning
   double budget_seconds = 0;                      // --max-time, s (0: none)
   double estimated_seconds = 0;                   // with a budget: the plan's estimate, s
+  std::size_t max_layers = 0;                     // --max-layers (0: none)
 };
 
 // Called with the candidate slabs measured so far.

@@ -11,24 +11,10 @@
 #include "geometry/core/error.h"
 #include "geometry/mesh/placement.h"
 #include "geometry/mesh/stl_io.h"
+#include "host/cli_checks.h"
 
 namespace host {
 namespace {
-
-// A positive, finite number; CLI11's PositiveNumber lets "inf" through.
-CLI::Validator positive_number(const std::string& unit) {
-  return CLI::Validator(
-      [](std::string& text) -> std::string {
-        double value = 0;
-        const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-        if (error != std::errc() || end != text.data() + text.size() || !std::isfinite(value) ||
-            !(value > 0)) {
-          return fmt::format("needs a number greater than 0, not '{}'", text);
-        }
-        return {};
-      },
-      unit);
-}
 
 CLI::Validator one_of(std::vector<std::string> choices, const std::string& what) {
   std::string list;

@@ -24,6 +24,7 @@
 #include "geometry/plan/layer_plan.h"
 #include "geometry/support/support_plan.h"
 #include "geometry/toolpaths/toolpath_plan.h"
+#include "host/cli_checks.h"
 #include "host/layer_boundaries.h"
 #include "host/progress.h"
 #include "host/uniform_estimate.h"
@@ -150,25 +151,25 @@ void add_support_options(CLI::App& command, SupportCliOptions& options,
   added.push_back(command.add_option("--overhang-angle", options.overhang_angle,
                                      "degrees from vertical a wall may lean without support "
                                      "(default: the material's support.overhang_angle)")
-                      ->check(CLI::Range(0.0, 89.0)));
+                      ->check(number_in(0.0, 89.0)));
   added.push_back(command.add_option("--support-xy-gap", options.xy_gap,
                                      "mm between support and the part beside it (default: "
                                      "support.xy_gap)")
-                      ->check(CLI::Range(0.0, 10.0)));
+                      ->check(number_in(0.0, 10.0)));
   added.push_back(command.add_option("--support-top-distance", options.top_distance,
                                      "mm of air between the support's top and the part over it, "
                                      "rounded up to the layers' own tops (default: "
                                      "support.top_contact_distance)")
-                      ->check(CLI::Range(0.0, 2.0)));
+                      ->check(number_in(0.0, 2.0)));
   added.push_back(command.add_option("--support-bottom-distance", options.bottom_distance,
                                      "mm of air between the part and support standing on it "
                                      "(default: support.bottom_contact_distance)")
-                      ->check(CLI::Range(0.0, 2.0)));
+                      ->check(number_in(0.0, 2.0)));
   added.push_back(command.add_option("--support-interface-thickness", options.interface_thickness,
                                      "mm of dense layers at the top of the support at least, "
                                      "rounded up to the layers' own tops; 0 for none (default: "
                                      "support.interface_thickness)")
-                      ->check(CLI::Range(0.0, 5.0)));
+                      ->check(number_in(0.0, 5.0)));
   added.push_back(command.add_option("--support-pattern", options.pattern,
                                      "the support's sparse body: lines or grid (default: "
                                      "support.pattern)")
@@ -176,7 +177,7 @@ void add_support_options(CLI::App& command, SupportCliOptions& options,
   added.push_back(command.add_option("--support-spacing", options.spacing,
                                      "mm between the support body's lines (default: "
                                      "support.spacing)")
-                      ->check(CLI::Range(0.5, 20.0)));
+                      ->check(number_in(0.5, 20.0)));
   added.push_back(command.add_option("--support-enforcer", options.enforcers,
                                      "support every overhang inside the box x0,y0,z0,x1,y1,z1 "
                                      "(mm; X, Y on the bed as in the G-code, Z from the bed up), "
@@ -190,11 +191,11 @@ void add_support_options(CLI::App& command, SupportCliOptions& options,
                                      "mm a bridge may span, held at both ends, before it is "
                                      "supported instead; 0 bridges nothing (default: the "
                                      "material's bridge.max_length)")
-                      ->check(CLI::Range(0.0, 200.0)));
+                      ->check(number_in(0.0, 200.0)));
   added.push_back(command.add_option("--brim", options.brim,
                                      "brim width round the first layer, mm; 0 for none "
                                      "(default: the printer profile's brim.width)")
-                      ->check(CLI::Range(0.0, 50.0)));
+                      ->check(number_in(0.0, 50.0)));
   CLI::Option* raft = command.add_flag("--raft", options.raft,
                                        "print the part on a raft (default: the printer "
                                        "profile's raft.enabled)");
@@ -257,7 +258,7 @@ void add_slice_options(CLI::App& command, SliceOptions& options, const std::stri
   CLI::Option* layer = command.add_option("--layer", options.layer,
                                           "layer thickness, mm; one the printer allows "
                                           "(default: the printer profile's layer.default)")
-                           ->check(CLI::PositiveNumber);
+                           ->check(positive_number());
   added.push_back(layer);
   added.push_back(command
                       .add_option("--boundaries", options.boundaries,
@@ -284,7 +285,7 @@ void add_slice_options(CLI::App& command, SliceOptions& options, const std::stri
   added.push_back(command.add_option("--infill", options.infill,
                                      "sparse infill density, percent (default: the printer "
                                      "profile's print.infill_density)")
-                      ->check(CLI::Range(0.0, 100.0)));
+                      ->check(number_in(0.0, 100.0)));
   added.push_back(command
                       .add_option("--set", options.overrides,
                                   "override a profile key, e.g. --set retraction.length=1.5 or "

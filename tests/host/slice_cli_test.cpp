@@ -363,6 +363,31 @@ TEST_CASE("bad_flags_are_refused_with_exit_code_2") {
   }
 }
 
+TEST_CASE("a_number_out_of_range_is_refused_with_the_range_as_a_user_reads_it") {
+  const std::string dir = test_support::scratch_dir("slice_bad_numbers");
+  const std::string stl = dir + "/cube.stl";
+  geometry::write_stl_binary(stl, solids::cube(10).mesh);
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases{
+      {{"--layer", "-1"}, "--layer: needs a number greater than 0, not '-1'"},
+      {{"--layer", "inf"}, "--layer: needs a number greater than 0, not 'inf'"},
+      {{"--tolerance", "0"}, "--tolerance: needs a number greater than 0, not '0'"},
+      {{"--brim", "-3"}, "--brim: needs a number from 0 to 50, not '-3'"},
+      {{"--overhang-angle", "95"}, "--overhang-angle: needs a number from 0 to 89, not '95'"},
+      {{"--infill", "nan"}, "--infill: needs a number from 0 to 100, not 'nan'"}};
+  for (const auto& [flag, message] : cases) {
+    std::vector<std::string> args{"slice", stl, "-o", dir + "/c.gcode"};
+    args.insert(args.end(), flag.begin(), flag.end());
+    const auto result = run_mahost(args);
+    CAPTURE(result.err);
+    CHECK(result.exit_code == 2);
+    CHECK(result.err == "mahost: " + message + " (see mahost --help)\n");
+  }
+  // In range, the same flags are taken.
+  const auto fine = run_mahost({"slice", stl, "-o", dir + "/c.gcode", "--brim", "0", "--overhang-angle", "89",
+                                "--layer", "0.2", "--infill", "100"});
+  CHECK(fine.exit_code == 0);
+}
+
 TEST_CASE("unwritable_output_is_refused_naming_it") {
   const std::string dir = test_support::scratch_dir("slice_unwritable");
   const std::string stl = dir + "/cube.stl";
