@@ -1,6 +1,7 @@
 // The model options every command shares, and loading a model through them; see model_input.h.
 #include "host/model_input.h"
 
+#include <algorithm>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -14,6 +15,19 @@
 #include "host/cli_checks.h"
 
 namespace host {
+
+geometry::SupportCost support_cost(const printer::PrinterProfile& machine) {
+  const printer::SupportSettings& s = machine.support;
+  geometry::SupportCost cost;
+  const double sets = s.pattern == "grid" ? 2 : 1;
+  cost.body_share = s.spacing > 0 ? std::min(1.0, sets * machine.extrusion_width / s.spacing) : 1;
+  cost.interface_share = std::clamp(s.interface_density / 100, 0.0, 1.0);
+  cost.interface_thickness = s.interface_thickness;
+  cost.top_gap = s.top_contact_distance;
+  cost.bottom_gap = s.bottom_contact_distance;
+  return cost;
+}
+
 namespace {
 
 CLI::Validator one_of(std::vector<std::string> choices, const std::string& what) {
@@ -109,7 +123,7 @@ std::string orientation_text(const LoadedModel& model) {
                         turn.axis.x, turn.axis.y, turn.axis.z);
   return fmt::format(
       "--orient auto: resting on the face whose outward normal was ({:.2f}, {:.2f}, {:.2f}), "
-      "{}; support ~{:.0f} mm^3 against {:.0f} mm^3 as given, {:.1f} mm tall against {:.1f} "
+      "{}; support material ~{:.0f} mm^3 against {:.0f} mm^3 as given, {:.1f} mm tall against {:.1f} "
       "mm ({} stable faces of {} on the hull), {:.2f} s",
       o.chosen.down.x, o.chosen.down.y, o.chosen.down.z, how, o.chosen.support_volume,
       o.input.support_volume, o.chosen.height, o.input.height, o.stable_faces, o.hull_faces,
@@ -196,6 +210,7 @@ LoadedModel load_model_with_report(const ModelOptions& options, geometry::Vec2 c
     const auto start = std::chrono::steady_clock::now();
     geometry::OrientOptions orient;
     orient.overhang_angle = options.overhang_angle;
+    orient.cost = options.support_cost;
     model.orientation = geometry::orient_for_least_support(model.mesh, orient);
     geometry::Placement again;
     again.rotation = model.orientation->chosen.rotation;

@@ -12,8 +12,14 @@
 #include "geometry/mesh/orientation.h"
 #include "geometry/core/polygon.h"
 #include "geometry/mesh/repair.h"
+#include "printer/profile.h"
 
 namespace host {
+
+// What a column of support costs on this printer, as --orient auto weighs the resting faces
+// (geometry/mesh/orientation.h): its body's lines (bead width over the spacing, twice that
+// for a grid), its interface (thickness and density) and its contact gaps.
+geometry::SupportCost support_cost(const printer::PrinterProfile& machine);
 
 struct ModelOptions {
   std::string path;
@@ -25,6 +31,8 @@ struct ModelOptions {
   std::vector<std::string> rotate;  // "x:90", "1,1,0:30", ... applied in order after --up
   std::string orient = "none";      // "auto": the resting face needing the least support
   double overhang_angle = 50;       // degrees, for --orient auto (slice: the material's)
+  // What support costs, for --orient auto (slice: the printer's; else the stock profile's).
+  geometry::SupportCost support_cost = host::support_cost(printer::PrinterProfile{});
 };
 
 // --rotate's text as a rotation: AXIS:DEGREES, AXIS x, y, z or a vector "a,b,c"; several

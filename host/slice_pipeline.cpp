@@ -450,6 +450,7 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
 
   ModelOptions model = options.model;
   model.overhang_angle = result.profiles.material.overhang_angle;  // for --orient auto
+  model.support_cost = support_cost(machine);
   const geometry::Mesh mesh = load_model(model);
   const geometry::Box3 box = geometry::bounding_box(mesh);
   result.part_size = box.max - box.min;

@@ -78,14 +78,15 @@ Facets facets_of(const Mesh& mesh) {
 }
 
 // The estimate for the part resting on the plane with outward normal `down` (unit): the
-// facets leaning past the angle, their area across `down`, times their height over the
-// plane that touches the part's lowest point along `down`.
-double volume_resting_on(const Facets& f, const Vector3d& down, double top, double sin_angle) {
+// facets leaning past the angle, their area across `down`, times the cost of a column from
+// them to the plane that touches the part's lowest point along `down`.
+double volume_resting_on(const Facets& f, const Vector3d& down, double top, double sin_angle,
+                         const SupportCost& cost) {
   const Eigen::VectorXd across = f.area * down;  // A (down . n)
   const Eigen::VectorXd depth = f.centroid * down;
   double volume = 0;
   for (Eigen::Index i = 0; i < across.size(); ++i) {
-    if (across(i) > sin_angle * f.size(i)) volume += across(i) * (top - depth(i));
+    if (across(i) > sin_angle * f.size(i)) volume += across(i) * cost.per_area(top - depth(i), false);
   }
   return volume;
 }
@@ -93,9 +94,10 @@ double volume_resting_on(const Facets& f, const Vector3d& down, double top, doub
 // Support columns under the mesh turned by `turn`, everywhere: on a grid of cells (about 256
 // across the part, at least 0.2 mm), down every cell's centre line, from each facet facing
 // down more steeply than the angle allows to the next facet facing up below it, or to the
-// lowest point (the bed); mm^3. The grid is offset by a fraction of a cell so that centre
-// lines miss the vertices of axis-aligned meshes.
-double column_volume(const Mesh& mesh, const Matrix3d& turn, double sin_angle) {
+// lowest point (the bed), each costed by `cost`; mm^3. The grid is offset by a fraction of a
+// cell so that centre lines miss the vertices of axis-aligned meshes.
+double column_volume(const Mesh& mesh, const Matrix3d& turn, double sin_angle,
+                     const SupportCost& cost) {
   if (mesh.faces.empty()) return 0;
   std::vector<Vector3d> v(mesh.vertices.size());
   Vector3d lo = Vector3d::Constant(1e300), hi = Vector3d::Constant(-1e300);
@@ -145,7 +147,7 @@ double column_volume(const Mesh& mesh, const Matrix3d& turn, double sin_angle) {
   std::sort(hits.begin(), hits.end(), [](const Hit& p, const Hit& q) {
     return p.cell != q.cell ? p.cell < q.cell : p.z > q.z;
   });
-  double length = 0;
+  double per_cell = 0;  // mm^3 per mm^2 of cell
   for (std::size_t first = 0; first < hits.size();) {
     std::size_t last = first;
     while (last < hits.size() && hits[last].cell == hits[first].cell) ++last;
@@ -154,16 +156,16 @@ double column_volume(const Mesh& mesh, const Matrix3d& turn, double sin_angle) {
     std::optional<double> column;
     for (std::size_t k = first; k < last; ++k) {
       if (hits[k].kind == 1) {
-        if (column) length += *column - hits[k].z;
+        if (column) per_cell += cost.per_area(*column - hits[k].z, true);
         column.reset();
       } else if (hits[k].kind == -1) {
         column = hits[k].z;
       }
     }
-    if (column) length += *column - lo.z();
+    if (column) per_cell += cost.per_area(*column - lo.z(), false);
     first = last;
   }
-  return length * cell * cell;
+  return per_cell * cell * cell;
 }
 
 // Volume-weighted centre of the closed mesh (tetrahedra from the origin); the vertices' mean
@@ -274,6 +276,12 @@ std::vector<HullFace> hull_faces(const Mesh& mesh) {
 
 bool Rotation::identity() const { return m == Rotation{}.m; }
 
+double SupportCost::per_area(double length, bool on_part) const {
+  const double laid = std::max(0.0, length - top_gap - (on_part ? bottom_gap : 0.0));
+  const double dense = std::min(laid, std::max(interface_thickness, 0.0));
+  return interface_share * dense + body_share * (laid - dense);
+}
+
 Rotation rotation_about(Vec3 axis, double degrees) {
   const Vector3d a = to_eigen(axis);
   if (!(a.norm() > 0) || !std::isfinite(degrees)) return {};
@@ -302,8 +310,9 @@ AxisAngle axis_angle(const Rotation& r) {
   return result;
 }
 
-double support_volume_estimate(const Mesh& mesh, double overhang_angle) {
-  return column_volume(mesh, Matrix3d::Identity(), std::sin(std::clamp(overhang_angle, 0.0, 89.0) * std::numbers::pi / 180));
+double support_volume_estimate(const Mesh& mesh, double overhang_angle, const SupportCost& cost) {
+  return column_volume(mesh, Matrix3d::Identity(),
+                       std::sin(std::clamp(overhang_angle, 0.0, 89.0) * std::numbers::pi / 180), cost);
 }
 
 OrientResult orient_for_least_support(const Mesh& mesh, const OrientOptions& options) {
@@ -329,7 +338,7 @@ OrientResult orient_for_least_support(const Mesh& mesh, const OrientOptions& opt
         Eigen::Quaterniond::FromTwoVectors(down, Vector3d(0, 0, -1)).toRotationMatrix());
     const auto [lo, hi] = extent(down);
     r.height = hi - lo;
-    r.support_volume = volume_resting_on(f, down, hi, sin_angle);
+    r.support_volume = volume_resting_on(f, down, hi, sin_angle, options.cost);
     return r;
   };
   result.input = resting(Vector3d(0, 0, -1), 0);
@@ -363,8 +372,10 @@ OrientResult orient_for_least_support(const Mesh& mesh, const OrientOptions& opt
     return a.support_volume < b.support_volume;
   });
   if (stable.size() > kMeasured) stable.resize(kMeasured);
-  for (RestingOrientation& r : stable) r.support_volume = column_volume(mesh, to_eigen(r.rotation), sin_angle);
-  result.input.support_volume = column_volume(mesh, Matrix3d::Identity(), sin_angle);
+  for (RestingOrientation& r : stable) {
+    r.support_volume = column_volume(mesh, to_eigen(r.rotation), sin_angle, options.cost);
+  }
+  result.input.support_volume = column_volume(mesh, Matrix3d::Identity(), sin_angle, options.cost);
   double least = stable.front().support_volume;
   for (const RestingOrientation& r : stable) least = std::min(least, r.support_volume);
   const double tie = std::max(kVolumeTie, kVolumeTieShare * least);
@@ -381,7 +392,14 @@ OrientResult orient_for_least_support(const Mesh& mesh, const OrientOptions& opt
     }
   }
   result.chosen = *best;
-  if (as_given(*best)) result.chosen.rotation = Rotation{};
+  // Within a degree of the orientation as given (a flat base whose hull face leans a little,
+  // on a few points of its rim): kept as given, so the base stays flat on the bed, and the
+  // support and height reported are those of the part as it is printed.
+  if (as_given(*best)) {
+    result.chosen.rotation = Rotation{};
+    result.chosen.support_volume = result.input.support_volume;
+    result.chosen.height = result.input.height;
+  }
   return result;
 }
 

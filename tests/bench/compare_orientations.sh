@@ -47,7 +47,7 @@ for m in bunny tee arch gearwheel; do
   done
   took=$(sort -n "$work/times" | sed -n "$(((repeat + 1) / 2))p")
   picked=$(sed 's/^--orient auto: resting on the face whose outward normal was \(([^)]*)\), \([^;]*\);.*/\1, \2/' <<<"$line")
-  chosen=$(sed 's/.*support ~\([0-9]*\) mm^3 against.*/\1/' <<<"$line")
+  chosen=$(sed 's/.*support material ~\([0-9]*\) mm^3 against.*/\1/' <<<"$line")
   input=$(sed 's/.*against \([0-9]*\) mm^3 as given.*/\1/' <<<"$line")
   for o in none auto; do
     "$mahost" slice "${args[@]}" --orient "$o" --support everywhere --no-raft --layer 0.2 \

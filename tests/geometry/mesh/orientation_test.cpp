@@ -80,6 +80,43 @@ TEST_CASE("estimate_is_each_overhang_projected_times_its_height") {
   CHECK(support_volume_estimate(cone.mesh, 40) == doctest::Approx(disc * 10 * 2.0 / 3).epsilon(0.003));
 }
 
+TEST_CASE("costed_estimate_is_the_material_the_support_lays_in_each_column") {
+  // The support's figures: 0.2 mm gaps, 0.4 mm of interface at 80%, a body of 0.45 mm lines
+  // 2.5 mm apart (an 18% share).
+  SupportCost cost;
+  cost.body_share = 0.45 / 2.5;
+  cost.interface_share = 0.8;
+  cost.interface_thickness = 0.4;
+  cost.top_gap = 0.2;
+  cost.bottom_gap = 0.2;
+  // Per mm^2 of column: nothing within the gaps, then interface, then body.
+  CHECK(cost.per_area(0.1, false) == 0);
+  CHECK(cost.per_area(0.5, false) == doctest::Approx(0.8 * 0.3));
+  CHECK(cost.per_area(0.5, true) == doctest::Approx(0.8 * 0.1));
+  CHECK(cost.per_area(10, false) == doctest::Approx(0.8 * 0.4 + 0.18 * 9.4));
+  CHECK(cost.per_area(10, true) == doctest::Approx(0.8 * 0.4 + 0.18 * 9.2));
+  // The T as given: two 20 x 10 mm wings 20 mm over the bed.
+  CHECK(support_volume_estimate(tee(), 50, cost) ==
+        doctest::Approx(400 * (0.8 * 0.4 + 0.18 * 19.4)).epsilon(1e-6));
+  // A T with a 1 mm stem needs a twentieth of the tall one's column volume, but its columns
+  // are nearly all interface: a third of the tall one's material, not a twentieth.
+  solids::Solid stem = solids::box({-5, -5, 0}, {5, 5, 1});
+  solids::Solid bar = solids::box({-25, -5, 1}, {25, 5, 6});
+  const Mesh low = solids::combine(std::move(stem), std::move(bar)).mesh;
+  CHECK(support_volume_estimate(low, 50) == doctest::Approx(400).epsilon(1e-6));
+  CHECK(support_volume_estimate(low, 50, cost) == doctest::Approx(400 * (0.8 * 0.4 + 0.18 * 0.4)).epsilon(1e-6));
+  // Support standing on the part leaves the gap over it too. The T 1 mm over a plate as
+  // wide (meshes only concatenated: no faces shared between the T and the plate): the wings'
+  // columns 5 mm tall, the stem's 1 mm.
+  solids::Solid plate = solids::box({-25, -5, 0}, {25, 5, 15});
+  solids::Solid neck = solids::box({-5, -5, 16}, {5, 5, 20});
+  solids::Solid top = solids::box({-25, -5, 20}, {25, 5, 25});
+  const Mesh held =
+      solids::combine(std::move(plate), solids::combine(std::move(neck), std::move(top))).mesh;
+  CHECK(support_volume_estimate(held, 50, cost) ==
+        doctest::Approx(400 * (0.8 * 0.4 + 0.18 * 4.2) + 100 * (0.8 * 0.4 + 0.18 * 0.2)).epsilon(1e-6));
+}
+
 TEST_CASE("orient_auto_lays_a_t_on_its_side_and_keeps_a_box_lowest") {
   const OrientResult t = orient_for_least_support(tee());
   CHECK(t.input.support_volume == doctest::Approx(8000).epsilon(1e-6));
