@@ -19,14 +19,16 @@ namespace host {
 // decimals and PositiveNumber a bound of 308 digits, and both let "inf" through.
 inline CLI::Validator number_check(double lo, double hi, bool above_lo, const std::string& unit) {
   const std::string wanted =
-      std::isinf(hi) ? fmt::format("a number {} {:g}", above_lo ? "greater than" : "of at least", lo)
-                     : fmt::format("a number from {:g} to {:g}", lo, hi);
+      std::isinf(hi)
+          ? fmt::format("a number {} {:g}", above_lo ? "greater than" : "of at least", lo)
+          : fmt::format("a number from {:g} to {:g}", lo, hi);
   return CLI::Validator(
       [=](std::string& text) -> std::string {
         double value = 0;
         const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
         const bool in = ec == std::errc() && end == text.data() + text.size() &&
-                        std::isfinite(value) && (above_lo ? value > lo : value >= lo) && value <= hi;
+                        std::isfinite(value) && (above_lo ? value > lo : value >= lo) &&
+                        value <= hi;
         return in ? std::string() : fmt::format("needs {}, not '{}'", wanted, text);
       },
       unit);

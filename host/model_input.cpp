@@ -123,8 +123,8 @@ std::string orientation_text(const LoadedModel& model) {
                         turn.axis.x, turn.axis.y, turn.axis.z);
   return fmt::format(
       "--orient auto: resting on the face whose outward normal was ({:.2f}, {:.2f}, {:.2f}), "
-      "{}; support material ~{:.0f} mm^3 against {:.0f} mm^3 as given, {:.1f} mm tall against {:.1f} "
-      "mm ({} stable faces of {} on the hull), {:.2f} s",
+      "{}; support material ~{:.0f} mm^3 against {:.0f} mm^3 as given, {:.1f} mm tall "
+      "against {:.1f} mm ({} stable faces of {} on the hull), {:.2f} s",
       o.chosen.down.x, o.chosen.down.y, o.chosen.down.z, how, o.chosen.support_volume,
       o.input.support_volume, o.chosen.height, o.input.height, o.stable_faces, o.hull_faces,
       model.orient_seconds);

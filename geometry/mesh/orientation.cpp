@@ -86,7 +86,9 @@ double volume_resting_on(const Facets& f, const Vector3d& down, double top, doub
   const Eigen::VectorXd depth = f.centroid * down;
   double volume = 0;
   for (Eigen::Index i = 0; i < across.size(); ++i) {
-    if (across(i) > sin_angle * f.size(i)) volume += across(i) * cost.per_area(top - depth(i), false);
+    if (across(i) > sin_angle * f.size(i)) {
+      volume += across(i) * cost.per_area(top - depth(i), false);
+    }
   }
   return volume;
 }
@@ -311,8 +313,8 @@ AxisAngle axis_angle(const Rotation& r) {
 }
 
 double support_volume_estimate(const Mesh& mesh, double overhang_angle, const SupportCost& cost) {
-  return column_volume(mesh, Matrix3d::Identity(),
-                       std::sin(std::clamp(overhang_angle, 0.0, 89.0) * std::numbers::pi / 180), cost);
+  const double angle = std::clamp(overhang_angle, 0.0, 89.0) * std::numbers::pi / 180;
+  return column_volume(mesh, Matrix3d::Identity(), std::sin(angle), cost);
 }
 
 OrientResult orient_for_least_support(const Mesh& mesh, const OrientOptions& options) {

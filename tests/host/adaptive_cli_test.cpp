@@ -118,11 +118,12 @@ TEST_CASE("slice_adaptive_keeps_a_layer_budget") {
   CHECK(r.out.find("no plan has at most") == std::string::npos);
   // A budget below the fewest layers the thicknesses allow (20 mm at most 0.4 mm a layer,
   // over a 0.3 mm first one: 1 + ceil(19.7 / 0.4) = 51) is said, with the count printed.
-  const auto tight = run_mahost({"slice", stl, "--no-raft", "--max-layers", "10", "--contour", "mid", "-o", gcode});
+  const auto tight = run_mahost(
+      {"slice", stl, "--no-raft", "--max-layers", "10", "--contour", "mid", "-o", gcode});
   REQUIRE(tight.exit_code == 0);
   CHECK(tops_of(gcode).size() == 51);
-  CHECK(tight.out.find("no plan has at most --max-layers 10: the thickest layers the printer allows make 51") !=
-        std::string::npos);
+  CHECK(tight.out.find("no plan has at most --max-layers 10: the thickest layers the printer "
+                       "allows make 51") != std::string::npos);
 }
 
 TEST_CASE("adaptive_options_that_contradict_are_refused_in_one_line") {

@@ -383,8 +383,8 @@ TEST_CASE("a_number_out_of_range_is_refused_with_the_range_as_a_user_reads_it") 
     CHECK(result.err == "mahost: " + message + " (see mahost --help)\n");
   }
   // In range, the same flags are taken.
-  const auto fine = run_mahost({"slice", stl, "-o", dir + "/c.gcode", "--brim", "0", "--overhang-angle", "89",
-                                "--layer", "0.2", "--infill", "100"});
+  const auto fine = run_mahost({"slice", stl, "-o", dir + "/c.gcode", "--brim", "0",
+                                "--overhang-angle", "89", "--layer", "0.2", "--infill", "100"});
   CHECK(fine.exit_code == 0);
 }
 

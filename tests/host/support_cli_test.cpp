@@ -381,8 +381,8 @@ TEST_CASE("rotate_and_orient_auto_turn_the_model_before_it_is_placed") {
   // As given: the wings' undersides, 2 x 20 x 10 mm^2, 20 mm up, costed as the stock profile
   // lays support there: 0.2 mm of air, 0.4 mm of interface at 80%, then lines of 0.45 mm
   // beads 2.5 mm apart: 400 (0.4 0.8 + 19.4 0.45 / 2.5) = 1524.8 mm^3.
-  CHECK(r.out.find("support material ~0 mm^3 against 1525 mm^3 as given, 10.0 mm tall against 25.0 mm") !=
-        std::string::npos);
+  CHECK(r.out.find("support material ~0 mm^3 against 1525 mm^3 as given, 10.0 mm tall "
+                    "against 25.0 mm") != std::string::npos);
   // Sliced the same way: nothing to support.
   const auto sliced = run_mahost({"slice", t, "-o", dir + "/tee.gcode", "--orient", "auto", "--no-raft"});
   REQUIRE(sliced.exit_code == 0);
