@@ -114,8 +114,9 @@ GcodeFile parse_gcode(std::string_view text, const std::string& name, GcodeReadi
       }
       throw ConfigError(fmt::format(
           "{}: line {} is not G-code ({}: \"{}\"); every line must be a command such as G1 X10 "
-          "E0.5, or a ;comment: fix the line, or print with --force to leave such lines out",
-          name, line_number, *problem, excerpt(command)));
+          "E0.5, or a ;comment: fix the line{}{}",
+          name, line_number, *problem, excerpt(command), reading.otherwise.empty() ? "" : ", ",
+          reading.otherwise));
     }
     if (command.size() > kLongestCommand) {
       throw ConfigError(fmt::format(

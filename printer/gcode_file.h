@@ -53,6 +53,8 @@ class GcodeFile {
 struct GcodeReading {
   // Leave out lines that are not G-code (printer::gcode_problem) instead of refusing the file.
   bool skip_invalid = false;
+  // What a refusal suggests besides fixing the line: the command line's way round it.
+  std::string_view otherwise = "or print with --force to leave such lines out";
 };
 
 // Parses G-code text; `name` is used in messages. Every line must be a command

@@ -2,6 +2,8 @@
 
 #include <cctype>
 #include <charconv>
+#include <cmath>
+#include <limits>
 #include <optional>
 #include <cstdlib>
 
@@ -171,7 +173,19 @@ std::optional<std::string> gcode_problem(std::string_view command) {
       if (close == std::string_view::npos) return std::string("a quoted parameter is not closed");
       i = close + 1;
     } else {
-      i += number_length(command.substr(i));
+      const std::size_t length = number_length(command.substr(i));
+      // Firmware keeps numbers in 32-bit floats: a value past their range (X1e999) would
+      // be infinite there, a move to nowhere or a heater set to anything.
+      const std::size_t sign = length > 0 && command[i] == '+' ? 1 : 0;
+      double value = 0;
+      const auto [end, error] =
+          std::from_chars(command.data() + i + sign, command.data() + i + length, value);
+      if (length > 0 && (error == std::errc::result_out_of_range ||
+                         std::abs(value) > std::numeric_limits<float>::max())) {
+        return fmt::format("{} is too large for a printer's numbers",
+                           command.substr(i - 1, length + 1));
+      }
+      i += length;
     }
     if (i < command.size() && command[i] != ' ' && command[i] != '\t' && !is_letter(command[i])) {
       return std::string("it has a parameter whose value is not a number");

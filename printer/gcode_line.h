@@ -38,7 +38,8 @@ GcodeCommand parse_gcode_line(std::string_view line);
 // number, "G1", "M862.3", "T0"), then parameters each a letter with an optional number
 // ("X10.5", "E-.2", "X" alone as in "G28 X") or a quoted string (P"MK3S"); M0/M1, M16, M23,
 // M28, M30, M32, M117, M118 and M928 take free text. Line numbers and checksums are the
-// host's to add, so N and '*' are refused; so is any byte outside printable ASCII.
+// host's to add, so N and '*' are refused; so is any byte outside printable ASCII, and a
+// value past a 32-bit float's range (X1e999), which firmware would read as infinite.
 std::optional<std::string> gcode_problem(std::string_view command);
 
 // The checksum Marlin checks: XOR of every byte before '*'.

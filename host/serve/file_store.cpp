@@ -135,7 +135,9 @@ GcodeAnalysis FileStore::analyse(const std::string& path) const {
     std::ostringstream bytes;
     bytes << in.rdbuf();
     const std::string text = bytes.str();
-    const printer::GcodeFile file = printer::parse_gcode(text, fs::path(path).filename().string());
+    // An upload has no --force: the file is refused, to be fixed and uploaded again.
+    const printer::GcodeFile file = printer::parse_gcode(
+        text, fs::path(path).filename().string(), {.otherwise = "then upload the file again"});
     if (file.size() == 0) {
       throw printer::ConfigError(fmt::format("{}: the file has no G-code commands", fs::path(path).filename().string()));
     }

@@ -98,6 +98,10 @@ TEST_CASE("gcode_problem_names_what_is_wrong") {
   CHECK(printer::gcode_problem("G1 X10 #5") == "it has a parameter that does not start with a letter");
   CHECK(printer::gcode_problem("M862.3 P \"MK3S") == "a quoted parameter is not closed");
   CHECK(printer::gcode_problem("G1- X1") == "its command word is followed by something that is not a parameter");
+  // Past a 32-bit float, which is what firmware reads a number into.
+  CHECK(printer::gcode_problem("G1 X1e999 Y5") == "X1e999 is too large for a printer's numbers");
+  CHECK(printer::gcode_problem("M104 S-4e38") == "S-4e38 is too large for a printer's numbers");
+  CHECK_FALSE(printer::gcode_problem("G1 X3e38 E+1e-300"));
 }
 
 }  // namespace gcode_line_test

@@ -233,6 +233,14 @@ TEST_CASE("a_truncated_multipart_body_and_garbage_bytes_are_refused_and_the_serv
   CHECK(r->status == 415);
   r = serve.upload("noise.stl", binary);
   CHECK(r->status == 415);
+  // G-code whose numbers no firmware holds is refused with the line, and what to do said
+  // for an upload (there is no --force to give a browser).
+  r = serve.upload("far.gcode", "G28\nG1 X1e999 Y5\n");
+  CHECK(r->status == 415);
+  CHECK(r->body.find("line 2 is not G-code (X1e999 is too large for a printer's numbers") !=
+        std::string::npos);
+  CHECK(r->body.find("fix the line, then upload the file again") != std::string::npos);
+  CHECK(r->body.find("--force") == std::string::npos);
   auto c = serve.client();
   CHECK(c.Post("/api/job", "{not json", "application/json")->status == 400);
   CHECK(c.Post("/api/job", "[1,2,3]", "application/json")->status == 400);
