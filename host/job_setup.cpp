@@ -57,6 +57,17 @@ void add_link_options(CLI::App& command, LinkOptions& link, const std::string& b
   command.add_option("--faults", link.faults,
                      "faults of the simulated printer, e.g. corrupt=0.01,drop-ok=0.01,seed=3 "
                      "(see mahost sim --help; default: none)")
+      // Checked as the command line is read, before a model is sliced for it.
+      ->check(CLI::Validator(
+          [](std::string& spec) -> std::string {
+            try {
+              sim::parse_fault_spec(spec);
+            } catch (const printer::ConfigError& e) {
+              return e.what();
+            }
+            return {};
+          },
+          "SPEC"))
       ->group(kDryRunGroup);
   command.add_flag("--advanced-ok", link.advanced_ok,
                    "the simulated firmware reports its buffer space (ADVANCED_OK), so --window "

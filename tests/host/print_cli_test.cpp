@@ -193,6 +193,21 @@ TEST_CASE("dry_run_with_faults_still_completes") {
   CHECK(r.out.find("0 resent after 0 resend") == std::string::npos);
 }
 
+TEST_CASE("a_bad_fault_spec_is_refused_before_the_model_is_sliced") {
+  const std::string dir = test_support::scratch_dir("print_bad_faults");
+  use_runtime_dir(dir);
+  const std::string stl = dir + "/cube.stl";
+  geometry::write_stl_binary(stl, solids::cube(8).mesh);
+  for (const std::string spec : {"corrupt=2", "bogus=1", "corrupt"}) {
+    CAPTURE(spec);
+    const auto r = run_mahost({"print", stl, "--dry-run", "--faults", spec});
+    CHECK(r.exit_code == 2);
+    CHECK(r.out.find("sliced") == std::string::npos);  // nothing done before the refusal
+    CHECK(r.err.starts_with("mahost: --faults: fault spec"));
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+  }
+}
+
 TEST_CASE("bad_print_invocations_give_one_line_and_a_code") {
   const std::string dir = test_support::scratch_dir("print_bad");
   use_runtime_dir(dir);
