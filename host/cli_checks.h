@@ -42,6 +42,19 @@ inline CLI::Validator non_negative_number(const std::string& unit = ">= 0") {
 inline CLI::Validator number_in(double lo, double hi, const std::string& unit = {}) {
   return number_check(lo, hi, false, unit.empty() ? fmt::format("{:g}-{:g}", lo, hi) : unit);
 }
+// A whole number within [lo, hi]: "needs a whole number from 1 to 32, not '0'".
+inline CLI::Validator whole_number_in(long lo, long hi) {
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        long value = 0;
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+        const bool in = ec == std::errc() && end == text.data() + text.size() && value >= lo &&
+                        value <= hi;
+        return in ? std::string()
+                  : fmt::format("needs a whole number from {} to {}, not '{}'", lo, hi, text);
+      },
+      fmt::format("{}-{}", lo, hi));
+}
 
 // --baud: one of the standard serial speeds (printer::standard_baud_rates).
 inline CLI::Validator standard_baud_rate() {

@@ -175,13 +175,13 @@ void add_sim_command(CLI::App& app) {
                   "and contact gap (default: Marlin's stock limits, 1.75 mm filament, 10 mm "
                   "bridges, 0.2 mm gap)");
   sim->add_option("--queue", options->queue, "command queue depth (Marlin's BUFSIZE)")
-      ->check(CLI::Range(1, 64))
+      ->check(whole_number_in(1, 64))
       ->capture_default_str();
   sim->add_option("--planner", options->planner, "planner depth in moves (BLOCK_BUFFER_SIZE)")
-      ->check(CLI::Range(1, 256))
+      ->check(whole_number_in(1, 256))
       ->capture_default_str();
   sim->add_option("--rx-buffer", options->rx_buffer, "serial receive buffer, bytes")
-      ->check(CLI::Range(16, 65536))
+      ->check(whole_number_in(16, 65536))
       ->capture_default_str();
   sim->add_flag("--advanced-ok", options->advanced_ok, "answer ok N<line> P<planner> B<queue>");
   sim->add_flag("--no-ok-after-resend", options->no_ok_after_resend,

@@ -48,7 +48,7 @@ void add_link_options(CLI::App& command, LinkOptions& link, const std::string& b
   command.add_option("--window", link.window,
                      "lines in flight; more than 1 only when the firmware reports ADVANCED_OK "
                      "(default: 1)")
-      ->check(CLI::Range(1, 32))
+      ->check(whole_number_in(1, 32))
       ->group(kLinkGroup);
   command.add_option("--timeout", link.probe_after,
                      "silence before the host probes the printer with M105, s (default: 3)")

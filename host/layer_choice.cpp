@@ -63,7 +63,7 @@ std::vector<CLI::Option*> add_adaptive_options(CLI::App& command, AdaptiveReques
                       .add_option("--max-layers", request.max_layers,
                                   "with --adaptive: at most this many layers, with the least "
                                   "tolerance that allows it (implies --adaptive; default: none)")
-                      ->check(CLI::Range(std::size_t{1}, std::size_t{100000})));
+                      ->check(whole_number_in(1, 100000)));
   added[1]->excludes(added[2]);
   if (print_time) {
     added.push_back(

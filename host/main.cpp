@@ -1,5 +1,6 @@
 // mahost: STL model to printed part. Parses the command line, runs one subcommand, and turns
 // every error into one line on stderr and an exit code (host/commands.h).
+#include <charconv>
 #include <cstdio>
 #include <exception>
 #include <new>
@@ -46,6 +47,23 @@ int main(int argc, char** argv) {
                  unknown.front().rfind("-", 0) == 0 ? "option" : "command", unknown.front());
     } else {
       fmt::print(stderr, "mahost: {} (see mahost --help)\n", e.what());
+    }
+    return host::kExitBadInput;
+  } catch (const CLI::ConversionError& e) {
+    // CLI11 says "Could not convert: --pause-at-layer = abc"; what the user gave first.
+    const std::string what = e.what();
+    const std::string prefix = "Could not convert: ";
+    const auto equals = what.find(" = ");
+    if (what.rfind(prefix, 0) == 0 && equals != std::string::npos) {
+      const std::string value = what.substr(equals + 3);
+      double number = 0;
+      const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), number);
+      const bool a_number = ec == std::errc() && end == value.data() + value.size();
+      fmt::print(stderr, "mahost: {}: '{}' is not {} (see mahost --help)\n",
+                 what.substr(prefix.size(), equals - prefix.size()), value,
+                 a_number ? "a whole number" : "a number");
+    } else {
+      fmt::print(stderr, "mahost: {} (see mahost --help)\n", what);
     }
     return host::kExitBadInput;
   } catch (const CLI::ParseError& e) {

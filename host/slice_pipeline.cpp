@@ -281,7 +281,7 @@ void add_slice_options(CLI::App& command, SliceOptions& options, const std::stri
   added.push_back(command.add_option("--perimeters", options.perimeters,
                                      "wall loops (default: the printer profile's "
                                      "print.perimeters)")
-                      ->check(CLI::Range(0, 50)));
+                      ->check(whole_number_in(0, 50)));
   added.push_back(command.add_option("--infill", options.infill,
                                      "sparse infill density, percent (default: the printer "
                                      "profile's print.infill_density)")

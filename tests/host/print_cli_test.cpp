@@ -232,6 +232,12 @@ TEST_CASE("bad_print_invocations_give_one_line_and_a_code") {
   CHECK(r.exit_code == 2);
   CHECK(r.err.find("--pause-at-layer 9: ") != std::string::npos);
   CHECK(r.err.find("has 3 layers") != std::string::npos);
+  for (const std::string not_whole : {"2.5", "two"}) {
+    r = run_mahost({"print", gcode, "--dry-run", "--pause-at-layer", not_whole});
+    CHECK(r.exit_code == 2);
+    CHECK(r.err == "mahost: --pause-at-layer: '" + not_whole + "' is not " +
+                       (not_whole == "two" ? "a number" : "a whole number") + " (see mahost --help)\n");
+  }
 
   r = run_mahost({"resume", dir + "/missing.journal", "--dry-run"});
   CHECK(r.exit_code == 2);

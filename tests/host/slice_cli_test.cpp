@@ -373,7 +373,9 @@ TEST_CASE("a_number_out_of_range_is_refused_with_the_range_as_a_user_reads_it") 
       {{"--tolerance", "0"}, "--tolerance: needs a number greater than 0, not '0'"},
       {{"--brim", "-3"}, "--brim: needs a number from 0 to 50, not '-3'"},
       {{"--overhang-angle", "95"}, "--overhang-angle: needs a number from 0 to 89, not '95'"},
-      {{"--infill", "nan"}, "--infill: needs a number from 0 to 100, not 'nan'"}};
+      {{"--infill", "nan"}, "--infill: needs a number from 0 to 100, not 'nan'"},
+      {{"--perimeters", "x"}, "--perimeters: needs a whole number from 0 to 50, not 'x'"},
+      {{"--max-layers", "1.5"}, "--max-layers: needs a whole number from 1 to 100000, not '1.5'"}};
   for (const auto& [flag, message] : cases) {
     std::vector<std::string> args{"slice", stl, "-o", dir + "/c.gcode"};
     args.insert(args.end(), flag.begin(), flag.end());
