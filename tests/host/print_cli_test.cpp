@@ -235,8 +235,9 @@ TEST_CASE("bad_print_invocations_give_one_line_and_a_code") {
   for (const std::string not_whole : {"2.5", "two"}) {
     r = run_mahost({"print", gcode, "--dry-run", "--pause-at-layer", not_whole});
     CHECK(r.exit_code == 2);
-    CHECK(r.err == "mahost: --pause-at-layer: '" + not_whole + "' is not " +
-                       (not_whole == "two" ? "a number" : "a whole number") + " (see mahost --help)\n");
+    const std::string kind = not_whole == "two" ? "a number" : "a whole number";
+    CHECK(r.err == "mahost: --pause-at-layer: '" + not_whole + "' is not " + kind +
+                       " (see mahost --help)\n");
   }
 
   r = run_mahost({"resume", dir + "/missing.journal", "--dry-run"});
