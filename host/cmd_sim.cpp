@@ -2,8 +2,9 @@
 //  [--time-scale N|max] [--record OUT.json]
 //  [--printed-stl PART.stl] [--queue N] [--advanced-ok] ...`: a simulated Marlin printer on a
 // pseudo-terminal (sim/pty_server.h). The first line on stdout is the port to open
-// (/dev/pts/N); it serves until SIGINT or SIGTERM (or a disconnect fault), then writes the
-// record and prints a summary: lines, resends, faults injected, print time on the sim clock.
+// (/dev/pts/N); then a line each time a host opens or closes it; it serves until SIGINT or
+// SIGTERM (or a disconnect fault), then writes the record and prints a summary: lines,
+// resends, faults injected, print time on the sim clock.
 #include <signal.h>
 
 #include <algorithm>
@@ -100,6 +101,13 @@ void run_sim(const SimOptions& options) {
   pty.time_scale = parse_time_scale(options.time_scale);
   pty.baud = options.baud;
   pty.reset_on_open = !options.no_reset_on_open;
+  // One line per session, so whoever watches the terminal sees the host come and go.
+  pty.on_session = [reset = pty.reset_on_open](bool opened) {
+    fmt::print("{}\n", opened ? (reset ? "host opened the port: the board resets"
+                                       : "host opened the port")
+                              : "host closed the port");
+    std::fflush(stdout);
+  };
 
   check_writable(options.record_path, "record");
   check_writable(options.stl_path, "printed part");
@@ -148,7 +156,8 @@ void add_sim_command(CLI::App& app) {
   CLI::App* sim = app.add_subcommand(
       "sim",
       "Run a simulated Marlin printer on a pseudo-terminal: prints the port (/dev/pts/N) "
-      "first, serves until Ctrl-C, then prints lines, resends, faults and print time.");
+      "first, then a line as each host opens and closes it, serves until Ctrl-C, then prints "
+      "lines, resends, faults and print time.");
   sim->add_flag("--pty", options->pty, "serve on a pseudo-terminal (the default and only mode)");
   sim->add_option("--baud", options->baud,
                   "pace bytes like a UART at this rate, 10 bits a byte: one of " +

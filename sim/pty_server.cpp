@@ -130,6 +130,7 @@ void PtyServer::serve(const std::atomic<bool>& stop) {
     if (hung_up && open) {
       open = false;
       pending_out.clear();
+      if (options_.on_session) options_.on_session(false);
     } else if (!hung_up && !open) {
       open = true;
       ++opens_;
@@ -144,6 +145,7 @@ void PtyServer::serve(const std::atomic<bool>& stop) {
         }
         printer_.reset();
       }
+      if (options_.on_session) options_.on_session(true);
     }
 
     // 2. The sim clock catches up with the wall clock (or runs ahead at full speed).

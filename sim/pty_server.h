@@ -17,6 +17,7 @@
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <string>
 
 #include "sim/printer.h"
@@ -27,6 +28,9 @@ struct PtyOptions {
   double time_scale = 1;    // 0 = as fast as possible
   double baud = 0;          // 0 = no pacing
   bool reset_on_open = true;
+  // Told when a host opens the port (true) and when the last one closes it (false), from the
+  // serving thread: `mahost sim` says so, and a test can wait for it.
+  std::function<void(bool opened)> on_session;
 };
 
 class PtyServer {

@@ -83,6 +83,25 @@ class Background {
     }
     return buffer_.substr(0, buffer_.find('\n'));
   }
+  // Waits up to `timeout` for a stdout line holding `text` after those already waited for;
+  // whether one came.
+  bool wait_for_line(const std::string& text, std::chrono::seconds timeout) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (std::chrono::steady_clock::now() < deadline) {
+      const auto at = buffer_.find(text, seen_);
+      if (at != std::string::npos) {
+        seen_ = at + text.size();
+        return true;
+      }
+      pollfd p{out_, POLLIN, 0};
+      if (poll(&p, 1, 100) <= 0) continue;
+      char chunk[256];
+      const ssize_t n = read(out_, chunk, sizeof chunk);
+      if (n <= 0) return false;
+      buffer_.append(chunk, static_cast<std::size_t>(n));
+    }
+    return false;
+  }
   // All of stdout once the process closes it, waiting up to `timeout`.
   std::string all_output(std::chrono::seconds timeout) {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
@@ -117,6 +136,7 @@ class Background {
   pid_t pid_ = -1;
   int out_ = -1;
   std::string buffer_;
+  std::size_t seen_ = 0;  // of buffer_, what wait_for_line has passed
 };
 
 std::string write_file(const std::string& dir, const std::string& name, const std::string& text) {
@@ -496,6 +516,10 @@ TEST_CASE("killed_host_resumes_and_reprints_only_the_interrupted_layer") {
     print.signal(SIGKILL);
     CHECK(print.wait(10s) == 128 + SIGKILL);
   }
+  // The sim has seen the host go (else a resume quick enough to open the port before it
+  // looks would find the board not reset, as a board without DTR reset would be).
+  REQUIRE(sim.wait_for_line("host opened the port: the board resets", 10s));
+  REQUIRE(sim.wait_for_line("host closed the port", 10s));
   const auto interrupted = journal_of(journal);
   REQUIRE(interrupted);
   CHECK(interrupted->state == printer::JobState::printing);
