@@ -374,15 +374,26 @@ OrientResult orient_for_least_support(const Mesh& mesh, const OrientOptions& opt
     return a.support_volume < b.support_volume;
   });
   if (stable.size() > kMeasured) stable.resize(kMeasured);
-  for (RestingOrientation& r : stable) {
-    r.support_volume = column_volume(mesh, to_eigen(r.rotation), sin_angle, options.cost);
-  }
   result.input.support_volume = column_volume(mesh, Matrix3d::Identity(), sin_angle, options.cost);
+  // A face within a degree of the orientation as given (a flat base whose hull face leans a
+  // little, on a few points of its rim) keeps the part as given, so that the base stays flat
+  // on the bed: it competes with what is then printed, the input's support and height.
+  auto as_given = [](const RestingOrientation& r) {
+    return r.down.z < -std::cos(kCoplanarDegrees * std::numbers::pi / 180);
+  };
+  for (RestingOrientation& r : stable) {
+    if (as_given(r)) {
+      r.rotation = Rotation{};
+      r.support_volume = result.input.support_volume;
+      r.height = result.input.height;
+    } else {
+      r.support_volume = column_volume(mesh, to_eigen(r.rotation), sin_angle, options.cost);
+    }
+  }
   double least = stable.front().support_volume;
   for (const RestingOrientation& r : stable) least = std::min(least, r.support_volume);
   const double tie = std::max(kVolumeTie, kVolumeTieShare * least);
   // Among equals, the orientation as given, else the largest face.
-  auto as_given = [](const RestingOrientation& r) { return r.down.z < -std::cos(kCoplanarDegrees * std::numbers::pi / 180); };
   const RestingOrientation* best = nullptr;
   for (const RestingOrientation& r : stable) {
     if (r.support_volume > least + tie) continue;
@@ -394,13 +405,12 @@ OrientResult orient_for_least_support(const Mesh& mesh, const OrientOptions& opt
     }
   }
   result.chosen = *best;
-  // Within a degree of the orientation as given (a flat base whose hull face leans a little,
-  // on a few points of its rim): kept as given, so the base stays flat on the bed, and the
-  // support and height reported are those of the part as it is printed.
-  if (as_given(*best)) {
-    result.chosen.rotation = Rotation{};
-    result.chosen.support_volume = result.input.support_volume;
-    result.chosen.height = result.input.height;
+  // The estimate is rough between faces of like support (see the header), so a part that
+  // needs support as given is turned only when a face needs clearly less.
+  const double margin = 1 + std::max(options.turn_margin, 0.0);
+  if (result.input.support_volume > kVolumeTie &&
+      result.input.support_volume <= best->support_volume * margin) {
+    result.chosen = result.input;
   }
   return result;
 }

@@ -139,6 +139,34 @@ TEST_CASE("orient_auto_lays_a_t_on_its_side_and_keeps_a_box_lowest") {
   CHECK(b.chosen.face_area == doctest::Approx(600));
 }
 
+TEST_CASE("orient_auto_turns_a_part_that_needs_support_only_for_a_clear_saving") {
+  // A ball needs support under it whichever face it rests on, about alike on each: with a
+  // margin that asks a face for more than its all back, it stays as given, reported so.
+  const Mesh ball = solids::sphere(10, 24, 12, {0, 0, 10}).mesh;
+  OrientOptions options;
+  const OrientResult free = orient_for_least_support(ball, options);
+  CHECK(free.input.support_volume > 0);
+  CHECK(free.chosen.support_volume > 0);
+  options.turn_margin = 1e9;
+  const OrientResult kept = orient_for_least_support(ball, options);
+  CHECK(kept.chosen.rotation.identity());
+  CHECK(kept.chosen.support_volume == free.input.support_volume);
+  CHECK(kept.chosen.height == doctest::Approx(free.input.height));
+  // And with no margin, a face whose estimate is the least is taken even when as given is
+  // within 10% of it.
+  options.turn_margin = 0;
+  const OrientResult strict = orient_for_least_support(ball, options);
+  CHECK(strict.chosen.support_volume <= free.chosen.support_volume);
+  CHECK(strict.chosen.support_volume < strict.input.support_volume);
+  CHECK_FALSE(strict.chosen.rotation.identity());
+  // The T, on its side, needs nothing: a saving of everything is clear whatever the margin.
+  CHECK_FALSE(orient_for_least_support(tee(), options).chosen.rotation.identity());
+  // A part that needs no support as given still goes down onto its least height.
+  const Mesh standing = solids::box({0, 0, 0}, {10, 20, 30}).mesh;
+  const OrientResult laid = orient_for_least_support(standing, options);
+  CHECK(laid.chosen.height == doctest::Approx(10));
+}
+
 TEST_CASE("orient_auto_turns_a_cone_off_its_tip") {
   // Apex down a cone cannot stand; on its base it needs no support.
   const Mesh tip_down = rotated(solids::cone(10, 10, 64).mesh, rotation_about({1, 0, 0}, 180));
