@@ -14,46 +14,44 @@
 
 namespace host {
 
-// A finite number within [lo, hi] (or above lo where `above_lo`), said as a user reads it
-// ("needs a number from 0 to 50, not '-3'"): CLI11's own Range prints its bounds with six
-// decimals and PositiveNumber a bound of 308 digits, and both let "inf" through.
-inline CLI::Validator number_check(double lo, double hi, bool above_lo, const std::string& unit) {
+// A finite number within [lo, hi] (or above lo where `above_lo`; a whole one where `whole`),
+// said as a user reads it ("needs a number from 0 to 50, not '-3'", "needs a whole number
+// from 1 to 32, not '0'"): CLI11's own Range prints its bounds with six decimals and
+// PositiveNumber a bound of 308 digits, and both let "inf" through.
+inline CLI::Validator number_check(double lo, double hi, bool above_lo, bool whole,
+                                   const std::string& unit) {
+  const std::string kind = whole ? "a whole number" : "a number";
   const std::string wanted =
       std::isinf(hi)
-          ? fmt::format("a number {} {:g}", above_lo ? "greater than" : "of at least", lo)
-          : fmt::format("a number from {:g} to {:g}", lo, hi);
+          ? fmt::format("{} {} {:g}", kind, above_lo ? "greater than" : "of at least", lo)
+          : fmt::format("{} from {:g} to {:g}", kind, lo, hi);
   return CLI::Validator(
       [=](std::string& text) -> std::string {
         double value = 0;
-        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-        const bool in = ec == std::errc() && end == text.data() + text.size() &&
-                        std::isfinite(value) && (above_lo ? value > lo : value >= lo) &&
-                        value <= hi;
+        long integer = 0;
+        const char* first = text.data();
+        const char* last = text.data() + text.size();
+        const auto [end, ec] = whole ? std::from_chars(first, last, integer)
+                                     : std::from_chars(first, last, value);
+        if (whole) value = static_cast<double>(integer);
+        const bool in = ec == std::errc() && end == last && std::isfinite(value) &&
+                        (above_lo ? value > lo : value >= lo) && value <= hi;
         return in ? std::string() : fmt::format("needs {}, not '{}'", wanted, text);
       },
       unit);
 }
 inline CLI::Validator positive_number(const std::string& unit = "> 0") {
-  return number_check(0, INFINITY, true, unit);
+  return number_check(0, INFINITY, true, false, unit);
 }
 inline CLI::Validator non_negative_number(const std::string& unit = ">= 0") {
-  return number_check(0, INFINITY, false, unit);
+  return number_check(0, INFINITY, false, false, unit);
 }
 inline CLI::Validator number_in(double lo, double hi, const std::string& unit = {}) {
-  return number_check(lo, hi, false, unit.empty() ? fmt::format("{:g}-{:g}", lo, hi) : unit);
+  return number_check(lo, hi, false, false, unit.empty() ? fmt::format("{:g}-{:g}", lo, hi) : unit);
 }
-// A whole number within [lo, hi]: "needs a whole number from 1 to 32, not '0'".
 inline CLI::Validator whole_number_in(long lo, long hi) {
-  return CLI::Validator(
-      [=](std::string& text) -> std::string {
-        long value = 0;
-        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-        const bool in = ec == std::errc() && end == text.data() + text.size() && value >= lo &&
-                        value <= hi;
-        return in ? std::string()
-                  : fmt::format("needs a whole number from {} to {}, not '{}'", lo, hi, text);
-      },
-      fmt::format("{}-{}", lo, hi));
+  return number_check(static_cast<double>(lo), static_cast<double>(hi), false, true,
+                      fmt::format("{}-{}", lo, hi));
 }
 
 // --baud: one of the standard serial speeds (printer::standard_baud_rates).

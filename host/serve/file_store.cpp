@@ -15,6 +15,7 @@
 
 #include <fmt/core.h>
 
+#include "host/serve/job_file.h"
 #include "printer/error.h"
 #include "printer/gcode_file.h"
 #include "printer/print_eta.h"
@@ -135,9 +136,8 @@ GcodeAnalysis FileStore::analyse(const std::string& path) const {
     std::ostringstream bytes;
     bytes << in.rdbuf();
     const std::string text = bytes.str();
-    // An upload has no --force: the file is refused, to be fixed and uploaded again.
-    const printer::GcodeFile file = printer::parse_gcode(
-        text, fs::path(path).filename().string(), {.otherwise = "then upload the file again"});
+    const printer::GcodeFile file =
+        printer::parse_gcode(text, fs::path(path).filename().string(), kUploadedGcode);
     if (file.size() == 0) {
       throw printer::ConfigError(fmt::format("{}: the file has no G-code commands", fs::path(path).filename().string()));
     }

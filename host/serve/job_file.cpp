@@ -51,7 +51,7 @@ std::uint64_t JobFile::filepos(std::size_t commands) const {
 
 JobFile load_job_file(std::string_view bytes, const std::string& name) {
   JobFile file;
-  file.gcode = printer::parse_gcode(bytes, name, {.otherwise = "then upload the file again"});
+  file.gcode = printer::parse_gcode(bytes, name, kUploadedGcode);
   if (file.gcode.size() == 0) {
     throw printer::ConfigError(fmt::format("{}: the file has no G-code commands", name));
   }

@@ -33,6 +33,10 @@ struct JobFile {
   std::uint64_t filepos(std::size_t commands) const;
 };
 
+// How serve reads the G-code it is given (uploads, and the files it prints): a refused line is
+// to be fixed and the file uploaded again, as there is no --force to give from a browser.
+inline constexpr printer::GcodeReading kUploadedGcode{.otherwise = "then upload the file again"};
+
 // Parses `bytes` as printer::parse_gcode does (same commands, same errors, named `name`) and
 // fills the rest. Throws printer::ConfigError for text that is not G-code or has no command.
 JobFile load_job_file(std::string_view bytes, const std::string& name);
