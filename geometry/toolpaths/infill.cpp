@@ -25,6 +25,8 @@ constexpr double kSparseTolerance = 0.025;
 constexpr double kArc = 0.005;
 // How much less than half a bead solid lines keep from the edge (mm): see solid_infill.
 constexpr double kGraze = 0.001;
+// Solid islands no wider than twice this many beads anywhere are laid along their centre line.
+constexpr double kNarrowStrip = 0.75;
 
 // Lines at heights first + k * spacing (k = 0, 1, ...) in the rotated frame, clipped to area.
 std::vector<ExtrusionPath> lines(const ScanFrame& frame, double first, double spacing,
@@ -205,8 +207,26 @@ std::vector<ExtrusionPath> solid_infill(const std::vector<SolidPiece>& pieces, d
     piece_paths.push_back(to_clipper(piece.area));
     all.insert(all.end(), piece_paths.back().begin(), piece_paths.back().end());
   }
-  const clipper::Paths whole = pieces.size() == 1 ? clipper::union_nonzero(piece_paths[0]) : clipper::union_nonzero(all);
-  if (whole.empty()) return {};
+  const clipper::Paths united = pieces.size() == 1 ? clipper::union_nonzero(piece_paths[0]) : clipper::union_nonzero(all);
+  // An island nowhere 1.5 beads wide (the ring of skin a receding top leaves inside its
+  // walls) is laid along its centre line, round a ring in one path: lines across it would be
+  // dashes a bead or two long, each held by nothing where the layer below is sparse, where
+  // one path along it crosses the lines below and bridges between them.
+  clipper::Paths whole, narrow;
+  for (clipper::Paths& island : clipper::islands(united)) {
+    clipper::Paths& into = clipper::offset(island, -kNarrowStrip * width).empty() ? narrow : whole;
+    into.insert(into.end(), island.begin(), island.end());
+  }
+  std::vector<ExtrusionPath> result;
+  if (!narrow.empty()) {
+    const Region narrow_area = from_clipper(narrow);
+    for (ExtrusionPath& strip : thin_walls(narrow_area, width / 4, 2 * kNarrowStrip * width,
+                                           std::numeric_limits<double>::infinity(), &narrow_area)) {
+      strip.role = role_at(strip.points[strip.points.size() / 2], pieces, piece_paths);
+      result.push_back(std::move(strip));
+    }
+  }
+  if (whole.empty()) return result;
   const double layer_angle = angle + (layer_index % 2 ? 90 : 0);
   const ScanFrame frame(layer_angle);
   const Rotated r = rotate(from_clipper(whole), frame);
@@ -219,23 +239,24 @@ std::vector<ExtrusionPath> solid_infill(const std::vector<SolidPiece>& pieces, d
   const double bead = std::clamp(spacing, width / 4, 1.5 * width);
   const PathRole first_role = pieces.front().role;
 
-  std::vector<ExtrusionPath> result;
+  std::vector<ExtrusionPath> across;
   if (lines == InfillLines::separate) {
-    result = lines_across(frame, r.y_min + spacing / 2, spacing, r, first_role, bead);
+    across = lines_across(frame, r.y_min + spacing / 2, spacing, r, first_role, bead);
   } else {
     // Centre lines run half a bead inside; a micrometre less, so that the first and last
     // lines, which lie exactly on the shrunk area's extremes, are not lost to rounding.
     const Region centres = from_clipper(clipper::offset(whole, -(bead / 2 - kGraze)));
     const Region fill = from_clipper(whole);
-    result = zigzag(centres, ScanLines{layer_angle, spacing, r.y_min + spacing / 2},
+    across = zigzag(centres, ScanLines{layer_angle, spacing, r.y_min + spacing / 2},
                     kSolidConnector * spacing, &fill, first_role, bead);
   }
-  if (pieces.size() > 1) result = split_by_piece(result, pieces, piece_paths);
+  if (pieces.size() > 1) across = split_by_piece(across, pieces, piece_paths);
 
   // What the lines leave bare, up to a bead wide, gets centre lines of its own width. (The
   // beads are taken with square ends and corners: as much as round ones but for specks.)
   clipper::Paths centre_lines;
-  for (const ExtrusionPath& line : result) centre_lines.push_back(to_clipper(line.points));
+  for (const ExtrusionPath& line : across) centre_lines.push_back(to_clipper(line.points));
+  result.insert(result.end(), std::make_move_iterator(across.begin()), std::make_move_iterator(across.end()));
   const clipper::Paths covered =
       clipper::library_offset(centre_lines, bead / 2 + kCoverTolerance, ClipperLib::jtSquare,
                               ClipperLib::etOpenSquare, kArc);

@@ -57,6 +57,10 @@ std::vector<ExtrusionPath> sparse_infill(const Region& area, double width, doubl
 // to the lines is filled by the gap fill below). Then a centre line (of its own width, see
 // thin_walls.h) along every strip the lines leave bare: where an edge of the area runs along
 // the lines between two of them, at a corner too sharp for a bead, along unjoined ends.
+// An island of the area nowhere 1.5 beads wide (a ring of skin inside a receding top's
+// walls) gets no lines across: it is laid along its centre line as a thin wall (a ring in one
+// closed path, as wide as it is), which crosses the sparse lines below where dashes across it
+// would each end over the gaps between them.
 // All paths get the given role (bottom_skin, top_skin, solid_infill).
 std::vector<ExtrusionPath> solid_infill(const Region& area, double width, double angle,
                                         std::size_t layer_index, PathRole role,

@@ -193,6 +193,25 @@ TEST_CASE("solid_pieces_of_different_roles_share_one_set_of_lines") {
   }
 }
 
+TEST_CASE("a_solid_ring_narrower_than_one_and_a_half_beads_is_one_path_along_it") {
+  // The ring of skin a receding top leaves inside its walls: 0.6 mm wide (r 7 to 7.6). Lines
+  // across it would be dashes under a millimetre long; it gets one closed path along r 7.3,
+  // as wide as the ring, which crosses whatever lines lie below it.
+  const Region ring{{circle({0, 0}, 7.6, 192), reversed(circle({0, 0}, 7, 192))}};
+  const auto paths = solid_infill(ring, w, 45, 0, PathRole::solid_infill);
+  REQUIRE(paths.size() == 1);
+  CHECK(is_closed(paths[0]));
+  CHECK(paths[0].role == PathRole::solid_infill);
+  CHECK(paths[0].width == doctest::Approx(0.6).epsilon(0.02));
+  for (Vec2 v : paths[0].points) CHECK(std::hypot(v.x, v.y) == doctest::Approx(7.3).epsilon(0.002));
+  // One a bead wider (1.05 mm) is crossed by lines as any other area.
+  const Region wide{{circle({0, 0}, 8.05, 192), reversed(circle({0, 0}, 7, 192))}};
+  const auto across = solid_infill(wide, w, 45, 0, PathRole::solid_infill);
+  CHECK(across.size() > 1);
+  const auto c = bead_coverage::coverage(wide, across);
+  CHECK(c.inside >= 0.95);
+}
+
 TEST_CASE("solid_infill_length_is_area_over_width") {
   const Region disc{{circle({0, 0}, 10, 360)}};
   const auto lines = solid_infill(disc, w, 45, 0, PathRole::bottom_skin);
