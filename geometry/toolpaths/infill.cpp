@@ -275,6 +275,11 @@ std::vector<ExtrusionPath> solid_infill(const std::vector<SolidPiece>& pieces, d
   for (ExtrusionPath& gap : thin_walls(from_clipper(bare), width / 4, width,
                                        std::numeric_limits<double>::infinity(), &fill_area)) {
     gap.role = role_at(gap.points[gap.points.size() / 2], pieces, piece_paths);
+    // A dab in the notch of a turn, inside the part (solid infill, covered above and below),
+    // is seen by no one and holds nothing up, and over sparse infill it hangs in the air.
+    double along = 0;
+    for (std::size_t k = 1; k < gap.points.size(); ++k) along += length(gap.points[k] - gap.points[k - 1]);
+    if (gap.role == PathRole::solid_infill && along < width) continue;
     result.push_back(std::move(gap));
   }
   return result;

@@ -60,7 +60,10 @@ std::vector<ExtrusionPath> sparse_infill(const Region& area, double width, doubl
 // An island of the area nowhere 1.5 beads wide (a ring of skin inside a receding top's
 // walls) gets no lines across: it is laid along its centre line as a thin wall (a ring in one
 // closed path, as wide as it is), which crosses the sparse lines below where dashes across it
-// would each end over the gaps between them.
+// would each end over the gaps between them. In solid infill (role solid_infill: inside the
+// part, covered above and below), centre lines shorter than a bead (dabs in the notches of
+// the zig-zag's turns) are left out: no one sees them, they hold nothing up, and on the
+// lowest layer of a skin they hang between the sparse lines below.
 // All paths get the given role (bottom_skin, top_skin, solid_infill).
 std::vector<ExtrusionPath> solid_infill(const Region& area, double width, double angle,
                                         std::size_t layer_index, PathRole role,

@@ -206,10 +206,33 @@ TEST_CASE("a_solid_ring_narrower_than_one_and_a_half_beads_is_one_path_along_it"
   for (Vec2 v : paths[0].points) CHECK(std::hypot(v.x, v.y) == doctest::Approx(7.3).epsilon(0.002));
   // One a bead wider (1.05 mm) is crossed by lines as any other area.
   const Region wide{{circle({0, 0}, 8.05, 192), reversed(circle({0, 0}, 7, 192))}};
-  const auto across = solid_infill(wide, w, 45, 0, PathRole::solid_infill);
+  const auto across = solid_infill(wide, w, 45, 0, PathRole::top_skin);
   CHECK(across.size() > 1);
   const auto c = bead_coverage::coverage(wide, across);
   CHECK(c.inside >= 0.95);
+}
+
+TEST_CASE("internal_solid_infill_leaves_out_the_dabs_shorter_than_a_bead_that_skins_keep") {
+  // The 1.05 mm ring crossed at 45 degrees: the zig-zag's turns leave notches that gap fill
+  // fills with dabs shorter than a bead. A skin (seen from outside) keeps them; solid infill
+  // inside the part, which nothing sees and which holds nothing up (and whose lowest layer
+  // rests on sparse lines, between which a dab hangs), leaves them out.
+  const Region ring{{circle({0, 0}, 8.05, 192), reversed(circle({0, 0}, 7, 192))}};
+  auto dabs = [](const std::vector<ExtrusionPath>& paths) {
+    int count = 0;
+    for (const auto& p : paths) count += length(p.points) < w;
+    return count;
+  };
+  const auto skin = solid_infill(ring, w, 45, 0, PathRole::top_skin);
+  const auto inside = solid_infill(ring, w, 45, 0, PathRole::solid_infill);
+  CHECK(dabs(skin) > 10);
+  CHECK(dabs(inside) == 0);
+  CHECK(skin.size() - inside.size() == static_cast<std::size_t>(dabs(skin)));
+  const double skin_cover = bead_coverage::coverage(ring, skin).inside;
+  const double inside_cover = bead_coverage::coverage(ring, inside).inside;
+  INFO("skin " << skin_cover << " solid infill " << inside_cover);
+  CHECK(inside_cover < skin_cover);
+  CHECK(inside_cover >= 0.9);
 }
 
 TEST_CASE("solid_infill_length_is_area_over_width") {
