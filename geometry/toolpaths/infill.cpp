@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <utility>
 
 #include "geometry/core/clipper.h"
 #include "geometry/toolpaths/thin_walls.h"
@@ -27,6 +29,12 @@ constexpr double kArc = 0.005;
 constexpr double kGraze = 0.001;
 // Solid islands no wider than twice this many beads anywhere are laid along their centre line.
 constexpr double kNarrowStrip = 0.75;
+
+double length_of(const std::vector<Vec2>& points) {
+  double along = 0;
+  for (std::size_t k = 1; k < points.size(); ++k) along += length(points[k] - points[k - 1]);
+  return along;
+}
 
 // Lines at heights first + k * spacing (k = 0, 1, ...) in the rotated frame, clipped to area.
 std::vector<ExtrusionPath> lines(const ScanFrame& frame, double first, double spacing,
@@ -191,6 +199,172 @@ std::vector<ExtrusionPath> sparse_infill(const Region& area, double width, doubl
   return result;
 }
 
+namespace {
+
+// A closed path (last point = first) cut open where it first crosses one of the lines
+// `below` (per set: its frame, lines across it `apart` mm apart through the origin), starting
+// there and ending half a bead before it; as it is, closed, if it crosses none or on the
+// first layer (nothing below).
+std::vector<Vec2> cut_on_line_below(const ClipperLib::Path& loop,
+                                    const std::vector<std::pair<ScanFrame, double>>& below,
+                                    double width, std::size_t layer_index) {
+  std::vector<Vec2> p;
+  for (const auto& q : loop) p.push_back(from_clipper(q));
+  p.pop_back();
+  std::optional<std::pair<std::size_t, Vec2>> cut;
+  for (std::size_t k = 0; k < p.size() && !cut && layer_index > 0; ++k) {
+    const Vec2 a = p[k], b = p[(k + 1) % p.size()];
+    for (const auto& [frame, apart] : below) {
+      const double ya = frame.into(a).y / apart, yb = frame.into(b).y / apart;
+      const double line = std::ceil(std::min(ya, yb));
+      if (ya != yb && line <= std::max(ya, yb)) {
+        cut = {k, a + ((line - ya) / (yb - ya)) * (b - a)};
+        break;
+      }
+    }
+  }
+  if (!cut) {
+    p.push_back(p.front());
+    return p;
+  }
+  std::vector<Vec2> turned{cut->second};
+  for (std::size_t k = 1; k <= p.size(); ++k) turned.push_back(p[(cut->first + k) % p.size()]);
+  turned.push_back(cut->second);
+  double left = width / 2;
+  while (turned.size() > 2 && left > 0) {
+    const Vec2 a = turned[turned.size() - 2], b = turned.back();
+    const double d = length(b - a);
+    if (d > left) {
+      turned.back() = b + (left / d) * (a - b);
+      break;
+    }
+    left -= d;
+    turned.pop_back();
+  }
+  return turned;
+}
+
+}  // namespace
+
+std::vector<ExtrusionPath> skin_edge_lines(const Region& sparse, const Region& core_above,
+                                           double width, double density, InfillPattern pattern,
+                                           double angle, std::size_t layer_index) {
+  density = std::min(density, 100.0);
+  if (!(density > 0) || !(width > 0) || sparse.loops.empty() || core_above.loops.empty()) return {};
+  const clipper::Paths area = to_clipper(sparse);
+  const clipper::Paths inside = clipper::offset(area, -width / 2);
+  if (inside.empty()) return {};
+  auto is_inside = [&](Vec2 p) {
+    int winding = 0;
+    for (const auto& path : inside) {
+      if (ClipperLib::PointInPolygon(to_clipper(p), path) != 0) winding += ClipperLib::Orientation(path) ? 1 : -1;
+    }
+    return winding > 0;
+  };
+  clipper::Paths edges = to_clipper(core_above);
+  for (auto& loop : edges) {
+    if (!loop.empty()) loop.push_back(loop.front());
+  }
+  // Clipping cuts a loop at its first vertex too: the piece ending there and the one starting
+  // there are one.
+  clipper::Paths pieces = clipper::clip_open(edges, area);
+  for (std::size_t a = 0; a < pieces.size(); ++a) {
+    for (std::size_t b = 0; b < pieces.size(); ++b) {
+      if (a == b || pieces[a].empty() || pieces[b].empty() || pieces[a].back() != pieces[b].front()) continue;
+      if (pieces[a].front() == pieces[a].back()) continue;  // a whole loop already
+      pieces[a].insert(pieces[a].end(), pieces[b].begin() + 1, pieces[b].end());
+      pieces[b].clear();
+      b = static_cast<std::size_t>(-1);  // look again from the start: the joined piece may join on
+    }
+  }
+  // The sparse lines of the layer below, as sparse_infill lays them: per set, its angle and
+  // spacing (lines through the origin).
+  const double spacing = width * 100 / density;
+  std::vector<std::pair<ScanFrame, double>> below;
+  if (pattern == InfillPattern::grid) {
+    below = {{ScanFrame(angle), 2 * spacing}, {ScanFrame(angle + 90), 2 * spacing}};
+  } else {
+    below = {{ScanFrame(angle + ((layer_index + 1) % 2 ? 90 : 0)), spacing}};
+  }
+
+  // Where the edge meets the sparse area's edge it follows it on for a spacing of the lines
+  // below, far enough to meet one of them (they end along the area's edge).
+  const double follow = below.front().second;
+  std::vector<ExtrusionPath> result;
+  auto emit = [&](std::vector<Vec2> points) {
+    if (points.size() >= 2 && length_of(points) >= width) {
+      result.push_back({PathRole::sparse_infill, std::move(points), width});
+    }
+  };
+  for (const auto& piece : pieces) {
+    if (piece.size() < 2) continue;
+    // The piece in steps of at most a quarter bead, each marked by whether it runs inside the
+    // area shrunk by half a bead (not along the area's edge). A step along the edge is kept
+    // within `follow` of a step inside, so that an end rests on what the layer below has
+    // there; the rest of the edge's run along the area's edge is left out (it would double
+    // the wall there).
+    struct Step {
+      Vec2 from, to;
+      bool vertex;  // `to` is a vertex of the piece
+      bool inside;
+    };
+    std::vector<Step> steps;
+    for (std::size_t k = 1; k < piece.size(); ++k) {
+      const Vec2 a = from_clipper(piece[k - 1]), b = from_clipper(piece[k]);
+      const int cuts = std::max(1, static_cast<int>(std::ceil(length(b - a) / (width / 4))));
+      for (int c = 0; c < cuts; ++c) {
+        const Vec2 from = a + (static_cast<double>(c) / cuts) * (b - a);
+        const Vec2 to = a + (static_cast<double>(c + 1) / cuts) * (b - a);
+        steps.push_back({from, to, c + 1 == cuts, is_inside(0.5 * (from + to))});
+      }
+    }
+    const std::size_t m = steps.size();
+    const bool loop = piece.front() == piece.back();
+    // Arc distance of each step to the nearest step inside, along the piece (round a loop,
+    // both ways round).
+    std::vector<double> reach(m, std::numeric_limits<double>::infinity());
+    const std::size_t rounds = loop ? 2 : 1;
+    double run = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < rounds * m; ++k) {
+      const Step& step = steps[k % m];
+      run = step.inside ? 0 : run + length(step.to - step.from);
+      reach[k % m] = std::min(reach[k % m], run);
+    }
+    run = std::numeric_limits<double>::infinity();
+    for (std::size_t k = rounds * m; k-- > 0;) {
+      const Step& step = steps[k % m];
+      run = step.inside ? 0 : run + length(step.to - step.from);
+      reach[k % m] = std::min(reach[k % m], run);
+    }
+    const auto left_out = [&](std::size_t k) { return reach[k] > follow + 1e-9; };
+    std::size_t first_out = 0;
+    while (first_out < m && !left_out(first_out)) ++first_out;
+    if (loop && first_out == m) {
+      // A whole loop: cut open where it crosses a line below, so that it starts and ends on
+      // one, and end half a bead before it (the round ends meet).
+      emit(cut_on_line_below(piece, below, width, layer_index));
+      continue;
+    }
+    // The runs of steps kept; round a loop, from a step left out, so that no run is cut where
+    // the loop closes.
+    const std::size_t from = loop ? first_out : 0;
+    std::vector<Vec2> points;
+    for (std::size_t j = 0; j < m; ++j) {
+      const std::size_t k = (from + j) % m;
+      if (left_out(k)) {
+        emit(std::move(points));
+        points.clear();
+        continue;
+      }
+      if (points.empty()) points.push_back(steps[k].from);
+      const bool last = j + 1 == m || left_out((k + 1) % m);
+      if (steps[k].vertex || last) points.push_back(steps[k].to);
+    }
+    emit(std::move(points));
+  }
+  return result;
+}
+
 std::vector<ExtrusionPath> solid_infill(const Region& area, double width, double angle,
                                         std::size_t layer_index, PathRole role,
                                         InfillLines lines) {
@@ -277,9 +451,7 @@ std::vector<ExtrusionPath> solid_infill(const std::vector<SolidPiece>& pieces, d
     gap.role = role_at(gap.points[gap.points.size() / 2], pieces, piece_paths);
     // A dab in the notch of a turn, inside the part (solid infill, covered above and below),
     // is seen by no one and holds nothing up, and over sparse infill it hangs in the air.
-    double along = 0;
-    for (std::size_t k = 1; k < gap.points.size(); ++k) along += length(gap.points[k] - gap.points[k - 1]);
-    if (gap.role == PathRole::solid_infill && along < width) continue;
+    if (gap.role == PathRole::solid_infill && length_of(gap.points) < width) continue;
     result.push_back(std::move(gap));
   }
   return result;

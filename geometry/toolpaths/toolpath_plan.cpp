@@ -77,7 +77,8 @@ struct Island {
 // overlap is a fraction of the bead's width.
 Island plan_shares(const clipper::Paths& island, std::size_t layer, double share, double width,
                    const ToolpathOptions& o, const Region* core, const Region* below,
-                   const Region* above, const std::vector<Bridge>* bridges) {
+                   const Region* above, const Region* core_above,
+                   const std::vector<Bridge>* bridges) {
   Island result;
   Perimeters walls = perimeters(island, share, o.perimeters);
   // Innermost wall first, outer wall last: the outer surface is laid against walls already
@@ -136,8 +137,15 @@ Island plan_shares(const clipper::Paths& island, std::size_t layer, double share
     result.groups.push_back(std::move(group));
   }
   if (o.infill_density < 100) {
-    result.groups.push_back(sparse_infill(skins.sparse, share, o.infill_density,
-                                          o.infill_pattern, angle, layer, o.infill_lines));
+    std::vector<ExtrusionPath> sparse = sparse_infill(skins.sparse, share, o.infill_density,
+                                                      o.infill_pattern, angle, layer, o.infill_lines);
+    if (core_above) {
+      for (ExtrusionPath& edge : skin_edge_lines(skins.sparse, *core_above, share, o.infill_density,
+                                                 o.infill_pattern, angle, layer)) {
+        sparse.push_back(std::move(edge));
+      }
+    }
+    result.groups.push_back(std::move(sparse));
   }
   std::erase_if(result.groups, [](const auto& group) { return group.empty(); });
   return result;
@@ -150,11 +158,12 @@ Island plan_shares(const clipper::Paths& island, std::size_t layer, double share
 // w/2 in). Each path is then widened to the bead that fills its share.
 Island plan_island(const clipper::Paths& island, std::size_t layer, double width, double height,
                    const ToolpathOptions& o, const Region* core, const Region* below,
-                   const Region* above, const std::vector<Bridge>* bridges) {
+                   const Region* above, const Region* core_above,
+                   const std::vector<Bridge>* bridges) {
   const double share = bead_spacing(width, height);
   const double sides = width - share;  // the rounded sides' reach past the share, both sides
   const clipper::Paths shared = sides > 0 ? clipper::offset(island, -sides / 2) : island;
-  Island result = plan_shares(shared, layer, share, width, o, core, below, above, bridges);
+  Island result = plan_shares(shared, layer, share, width, o, core, below, above, core_above, bridges);
   for (auto& group : result.groups) {
     for (ExtrusionPath& path : group) {
       // A whole share is a whole bead, exactly as wide as the profile says.
@@ -192,9 +201,10 @@ struct PartInputs {
     auto same = [](const Region* a, const Region* b) {
       return a == b || (a && b && a->loops == b->loops);
     };
+    auto core_above = [&](std::size_t k) { return k + 1 < layers.size() ? core(k + 1) : nullptr; };
     return islands[i] == islands[j] && width(i) == width(j) && thickness(i) == thickness(j) &&
            !bridged(i) && !bridged(j) && same(core(i), core(j)) && same(below(i), below(j)) &&
-           same(above(i), above(j));
+           same(above(i), above(j)) && same(core_above(i), core_above(j));
   }
 };
 
@@ -261,9 +271,12 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
     outline[i] = from_clipper(clipper::simplified(all, kSkinTolerance));
   });
   // Skins need the neighbours' regions: every layer's core first, then the layers in parallel.
+  // A planned layer needs the core of the layer above too (its skin edges, skin_edge_lines).
+  std::vector<char> with_cores = o.planned;
+  for (std::size_t i = with_cores.size(); i-- > 1;) with_cores[i] = with_cores[i] || with_cores[i - 1];
   const std::vector<std::optional<Region>> cores = sparse_cores(
       outline, layers, {o.top_layers, o.bottom_layers, o.top_thickness, o.bottom_thickness},
-      o.planned);
+      with_cores);
   const bool top_skins = o.top_layers > 0 || o.top_thickness > 0;
   const bool bottom_skins = o.bottom_layers > 0 || o.bottom_thickness > 0;
   const Region nothing;
@@ -329,8 +342,9 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
     const Region* above = top_skins ? (i + 1 < n ? &outline[i + 1] : &nothing) : nullptr;
     const LayerSupport* held = support_at(i);
     const std::vector<Bridge>* bridges = held ? &held->bridges : nullptr;
+    const Region* core_above = i + 1 < n && cores[i + 1] ? &*cores[i + 1] : nullptr;
     for (const clipper::Paths& island : island_paths[i]) {
-      islands[i].push_back(plan_island(island, i, width, height, o, core, below, above, bridges));
+      islands[i].push_back(plan_island(island, i, width, height, o, core, below, above, core_above, bridges));
     }
     if (on_layer_done) on_layer_done(++done);
   });

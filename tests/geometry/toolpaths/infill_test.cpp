@@ -235,6 +235,47 @@ TEST_CASE("internal_solid_infill_leaves_out_the_dabs_shorter_than_a_bead_that_sk
   CHECK(inside_cover >= 0.9);
 }
 
+TEST_CASE("a_line_under_a_skin_edge_follows_it_and_starts_on_a_sparse_line_below") {
+  // The layer above is solid outside a disc of r 8 (its sparse core) over this layer's sparse
+  // area, a 40 mm square: one loop along r 8, cut open where it crosses a line of the layer
+  // below (a grid at 45 and 135 degrees through the origin, 4.5 mm apart at 20%), ending half
+  // a bead before it.
+  const Region square{{rectangle(-20, -20, 20, 20)}};
+  const Region core{{circle({0, 0}, 8, 192)}};
+  const auto lines = skin_edge_lines(square, core, w, 20, InfillPattern::grid, 45, 1);
+  REQUIRE(lines.size() == 1);
+  const ExtrusionPath& loop = lines[0];
+  CHECK(loop.role == PathRole::sparse_infill);
+  CHECK(loop.width == w);
+  for (Vec2 v : loop.points) CHECK(std::hypot(v.x, v.y) == doctest::Approx(8).epsilon(1e-3));
+  CHECK(length(loop.points.front() - loop.points.back()) == doctest::Approx(w / 2).epsilon(0.02));
+  CHECK(length(loop.points) == doctest::Approx(2 * std::numbers::pi * 8 - w / 2).epsilon(2e-3));
+  const double on_45 = offset_across(loop, 45) / 4.5, on_135 = offset_across(loop, 135) / 4.5;
+  CHECK(std::min(std::abs(on_45 - std::round(on_45)), std::abs(on_135 - std::round(on_135))) < 1e-6);
+  // Where the core covers all of the area there is no edge to hold up.
+  CHECK(skin_edge_lines(square, Region{{rectangle(-30, -30, 30, 30)}}, w, 20, InfillPattern::grid, 45, 1).empty());
+}
+
+TEST_CASE("a_line_under_a_skin_edge_runs_along_the_area_edge_only_a_line_spacing_below") {
+  // The core's right side, x = 9.9, runs 0.1 mm inside the area's edge (x = 10) for 10 mm:
+  // along the edge the line goes on only 4.5 mm (a spacing of the grid below) from either
+  // corner, far enough to reach the lines below where they end; the middle would double the
+  // wall.
+  const Region square{{rectangle(-10, -10, 10, 10)}};
+  const Region core{{rectangle(-5, -5, 9.9, 5)}};
+  const auto lines = skin_edge_lines(square, core, w, 20, InfillPattern::grid, 45, 1);
+  REQUIRE(lines.size() == 1);
+  const auto& p = lines[0].points;
+  CHECK(length(p.front() - p.back()) > 0.5);
+  CHECK(p.front().x == doctest::Approx(9.9));
+  CHECK(p.back().x == doctest::Approx(9.9));
+  for (Vec2 v : p) CHECK(!(v.x > 9.8 && std::abs(v.y) < 0.3));
+  const double full = 2 * (14.9 + 10);
+  INFO("length " << length(p));
+  CHECK(length(p) > full - 10 + 2 * 4.0);
+  CHECK(length(p) < full - 10 + 2 * 4.6);
+}
+
 TEST_CASE("solid_infill_length_is_area_over_width") {
   const Region disc{{circle({0, 0}, 10, 360)}};
   const auto lines = solid_infill(disc, w, 45, 0, PathRole::bottom_skin);
