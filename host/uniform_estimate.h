@@ -25,9 +25,9 @@
 // thinner layers change (more lines a fill, other skins and supports). Against slicing
 // uniformly with the same contour, tests/bench/estimate_accuracy.sh (3 December 2026): within
 // 1.8% (mean 0.57%) on the bunny with and without supports and raft, a sphere, a T, stepped
-// tiers, a dome, a vase and a frustum. What the rules buy, on the bunny at --tolerance 0.3 (its uniform
-// 0.15 and 0.2 mm, 4884 and 3706 s sliced): without the 10% rule for the part's area the
-// two samples cost 3% less wall time and are 0.9% and 3.1% off (with it 0.1% and 0.1%);
+// tiers, a dome, a vase and a frustum. What the rules buy, on the bunny at --tolerance 0.3
+// (its uniform 0.15 and 0.2 mm, 4884 and 3706 s sliced): without the 10% rule for the part's
+// area the two samples cost 3% less wall time and are 0.9% and 3.1% off (with it 0.1% and 0.1%);
 // without the skins' reach of a change they cost no less (those layers are few and small)
 // and are 2.7% and 4.4% off.
 #pragma once

@@ -257,7 +257,9 @@ std::vector<ExtrusionPath> skin_edge_lines(const Region& sparse, const Region& c
   auto is_inside = [&](Vec2 p) {
     int winding = 0;
     for (const auto& path : inside) {
-      if (ClipperLib::PointInPolygon(to_clipper(p), path) != 0) winding += ClipperLib::Orientation(path) ? 1 : -1;
+      if (ClipperLib::PointInPolygon(to_clipper(p), path) != 0) {
+        winding += ClipperLib::Orientation(path) ? 1 : -1;
+      }
     }
     return winding > 0;
   };
@@ -270,7 +272,8 @@ std::vector<ExtrusionPath> skin_edge_lines(const Region& sparse, const Region& c
   clipper::Paths pieces = clipper::clip_open(edges, area);
   for (std::size_t a = 0; a < pieces.size(); ++a) {
     for (std::size_t b = 0; b < pieces.size(); ++b) {
-      if (a == b || pieces[a].empty() || pieces[b].empty() || pieces[a].back() != pieces[b].front()) continue;
+      if (a == b || pieces[a].empty() || pieces[b].empty()) continue;
+      if (pieces[a].back() != pieces[b].front()) continue;
       if (pieces[a].front() == pieces[a].back()) continue;  // a whole loop already
       pieces[a].insert(pieces[a].end(), pieces[b].begin() + 1, pieces[b].end());
       pieces[b].clear();
@@ -381,7 +384,8 @@ std::vector<ExtrusionPath> solid_infill(const std::vector<SolidPiece>& pieces, d
     piece_paths.push_back(to_clipper(piece.area));
     all.insert(all.end(), piece_paths.back().begin(), piece_paths.back().end());
   }
-  const clipper::Paths united = pieces.size() == 1 ? clipper::union_nonzero(piece_paths[0]) : clipper::union_nonzero(all);
+  const clipper::Paths united =
+      clipper::union_nonzero(pieces.size() == 1 ? piece_paths[0] : all);
   // An island nowhere 1.5 beads wide (the ring of skin a receding top leaves inside its
   // walls) is laid along its centre line, round a ring in one path: lines across it would be
   // dashes a bead or two long, each held by nothing where the layer below is sparse, where
@@ -430,7 +434,8 @@ std::vector<ExtrusionPath> solid_infill(const std::vector<SolidPiece>& pieces, d
   // beads are taken with square ends and corners: as much as round ones but for specks.)
   clipper::Paths centre_lines;
   for (const ExtrusionPath& line : across) centre_lines.push_back(to_clipper(line.points));
-  result.insert(result.end(), std::make_move_iterator(across.begin()), std::make_move_iterator(across.end()));
+  result.insert(result.end(), std::make_move_iterator(across.begin()),
+                std::make_move_iterator(across.end()));
   const clipper::Paths covered =
       clipper::library_offset(centre_lines, bead / 2 + kCoverTolerance, ClipperLib::jtSquare,
                               ClipperLib::etOpenSquare, kArc);

@@ -137,8 +137,8 @@ Island plan_shares(const clipper::Paths& island, std::size_t layer, double share
     result.groups.push_back(std::move(group));
   }
   if (o.infill_density < 100) {
-    std::vector<ExtrusionPath> sparse = sparse_infill(skins.sparse, share, o.infill_density,
-                                                      o.infill_pattern, angle, layer, o.infill_lines);
+    std::vector<ExtrusionPath> sparse = sparse_infill(
+        skins.sparse, share, o.infill_density, o.infill_pattern, angle, layer, o.infill_lines);
     if (core_above) {
       for (ExtrusionPath& edge : skin_edge_lines(skins.sparse, *core_above, share, o.infill_density,
                                                  o.infill_pattern, angle, layer)) {
@@ -163,7 +163,8 @@ Island plan_island(const clipper::Paths& island, std::size_t layer, double width
   const double share = bead_spacing(width, height);
   const double sides = width - share;  // the rounded sides' reach past the share, both sides
   const clipper::Paths shared = sides > 0 ? clipper::offset(island, -sides / 2) : island;
-  Island result = plan_shares(shared, layer, share, width, o, core, below, above, core_above, bridges);
+  Island result =
+      plan_shares(shared, layer, share, width, o, core, below, above, core_above, bridges);
   for (auto& group : result.groups) {
     for (ExtrusionPath& path : group) {
       // A whole share is a whole bead, exactly as wide as the profile says.
@@ -273,7 +274,9 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
   // Skins need the neighbours' regions: every layer's core first, then the layers in parallel.
   // A planned layer needs the core of the layer above too (its skin edges, skin_edge_lines).
   std::vector<char> with_cores = o.planned;
-  for (std::size_t i = with_cores.size(); i-- > 1;) with_cores[i] = with_cores[i] || with_cores[i - 1];
+  for (std::size_t i = with_cores.size(); i-- > 1;) {
+    with_cores[i] = with_cores[i] || with_cores[i - 1];
+  }
   const std::vector<std::optional<Region>> cores = sparse_cores(
       outline, layers, {o.top_layers, o.bottom_layers, o.top_thickness, o.bottom_thickness},
       with_cores);
@@ -344,7 +347,8 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
     const std::vector<Bridge>* bridges = held ? &held->bridges : nullptr;
     const Region* core_above = i + 1 < n && cores[i + 1] ? &*cores[i + 1] : nullptr;
     for (const clipper::Paths& island : island_paths[i]) {
-      islands[i].push_back(plan_island(island, i, width, height, o, core, below, above, core_above, bridges));
+      islands[i].push_back(
+          plan_island(island, i, width, height, o, core, below, above, core_above, bridges));
     }
     if (on_layer_done) on_layer_done(++done);
   });

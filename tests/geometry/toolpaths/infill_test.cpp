@@ -251,9 +251,11 @@ TEST_CASE("a_line_under_a_skin_edge_follows_it_and_starts_on_a_sparse_line_below
   CHECK(length(loop.points.front() - loop.points.back()) == doctest::Approx(w / 2).epsilon(0.02));
   CHECK(length(loop.points) == doctest::Approx(2 * std::numbers::pi * 8 - w / 2).epsilon(2e-3));
   const double on_45 = offset_across(loop, 45) / 4.5, on_135 = offset_across(loop, 135) / 4.5;
-  CHECK(std::min(std::abs(on_45 - std::round(on_45)), std::abs(on_135 - std::round(on_135))) < 1e-6);
+  CHECK(std::min(std::abs(on_45 - std::round(on_45)), std::abs(on_135 - std::round(on_135))) <
+        1e-6);
   // Where the core covers all of the area there is no edge to hold up.
-  CHECK(skin_edge_lines(square, Region{{rectangle(-30, -30, 30, 30)}}, w, 20, InfillPattern::grid, 45, 1).empty());
+  const Region all_sparse{{rectangle(-30, -30, 30, 30)}};
+  CHECK(skin_edge_lines(square, all_sparse, w, 20, InfillPattern::grid, 45, 1).empty());
 }
 
 TEST_CASE("a_line_under_a_skin_edge_runs_along_the_area_edge_only_a_line_spacing_below") {
