@@ -349,21 +349,26 @@ std::vector<ExtrusionPath> skin_edge_lines(const Region& sparse, const Region& c
       continue;
     }
     // The runs of steps kept; round a loop, from a step left out, so that no run is cut where
-    // the loop closes.
+    // the loop closes. A run with less than two beads of it inside the shrunk area mostly
+    // follows the area's edge beside the wall, where nothing of the skin above ends on it
+    // and the layer below's wall may not reach under it: left out.
     const std::size_t from = loop ? first_out : 0;
     std::vector<Vec2> points;
+    double inner = 0;
     for (std::size_t j = 0; j < m; ++j) {
       const std::size_t k = (from + j) % m;
       if (left_out(k)) {
-        emit(std::move(points));
+        if (inner >= 2 * width) emit(std::move(points));
         points.clear();
+        inner = 0;
         continue;
       }
+      if (steps[k].inside) inner += length(steps[k].to - steps[k].from);
       if (points.empty()) points.push_back(steps[k].from);
       const bool last = j + 1 == m || left_out((k + 1) % m);
       if (steps[k].vertex || last) points.push_back(steps[k].to);
     }
-    emit(std::move(points));
+    if (inner >= 2 * width) emit(std::move(points));
   }
   return result;
 }

@@ -57,13 +57,15 @@ std::vector<ExtrusionPath> sparse_infill(const Region& area, double width, doubl
 // the area's edge (into the band the shrinking leaves out) for up to a spacing of the layer
 // below's sparse lines (density, pattern, angle, layer_index - 1 as sparse_infill lays them:
 // their ends lie along the area's edge), so that its ends rest on something; the rest of a
-// run along the area's edge is left out (it would double the wall). Pieces shorter than a
-// bead are dropped. A whole loop is cut open where it crosses a sparse line of the layer
+// run along the area's edge is left out (it would double the wall), and so is a piece with
+// less than two beads of its length inside the shrunk area. Pieces shorter than a bead are
+// dropped. A whole loop is cut open where it crosses a sparse line of the layer
 // below, so that it starts and ends on one (a loop started over the gap between them hangs
 // there), and ends half a bead before it (its round ends then meet).
 // Measured (compare_supports.sh's settings, best; unsupported extrusion by bench_unsupported,
 // print time by the motion model), against no such lines: sphere 37.6 -> 0.0 mm, dome
-// 50.2 -> 4.1, steps 34.3 -> 8.0, bunny 175.9 -> 75.6; print time +0.8% to +1.2%.
+// 50.2 -> 4.1, steps 34.3 -> 8.0, bunny 175.9 -> 75.2, vase 3.2 -> 0.6; print time +0.8% to
+// +1.2%.
 std::vector<ExtrusionPath> skin_edge_lines(const Region& sparse, const Region& core_above,
                                            double width, double density, InfillPattern pattern,
                                            double angle, std::size_t layer_index);
