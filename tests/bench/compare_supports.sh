@@ -14,7 +14,8 @@
 # one layer per Z level, each as tall as the distance to the level below, so its support
 # beads look like beads hanging over the air between them.
 #
-# Usage: [CONTOURS=ma,best] [NO_SHEATH=1] tests/bench/compare_supports.sh [BUILD_DIR]   (default: build)
+# Usage: [CONTOURS=ma,best] [NO_SHEATH=1] [MODELS_ONLY="bunny sphere"] [EXTRA="my.stl part.scad"]
+#        tests/bench/compare_supports.sh [BUILD_DIR]   (default: build)
 # CONTOURS: mahost's --contour strategies to slice with, one row each (default: ma, best).
 # NO_SHEATH=1: one more mahost row, "-sheath" (the last of CONTOURS), without the loop round the support
 # body (--set support.sheath=false), as the peers are set here (PrusaSlicer's
@@ -62,6 +63,19 @@ models=(bunny)
 for m in tee sphere arch; do
   openscad -o "$work/$m-raw.stl" "$work/$m.scad" >/dev/null 2>&1
   "$mahost" info "$work/$m-raw.stl" --export "$work/$m.stl" >/dev/null 2>&1
+  models+=("$m")
+done
+# MODELS_ONLY: a subset of the four above (none: only EXTRA); EXTRA: STL or OpenSCAD files of
+# one's own, each placed as it stands (mahost info --export) and compared after them.
+if [[ ${MODELS_ONLY:-} == none ]]; then models=(); elif [[ -n ${MODELS_ONLY:-} ]]; then read -r -a models <<<"$MODELS_ONLY"; fi
+for file in ${EXTRA:-}; do
+  m=$(basename "${file%.*}")
+  case $file in
+    *.scad) openscad -o "$work/$m-raw.stl" "$file" >/dev/null 2>&1 || { echo "compare_supports: openscad failed on $file" >&2; exit 2; } ;;
+    *) cp "$file" "$work/$m-raw.stl" ;;
+  esac
+  "$mahost" info "$work/$m-raw.stl" --export "$work/$m.stl" >/dev/null 2>&1 ||
+    { echo "compare_supports: mahost could not read $file" >&2; exit 2; }
   models+=("$m")
 done
 
