@@ -28,6 +28,15 @@ double perimeter(const Loop& loop) {
   return length;
 }
 
+double polyline_length(const std::vector<Vec2>& points) {
+  double length = 0;
+  for (std::size_t i = 1; i < points.size(); ++i) {
+    const Vec2 d = points[i] - points[i - 1];
+    length += std::hypot(d.x, d.y);
+  }
+  return length;
+}
+
 double perimeter(const Region& region) {
   double length = 0;
   for (const Loop& loop : region.loops) length += perimeter(loop);

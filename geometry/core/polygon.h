@@ -42,6 +42,8 @@ double area(const Region& region);
 // Length of all loops, holes included, mm.
 double perimeter(const Loop& loop);
 double perimeter(const Region& region);
+// Length of an open polyline, first point to last (no closing edge), mm.
+double polyline_length(const std::vector<Vec2>& points);
 // At least the loop's perimeter, mm: the sum of |dx| + |dy| over its edges, without a square
 // root, for tests that nearly every loop passes against the bound.
 double perimeter_bound(const Loop& loop);

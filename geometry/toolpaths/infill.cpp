@@ -30,12 +30,6 @@ constexpr double kGraze = 0.001;
 // Solid islands no wider than twice this many beads anywhere are laid along their centre line.
 constexpr double kNarrowStrip = 0.75;
 
-double length_of(const std::vector<Vec2>& points) {
-  double along = 0;
-  for (std::size_t k = 1; k < points.size(); ++k) along += length(points[k] - points[k - 1]);
-  return along;
-}
-
 // Lines at heights first + k * spacing (k = 0, 1, ...) in the rotated frame, clipped to area.
 std::vector<ExtrusionPath> lines(const ScanFrame& frame, double first, double spacing,
                                  double y_max, double x_min, double x_max,
@@ -95,16 +89,21 @@ std::vector<ExtrusionPath> lines_across(const ScanFrame& frame, double first, do
   return lines(frame, first, spacing, r.y_max, r.x_min, r.x_max, r.paths, role, width);
 }
 
+// Whether the region's windings round p sum to more than 0 (a loop's edge counts as inside it).
+bool inside(const clipper::Paths& region, Vec2 p) {
+  const ClipperLib::IntPoint q = to_clipper(p);
+  int winding = 0;
+  for (const auto& loop : region) {
+    if (ClipperLib::PointInPolygon(q, loop) != 0) winding += ClipperLib::Orientation(loop) ? 1 : -1;
+  }
+  return winding > 0;
+}
+
 // The piece (by index) whose area contains p, or the first one.
 PathRole role_at(Vec2 p, const std::vector<SolidPiece>& pieces,
                  const std::vector<clipper::Paths>& piece_paths) {
-  const ClipperLib::IntPoint q = to_clipper(p);
   for (std::size_t i = 0; i < pieces.size(); ++i) {
-    int winding = 0;
-    for (const auto& loop : piece_paths[i]) {
-      if (ClipperLib::PointInPolygon(q, loop) != 0) winding += ClipperLib::Orientation(loop) ? 1 : -1;
-    }
-    if (winding > 0) return pieces[i].role;
+    if (inside(piece_paths[i], p)) return pieces[i].role;
   }
   return pieces.front().role;
 }
@@ -252,17 +251,8 @@ std::vector<ExtrusionPath> skin_edge_lines(const Region& sparse, const Region& c
   density = std::min(density, 100.0);
   if (!(density > 0) || !(width > 0) || sparse.loops.empty() || core_above.loops.empty()) return {};
   const clipper::Paths area = to_clipper(sparse);
-  const clipper::Paths inside = clipper::offset(area, -width / 2);
-  if (inside.empty()) return {};
-  auto is_inside = [&](Vec2 p) {
-    int winding = 0;
-    for (const auto& path : inside) {
-      if (ClipperLib::PointInPolygon(to_clipper(p), path) != 0) {
-        winding += ClipperLib::Orientation(path) ? 1 : -1;
-      }
-    }
-    return winding > 0;
-  };
+  const clipper::Paths shrunk = clipper::offset(area, -width / 2);
+  if (shrunk.empty()) return {};
   clipper::Paths edges = to_clipper(core_above);
   for (auto& loop : edges) {
     if (!loop.empty()) loop.push_back(loop.front());
@@ -295,7 +285,7 @@ std::vector<ExtrusionPath> skin_edge_lines(const Region& sparse, const Region& c
   const double follow = below.front().second;
   std::vector<ExtrusionPath> result;
   auto emit = [&](std::vector<Vec2> points) {
-    if (points.size() >= 2 && length_of(points) >= width) {
+    if (points.size() >= 2 && polyline_length(points) >= width) {
       result.push_back({PathRole::sparse_infill, std::move(points), width});
     }
   };
@@ -318,7 +308,7 @@ std::vector<ExtrusionPath> skin_edge_lines(const Region& sparse, const Region& c
       for (int c = 0; c < cuts; ++c) {
         const Vec2 from = a + (static_cast<double>(c) / cuts) * (b - a);
         const Vec2 to = a + (static_cast<double>(c + 1) / cuts) * (b - a);
-        steps.push_back({from, to, c + 1 == cuts, is_inside(0.5 * (from + to))});
+        steps.push_back({from, to, c + 1 == cuts, inside(shrunk, 0.5 * (from + to))});
       }
     }
     const std::size_t m = steps.size();
@@ -461,7 +451,7 @@ std::vector<ExtrusionPath> solid_infill(const std::vector<SolidPiece>& pieces, d
     gap.role = role_at(gap.points[gap.points.size() / 2], pieces, piece_paths);
     // A dab in the notch of a turn, inside the part (solid infill, covered above and below),
     // is seen by no one and holds nothing up, and over sparse infill it hangs in the air.
-    if (gap.role == PathRole::solid_infill && length_of(gap.points) < width) continue;
+    if (gap.role == PathRole::solid_infill && polyline_length(gap.points) < width) continue;
     result.push_back(std::move(gap));
   }
   return result;
