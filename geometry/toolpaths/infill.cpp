@@ -258,13 +258,24 @@ std::vector<ExtrusionPath> skin_edge_lines(const Region& sparse, const Region& c
     if (!loop.empty()) loop.push_back(loop.front());
   }
   // Clipping cuts a loop at its first vertex too: the piece ending there and the one starting
-  // there are one.
+  // there are one (Clipper may hand either back reversed).
   clipper::Paths pieces = clipper::clip_open(edges, area);
   for (std::size_t a = 0; a < pieces.size(); ++a) {
     for (std::size_t b = 0; b < pieces.size(); ++b) {
       if (a == b || pieces[a].empty() || pieces[b].empty()) continue;
-      if (pieces[a].back() != pieces[b].front()) continue;
-      if (pieces[a].front() == pieces[a].back()) continue;  // a whole loop already
+      if (pieces[a].front() == pieces[a].back()) break;  // a whole loop already
+      if (pieces[b].front() == pieces[b].back()) continue;
+      if (pieces[a].back() != pieces[b].front()) {  // turned so that a ends where b begins
+        if (pieces[a].back() == pieces[b].back()) {
+          std::reverse(pieces[b].begin(), pieces[b].end());
+        } else if (pieces[a].front() == pieces[b].back()) {
+          std::swap(pieces[a], pieces[b]);
+        } else if (pieces[a].front() == pieces[b].front()) {
+          std::reverse(pieces[a].begin(), pieces[a].end());
+        } else {
+          continue;
+        }
+      }
       pieces[a].insert(pieces[a].end(), pieces[b].begin() + 1, pieces[b].end());
       pieces[b].clear();
       b = static_cast<std::size_t>(-1);  // look again from the start: the joined piece may join on

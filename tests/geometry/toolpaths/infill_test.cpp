@@ -278,6 +278,30 @@ TEST_CASE("a_line_under_a_skin_edge_runs_along_the_area_edge_only_a_line_spacing
   CHECK(length(p) < full - 10 + 2 * 4.6);
 }
 
+TEST_CASE("a_line_under_a_skin_edge_is_not_cut_where_the_edge_loop_begins") {
+  // The core's edge, a circle of r 6 about (12, 3), leaves the area (a 20 mm square) across
+  // x = 10; its loop begins inside the area. Clipped, the loop comes back in two pieces that
+  // meet where it begins, one of them reversed for these beginnings (Clipper's open paths
+  // keep no direction). They are one line: none ends there, in the middle of the sparse area,
+  // where an end would hang between the lines below.
+  const Region square{{rectangle(-10, -10, 10, 10)}};
+  for (const double begin : {2.1, 2.8, 3.5}) {
+    Loop edge;
+    for (int k = 0; k < 32; ++k) {
+      const double a = begin + 2 * std::numbers::pi * k / 32;
+      edge.push_back({12 + 6 * std::cos(a), 3 + 6 * std::sin(a)});
+    }
+    const auto lines = skin_edge_lines(square, Region{{edge}}, w, 20, InfillPattern::grid, 45, 1);
+    REQUIRE(!lines.empty());
+    for (const ExtrusionPath& line : lines) {
+      for (Vec2 end : {line.points.front(), line.points.back()}) {
+        INFO("begins at " << begin << ", a line ends at " << end.x << ", " << end.y);
+        CHECK(length(end - edge.front()) > 1);
+      }
+    }
+  }
+}
+
 TEST_CASE("solid_infill_length_is_area_over_width") {
   const Region disc{{circle({0, 0}, 10, 360)}};
   const auto lines = solid_infill(disc, w, 45, 0, PathRole::bottom_skin);
