@@ -24,6 +24,9 @@
 #
 # Usage: tests/bench/adaptive_layers.sh [BUILD_DIR]     (default build; mahost built)
 #        MODELS="bunny dome" tests/bench/adaptive_layers.sh   a subset of bunny dome steps vase
+#          (MODELS=none: only EXTRA)
+#        EXTRA="my.stl part.scad" tests/bench/adaptive_layers.sh   one's own STL or OpenSCAD
+#          files too, each sliced as it stands (no z range left out of P95h D)
 # It ends with the slicing time of every adaptive run (wall and CPU), mahost's planning
 # included, beside the peers' in the same run.
 # Needs CuraEngine, slic3r, openscad (scripts/setup --bench installs them).
@@ -36,6 +39,13 @@ for tool in CuraEngine slic3r openscad; do
   command -v "$tool" >/dev/null || { echo "adaptive_layers: $tool not found; run scripts/setup --bench" >&2; exit 2; }
 done
 models=${MODELS:-bunny dome steps vase}
+[[ $models == none ]] && models=""
+extra=()
+for file in ${EXTRA:-}; do
+  [[ -f $file ]] || { echo "adaptive_layers: $file not found" >&2; exit 2; }
+  extra+=("$(cd "$(dirname "$file")" && pwd)/$(basename "$file")")
+  models+=" extra:$((${#extra[@]} - 1))"
+done
 cura_thresholds=${CURA_THRESHOLDS:-0.05 0.1 0.2 0.3}
 slic3r_qualities=${SLIC3R_QUALITIES:-25 50 75 90}
 uniform=${UNIFORM:-0.15 0.2 0.25 0.3}
@@ -96,12 +106,21 @@ PY
 
 for model_name in $models; do
   case $model_name in
+    extra:*)
+      file=${extra[${model_name#extra:}]}
+      model_name=$(basename "${file%.*}")
+      model=$work/$model_name.stl; place=""; excl=""
+      case $file in
+        *.scad) openscad -o "$model" "$file" >"$work/openscad.log" 2>&1 ||
+                  { echo "adaptive_layers: openscad failed on $file" >&2; tail -3 "$work/openscad.log" >&2; exit 1; } ;;
+        *) cp "$file" "$model" ;;
+      esac ;;
     bunny) model=data/bunny.stl; place="--up y --units m --height 50"; excl="0:2.25" ;;
     dome | steps | vase)
       model=$work/$model_name.stl; place=""; excl=""
       openscad -o "$model" "tests/bench/models/$model_name.scad" >"$work/openscad.log" 2>&1 ||
         { echo "adaptive_layers: openscad failed on $model_name" >&2; tail -3 "$work/openscad.log" >&2; exit 1; } ;;
-    *) echo "adaptive_layers: unknown model $model_name (bunny, dome, steps, vase)" >&2; exit 2 ;;
+    *) echo "adaptive_layers: unknown model $model_name (bunny, dome, steps, vase; own files by EXTRA)" >&2; exit 2 ;;
   esac
   # The placed, repaired mesh (centred, on the bed, mm): what every slicer slices.
   placed=$work/$model_name-placed.stl
