@@ -168,6 +168,33 @@ Paths clip_open(const Paths& lines, const Paths& region) {
   return result;
 }
 
+Paths clip_open_joined(const Paths& lines, const Paths& region) {
+  Paths pieces = clip_open(lines, region);
+  for (std::size_t a = 0; a < pieces.size(); ++a) {
+    for (std::size_t b = 0; b < pieces.size(); ++b) {
+      if (a == b || pieces[a].empty() || pieces[b].empty()) continue;
+      if (pieces[a].front() == pieces[a].back()) break;  // a whole loop already
+      if (pieces[b].front() == pieces[b].back()) continue;
+      if (pieces[a].back() != pieces[b].front()) {  // turned so that a ends where b begins
+        if (pieces[a].back() == pieces[b].back()) {
+          std::reverse(pieces[b].begin(), pieces[b].end());
+        } else if (pieces[a].front() == pieces[b].back()) {
+          std::swap(pieces[a], pieces[b]);
+        } else if (pieces[a].front() == pieces[b].front()) {
+          std::reverse(pieces[a].begin(), pieces[a].end());
+        } else {
+          continue;
+        }
+      }
+      pieces[a].insert(pieces[a].end(), pieces[b].begin() + 1, pieces[b].end());
+      pieces[b].clear();
+      b = static_cast<std::size_t>(-1);  // look again from the start: the joined piece may join on
+    }
+  }
+  std::erase_if(pieces, [](const Path& piece) { return piece.empty(); });
+  return pieces;
+}
+
 std::vector<Paths> islands(const Paths& region) {
   std::vector<Paths> result;
   if (region.empty()) return result;

@@ -83,8 +83,14 @@ PolyTree& union_nonzero_tree(const Paths& paths, PolyTree& tree);
 Paths union_positive(const Paths& a, const Paths& b = {});
 PolyTree& union_positive_tree(const Paths& paths, PolyTree& tree);
 
-// Open polylines clipped to the inside of a filled region.
+// Open polylines clipped to the inside of a filled region. Clipper hands each piece back in
+// either direction, and a closed line (last point = first) that the region's edge cuts comes
+// back cut at its first point too.
 Paths clip_open(const Paths& lines, const Paths& region);
+// The same with pieces that meet end to end joined into one, whichever way round each came
+// back: a closed line is cut only where it crosses the region's edge (and is whole, last
+// point = first, where it does not).
+Paths clip_open_joined(const Paths& lines, const Paths& region);
 
 // Splits a region into islands: each outer loop with the holes directly inside it; an island
 // inside a hole is an island of its own. In the order Clipper's tree lists them.

@@ -257,30 +257,9 @@ std::vector<ExtrusionPath> skin_edge_lines(const Region& sparse, const Region& c
   for (auto& loop : edges) {
     if (!loop.empty()) loop.push_back(loop.front());
   }
-  // Clipping cuts a loop at its first vertex too: the piece ending there and the one starting
-  // there are one (Clipper may hand either back reversed).
-  clipper::Paths pieces = clipper::clip_open(edges, area);
-  for (std::size_t a = 0; a < pieces.size(); ++a) {
-    for (std::size_t b = 0; b < pieces.size(); ++b) {
-      if (a == b || pieces[a].empty() || pieces[b].empty()) continue;
-      if (pieces[a].front() == pieces[a].back()) break;  // a whole loop already
-      if (pieces[b].front() == pieces[b].back()) continue;
-      if (pieces[a].back() != pieces[b].front()) {  // turned so that a ends where b begins
-        if (pieces[a].back() == pieces[b].back()) {
-          std::reverse(pieces[b].begin(), pieces[b].end());
-        } else if (pieces[a].front() == pieces[b].back()) {
-          std::swap(pieces[a], pieces[b]);
-        } else if (pieces[a].front() == pieces[b].front()) {
-          std::reverse(pieces[a].begin(), pieces[a].end());
-        } else {
-          continue;
-        }
-      }
-      pieces[a].insert(pieces[a].end(), pieces[b].begin() + 1, pieces[b].end());
-      pieces[b].clear();
-      b = static_cast<std::size_t>(-1);  // look again from the start: the joined piece may join on
-    }
-  }
+  // A loop cut by the area's edge comes back cut at its first vertex too; the two pieces that
+  // meet there are one (an end there would hang between the lines below).
+  const clipper::Paths pieces = clipper::clip_open_joined(edges, area);
   // The sparse lines of the layer below, as sparse_infill lays them: per set, its angle and
   // spacing (lines through the origin).
   const double spacing = width * 100 / density;

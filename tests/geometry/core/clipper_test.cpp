@@ -113,4 +113,39 @@ TEST_CASE("offset_gives_the_region_clippers_offsetter_gives") {
   }
 }
 
+TEST_CASE("clip_open_joined_cuts_a_closed_line_only_where_it_crosses_the_edge") {
+  // A circle of r 6 about (12, 3), closed (last point = first) and begun inside a 20 mm square
+  // at angles where Clipper hands one of its two pieces back reversed: joined, one piece, from
+  // the circle's crossing with x = 10 to the other, 2 r acos(2 / 6) of arc long.
+  const clipper::Paths square = geometry::to_clipper(
+      Region{{Loop{{-10, -10}, {10, -10}, {10, 10}, {-10, 10}}}});
+  for (const double begin : {2.1, 2.8, 3.5}) {
+    Loop circle;
+    for (int k = 0; k <= 32; ++k) {
+      const double a = begin + 2 * std::numbers::pi * (k % 32) / 32;
+      circle.push_back({12 + 6 * std::cos(a), 3 + 6 * std::sin(a)});
+    }
+    const clipper::Paths lines{geometry::to_clipper(circle)};
+    INFO("begins at " << begin);
+    CHECK(clipper::clip_open(lines, square).size() == 2);
+    const clipper::Paths joined = clipper::clip_open_joined(lines, square);
+    REQUIRE(joined.size() == 1);
+    for (const auto& end : {joined[0].front(), joined[0].back()}) {
+      CHECK(geometry::from_clipper(end).x == doctest::Approx(10).epsilon(1e-6));
+    }
+    double length = 0;
+    for (std::size_t i = 1; i < joined[0].size(); ++i) {
+      const Vec2 d = geometry::from_clipper(joined[0][i]) - geometry::from_clipper(joined[0][i - 1]);
+      length += std::hypot(d.x, d.y);
+    }
+    // The 32-gon's chords fall short of the arc by about (pi / 32)^2 / 6 of it.
+    CHECK(length == doctest::Approx(2 * 6 * std::acos(2.0 / 6)).epsilon(0.01));
+  }
+  // A closed line inside the region comes back whole.
+  const clipper::Paths inside{geometry::to_clipper(Loop{{0, 0}, {1, 0}, {1, 1}, {0, 0}})};
+  const clipper::Paths whole = clipper::clip_open_joined(inside, square);
+  REQUIRE(whole.size() == 1);
+  CHECK(whole[0].front() == whole[0].back());
+}
+
 }  // namespace clipper_test
