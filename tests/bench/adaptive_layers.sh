@@ -105,23 +105,21 @@ PY
 }
 
 for model_name in $models; do
+  file=""
   case $model_name in
-    extra:*)
-      file=${extra[${model_name#extra:}]}
-      model_name=$(basename "${file%.*}")
-      model=$work/$model_name.stl; place=""; excl=""
-      case $file in
-        *.scad) openscad -o "$model" "$file" >"$work/openscad.log" 2>&1 ||
-                  { echo "adaptive_layers: openscad failed on $file" >&2; tail -3 "$work/openscad.log" >&2; exit 1; } ;;
-        *) cp "$file" "$model" ;;
-      esac ;;
     bunny) model=data/bunny.stl; place="--up y --units m --height 50"; excl="0:2.25" ;;
-    dome | steps | vase)
-      model=$work/$model_name.stl; place=""; excl=""
-      openscad -o "$model" "tests/bench/models/$model_name.scad" >"$work/openscad.log" 2>&1 ||
-        { echo "adaptive_layers: openscad failed on $model_name" >&2; tail -3 "$work/openscad.log" >&2; exit 1; } ;;
+    dome | steps | vase) file=tests/bench/models/$model_name.scad ;;
+    extra:*) file=${extra[${model_name#extra:}]}; model_name=$(basename "${file%.*}") ;;
     *) echo "adaptive_layers: unknown model $model_name (bunny, dome, steps, vase; own files by EXTRA)" >&2; exit 2 ;;
   esac
+  if [[ -n $file ]]; then  # as it stands, made by OpenSCAD from a .scad
+    model=$work/$model_name.stl; place=""; excl=""
+    case $file in
+      *.scad) openscad -o "$model" "$file" >"$work/openscad.log" 2>&1 ||
+                { echo "adaptive_layers: openscad failed on $file" >&2; tail -3 "$work/openscad.log" >&2; exit 1; } ;;
+      *) cp "$file" "$model" ;;
+    esac
+  fi
   # The placed, repaired mesh (centred, on the bed, mm): what every slicer slices.
   placed=$work/$model_name-placed.stl
   # shellcheck disable=SC2086
