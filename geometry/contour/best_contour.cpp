@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "geometry/contour/ma_contour.h"
@@ -13,6 +14,7 @@
 #include "geometry/core/boundary_grid.h"
 #include "geometry/metrics/missed_features.h"
 #include "geometry/metrics/volume_deviation.h"
+#include "geometry/slab/slab.h"
 #include "geometry/slab/slab_columns.h"
 
 namespace geometry {
@@ -46,11 +48,24 @@ Region with_features(const ContourInput& input, const LayerReference& reference,
 }  // namespace
 
 BestChoice best_choice(const ContourInput& input) {
+  // A prism (slab.h: the walls straight up through the slab, a part's stem or a table's legs,
+  // half of many parts' layers) has the same section at every height: mid's is exact (D 0,
+  // ΔV 0, every island touched), which no candidate can beat.
+  std::optional<Slab> slab;
+  if (!input.reference) slab = slab_of(input.stack, input.layer);
+  if (is_prism(input.reference ? input.reference->slab : *slab)) {
+    BestChoice choice{};
+    choice.result = mid_strategy(input);
+    choice.chosen = "mid";
+    choice.candidate_distance[0] = choice.candidate_distance[1] = 0;  // optimal-height's: mid's
+    choice.candidate_distance[2] = kNotMeasured;
+    return choice;
+  }
   std::optional<LayerReference> own;
   if (!input.reference) {
     MetricOptions metrics;
     metrics.volumes = false;
-    own = layer_reference(input.stack, input.layer, metrics);
+    own = layer_reference(input.stack, input.layer, std::move(*slab), metrics);
     // The columns once, for optimal-height's search and for ΔV where a tie needs it (without
     // them each builds its own).
     own->columns = slab_columns(own->slab, input.stack.lower(input.layer));

@@ -15,17 +15,19 @@
 //
 // Output: the chosen region and the height of the candidate chosen; which one it was, and
 // the candidates' D, in best_choice().
-// Cost: the three candidates and their measurements, ma first: a candidate is measured only
-// until its D is more than a tie above the least so far (distance_error's stop_above), and one
-// that misses more features than another is not measured, nor one whose region is one
-// measured already (it takes that one's D and ΔV: optimal-height often ends at mid's height).
-// Where the caller knows mid's D (ContourInput::mid_distance: the layer plan measured it on
-// every layer it planned by mid) mid is not measured again, and ma is measured only until it
-// loses to it by more than a tie. About three times ma's time. Tried and dropped (the sphere
-// at 0.2 mm with supports, median of 7): measuring the candidates in the order of a cheap lower bound of D (their surface corners'
-// largest distance), 0.65 -> 0.67 s; a first pass to 10 um to refuse the far ones before
-// the exact measure, 0.64 -> 0.86 s, as ma's and mid's D are within a tie of each other on
-// 114 of the sphere's 149 layers (no gain on the bunny either: 2.11 -> 2.15 s adaptive).
+// Cost: none on a prism (slab.h: the walls straight up through the slab, so mid's section is exact,
+// D 0 and ΔV 0; best takes it unmeasured: 75 of the mush's 135 layers at 0.2 mm, 0.23 -> 0.08 s of
+// contours). Elsewhere the three candidates and their measurements, ma first: a candidate is
+// measured only until its D is more than a tie above the least so far (distance_error's
+// stop_above), and one that misses more features than another is not measured, nor one whose region
+// is one measured already (it takes that one's D and ΔV: optimal-height often ends at mid's
+// height). Where the caller knows mid's D (ContourInput::mid_distance: the layer plan measured it
+// on every layer it planned by mid) mid is not measured again, and ma is measured only until it
+// loses to it by more than a tie. About three times ma's time. Tried and dropped (the sphere at 0.2
+// mm with supports, median of 7): measuring the candidates in the order of a cheap lower bound of D
+// (their surface corners' largest distance), 0.65 -> 0.67 s; a first pass to 10 um to refuse the
+// far ones before the exact measure, 0.64 -> 0.86 s, as ma's and mid's D are within a tie of each
+// other on 114 of the sphere's 149 layers (no gain on the bunny either: 2.11 -> 2.15 s adaptive).
 #pragma once
 
 #include <limits>
@@ -50,7 +52,7 @@ struct BestChoice {
   std::size_t missed_features = 0;
   // mid's, optimal-height's and ma's D: exact for the chosen one and any within a tie of it;
   // for one refuted early, a lower bound above the chosen one's; kNotMeasured for one that
-  // misses more features.
+  // misses more features, and for ma on a prism (slab.h), where mid's D is 0.
   double candidate_distance[3];
 };
 BestChoice best_choice(const ContourInput& input);

@@ -1,5 +1,7 @@
 #include "geometry/metrics/layer_metrics.h"
 
+#include <utility>
+
 #include "geometry/core/boundary_grid.h"
 #include "geometry/metrics/missed_features.h"
 #include "geometry/metrics/volume_deviation.h"
@@ -9,10 +11,15 @@ namespace geometry {
 
 LayerReference layer_reference(const LayerStack& stack, std::size_t layer,
                                const MetricOptions& options) {
+  return layer_reference(stack, layer, slab_of(stack, layer), options);
+}
+
+LayerReference layer_reference(const LayerStack& stack, std::size_t layer, Slab slab,
+                               const MetricOptions& options) {
   LayerReference reference;
   if (layer >= stack.size()) return reference;
   reference.layer = stack.layers()[layer];
-  reference.slab = slab_of(stack, layer);
+  reference.slab = std::move(slab);
   Footprint footprint = slab_footprint_with_islands(reference.slab);
   reference.footprint = std::move(footprint.region);
   reference.islands = std::move(footprint.islands);

@@ -54,6 +54,9 @@ struct LayerReference {
 
 LayerReference layer_reference(const LayerStack& stack, std::size_t layer,
                                const MetricOptions& options = {});
+// The same from the layer's slab, built already (slab_of(stack, layer)).
+LayerReference layer_reference(const LayerStack& stack, std::size_t layer, Slab slab,
+                               const MetricOptions& options = {});
 
 LayerMetrics layer_metrics(const LayerReference& reference, const Region& region,
                            const MetricOptions& options = {});

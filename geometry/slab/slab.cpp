@@ -116,6 +116,23 @@ Slab slab_of(const LayerStack& stack, std::size_t layer) {
   return slab_of(stack.mesh(), faces, bounds.z_lo, bounds.z_hi);
 }
 
+bool is_prism(const Slab& slab) {
+  constexpr double kEdgeOnWidth = 1e-5;  // mm: 10 nm, footprint_tree's
+  for (const auto& facet : slab.facets) {
+    // Twice the projected area, and the longest projected side: the facet is thinner than
+    // the width across if the one is below the width times the other. Corners taken from
+    // the first, so that far from the origin nothing cancels.
+    double twice_area = 0, longest2 = 0;
+    for (std::size_t i = 0, n = facet.size(); i < n; ++i) {
+      const Vec3 a = facet[i] - facet[0], b = facet[i + 1 == n ? 0 : i + 1] - facet[0];
+      twice_area += a.x * b.y - b.x * a.y;
+      longest2 = std::max(longest2, (b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y));
+    }
+    if (twice_area * twice_area > kEdgeOnWidth * kEdgeOnWidth * longest2) return false;
+  }
+  return !slab.facets.empty();
+}
+
 namespace {
 
 bool before(IntPoint a, IntPoint b) { return a.X < b.X || (a.X == b.X && a.Y < b.Y); }

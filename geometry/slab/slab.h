@@ -48,6 +48,13 @@ Slab slab_of(const LayerStack& stack, std::size_t layer);
 // The same from a mesh and candidate faces (any superset of those meeting the slab).
 Slab slab_of(const Mesh& mesh, std::span<const std::uint32_t> faces, double z_lo, double z_hi);
 
+// Whether every facet of a non-empty slab is seen edge-on from above (thinner than 10 nm
+// across in projection, as the footprint counts them): a prism, whose walls stand straight up
+// through the whole slab, so that its section is the same at every height (a wall that
+// leaned or stepped inside it would need a facet that does not). No horizontal face either:
+// one inside the slab is seen face-on, and one on its planes is not in it (above).
+bool is_prism(const Slab& slab);
+
 // One convex polygon clipped to z_lo <= z <= z_hi, orientation kept, repeated points merged;
 // empty if fewer than 3 points remain or the piece lies in the plane z_lo or z_hi.
 std::vector<Vec3> clip_to_slab(std::span<const Vec3> polygon, double z_lo, double z_hi);

@@ -12,6 +12,8 @@
 #include "geometry/mesh/placement.h"
 #include "geometry/mesh/repair.h"
 #include "geometry/mesh/stl_io.h"
+#include "geometry/metrics/layer_metrics.h"
+#include "geometry/slab/slab.h"
 #include "support/solids.h"
 
 namespace best_contour_test {
@@ -50,6 +52,35 @@ TEST_CASE("best_is_never_worse_than_mid_or_ma_on_a_sphere") {
 TEST_CASE("best_is_never_worse_than_mid_or_ma_on_a_torus_and_a_bipyramid") {
   check_never_worse(solids::torus(12, 5, 48, 24, {0, 0, 5}).mesh, 0.35);
   check_never_worse(solids::bipyramid(10, 6, 0, 3.3, 10).mesh, 0.3);
+}
+
+TEST_CASE("best_on_a_prism_is_mid_exact_and_elsewhere_as_it_would_be_measured") {
+  // A stepped block at 0.3 mm (the step at 4 mm and the top at 8, both off the grid): the
+  // layers of straight walls take mid's section, exact, without measuring; the two holding
+  // the step face or the top are measured, and are never worse than mid or ma there
+  // (check_never_worse on the same stack).
+  const solids::Solid steps = solids::stepped_box({20, 20}, 4, {10, 10}, 4);
+  const geometry::LayerStack stack(steps.mesh, geometry::uniform_layers(8, 0.3));
+  const geometry::ContourOptions options;
+  std::size_t prisms = 0;
+  for (std::size_t i = 0; i < stack.size(); ++i) {
+    CAPTURE(i);
+    const geometry::BestChoice choice = geometry::best_choice({stack, i, options});
+    const geometry::LayerMetrics measured = geometry::layer_metrics(stack, i, choice.result.region);
+    if (!geometry::is_prism(geometry::slab_of(stack, i))) {
+      const geometry::Layer& bounds = stack.layers()[i];
+      CHECK(((bounds.z_lo < 4 && bounds.z_hi > 4) || (bounds.z_lo < 8 && bounds.z_hi > 8)));
+      continue;
+    }
+    ++prisms;
+    CHECK(choice.chosen == "mid");
+    CHECK(choice.distance == 0);
+    CHECK(measured.distance < 1e-9);
+    CHECK(measured.volume_deviation < 1e-6);
+    CHECK(choice.result.region.loops == stack.mid(i).loops);
+  }
+  CHECK(prisms == stack.size() - 2);
+  check_never_worse(steps.mesh, 0.3);
 }
 
 TEST_CASE("best_choice_takes_the_candidate_of_least_distance") {

@@ -123,6 +123,28 @@ TEST_CASE("cube_slab_is_its_four_walls_even_at_the_bottom_and_top") {
   CHECK(slab_of(above, 1).facets.empty());  // no such layer
 }
 
+TEST_CASE("a_slab_of_straight_walls_is_a_prism_and_one_of_a_lean_or_a_step_is_not") {
+  // A cylinder's walls stand straight up, also in the layer whose bottom plane holds the
+  // floor and in the one whose top plane holds the lid (those faces bound the slab).
+  const solids::Solid cylinder = solids::cylinder(5, 10, 48);
+  const LayerStack straight(cylinder.mesh, uniform_layers(10, 0.5));
+  for (std::size_t i = 0; i < straight.size(); ++i) CHECK(is_prism(slab_of(straight, i)));
+  // A cone's walls lean on every layer.
+  const solids::Solid cone = solids::cone(5, 10, 48);
+  const LayerStack leaning(cone.mesh, uniform_layers(10, 0.5));
+  for (std::size_t i = 0; i < leaning.size(); ++i) CHECK_FALSE(is_prism(slab_of(leaning, i)));
+  // A stepped block: the layer holding the step face is not a prism; the one whose bottom
+  // plane holds it is (the lower box's top bounds it), as is every other layer.
+  const solids::Solid steps = solids::stepped_box({20, 20}, 4, {10, 10}, 4);
+  const LayerStack across(steps.mesh, {Layer{1, 1.4}, Layer{3.8, 4.2}});
+  const LayerStack above(steps.mesh, {Layer{4, 4.4}});
+  CHECK(is_prism(slab_of(across, 0)));
+  CHECK_FALSE(is_prism(slab_of(across, 1)));
+  CHECK(is_prism(slab_of(above, 0)));
+  // Nothing in it: no prism (there is no section to be exact).
+  CHECK_FALSE(is_prism(Slab{}));
+}
+
 TEST_CASE("vertical_wall_footprint_is_a_ring_twice_the_margin_wide") {
   // Each wall projects to a segment; grown by the margin d with square ends they make the
   // square of side s + 2d minus the square of side s - 2d: area (s+2d)^2 - (s-2d)^2 = 8 s d.
