@@ -45,6 +45,12 @@ constexpr double kNoBridge = 1e-4;
 constexpr double kBodyGrowthArea = 0.01;
 constexpr double kBodyGrowthSlack = 0.01;
 
+// Whether two layers are as thick, to a nanometre: z_hi - z_lo rounds differently up the
+// stack, and layers that differ by that much plan alike.
+bool same_thickness(const Layer& a, const Layer& b) {
+  return std::abs(a.thickness() - b.thickness()) < 1e-6;
+}
+
 ToolpathOptions sane(ToolpathOptions o) {
   auto width = [](double w, double fallback) {
     return std::isfinite(w) && w > 0 ? std::max(w, kMinWidth) : fallback;
@@ -192,7 +198,6 @@ struct PartInputs {
   // which the caller sees to: the solid lines turn every layer.)
   bool alike(std::size_t i, std::size_t j) const {
     auto width = [&](std::size_t k) { return k == 0 ? o.first_layer_width : o.extrusion_width; };
-    auto thickness = [&](std::size_t k) { return layers[k].z_hi - layers[k].z_lo; };
     auto bridged = [&](std::size_t k) {
       return k < support.layers.size() && !support.layers[k].bridges.empty();
     };
@@ -203,7 +208,7 @@ struct PartInputs {
       return a == b || (a && b && a->loops == b->loops);
     };
     auto core_above = [&](std::size_t k) { return k + 1 < layers.size() ? core(k + 1) : nullptr; };
-    return islands[i] == islands[j] && width(i) == width(j) && thickness(i) == thickness(j) &&
+    return islands[i] == islands[j] && width(i) == width(j) && same_thickness(layers[i], layers[j]) &&
            !bridged(i) && !bridged(j) && same(core(i), core(j)) && same(below(i), below(j)) &&
            same(above(i), above(j)) && same(core_above(i), core_above(j));
   }
@@ -291,6 +296,17 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
   // The sheath itself (support_paths.h) is each layer's own, in parallel too.
   // On the bed (layer 0 without a raft) the support's beads are the first layer's width.
   const auto support_bead = [&](std::size_t i) { return i == 0 && !raft ? o.first_layer_width : o.extrusion_width; };
+  // A layer whose support is the one below's to the bit, and its beads and thickness too, as
+  // in a column's straight run (a table's layers under its top), has the same sheath and
+  // rings: copied.
+  std::vector<char> repeats(n, 0);
+  for (std::size_t i = 1; i < n; ++i) {
+    const LayerSupport* held = support_at(i);
+    const LayerSupport* below = support_at(i - 1);
+    repeats[i] = held && below && held->body.loops == below->body.loops &&
+                 held->interface.loops == below->interface.loops &&
+                 support_bead(i) == support_bead(i - 1) && same_thickness(layers[i], layers[i - 1]);
+  }
   std::vector<clipper::Paths> carries;
   std::vector<SupportSheath> sheath;
   if (!support.layers.empty()) {
@@ -299,7 +315,7 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
     std::vector<clipper::Paths> ring(n), interface_ring(n);
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
       const LayerSupport* held = support_at(i);
-      if (!held || (held->body.loops.empty() && held->interface.loops.empty())) return;
+      if (!held || (held->body.loops.empty() && held->interface.loops.empty()) || repeats[i]) return;
       const clipper::Paths interface = to_clipper(held->interface);
       clipper::Paths all = to_clipper(held->body);
       all.insert(all.end(), interface.begin(), interface.end());
@@ -313,7 +329,19 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
         interface_ring[i] = clipper::difference(clipper::opening(interface, w / 2), clipper::offset(interface, -w));
       }
     });
+    for (std::size_t i = 1; i < n; ++i) {
+      if (!repeats[i]) continue;
+      sheath[i] = sheath[i - 1];
+      ring[i] = ring[i - 1];
+      interface_ring[i] = interface_ring[i - 1];
+    }
     for (std::size_t i = 0; i < n; ++i) {
+      // What the layer below offered it, offered again on the same part and support.
+      if (repeats[i] && i >= 2 && carries[i - 1] == carries[i - 2] &&
+          region[i].loops == region[i - 1].loops) {
+        carries[i] = carries[i - 1];
+        continue;
+      }
       clipper::Paths offered = to_clipper(region[i]);
       if (!ring[i].empty()) {
         const clipper::Paths laid = i == 0 ? ring[i]
@@ -374,10 +402,19 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
     return clipper::area_mm2(grown) > kBodyGrowthArea;
   };
   std::vector<Region> travel_region(n);  // where travels need no retraction
+  // The support's islands of a layer that repeats the one below (above), stands on what that
+  // one stood on and has what that one had above it (so its connectors are laid alike) on the
+  // same part: a copy of that one's, after the others.
+  std::vector<std::vector<Island>> support_islands(n);
+  std::vector<char> copies(n, 0);
+  for (std::size_t i = 2; i + 1 < n; ++i) {
+    copies[i] = repeats[i] && repeats[i + 1] && planned(i) && planned(i - 1) &&
+                carries[i - 1] == carries[i - 2] && region[i].loops == region[i - 1].loops;
+  }
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-    if (!planned(i)) return;
+    if (!planned(i) || copies[i]) return;
     const LayerSupport* held = support_at(i);
-    const double height = layers[i].z_hi - layers[i].z_lo;
+    const double height = layers[i].thickness();
     travel_region[i] = region[i];
     if (held && !(held->body.loops.empty() && held->interface.loops.empty())) {
       // The support's own islands, the body and the interface, in the nearest-first order.
@@ -390,7 +427,7 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
       body_options.connectors = o.support.connectors && body_connected(i);
       for (auto paths : {support_body_paths(held->body, bead, body_options, sheath[i], carried ? &*carried : nullptr),
                          support_interface_paths(held->interface, bead, height, o.support)}) {
-        if (!paths.empty()) islands[i].push_back(Island{{std::move(paths)}});
+        if (!paths.empty()) support_islands[i].push_back(Island{{std::move(paths)}});
       }
       clipper::Paths all = to_clipper(region[i]);
       for (const Region* r : {&held->body, &held->interface}) {
@@ -400,6 +437,15 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
       travel_region[i] = from_clipper(clipper::union_nonzero(all));
     }
   });
+  for (std::size_t i = 0; i < n; ++i) {
+    if (copies[i]) {
+      support_islands[i] = support_islands[i - 1];
+      travel_region[i] = travel_region[i - 1];
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    for (Island& island : support_islands[i]) islands[i].push_back(std::move(island));
+  }
 
   // The raft's layers, and the first printed layer's brim and skirt: round the raft, or
   // round the part's first layer and its support.
