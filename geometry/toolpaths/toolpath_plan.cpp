@@ -1,6 +1,7 @@
 #include "geometry/toolpaths/toolpath_plan.h"
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <atomic>
@@ -292,8 +293,8 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
   // Where each layer offers a sheath (support_paths.h) something to rest on: its part, and
   // its own sheath (the outer bead of its support) as far as that is laid, which is as far
   // as the layer below offers (so a sheath never stands on one that was left out). In turn,
-  // layer by layer; each layer's ring first, in parallel.
-  // The sheath itself (support_paths.h) is each layer's own, in parallel too.
+  // layer by layer, beside the parts' plans (which need none of it); each layer's ring first,
+  // in parallel. The sheath itself (support_paths.h) is each layer's own, in parallel too.
   // On the bed (layer 0 without a raft) the support's beads are the first layer's width.
   const auto support_bead = [&](std::size_t i) { return i == 0 && !raft ? o.first_layer_width : o.extrusion_width; };
   // A layer whose support is the one below's to the bit, and its beads and thickness too, as
@@ -309,13 +310,17 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
   }
   std::vector<clipper::Paths> carries;
   std::vector<SupportSheath> sheath;
+  std::vector<clipper::Paths> ring, interface_ring;
   if (!support.layers.empty()) {
     carries.resize(n);
     sheath.resize(n);
-    std::vector<clipper::Paths> ring(n), interface_ring(n);
+    ring.resize(n);
+    interface_ring.resize(n);
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
       const LayerSupport* held = support_at(i);
-      if (!held || (held->body.loops.empty() && held->interface.loops.empty()) || repeats[i]) return;
+      if (repeats[i] || !held || (held->body.loops.empty() && held->interface.loops.empty())) {
+        return;
+      }
       const clipper::Paths interface = to_clipper(held->interface);
       clipper::Paths all = to_clipper(held->body);
       all.insert(all.end(), interface.begin(), interface.end());
@@ -335,6 +340,9 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
       ring[i] = ring[i - 1];
       interface_ring[i] = interface_ring[i - 1];
     }
+  }
+  const auto offer = [&] {
+    if (support.layers.empty()) return;
     for (std::size_t i = 0; i < n; ++i) {
       // What the layer below offered it, offered again on the same part and support.
       if (repeats[i] && i >= 2 && carries[i - 1] == carries[i - 2] &&
@@ -351,7 +359,7 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
       offered.insert(offered.end(), interface_ring[i].begin(), interface_ring[i].end());
       carries[i] = clipper::union_nonzero(offered);
     }
-  }
+  };
 
   // Each layer's part, of those o.planned marks: planned, or copied from a layer that plans
   // it alike (plan_sources); the planned layers first, in parallel, then the copies.
@@ -360,31 +368,34 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
   const std::vector<std::size_t> source = plan_sources(inputs);
   std::vector<std::vector<Island>> islands(n);
   std::atomic<std::size_t> done{0};
-  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-    if (!planned(i)) {
+  const auto plan_parts = [&] {
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+      if (!planned(i)) {
+        if (on_layer_done) on_layer_done(++done);
+        return;
+      }
+      if (source[i] != i) return;
+      const double width = i == 0 ? o.first_layer_width : o.extrusion_width;
+      const double height = layers[i].z_hi - layers[i].z_lo;
+      const Region* core = cores[i] ? &*cores[i] : nullptr;
+      const Region* below = bottom_skins ? (i > 0 ? &outline[i - 1] : &nothing) : nullptr;
+      const Region* above = top_skins ? (i + 1 < n ? &outline[i + 1] : &nothing) : nullptr;
+      const LayerSupport* held = support_at(i);
+      const std::vector<Bridge>* bridges = held ? &held->bridges : nullptr;
+      const Region* core_above = i + 1 < n && cores[i + 1] ? &*cores[i + 1] : nullptr;
+      for (const clipper::Paths& island : island_paths[i]) {
+        islands[i].push_back(
+            plan_island(island, i, width, height, o, core, below, above, core_above, bridges));
+      }
       if (on_layer_done) on_layer_done(++done);
-      return;
-    }
-    if (source[i] != i) return;
-    const double width = i == 0 ? o.first_layer_width : o.extrusion_width;
-    const double height = layers[i].z_hi - layers[i].z_lo;
-    const Region* core = cores[i] ? &*cores[i] : nullptr;
-    const Region* below = bottom_skins ? (i > 0 ? &outline[i - 1] : &nothing) : nullptr;
-    const Region* above = top_skins ? (i + 1 < n ? &outline[i + 1] : &nothing) : nullptr;
-    const LayerSupport* held = support_at(i);
-    const std::vector<Bridge>* bridges = held ? &held->bridges : nullptr;
-    const Region* core_above = i + 1 < n && cores[i + 1] ? &*cores[i + 1] : nullptr;
-    for (const clipper::Paths& island : island_paths[i]) {
-      islands[i].push_back(
-          plan_island(island, i, width, height, o, core, below, above, core_above, bridges));
-    }
-    if (on_layer_done) on_layer_done(++done);
-  });
-  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-    if (!planned(i) || source[i] == i) return;
-    islands[i] = islands[source[i]];
-    if (on_layer_done) on_layer_done(++done);
-  });
+    });
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+      if (!planned(i) || source[i] == i) return;
+      islands[i] = islands[source[i]];
+      if (on_layer_done) on_layer_done(++done);
+    });
+  };
+  tbb::parallel_invoke(offer, plan_parts);
 
   // The body's zig-zag connectors run along its edge: they are laid where something stands
   // on that edge in the layer above, the interface's loop or the body's own line ends where
