@@ -65,6 +65,7 @@ BestChoice best_choice(const ContourInput& input) {
   if (!input.reference) {
     MetricOptions metrics;
     metrics.volumes = false;
+    metrics.distance.reverse = false;  // only forward D is compared: no reverse levels
     own = layer_reference(input.stack, input.layer, std::move(*slab), metrics);
     // The columns once, for optimal-height's search and for ΔV where a tie needs it (without
     // them each builds its own).
