@@ -215,8 +215,15 @@ void drop_unused_corners(std::vector<Vec3>& points, std::vector<Polygon>& polygo
 // most files are (a check ten times faster than CGAL's is_polygon_soup_a_polygon_mesh on the
 // bunny).
 bool count_edges_and_check_manifold(std::size_t point_count, const std::vector<Polygon>& polygons,
-                                    RepairReport& report) {
+                                    RepairReport& report, std::size_t& pieces) {
   bool oriented_manifold = true;
+  // Facets joined across the edges they share: the surface's connected pieces.
+  std::vector<std::uint32_t> piece(polygons.size());
+  for (std::size_t i = 0; i < piece.size(); ++i) piece[i] = static_cast<std::uint32_t>(i);
+  const auto find_piece = [&piece](std::uint32_t i) {
+    while (piece[i] != i) i = piece[i] = piece[piece[i]];
+    return i;
+  };
   // Per undirected edge: how many facets use it, and the corner slot (3 * facet + corner)
   // of the first facet's start of that edge, to join corners of facets across the edge.
   struct EdgeUse {
@@ -263,8 +270,11 @@ bool count_edges_and_check_manifold(std::size_t point_count, const std::vector<P
       const std::size_t other = use.first_slot / 3, other_c = use.first_slot % 3;
       join(3 * f + c, 3 * other + (other_c + 1) % 3);         // corners at a
       join(3 * f + (c + 1) % 3, 3 * other + other_c);         // corners at b
+      piece[find_piece(static_cast<std::uint32_t>(f))] = find_piece(static_cast<std::uint32_t>(other));
     }
   }
+  pieces = 0;
+  for (std::size_t f = 0; f < piece.size(); ++f) pieces += piece[f] == f;
   for (const EdgeUse& use : uses) {
     if (use.count == 1) ++report.open_edges_before;
     if (use.count > 2) ++report.non_manifold_edges;
@@ -423,9 +433,32 @@ Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
   drop_degenerate_and_duplicate(points, polygons, report);
   drop_unused_corners(points, polygons);
   std::vector<char> reversed(polygons.size(), 0);
-  if (!count_edges_and_check_manifold(points.size(), polygons, report)) {
-    reversed = orient_and_split(points, polygons, report);
+  std::size_t pieces = 0;
+  const bool oriented = count_edges_and_check_manifold(points.size(), polygons, report, pieces);
+  if (oriented && report.open_edges_before == 0 && pieces == 1) {
+    // Closed, in one piece, oriented alike throughout: if it bounds a positive volume it is
+    // what steps 3-5 would give back (no hole, nothing to reorient), without CGAL's mesh
+    // (4% of slicing the bunny). Each face starts at its third corner, as Surface_mesh
+    // hands a face back.
+    Mesh out;
+    out.vertices = points;
+    out.faces.reserve(polygons.size());
+    for (const Polygon& p : polygons) {
+      out.faces.push_back({static_cast<std::uint32_t>(p[2]), static_cast<std::uint32_t>(p[0]),
+                           static_cast<std::uint32_t>(p[1])});
+    }
+    report.volume = signed_volume(out);
+    if (report.volume > 0) {
+      report.closed = true;
+      report.vertices = out.vertices.size();
+      report.surface_area = surface_area(out);
+      report.bounds = bounding_box(out);
+      if (report_out) *report_out = report;
+      return out;
+    }
+    report.volume = 0;
   }
+  if (!oriented) reversed = orient_and_split(points, polygons, report);
   SurfaceMesh mesh;
   std::vector<std::size_t> face_polygon;  // Surface_mesh face index -> polygon
   build_surface(points, polygons, mesh, face_polygon, report);
