@@ -10,7 +10,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 build=${1:-build}
-mahost=$(pwd)/$build/mahost
+[[ $build = /* ]] || build=$(pwd)/$build
+mahost=$build/mahost
 [[ -x $mahost ]] || { echo "estimate_accuracy: $mahost not found; build first (scripts/build)" >&2; exit 2; }
 command -v openscad >/dev/null || { echo "estimate_accuracy: openscad not found; run scripts/setup --bench" >&2; exit 2; }
 work=$(mktemp -d)
