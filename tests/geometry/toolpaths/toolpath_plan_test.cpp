@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <numbers>
@@ -519,6 +520,53 @@ TEST_CASE("solid_plan_covers_the_bunny_layer_by_layer") {
 // in the layer above (the interface's loop; a wider body's line ends), not in a body that
 // only goes on up. Lines 2.5 mm apart in a 20 x 10 mm body; separate lines are two points
 // each, a zig-zag more.
+TEST_CASE("a_support_column_repeated_layer_over_layer_plans_each_layer_as_if_alone") {
+  // A table: four legs, the support between them the same on layers 0-8 (copied from the
+  // layer below where it repeats it), its interface on 9, the top on 10. Layers 2, 5 and 7
+  // planned alone (nothing below them planned to copy from) lay what the whole plan lays.
+  const Region legs{{rectangle(0, 0, 4, 4), rectangle(36, 0, 40, 4), rectangle(0, 26, 4, 30),
+                     rectangle(36, 26, 40, 30)}};
+  const Region between{{rectangle(-2, -2, 42, 32), reversed(rectangle(-0.2, -0.2, 4.2, 4.2)),
+                        reversed(rectangle(35.8, -0.2, 40.2, 4.2)),
+                        reversed(rectangle(-0.2, 25.8, 4.2, 30.2)),
+                        reversed(rectangle(35.8, 25.8, 40.2, 30.2))}};
+  const std::vector<Layer> layers = layers_of(11);
+  std::vector<Region> part(layers.size(), legs);
+  part[10] = Region{{rectangle(-2, -2, 42, 32)}};
+  SupportPlan plan;
+  plan.layers.resize(layers.size());
+  for (std::size_t i = 0; i < 9; ++i) plan.layers[i].body = between;
+  plan.layers[9].interface = between;
+  ToolpathOptions o;
+  const std::vector<LayerToolpaths> full = plan_toolpaths(part, layers, o, plan);
+  o.planned.assign(layers.size(), 0);
+  for (std::size_t i : {2u, 5u, 7u}) o.planned[i] = 1;
+  const std::vector<LayerToolpaths> alone = plan_toolpaths(part, layers, o, plan);
+  REQUIRE(alone.size() == full.size());
+  // Each path's points, whichever way round it is laid and wherever a loop starts (the
+  // order of travel differs): sorted, and the paths sorted.
+  const auto support_of = [](const LayerToolpaths& layer) {
+    const auto before = [](Vec2 a, Vec2 b) { return a.x != b.x ? a.x < b.x : a.y < b.y; };
+    std::vector<std::vector<Vec2>> paths;
+    for (const ExtrusionPath& path : layer.paths) {
+      if (path.role != PathRole::support) continue;
+      std::vector<Vec2> points = path.points;
+      std::sort(points.begin(), points.end(), before);
+      paths.push_back(std::move(points));
+    }
+    std::sort(paths.begin(), paths.end(), [&](const auto& a, const auto& b) {
+      return std::lexicographical_compare(a.begin(), a.end(), b.begin(), b.end(), before);
+    });
+    return paths;
+  };
+  for (std::size_t i : {2u, 5u, 7u}) {
+    CAPTURE(i);
+    const auto a = support_of(alone[i]), b = support_of(full[i]);
+    REQUIRE(!a.empty());
+    CHECK(a == b);
+  }
+}
+
 TEST_CASE("support_body_lines_are_joined_only_under_what_stands_on_their_edge") {
   const Region narrow{{rectangle(0, 0, 20, 10)}}, wide{{rectangle(0, 0, 20, 14)}};
   std::vector<Layer> layers;
