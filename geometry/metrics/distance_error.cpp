@@ -113,8 +113,10 @@ double segment_bound(const BoundaryGrid& grid, const std::array<Vec2, N>& corner
 // The three corners' nearest walls are given. Where all three share one wall segment the
 // distance is convex on the piece (distance to one segment), so its maximum is a corner's.
 void search_triangle(const std::array<Vec2, 3>& corners, const std::array<Nearest, 3>& at,
-                     const BoundaryGrid& grid, double tolerance, double& best,
+                     const BoundaryGrid& grid, double tolerance, double settle, double& best,
                      std::vector<std::uint32_t>& near) {
+  // A piece whose distance stays within this is done with.
+  const auto done = [&] { return std::max(best + tolerance, settle); };
   struct Piece {
     std::array<Vec2, 3> p;
     std::array<Nearest, 3> n;
@@ -126,9 +128,9 @@ void search_triangle(const std::array<Vec2, 3>& corners, const std::array<Neares
     if (piece.n[0].segment == piece.n[1].segment && piece.n[1].segment == piece.n[2].segment)
       return low;
     const double lipschitz = low + longest(piece.p) * kInvSqrt3;
-    if (lipschitz <= best + tolerance) return lipschitz;
+    if (lipschitz <= done()) return lipschitz;
     const double by_segment = std::min(lipschitz, segment_bound(grid, piece.p, piece.n));
-    if (by_segment <= best + tolerance) return by_segment;
+    if (by_segment <= done()) return by_segment;
     return std::min(by_segment,
                     feet_bound(piece.p, std::array<Vec2, 3>{piece.n[0].foot, piece.n[1].foot,
                                                             piece.n[2].foot}));
@@ -137,7 +139,7 @@ void search_triangle(const std::array<Vec2, 3>& corners, const std::array<Neares
   const double first_low = std::max({at[0].distance, at[1].distance, at[2].distance});
   best = std::max(best, first_low);
   const double reach = upper_bound(first, first_low);
-  if (reach <= best + tolerance) return;
+  if (reach <= done()) return;
   // Every point's nearest wall lies within `reach` of it, hence in this box.
   const Box2 box = bounding_box(corners);
   walls_near(grid, {box.lo.x - reach, box.lo.y - reach}, {box.hi.x + reach, box.hi.y + reach},
@@ -149,7 +151,7 @@ void search_triangle(const std::array<Vec2, 3>& corners, const std::array<Neares
     stack.pop_back();
     const double low = std::max({piece.n[0].distance, piece.n[1].distance, piece.n[2].distance});
     best = std::max(best, low);
-    if (upper_bound(piece, low) <= best + tolerance) continue;
+    if (upper_bound(piece, low) <= done()) continue;
     const Vec2 m01 = 0.5 * (piece.p[0] + piece.p[1]), m12 = 0.5 * (piece.p[1] + piece.p[2]),
                m20 = 0.5 * (piece.p[2] + piece.p[0]);
     const Nearest n01 = nearest_of(m01, grid, near), n12 = nearest_of(m12, grid, near),
@@ -164,8 +166,9 @@ void search_triangle(const std::array<Vec2, 3>& corners, const std::array<Neares
 
 // max over the segment [a, b] of the distance to the nearest segment of `grid`, raising `best`.
 void search_segment(Vec2 a, Vec2 b, const Nearest& at_a, const Nearest& at_b,
-                    const BoundaryGrid& grid, double tolerance, double& best,
+                    const BoundaryGrid& grid, double tolerance, double settle, double& best,
                     std::vector<std::uint32_t>& near) {
+  const auto done = [&] { return std::max(best + tolerance, settle); };
   struct Piece {
     Vec2 a, b;
     Nearest na, nb;
@@ -173,11 +176,11 @@ void search_segment(Vec2 a, Vec2 b, const Nearest& at_a, const Nearest& at_b,
   const auto upper_bound = [&](const Piece& piece, double low) {
     if (piece.na.segment == piece.nb.segment) return low;
     const double lipschitz = low + length(piece.a, piece.b) / 2;
-    if (lipschitz <= best + tolerance) return lipschitz;
+    if (lipschitz <= done()) return lipschitz;
     const double by_segment =
         std::min(lipschitz, segment_bound(grid, std::array<Vec2, 2>{piece.a, piece.b},
                                           std::array<Nearest, 2>{piece.na, piece.nb}));
-    if (by_segment <= best + tolerance) return by_segment;
+    if (by_segment <= done()) return by_segment;
     return std::min(by_segment, feet_bound(std::array<Vec2, 2>{piece.a, piece.b},
                                            std::array<Vec2, 2>{piece.na.foot, piece.nb.foot}));
   };
@@ -185,7 +188,7 @@ void search_segment(Vec2 a, Vec2 b, const Nearest& at_a, const Nearest& at_b,
   const double first_low = std::max(at_a.distance, at_b.distance);
   best = std::max(best, first_low);
   const double reach = upper_bound(first, first_low);
-  if (reach <= best + tolerance) return;
+  if (reach <= done()) return;
   const Vec2 lo{std::min(a.x, b.x) - reach, std::min(a.y, b.y) - reach};
   const Vec2 hi{std::max(a.x, b.x) + reach, std::max(a.y, b.y) + reach};
   walls_near(grid, lo, hi, near);
@@ -196,7 +199,7 @@ void search_segment(Vec2 a, Vec2 b, const Nearest& at_a, const Nearest& at_b,
     stack.pop_back();
     const double low = std::max(piece.na.distance, piece.nb.distance);
     best = std::max(best, low);
-    if (upper_bound(piece, low) <= best + tolerance) continue;
+    if (upper_bound(piece, low) <= done()) continue;
     const Vec2 m = 0.5 * (piece.a + piece.b);
     const Nearest nm = nearest_of(m, grid, near);
     best = std::max(best, nm.distance);
@@ -207,7 +210,7 @@ void search_segment(Vec2 a, Vec2 b, const Nearest& at_a, const Nearest& at_b,
 
 double forward_distance(const SlabSurface& surface, const BoundaryGrid& walls,
                         std::span<const BoundaryPair> missed, double tolerance,
-                        double stop_above) {
+                        double stop_above, double settle) {
   if (surface.triangles.empty()) return 0;
   // Surface inside a missed island is measured to the island's outline (see the header).
   Region outlines;
@@ -265,11 +268,12 @@ double forward_distance(const SlabSurface& surface, const BoundaryGrid& walls,
     const double longest = std::max({l01, l12, l20});
     if (twice_area <= 1e-9 * longest * longest) {
       const int a = l01 >= l12 && l01 >= l20 ? 0 : l12 >= l20 ? 1 : 2, b = (a + 1) % 3;
-      search_segment(p[a], p[b], corner[i][a], corner[i][b], *grid_of[i], tolerance, best, near);
+      search_segment(p[a], p[b], corner[i][a], corner[i][b], *grid_of[i], tolerance, settle, best,
+                     near);
       if (best > stop_above) return best;
       continue;
     }
-    search_triangle(p, corner[i], *grid_of[i], tolerance, best, near);
+    search_triangle(p, corner[i], *grid_of[i], tolerance, settle, best, near);
     if (best > stop_above) return best;
   }
   return best;
@@ -289,7 +293,7 @@ double reverse_distance(const SlabSurface& surface, const BoundaryGrid& walls, d
       best = std::max({best, ends[i][0].distance, ends[i][1].distance});
     }
     for (std::size_t i = 0; i < segments.size(); ++i) {
-      search_segment(segments[i].a, segments[i].b, ends[i][0], ends[i][1], level, tolerance, best,
+      search_segment(segments[i].a, segments[i].b, ends[i][0], ends[i][1], level, tolerance, 0, best,
                      near);
     }
   }
@@ -395,7 +399,11 @@ DistanceError distance_error(const SlabSurface& surface, const BoundaryGrid& wal
                              const DistanceOptions& options) {
   DistanceError error;
   const double tolerance = std::max(options.tolerance, 1e-9);
-  error.forward = forward_distance(surface, walls, missed, tolerance, options.stop_above);
+  const double settle = std::max(options.settle_below, 0.0);
+  error.forward = forward_distance(surface, walls, missed, tolerance, options.stop_above, settle);
+  // Every piece left was within the larger of D + tolerance and `settle`: exact where D
+  // reached it, else only below it.
+  error.settled = error.forward + tolerance < settle && !(error.forward > options.stop_above);
   error.reverse = walls.empty() || !options.reverse ? 0 : reverse_distance(surface, walls, tolerance);
   error.hausdorff = std::max(error.forward, error.reverse);
   return error;

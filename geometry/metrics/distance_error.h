@@ -60,10 +60,19 @@ struct DistanceOptions {
   // walls and gives that distance: then only a lower bound, enough to refuse a layer (the
   // layer plan's question is whether D exceeds a tolerance). Default: never, the exact D.
   double stop_above = std::numeric_limits<double>::infinity();
+  // The forward search does not refine a piece of surface whose distance is known to stay at
+  // or below this: D comes out exact (to `tolerance`) where it is at least this, else only
+  // proven below it (DistanceError::settled; forward then a lower bound). For a question
+  // like the layer plan's, whether D is within a tolerance, where the exact figure of a slab
+  // well within it is not wanted. Default: never, the exact D.
+  double settle_below = 0;
 };
 
 struct DistanceError {
   double forward = 0, reverse = 0, hausdorff = 0;
+  // Forward D proven at most DistanceOptions::settle_below, not measured exactly: `forward`
+  // is then a lower bound (and so is hausdorff).
+  bool settled = false;
 };
 
 // What the distances are measured against, prepared once per slab and reused for every region.

@@ -22,9 +22,10 @@
 // reachable heights (Alexa, Hildebrand, Lefebvre, "Optimal Discrete Slicing", ACM TOG 2017).
 // Measuring every candidate slab exactly costs a few ms each, thousands of them, so the path
 // is found lazily: each candidate's D is first taken as a cheap estimate (slab_bound.h), the
-// shortest path is found, the slabs on it not yet measured are measured exactly (in parallel),
-// and the search runs again until every layer of the path is measured. Every layer of the
-// result is measured exactly; the path is the optimum among paths whose unmeasured slabs are
+// shortest path is found, the slabs on it not yet measured are measured (in parallel: only
+// until each is seen to be within the tolerance or past it, since that is all a path's cost
+// asks; with a budget, exactly), and the search runs again until every layer of the path is
+// measured. Every layer of the result is then measured exactly; the path is the optimum among paths whose unmeasured slabs are
 // at least as good as estimated, which is the true optimum wherever the estimate does not
 // exceed the exact D (tests/bench/bench_plan.cpp compares with measuring every candidate).
 //
@@ -103,8 +104,9 @@ struct AdaptivePlan {
   double tolerance = 0;              // asked, or for max_layers the least one reached
   std::size_t unmet = 0;             // layers whose D exceeds it (each the thinnest)
   std::vector<FlatPlacement> flats;
-  // The search: candidate slabs (edges of the height grid), how many were measured exactly,
-  // and how many times the shortest path was found.
+  // The search: candidate slabs (edges of the height grid), how many were measured (exactly,
+  // or until seen to be within the tolerance or past it), and how many times the shortest
+  // path was found.
   std::size_t candidates = 0, measured = 0, rounds = 0;
   // Candidate slabs refused for the overhang a thick layer there would have (thick_overhangs).
   std::size_t refused_for_overhangs = 0;

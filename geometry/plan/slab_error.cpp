@@ -140,7 +140,7 @@ bool SlabMeter::every_piece_crosses(std::span<const std::uint32_t> faces, double
 
 SlabError SlabMeter::operator()(double z_lo, double z_hi,
                                 std::span<const ContourStrategy* const> strategies, double enough,
-                                bool refute) const {
+                                bool refute, bool settle) const {
   SlabError error;
   error.z_lo = z_lo;
   error.z_hi = z_hi;
@@ -149,6 +149,8 @@ SlabError SlabMeter::operator()(double z_lo, double z_hi,
   DistanceOptions distance = options_.distance;
   distance.reverse = false;
   if (refute && enough > 0) distance.stop_above = enough;
+  // Within `enough` by the metric's tolerance at least, so that a settled D is within it.
+  if (settle && enough > 0) distance.settle_below = enough - distance.tolerance;
   // What the strategies may use (contour_input.h): the slab and its surface, cut out of the
   // mesh the first time one is needed; the footprint's islands the first time one needs them;
   // no columns (optimal-height builds its own).
@@ -196,12 +198,16 @@ SlabError SlabMeter::operator()(double z_lo, double z_hi,
         trial.distance = end_farthest;
       } else {
         need_surface();
-        trial.distance = distance_error(reference.surface, walls, {}, distance).forward;
+        const DistanceError measured = distance_error(reference.surface, walls, {}, distance);
+        trial.distance = measured.forward;
+        trial.settled = measured.settled;
       }
     } else {
       need_surface();
       const std::vector<BoundaryPair> missed = missed_features(need_islands(), trial.region);
-      trial.distance = distance_error(reference.surface, walls, missed, distance).forward;
+      const DistanceError measured = distance_error(reference.surface, walls, missed, distance);
+      trial.distance = measured.forward;
+      trial.settled = measured.settled;
     }
     trial.bounded = trial.distance > distance.stop_above;
     error.trials.push_back(std::move(trial));

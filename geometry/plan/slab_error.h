@@ -45,6 +45,7 @@ struct SlabTrial {
   const ContourStrategy* strategy = nullptr;
   double distance = 0;   // D, mm
   bool bounded = false;  // the search stopped past `enough`: D is at least `distance`
+  bool settled = false;  // with `settle`: D proven within `enough`, at least `distance`
   Region region;
 };
 
@@ -54,8 +55,10 @@ struct SlabError {
   std::size_t best = 0;           // index into trials of the least D
   double distance() const { return trials.empty() ? 0 : trials[best].distance; }
   // The least D known exactly, not only bounded from below (a trial within `enough` is exact
-  // and below every bounded one).
-  bool exact() const { return trials.empty() || !trials[best].bounded; }
+  // and below every bounded one, unless settled).
+  bool exact() const { return trials.empty() || (!trials[best].bounded && !trials[best].settled); }
+  // The least D proven within `enough` without being measured exactly (`settle`).
+  bool settled() const { return !trials.empty() && trials[best].settled; }
 };
 
 struct SlabErrorOptions {
@@ -68,8 +71,11 @@ class SlabMeter {
   // Finds each face's neighbours across its edges once; the stack must outlive the meter.
   explicit SlabMeter(const LayerStack& stack, SlabErrorOptions options = {});
 
+  // With `settle` too (and `enough` > 0), a strategy whose D is seen to stay within `enough`
+  // is not measured further (SlabTrial::settled): whether a slab is within a tolerance, not
+  // by how much (DistanceOptions::settle_below).
   SlabError operator()(double z_lo, double z_hi, std::span<const ContourStrategy* const> strategies,
-                       double enough = 0, bool refute = false) const;
+                       double enough = 0, bool refute = false, bool settle = false) const;
 
   // Lets go of the sections kept below height z (a search that has moved on above them); one
   // asked for again is cut again.

@@ -64,6 +64,34 @@ TEST_CASE("cone_distance_of_lower_is_twice_that_of_mid") {
   }
 }
 
+TEST_CASE("settling_below_a_bound_proves_the_cone_within_it_and_measures_it_exactly_above") {
+  // lower's forward D on the cone's layer is t r cos(pi/n) / h (above): asked to settle
+  // below a bound over it, the search shows D within the bound (forward then a lower bound,
+  // at most D); below it, it measures D as ever.
+  const int n = 48;
+  const double r = 10, h = 15;
+  const solids::Solid cone = solids::cone(r, h, n);
+  const LayerStack stack(cone.mesh, geometry::uniform_layers(h, 0.25));
+  const geometry::Slab slab = geometry::slab_of(stack, 20);
+  const double d = 0.25 * r * std::cos(kPi / n) / h;
+  geometry::DistanceOptions options;
+  options.tolerance = kTolerance;
+  options.reverse = false;
+  const geometry::SlabSurface surface = geometry::slab_surface(slab, options);
+  const geometry::BoundaryGrid walls(stack.lower(20));
+  const DistanceError exact = geometry::distance_error(surface, walls, {}, options);
+  CHECK_FALSE(exact.settled);
+  CHECK(std::abs(exact.forward - d) <= kTolerance + kRounding);
+  options.settle_below = 1.5 * d;
+  const DistanceError within = geometry::distance_error(surface, walls, {}, options);
+  CHECK(within.settled);
+  CHECK(within.forward <= d + kRounding);
+  options.settle_below = 0.5 * d;
+  const DistanceError above = geometry::distance_error(surface, walls, {}, options);
+  CHECK_FALSE(above.settled);
+  CHECK(std::abs(above.forward - d) <= kTolerance + kRounding);
+}
+
 TEST_CASE("cylinder_distance_of_its_section_is_zero") {
   const solids::Solid cylinder = solids::cylinder(6, 8, 40);
   const LayerStack stack(cylinder.mesh, geometry::uniform_layers(8, 0.2));

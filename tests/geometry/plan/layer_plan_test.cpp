@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "geometry/analysis/layer_analysis.h"
+#include "geometry/metrics/layer_metrics.h"
 #include "geometry/plan/flat_levels.h"
 #include "geometry/plan/layer_plan.h"
 #include "geometry/slicing/layer_stack.h"
@@ -346,6 +347,32 @@ TEST_CASE("adaptive_plan_distance_is_what_analyze_measures") {
     const double best = mid <= 0.15 ? mid : std::min(mid, analysis[i].strategies[1].metrics.distance);
     // The same measure, to its tolerance (1 um: the search may stop anywhere within it).
     CHECK(std::abs(plan.distance[i] - best) <= 1e-3);
+  }
+}
+
+TEST_CASE("adaptive_plan_asking_only_whether_slabs_are_within_is_the_plan_of_all_measured") {
+  // The search settles a slab once it is seen within the tolerance (layer_plan.cpp); with
+  // every candidate measured exactly first instead, the plan is as good (as many layers, as
+  // many unmet; of paths that good it may take another), and its layers' D are exact too.
+  const solids::Solid ball = solids::sphere(8, 48, 24, {0, 0, 8});
+  const solids::Solid ring = solids::torus(12, 5, 48, 24, {0, 0, 5});
+  for (const geometry::Mesh* mesh : {&ball.mesh, &ring.mesh}) {
+    const geometry::LayerStack stack(*mesh, {});
+    AdaptiveOptions options;
+    options.tolerance = 0.2;
+    const double top = geometry::bounding_box(*mesh).max.z;
+    const AdaptivePlan lazy = geometry::adaptive_plan(stack, top, kUpPlus2, geometry::flat_levels(*mesh), options);
+    options.measure_all = true;
+    const AdaptivePlan all = geometry::adaptive_plan(stack, top, kUpPlus2, geometry::flat_levels(*mesh), options);
+    CHECK(lazy.layers.size() == all.layers.size());
+    CHECK(lazy.unmet == all.unmet);
+    CHECK(lazy.measured < all.measured);
+    const geometry::LayerStack printed(*mesh, lazy.layers);
+    for (std::size_t i = 0; i < lazy.layers.size(); ++i) {
+      CAPTURE(i);
+      const geometry::LayerMetrics m = geometry::layer_metrics(printed, i, printed.mid(i));
+      CHECK(std::abs(lazy.distance[i] - m.distance) <= 1e-3);
+    }
   }
 }
 
