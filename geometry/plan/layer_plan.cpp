@@ -406,7 +406,7 @@ class LazyPlanner {
 
   // With `settle`, a slab seen to stay within the tolerance is not measured further: the
   // search asks only whether it is, and most such slabs are not layers of the plan in the
-  // end (the mush of the benchmarks at 0.3 mm: 82 of 363), which measure_exactly measures
+  // end (the mush of the benchmarks at 0.3 mm: about 70 of 269), which measure_exactly measures
   // again once the path is found. Planning and slicing adaptive at 0.2 mm, median of 5: a
   // sphere 0.38 -> 0.31 s, a dome 0.27 -> 0.23, the mush 0.33 -> 0.26, a torus and the bunny
   // (whose slabs within the tolerance are mostly near it) the same.
