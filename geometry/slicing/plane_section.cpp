@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -89,6 +90,58 @@ void finish_loop(Loop& loop, Region& region) {
   region.loops.push_back(std::move(loop));
 }
 
+// The usual case, no vertex on the plane: every crossed edge starts one segment and ends one,
+// so the segments close into loops through a table of their starts, without the general way's
+// sorts. The loops come out as that way gives them: each from its segment of least start node,
+// in the order of those nodes. None if a node starts two segments, or ends one that no segment
+// starts or that another ends (a non-manifold or open mesh): then the general way.
+std::optional<Region> closed_loops(const Mesh& mesh, const std::vector<Segment>& segments, double z) {
+  using Starts = NumberTable<Node, NodeHash>;
+  Starts starts(segments.size());
+  const auto start_of = [&](std::uint32_t i) { return segments[i].start; };
+  for (std::uint32_t i = 0; i < segments.size(); ++i) {
+    if (starts.find_or_insert(segments[i].start, i, start_of) != i) return std::nullopt;
+  }
+  struct Chain {
+    Node least;
+    std::size_t first, size;  // its segments, in `order`
+  };
+  std::vector<Chain> chains;
+  std::vector<std::uint32_t> order;
+  order.reserve(segments.size());
+  std::vector<char> used(segments.size(), 0);
+  for (std::uint32_t i = 0; i < segments.size(); ++i) {
+    if (used[i]) continue;
+    Chain chain{segments[i].start, order.size(), 0};
+    std::size_t least_at = 0;
+    for (std::uint32_t k = i;;) {
+      used[k] = 1;
+      if (segments[k].start < chain.least) chain.least = segments[k].start, least_at = chain.size;
+      order.push_back(k);
+      ++chain.size;
+      const std::uint32_t next = starts.find(segments[k].end, start_of);
+      if (next == i) break;
+      if (next == Starts::kNone || used[next]) return std::nullopt;
+      k = next;
+    }
+    const auto begin = order.begin() + static_cast<std::ptrdiff_t>(chain.first);
+    std::rotate(begin, begin + static_cast<std::ptrdiff_t>(least_at), order.end());
+    chains.push_back(chain);
+  }
+  std::sort(chains.begin(), chains.end(),
+            [](const Chain& a, const Chain& b) { return a.least < b.least; });
+  Region region;
+  for (const Chain& chain : chains) {
+    Loop loop;
+    loop.reserve(chain.size);
+    for (std::size_t k = chain.first; k < chain.first + chain.size; ++k) {
+      loop.push_back(crossing_point(mesh, segments[order[k]].start, z));
+    }
+    finish_loop(loop, region);
+  }
+  return region;
+}
+
 }  // namespace
 
 Region plane_section(const Mesh& mesh, std::span<const std::uint32_t> faces, double z) {
@@ -115,6 +168,9 @@ Region plane_section(const Mesh& mesh, std::span<const std::uint32_t> faces, dou
   // most one edge), so a plane that meets none, the usual case, skips the search for it.
   if (on_plane) cancel_zero_width(segments);
   if (segments.empty()) return {};
+  if (!on_plane) {
+    if (std::optional<Region> loops = closed_loops(mesh, segments, z)) return std::move(*loops);
+  }
 
   std::sort(segments.begin(), segments.end(),
             [](const Segment& a, const Segment& b) { return a.start < b.start; });

@@ -188,6 +188,27 @@ TEST_CASE("rod_inside_tube_gives_outer_hole_and_island") {
   check_all_heights(nested);
 }
 
+TEST_CASE("a_section_is_the_same_whichever_order_the_faces_come_in") {
+  // Loops in the order of, and starting at, their least crossing edge (plane_section.cpp), so
+  // the faces' order in the file changes nothing: a rod in a tube (three loops) cut between
+  // vertices, where loops close through a table of segment starts, and through a ring of its
+  // vertices (its bottom, cut from above), where they are chained the general way.
+  const Solid nested = combine(tube(6, 8, 10, 24), cylinder(3, 10, 24));
+  geometry::Mesh shuffled = nested.mesh;
+  std::reverse(shuffled.faces.begin(), shuffled.faces.end());
+  std::rotate(shuffled.faces.begin(), shuffled.faces.begin() + 17, shuffled.faces.end());
+  const std::vector<double> heights{3.3, 0};
+  const auto a = geometry::slice_mesh(nested.mesh, heights);
+  const auto b = geometry::slice_mesh(shuffled, heights);
+  REQUIRE(a.size() == b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    CAPTURE(heights[i]);
+    CHECK(a[i].loops == b[i].loops);
+  }
+  CHECK(a[0].loops.size() == 3);
+  CHECK(a[1].loops.size() == 3);
+}
+
 TEST_CASE("heights_in_any_order_keep_their_order") {
   const Solid c = cone(6, 12, 16);
   const std::vector<double> heights{9, std::numeric_limits<double>::quiet_NaN(), 3, 12, 3, -1,
