@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <utility>
 #include <vector>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -214,16 +215,23 @@ void drop_unused_corners(std::vector<Vec3>& points, std::vector<Polygon>& polygo
 // report; returns whether the soup already is a consistently oriented manifold surface, which
 // most files are (a check ten times faster than CGAL's is_polygon_soup_a_polygon_mesh on the
 // bunny).
+// Union-find over item numbers: `parent[i] == i` at a set's root; each lookup halves its path.
+std::vector<std::uint32_t> singletons(std::size_t count) {
+  std::vector<std::uint32_t> parent(count);
+  for (std::size_t i = 0; i < count; ++i) parent[i] = static_cast<std::uint32_t>(i);
+  return parent;
+}
+std::uint32_t root(std::vector<std::uint32_t>& parent, std::size_t item) {
+  auto i = static_cast<std::uint32_t>(item);
+  while (parent[i] != i) i = parent[i] = parent[parent[i]];
+  return i;
+}
+
 bool count_edges_and_check_manifold(std::size_t point_count, const std::vector<Polygon>& polygons,
                                     RepairReport& report, std::size_t& pieces) {
   bool oriented_manifold = true;
   // Facets joined across the edges they share: the surface's connected pieces.
-  std::vector<std::uint32_t> piece(polygons.size());
-  for (std::size_t i = 0; i < piece.size(); ++i) piece[i] = static_cast<std::uint32_t>(i);
-  const auto find_piece = [&piece](std::uint32_t i) {
-    while (piece[i] != i) i = piece[i] = piece[piece[i]];
-    return i;
-  };
+  std::vector<std::uint32_t> piece = singletons(polygons.size());
   // Per undirected edge: how many facets use it, and the corner slot (3 * facet + corner)
   // of the first facet's start of that edge, to join corners of facets across the edge.
   struct EdgeUse {
@@ -238,15 +246,9 @@ bool count_edges_and_check_manifold(std::size_t point_count, const std::vector<P
   const auto key_of_edge = [&uses](std::uint32_t n) { return uses[n].key; };
   // Corners around a vertex that are joined across shared edges form one fan; a vertex
   // with two fans is non-manifold (two surfaces touching in a point).
-  std::vector<std::uint32_t> fan(polygons.size() * 3);  // corner slots fit the mesh's 32 bits
-  for (std::size_t i = 0; i < fan.size(); ++i) fan[i] = static_cast<std::uint32_t>(i);
-  const auto find = [&fan](std::uint32_t i) {
-    while (fan[i] != i) i = fan[i] = fan[fan[i]];
-    return i;
-  };
-  const auto join = [&](std::size_t a, std::size_t b) {
-    fan[find(static_cast<std::uint32_t>(a))] = find(static_cast<std::uint32_t>(b));
-  };
+  // Corner slots fit the mesh's 32 bits.
+  std::vector<std::uint32_t> fan = singletons(polygons.size() * 3);
+  const auto join = [&](std::size_t a, std::size_t b) { fan[root(fan, a)] = root(fan, b); };
   for (std::size_t f = 0; f < polygons.size(); ++f) {
     const Polygon& p = polygons[f];
     for (std::size_t c = 0; c < 3; ++c) {
@@ -270,7 +272,7 @@ bool count_edges_and_check_manifold(std::size_t point_count, const std::vector<P
       const std::size_t other = use.first_slot / 3, other_c = use.first_slot % 3;
       join(3 * f + c, 3 * other + (other_c + 1) % 3);         // corners at a
       join(3 * f + (c + 1) % 3, 3 * other + other_c);         // corners at b
-      piece[find_piece(static_cast<std::uint32_t>(f))] = find_piece(static_cast<std::uint32_t>(other));
+      piece[root(piece, f)] = root(piece, other);
     }
   }
   pieces = 0;
@@ -283,10 +285,10 @@ bool count_edges_and_check_manifold(std::size_t point_count, const std::vector<P
     std::vector<std::uint32_t> fan_of_vertex(point_count, UINT32_MAX);
     for (std::size_t slot = 0; slot < fan.size() && oriented_manifold; ++slot) {
       const std::size_t v = polygons[slot / 3][slot % 3];
-      const std::uint32_t root = find(static_cast<std::uint32_t>(slot));
+      const std::uint32_t its_fan = root(fan, slot);
       if (fan_of_vertex[v] == UINT32_MAX) {
-        fan_of_vertex[v] = root;
-      } else if (fan_of_vertex[v] != root) {
+        fan_of_vertex[v] = its_fan;
+      } else if (fan_of_vertex[v] != its_fan) {
         oriented_manifold = false;
       }
     }
@@ -422,6 +424,15 @@ std::size_t faces_reoriented(const Mesh& out, std::size_t original_faces,
   return count;
 }
 
+// The repaired mesh with the report's last figures (its volume the caller's), handed out.
+Mesh with_figures(Mesh out, RepairReport& report, RepairReport* report_out) {
+  report.vertices = out.vertices.size();
+  report.surface_area = surface_area(out);
+  report.bounds = bounding_box(out);
+  if (report_out) *report_out = report;
+  return out;
+}
+
 }  // namespace
 
 Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
@@ -450,13 +461,8 @@ Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
     report.volume = signed_volume(out);
     if (report.volume > 0) {
       report.closed = true;
-      report.vertices = out.vertices.size();
-      report.surface_area = surface_area(out);
-      report.bounds = bounding_box(out);
-      if (report_out) *report_out = report;
-      return out;
+      return with_figures(std::move(out), report, report_out);
     }
-    report.volume = 0;
   }
   if (!oriented) reversed = orient_and_split(points, polygons, report);
   SurfaceMesh mesh;
@@ -467,12 +473,8 @@ Mesh repair(const std::vector<Triangle>& facets, RepairReport* report_out,
   orient_outward(mesh, report);
   Mesh out = plain_mesh(mesh);
   report.faces_reoriented = faces_reoriented(out, original_faces, polygons, face_polygon, reversed);
-  report.vertices = out.vertices.size();
   report.volume = signed_volume(out);
-  report.surface_area = surface_area(out);
-  report.bounds = bounding_box(out);
-  if (report_out) *report_out = report;
-  return out;
+  return with_figures(std::move(out), report, report_out);
 }
 
 void check_printable(const RepairReport& report, std::string_view name,
