@@ -15,6 +15,16 @@ namespace geometry {
 
 namespace {
 
+// A facet is seen edge-on from above when it is thinner than this across in projection (mm):
+// what rounding to whole nanometres can leave of a vertical face.
+constexpr double kEdgeOnWidth = 1e-5;
+
+// Whether a projected facet of twice this area and this longest side (squared) is thinner
+// than `width` across (all in one unit): area < width * longest / 2, squared.
+bool seen_edge_on(double twice_area, double longest_squared, double width) {
+  return !(twice_area * twice_area > width * width * longest_squared);
+}
+
 using ClipperLib::cInt;
 using ClipperLib::IntPoint;
 
@@ -117,7 +127,6 @@ Slab slab_of(const LayerStack& stack, std::size_t layer) {
 }
 
 bool is_prism(const Slab& slab) {
-  constexpr double kEdgeOnWidth = 1e-5;  // mm: 10 nm, footprint_tree's
   for (const auto& facet : slab.facets) {
     // Twice the projected area, and the longest projected side: the facet is thinner than
     // the width across if the one is below the width times the other. Corners taken from
@@ -128,7 +137,7 @@ bool is_prism(const Slab& slab) {
       twice_area += a.x * b.y - b.x * a.y;
       longest2 = std::max(longest2, (b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y));
     }
-    if (twice_area * twice_area > kEdgeOnWidth * kEdgeOnWidth * longest2) return false;
+    if (!seen_edge_on(twice_area, longest2, kEdgeOnWidth)) return false;
   }
   return !slab.facets.empty();
 }
@@ -455,9 +464,9 @@ void footprint_tree(const Slab& slab, double margin, ClipperLib::PolyTree& tree)
       const double dx = double(b.X - a.X), dy = double(b.Y - a.Y);
       longest2 = std::max(longest2, dx * dx + dy * dy);
     }
-    constexpr double kEdgeOnWidth = 10;  // nm; area > width * longest / 2, squared
     const double twice_area = 2 * ClipperLib::Area(projected);
-    if (projected.size() >= 3 && twice_area * twice_area > kEdgeOnWidth * kEdgeOnWidth * longest2) {
+    const bool thin = seen_edge_on(twice_area, longest2, kEdgeOnWidth * kClipperScale);
+    if (projected.size() >= 3 && !thin) {
       if (twice_area < 0) std::reverse(projected.begin(), projected.end());
       add_edges(projected, edges);
     } else if (!projected.empty()) {
