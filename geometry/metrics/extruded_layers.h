@@ -18,7 +18,9 @@
 // 1999: every segment goes through the centre of every grid cell it meets that holds a
 // vertex or a crossing, so the rounded segments meet only at vertices), and the horizontal
 // faces are a constrained Delaunay triangulation of that arrangement, each triangle inside
-// one region and outside the other. The grid is the finest power of two below which every
+// one region and outside the other; where a rounded route goes out to a vertex and straight
+// back (a vertex within a cell of a hot centre both its segments pass through), the wall
+// leaves that spike out. The grid is the finest power of two below which every
 // coordinate stays under 2^23 units (2^-18 mm for a part 50 mm across), so every coordinate
 // is exactly a float32 and an STL of the mesh reads back as
 // written: no facet turns over when rounded. The mesh's signed volume is the sum of
