@@ -52,6 +52,25 @@ bool same_thickness(const Layer& a, const Layer& b) {
   return std::abs(a.thickness() - b.thickness()) < 1e-6;
 }
 
+// The share the sparse infill's lines are spaced by on every layer: a bead's at the part's
+// median layer thickness. Each layer's lines must stack on the layer below's (sparse_infill
+// lays them on a grid fixed in the part's frame), and their spacing follows the share: on
+// layers of their own thicknesses (issue 11's adaptive layers) a share of its own per layer
+// (0.418 mm at 0.15 mm, 0.364 at 0.4, for a 0.45 mm bead: grid lines 4.18 and 3.64 mm apart
+// at 20%) laid a thin layer's lines between a thick one's (the stepped tiers adaptive at 0.3
+// mm: 29.1 mm of them unsupported). The beads stay the profile's width, so the infill is a
+// little denser on thinner layers and sparser on thicker ones (20.5% at 0.15 mm and 17.9% at
+// 0.4 for 20% at a median of 0.2). On uniform layers, the layers' own share.
+double sparse_infill_share(const std::vector<Layer>& layers, double width) {
+  if (layers.empty()) return bead_spacing(width, 0);
+  std::vector<double> thicknesses;
+  thicknesses.reserve(layers.size());
+  for (const Layer& layer : layers) thicknesses.push_back(layer.thickness());
+  const auto middle = thicknesses.begin() + static_cast<std::ptrdiff_t>((thicknesses.size() - 1) / 2);
+  std::nth_element(thicknesses.begin(), middle, thicknesses.end());
+  return bead_spacing(width, *middle);
+}
+
 ToolpathOptions sane(ToolpathOptions o) {
   auto width = [](double w, double fallback) {
     return std::isfinite(w) && w > 0 ? std::max(w, kMinWidth) : fallback;
@@ -80,9 +99,11 @@ struct Island {
   std::vector<std::vector<ExtrusionPath>> groups;
 };
 
-// The paths of an island laid out by shares `share` wide (see plan_island); the infill
-// overlap is a fraction of the bead's width.
-Island plan_shares(const clipper::Paths& island, std::size_t layer, double share, double width,
+// The paths of an island laid out by shares `share` wide (see plan_island), its sparse
+// infill's lines spaced as for shares `sparse_share` wide; the infill overlap is a fraction of
+// the bead's width.
+Island plan_shares(const clipper::Paths& island, std::size_t layer, double share,
+                   double sparse_share, double width,
                    const ToolpathOptions& o, const Region* core, const Region* below,
                    const Region* above, const Region* core_above,
                    const std::vector<Bridge>* bridges) {
@@ -144,13 +165,16 @@ Island plan_shares(const clipper::Paths& island, std::size_t layer, double share
     result.groups.push_back(std::move(group));
   }
   if (o.infill_density < 100) {
-    std::vector<ExtrusionPath> sparse = sparse_infill(
-        skins.sparse, share, o.infill_density, o.infill_pattern, angle, layer, o.infill_lines);
+    std::vector<ExtrusionPath> sparse = sparse_infill(skins.sparse, sparse_share, o.infill_density,
+                                                      o.infill_pattern, angle, layer, o.infill_lines);
     if (core_above) {
-      for (ExtrusionPath& edge : skin_edge_lines(skins.sparse, *core_above, share, o.infill_density,
+      for (ExtrusionPath& edge : skin_edge_lines(skins.sparse, *core_above, sparse_share, o.infill_density,
                                                  o.infill_pattern, angle, layer)) {
         sparse.push_back(std::move(edge));
       }
+    }
+    for (ExtrusionPath& path : sparse) {
+      if (path.width == sparse_share) path.width = share;  // the layer's own bead
     }
     result.groups.push_back(std::move(sparse));
   }
@@ -162,16 +186,19 @@ Island plan_shares(const clipper::Paths& island, std::size_t layer, double share
 // out by shares (bead_spacing.h): the strips each bead fills, side by side without overlap,
 // in the island shrunk by half what a bead's rounded sides add to its share, so that a bead
 // at the edge has its rounded side on the island's edge (the outer wall's centre line lies
-// w/2 in). Each path is then widened to the bead that fills its share.
+// w/2 in); the sparse infill's lines spaced by the part's one `sparse_share`
+// (sparse_infill_share). Each path is then widened to the bead that fills its share.
 Island plan_island(const clipper::Paths& island, std::size_t layer, double width, double height,
-                   const ToolpathOptions& o, const Region* core, const Region* below,
-                   const Region* above, const Region* core_above,
+                   double sparse_share, const ToolpathOptions& o, const Region* core,
+                   const Region* below, const Region* above, const Region* core_above,
                    const std::vector<Bridge>* bridges) {
   const double share = bead_spacing(width, height);
+  // A layer as thick as the median (to the rounding of z_hi - z_lo) spaces its lines by its own.
+  if (std::abs(sparse_share - share) < 1e-9) sparse_share = share;
   const double sides = width - share;  // the rounded sides' reach past the share, both sides
   const clipper::Paths shared = sides > 0 ? clipper::offset(island, -sides / 2) : island;
-  Island result =
-      plan_shares(shared, layer, share, width, o, core, below, above, core_above, bridges);
+  Island result = plan_shares(shared, layer, share, sparse_share, width, o, core, below, above,
+                              core_above, bridges);
   for (auto& group : result.groups) {
     for (ExtrusionPath& path : group) {
       // A whole share is a whole bead, exactly as wide as the profile says.
@@ -288,6 +315,7 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
       with_cores);
   const bool top_skins = o.top_layers > 0 || o.top_thickness > 0;
   const bool bottom_skins = o.bottom_layers > 0 || o.bottom_thickness > 0;
+  const double sparse_share = sparse_infill_share(layers, o.extrusion_width);
   const Region nothing;
 
   // Where each layer offers a sheath (support_paths.h) something to rest on: its part, and
@@ -384,8 +412,8 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
       const std::vector<Bridge>* bridges = held ? &held->bridges : nullptr;
       const Region* core_above = i + 1 < n && cores[i + 1] ? &*cores[i + 1] : nullptr;
       for (const clipper::Paths& island : island_paths[i]) {
-        islands[i].push_back(
-            plan_island(island, i, width, height, o, core, below, above, core_above, bridges));
+        islands[i].push_back(plan_island(island, i, width, height, sparse_share, o, core, below,
+                                         above, core_above, bridges));
       }
       if (on_layer_done) on_layer_done(++done);
     });
