@@ -517,31 +517,34 @@ class Plane {
   std::unordered_map<std::uint64_t, std::uint32_t> vertices_;
 };
 
-// Drops the tips of the spikes in a closed chain of points (`at(point)` its grid point): where
-// it turns straight back (its neighbours on the same ray from it), as often as dropping one
-// makes another, round the chain's start too. Snap rounding makes them where a loop's vertex
-// lies within a cell of a hot centre that both its segments pass through (a rounded corner's
-// arc of nanometre steps, on a grid of 2 nm): the route goes out to the vertex and back, so a
-// wall along it would lie against its own back. On a plane the two traversals cancel.
-template <class Point, class At>
-void drop_spikes(std::vector<Point>& chain, At at) {
-  const auto tip = [&](const Point& a, const Point& b, const Point& c) {
-    return cross(at(b), at(a), at(c)) == 0 && dot(at(b), at(a), at(c)) > 0;
+// A point of a loop's route on a plane: where it is, on which segment of the loop, how far
+// along it (in dot-product units).
+struct ChainPoint { GridPoint p; std::size_t segment; std::int64_t along; };
+
+// Drops the tips of the spikes in a closed chain of points: where it turns straight back
+// (its neighbours on the same ray from it), as often as dropping one makes another, round the
+// chain's start too. Snap rounding makes them where a loop's vertex lies within a cell of a
+// hot centre that both its segments pass through (a rounded corner's arc of nanometre steps,
+// on a grid of 2 nm): the route goes out to the vertex and back, so a wall along it would lie
+// against its own back. On a plane the two traversals cancel.
+void drop_spikes(std::vector<ChainPoint>& chain) {
+  const auto tip = [](const ChainPoint& a, const ChainPoint& b, const ChainPoint& c) {
+    return cross(b.p, a.p, c.p) == 0 && dot(b.p, a.p, c.p) > 0;
   };
-  std::vector<Point> kept;
+  std::vector<ChainPoint> kept;
   kept.reserve(chain.size());
-  for (const Point& p : chain) {
-    if (!kept.empty() && at(kept.back()) == at(p)) continue;
-    kept.push_back(p);
+  for (const ChainPoint& q : chain) {
+    if (!kept.empty() && kept.back().p == q.p) continue;
+    kept.push_back(q);
     while (kept.size() >= 3 && tip(kept.end()[-3], kept.end()[-2], kept.back())) {
       kept.erase(kept.end() - 2);
-      if (at(kept.end()[-2]) == at(kept.back())) kept.pop_back();
+      if (kept.end()[-2].p == kept.back().p) kept.pop_back();
     }
   }
   for (bool dropped = true; dropped && kept.size() >= 3;) {
     const std::size_t n = kept.size();
     dropped = true;
-    if (at(kept.back()) == at(kept.front()) || tip(kept[n - 2], kept[n - 1], kept[0])) {
+    if (kept.back().p == kept.front().p || tip(kept[n - 2], kept[n - 1], kept[0])) {
       kept.pop_back();
     } else if (tip(kept[n - 1], kept[0], kept[1])) {
       kept.erase(kept.begin());
@@ -556,7 +559,7 @@ void drop_spikes(std::vector<Point>& chain, At at) {
 // plane, each a refinement of the same loop (less its spikes), merged in order along the loop.
 void walls(const GridRegion& region, const LoopRoutes& bottom, const LoopRoutes& top,
            Plane& bottom_plane, Plane& top_plane, Mesh& mesh) {
-  struct Point { GridPoint p; std::size_t segment; std::int64_t along; };
+  using Point = ChainPoint;
   for (std::size_t l = 0; l < region.size(); ++l) {
     const GridLoop& loop = region[l];
     const auto chain = [&](const LoopRoutes& routes) {
@@ -565,7 +568,7 @@ void walls(const GridRegion& region, const LoopRoutes& bottom, const LoopRoutes&
         const GridPoint a = loop[s], b = loop[(s + 1) % loop.size()];
         for (GridPoint p : routes[l][s]) points.push_back({p, s, dot(a, b, p)});
       }
-      drop_spikes(points, [](const Point& point) { return point.p; });
+      drop_spikes(points);
       return points;
     };
     const std::vector<Point> lo = chain(bottom), hi = chain(top);
