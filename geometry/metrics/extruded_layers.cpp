@@ -559,11 +559,10 @@ void drop_spikes(std::vector<ChainPoint>& chain) {
 // plane, each a refinement of the same loop (less its spikes), merged in order along the loop.
 void walls(const GridRegion& region, const LoopRoutes& bottom, const LoopRoutes& top,
            Plane& bottom_plane, Plane& top_plane, Mesh& mesh) {
-  using Point = ChainPoint;
   for (std::size_t l = 0; l < region.size(); ++l) {
     const GridLoop& loop = region[l];
     const auto chain = [&](const LoopRoutes& routes) {
-      std::vector<Point> points;
+      std::vector<ChainPoint> points;
       for (std::size_t s = 0; s < loop.size(); ++s) {
         const GridPoint a = loop[s], b = loop[(s + 1) % loop.size()];
         for (GridPoint p : routes[l][s]) points.push_back({p, s, dot(a, b, p)});
@@ -571,9 +570,9 @@ void walls(const GridRegion& region, const LoopRoutes& bottom, const LoopRoutes&
       drop_spikes(points);
       return points;
     };
-    const std::vector<Point> lo = chain(bottom), hi = chain(top);
+    const std::vector<ChainPoint> lo = chain(bottom), hi = chain(top);
     if (lo.empty() || hi.empty()) continue;
-    const auto order = [&](const std::vector<Point>& c, std::size_t i) {
+    const auto order = [&](const std::vector<ChainPoint>& c, std::size_t i) {
       return i < c.size() ? std::pair{c[i].segment, c[i].along}
                           : std::pair{loop.size(), std::int64_t{0}};  // back at the start
     };
