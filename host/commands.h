@@ -8,7 +8,7 @@
 
 namespace host {
 
-// Exit codes, documented in README.md.
+// Exit codes, documented in docs/guide.md ("Good to know").
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitInternal = 1;    // a bug: please report it
 inline constexpr int kExitBadInput = 2;    // a flag, file, profile or value that cannot be used

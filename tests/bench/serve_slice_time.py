@@ -4,7 +4,7 @@
 Usage: serve_slice_time.py MAHOST MODEL.stl [N=3] [field=value ...]
   e.g. serve_slice_time.py build/mahost data/bunny.stl 3 units=m up=y height=50 support=buildplate
 
-The fields are the slice command's (README, `mahost serve`), each given to `mahost slice` as
+The fields are the slice command's (docs/serve-api.md), each given to `mahost slice` as
 its option. Runs `mahost serve --dry-run` on a free loopback port; then N rounds, alternating
 which goes first: the upload (multipart, with slice=true and the fields) until
 /api/mahost/status says the slice is done, and `mahost slice` to a file. Reports the least and
