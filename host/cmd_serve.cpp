@@ -27,6 +27,7 @@
 #include "host/serve/api_key.h"
 #include "host/serve/file_store.h"
 #include "host/serve/http_api.h"
+#include "host/serve/http_server.h"
 #include "host/serve/printer_session.h"
 #include "printer/error.h"
 #include "printer/profile.h"
@@ -150,13 +151,10 @@ void run_serve(const ServeOptions& options) {
   limits.max_upload = static_cast<std::uint64_t>(options.max_upload_mib * 1048576.0);
   serve::HttpApi api(session, files, key.value, limits, MAHOST_VERSION);
 
-  httplib::Server server;
-  // One worker per open connection: clients keep theirs open (polling, live updates).
-  server.new_task_queue = [] { return new httplib::ThreadPool(64); };
+  serve::HttpServer server(serve::ConnectionLimits{});
   server.set_keep_alive_max_count(1000);
-  server.set_keep_alive_timeout(5);
-  server.set_read_timeout(10);
-  server.set_write_timeout(10);
+  // What the Keep-Alive header tells clients: the idle time after which the server closes.
+  server.set_keep_alive_timeout(std::chrono::duration_cast<std::chrono::seconds>(server.limits().idle).count());
   server.set_payload_max_length(limits.max_upload + (1u << 20));
   // httplib writes a response's head and body apart: without this the body of a kept-alive
   // connection waits for the client's delayed ack (40 ms on Linux).

@@ -257,12 +257,17 @@ bool FileStore::Upload::write(const char* data, std::size_t size) {
   return ok_;
 }
 
+bool FileStore::Upload::finish() {
+  if (fd_ >= 0) {
+    ok_ = ok_ && ::fsync(fd_) == 0;
+    ::close(fd_);
+    fd_ = -1;
+  }
+  return ok_;
+}
+
 bool FileStore::Upload::commit(const std::string& name) {
-  if (!ok_ || fd_ < 0) return false;
-  const bool synced = ::fsync(fd_) == 0;
-  ::close(fd_);
-  fd_ = -1;
-  if (!synced) return false;
+  if (!finish() || temp_.empty()) return false;
   const std::string target = store_.path_of(name);
   {
     std::lock_guard lock(store_.mutex_);

@@ -84,8 +84,11 @@ class FileStore {
     bool write(const char* data, std::size_t size);  // false once the disk is full or broken
     std::uint64_t size() const { return size_; }
     const std::string& temporary_path() const { return temp_; }
-    // Closes and renames the upload to `name` (replacing a file of that name). False when it
-    // cannot; the temporary file is removed either way.
+    // Writes the bytes through to the disk and closes the file: the slow part of storing it,
+    // done before the rename (which the session makes under its lock). False when it cannot.
+    bool finish();
+    // Renames the finished upload to `name` (replacing a file of that name), finishing it
+    // first if need be. False when it cannot; the temporary file is removed either way.
     bool commit(const std::string& name);
 
    private:

@@ -22,6 +22,7 @@
 #include "host/local_time.h"
 #include "host/serve/api_key.h"
 #include "host/serve/file_store.h"
+#include "host/serve/http_server.h"
 #include "host/serve/octoprint_json.h"
 #include "host/serve/printer_session.h"
 #include "host/serve/web_assets.h"
@@ -193,9 +194,34 @@ bool needs_key(const std::string& path) {
   return path.rfind("/api/", 0) == 0 || path == "/api" || path.rfind("/downloads/", 0) == 0;
 }
 
-// The key check and the size limits, before any body is read. Returns a status to answer
-// with, or 0 to go on.
+// A refusal of the request's framing (its Content-Length), or "" when it is sound: a length
+// that is not a number of bytes, two lengths that disagree, a length beside a chunked body.
+std::string framing_refusal(const Request& req) {
+  const std::size_t lengths = req.get_header_value_count("Content-Length");
+  if (lengths == 0) return {};
+  const std::string first = req.get_header_value("Content-Length");
+  for (std::size_t i = 1; i < lengths; ++i) {
+    if (const std::string other = req.get_header_value("Content-Length", i); other != first) {
+      return fmt::format("the request has two Content-Length headers that disagree ({} and {}): send one", first, other);
+    }
+  }
+  if (req.has_header("Transfer-Encoding")) {
+    return "the request has both Content-Length and Transfer-Encoding: send one";
+  }
+  if (first.empty() || first.size() > 19 ||
+      !std::all_of(first.begin(), first.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+    return fmt::format("Content-Length '{}' is not a number of bytes", first.substr(0, 40));
+  }
+  return {};
+}
+
+// The connection's share, the key and the framing and size limits, before any body is read.
+// Returns a status to answer with, or 0 to go on.
 int admit(const Request& req, Response& res, const std::string& key, const ServeLimits& limits) {
+  if (const std::string refused = HttpServer::beyond_share_refusal(req); !refused.empty()) {
+    send_error(res, 503, refused);
+    return 503;
+  }
   if (needs_key(req.path)) {
     const std::string given = req.get_header_value("X-Api-Key");
     if (given.empty()) {
@@ -207,6 +233,10 @@ int admit(const Request& req, Response& res, const std::string& key, const Serve
       return 403;
     }
   }
+  if (const std::string refused = framing_refusal(req); !refused.empty()) {
+    send_error(res, 400, refused);
+    return 400;
+  }
   if (req.method == "POST" || req.method == "PUT" || req.method == "PATCH" || req.method == "DELETE") {
     // A compressed body is not taken: its announced length says nothing of what it unpacks to.
     const std::string encoding = req.get_header_value("Content-Encoding");
@@ -217,16 +247,7 @@ int admit(const Request& req, Response& res, const std::string& key, const Serve
     const bool upload = is_upload_path(req.path);
     const std::uint64_t limit = upload ? limits.max_upload + (1u << 20) : limits.max_json;
     if (req.has_header("Content-Length")) {
-      const std::string text = req.get_header_value("Content-Length");
-      std::uint64_t length = 0;
-      try {
-        std::size_t used = 0;
-        length = std::stoull(text, &used);
-        if (used != text.size()) throw std::invalid_argument("trailing");
-      } catch (const std::exception&) {
-        send_error(res, 400, "Content-Length is not a number");
-        return 400;
-      }
+      const std::uint64_t length = std::stoull(req.get_header_value("Content-Length"));
       if (length > limit) {
         send_error(res, 413, upload ? fmt::format("the upload is {:.1f} MiB; this server takes {:.0f} MiB at most (--max-upload)",
                                                    length / 1048576.0, limits.max_upload / 1048576.0)
@@ -447,6 +468,8 @@ struct Route {
   const char* method;
   const char* pattern;
   Handler handle;
+  // Served on a connection beyond its address's share too: the printer's controls.
+  bool always_served = false;
 };
 
 // Every endpoint, in one place.
@@ -466,17 +489,17 @@ const Route kRoutes[] = {
     {"DELETE", "/api/files/([^/]+)/(.+)", &HttpApi::delete_file},
     {"GET", "/downloads/files/([^/]+)/(.+)", &HttpApi::download},
     {"GET", "/api/job", &HttpApi::get_job},
-    {"POST", "/api/job", &HttpApi::post_job},
+    {"POST", "/api/job", &HttpApi::post_job, true},
     {"GET", "/api/printer", &HttpApi::get_printer},
     {"GET", "/api/printer/tool", &HttpApi::get_tool},
     {"GET", "/api/printer/bed", &HttpApi::get_bed},
-    {"POST", "/api/printer/command", &HttpApi::post_command},
+    {"POST", "/api/printer/command", &HttpApi::post_command, true},
     {"GET", "/api/mahost/status", &HttpApi::get_status},
     {"GET", "/api/mahost/events", &HttpApi::get_events},
     {"GET", "/api/mahost/layer", &HttpApi::get_layer},
     {"GET", "/api/mahost/profiles", &HttpApi::get_profiles},
     {"POST", "/api/mahost/interrupted", &HttpApi::post_interrupted},
-    {"POST", "/api/mahost/stop", &HttpApi::post_stop},
+    {"POST", "/api/mahost/stop", &HttpApi::post_stop, true},
     {"POST", "/api/mahost/pause-at", &HttpApi::post_pause_at},
 };
 
@@ -486,7 +509,12 @@ HttpApi::HttpApi(PrinterSession& session, FileStore& files, std::string api_key,
                  std::string version)
     : session_(session), files_(files), api_key_(std::move(api_key)), limits_(limits), version_(std::move(version)) {}
 
-void HttpApi::install(httplib::Server& server) {
+void HttpApi::install(HttpServer& server) {
+  server.always_served = [](const Request& req) {
+    return std::any_of(std::begin(kRoutes), std::end(kRoutes), [&](const Route& route) {
+      return route.always_served && req.method == route.method && req.path == route.pattern;
+    });
+  };
   for (const Route& route : kRoutes) {
     auto handler = [this, handle = route.handle](const Request& req, Response& res) {
       try {
@@ -531,8 +559,12 @@ void HttpApi::install(httplib::Server& server) {
   });
   server.set_error_handler(httplib::Server::HandlerWithResponse([](const Request&, Response& res) {
     if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
+    if (HttpServer::head_timed_out()) {
+      send_error(res, 408, HttpServer::head_timeout_message());
+      return httplib::Server::HandlerResponse::Handled;
+    }
     const char* text = res.status == 404   ? "not found"
-                       : res.status == 400 ? "malformed request"
+                       : res.status == 400 ? "the request could not be read as HTTP"
                        : res.status == 413 ? "request too large"
                        : res.status == 405 ? "method not allowed"
                                            : "the request could not be served";
@@ -552,6 +584,7 @@ void HttpApi::install(httplib::Server& server) {
     send_error(res, 500, "internal error (logged by the server)");
   });
   server.set_post_routing_handler([](const Request& req, Response& res) {
+    HttpServer::close_if_unread(req, res);
     res.set_header("X-Content-Type-Options", "nosniff");
     res.set_header("Referrer-Policy", "no-referrer");
     res.set_header("X-Frame-Options", "DENY");
@@ -636,10 +669,7 @@ void HttpApi::get_file(const Request& req, Response& res) {
 void HttpApi::delete_file(const Request& req, Response& res) {
   check_location(req.matches[1]);
   const std::string name = checked_name(req.matches[2]);
-  if (session_.printing_file(name)) throw Refusal{409, fmt::format("{} is being printed", name)};
-  if (!files_.remove(name)) throw Refusal{404, fmt::format("{}: no such file", name)};
-  session_.file_changed(name);
-  res.status = 204;
+  send_outcome(res, session_.delete_file(name));
 }
 
 void HttpApi::download(const Request& req, Response& res) {
@@ -673,10 +703,7 @@ void HttpApi::post_file(const Request& req, Response& res) {
     return;
   }
   if (command == "unselect") {
-    const Status s = session_.status();
-    if (!s.selected || s.job_active) throw Refusal{409, "no file is selected, or a job is running"};
-    session_.file_changed(s.selected->name);
-    res.status = 204;
+    send_outcome(res, session_.unselect());
     return;
   }
   if (command != "slice") throw Refusal{400, "unknown command: use select, unselect or slice"};
@@ -699,10 +726,20 @@ void HttpApi::upload(const Request& req, Response& res, const httplib::ContentRe
   std::optional<FileStore::Upload> file;
   std::string filename, field;
   std::map<std::string, std::string> fields;
-  bool too_big = false, write_failed = false, second_file = false;
+  constexpr std::size_t kFields = 32, kFieldBytes = 4096;  // a form's fields besides the file
+  std::string refused;  // why the form was refused while it was read
+  int refused_status = 400;
+  bool second_file = false;
   const bool read = reader(
       [&](const httplib::MultipartFormData& part) {
         field = part.name;
+        if (field.empty()) {
+          // httplib reads a part's name from its Content-Disposition line; a line break or
+          // quote in the file name breaks that line.
+          refused = "a part of the form has no name httplib could read: its Content-Disposition is "
+                    "broken (a line break or a quote in the file name?)";
+          return false;
+        }
         if (field == "file") {
           if (file) {
             second_file = true;
@@ -710,8 +747,8 @@ void HttpApi::upload(const Request& req, Response& res, const httplib::ContentRe
           }
           filename = part.filename;
           file.emplace(files_);
-        } else if (fields.size() >= 32) {
-          too_big = true;
+        } else if (fields.size() >= kFields) {
+          refused = fmt::format("the form has more than {} fields", kFields);
           return false;
         }
         return true;
@@ -719,28 +756,27 @@ void HttpApi::upload(const Request& req, Response& res, const httplib::ContentRe
       [&](const char* data, std::size_t size) {
         if (field == "file") {
           if (file->size() + size > limits_.max_upload) {
-            too_big = true;
+            refused_status = 413;
+            refused = fmt::format("the upload is larger than this server takes ({:.0f} MiB, --max-upload)",
+                                  limits_.max_upload / 1048576.0);
             return false;
           }
           if (!file->write(data, size)) {
-            write_failed = true;
+            refused_status = 507;
+            refused = "the file could not be written to the files folder (disk full?)";
             return false;
           }
           return true;
         }
         std::string& value = fields[field];
-        if (value.size() + size > 4096) {
-          too_big = true;
+        if (value.size() + size > kFieldBytes) {
+          refused = fmt::format("the form field '{}' is longer than {} bytes", field.substr(0, 40), kFieldBytes);
           return false;
         }
         value.append(data, size);
         return true;
       });
-  if (too_big) {
-    throw Refusal{413, fmt::format("the upload is larger than this server takes ({:.0f} MiB, --max-upload)",
-                                   limits_.max_upload / 1048576.0)};
-  }
-  if (write_failed) throw Refusal{507, "the file could not be written to the files folder (disk full?)"};
+  if (!refused.empty()) throw Refusal{refused_status, refused};
   if (second_file) throw Refusal{400, "one file per upload"};
   if (!read) throw Refusal{400, "the upload was cut short or is not valid multipart/form-data"};
   if (!file) throw Refusal{400, "no 'file' field in the upload"};
@@ -752,14 +788,17 @@ void HttpApi::upload(const Request& req, Response& res, const httplib::ContentRe
              path.end());
   if (!path.empty()) throw Refusal{400, "folders are not supported: leave 'path' empty"};
   const std::string& name = clean.name;
-  if (session_.printing_file(name)) throw Refusal{409, fmt::format("{} is being printed: upload it under another name", name)};
+  // Said before the checks that read the file: a name that cannot be stored now.
+  if (const std::string lock = file_lock(session_.status(), name); !lock.empty()) {
+    throw Refusal{409, lock + ": upload it under another name"};
+  }
   const FileKind kind = *kind_of(name);
-  GcodeAnalysis analysis;
+  std::optional<GcodeAnalysis> analysis;
   if (kind == FileKind::gcode) {
     analysis = files_.analyse(file->temporary_path());
-    if (!analysis.error.empty()) {
-      const std::size_t colon = analysis.error.find(": ");
-      throw Refusal{415, fmt::format("{}: {}", name, colon == std::string::npos ? analysis.error : analysis.error.substr(colon + 2))};
+    if (!analysis->error.empty()) {
+      const std::size_t colon = analysis->error.find(": ");
+      throw Refusal{415, fmt::format("{}: {}", name, colon == std::string::npos ? analysis->error : analysis->error.substr(colon + 2))};
     }
   } else {
     try {
@@ -790,36 +829,31 @@ void HttpApi::upload(const Request& req, Response& res, const httplib::ContentRe
     body["print"] = print;
     slicing = slice_request(body, name, session_.profiles());
   }
-  if (!file->commit(name)) throw Refusal{500, fmt::format("{}: the upload could not be stored", name)};
-  if (kind == FileKind::gcode) files_.remember(name, analysis);
-  session_.file_changed(name);
+  if (!file->finish()) throw Refusal{507, "the file could not be written to the files folder (disk full?)"};
+  const PrinterSession::Stored stored =
+      session_.store_upload(*file, name, analysis, select && kind == FileKind::gcode, print);
+  if (!stored.outcome.ok()) throw Refusal{stored.outcome.status, stored.outcome.message};
 
-  bool effective_select = false, effective_print = false, done = true;
-  if (kind == FileKind::gcode && select) {
-    const Outcome o = session_.select(name, print);
-    effective_select = o.ok() || (print && session_.status().selected && session_.status().selected->name == name);
-    effective_print = print && o.ok();
-  } else if (slicing) {
-    std::string refused;
+  json reply = {{"files", {{"local", abridged_file_json(name, base_url(req))}}},
+                {"done", true},
+                {"effectiveSelect", stored.selected},
+                {"effectivePrint", stored.printing}};
+  if (!stored.not_printed.empty()) {
+    // Stored, not printed: the client and the page's log say why.
+    reply["mahost"] = {{"notPrinted", stored.not_printed}};
+    session_.note(fmt::format("stored {}; not printed: {}", name, stored.not_printed));
+  }
+  if (slicing) {
     const Outcome o = session_.slice(std::move(*slicing));
-    if (!o.ok()) refused = o.message;
-    if (!refused.empty()) {
+    if (o.ok()) {
+      reply["done"] = false;
+    } else {
       // Stored, but not sliced: the answer says why; the file stays for another try.
-      res.set_header("Location", base_url(req) + "/api/files/local/" + name);
-      send_json(res, json{{"files", {{"local", abridged_file_json(name, base_url(req))}}}, {"done", true},
-                          {"effectiveSelect", false}, {"effectivePrint", false}, {"error", refused}},
-                201);
-      return;
+      reply["error"] = o.message;
     }
-    done = false;
   }
   res.set_header("Location", base_url(req) + "/api/files/local/" + name);
-  send_json(res,
-            json{{"files", {{"local", abridged_file_json(name, base_url(req))}}},
-                 {"done", done},
-                 {"effectiveSelect", effective_select},
-                 {"effectivePrint", effective_print}},
-            201);
+  send_json(res, reply, 201);
 }
 
 // ---- OctoPrint: job and printer ------------------------------------------------------------

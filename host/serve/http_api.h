@@ -19,7 +19,6 @@
 #include <string>
 
 namespace httplib {
-class Server;
 struct Request;
 struct Response;
 class ContentReader;
@@ -29,6 +28,7 @@ namespace host::serve {
 
 class PrinterSession;
 class FileStore;
+class HttpServer;
 
 struct ServeLimits {
   std::uint64_t max_upload = 512ull << 20;  // bytes of one uploaded file
@@ -41,8 +41,9 @@ class HttpApi {
   HttpApi(PrinterSession& session, FileStore& files, std::string api_key, ServeLimits limits,
           std::string version);
 
-  // Installs the routes, the key check, the limits, the error answers and the log.
-  void install(httplib::Server& server);
+  // Installs the routes, the key check, the limits, the error answers and the log, and tells
+  // the server which requests are always served (the printer's controls).
+  void install(HttpServer& server);
   // Ends the live-update streams (at shutdown).
   void close() { closing_.store(true); }
 

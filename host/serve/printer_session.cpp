@@ -89,6 +89,42 @@ std::string state_text(const Status& s) {
   }
 }
 
+std::vector<std::pair<std::string, std::string>> file_locks(const Status& s) {
+  std::vector<std::pair<std::string, std::string>> locks;
+  if (s.job_active && !s.job_file.empty()) {
+    locks.emplace_back(s.job_file, fmt::format("{} is being printed", s.job_file));
+  }
+  if (s.interrupted && !s.interrupted->name.empty()) {
+    locks.emplace_back(s.interrupted->name,
+                       fmt::format("{} is the interrupted job's file (its part may be on the bed): "
+                                   "finish or discard that job first",
+                                   s.interrupted->name));
+  }
+  if (s.slicing && s.slicing->stage != "done" && s.slicing->stage != "failed") {
+    locks.emplace_back(s.slicing->gcode, fmt::format("{} is being sliced", s.slicing->gcode));
+  }
+  return locks;
+}
+
+std::string file_lock(const Status& s, const std::string& name) {
+  for (const auto& [locked, reason] : file_locks(s)) {
+    if (locked == name) return reason;
+  }
+  return {};
+}
+
+std::string start_refusal(const Status& s) {
+  if (s.connection != Connection::operational) return "the printer is not operational: " + state_text(s);
+  if (s.job_active) return "a job is already running";
+  if (s.interrupted) {
+    return fmt::format("an interrupted job waits ({} at layer {}/{}): its part may still be on the bed; "
+                       "finish it or discard it first",
+                       fs::path(s.interrupted->file).filename().string(), s.interrupted->layer,
+                       s.interrupted->layers);
+  }
+  return {};
+}
+
 PrinterSession::PrinterSession(Options options, FileStore& files)
     : options_(std::move(options)), files_(files) {
   status_.dry_run = options_.link.dry_run;
@@ -198,16 +234,22 @@ Outcome PrinterSession::select(const std::string& name, bool print) {
   }
   if (file->analysis && !file->analysis->error.empty()) return {415, file->analysis->error};
   std::lock_guard lock(mutex_);
+  return select_found(*file, print);
+}
+
+Outcome PrinterSession::select_found(const StoredFile& file, bool print) {
+  // mutex_ held by the caller.
   if (status_.job_active) return {409, "a job is running: select a file once it has ended"};
-  status_.selected = *file;
+  if (slicing_ && status_.slicing && status_.slicing->gcode == file.name) {
+    return {409, fmt::format("{} is being sliced: select it once the slice is done", file.name)};
+  }
+  status_.selected = file;
   publish();
   if (!print) return {};
-  // start_job's checks, under the same lock.
-  if (status_.connection != Connection::operational) {
-    return {409, "the printer is not operational: " + state_text(status_)};
-  }
-  pending_start_ = JobStart{file->name, std::nullopt, {}};
+  if (const std::string refused = start_refusal(status_); !refused.empty()) return {409, refused};
+  pending_start_ = JobStart{file.name, std::nullopt, {}};
   status_.job_active = true;
+  status_.job_file = file.name;
   status_.cancel_requested = false;
   status_.ended.reset();
   status_.progress.reset();
@@ -218,10 +260,7 @@ Outcome PrinterSession::select(const std::string& name, bool print) {
 
 Outcome PrinterSession::start_job() {
   std::unique_lock lock(mutex_);
-  if (status_.connection != Connection::operational) {
-    return {409, "the printer is not operational: " + state_text(status_)};
-  }
-  if (status_.job_active) return {409, "a job is already running"};
+  if (const std::string refused = start_refusal(status_); !refused.empty()) return {409, refused};
   if (!status_.selected) return {409, "no file is selected: select one first"};
   const std::string name = status_.selected->name;
   lock.unlock();
@@ -234,6 +273,7 @@ Outcome PrinterSession::cancel_job() {
   if (pending_start_) {
     pending_start_.reset();
     status_.job_active = false;
+    status_.job_file.clear();
     status_.ended = printer::JobState::cancelled;
     status_.ended_reason = "cancelled before it started";
     publish();
@@ -318,6 +358,7 @@ void PrinterSession::stop_pending_start() {
   if (!pending_start_) return;
   pending_start_.reset();
   status_.job_active = false;
+  status_.job_file.clear();
   status_.ended = printer::JobState::stopped;
   status_.ended_reason = "emergency stop (M112) before the job started";
 }
@@ -393,6 +434,7 @@ Outcome PrinterSession::resume_interrupted() {
     file.date = info.st_mtim.tv_sec;
   }
   status_.selected = file;
+  status_.job_file = status_.interrupted->name;
   status_.interrupted.reset();
   status_.job_active = true;
   status_.cancel_requested = false;
@@ -406,7 +448,9 @@ Outcome PrinterSession::resume_interrupted() {
 Outcome PrinterSession::discard_interrupted() {
   std::lock_guard lock(mutex_);
   if (!status_.interrupted) return {409, "no interrupted job to discard"};
-  remove_files({status_.interrupted->journal});
+  // The journal, and the control socket the dead process left beside it.
+  const std::string& journal = status_.interrupted->journal;
+  remove_files({journal, fs::path(journal).replace_extension(".sock").string()});
   status_.interrupted.reset();
   publish();
   return {};
@@ -417,8 +461,8 @@ Outcome PrinterSession::slice(SliceRequest request) {
     std::lock_guard lock(mutex_);
     if (shutting_down_) return {503, "the server is shutting down"};
     if (slicing_) return {409, "a model is being sliced: wait until it is done"};
-    if (status_.job_active && job_file_name_ == request.gcode) {
-      return {409, fmt::format("{} is being printed: slice to another name", request.gcode)};
+    if (const std::string lock = file_lock(status_, request.gcode); !lock.empty()) {
+      return {409, lock + ": slice to another name"};
     }
     slicing_ = true;
     status_.slicing = SliceStatus{request.model, request.gcode, "starting", 0, 0, {}, {}, {}};
@@ -429,17 +473,55 @@ Outcome PrinterSession::slice(SliceRequest request) {
   return {202, {}};
 }
 
-void PrinterSession::file_changed(const std::string& name) {
+Outcome PrinterSession::unselect() {
   std::lock_guard lock(mutex_);
+  if (!status_.selected || status_.job_active) return {409, "no file is selected, or a job is running"};
+  status_.selected.reset();
+  publish();
+  return {};
+}
+
+void PrinterSession::forget_selection(const std::string& name) {
+  // mutex_ held by the caller.
   if (status_.selected && status_.selected->name == name && !status_.job_active) {
     status_.selected.reset();
     publish();
   }
 }
 
-bool PrinterSession::printing_file(const std::string& name) const {
+PrinterSession::Stored PrinterSession::store_upload(FileStore::Upload& upload, const std::string& name,
+                                                    const std::optional<GcodeAnalysis>& analysis, bool select,
+                                                    bool print) {
+  Stored stored;
   std::lock_guard lock(mutex_);
-  return status_.job_active && (job_file_name_ == name || (pending_start_ && pending_start_->name == name));
+  if (const std::string lock_reason = file_lock(status_, name); !lock_reason.empty()) {
+    stored.outcome = {409, lock_reason + ": upload it under another name"};
+    return stored;
+  }
+  if (!upload.commit(name)) {
+    stored.outcome = {500, fmt::format("{}: the upload could not be stored", name)};
+    return stored;
+  }
+  if (analysis) files_.remember(name, *analysis);
+  forget_selection(name);  // the file selected before is gone
+  stored.outcome = {201, {}};
+  if (select && analysis) {
+    const std::optional<StoredFile> file = files_.find(name);  // its analysis just remembered
+    const Outcome o = file ? select_found(*file, print) : Outcome{404, fmt::format("{}: no such file", name)};
+    stored.selected = status_.selected && status_.selected->name == name;
+    stored.printing = print && o.ok();
+    if (print && !o.ok()) stored.not_printed = o.message;
+  }
+  publish();
+  return stored;
+}
+
+Outcome PrinterSession::delete_file(const std::string& name) {
+  std::lock_guard lock(mutex_);
+  if (const std::string lock_reason = file_lock(status_, name); !lock_reason.empty()) return {409, lock_reason};
+  if (!files_.remove(name)) return {404, fmt::format("{}: no such file", name)};
+  forget_selection(name);
+  return {};
 }
 
 // ---- The slicing thread --------------------------------------------------------------------
@@ -479,6 +561,10 @@ void PrinterSession::slice_worker(SliceRequest request) {
   } catch (const std::exception& e) {
     error = fmt::format("internal error while slicing: {} (please report this)", e.what());
   }
+  // The client knows its files by name, not by the server's folder.
+  for (std::size_t at; (at = error.find(files_.folder() + "/")) != std::string::npos;) {
+    error.erase(at, files_.folder().size() + 1);
+  }
   {
     std::lock_guard lock(mutex_);
     slicing_ = false;
@@ -487,6 +573,12 @@ void PrinterSession::slice_worker(SliceRequest request) {
       status_.slicing->error = error;
       status_.slicing->summary = summary;
       status_.slicing->plan = plan;
+    }
+    if (!ok && request.print && !status_.job_active) {
+      // The print asked for did not start: GET /api/job says so, as for a job that failed.
+      status_.ended = printer::JobState::failed;
+      status_.ended_reason = fmt::format("slicing {} failed: {}", request.model, error);
+      status_.progress.reset();
     }
     publish();
   }
@@ -541,6 +633,7 @@ void PrinterSession::run() {
     status_.connection = Connection::error;
     status_.error = failure;
     status_.job_active = false;
+    status_.job_file.clear();
     pending_start_.reset();
     job_requests_.clear();
     pending_commands_.clear();
@@ -616,30 +709,38 @@ void PrinterSession::install_idle_hook() {
   };
 }
 
-void PrinterSession::find_interrupted() {
+std::optional<InterruptedJob> PrinterSession::interrupted_job(const std::string& journal) const {
+  printer::JournalRecord record;
+  try {
+    record = printer::read_journal(journal);
+  } catch (const printer::ConfigError&) {
+    return std::nullopt;
+  }
   const std::string port = options_.link.dry_run ? "" : options_.link.port;
+  if (record.state == printer::JobState::completed || record.state == printer::JobState::cancelled) return std::nullopt;
+  if (record.port != port || other_mahost_running(record.pid)) return std::nullopt;
+  if (file_hash(record.gcode_path) != record.gcode_hash) return std::nullopt;  // gone or changed
+  InterruptedJob job;
+  job.journal = journal;
+  job.file = record.gcode_path;
+  job.state = std::string(printer::to_string(record.state));
+  job.reason = record.reason;
+  job.updated = record.updated;
+  if (fs::path(record.gcode_path).parent_path() == fs::path(files_.folder())) {
+    job.name = fs::path(record.gcode_path).filename().string();
+  }
+  job.layer = record.layer_index + 1;
+  job.layers = static_cast<int>(record.layers);
+  return job;
+}
+
+void PrinterSession::find_interrupted() {
   std::optional<InterruptedJob> best;
   std::error_code error;
   for (const fs::directory_entry& entry : fs::directory_iterator(printer::job_directory(), error)) {
     if (entry.path().extension() != ".journal") continue;
-    printer::JournalRecord record;
-    try {
-      record = printer::read_journal(entry.path().string());
-    } catch (const printer::ConfigError&) {
-      continue;
-    }
-    if (record.state == printer::JobState::completed || record.state == printer::JobState::cancelled) continue;
-    if (record.port != port || other_mahost_running(record.pid)) continue;
-    if (file_hash(record.gcode_path) != record.gcode_hash) continue;  // gone or changed
-    InterruptedJob job;
-    job.journal = entry.path().string();
-    job.file = record.gcode_path;
-    job.state = std::string(printer::to_string(record.state));
-    job.reason = record.reason;
-    job.updated = record.updated;
-    job.layer = record.layer_index + 1;
-    job.layers = static_cast<int>(record.layers);
-    if (!best || job.updated > best->updated) best = job;
+    const std::optional<InterruptedJob> job = interrupted_job(entry.path().string());
+    if (job && (!best || job->updated > best->updated)) best = job;
   }
   {
     std::lock_guard lock(mutex_);
@@ -819,7 +920,6 @@ void PrinterSession::run_job(const JobStart& start) {
   {
     std::lock_guard lock(mutex_);
     job_file_ = file;
-    job_file_name_ = start.name;
     status_.journal = journal;
     status_.filepos = 0;
     status_.layer_z.reset();
@@ -851,14 +951,20 @@ void PrinterSession::run_job(const JobStart& start) {
                                         file->gcode.layers.size(), file->gcode.size()));
   auto end_job = [&](printer::JobState state, const std::string& reason) {
     const printer::JobProgress last = job.progress();
+    // A job that failed or was stopped left its journal: from now on it is the interrupted
+    // job, its file locked, not only once the printer is back.
+    const std::optional<InterruptedJob> left =
+        state == printer::JobState::failed || state == printer::JobState::stopped ? interrupted_job(journal)
+                                                                                  : std::nullopt;
     std::lock_guard lock(mutex_);
+    if (left) status_.interrupted = left;
     status_.progress = last;
     status_.filepos = file->filepos(last.commands_done);
     status_.job_active = false;
     status_.cancel_requested = false;
     status_.ended = state;
     status_.ended_reason = reason;
-    job_file_name_.clear();
+    status_.job_file.clear();
     job_requests_.clear();
     publish();
   };
@@ -893,6 +999,7 @@ void PrinterSession::run_job(const JobStart& start) {
     if (result.state == printer::JobState::cancelled && !shutting_down_) {
       pending_start_ = JobStart{start.name, std::nullopt, {}};
       status_.job_active = true;
+      status_.job_file = start.name;
       status_.ended.reset();
       publish();
     }

@@ -63,6 +63,7 @@ struct SliceStatus {
 struct InterruptedJob {
   std::string journal;           // its path
   std::string file;              // the G-code's path
+  std::string name;              // its name in the files folder; "" for a file elsewhere
   std::string state, reason, updated;
   int layer = 0, layers = 0;     // the layer a resume reprints, from 1
 };
@@ -79,6 +80,7 @@ struct Status {
 
   std::optional<StoredFile> selected;  // the file a start prints
   bool job_active = false;       // a job is starting or running (printing ... cancelling)
+  std::string job_file;          // the name in the files folder a starting or running job prints
   bool cancel_requested = false;
   std::optional<printer::JobProgress> progress;  // the running job's, else the last one's
   std::optional<printer::JobState> ended;        // how the last job ended, when none runs
@@ -93,6 +95,18 @@ struct Status {
   // next job too, each taken once it is reached.
   std::vector<int> pause_at;
 };
+
+// Why the file `name` in the files folder may not be replaced, deleted or printed over now
+// (one line, for a 409), or "" when it may: the file a job prints or is about to, the
+// interrupted job's file (its part is still on the bed: a resume reprints from it), the
+// G-code a slice is writing.
+std::string file_lock(const Status& status, const std::string& name);
+// The names file_lock refuses, with its reason each.
+std::vector<std::pair<std::string, std::string>> file_locks(const Status& status);
+
+// Why a new job may not start now, or "": an interrupted job waits to be finished or discarded
+// (nothing prints over a part on the bed), a job runs, the printer is not operational.
+std::string start_refusal(const Status& status);
 
 // What a request came to, as an HTTP status and a one-line message for the client.
 struct Outcome {
@@ -160,10 +174,25 @@ class PrinterSession {
   Outcome resume_interrupted();
   Outcome discard_interrupted();
   Outcome slice(SliceRequest request);
-  // A file was deleted or replaced: it is no longer selected.
-  void file_changed(const std::string& name);
-  // Whether `name` is the file a job is printing now (then it may not be replaced or deleted).
-  bool printing_file(const std::string& name) const;
+  Outcome unselect();
+
+  // What storing an upload came to: refused (409: the name is locked, file_lock), or stored
+  // and, as asked, selected and started; when a print was asked for and not started, why.
+  struct Stored {
+    Outcome outcome;
+    bool selected = false, printing = false;
+    std::string not_printed;
+  };
+  // Moves a complete, checked upload into place as `name` and selects and starts it as asked,
+  // in one step: no other request comes between the check of the name's lock, the rename and
+  // the start, so two uploads of one name never both print, and neither replaces a file a job
+  // prints. A G-code upload passes its analysis (kept, not read again).
+  Stored store_upload(FileStore::Upload& upload, const std::string& name,
+                      const std::optional<GcodeAnalysis>& analysis, bool select, bool print);
+  // Deletes a file unless it is locked (409); 404 when there is none.
+  Outcome delete_file(const std::string& name);
+  // A line for the event log the page shows (and stderr).
+  void note(const std::string& text) { add_event(text); }
 
  private:
   struct JobStart {
@@ -172,6 +201,9 @@ class PrinterSession {
     std::string recover_journal;
   };
 
+  // Both with mutex_ held.
+  Outcome select_found(const StoredFile& file, bool print);
+  void forget_selection(const std::string& name);
   void run();
   void connect_printer();
   void serve_printer();
@@ -180,6 +212,9 @@ class PrinterSession {
   void run_commands(const std::vector<std::string>& commands);
   void stop_pending_start();
   void find_interrupted();
+  // The journal's job when it can be finished here (not ended, this printer's, no other mahost
+  // at it, its G-code unchanged).
+  std::optional<InterruptedJob> interrupted_job(const std::string& journal) const;
   void install_idle_hook();
   void slice_worker(SliceRequest request);
   void publish(bool force = false);
@@ -208,7 +243,6 @@ class PrinterSession {
   std::deque<Event> events_;
   std::uint64_t next_event_ = 1;
   std::shared_ptr<const JobFile> job_file_;
-  std::string job_file_name_;                // the file the running job prints
 
   // Requests for the job thread, guarded by mutex_.
   std::optional<JobStart> pending_start_;

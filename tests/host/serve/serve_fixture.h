@@ -3,6 +3,7 @@
 // requests no well-behaved client sends, and the simulated printer's record once it stops.
 #pragma once
 
+#include <arpa/inet.h>
 #include <fcntl.h>
 #include <netinet/in.h>
 #include <poll.h>
@@ -26,6 +27,7 @@
 
 #include <doctest/doctest.h>
 #include <httplib.h>
+#include <zlib.h>
 #include <nlohmann/json.hpp>
 
 #include "printer/gcode_file.h"
@@ -208,9 +210,17 @@ class Serve {
 // A raw TCP connection, for requests no library would send.
 class RawConnection {
  public:
-  explicit RawConnection(int port) {
+  // From `from`, a loopback address of this machine (127.0.0.2 ...: Linux answers the whole
+  // 127/8), so one test can be many client addresses.
+  explicit RawConnection(int port, const std::string& from = "") {
     fd_ = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
     REQUIRE(fd_ >= 0);
+    if (!from.empty()) {
+      sockaddr_in source{};
+      source.sin_family = AF_INET;
+      REQUIRE(inet_pton(AF_INET, from.c_str(), &source.sin_addr) == 1);
+      REQUIRE(bind(fd_, reinterpret_cast<sockaddr*>(&source), sizeof source) == 0);
+    }
     sockaddr_in address{};
     address.sin_family = AF_INET;
     address.sin_port = htons(static_cast<uint16_t>(port));
@@ -236,6 +246,30 @@ class RawConnection {
     setsockopt(fd_, SOL_SOCKET, SO_LINGER, &l, sizeof l);
     close(fd_);
     fd_ = -1;
+  }
+  // The bytes that arrive next, "" once the server closed or `deadline` passed.
+  std::string receive_some(std::chrono::steady_clock::time_point deadline) {
+    while (std::chrono::steady_clock::now() < deadline) {
+      pollfd p{fd_, POLLIN, 0};
+      if (poll(&p, 1, 100) <= 0) continue;
+      char chunk[16384];
+      const ssize_t n = read(fd_, chunk, sizeof chunk);
+      if (n <= 0) return {};
+      return std::string(chunk, static_cast<std::size_t>(n));
+    }
+    return {};
+  }
+  // Whether the server closed its side: the end of the stream comes before `timeout`.
+  bool closed_by_server(std::chrono::seconds timeout) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (std::chrono::steady_clock::now() < deadline) {
+      pollfd p{fd_, POLLIN, 0};
+      if (poll(&p, 1, 100) <= 0) continue;
+      char chunk[4096];
+      const ssize_t n = read(fd_, chunk, sizeof chunk);
+      if (n <= 0) return true;
+    }
+    return false;
   }
   // What arrives until the server closes or `timeout` passes.
   std::string receive(std::chrono::seconds timeout, std::size_t enough = SIZE_MAX) {
@@ -265,9 +299,105 @@ class RawConnection {
   int fd_ = -1;
 };
 
+// A gzip stream's bytes unpacked ("" when they are not gzip).
+inline std::string gunzip(const std::string& packed) {
+  z_stream z{};
+  if (inflateInit2(&z, 16 + MAX_WBITS) != Z_OK) return {};
+  z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(packed.data()));
+  z.avail_in = static_cast<uInt>(packed.size());
+  std::string out;
+  char chunk[16384];
+  int status = Z_OK;
+  while (status == Z_OK) {
+    z.next_out = reinterpret_cast<Bytef*>(chunk);
+    z.avail_out = sizeof chunk;
+    status = inflate(&z, Z_NO_FLUSH);
+    out.append(chunk, sizeof chunk - z.avail_out);
+  }
+  inflateEnd(&z);
+  return status == Z_STREAM_END ? out : std::string();
+}
+
+// One HTTP response read off a connection: the status, the head and the body (by its
+// Content-Length), or status -1 when the connection ended or `timeout` passed first.
+struct RawResponse {
+  int status = -1;
+  std::string head, body;
+  bool closes() const { return head.find("\r\nConnection: close\r\n") != std::string::npos; }
+};
+
+inline RawResponse read_response(RawConnection& raw, std::string& pending, std::chrono::seconds timeout) {
+  RawResponse r;
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  auto more = [&] {
+    const std::string got = raw.receive_some(deadline);
+    pending += got;
+    return !got.empty();
+  };
+  std::size_t end;
+  while ((end = pending.find("\r\n\r\n")) == std::string::npos) {
+    if (!more()) return r;
+  }
+  r.head = pending.substr(0, end + 4);
+  std::size_t length = 0;
+  const auto at = r.head.find("Content-Length: ");
+  if (at != std::string::npos) length = std::stoul(r.head.substr(at + 16));
+  while (pending.size() < end + 4 + length) {
+    if (!more()) return r;
+  }
+  r.body = pending.substr(end + 4, length);
+  pending.erase(0, end + 4 + length);
+  if (r.head.find("\r\nContent-Encoding: gzip\r\n") != std::string::npos) r.body = gunzip(r.body);
+  r.status = std::stoi(r.head.substr(9, 3));
+  return r;
+}
+
 inline int status_of(const std::string& response) {
   if (response.rfind("HTTP/1.1 ", 0) != 0 || response.size() < 12) return -1;
   return std::stoi(response.substr(9, 3));
+}
+
+// PrusaSlicer's "Upload and Print" as it sends it (src/slic3r/Utils/OctoPrint.cpp,
+// upload_inner_with_host: form_add "print", form_add "path", form_add_file "file"), in
+// libcurl's form encoding: fields without a Content-Type, the file as application/octet-stream.
+inline std::string prusaslicer_upload(const std::string& name, const std::string& text, bool print) {
+  const std::string b = "------------------------9b6a6c3c0e7a40d2";
+  const std::string body = "--" + b + "\r\nContent-Disposition: form-data; name=\"print\"\r\n\r\n" +
+                           (print ? "true" : "false") + "\r\n--" + b +
+                           "\r\nContent-Disposition: form-data; name=\"path\"\r\n\r\n\r\n--" + b +
+                           "\r\nContent-Disposition: form-data; name=\"file\"; filename=\"" + name +
+                           "\"\r\nContent-Type: application/octet-stream\r\n\r\n" + text + "\r\n--" + b + "--\r\n";
+  return "POST /api/files/local HTTP/1.1\r\nHost: 127.0.0.1\r\nUser-Agent: PrusaSlicer/2.7.1\r\n"
+         "Accept: */*\r\nX-Api-Key: " + std::string(kKey) + "\r\nContent-Length: " + std::to_string(body.size()) +
+         "\r\nContent-Type: multipart/form-data; boundary=" + b + "\r\n\r\n" + body;
+}
+
+// Cura's OctoPrint plugin's upload with "Automatically start print job" (fieldOfView's
+// Cura-OctoPrintPlugin, OctoPrintOutputDevice.py, _sendPrintJob: parts path, file, select,
+// print), as Qt's QHttpMultiPart writes it: the boundary quoted, each part's Content-Disposition
+// then its Content-Type.
+inline std::string cura_upload(const std::string& name, const std::string& text, bool print) {
+  const std::string b = "boundary_.oOo._MTU4NzQ2MzE5NDYwNTQ4MjQ0NDc2NTk4";
+  const auto part = [&](const std::string& disposition, const std::string& type, const std::string& value) {
+    return "--" + b + "\r\nContent-Disposition: form-data; " + disposition + "\r\nContent-Type: " + type +
+           "\r\n\r\n" + value + "\r\n";
+  };
+  std::string body = part("name=\"path\"", "text/plain", "") +
+                     part("name=\"file\"; filename=\"" + name + "\"", "application/octet-stream", text);
+  if (print) body += part("name=\"select\"", "text/plain", "true") + part("name=\"print\"", "text/plain", "true");
+  body += "--" + b + "--\r\n";
+  return "POST /api/files/local HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Api-Key: " + std::string(kKey) +
+         "\r\nUser-Agent: Cura-OctoPrintPlugin/3.7.3\r\nContent-Type: multipart/form-data; boundary=\"" + b +
+         "\"\r\nMIME-Version: 1.0\r\nContent-Length: " + std::to_string(body.size()) +
+         "\r\nConnection: Keep-Alive\r\nAccept-Encoding: gzip, deflate\r\n\r\n" + body;
+}
+
+// Sends a whole request on a connection of its own and reads its answer.
+inline RawResponse send_raw(int port, const std::string& request, std::chrono::seconds timeout = 60s) {
+  RawConnection raw(port);
+  REQUIRE(raw.send(request));
+  std::string pending;
+  return read_response(raw, pending, timeout);
 }
 
 // The commands a simulated print executed, less the host's own: M105 (temperatures), M110 and

@@ -254,6 +254,10 @@ TEST_CASE("a_link_that_fails_mid_print_is_reopened_and_the_job_is_offered_to_fin
   REQUIRE(wait_for([&] { return serve.get_json("/api/job")["mahost"]["jobState"] == "failed"; }, 60s));
   const json failed = serve.get_json("/api/job");
   CHECK(failed["error"].get<std::string>().find("disconnected at line 400") != std::string::npos);
+  // From the moment it failed, before the printer is back, its file is the interrupted job's:
+  // not deleted, not replaced.
+  CHECK(serve.client().Delete("/api/files/local/ring.gcode")->status == 409);
+  CHECK(serve.upload("ring.gcode", ring_gcode(2))->status == 409);
   REQUIRE(wait_for([&] {
     const json s = serve.get_json("/api/mahost/status");
     return s["state"] == "Operational" && !s["interrupted"].is_null();
