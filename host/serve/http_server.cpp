@@ -47,10 +47,12 @@ thread_local ClientConnection* current = nullptr;
 // four times a second, so a stop ends every wait soon).
 bool wait_ready(int fd, short events, Clock::time_point deadline, const std::function<bool()>& running) {
   while (running()) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
-    if (left <= 0) return false;
+    const auto left = deadline - Clock::now();
+    if (left <= Clock::duration::zero()) return false;
+    // Rounded up: a wait that ends early by a fraction of a millisecond is not a timeout.
+    const long long ms = std::chrono::ceil<std::chrono::milliseconds>(left).count();
     pollfd p{fd, events, 0};
-    const int ready = ::poll(&p, 1, static_cast<int>(std::min<long long>(left, 250)));
+    const int ready = ::poll(&p, 1, static_cast<int>(std::min<long long>(ms, 250)));
     if (ready > 0) return true;  // readable, writable, or closed: the read or send says which
     if (ready < 0 && errno != EINTR) return false;
   }

@@ -99,7 +99,9 @@ json job_json(const Status& s) {
     if (completed) {
       progress["printTimeLeft"] = 0;
     } else if (p.remaining) {
-      progress["printTimeLeft"] = seconds(*p.remaining);
+      // The heat-up still to come is in the time left, where its pace is known.
+      const double heating = s.job_active && s.heating ? s.heating->seconds_left.value_or(0) : 0;
+      progress["printTimeLeft"] = std::llround(std::chrono::duration<double>(*p.remaining).count() + heating);
       progress["printTimeLeftOrigin"] = "estimate";
     }
     mahost["layer"] = p.layer;
@@ -108,6 +110,9 @@ json job_json(const Status& s) {
     mahost["commandsDone"] = p.commands_done;
     mahost["commandsTotal"] = p.commands_total;
     mahost["pauseBeforeLayer"] = p.pause_before_layer;
+  }
+  if (s.job_active && s.heating) {
+    mahost["heating"] = {{"secondsLeft", s.heating->seconds_left ? json(std::llround(*s.heating->seconds_left)) : json(nullptr)}};
   }
   if (s.selected && s.selected->analysis) mahost["contour"] = s.selected->analysis->contour;
   if (!s.job_active && s.ended) mahost["endedReason"] = s.ended_reason;
@@ -236,9 +241,14 @@ json page_status_json(const Status& s, const std::vector<Event>& events) {
   j["printer"] = printer_state_json(s);
   j["temperature"] = temperature_json(s);
   json connection = {{"link", s.link}, {"firmware", s.firmware}, {"dryRun", s.dry_run},
-                     {"error", s.error}};
+                     {"error", s.error}, {"retries", s.retries}};
   j["connection"] = connection;
+  j["instance"] = s.instance;
   j["version"] = s.version;
+  json locks = json::object();
+  for (const auto& [name, reason] : file_locks(s)) locks[name] = reason;
+  j["fileLocks"] = locks;
+  j["startRefusal"] = start_refusal(s);
   j["journal"] = s.journal;
   j["pauseAt"] = s.pause_at;
   if (s.slicing) {

@@ -8,6 +8,7 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <sstream>
 
 #include <fmt/core.h>
@@ -30,6 +31,13 @@ constexpr std::size_t kHistoryPoints = 900;  // 15 min at one a second
 constexpr std::size_t kEvents = 200;
 constexpr auto kTemperatureEvery = std::chrono::seconds(2);  // M105 while idle, as OctoPrint
 constexpr auto kRetryAfter = std::chrono::seconds(5);        // reopening a port that failed
+// Heating, as the page shows it: a heater counts as there within kHeatedWithin of its target
+// (°C; Marlin's M109 waits to within TEMP_WINDOW, 1 °C by default), and its time left is
+// extrapolated from its rise over the last kHeatingWindow seconds once it rises faster than
+// kRisingAtLeast (°C/s: below that the heater holds or cools, and no time can be told).
+constexpr double kHeatedWithin = 2;
+constexpr std::int64_t kHeatingWindow = 20;
+constexpr double kRisingAtLeast = 0.05;
 
 // The printer halted on an emergency stop: it needs a reset (a reconnect) before it takes
 // anything, so the session waits for the user instead of reconnecting by itself.
@@ -40,6 +48,13 @@ struct Halted {
 struct SliceCancelled {};
 
 std::int64_t unix_now() { return static_cast<std::int64_t>(std::time(nullptr)); }
+
+std::string random_hex(std::size_t bytes) {
+  std::string out;
+  std::random_device random;
+  for (std::size_t i = 0; i < bytes; ++i) out += fmt::format("{:02x}", random() & 0xff);
+  return out;
+}
 
 std::string file_hash(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -127,6 +142,7 @@ std::string start_refusal(const Status& s) {
 
 PrinterSession::PrinterSession(Options options, FileStore& files)
     : options_(std::move(options)), files_(files) {
+  status_.instance = random_hex(8);
   status_.dry_run = options_.link.dry_run;
   status_.link = options_.link.dry_run ? "simulated printer" : options_.link.port;
 }
@@ -286,7 +302,7 @@ Outcome PrinterSession::cancel_job() {
 }
 
 Outcome PrinterSession::pause_job(PauseAction action) {
-  std::lock_guard lock(mutex_);
+  std::unique_lock lock(mutex_);
   if (!status_.job_active) return {409, "no job is running"};
   if (status_.cancel_requested ||
       (status_.progress && status_.progress->state == printer::JobState::cancelling)) {
@@ -310,6 +326,14 @@ Outcome PrinterSession::pause_job(PauseAction action) {
   if (want_paused == paused) return {};  // as OctoPrint: pausing a paused job does nothing
   job_requests_.push_back(want_paused ? printer::JobRequest::pause : printer::JobRequest::resume);
   publish();
+  if (want_paused) {
+    // A job pauses at a layer start: say which, and that a heat-up runs to its end first.
+    const int before = status_.progress ? status_.progress->layer + 1 : 1;
+    const bool heating = status_.heating.has_value();
+    lock.unlock();
+    add_event(fmt::format("pause asked for: the job pauses before layer {}{}", before,
+                          heating ? ", once the heat-up it waits for has ended" : ""));
+  }
   return {};
 }
 
@@ -595,6 +619,7 @@ void PrinterSession::slice_worker(SliceRequest request) {
 
 void PrinterSession::run() {
   bool retry = false;  // reopen by itself: the port failed (not a halt the user must see to)
+  std::string last_failure;  // said once while the same failure repeats (a printer unplugged)
   while (true) {
     {
       std::unique_lock lock(mutex_);
@@ -603,8 +628,9 @@ void PrinterSession::run() {
     std::string failure;
     bool halted = false;
     try {
-      connect_printer();
+      connect_printer(retry);
       find_interrupted();
+      last_failure.clear();
       serve_printer();
       retry = false;
       std::lock_guard lock(mutex_);
@@ -628,10 +654,16 @@ void PrinterSession::run() {
     protocol_.reset();
     if (link_.sim == nullptr) link_.link.reset();  // a port is reopened; the sim keeps its record
     write_record();
-    add_event(fmt::format("printer {}: {}", halted ? "halted" : "link failed", failure));
+    const bool again = retry && failure == last_failure;
+    if (!again) {
+      add_event(fmt::format("printer {}: {}{}", halted ? "halted" : "link failed", failure,
+                            retry ? fmt::format(" (trying again every {} s)", kRetryAfter.count()) : ""));
+    }
+    last_failure = failure;
     std::unique_lock lock(mutex_);
     status_.connection = Connection::error;
     status_.error = failure;
+    status_.retries = retry ? status_.retries + 1 : 0;
     status_.job_active = false;
     status_.job_file.clear();
     pending_start_.reset();
@@ -654,8 +686,9 @@ void PrinterSession::run() {
   publish();
 }
 
-void PrinterSession::connect_printer() {
-  {
+void PrinterSession::connect_printer(bool retrying) {
+  if (!retrying) {
+    // A retry after a failed link keeps saying what failed until the printer answers.
     std::lock_guard lock(mutex_);
     status_.connection = Connection::connecting;
     publish();
@@ -689,6 +722,7 @@ void PrinterSession::connect_printer() {
   std::lock_guard lock(mutex_);
   status_.connection = Connection::operational;
   status_.error.clear();
+  status_.retries = 0;
   status_.firmware = protocol_->firmware().name;
   status_.link = link_.link->name();
   publish();
@@ -852,6 +886,7 @@ void PrinterSession::publish_job(printer::Job& job) {
   if (!changed && now - last_publish_ < 100ms) return;
   last_publish_ = now;
   status_.progress = p;
+  status_.heating = heating_of(p);
   if (job_file_) {
     status_.filepos = job_file_->filepos(p.commands_done);
     const auto& layers = job_file_->gcode.layers;
@@ -860,6 +895,42 @@ void PrinterSession::publish_job(printer::Job& job) {
                           : std::nullopt;
   }
   publish();
+}
+
+std::optional<Heating> PrinterSession::heating_of(const printer::JobProgress& p) const {
+  // mutex_ held by the caller. Before the first layer, with a heater short of its target.
+  if (p.layer > 0 || p.state != printer::JobState::printing || !p.temperatures) return std::nullopt;
+  const printer::Temperatures& t = *p.temperatures;
+  const auto short_of = [](const std::optional<double>& actual, const std::optional<double>& target) {
+    return actual && target && *target > 0 && *actual < *target - kHeatedWithin;
+  };
+  const bool hotend = short_of(t.hotend, t.hotend_target), bed = short_of(t.bed, t.bed_target);
+  if (!hotend && !bed) return std::nullopt;
+  Heating heating;
+  // Each heater's rise over the window, in the history's samples (one a second).
+  const auto since = history_.empty() ? history_.end()
+                                      : std::find_if(history_.begin(), history_.end(), [&](const TemperaturePoint& point) {
+                                          return point.time >= history_.back().time - kHeatingWindow;
+                                        });
+  double left = 0;
+  bool known = true;
+  const auto add = [&](bool heating_now, std::optional<double> printer::Temperatures::*actual,
+                       const std::optional<double>& target) {
+    if (!heating_now) return;
+    const double span = since == history_.end() ? 0 : static_cast<double>(history_.back().time - since->time);
+    const auto from = since == history_.end() ? std::nullopt : (since->temperatures.*actual);
+    const auto to = history_.empty() ? std::nullopt : (history_.back().temperatures.*actual);
+    const double rate = span > 0 && from && to ? (*to - *from) / span : 0;  // °C/s
+    if (!(rate > kRisingAtLeast)) {
+      known = false;
+      return;
+    }
+    left = std::max(left, (*target - *(t.*actual)) / rate);
+  };
+  add(hotend, &printer::Temperatures::hotend, t.hotend_target);
+  add(bed, &printer::Temperatures::bed, t.bed_target);
+  if (known) heating.seconds_left = left;
+  return heating;
 }
 
 void PrinterSession::run_job(const JobStart& start) {
@@ -965,6 +1036,7 @@ void PrinterSession::run_job(const JobStart& start) {
     status_.ended = state;
     status_.ended_reason = reason;
     status_.job_file.clear();
+    status_.heating.reset();
     job_requests_.clear();
     publish();
   };

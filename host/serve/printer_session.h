@@ -68,13 +68,21 @@ struct InterruptedJob {
   int layer = 0, layers = 0;     // the layer a resume reprints, from 1
 };
 
+// A job waiting for its heaters before its first layer: how far each is, and the time left
+// at the pace they rose at over the last kHeatingWindow (unknown until they have risen).
+struct Heating {
+  std::optional<double> seconds_left;
+};
+
 // Everything the API and the page show, as of `version`.
 struct Status {
+  std::string instance;          // this server process's, so a page notices a restart
   std::uint64_t version = 0;
   Connection connection = Connection::connecting;
   std::string link;              // "/dev/ttyUSB0", "simulated printer"
   std::string firmware;
   std::string error;             // why the link or the printer failed
+  int retries = 0;               // reopenings tried since the link failed (every kRetryAfter)
   bool dry_run = false;
   std::optional<printer::Temperatures> temperatures;
 
@@ -83,6 +91,7 @@ struct Status {
   std::string job_file;          // the name in the files folder a starting or running job prints
   bool cancel_requested = false;
   std::optional<printer::JobProgress> progress;  // the running job's, else the last one's
+  std::optional<Heating> heating;                // while the running job heats before layer 1
   std::optional<printer::JobState> ended;        // how the last job ended, when none runs
   std::string ended_reason;
   std::uint64_t filepos = 0;
@@ -205,7 +214,8 @@ class PrinterSession {
   Outcome select_found(const StoredFile& file, bool print);
   void forget_selection(const std::string& name);
   void run();
-  void connect_printer();
+  // `retrying`: an automatic reopening after the link failed (the status keeps the failure).
+  void connect_printer(bool retrying);
   void serve_printer();
   void idle_step();
   void run_job(const JobStart& start);
@@ -219,6 +229,7 @@ class PrinterSession {
   void slice_worker(SliceRequest request);
   void publish(bool force = false);
   void publish_job(printer::Job& job);
+  std::optional<Heating> heating_of(const printer::JobProgress& progress) const;
   void take_planned_pause(printer::Job& job);
   void sample_temperatures(const std::optional<printer::Temperatures>& temperatures);
   void add_event(const std::string& text);

@@ -17,11 +17,17 @@ const state = {
   profiles: null,
   filesVersion: "",
   streaming: false,
+  instance: null,       // the server process the page last heard from
+  lost: false,          // the server stopped answering
+  lostSince: 0,
+  heard: 0,             // when the live stream last brought anything
+  uploading: false,
 };
 
 // ---- the API ---------------------------------------------------------------------------
 
 class KeyRefused extends Error {}
+class ServerLost extends Error {}
 
 async function api(method, path, body) {
   const options = { method, headers: { "X-Api-Key": state.key } };
@@ -29,7 +35,14 @@ async function api(method, path, body) {
     options.headers["Content-Type"] = "application/json";
     options.body = JSON.stringify(body);
   }
-  const response = await fetch(path, options);
+  let response;
+  try {
+    response = await fetch(path, options);
+  } catch (e) {
+    serverLost();
+    throw new ServerLost("the server does not answer");
+  }
+  serverFound();
   if (response.status === 401 || response.status === 403) {
     askForKey(response.status === 401 ? "The printer needs its API key." : "The printer refused this key.");
     throw new KeyRefused();
@@ -45,7 +58,7 @@ async function api(method, path, body) {
 }
 
 function report(error) {
-  if (error instanceof KeyRefused) return;
+  if (error instanceof KeyRefused || error instanceof ServerLost) return;
   addLocalEvent(`error: ${error.message}`);
 }
 
@@ -55,6 +68,33 @@ async function act(method, path, body) {
   } catch (e) {
     report(e);
   }
+}
+
+// ---- a lost server ---------------------------------------------------------------------
+
+// The page keeps what it last knew, says since when it has not heard, and takes no clicks
+// until the server answers again.
+function serverLost() {
+  if (!state.lost) {
+    state.lost = true;
+    state.lostSince = Date.now() / 1000;
+    addLocalEvent("the server does not answer");
+  }
+  const pill = $("state-pill");
+  pill.textContent = "Server lost";
+  pill.dataset.state = "lost";
+  $("lost-card").hidden = false;
+  $("lost-text").textContent = `mahost serve has not answered since ${timeOfDay(state.lostSince)}. ` +
+    "What this page shows is what it knew then; it tries again every 2 s.";
+  updateControls();
+}
+
+function serverFound() {
+  if (!state.lost) return;
+  state.lost = false;
+  $("lost-card").hidden = true;
+  addLocalEvent("the server answers again");
+  updateControls();
 }
 
 // ---- the key ---------------------------------------------------------------------------
@@ -118,59 +158,77 @@ function element(tag, className, text) {
 // ---- rendering the status -------------------------------------------------------------
 
 function render(s) {
+  // Another server process than before (restarted): its events count from 1 again.
+  const restarted = state.instance !== null && s.instance !== state.instance;
+  state.instance = s.instance;
+  if (restarted) {
+    state.lastEvent = 0;
+    $("events").replaceChildren();
+    addLocalEvent("the server restarted");
+    state.layerShown = null;
+    api("GET", "/api/mahost/status?events_after=0").then((fresh) => {
+      loadHistory(fresh.history);
+      render(fresh);
+    }, report);
+  }
   state.status = s;
-  const text = s.state;
-  const pill = $("state-pill");
-  pill.textContent = text;
-  const key = text.startsWith("Offline") || text === "Error" ? "error"
-    : text === "Opening serial connection" ? "offline" : text.toLowerCase();
-  pill.dataset.state = key;
-  $("printer-name").textContent = s.connection ? `${s.connection.link}${s.connection.firmware ? " · " + s.connection.firmware : ""}` : "";
-
   const job = s.job || {};
   const file = job.file || {};
   const m = s.mahost || {};
   const p = s.progress || {};
+  const text = s.state;
+  // Heating before the first layer (a pause asked meanwhile waits for it: "Pausing").
+  const heating = !!m.heating && (text === "Printing" || text === "Pausing");
+  const pill = $("state-pill");
+  pill.textContent = heating && text === "Printing" ? "Heating" : text;
+  const key = text.startsWith("Offline") || text === "Error" ? "error"
+    : text === "Opening serial connection" ? "offline" : heating && text === "Printing" ? "heating" : text.toLowerCase();
+  pill.dataset.state = key;
+  $("printer-name").textContent = s.connection ? `${s.connection.link}${s.connection.firmware ? " · " + s.connection.firmware : ""}` : "";
+
   $("job-file").textContent = file.name ? file.name : "no file selected";
   const active = ["Printing", "Pausing", "Paused", "Cancelling"].includes(text) || m.jobState === "starting";
   const completion = p.completion === null || p.completion === undefined ? 0 : p.completion;
   $("progress-fill").style.width = `${Math.min(100, Math.max(0, completion)).toFixed(1)}%`;
   $("progress").setAttribute("aria-valuenow", completion.toFixed(0));
+  const t = s.temperature || {};
+  const tool = t.tool0 || {}, bed = t.bed || {};
+  const heater = (name, h) => h.target ? `${name} ${h.actual === null ? "—" : h.actual.toFixed(0)}/${h.target.toFixed(0)} °C` : "";
   let label = "idle";
-  if (m.layers) {
+  if (heating) {
+    label = ["heating", heater("hotend", tool), heater("bed", bed)].filter(Boolean).join(" · ");
+  } else if (m.layers) {
     const layer = m.layer > 0 ? `layer ${m.layer}/${m.layers}` : `start of ${m.layers} layers`;
     label = `${layer} · ${completion.toFixed(1)}%`;
     if (!active && m.jobState !== "none") label = `${m.jobState} · ${label}`;
+  } else if (m.jobState === "starting") {
+    label = "starting";
   } else if (file.name) {
     label = "ready";
   }
   $("progress-label").textContent = label;
   $("fact-layer").textContent = m.layers ? `${Math.max(m.layer, 0)}/${m.layers}` : "—";
   $("fact-elapsed").textContent = clock(p.printTime);
-  $("fact-left").textContent = active ? clock(p.printTimeLeft) : (m.jobState === "completed" ? "done" : "—");
+  // While heating at a pace not known yet, the time left cannot be told.
+  $("fact-left").textContent = heating && m.heating.secondsLeft === null ? "heating…"
+    : active ? clock(p.printTimeLeft) : (m.jobState === "completed" ? "done" : "—");
   $("fact-z").textContent = m.z !== null && m.z !== undefined ? `${m.z.toFixed(2)} mm` : "—";
 
   const notes = [];
-  if (m.pauseBeforeLayer > 0 && text !== "Paused") notes.push(`pausing before layer ${m.pauseBeforeLayer}`);
+  if (m.pauseBeforeLayer > 0 && text !== "Paused") {
+    notes.push(`pausing before layer ${m.pauseBeforeLayer}` + (heating ? ", once the heat-up has ended" : ""));
+  }
   if (m.contour) notes.push(`${m.contour} contour`);
   if (job.estimatedPrintTime) notes.push(`estimated ${duration(job.estimatedPrintTime)}`);
   if (!active && m.endedReason) notes.push(m.endedReason);
   if (s.error) notes.push(s.error);
   $("job-note").textContent = notes.join(" · ");
 
-  const operational = s.printer && s.printer.flags && s.printer.flags.operational;
-  $("start").disabled = !operational || active || !file.name;
-  $("pause").hidden = text === "Paused" || text === "Pausing";
-  $("resume").hidden = !(text === "Paused" || text === "Pausing");
-  $("pause").disabled = text !== "Printing";
-  $("cancel").disabled = !active || text === "Cancelling";
-  $("stop").disabled = !operational;
+  updateControls();
 
   const planned = s.pauseAt || [];
   $("pause-at-now").textContent = planned.length ? `pausing before ${planned.join(", ")}` : "";
 
-  const t = s.temperature || {};
-  const tool = t.tool0 || {}, bed = t.bed || {};
   $("t-hotend").textContent = degrees(tool.actual);
   $("t-hotend-target").textContent = tool.target ? `/ ${tool.target.toFixed(0)} °C` : "";
   $("t-bed").textContent = degrees(bed.actual);
@@ -188,7 +246,11 @@ function render(s) {
   }
   const broken = s.connection && s.connection.error && !operational && text !== "Opening serial connection";
   $("error-card").hidden = !broken;
-  if (broken) $("error-text").textContent = s.connection.error;
+  if (broken) {
+    const retries = s.connection.retries;
+    $("error-text").textContent = s.connection.error +
+      (retries ? ` — tried again ${retries} time${retries === 1 ? "" : "s"} so far` : "");
+  }
 
   const slicing = s.slicing;
   $("slicing").hidden = !slicing;
@@ -199,12 +261,42 @@ function render(s) {
       : `Slicing ${slicing.model} → ${slicing.gcode}: ${slicing.stage} ${slicing.total ? `${slicing.done}/${slicing.total}` : ""}`;
   }
 
-  for (const e of s.events || []) addEvent(e);
+  if (!restarted) for (const e of s.events || []) addEvent(e);
   drawLayerSoon();
-  const filesVersion = `${file.name}|${slicing ? slicing.stage + slicing.gcode : ""}|${m.jobState}`;
+  const filesVersion = `${file.name}|${slicing ? slicing.stage + slicing.gcode : ""}|${m.jobState}|` +
+    `${JSON.stringify(s.fileLocks || {})}|${s.startRefusal || ""}`;
   if (filesVersion !== state.filesVersion) {
     state.filesVersion = filesVersion;
     loadFiles();
+  }
+}
+
+// Every control enabled only when it can act: with the key, the server answering, and the
+// printer and its job in a state the control applies to.
+function updateControls() {
+  const s = state.status;
+  const live = !!state.key && !state.lost && !!s;
+  const text = s ? s.state : "";
+  const m = (s && s.mahost) || {};
+  const file = (s && s.job && s.job.file) || {};
+  const operational = live && s.printer && s.printer.flags && s.printer.flags.operational;
+  const active = live && (["Printing", "Pausing", "Paused", "Cancelling"].includes(text) || m.jobState === "starting");
+  const paused = text === "Paused" || text === "Pausing";
+  $("start").disabled = !operational || active || !file.name || !!s.startRefusal;
+  $("start").title = live && s.startRefusal ? s.startRefusal : "";
+  $("pause").hidden = live && paused;
+  $("resume").hidden = !(live && paused);
+  $("pause").disabled = !live || text !== "Printing";
+  $("resume").disabled = !live || !paused;
+  $("cancel").disabled = !active || text === "Cancelling";
+  $("stop").disabled = !operational;
+  for (const id of ["pause-at-input", "pause-at-set"]) $(id).disabled = !live;
+  for (const id of ["reconnect", "resume-interrupted", "discard-interrupted"]) $(id).disabled = !live;
+  $("resume-interrupted").disabled = !operational || active;
+  $("upload-button").disabled = !live || state.uploading;
+  for (const b of document.querySelectorAll("#file-list button")) {
+    b.disabled = !live || (b.dataset.refusal || "") !== "";
+    b.title = live ? b.dataset.refusal || "" : "";
   }
 }
 
@@ -313,7 +405,7 @@ async function drawLayer() {
     $("path-todo").setAttribute("d", layer.todo);
     $("path-travel").setAttribute("d", layer.travel);
     $("layer-caption").textContent = `layer ${layer.layer}/${layer.layers}` +
-      (layer.z !== null ? ` at ${layer.z.toFixed(2)} mm` : "") + ` · ${layer.moves} moves`;
+      (layer.z !== null ? ` at ${layer.z.toFixed(2)} mm` : "") + ` · ${layer.moves} move${layer.moves === 1 ? "" : "s"}`;
   } catch (e) {
     report(e);
   }
@@ -342,8 +434,12 @@ async function loadFiles() {
     if (f.mahost && f.mahost.error) meta.push(f.mahost.error);
     item.append(element("span", "meta", meta.filter(Boolean).join(" · ")));
     const actions = element("span", "actions");
+    // Why a button cannot act on this file now (the server's reasons), kept on the button.
+    const locks = (state.status && state.status.fileLocks) || {};
+    const startRefusal = (state.status && state.status.startRefusal) || "";
     if (f.type === "machinecode") {
       const print = element("button", "primary", "Print");
+      print.dataset.refusal = locks[f.name] || startRefusal;
       print.addEventListener("click", () => act("POST", `/api/files/local/${encodeURIComponent(f.name)}`, { command: "select", print: true }));
       actions.append(print);
     } else {
@@ -352,6 +448,7 @@ async function loadFiles() {
       actions.append(slice);
     }
     const remove = element("button", "", "Delete");
+    remove.dataset.refusal = locks[f.name] || "";
     remove.addEventListener("click", async () => {
       if (!confirm(`Delete ${f.name}?`)) return;
       await act("DELETE", `/api/files/local/${encodeURIComponent(f.name)}`);
@@ -361,6 +458,7 @@ async function loadFiles() {
     item.append(actions);
     list.append(item);
   }
+  updateControls();
 }
 
 // The form's settings as the slice command's fields (the upload sends the same as form fields).
@@ -483,13 +581,15 @@ $("upload-form").addEventListener("submit", (event) => {
   request.open("POST", "/api/files/local");
   request.setRequestHeader("X-Api-Key", state.key);
   $("upload-progress").hidden = false;
+  state.uploading = true;
   $("upload-button").disabled = true;
   $("upload-message").textContent = "";
   request.upload.addEventListener("progress", (e) => {
     if (e.lengthComputable) $("upload-fill").style.width = `${(100 * e.loaded / e.total).toFixed(0)}%`;
   });
   request.addEventListener("loadend", () => {
-    $("upload-button").disabled = false;
+    state.uploading = false;
+    updateControls();
     $("upload-progress").hidden = true;
     $("upload-fill").style.width = "0";
     let data = null;
@@ -497,15 +597,19 @@ $("upload-form").addEventListener("submit", (event) => {
     if (request.status === 401 || request.status === 403) {
       askForKey("The printer refused this key.");
     } else if (request.status === 201) {
+      const notPrinted = data && data.mahost && data.mahost.notPrinted;
       $("upload-message").textContent = data && data.error ? `Stored, not sliced: ${data.error}`
+        : notPrinted ? `Uploaded, not printed: ${notPrinted}`
         : data && !data.done ? "Uploaded: slicing on the host…" : "Uploaded.";
       // The slice settings stay for the next upload; the file and "print" do not.
       $("upload-file").value = "";
       $("upload-print").checked = false;
       $("upload-name").textContent = "Choose a G-code or STL file…";
       $("slice-options").hidden = true;
+    } else if (request.status === 0) {
+      $("upload-message").textContent = "The upload failed: the server did not answer.";
     } else {
-      $("upload-message").textContent = `Refused: ${data && data.error ? data.error : request.status || "no answer"}`;
+      $("upload-message").textContent = `Refused: ${data && data.error ? data.error : request.status}`;
     }
     loadFiles();
   });
@@ -545,8 +649,14 @@ $("discard-interrupted").addEventListener("click", () => {
 // Server-sent events read through fetch, so the key goes in a header (EventSource cannot).
 async function stream() {
   state.streaming = true;
+  // The server says something every 10 s at least: silence for three times that is a lost
+  // server (a machine gone from the network closes nothing).
+  const abort = new AbortController();
+  state.heard = Date.now();
+  const watchdog = setInterval(() => { if (Date.now() - state.heard > 30000) abort.abort(); }, 5000);
   try {
-    const response = await fetch("/api/mahost/events", { headers: { "X-Api-Key": state.key } });
+    const response = await fetch("/api/mahost/events", { headers: { "X-Api-Key": state.key }, signal: abort.signal });
+    serverFound();
     if (response.status === 401 || response.status === 403) { askForKey("The printer refused this key."); return; }
     if (!response.ok || !response.body) throw new Error(`live updates: ${response.status}`);
     const reader = response.body.getReader();
@@ -555,6 +665,7 @@ async function stream() {
     for (;;) {
       const { value, done } = await reader.read();
       if (done) break;
+      state.heard = Date.now();
       buffer += decoder.decode(value, { stream: true });
       let end;
       while ((end = buffer.indexOf("\n\n")) >= 0) {
@@ -567,6 +678,7 @@ async function stream() {
   } catch (e) {
     // falls back to polling until the stream comes back
   } finally {
+    clearInterval(watchdog);
     state.streaming = false;
   }
 }

@@ -1,13 +1,20 @@
 #!/usr/bin/python3
 """The mahost serve page in a real browser: headless Chromium driven by Selenium.
 
-Opens the page, gives it the API key, uploads a G-code file, starts it, pauses, checks the
-layer holds, resumes, sees the layer advance, cancels; checks the layer drawing; uploads an STL
-T with supports and adaptive layers set on the form (a bad brim refused first) and finds them in
-the sliced G-code, and no support where the form says none; checks that the page fits a phone's
-width. Against `mahost serve --dry-run` on a free loopback port.
+Opens the page, checks every control is off before the key is given, gives it the API key,
+uploads a G-code file, starts it, pauses, checks the layer holds, resumes, sees the layer
+advance, cancels; checks the layer drawing; prints a file that heats first and checks the page
+says it heats (with the targets) and that a pause asked then says it waits for the heat-up, and
+that the printing file's Print and Delete are off; uploads an STL T with supports and adaptive
+layers set on the form (a bad brim refused first) and finds them in the sliced G-code, and no
+support where the form says none; checks that the page fits a phone's width; kills the server
+mid-print and sees the page say it is lost with its controls off, starts it again and sees the
+page find it, its events and the interrupted job. Against `mahost serve --dry-run` on a free
+loopback port.
 
-Usage: browser_test.py MAHOST SCRATCH_DIR [--screenshot PNG]
+Usage: browser_test.py MAHOST SCRATCH_DIR [--screenshots DIR]
+With --screenshots, the page is saved at desktop (1280x800) and phone (390x844) sizes at each
+stage, as DIR/<stage>-desktop.png and DIR/<stage>-phone.png.
 Exit 0: passed; 1: failed (the reason on stderr); 77: Chromium, chromedriver or Selenium
 missing (ctest reports the test as skipped; scripts/setup installs them).
 """
@@ -106,7 +113,7 @@ def main():
         print(__doc__, file=sys.stderr)
         return 2
     mahost, scratch = sys.argv[1], sys.argv[2]
-    screenshot = sys.argv[sys.argv.index("--screenshot") + 1] if "--screenshot" in sys.argv else None
+    shots = sys.argv[sys.argv.index("--screenshots") + 1] if "--screenshots" in sys.argv else None
     if not os.path.exists(CHROMIUM) or not os.path.exists(CHROMEDRIVER):
         print("browser_test: chromium or chromium-driver is not installed (scripts/setup installs them)",
               file=sys.stderr)
@@ -118,18 +125,27 @@ def main():
     gcode = os.path.join(scratch, "ring.gcode")
     with open(gcode, "w") as f:
         f.write(ring_program(30, 60))
+    heat = os.path.join(scratch, "heat.gcode")
+    with open(heat, "w") as f:
+        f.write("M140 S60\nM104 S215\nM190 S60\nM109 S215\n" + ring_program(8, 60))
     env = dict(os.environ, MAHOST_API_KEY=KEY, XDG_RUNTIME_DIR=runtime, HOME=scratch)
-    server = subprocess.Popen(
-        [mahost, "serve", "--dry-run", "--time-scale", "10", "--listen", "127.0.0.1:0",
-         "--files", os.path.join(scratch, "files")],
-        stdout=subprocess.PIPE, stderr=open(os.path.join(scratch, "serve.log"), "w"), env=env, text=True)
+    log = open(os.path.join(scratch, "serve.log"), "w")
+
+    def start_server(listen):
+        process = subprocess.Popen(
+            [mahost, "serve", "--dry-run", "--time-scale", "10", "--listen", listen,
+             "--files", os.path.join(scratch, "files")],
+            stdout=subprocess.PIPE, stderr=log, env=env, text=True)
+        line = process.stdout.readline()
+        if not line.startswith("mahost serve: http://"):
+            raise Failed(f"serve did not start: {line!r}")
+        return process, line.split()[2]
+
+    server = None
     driver = None
     result = 1
     try:
-        line = server.stdout.readline()
-        if not line.startswith("mahost serve: http://"):
-            raise Failed(f"serve did not start: {line!r}")
-        url = line.split()[2]
+        server, url = start_server("127.0.0.1:0")
 
         options = webdriver.ChromeOptions()
         options.binary_location = CHROMIUM
@@ -143,9 +159,34 @@ def main():
         find = lambda id: driver.find_element(By.ID, id)
         text = lambda id: find(id).text
 
-        # The key: asked for, refused when wrong, kept when right.
+        def shot(stage):
+            """The page as it is, at a desktop's size and a phone's."""
+            if not shots:
+                return
+            os.makedirs(shots, exist_ok=True)
+            size = driver.get_window_size()
+            for name, width, height in [("desktop", 1280, 800), ("phone", 390, 844)]:
+                driver.set_window_size(width, height)
+                time.sleep(0.5)
+                driver.save_screenshot(os.path.join(shots, f"{stage}-{name}.png"))
+            driver.set_window_size(size["width"], size["height"])
+
+        def controls_off(what):
+            """Every control of the job and the tuning is off."""
+            on = [id for id in ["start", "pause", "resume", "cancel", "stop", "pause-at-set", "upload-button"]
+                  if find(id).is_enabled()]
+            if on:
+                raise Failed(f"{what}: {', '.join(on)} enabled")
+            if find("resume").is_displayed() and find("pause").is_displayed():
+                raise Failed(f"{what}: both Pause and Resume shown")
+
+        # The key: asked for, refused when wrong, kept when right. Before it, nothing acts.
         driver.get(url)
         wait_until("the key form", lambda: find("key-card").is_displayed())
+        controls_off("before the key")
+        if find("resume").is_displayed():
+            raise Failed("Resume is shown before the key, with no job")
+        shot("key")
         find("key-input").send_keys("wrong-key-0000000000000000")
         find("key-form").submit()
         wait_until("the wrong key refused", lambda: "refused" in text("key-error"))
@@ -154,6 +195,11 @@ def main():
         find("key-form").submit()
         wait_until("the key accepted", lambda: not find("key-card").is_displayed())
         wait_until("an operational printer", lambda: text("state-pill") == "Operational")
+        # Idle, nothing selected: Start, Pause and Cancel off, the emergency stop on.
+        if find("start").is_enabled() or find("pause").is_enabled() or find("cancel").is_enabled():
+            raise Failed("Start, Pause or Cancel is enabled with no file and no job")
+        if not find("stop").is_enabled():
+            raise Failed("the emergency stop is off on an operational printer")
         stored = driver.execute_script("return localStorage.getItem('mahost-api-key')")
         if stored != KEY:
             raise Failed(f"the key is not in localStorage: {stored!r}")
@@ -171,8 +217,18 @@ def main():
         layer = lambda: int(text("fact-layer").split("/")[0]) if "/" in text("fact-layer") else 0
         wait_until("layer 3", lambda: layer() >= 3)
         wait_until("the layer drawn", lambda: len(find("path-done").get_attribute("d") or "") > 20)
-        if screenshot:
-            driver.save_screenshot(screenshot)
+        # The printing file can be neither printed again nor deleted; the server says why.
+        def file_button(name, label):
+            for item in driver.find_elements(By.CSS_SELECTOR, "#file-list li"):
+                if item.find_element(By.CLASS_NAME, "name").text == name:
+                    return next(b for b in item.find_elements(By.TAG_NAME, "button") if b.text == label)
+            raise Failed(f"{name} is not listed")
+        wait_until("Print and Delete off on the printing file",
+                   lambda: not file_button("ring.gcode", "Print").is_enabled() and
+                   not file_button("ring.gcode", "Delete").is_enabled())
+        if "being printed" not in file_button("ring.gcode", "Delete").get_attribute("title"):
+            raise Failed("the printing file's Delete does not say why it is off")
+        shot("printing")
 
         # Pause: it takes effect at the next layer start, then the layer holds.
         find("pause").click()
@@ -196,6 +252,26 @@ def main():
             raise Failed("the print completed instead of being cancelled")
         if "cancelled at layer" not in text("events"):
             raise Failed(f"no cancel event in the log: {text('events')[:300]}")
+
+        # A file that heats first: the page says it heats, to which targets, and a pause asked
+        # then says it waits for the heat-up to end.
+        find("upload-file").send_keys(heat)
+        find("upload-print").click()
+        find("upload-button").click()
+        wait_until("heating", lambda: text("state-pill") == "Heating")
+        wait_until("the targets shown", lambda: text("progress-label").startswith("heating · hotend")
+                   and "/215 °C" in text("progress-label") and "bed" in text("progress-label"))
+        shot("heating")
+        find("pause").click()
+        wait_until("the pause said to wait for the heat-up",
+                   lambda: "pausing before layer 1, once the heat-up has ended" in text("job-note"))
+        if "once the heat-up it waits for has ended" not in text("events"):
+            raise Failed(f"no event says the pause waits for the heat-up: {text('events')[:300]}")
+        wait_until("paused before layer 1", lambda: text("state-pill") == "Paused", timeout=120)
+        find("cancel").click()
+        wait_until("the confirmation", lambda: driver.switch_to.alert)
+        driver.switch_to.alert.accept()
+        wait_until("the heated job cancelled", lambda: "cancelled" in text("progress-label"), timeout=60)
 
         # An STL sliced with the form's supports and adaptive layers. The UP Plus 2 supports
         # everywhere by default: buildplate shows the form's choice reached the slicer.
@@ -272,9 +348,39 @@ def main():
             "return document.documentElement.scrollWidth - document.documentElement.clientWidth")
         if overflow > 0:
             raise Failed(f"the page is {overflow} px wider than a phone's screen")
-        if screenshot:
-            root, ext = os.path.splitext(screenshot)
-            driver.save_screenshot(root + "-phone" + ext)
+        driver.set_window_size(1280, 1100)
+
+        # The server dies mid-print: the page says it is lost and takes no clicks.
+        find("upload-file").send_keys(gcode)
+        find("upload-print").click()
+        find("upload-button").click()
+        wait_until("printing the ring again", lambda: text("state-pill") == "Printing")
+        wait_until("layer 2", lambda: layer() >= 2)
+        port = url.rstrip("/").rsplit(":", 1)[1]
+        server.kill()
+        server.wait(30)
+        wait_until("the server lost", lambda: text("state-pill") == "Server lost" and find("lost-card").is_displayed())
+        for id in ["pause", "cancel", "stop", "upload-button"]:
+            if find(id).is_enabled():
+                raise Failed(f"{id} is enabled while the server is lost")
+        shot("lost")
+        # Started again on the same port: found, its events shown from its first, its
+        # interrupted job offered.
+        server, url = start_server(f"127.0.0.1:{port}")
+        wait_until("the server found again", lambda: not find("lost-card").is_displayed() and
+                   text("state-pill") == "Operational", timeout=60)
+        wait_until("the interrupted job offered", lambda: find("interrupted-card").is_displayed())
+        wait_until("the new server's events", lambda: "found an interrupted job: ring.gcode" in text("events")
+                   and "the server restarted" in text("events"))
+        if find("start").is_enabled():
+            raise Failed("Start is enabled while an interrupted job waits")
+        shot("interrupted")
+        find("discard-interrupted").click()
+        wait_until("the confirmation", lambda: driver.switch_to.alert)
+        driver.switch_to.alert.accept()
+        wait_until("the interrupted job dropped", lambda: not find("interrupted-card").is_displayed())
+        if [n for n in os.listdir(os.path.join(runtime, "mahost"))]:
+            raise Failed(f"discarding left {os.listdir(os.path.join(runtime, 'mahost'))}")
         result = 0
     except Failed as e:
         print(f"browser_test: {e}", file=sys.stderr)
@@ -284,15 +390,16 @@ def main():
     finally:
         if driver:
             driver.quit()
-        server.send_signal(signal.SIGTERM)
-        try:
-            code = server.wait(30)
-        except subprocess.TimeoutExpired:
-            server.kill()
-            code = "killed"
-        if code != 0:
-            print(f"browser_test: mahost serve exited with {code}", file=sys.stderr)
-            result = 1
+        if server:
+            server.send_signal(signal.SIGTERM)
+            try:
+                code = server.wait(30)
+            except subprocess.TimeoutExpired:
+                server.kill()
+                code = "killed"
+            if code != 0:
+                print(f"browser_test: mahost serve exited with {code}", file=sys.stderr)
+                result = 1
     if result == 0:
         print("browser_test: passed")
     return result

@@ -1,4 +1,4 @@
-// `mahost serve --dry-run` as the tests run it: a process on a free loopback port with its own
+// `mahost serve --dry-run` (or on a --port) as the tests run it: a process on a free loopback port with its own
 // runtime, config and files folders and a known API key, an HTTP client for it, raw sockets for
 // requests no well-behaved client sends, and the simulated printer's record once it stops.
 #pragma once
@@ -88,7 +88,11 @@ class Serve {
     posix_spawn_file_actions_adddup2(&actions, out[1], 1);
     log_ = dirs.root + "/serve.log";
     posix_spawn_file_actions_addopen(&actions, 2, log_.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0600);
-    std::vector<std::string> argv{MAHOST_BINARY, "serve", "--dry-run", "--files", dirs.files, "--record", dirs.record};
+    // A port given (a simulated printer on a pseudo-terminal): that printer, not the dry run's.
+    std::vector<std::string> argv{MAHOST_BINARY, "serve", "--files", dirs.files};
+    if (std::find(args.begin(), args.end(), "--port") == args.end()) {
+      argv.insert(argv.end(), {"--dry-run", "--record", dirs.record});
+    }
     if (std::find(args.begin(), args.end(), "--listen") == args.end()) {
       argv.insert(argv.end(), {"--listen", "127.0.0.1:0"});
     }
@@ -205,6 +209,60 @@ class Serve {
   pid_t pid_ = -1;
   int out_ = -1;
   std::string log_;
+};
+
+// `mahost sim` on a pseudo-terminal: a printer serve reaches by a port, which a test can
+// unplug (kill) and plug back (start again, on a new terminal).
+class SimPrinter {
+ public:
+  explicit SimPrinter(std::vector<std::string> args) {
+    int out[2];
+    REQUIRE(pipe2(out, O_CLOEXEC) == 0);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+    posix_spawn_file_actions_adddup2(&actions, out[1], 1);
+    posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
+    args.insert(args.begin(), {MAHOST_BINARY, "sim"});
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    REQUIRE(posix_spawn(&pid_, MAHOST_BINARY, &actions, nullptr, argv.data(), environ) == 0);
+    posix_spawn_file_actions_destroy(&actions);
+    close(out[1]);
+    out_ = out[0];
+    // The first line is the port; what follows (a line per host opening it) is read and dropped.
+    std::string line;
+    char c;
+    while (read(out_, &c, 1) == 1 && c != '\n') line += c;
+    port = line;
+    drain_ = std::thread([fd = out_] {
+      char buffer[256];
+      while (read(fd, buffer, sizeof buffer) > 0) {
+      }
+    });
+  }
+  ~SimPrinter() { unplug(); }
+  SimPrinter(const SimPrinter&) = delete;
+  SimPrinter& operator=(const SimPrinter&) = delete;
+  // The printer vanishes at once, as a USB cable pulled: its terminal closes under the host.
+  void unplug() {
+    if (pid_ > 0) {
+      kill(pid_, SIGKILL);
+      waitpid(pid_, nullptr, 0);
+      pid_ = -1;
+    }
+    if (drain_.joinable()) drain_.join();
+    if (out_ >= 0) close(out_);
+    out_ = -1;
+  }
+
+  std::string port;
+
+ private:
+  pid_t pid_ = -1;
+  int out_ = -1;
+  std::thread drain_;
 };
 
 // A raw TCP connection, for requests no library would send.
