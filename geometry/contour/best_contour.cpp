@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "geometry/contour/contour_strategy.h"
 #include "geometry/contour/ma_contour.h"
 #include "geometry/contour/optimal_height.h"
 #include "geometry/contour/section_contours.h"
@@ -45,7 +46,70 @@ Region with_features(const ContourInput& input, const LayerReference& reference,
   return patched;
 }
 
+// What best compares on a layer (best_candidates), from the layer's reference and the slab's
+// columns. mid's section is cut once: ma's contour takes it where it needs the middle section,
+// and optimal-height's search often ends at that very height.
+std::vector<BestCandidate> candidates_of(const ContourInput& input,
+                                         const LayerReference& reference,
+                                         const SlabColumns& columns) {
+  const double middle = input.stack.layers()[input.layer].z_mid();
+  const Region mid_section = input.stack.cross_section(middle);
+  const auto section_at = [&](double z) {
+    return z == middle ? mid_section : input.stack.cross_section(z);
+  };
+  std::vector<BestCandidate> candidates;
+  const auto add = [&](std::string_view name, ContourResult result) {
+    std::vector<BoundaryPair> missed = missed_features(reference.islands, result.region);
+    candidates.push_back({name, std::move(result), std::move(missed)});
+  };
+  add("mid", {mid_section, middle});
+  {
+    const SectionDeviation deviation_at(columns);
+    const OptimalHeight found = optimal_height_search(input.stack, input.layer, columns,
+                                                      deviation_at, input.options.optimal);
+    add("optimal-height", {section_at(found.height), found.height});
+  }
+  add("ma", {ma_contour(reference.slab, reference.islands, section_at, input.options.ma), middle});
+  // A section that misses a feature (a tip or a bump between its plane and the slab's ends)
+  // competes once more with the feature's own middle section added.
+  for (std::size_t k = 0; k < 2; ++k) {
+    if (candidates[k].missed.empty()) continue;
+    ContourResult patched{with_features(input, reference, candidates[k].result.region,
+                                        candidates[k].missed),
+                          candidates[k].result.height};
+    if (patched.region.loops.size() == candidates[k].result.region.loops.size()) continue;
+    add(k == 0 ? "mid+features" : "optimal-height+features", std::move(patched));
+  }
+  return candidates;
+}
+
+// best's own reference of a layer, when the caller has none: slab, footprint, islands and
+// surface, no reverse levels (best compares forward D only) and no volume figures.
+LayerReference own_reference(const ContourInput& input, Slab slab) {
+  MetricOptions metrics;
+  metrics.volumes = false;
+  metrics.distance.reverse = false;
+  return layer_reference(input.stack, input.layer, std::move(slab), metrics);
+}
+
+// The reference's columns, or the slab's built here where it has none.
+const SlabColumns& columns_of(const ContourInput& input, const LayerReference& reference,
+                              std::optional<SlabColumns>& built) {
+  if (reference.volumes) return reference.columns;
+  built = slab_columns(reference.slab, input.stack.lower(input.layer));
+  return *built;
+}
+
 }  // namespace
+
+std::vector<BestCandidate> best_candidates(const ContourInput& input) {
+  if (input.layer >= input.stack.size()) return {};
+  std::optional<LayerReference> own;
+  if (!input.reference) own = own_reference(input, slab_of(input.stack, input.layer));
+  const LayerReference& reference = own ? *own : *input.reference;
+  std::optional<SlabColumns> built;
+  return candidates_of(input, reference, columns_of(input, reference, built));
+}
 
 BestChoice best_choice(const ContourInput& input) {
   // A prism (slab.h: the walls straight up through the slab, a part's stem or a table's legs,
@@ -62,48 +126,29 @@ BestChoice best_choice(const ContourInput& input) {
     return choice;
   }
   std::optional<LayerReference> own;
-  if (!input.reference) {
-    MetricOptions metrics;
-    metrics.volumes = false;
-    metrics.distance.reverse = false;  // only forward D is compared: no reverse levels
-    own = layer_reference(input.stack, input.layer, std::move(*slab), metrics);
-    // The columns once, for optimal-height's search and for ΔV where a tie needs it (without
-    // them each builds its own).
-    own->columns = slab_columns(own->slab, input.stack.lower(input.layer));
-    own->volumes = true;
-  }
+  if (!input.reference) own = own_reference(input, std::move(*slab));
   const LayerReference& reference = own ? *own : *input.reference;
-  const ContourInput candidate_input{input.stack, input.layer, input.options, &reference};
-  DistanceOptions distance_options;
-  distance_options.reverse = false;
+  std::optional<SlabColumns> built;
+  const SlabColumns& columns = columns_of(input, reference, built);
 
   constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
-  struct Candidate {
-    std::string_view name;
-    ContourResult result;
-    std::vector<BoundaryPair> missed;
+  struct Candidate : BestCandidate {
     double distance = kNotMeasured;
     double deviation = -1;  // ΔV, once a tie needs it
     std::size_t same_as = kNone;  // a candidate measured before with this very region
+    std::optional<BoundaryGrid> walls;  // the region's boundary, for D and ΔV
+    const BoundaryGrid& grid() {
+      if (!walls) walls.emplace(result.region);
+      return *walls;
+    }
   };
   std::vector<Candidate> candidates;
-  const auto add = [&](std::string_view name, ContourResult result) {
-    std::vector<BoundaryPair> missed = missed_features(reference.islands, result.region);
-    candidates.push_back({name, std::move(result), std::move(missed)});
-  };
-  add("mid", mid_strategy(candidate_input));
-  add("optimal-height", optimal_height_strategy(candidate_input));
-  add("ma", ma_strategy(candidate_input));
-  // A section that misses a feature (a tip or a bump between its plane and the slab's ends)
-  // competes once more with the feature's own middle section added.
-  for (std::size_t k = 0; k < 2; ++k) {
-    if (candidates[k].missed.empty()) continue;
-    ContourResult patched{with_features(input, reference, candidates[k].result.region,
-                                        candidates[k].missed),
-                          candidates[k].result.height};
-    if (patched.region.loops.size() == candidates[k].result.region.loops.size()) continue;
-    add(k == 0 ? "mid+features" : "optimal-height+features", std::move(patched));
+  for (BestCandidate& c : candidates_of(input, reference, columns)) {
+    candidates.emplace_back();
+    static_cast<BestCandidate&>(candidates.back()) = std::move(c);
   }
+  DistanceOptions distance_options;
+  distance_options.reverse = false;
 
   // Fewest missed features first: only those candidates are measured. Then the least D, ma
   // first (it wins most layers, so its D refutes the others early): a candidate is measured
@@ -138,9 +183,7 @@ BestChoice best_choice(const ContourInput& input) {
       c.same_as = *same;
     } else {
       distance_options.stop_above = least + kDistanceTie;
-      c.distance = distance_error(reference.surface, BoundaryGrid(c.result.region), c.missed,
-                                  distance_options)
-                       .forward;
+      c.distance = distance_error(reference.surface, c.grid(), c.missed, distance_options).forward;
       measured.push_back(k);
     }
     least = std::min(least, c.distance);
@@ -148,19 +191,11 @@ BestChoice best_choice(const ContourInput& input) {
   BestChoice choice{};
   for (std::size_t k = 0; k < 3; ++k) choice.candidate_distance[k] = candidates[k].distance;
 
-  // ΔV only where a tie needs it, with the slab's columns built then if the reference has none.
-  const SlabColumns* columns = reference.volumes ? &reference.columns : nullptr;
-  SlabColumns built;
+  // ΔV only where a tie needs it.
   const auto volume_of = [&](Candidate& c) {
     // A region measured already under another name has its ΔV too.
     if (c.deviation < 0 && c.same_as != kNone) c.deviation = candidates[c.same_as].deviation;
-    if (c.deviation < 0) {
-      if (!columns) {
-        built = slab_columns(reference.slab, input.stack.lower(input.layer));
-        columns = &built;
-      }
-      c.deviation = volume_deviation(*columns, c.result.region, BoundaryGrid(c.result.region));
-    }
+    if (c.deviation < 0) c.deviation = volume_deviation(columns, c.result.region, c.grid());
     return c.deviation;
   };
   // Of those within a tie of the least D, the least ΔV.

@@ -9,7 +9,7 @@
 // be nearer than any wall that prints it: the bunny's first and last layer).
 //
 // Input: a layer of a stack (contour_input.h), with the layer's reference if the caller has
-// one; without, it builds one (slab, footprint, surface; the columns only when a tie needs ΔV).
+// one; without, it builds one (slab, footprint, surface) and the slab's columns.
 // Among the candidates of fewest missed features, those within kDistanceTie of the least D
 // tie, and the least ΔV of them wins (so the choice does not depend on the candidates' order).
 //
@@ -23,17 +23,26 @@
 // is one measured already (it takes that one's D and ΔV: optimal-height often ends at mid's
 // height). Where the caller knows mid's D (ContourInput::mid_distance: the layer plan measured it
 // on every layer it planned by mid) mid is not measured again, and ma is measured only until it
-// loses to it by more than a tie. About three times ma's time. Tried and dropped (the sphere at 0.2
+// loses to it by more than a tie. mid's section is cut once, for mid, for ma where it takes the
+// middle section and for optimal-height where its search ends at the middle; each candidate's
+// walls are indexed once, for D and ΔV. About twice ma's time (tests/bench/bench_best.cpp: the
+// bunny at 0.15 mm). Tried and dropped (the sphere at 0.2
 // mm with supports, median of 7): measuring the candidates in the order of a cheap lower bound of D
 // (their surface corners' largest distance), 0.65 -> 0.67 s; a first pass to 10 um to refuse the
 // far ones before the exact measure, 0.64 -> 0.86 s, as ma's and mid's D are within a tie of each
 // other on 114 of the sphere's 149 layers (no gain on the bunny either: 2.11 -> 2.15 s adaptive).
+// Not done: skipping mid and optimal-height where no section can come within a tie of ma's D.
+// A lower bound on every section's D, from the slab's facets cut to 32 height bands (a section's
+// walls at a height lie in that height's band) and the facets' corners as witnesses, proves it
+// on only 63 of the 195 bunny layers where the sections do lose: ma wins there by a few per cent.
 #pragma once
 
 #include <limits>
 #include <string_view>
+#include <vector>
 
 #include "geometry/contour/contour_input.h"
+#include "geometry/slab/boundary_pair.h"
 
 namespace geometry {
 
@@ -43,6 +52,18 @@ inline constexpr double kDistanceTie = 1e-3;
 inline constexpr double kNotMeasured = std::numeric_limits<double>::infinity();
 
 ContourResult best_strategy(const ContourInput& input);
+
+// The regions best compares on a layer, as it makes them: "mid", "optimal-height" and "ma",
+// then a section that misses a feature once more with the feature's own middle section added
+// ("mid+features", "optimal-height+features"), each with the islands it misses
+// (missed_features.h). For judging best's choice against measuring every candidate in full.
+// On a prism best takes mid without making the others. Out-of-range layer: none.
+struct BestCandidate {
+  std::string_view name;
+  ContourResult result;
+  std::vector<BoundaryPair> missed;
+};
+std::vector<BestCandidate> best_candidates(const ContourInput& input);
 
 // The same, also saying which candidate won and the candidates' D, mm.
 struct BestChoice {

@@ -16,9 +16,14 @@ namespace geometry {
 namespace {
 
 // A convex polygon of a few corners, on the stack: a facet has at most 5 (a triangle cut by
-// both planes), one cut adds 1, an intersection with a facet of 5 at most 5 more.
+// both planes), one cut adds 1, an intersection with a facet of 5 at most 5 more. Its corners
+// are plain pairs, not Vec2, so that making one does not clear all sixteen (a search evaluates
+// about ten thousand cuts a layer).
+struct Corner {
+  double x, y;
+};
 struct SmallPolygon {
-  std::array<Vec2, 16> at;
+  Corner at[16];
   int size = 0;
 };
 
@@ -26,30 +31,50 @@ SmallPolygon small(const std::vector<Vec2>& polygon) {
   SmallPolygon out;
   for (Vec2 p : polygon) {
     if (out.size == 16) break;
-    out.at[out.size++] = p;
+    out.at[out.size++] = {p.x, p.y};
   }
   return out;
 }
 
-// The part where f0 + fx (x - o.x) + fy (y - o.y) >= 0 (slab_columns.h's clip_to_half_plane).
+// The part where f0 + fx (x - o.x) + fy (y - o.y) >= 0 (slab_columns.h's clip_to_half_plane),
+// into `out`; each corner's value is taken once.
+void cut_into(const SmallPolygon& polygon, Vec2 o, double f0, double fx, double fy,
+              SmallPolygon& out) {
+  out.size = 0;
+  const int n = polygon.size;
+  if (n == 0) return;
+  const auto at = [&](Corner p) { return f0 + fx * (p.x - o.x) + fy * (p.y - o.y); };
+  Corner a = polygon.at[0];
+  double fa = at(a);
+  for (int i = 0; i < n && out.size < 15; ++i) {
+    const Corner b = polygon.at[i + 1 == n ? 0 : i + 1];
+    const double fb = at(b);
+    if (fa >= 0) out.at[out.size++] = a;
+    if ((fa >= 0) != (fb >= 0)) {
+      const double s = fa / (fa - fb);
+      out.at[out.size++] = {a.x + s * (b.x - a.x), a.y + s * (b.y - a.y)};
+    }
+    a = b;
+    fa = fb;
+  }
+}
+
 SmallPolygon cut(const SmallPolygon& polygon, Vec2 o, double f0, double fx, double fy) {
   SmallPolygon out;
-  const auto at = [&](Vec2 p) { return f0 + fx * (p.x - o.x) + fy * (p.y - o.y); };
-  for (int i = 0, n = polygon.size; i < n && out.size < 15; ++i) {
-    const Vec2 a = polygon.at[i], b = polygon.at[(i + 1) % n];
-    const double fa = at(a), fb = at(b);
-    if (fa >= 0) out.at[out.size++] = a;
-    if ((fa >= 0) != (fb >= 0)) out.at[out.size++] = a + (fa / (fa - fb)) * (b - a);
-  }
+  cut_into(polygon, o, f0, fx, fy, out);
   return out;
 }
 
-SmallPolygon intersect(SmallPolygon polygon, const SmallPolygon& by) {
-  for (int k = 0; k < by.size && polygon.size >= 3; ++k) {
-    const Vec2 p = by.at[k], d = by.at[(k + 1) % by.size] - p;
-    polygon = cut(polygon, p, 0, -d.y, d.x);
+// Cut by each edge's half-plane in turn, between two buffers.
+SmallPolygon intersect(const SmallPolygon& polygon, const SmallPolygon& by) {
+  SmallPolygon buffer[2];
+  const SmallPolygon* in = &polygon;
+  for (int k = 0, next = 0; k < by.size && in->size >= 3; ++k, next ^= 1) {
+    const Corner p = by.at[k], q = by.at[k + 1 == by.size ? 0 : k + 1];
+    cut_into(*in, {p.x, p.y}, 0, -(q.y - p.y), q.x - p.x, buffer[next]);
+    in = &buffer[next];
   }
-  return polygon;
+  return *in;
 }
 
 // Area of a polygon and ∫ over it of w0 + wx (x - o.x) + wy (y - o.y).
@@ -59,7 +84,8 @@ struct Integrals {
 Integrals integrals(const SmallPolygon& polygon, Vec2 o, double w0, double wx, double wy) {
   double area = 0, mx = 0, my = 0;
   for (int i = 0, n = polygon.size; i < n && n >= 3; ++i) {
-    const Vec2 p = polygon.at[i] - o, q = polygon.at[(i + 1) % n] - o;
+    const Corner a = polygon.at[i], b = polygon.at[i + 1 == n ? 0 : i + 1];
+    const Vec2 p{a.x - o.x, a.y - o.y}, q{b.x - o.x, b.y - o.y};
     const double c = cross(p, q);
     area += c / 2;
     mx += c * (p.x + q.x) / 6;
@@ -173,7 +199,8 @@ double SectionDeviation::operator()(double h) const {
     if (facet.lower == 1) {
       in_lower = own.area;
     } else if (facet.lower == -1) {
-      const std::vector<Vec2> loop(part.at.begin(), part.at.begin() + part.size);
+      std::vector<Vec2> loop(part.size);
+      for (int k = 0; k < part.size; ++k) loop[k] = {part.at[k].x, part.at[k].y};
       in_lower = moments_of_intersection(loop, loop[0], lower_grid_, *lower_).area;
     }
     occupied += t * facet.sign * in_lower + own.integral;
@@ -186,12 +213,13 @@ double SectionDeviation::operator()(double h) const {
   return std::max(volume_ + t * area - 2 * occupied, 0.0);
 }
 
-OptimalHeight optimal_height(const LayerStack& stack, std::size_t layer,
-                             const SlabColumns& columns, const OptimalHeightOptions& options) {
+OptimalHeight optimal_height_search(const LayerStack& stack, std::size_t layer,
+                                    const SlabColumns& columns,
+                                    const SectionDeviation& deviation_at,
+                                    const OptimalHeightOptions& options) {
   OptimalHeight best;
   if (layer >= stack.size()) return best;
   const Layer bounds = stack.layers()[layer];
-  const SectionDeviation deviation_at(columns);
   // At z_hi the section from above differs from the sum's (from below) only by faces lying in
   // that plane, which need a vertex there; if there is one, it is built, not summed.
   const bool face_on_top = !stack.vertex_heights_between(bounds.z_hi, bounds.z_hi).empty();
@@ -208,8 +236,7 @@ OptimalHeight optimal_height(const LayerStack& stack, std::size_t layer,
   };
   if (!(bounds.thickness() > 0)) {
     best.height = bounds.z_lo;
-    best.section = stack.cross_section(bounds.z_lo);
-    best.volume_deviation = volume_deviation(columns, best.section);
+    best.volume_deviation = volume_deviation(columns, stack.cross_section(bounds.z_lo));
     best.evaluations = 1;
     return best;
   }
@@ -239,6 +266,13 @@ OptimalHeight optimal_height(const LayerStack& stack, std::size_t layer,
         },
         1.0, 2.0, bits, iterations);
   }
+  return best;
+}
+
+OptimalHeight optimal_height(const LayerStack& stack, std::size_t layer,
+                             const SlabColumns& columns, const OptimalHeightOptions& options) {
+  if (layer >= stack.size()) return {};
+  OptimalHeight best = optimal_height_search(stack, layer, columns, SectionDeviation(columns), options);
   best.section = stack.cross_section(best.height);
   return best;
 }

@@ -77,6 +77,14 @@ struct OptimalHeight {
 OptimalHeight optimal_height(const LayerStack& stack, std::size_t layer,
                              const SlabColumns& columns, const OptimalHeightOptions& options = {});
 
+// The search alone, with the slab's SectionDeviation built already (from the same columns):
+// the height and its ΔV, the section left empty, for a caller that may have the section at
+// that height (best_contour.h has mid's). A layer of no thickness: h = z_lo and its ΔV.
+OptimalHeight optimal_height_search(const LayerStack& stack, std::size_t layer,
+                                    const SlabColumns& columns,
+                                    const SectionDeviation& deviation_at,
+                                    const OptimalHeightOptions& options = {});
+
 // The same, building the slab's columns itself.
 OptimalHeight optimal_height(const LayerStack& stack, std::size_t layer,
                              const OptimalHeightOptions& options = {});

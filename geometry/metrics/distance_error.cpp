@@ -208,35 +208,61 @@ void search_segment(Vec2 a, Vec2 b, const Nearest& at_a, const Nearest& at_b,
   }
 }
 
+// What one forward measurement keeps per surface point and triangle, reused from one call to
+// the next on a thread (thousands of calls a model, each over a few thousand triangles:
+// allocating and clearing them anew cost a twentieth of the measurement).
+struct ForwardScratch {
+  std::vector<const BoundaryGrid*> grid_of;
+  std::vector<std::array<Nearest, 3>> corner;
+  std::vector<Nearest> at_point;
+  std::vector<std::uint32_t> found;  // == epoch: at_point holds that point's nearest wall
+  std::uint32_t epoch = 0;
+  std::vector<double> top;
+  std::vector<std::uint32_t> order, near;
+};
+
 double forward_distance(const SlabSurface& surface, const BoundaryGrid& walls,
                         std::span<const BoundaryPair> missed, double tolerance,
                         double stop_above, double settle) {
   if (surface.triangles.empty()) return 0;
+  thread_local ForwardScratch scratch;
+  const std::size_t count = surface.triangles.size();
   // Surface inside a missed island is measured to the island's outline (see the header).
   Region outlines;
   for (const BoundaryPair& island : missed) outlines.loops.push_back(island.outer);
   const BoundaryGrid outline_grid(outlines);
-  std::vector<const BoundaryGrid*> grid_of(surface.triangles.size(), &walls);
+  std::vector<const BoundaryGrid*>& grid_of = scratch.grid_of;
+  grid_of.assign(count, &walls);
   if (!outline_grid.empty()) {
-    for (std::size_t i = 0; i < surface.triangles.size(); ++i) {
+    for (std::size_t i = 0; i < count; ++i) {
       const auto& p = surface.triangles[i];
       const Vec2 centre = (1.0 / 3) * (p[0] + p[1] + p[2]);
       if (outline_grid.winding_number(centre) != 0) grid_of[i] = &outline_grid;
     }
   }
-  std::vector<std::array<Nearest, 3>> corner(surface.triangles.size());
+  std::vector<std::array<Nearest, 3>>& corner = scratch.corner;
+  if (corner.size() < count) corner.resize(count);
   double best = 0;
-  const bool indexed = surface.corners.size() == surface.triangles.size();
-  std::vector<Nearest> at_point(indexed ? surface.points.size() : 0);
-  std::vector<char> found(at_point.size(), 0);
-  for (std::size_t i = 0; i < surface.triangles.size(); ++i) {
+  const bool indexed = surface.corners.size() == count;
+  std::vector<Nearest>& at_point = scratch.at_point;
+  std::vector<std::uint32_t>& found = scratch.found;
+  if (indexed && at_point.size() < surface.points.size()) {
+    at_point.resize(surface.points.size());
+    found.resize(surface.points.size(), 0);
+  }
+  if (++scratch.epoch == 0) {
+    std::fill(found.begin(), found.end(), 0);
+    scratch.epoch = 1;
+  }
+  const std::uint32_t epoch = scratch.epoch;
+  for (std::size_t i = 0; i < count; ++i) {
     if (grid_of[i]->empty()) continue;
     for (int k = 0; k < 3; ++k) {
       if (indexed && grid_of[i] == &walls) {
         const std::uint32_t p = surface.corners[i][k];
-        if (!found[p]) {
+        if (found[p] != epoch) {
           at_point[p] = walls.nearest(surface.points[p]);
-          found[p] = 1;
+          found[p] = epoch;
         }
         corner[i][k] = at_point[p];
       } else {
@@ -248,17 +274,18 @@ double forward_distance(const SlabSurface& surface, const BoundaryGrid& walls,
   }
   // Most promising first, so the bound prunes the rest: by the farthest corner, taken once
   // per triangle rather than at every comparison of the sort.
-  std::vector<double> top(surface.triangles.size());
-  std::vector<std::uint32_t> order;
-  order.reserve(surface.triangles.size());
-  for (std::uint32_t i = 0; i < surface.triangles.size(); ++i) {
+  std::vector<double>& top = scratch.top;
+  if (top.size() < count) top.resize(count);
+  std::vector<std::uint32_t>& order = scratch.order;
+  order.clear();
+  for (std::uint32_t i = 0; i < count; ++i) {
     if (grid_of[i]->empty()) continue;
     top[i] = std::max({corner[i][0].distance, corner[i][1].distance, corner[i][2].distance});
     order.push_back(i);
   }
   std::sort(order.begin(), order.end(),
             [&](std::uint32_t a, std::uint32_t b) { return top[a] > top[b]; });
-  std::vector<std::uint32_t> near;
+  std::vector<std::uint32_t>& near = scratch.near;
   for (std::uint32_t i : order) {
     const auto& p = surface.triangles[i];
     // A vertical facet, or a flat face's edge, projects to a segment: search it as one, since
