@@ -3,6 +3,8 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <limits>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -12,7 +14,10 @@
 #include "geometry/mesh/placement.h"
 #include "geometry/mesh/repair.h"
 #include "geometry/mesh/stl_io.h"
+#include "geometry/core/boundary_grid.h"
+#include "geometry/metrics/distance_error.h"
 #include "geometry/metrics/layer_metrics.h"
+#include "geometry/metrics/volume_deviation.h"
 #include "geometry/slab/slab.h"
 #include "support/solids.h"
 
@@ -43,7 +48,91 @@ void check_never_worse(const geometry::Mesh& mesh, double thickness) {
   }
 }
 
+// best's rule applied by measuring every candidate in full (best_contour.h): the fewest missed
+// features, then those within a tie of the least D, of them the least ΔV, equal ΔV going to
+// the first in the order ma, mid, optimal-height, then the +features ones.
+struct Choice {
+  std::string name;
+  geometry::Region region;
+};
+Choice exhaustive_choice(const geometry::LayerStack& stack, std::size_t layer) {
+  const geometry::ContourOptions options;
+  geometry::MetricOptions metrics;
+  metrics.distance.reverse = false;
+  const geometry::LayerReference reference = geometry::layer_reference(stack, layer, metrics);
+  std::vector<geometry::BestCandidate> candidates =
+      geometry::best_candidates({stack, layer, options, &reference});
+  REQUIRE(candidates.size() >= 3);
+  std::vector<std::size_t> order{2, 0, 1};
+  for (std::size_t k = 3; k < candidates.size(); ++k) order.push_back(k);
+  std::size_t fewest = std::numeric_limits<std::size_t>::max();
+  for (const auto& c : candidates) fewest = std::min(fewest, c.missed.size());
+  std::vector<double> distance(candidates.size(), std::numeric_limits<double>::infinity());
+  geometry::DistanceOptions full;
+  full.reverse = false;
+  double least = std::numeric_limits<double>::infinity();
+  for (std::size_t k : order) {
+    if (candidates[k].missed.size() != fewest) continue;
+    const geometry::BoundaryGrid walls(candidates[k].result.region);
+    distance[k] = geometry::distance_error(reference.surface, walls, candidates[k].missed, full).forward;
+    least = std::min(least, distance[k]);
+  }
+  std::size_t best = candidates.size();
+  double best_deviation = 0;
+  for (std::size_t k : order) {
+    if (!(distance[k] <= least + geometry::kDistanceTie)) continue;
+    const double deviation = geometry::volume_deviation(reference.columns, candidates[k].result.region);
+    if (best == candidates.size() || deviation < best_deviation) {
+      best = k;
+      best_deviation = deviation;
+    }
+  }
+  return {std::string(candidates[best].name), std::move(candidates[best].result.region)};
+}
+
+// On every layer but the prisms (which take mid unmeasured), best_choice is that choice, to
+// the bit. Returns how often each candidate was chosen.
+std::map<std::string, int> check_exhaustive(const geometry::Mesh& mesh, double thickness) {
+  const double top = geometry::bounding_box(mesh).max.z;
+  const geometry::LayerStack stack(mesh, geometry::uniform_layers(top, thickness));
+  const geometry::ContourOptions options;
+  std::map<std::string, int> chosen;
+  for (std::size_t i = 0; i < stack.size(); ++i) {
+    CAPTURE(i);
+    if (geometry::is_prism(geometry::slab_of(stack, i))) continue;
+    const geometry::BestChoice choice = geometry::best_choice({stack, i, options});
+    const Choice expected = exhaustive_choice(stack, i);
+    CHECK(std::string(choice.chosen) == expected.name);
+    CHECK(choice.result.region.loops == expected.region.loops);
+    ++chosen[expected.name];
+  }
+  return chosen;
+}
+
 }  // namespace
+
+TEST_CASE("best_choice_is_the_choice_of_measuring_every_candidate_in_full") {
+  // Solids whose layers go to different candidates: a sphere and a torus (ma where the strip
+  // curves, a section where it is straight, ties broken by ΔV), a bipyramid (its equator a
+  // vertex ring inside a layer), a cone whose tip ends below a layer's middle (mid misses it:
+  // mid+features), and a sphere beside a cylinder (two islands).
+  std::map<std::string, int> chosen;
+  const auto add = [&](const std::map<std::string, int>& counts) {
+    for (const auto& [name, count] : counts) chosen[name] += count;
+  };
+  add(check_exhaustive(solids::sphere(10, 48, 24, {0, 0, 10}).mesh, 0.4));
+  add(check_exhaustive(solids::torus(12, 5, 48, 24, {0, 0, 5}).mesh, 0.35));
+  add(check_exhaustive(solids::bipyramid(10, 6, 0, 3.3, 10).mesh, 0.3));
+  add(check_exhaustive(solids::cone(6, 9.9, 32).mesh, 0.3));
+  add(check_exhaustive(solids::combine(solids::sphere(5, 32, 16, {-8, 0, 5}),
+                                       solids::cylinder(3, 4, 24, {8, 0, 0}))
+                           .mesh,
+                       0.45));
+  CAPTURE(chosen.size());
+  CHECK(chosen["ma"] > 0);
+  CHECK(chosen["mid"] + chosen["optimal-height"] > 0);
+  CHECK(chosen["mid+features"] + chosen["optimal-height+features"] > 0);
+}
 
 TEST_CASE("best_is_never_worse_than_mid_or_ma_on_a_sphere") {
   check_never_worse(solids::sphere(10, 48, 24, {0, 0, 10}).mesh, 0.4);
