@@ -41,7 +41,7 @@ struct SimOptions {
   std::string printer_profile;
   std::string dialect = "marlin";
   int queue = 4;
-  int planner = 16;
+  int planner = 15;
   int rx_buffer = 128;
   bool advanced_ok = false;
   bool no_ok_after_resend = false;
@@ -186,7 +186,7 @@ void add_sim_command(CLI::App& app) {
   sim->add_option("--queue", options->queue, "command queue depth (Marlin's BUFSIZE)")
       ->check(whole_number_in(1, 64))
       ->capture_default_str();
-  sim->add_option("--planner", options->planner, "planner depth in moves (BLOCK_BUFFER_SIZE)")
+  sim->add_option("--planner", options->planner, "moves the planner holds (Marlin's BLOCK_BUFFER_SIZE less the one it keeps free)")
       ->check(whole_number_in(1, 256))
       ->capture_default_str();
   sim->add_option("--rx-buffer", options->rx_buffer, "serial receive buffer, bytes")

@@ -27,4 +27,10 @@ struct CommandRefused : PrinterError {
   using PrinterError::PrinterError;
 };
 
+// The firmware stopped itself: kill() (a halt, thermal runaway, M112) or a reset. It turned its
+// heaters off and reads nothing more until it is reset (exit code 3).
+struct FirmwareStopped : PrinterError {
+  using PrinterError::PrinterError;
+};
+
 }  // namespace printer

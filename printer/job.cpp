@@ -25,6 +25,11 @@ constexpr nanoseconds kPrintingReportEvery = std::chrono::seconds(5);
 // sequence the rest; past it the job sends M112, which turns the heaters off on any firmware.
 constexpr nanoseconds kCancelBound = std::chrono::seconds(10);
 constexpr std::chrono::milliseconds kCancelDrain{2000};
+// A failed job's heaters-off lines may have to wait behind a heat-up the firmware cannot break
+// (Repetier reads nothing while M190 waits, Commands.cpp): past kCancelBound the job waits on
+// while the firmware says it is busy, up to this, before it sends M112 (which would wait too).
+constexpr nanoseconds kHeatUpBound = std::chrono::minutes(15);
+constexpr nanoseconds kAliveWithin = std::chrono::seconds(5);
 
 }  // namespace
 
@@ -261,6 +266,49 @@ std::string Job::cancel_here() {
                      trouble);
 }
 
+std::string Job::heaters_off_after_failure() {
+  // Bounded like a cancel, the printer may have stopped answering; longer while it says it is
+  // busy with a command that may run long (see kHeatUpBound).
+  struct Overdue {};
+  const nanoseconds began = protocol_.link().now();
+  protocol_.on_wait = [this, began] {
+    const nanoseconds now = protocol_.link().now();
+    const bool busy = protocol_.long_command_in_flight() && protocol_.quiet_for() < kAliveWithin;
+    if (now - began >= kHeatUpBound || (now - began >= kCancelBound && !busy)) throw Overdue{};
+  };
+  bool confirmed = false;
+  try {
+    // What came already first: an ok in hand frees the line it answers (a refusal's ok).
+    protocol_.drop_unsent();
+    protocol_.handle_received();
+    // A heat-up in flight would hold the heaters-off lines back: M108 breaks it where it can.
+    if (protocol_.long_command_in_flight() && protocol_.dialect().emergency_m108_m410) {
+      protocol_.emergency("M108");
+    }
+    if (!protocol_.wait_acknowledged_for(kCancelDrain) && !protocol_.long_command_in_flight()) {
+      protocol_.abandon_unacknowledged();
+    }
+    protocol_.send("M104 S0");
+    protocol_.send("M140 S0");
+    protocol_.wait_acknowledged();
+    confirmed = true;
+  } catch (const Overdue&) {
+  } catch (const std::runtime_error&) {
+  }
+  protocol_.on_wait = nullptr;
+  if (confirmed) return "";
+  // M112 turns the heaters off on any firmware, if it arrives.
+  try {
+    protocol_.emergency("M112");
+    stop_sent_ = true;
+  } catch (const LinkError&) {
+    return "; the link is gone before the heaters could be turned off: check that they are off";
+  }
+  return "; the printer did not confirm the heaters off: sent M112, which turns them off if it "
+         "reaches the printer: check they are off, and reset it (power or M999) before the next "
+         "job";
+}
+
 int Job::resume_layer_after_failure() const {
   // The first command the firmware did not confirm may not have run: reprint its layer.
   const long accepted = protocol_.commands_accepted();
@@ -356,30 +404,29 @@ JobResult Job::run() {
     // The firmware cannot print this file as written: nothing to resume, the file is to be
     // sliced again. The heaters it did set go off.
     job_state_ = JobState::failed;
-    protocol_.on_wait = nullptr;
-    try {
-      protocol_.drop_unsent();  // the file's next command, given to send() when this came
-      protocol_.send("M104 S0");
-      protocol_.send("M140 S0");
-      protocol_.wait_acknowledged_for(std::chrono::milliseconds(5000));
-    } catch (const std::runtime_error&) {
-    }
+    const std::string safe = heaters_off_after_failure();
     journal_interrupted(JobState::failed, e.what());
-    throw CommandRefused(e.what());
-  } catch (const PrinterError& e) {
+    throw CommandRefused(std::string(e.what()) + safe);
+  } catch (const FirmwareStopped& e) {
+    // kill() or a reset turned the heaters off; the firmware reads nothing more.
+    protocol_.on_wait = nullptr;
     if (!stop_sent_) {
       job_state_ = JobState::failed;
       journal_interrupted(JobState::failed, e.what());
-      protocol_.on_wait = nullptr;
       throw PrinterError(std::string(e.what()) + resume_hint());
     }
     job_state_ = JobState::stopped;
     result.reason = "emergency stop (M112): the printer is halted";
+  } catch (const PrinterError& e) {
+    job_state_ = JobState::failed;
+    const std::string safe = heaters_off_after_failure();
+    journal_interrupted(JobState::failed, e.what());
+    throw PrinterError(std::string(e.what()) + safe + resume_hint());
   } catch (const LinkError& e) {
     job_state_ = JobState::failed;
+    const std::string safe = heaters_off_after_failure();
     journal_interrupted(JobState::failed, e.what());
-    protocol_.on_wait = nullptr;
-    throw LinkError(std::string(e.what()) + resume_hint());
+    throw LinkError(std::string(e.what()) + safe + resume_hint());
   }
   protocol_.on_wait = nullptr;
   reason_ = result.reason;

@@ -99,9 +99,11 @@ class Job {
   // One-line events for the user: "paused before layer 20 ...", "resumed".
   std::function<void(const std::string&)> on_event;
 
-  // Runs the job. A failed link or printer writes the journal and rethrows the LinkError or
-  // PrinterError with how to resume appended; a CommandRefused (the firmware refused to heat,
-  // wait or home) turns the heaters off and is rethrown as it is: the file needs slicing again.
+  // Runs the job. A failed link or printer turns the heaters off (M104 S0 and M140 S0, or M112
+  // if the printer does not confirm; the firmware did so itself where it stopped or reset),
+  // writes the journal and rethrows the LinkError or PrinterError with how to resume appended;
+  // a CommandRefused (the firmware refused to heat, wait or home) is rethrown without it: the
+  // file needs slicing again.
   JobResult run();
   // What the job did so far: after run() returned, its result; after it threw, the same for
   // the failed job (state failed, the commands the firmware accepted), for a summary.
@@ -118,6 +120,10 @@ class Job {
   // The safe end of a cancelled job, within kCancelBound; what went wrong, for the reason
   // ("; the printer did not confirm ..."), or "".
   std::string cancel_here();
+  // Every failure but the firmware's own stop ends here: the lines in hand handled, M104 S0
+  // and M140 S0 sent and confirmed within kCancelBound, else M112. What went wrong, for the
+  // message ("; sent M112 ..."), or "".
+  std::string heaters_off_after_failure();
   void write_journal_now(JobState state, int layer, std::size_t command, const PrintState& at,
                          const std::string& reason = {});
   // The journal of a job that ended early: the layer a resume reprints, with its state.

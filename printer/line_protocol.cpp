@@ -34,6 +34,10 @@ constexpr int kConnectTries = 5;
 constexpr std::size_t kRefusedKept = 20;
 // How late a keepalive may be before the firmware counts as idle (serial and USB latency).
 constexpr nanoseconds kKeepaliveMargin = std::chrono::milliseconds(500);
+// Lines in flight with ADVANCED_OK when the user gave no window: Marlin's BUFSIZE is 4.
+constexpr std::size_t kAutoWindow = 4;
+// Bytes of an answer on the wire, for when an ok is due ("ok N1234 P15 B3" and its line end).
+constexpr std::size_t kAnswerBytes = 20;
 
 double seconds(nanoseconds d) { return std::chrono::duration<double>(d).count(); }
 
@@ -46,11 +50,6 @@ bool is_readable(std::string_view text) {
     if (u >= 0x20 && u < 0x7f) ++printable;
   }
   return printable * 10 >= text.size() * 9;
-}
-
-bool is_m105(std::string_view command) {
-  const GcodeCommand parsed = parse_gcode_line(command);
-  return parsed.is('M', 105);
 }
 
 // Commands the print cannot go on without: heating and waiting for it, homing, waiting for
@@ -122,6 +121,20 @@ std::string refusal_advice(const GcodeCommand& c, const FirmwareDialect& dialect
       firmware_names());
 }
 
+// Commands answered with an ok, a refusal or a line of figures at most (M105, M114): the time
+// their answer takes on the wire is known.
+bool answer_is_short(const GcodeCommand& c) {
+  if (c.letter == 'G') return c.code <= 3 || (c.code >= 90 && c.code <= 92);
+  if (c.letter != 'M') return c.letter == 'T';
+  switch (c.code) {
+    case 18: case 73: case 82: case 83: case 84: case 104: case 105: case 106: case 107: case 110:
+    case 113: case 114: case 117: case 140: case 155: case 220: case 221:
+      return true;
+    default:
+      return false;
+  }
+}
+
 }  // namespace
 
 bool command_waits_for_user(std::string_view command) {
@@ -144,8 +157,8 @@ bool command_blocks(std::string_view command) {
   return false;
 }
 
-LineProtocol::LineProtocol(Link& link, ProtocolOptions options) : link_(link), options_(options) {
-  if (options_.window == 0) options_.window = 1;
+LineProtocol::LineProtocol(Link& link, ProtocolOptions options)
+    : link_(link), options_(options), clock_(options.motion) {
   if (options_.tick.count() <= 0) options_.tick = milliseconds(100);
   last_write_ = last_answer_ = link_.now();
 }
@@ -163,7 +176,7 @@ const LineProtocol::SentLine* LineProtocol::line(long number) const {
 
 std::size_t LineProtocol::allowed_in_flight() const {
   if (!advanced_ok_) return 1;
-  std::size_t allowed = options_.window;
+  std::size_t allowed = options_.window > 0 ? options_.window : kAutoWindow;
   if (queue_free_ >= 0) allowed = std::min(allowed, std::max<std::size_t>(1, queue_free_));
   return allowed;
 }
@@ -183,17 +196,39 @@ void LineProtocol::transmit(long number) {
   }
   sent_ = number;
   if (number == last_resend_) resent_since_request_ = true;
-  history_[static_cast<std::size_t>(number - history_.front().number)].oks_before = oks_read_;
   last_write_ = link_.now();
+  history_[static_cast<std::size_t>(number - history_.front().number)].written_at = last_write_;
 }
 
 void LineProtocol::send(std::string_view command) {
   SentLine next;
   next.number = ++assigned_;
   next.command = std::string(command);
+  const GcodeCommand parsed = parse_gcode_line(command);
   next.blocks = command_blocks(command);
   next.waits_for_user = command_waits_for_user(command);
-  next.is_m105 = is_m105(command);
+  next.is_m105 = parsed.is('M', 105);
+  next.waits_for_moves = waits_for_moves(dialect().firmware, parsed);
+  next.answer_is_short = answer_is_short(parsed);
+  // Teacup's M116 only sets a flag: the next G0/G1 is the command that waits for the heaters
+  // (gcode_process.c, temp_wait()).
+  if (dialect().firmware == Firmware::teacup) {
+    if (parsed.is('M', 116)) {
+      teacup_heat_pending_ = true;
+      next.blocks = false;  // answered at once
+    }
+    if (teacup_heat_pending_ && (parsed.is('G', 0) || parsed.is('G', 1))) {
+      next.blocks = next.waits_for_heat = true;
+      teacup_heat_pending_ = false;
+    }
+  }
+  const double before = clock_.modeled();
+  const std::size_t moves_before = clock_.moves_queued();
+  clock_.command(parsed);
+  // A move takes the planner a slot even when the model's time barely grows (a short move
+  // that lets the one before it keep its speed).
+  next.is_move = clock_.moves_queued() > moves_before;
+  next.motion = std::max(0.0, clock_.modeled() - before);
   next.sequence = ++commands_sent_;
   history_.push_back(std::move(next));
   while (history_.size() > 1 && history_.front().number < accepted_ - kHistoryBehind) {
@@ -237,6 +272,10 @@ void LineProtocol::wait_until(const std::function<bool()>& done, std::optional<n
     }
     if (done()) return;
     milliseconds wait = options_.tick;
+    if (const std::optional<nanoseconds> probe_at = model_probe_at()) {
+      // Awake when the oldest line's ok becomes overdue, not a tick later.
+      wait = std::min(wait, std::chrono::duration_cast<milliseconds>(*probe_at - now) + milliseconds(1));
+    }
     if (holding) {
       wait = std::min(wait, std::chrono::duration_cast<milliseconds>(hold_until_ - now) + milliseconds(1));
     }
@@ -252,22 +291,35 @@ void LineProtocol::wait_until(const std::function<bool()>& done, std::optional<n
   }
 }
 
-void LineProtocol::read_once(milliseconds timeout) { feed(link_.read(timeout)); }
+void LineProtocol::read_once(milliseconds timeout) {
+  // Lines left by a reply that threw come first; then what the link brings.
+  if (handle_buffered()) return;
+  partial_ += link_.read(timeout);
+  handle_buffered();
+  // A line end lost to noise must not grow the buffer without bound.
+  if (partial_.size() > 4096) partial_.clear();
+}
 
-void LineProtocol::feed(const std::string& bytes) {
-  if (bytes.empty()) return;
-  partial_ += bytes;
+bool LineProtocol::handle_buffered() {
   // Each line leaves the buffer before it is handled: a reply that throws (a halt, a refused
-  // command) must not be read again by whoever goes on using the engine.
+  // command) must not be read again, and the lines after it stay for whoever goes on using
+  // the engine.
+  bool handled = false;
   std::size_t end;
   while ((end = partial_.find_first_of("\r\n")) != std::string::npos) {
     const std::string text = partial_.substr(0, end);
     partial_.erase(0, end + 1);
     if (text.find_first_not_of(" \t") == std::string::npos) continue;
+    handled = true;
     handle(classify_reply(text));
   }
-  // A line end lost to noise must not grow the buffer without bound.
-  if (partial_.size() > 4096) partial_.clear();
+  return handled;
+}
+
+void LineProtocol::handle_received() {
+  handle_buffered();
+  partial_ += link_.read(milliseconds(0));
+  handle_buffered();
 }
 
 void LineProtocol::handle(const Reply& reply) {
@@ -307,16 +359,20 @@ void LineProtocol::handle(const Reply& reply) {
   }
   switch (reply.kind) {
     case ReplyKind::ok:
-      ++oks_read_;
       handle_ok(reply);
       break;
     case ReplyKind::resend:
       handle_resend(*reply.line_number);
       break;
     case ReplyKind::skip:
-      // Repetier drops a line sent before its resend request and says "skip N", then "ok".
+      // Repetier does not run a line it already has and says "skip N", then "ok"
+      // (gcode.cpp checkAndPushCommand): the answer to the unanswered line sent again. It says
+      // the same of a line sent before a resend request it is waiting on.
       ++swallow_oks_;
       last_answer_ = link_.now();
+      if (connected_ && reply.line_number && *reply.line_number == probe_line_ && probe_line_ <= sent_) {
+        accept_through(*reply.line_number);
+      }
       break;
     case ReplyKind::error:
       // The refusal a skipped-number probe asked for is not the firmware's trouble.
@@ -330,10 +386,14 @@ void LineProtocol::handle(const Reply& reply) {
       if (connected_ && reply.text.starts_with("E:")) handle_refusal(reply.text, std::nullopt);
       break;
     case ReplyKind::fatal:
-      throw PrinterError(fmt::format("{}: the printer stopped: {}", link_.name(), reply.text));
+      throw FirmwareStopped(fmt::format("{}: the printer stopped: {}", link_.name(), reply.text));
     case ReplyKind::busy:
+      // Teacup says "Waiting for target temp" while M116's flag is set, whatever runs: a sign of
+      // life only for the G0/G1 that waits, not for a lost ok of another line.
+      if (reply.text == "Waiting for target temp" && !heat_wait_in_flight()) break;
       ++stats_.busy_reports;
       if (keepalive_) keepalive_seen_ = true;
+      last_keepalive_ = link_.now();
       answered();
       break;
     case ReplyKind::wait:
@@ -342,7 +402,7 @@ void LineProtocol::handle(const Reply& reply) {
     case ReplyKind::start:
       restart_seen_ = true;
       if (connected_) {
-        throw PrinterError(fmt::format(
+        throw FirmwareStopped(fmt::format(
             "{}: the printer restarted during the job (it sent 'start'), so its position and "
             "heaters were reset",
             link_.name()));
@@ -350,6 +410,7 @@ void LineProtocol::handle(const Reply& reply) {
       break;
     case ReplyKind::temperature:
       if (reply.heating_wait) {
+        last_keepalive_ = link_.now();
         answered();  // M109/M190 report while they wait: a keepalive
       } else {
         handle_temperature_line(reply);
@@ -359,9 +420,11 @@ void LineProtocol::handle(const Reply& reply) {
       if (reply.unknown_command && connected_) handle_refusal(reply.text, std::nullopt);
       break;
     case ReplyKind::other:
-      if (reply.text.starts_with("Cap:")) {
-        if (reply.text == "Cap:EMERGENCY_PARSER:1") firmware_.emergency_parser = true;
-        if (reply.text == "Cap:AUTOREPORT_TEMP:1") firmware_.autoreport_temperature = true;
+      // "Cap:NAME:1" (Marlin's M115.cpp, Repetier's Commands.cpp), "cap:..." (Teacup's M115).
+      if (reply.text.size() > 4 && (reply.text.starts_with("Cap:") || reply.text.starts_with("cap:"))) {
+        const std::string_view cap = std::string_view(reply.text).substr(4);
+        if (cap == "EMERGENCY_PARSER:1") firmware_.emergency_parser = true;
+        if (cap == "AUTOREPORT_TEMP:1") firmware_.autoreport_temperature = true;
       }
       break;
     default:
@@ -376,9 +439,28 @@ void LineProtocol::answered() {
 
 void LineProtocol::handle_temperature_line(const Reply&) {
   if (!connected_) return;
+  if (dialect().temperatures == TemperatureReply::before_ok && !autoreport_on_) {
+    if (stale_answers_ > 0) {  // an M105 that ran behind a refused line: its ok follows
+      --stale_answers_;
+      ++swallow_oks_;
+      return;
+    }
+    // Teacup prints M105's temperatures before its ok, and runs lines in order: the line
+    // answers the oldest M105 not yet answered, and every line before that M105 has run
+    // (temp.c temp_print, mendel.c).
+    for (long n = accepted_ + 1; n <= sent_; ++n) {
+      const SentLine* in_flight = line(n);
+      if (in_flight == nullptr || !in_flight->is_m105 || in_flight->m105_answered) continue;
+      accept_through(n - 1);
+      history_[static_cast<std::size_t>(n - history_.front().number)].m105_answered = true;
+      answered();
+      return;
+    }
+  }
   // While a command that may run long runs, the firmware's own reports are signs of life
   // (Repetier's each second in M109, an auto-report).
   if (blocking() != Blocking::none) {
+    last_keepalive_ = link_.now();
     answered();
     return;
   }
@@ -441,19 +523,50 @@ LineProtocol::Blocking LineProtocol::blocking(long before) const {
 
 bool LineProtocol::long_command_in_flight() const { return blocking() != Blocking::none; }
 
+nanoseconds LineProtocol::quiet_for() const {
+  return link_.now() - std::max(last_answer_, last_keepalive_);
+}
+
+bool LineProtocol::heat_wait_in_flight() const {
+  for (long n = accepted_ + 1; n <= sent_; ++n) {
+    if (const SentLine* l = line(n); l != nullptr && l->waits_for_heat) return true;
+  }
+  return false;
+}
+
 void LineProtocol::set_accepted(long number) {
   accepted_ = number;
   if (const SentLine* l = line(number)) commands_accepted_ = l->sequence;
 }
 
-void LineProtocol::accept_through(long number) {
+void LineProtocol::accept_through(long number, bool own_ok) {
   if (number <= accepted_) return;
+  mirror_accepted(number, own_ok);
   set_accepted(number);
   stale_left_ = 0;  // the stale requests come before any acceptance of the replay
   same_resend_count_ = 0;
   if (probe_line_ >= 0 && probe_line_ <= number) probe_line_ = -1;
   idle_reported_ = false;
   answered();
+}
+
+void LineProtocol::mirror_accepted(long number, bool own_ok) {
+  // The planner mirror learns what entered: the last line by its own ok (its link time says
+  // when it entered), the ones before it by an answer that came later.
+  const nanoseconds now = link_.now();
+  for (long n = accepted_ + 1; n <= number; ++n) {
+    const SentLine* l = line(n);
+    if (l == nullptr) continue;
+    if (l->waits_for_moves) mirror_.drained(now);
+    if (!l->is_move) continue;
+    if (own_ok && n == number) {
+      const std::size_t bytes = l->command.size() + 16 + kAnswerBytes;  // "N<n> ", "*<cs>", the ok
+      const bool prompt = now <= l->written_at + wire_time(bytes) + options_.lost_ok_margin / 5;
+      mirror_.entered(l->written_at, now, l->motion, prompt);
+    } else {
+      mirror_.entered_unseen(l->written_at, l->motion);
+    }
+  }
 }
 
 void LineProtocol::handle_ok(const Reply& reply) {
@@ -486,12 +599,13 @@ void LineProtocol::handle_ok(const Reply& reply) {
   }
   const bool m105_answer = std::exchange(m105_answer_next_, false);
   if (reply.line_number) {
-    // ADVANCED_OK: N is the last line the firmware accepted, whatever happened to earlier oks.
-    advanced_ok_ = true;
+    // ADVANCED_OK ("ok N12 P15 B3") and Repetier's "ok 12": N is the last line the firmware
+    // accepted, whatever happened to earlier oks. Only ADVANCED_OK reports buffer space.
+    if (reply.planner_free || reply.queue_free) advanced_ok_ = true;
     if (reply.queue_free) queue_free_ = *reply.queue_free;
     const long n = std::min(*reply.line_number, sent_);
     if (n > accepted_) {
-      accept_through(n);
+      accept_through(n, true);
     } else if (!reply.temperatures) {
       ++stats_.duplicate_oks;
     }
@@ -503,13 +617,13 @@ void LineProtocol::handle_ok(const Reply& reply) {
     for (long n = accepted_ + 1; n <= sent_; ++n) {
       const SentLine* in_flight = line(n);
       if (in_flight != nullptr && in_flight->is_m105) {
-        accept_through(n);
+        accept_through(n, n == accepted_ + 1);
         return;
       }
     }
   }
   if (accepted_ < sent_) {
-    accept_through(accepted_ + 1);
+    accept_through(accepted_ + 1, true);
   } else {
     ++stats_.duplicate_oks;
   }
@@ -554,10 +668,36 @@ void LineProtocol::handle_resend(long wanted) {
     last_resend_ = wanted;
     same_resend_count_ = 1;
   }
+  int stale_probes = 0;
+  if (!dialect().checks_line_numbers && !probes_before_.empty()) {
+    // Teacup answers a wrong-checksum probe with "rs N<one past the last line it ran>": past
+    // every line written before the probe, it only says how far it got.
+    if (wanted > probes_before_.front()) {
+      probes_before_.pop_front();
+      if (wanted - 1 > accepted_) accept_through(wanted - 1);
+      answered();
+      return;
+    }
+    // A line written before a probe was refused, or lost: it is sent again, and each probe
+    // still out will draw the same request (it comes before the replay): stale.
+    stale_probes = static_cast<int>(probes_before_.size());
+    probes_before_.clear();
+  }
   resent_since_request_ = false;
   ++stats_.resend_requests;
+  if (!dialect().checks_line_numbers) {
+    // Teacup ran the lines written after the refused one all the same (it ignores their
+    // numbers): they are not sent again, and their answers come (gcode_parse.c). Only the
+    // engine's own M105 can be there, one line being in flight otherwise.
+    while (sent_ > wanted && line(sent_) != nullptr && line(sent_)->engine) {
+      ++stale_answers_;
+      remove_engine_line(sent_--);
+    }
+  }
   // Lines written after `wanted` are rejected too, each with its own request for `wanted`.
-  stale_left_ = static_cast<int>(std::max<long>(0, sent_ - wanted));
+  stale_left_ = (dialect().checks_line_numbers ? static_cast<int>(std::max<long>(0, sent_ - wanted)) : 0) +
+                stale_probes;
+  if (wanted - 1 > accepted_) mirror_accepted(wanted - 1, false);
   set_accepted(wanted - 1);
   sent_ = wanted - 1;
   if (probe_line_ >= wanted) probe_line_ = -1;  // the probe is resent with the rest
@@ -586,6 +726,14 @@ void LineProtocol::check_silence() {
     probe();  // the firmware says it is idle while lines are in flight: one was lost
     return;
   }
+  // The oldest line's ok is due by the motion model: probed for once, soon after it is late.
+  if (const std::optional<nanoseconds> overdue = model_probe_at()) {
+    if (now >= *overdue) {
+      history_[static_cast<std::size_t>(accepted_ + 1 - history_.front().number)].probed = true;
+      probe();
+    }
+    return;
+  }
   if (quiet < probe_after) return;
   if (ahead_of_probe != Blocking::none) {
     // The probe waits in the firmware's queue behind a command that may run long.
@@ -607,16 +755,62 @@ void LineProtocol::check_silence() {
   probe();
 }
 
+nanoseconds LineProtocol::wire_time(std::size_t bytes) const {
+  if (options_.baud <= 0) return nanoseconds(0);
+  return std::chrono::duration_cast<nanoseconds>(
+      std::chrono::duration<double>(10.0 * static_cast<double>(bytes) / options_.baud));
+}
+
+std::optional<nanoseconds> LineProtocol::model_probe_at() const {
+  if (accepted_ >= sent_) return std::nullopt;
+  const SentLine* oldest = line(accepted_ + 1);
+  const bool probe_out = probe_line_ > accepted_ && probe_line_ <= sent_;
+  if (oldest == nullptr || oldest->probed || probe_out || blocking() != Blocking::none) return std::nullopt;
+  return ok_overdue_at(*oldest);
+}
+
+std::optional<nanoseconds> LineProtocol::ok_overdue_at(const SentLine& l) const {
+  // Not for a command that may run long or whose answer may be long (M115's capabilities),
+  // nor once the firmware said it is busy with it.
+  if (l.blocks || l.waits_for_user || !l.answer_is_short || l.written_at <= last_keepalive_) {
+    return std::nullopt;
+  }
+  const nanoseconds written = l.written_at;
+  const nanoseconds transit = wire_time(l.command.size() + 16 + kAnswerBytes);
+  nanoseconds due = written + transit;
+  if (l.waits_for_moves) {
+    due = mirror_.dry_at(written) + transit;
+  } else if (l.is_move) {
+    due = std::max(due, mirror_.room_at(written) + wire_time(kAnswerBytes));
+  }
+  // No probe while the planner still holds more than the lead: the printer has work, and the
+  // line may only be waiting for room.
+  return std::max(due + options_.lost_ok_margin, mirror_.dry_at(written) - options_.refill_lead);
+}
+
 void LineProtocol::probe() {
   ++probes_unanswered_;
   ++stats_.probes;
   idle_reported_ = false;
   const LostOkProbe kind = dialect().probe;
   if (kind == LostOkProbe::same_line_again && accepted_ + 1 == sent_) {
-    // Teacup and Repetier: the unanswered line again, with its own number, is answered with a
-    // request for the next one if it arrived, and run now if it did not.
+    // Repetier: the unanswered line again, with its own number, draws "skip N" if it arrived
+    // and runs now if it did not.
     probe_line_ = sent_;
     transmit(sent_);
+    return;
+  }
+  if (kind == LostOkProbe::wrong_checksum) {
+    // Teacup: a line whose checksum is wrong on purpose is refused with "rs N<n>", n one past
+    // the last line it ran, and runs nothing (printer/firmware_dialect.h). Not stored.
+    const std::string body = fmt::format("N{} M105", sent_ + 1);
+    unsigned char sum = 0;
+    for (const char c : body) sum ^= static_cast<unsigned char>(c);
+    const std::string framed = fmt::format("{}*{}\n", body, sum ^ 0x55);
+    probes_before_.push_back(sent_);
+    link_.write(framed);
+    stats_.bytes_written += static_cast<long>(framed.size());
+    last_write_ = link_.now();
     return;
   }
   const bool m105_out = probe_line_ > accepted_ && probe_line_ <= sent_;
@@ -637,11 +831,22 @@ void LineProtocol::probe() {
   transmit(sent_ + 1);
 }
 
+void LineProtocol::remove_engine_line(long number) {
+  const auto at = history_.begin() + static_cast<std::ptrdiff_t>(number - first_number());
+  for (auto it = history_.erase(at); it != history_.end(); ++it) --it->number;
+  --assigned_;
+  if (probe_line_ == number) probe_line_ = -1;
+  if (probe_line_ > number) --probe_line_;
+}
+
 void LineProtocol::insert_engine_line(std::string command) {
   SentLine engine;
+  engine.engine = true;
   engine.number = sent_ + 1;
   engine.command = std::move(command);
-  engine.is_m105 = is_m105(engine.command);
+  const GcodeCommand parsed = parse_gcode_line(engine.command);
+  engine.is_m105 = parsed.is('M', 105);
+  engine.answer_is_short = answer_is_short(parsed);
   engine.blocks = command_blocks(engine.command);
   if (const SentLine* before = line(sent_)) engine.sequence = before->sequence;
   const auto at = history_.begin() + static_cast<std::ptrdiff_t>(engine.number - first_number());
@@ -659,7 +864,7 @@ void LineProtocol::use_keepalive(std::chrono::seconds interval) {
 
 bool LineProtocol::request_temperatures(std::chrono::seconds every) {
   if (autoreport_on_) return true;
-  if (firmware_.autoreport_temperature) {
+  if (firmware_.autoreport_temperature && dialect().autoreport_usable) {
     insert_engine_line(fmt::format("M155 S{}", every.count()));
     autoreport_on_ = true;
     return true;
@@ -740,7 +945,8 @@ void LineProtocol::connect(milliseconds boot_wait) {
     const bool had_start = restart_seen_;
     const std::string bytes = link_.read(std::clamp(left, milliseconds(1), milliseconds(300)));
     if (bytes.empty() && had_start) break;  // the banner is over
-    feed(bytes);
+    partial_ += bytes;
+    handle_buffered();
   }
 
   // M110 N0 resets the firmware's count whatever it was; retried when noise corrupts it.
@@ -762,6 +968,14 @@ void LineProtocol::connect(milliseconds boot_wait) {
       continue;
     }
     reset = connect_ok_;
+  }
+  if (reset) {
+    // An ok that was not M110's (Teacup's banner ends with one, mendel.c) must not be taken for
+    // M115's: what comes in a short quiet after is swallowed.
+    const nanoseconds quiet = link_.now() + nanoseconds(options_.resend_ok_grace);
+    while (link_.now() < quiet) {
+      read_once(std::chrono::duration_cast<milliseconds>(quiet - link_.now()) + milliseconds(1));
+    }
   }
   if (!reset) {
     throw LinkError(fmt::format(
@@ -785,6 +999,12 @@ void LineProtocol::connect(milliseconds boot_wait) {
   m105_answer_next_ = idle_reported_ = autoreport_on_ = keepalive_seen_ = false;
   own_errors_expected_ = 0;
   keepalive_.reset();
+  last_keepalive_ = nanoseconds(-1);
+  teacup_heat_pending_ = false;
+  stale_answers_ = 0;
+  probes_before_.clear();
+  clock_ = PrintClock(options_.motion);
+  mirror_ = PlannerMirror(dialect_of(Firmware::unknown).planner_depth);
   connected_ = true;
   last_write_ = last_answer_ = link_.now();
   firmware_ = FirmwareInfo{};
@@ -797,6 +1017,7 @@ void LineProtocol::connect(milliseconds boot_wait) {
   if (firmware_.firmware == Firmware::unknown) {
     firmware_.firmware = banner_said_marlin_ ? Firmware::marlin : options_.assumed_firmware;
   }
+  mirror_.set_depth(dialect().planner_depth);
   if (const auto known = dialect().ok_after_resend) {
     trailing_ok_seen_ = *known ? 1 : 0;
     trailing_ok_missed_ = *known ? 0 : 3;

@@ -6,46 +6,60 @@
 // from a printer::Link. Output: every command accepted by the firmware exactly once, in order;
 // the firmware's temperatures (°C) and reported position (mm); counters of what went wrong.
 //
-// How it stays exact. Marlin executes a numbered line only when its number is the last one it
-// accepted plus one, so a line can never run twice or be skipped as long as the host replays
-// from exactly the line the firmware names in `Resend:`. The host's own work is to keep the
-// stream moving:
+// How it stays exact. Each dialect (printer/firmware_dialect.h) says what answers exactly which
+// lines the firmware has; the host only ever sends a line again where the firmware checks line
+// numbers, or where sending it again cannot run it twice.
 // - Window: at most `window` numbered lines beyond the last one known accepted. More than one
 //   only once the firmware reports ADVANCED_OK (`ok N<n> P<p> B<b>`), whose N says exactly which
-//   line was accepted, and never more than the free queue slots it reports. With plain `ok`,
-//   each ok accepts the oldest line in flight; the window is 1.
-// - Resends: `Resend: m` means the firmware accepted everything before m and nothing from m on:
-//   replay from m. Lines already in flight when the first request came are rejected too and
-//   each draws its own request for m; those are stale and ignored (replaying again would loop).
-//   An `ok` right after a resend request belongs to the request (Marlin 1.1 and Repetier send
-//   it, Marlin 2 and Teacup do not; the dialect says, or the engine learns it within the first
-//   few resends). Repetier's "skip N" is followed by an ok of its own too.
+//   line was accepted, and never more than the free queue slots it reports: by default as many
+//   as it reports free, up to 4, so that a lost ok is credited by the next one at once. With
+//   plain `ok`, each ok accepts the oldest line in flight; the window is 1. Repetier's
+//   "ok <n>" (ACK_WITH_LINENUMBER) also says exactly which line was accepted.
+// - Resends: `Resend: m` / "rs N<m>" means the firmware accepted everything before m and
+//   nothing from m on: replay from m. Lines already in flight when the first request came are
+//   rejected too and each draws its own request for m; those are stale and ignored (replaying
+//   again would loop). An `ok` right after a resend request belongs to the request (Marlin 2.1,
+//   Teacup and Repetier send it, Marlin 2.0.9 did not; the dialect says, or the engine learns
+//   it within the first few resends). Repetier's "skip N" is followed by an ok of its own too.
 // - Errors: `Error:` lines the firmware recovers from are counted; `Printer halted`, thermal
 //   runaway, "!!" and "fatal:" throw PrinterError with the firmware's words; a `start`
 //   mid-session (the board reset) throws PrinterError. A refused command ("echo:Unknown
-//   command", Teacup's "ok E: Bad M-code 190") is counted, and when the print cannot go on
+//   command", Teacup's "E: Bad M-code 190") is counted, and when the print cannot go on
 //   without it (heating, waiting, homing) throws CommandRefused, naming the command and the
 //   profile's `firmware` to set.
+// - Every reply line is handled once, in order, whether it came alone or with others in one
+//   read: a reply that throws leaves the lines after it to be handled by whoever goes on using
+//   the engine (a job's heaters-off lines), so no ok already received is lost.
 // - Emergency commands (M112, M108, M410) are written at once, unnumbered, outside the window.
 //
 // Progress guarantees (what the tests in tests/printer/line_protocol_test.cpp pin):
+// - When a line's ok is due. The engine runs the motion model (printer/print_time.h) over the
+//   commands it sends and mirrors the firmware's planner (printer/planner_mirror.h): a move's
+//   ok is due when the planner has room for it, any other command's at once, a command that
+//   waits for the moves' once they have run. A lost ok is probed for `lost_ok_margin` after it
+//   was due, or later if the planner still holds more than `refill_lead` of moves then (no
+//   hurry, and no probe of a line that is merely waiting for room): so the printer does not
+//   run out of moves for a lost ok. This once per line; a keepalive after the line was written
+//   (the firmware is busy with it) leaves it to the rules below.
 // - While lines are in flight and the firmware is alive, no more than `probe_after` (+ one
 //   tick) passes without a line written or a reply that accounts for them (ok, resend, error)
-//   or a keepalive (`busy:`, an M109/M190 report "... W:"): after that much quiet the engine
-//   probes. A probe is what this dialect answers exactly (printer/firmware_dialect.h): on
-//   Marlin a line whose number skips one, refused with "Resend: n", n the line it wants; on
-//   Teacup and Repetier the unanswered line again, which the firmware answers with a request
-//   for the next line if it had it and otherwise runs now; on a firmware that does not name
-//   itself a numbered M105, whose "ok T:" proves every line before it arrived (a skipped
-//   number if that goes unanswered). A `wait` (the firmware idle with lines in flight) probes
-//   at once.
+//   or a keepalive (`busy:`, an M109/M190 report "... W:", Teacup's "Waiting for target
+//   temp"): after that much quiet the engine probes. A probe is what this dialect answers
+//   exactly (printer/firmware_dialect.h): on Marlin a line whose number skips one, refused with
+//   "Resend: n", n the line it wants; on Teacup a line with a checksum wrong on purpose,
+//   refused with "rs N<n>" the same way; on Repetier the unanswered line again, which it
+//   answers with "skip N"
+//   if it had it and otherwise runs now; on a firmware that does not name itself a numbered
+//   M105, whose "ok T:" proves every line before it arrived (a skipped number if that goes
+//   unanswered). A `wait` (the firmware idle with lines in flight) probes at once.
 // - A probe's answer frees its own slot and every line before it. Plain oks credit the oldest
 //   line; a lost ok's slot is credited once the firmware has answered a line sent after it.
 // - The long timeout applies only while a command that may run long without an ok is really
-//   unanswered (Marlin acknowledges on execution: an unacknowledged M109, G28, M400, ...;
-//   Teacup and Repetier acknowledge on reading, so one of the last kBlockingReach lines).
-//   Keepalives restart it. One probe goes behind such a command anyway (harmless: it waits in
-//   the queue), so a lost ok of M109 costs `probe_after`, not the long timeout.
+//   unanswered (Marlin and Teacup acknowledge on execution: an unacknowledged M109, G28,
+//   M400, a Teacup G1 after M116, ...; Repetier acknowledges on reading, so one of the last
+//   kBlockingReach lines). Keepalives restart it. One probe goes behind such a command anyway
+//   (harmless: it waits in the queue), so a lost ok of M109 costs `probe_after`, not the long
+//   timeout.
 // - On Marlin the job asks for the busy keepalive every second (M113 S1, use_keepalive()):
 //   once one has come, the firmware is known to say "busy:" whenever it is working, so quiet
 //   of a second and a half already means a lost ok, and the probe goes then.
@@ -70,12 +84,17 @@
 
 #include "printer/firmware_dialect.h"
 #include "printer/link.h"
+#include "printer/motion_model.h"
+#include "printer/planner_mirror.h"
+#include "printer/print_time.h"
 #include "printer/replies.h"
 
 namespace printer {
 
 struct ProtocolOptions {
-  std::size_t window = 1;  // numbered lines in flight; > 1 takes effect with ADVANCED_OK only
+  // Numbered lines in flight with ADVANCED_OK (without it, 1); 0: as many as the firmware
+  // reports free, up to 4.
+  std::size_t window = 0;
   std::chrono::milliseconds probe_after{3000};           // quiet before a probe
   int max_probes = 10;  // unanswered probes before giving up: 30 s of silence, as OctoPrint
   // Quiet before giving up while a command that may run long is unanswered (M109, G28, ...).
@@ -89,6 +108,14 @@ struct ProtocolOptions {
   int max_resends_of_one_line = 25;
   std::chrono::milliseconds resend_ok_grace{250};        // wait for an ok after `Resend:`
   std::chrono::milliseconds tick{100};  // longest read while waiting, so on_wait runs often
+  // When an ok is due (see the progress guarantees): the printer's motion limits for the
+  // motion model, the link's speed for the time a line and its answer take on the wire
+  // (bit/s; 0: no time), how late an ok may be before it counts as lost, and how much motion
+  // the planner should still hold when the probe goes.
+  MotionLimits motion{};
+  int baud = 115200;
+  std::chrono::milliseconds lost_ok_margin{50};
+  std::chrono::milliseconds refill_lead{250};
 };
 
 struct ProtocolStats {
@@ -152,6 +179,9 @@ class LineProtocol {
   // firmware reports AUTOREPORT_TEMP (then nothing more), else a numbered M105 after the
   // lines queued, answered in passing. Returns whether auto-reports are on.
   bool request_temperatures(std::chrono::seconds every = std::chrono::seconds(2));
+  // Handles the reply lines already received, without waiting for more (a job that stops
+  // reads what is in hand before it sends its last lines).
+  void handle_received();
   // Asks a Marlin firmware for its busy keepalive every `interval` (M113 S<n>; OctoPrint asks
   // for 2 s): once a keepalive has come, a lost ok is probed for after the interval and
   // 0.5 s instead of `probe_after`. Nothing for other dialects, which have none.
@@ -192,6 +222,9 @@ class LineProtocol {
   // True while the firmware may be running a command for long (M109, G28, M0, ...) that it
   // has not answered (see the progress guarantees).
   bool long_command_in_flight() const;
+  // Link time since the firmware last answered a line or said it is busy.
+  std::chrono::nanoseconds quiet_for() const;
+  bool heat_wait_in_flight() const;
   Link& link() { return link_; }
 
  private:
@@ -201,8 +234,16 @@ class LineProtocol {
     bool blocks = false;    // the firmware runs it for a long time without answering
     bool waits_for_user = false;
     bool is_m105 = false;
+    bool m105_answered = false;  // its "T:" line came (Teacup): its ok is next
+    bool waits_for_moves = false;  // answered once every queued move ran
+    bool waits_for_heat = false;   // Teacup's G0/G1 after M116 (printer/firmware_dialect.h)
+    bool answer_is_short = false;  // ok, or a line of figures: its time on the wire is known
+    bool is_move = false;   // takes a slot in the firmware's planner
+    double motion = 0;      // seconds of motion it adds, from the motion model
     long sequence = 0;      // which send() call it came from; a probe has its predecessor's
-    long oks_before = 0;    // oks read before it was last written (Repetier's M105 answer)
+    std::chrono::nanoseconds written_at{0};  // when it was last written
+    bool probed = false;    // the probe for its lost ok went (once per line)
+    bool engine = false;    // the engine's own line (a probe, M113, M155), not a command
   };
   enum class Blocking { none, command, user };
 
@@ -213,9 +254,10 @@ class LineProtocol {
                   std::optional<std::chrono::nanoseconds> deadline = std::nullopt);
   void wait_until_or(std::chrono::milliseconds timeout);
   void read_once(std::chrono::milliseconds timeout);
-  void feed(const std::string& bytes);
+  bool handle_buffered();
   void handle(const Reply& reply);
-  void accept_through(long number);
+  void accept_through(long number, bool own_ok = false);
+  void mirror_accepted(long number, bool own_ok);
   void set_accepted(long number);
   void handle_ok(const Reply& reply);
   void handle_resend(long wanted);
@@ -223,8 +265,13 @@ class LineProtocol {
   void handle_refusal(std::string_view text, std::optional<long> line_number);
   void answered();
   void check_silence();
+  std::optional<std::chrono::nanoseconds> ok_overdue_at(const SentLine& line) const;
+  // When the probe for the oldest line's lost ok goes by the motion model, if it does.
+  std::optional<std::chrono::nanoseconds> model_probe_at() const;
+  std::chrono::nanoseconds wire_time(std::size_t bytes) const;
   void probe();
   void insert_engine_line(std::string command);
+  void remove_engine_line(long number);
   Blocking blocking(long before = -1) const;
   std::size_t allowed_in_flight() const;
   bool pending_replay() const { return sent_ < assigned_; }
@@ -256,13 +303,18 @@ class LineProtocol {
   std::chrono::nanoseconds next_probe_at_{0};
   int probes_unanswered_ = 0;
   long probe_line_ = -1;       // the line number of the outstanding probe, -1 for none
-  long oks_read_ = 0;
-  int swallow_oks_ = 0;            // oks that belong to Repetier "skip" lines
+  int swallow_oks_ = 0;            // oks that belong to Repetier "skip" lines or stale probes
+  int stale_answers_ = 0;          // Teacup M105s that ran behind a refused line
+  std::deque<long> probes_before_;  // Teacup wrong-checksum probes out: sent_ when each went
   int own_errors_expected_ = 0;    // line-number errors the skipped-number probes draw
   bool banner_said_marlin_ = false;
   bool m105_answer_next_ = false;  // a bare "T:" line just came: the next ok may be M105's
   bool idle_reported_ = false;     // the firmware said `wait` with lines in flight
   bool autoreport_on_ = false;
+  bool teacup_heat_pending_ = false;  // an M116 went to Teacup: its next G0/G1 waits
+  std::chrono::nanoseconds last_keepalive_{-1};  // a busy: line or a heating report
+  PrintClock clock_;           // the motion model over the commands sent
+  PlannerMirror mirror_;
   std::optional<std::chrono::nanoseconds> keepalive_;  // the M113 interval asked for
   bool keepalive_seen_ = false;                         // and a busy: line since
   std::optional<std::chrono::nanoseconds> temperatures_at_;

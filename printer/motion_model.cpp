@@ -214,6 +214,15 @@ double MotionModel::flush() {
 void MotionModel::set_position(AxisPosition position) { planner_->position = position; }
 AxisPosition MotionModel::position() const { return planner_->position; }
 double MotionModel::total_time() const { return planner_->total; }
+
+double MotionModel::pending_time() const {
+  const std::deque<Block>& open = planner_->open;
+  double seconds = 0;
+  for (std::size_t i = 0; i < open.size(); ++i) {
+    seconds += block_time(open[i], i + 1 < open.size() ? open[i + 1].entry_sqr : 0.0);
+  }
+  return seconds;
+}
 std::size_t MotionModel::pending() const { return planner_->open.size(); }
 const MotionLimits& MotionModel::limits() const { return planner_->limits; }
 void MotionModel::set_limits(const MotionLimits& limits) { planner_->limits = limits; }

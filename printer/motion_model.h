@@ -49,6 +49,9 @@ class MotionModel {
 
   // Seconds of all moves made final so far.
   double total_time() const;
+  // Seconds the open moves take as planned now (the newest ending at rest): with
+  // total_time(), the time of everything pushed so far, should no more moves come.
+  double pending_time() const;
   // Moves still open in the look-ahead window.
   std::size_t pending() const;
 

@@ -101,6 +101,8 @@ void PrintClock::command(const GcodeCommand& c) {
 
 double PrintClock::elapsed() const { return model_.total_time() + dwell_; }
 
+double PrintClock::modeled() const { return elapsed() + model_.pending_time(); }
+
 std::size_t PrintClock::moves_final() const { return moves_ - model_.pending(); }
 
 double PrintClock::finish() {

@@ -34,6 +34,9 @@ class PrintClock {
 
   // Seconds so far, counting only moves the planner has made final (lags by its window).
   double elapsed() const;
+  // Seconds of everything read so far, the moves still open as planned now (the last ending at
+  // rest): elapsed() without the lag.
+  double modeled() const;
   // Moves that take time: queued so far, and made final so far (their time is in elapsed()).
   std::size_t moves_queued() const { return moves_; }
   std::size_t moves_final() const;

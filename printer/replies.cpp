@@ -159,6 +159,15 @@ Reply classify_reply(std::string_view raw) {
       if (reply.position) return reply;
     }
     reply.temperatures = read_temperatures(rest);
+    // Repetier's ACK_WITH_LINENUMBER: "ok 12" (gcode.cpp checkAndPushCommand, Com::tOkSpace).
+    {
+      std::string_view digits = rest;
+      const auto value = take_long(digits);
+      if (value && (digits.empty() || is_blank(digits.front()))) {
+        reply.line_number = *value;
+        return reply;
+      }
+    }
     // ADVANCED_OK words have no colon: "N12 P15 B3". "B:60" is the bed.
     while (!rest.empty()) {
       while (!rest.empty() && is_blank(rest.front())) rest.remove_prefix(1);
@@ -193,6 +202,8 @@ Reply classify_reply(std::string_view raw) {
   }
   if (starts_with_nocase(line, "skip ") || starts_with_nocase(line, "skip:")) {
     reply.kind = ReplyKind::skip;
+    std::string_view rest = trim(line.substr(5));
+    reply.line_number = take_long(rest);
     return reply;
   }
   if (starts_with_nocase(line, "fatal:") || line.starts_with("!!")) {
@@ -210,7 +221,8 @@ Reply classify_reply(std::string_view raw) {
   }
   std::string_view body = line;
   if (starts_with_nocase(body, "echo:")) body = trim(body.substr(5));
-  if (starts_with_nocase(body, "busy:")) {
+  // Teacup's clock.c says this each second while M116 waits (its only keepalive).
+  if (starts_with_nocase(body, "busy:") || line == "Waiting for target temp") {
     reply.kind = ReplyKind::busy;
     return reply;
   }

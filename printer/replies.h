@@ -17,13 +17,14 @@
 namespace printer {
 
 enum class ReplyKind {
-  ok,           // "ok", "ok N12 P15 B3" (ADVANCED_OK), "ok T:210 /210 B:60 /60" (M105)
+  ok,           // "ok", "ok N12 P15 B3" (ADVANCED_OK), "ok 12" (Repetier), "ok T:210 /210 B:60 /60"
   resend,       // "Resend: 12", "Resend:N12", "rs N12", "rs 12"
-  skip,         // "skip 14": Repetier dropping a line sent before its resend request (an ok follows)
+  skip,         // "skip 14": Repetier not running a line it has already (an ok follows)
   error,        // "Error:checksum mismatch, Last Line: 4", "E: ...": the firmware goes on
   fatal,        // "Error:Printer halted. kill() called!", thermal runaway, MINTEMP, "!!",
                 // "fatal:": it stopped
-  busy,         // "echo:busy: processing", "busy: paused for user": a long command is running
+  busy,         // "echo:busy: processing", "busy: paused for user", Teacup's "Waiting for target
+                // temp": a long command is running
   wait,         // "wait": idle with an empty buffer
   start,        // "start": the firmware (re)started
   temperature,  // " T:200.2 /200.0 B:65.0 /65.0 @:73" without ok (M155 auto-report, M109 wait)
@@ -45,7 +46,8 @@ struct ReportedPosition {
 struct Reply {
   ReplyKind kind = ReplyKind::other;
   std::string text;                      // the line, line end and surrounding blanks removed
-  std::optional<long> line_number;       // ok N<n> (last line accepted) or the line a resend asks for
+  std::optional<long> line_number;       // ok N<n> / ok <n> (last line accepted), the line a resend
+                                         // asks for, the line a Repetier "skip" names
   std::optional<int> planner_free;       // ADVANCED_OK P<n>
   std::optional<int> queue_free;         // ADVANCED_OK B<n>
   std::optional<Temperatures> temperatures;  // on ok, temperature and busy lines

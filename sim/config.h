@@ -30,12 +30,20 @@ struct Config {
   Dialect dialect = Dialect::marlin;
   // Serial protocol (Marlin's BUFSIZE, BLOCK_BUFFER_SIZE, RX_BUFFER_SIZE, MAX_CMD_SIZE).
   int queue_depth = 4;        // commands the firmware queues before it stops reading serial
-  int planner_depth = 16;     // moves the planner holds (also the motion model's look-ahead)
+  // Moves the planner holds (also the motion model's look-ahead): BLOCK_BUFFER_SIZE 16 keeps
+  // one block free (Marlin/src/module/planner.h, moves_free()), so a new move waits while 15 do.
+  int planner_depth = 15;
   int rx_buffer_size = 128;   // bytes; bytes arriving when it is full are lost, as on Marlin
   int max_cmd_size = 96;      // a longer line is cut at max_cmd_size - 1 characters
   bool advanced_ok = false;   // ADVANCED_OK: "ok N<line> P<planner free> B<queue free>"
-  bool ok_after_resend = true;  // Marlin 1.1 sends ok after Resend:, Marlin 2.0 does not
-                                // (Teacup never does, Repetier always does)
+  // "ok" after "Resend:" (queue.cpp flush_and_request_resend): Marlin 1.1 and 2.1.x send it,
+  // 2.0.9.x did not. Teacup and Repetier always send it (sim/dialect.h).
+  bool ok_after_resend = true;
+  // Teacup's REQUIRE_LINENUMBER (gcode_parse.h, off in its stock configuration): lines need an
+  // N at least the expected one.
+  bool teacup_require_linenumber = false;
+  // Repetier's ACK_WITH_LINENUMBER (Configuration.h, 1 in its example configuration): "ok <n>".
+  bool repetier_ack_with_linenumber = true;
   // EMERGENCY_PARSER: M108, M112 and M410 act the moment their line arrives, even when the
   // queue is full. Off, they act when the firmware reads the line, and only unnumbered ones
   // (queue.cpp's early check looks at the raw line, which starts with N when numbered).

@@ -25,8 +25,14 @@ double FaultInjector::chance(std::mt19937_64& rng) {
   return std::uniform_real_distribution<double>(0.0, 1.0)(rng);
 }
 
-// One bit flipped in `c` that Marlin's checksum is sure to catch (sim/faults.h), or c.
+// A digit becomes another digit (a number on the line changes and the line still reads as
+// G-code); any other byte gets one bit flipped that the checksum is sure to catch
+// (sim/faults.h), or stays c.
 char FaultInjector::flipped(char c) {
+  if (c >= '0' && c <= '9') {
+    std::uniform_int_distribution<int> other(1, 9);
+    return static_cast<char>('0' + (c - '0' + other(rng_corrupt_)) % 10);
+  }
   std::uniform_int_distribution<int> bit(0, 7);
   for (int attempt = 0; attempt < 16; ++attempt) {
     const char f = static_cast<char>(c ^ (1 << bit(rng_corrupt_)));

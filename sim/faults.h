@@ -7,14 +7,15 @@
 // firmware accepted into its command queue since power-on, starting at 1.
 //
 // What each fault does (and why it is shaped so):
-// - corrupt=p: each byte the host sends is, with probability p, changed by one flipped bit
-//   before the firmware reads it, as on a noisy serial line. At most one byte per line is
-//   changed, and never into or out of a line end, ';', '*', backspace or NUL, nor the 'N'
-//   that starts a line: Marlin's XOR checksum can only catch such a change (two flips of the
-//   same bit cancel; a flipped 'N' makes an unchecked line), so every corruption is detected
-//   and answered with an error and Resend, as the issue requires. Unnumbered lines carry no
-//   checksum, so Marlin runs them as they arrive, changed or not; use from-line to keep a
-//   host's unnumbered handshake out of reach.
+// - corrupt=p: each byte the host sends is, with probability p, changed before the firmware
+//   reads it, as on a noisy serial line: a digit into another digit (the line still reads as
+//   G-code, with a number changed: a coordinate, a line number, the checksum), any other byte
+//   by one flipped bit. At most one byte per line is changed, and never into or out of a line
+//   end, ';', '*', backspace or NUL, nor the 'N' that starts a line: a change of one byte is
+//   always caught by the XOR checksum (two changes could cancel; a flipped 'N' makes an
+//   unchecked line), so every corruption is detected and answered with a resend request.
+//   Unnumbered lines carry no checksum, so the firmware runs them as they arrive, changed or
+//   not; use from-line to keep a host's unnumbered handshake out of reach.
 // - drop-ok=p: an `ok` for an executed command is not sent.
 // - drop-blocking-ok=N: the oks of the first N commands that block the firmware until they
 //   end (G4, G28, M0/M1, M109, M190, M116, M400) are not sent: the worst time to lose one,

@@ -8,7 +8,11 @@
 namespace sim {
 
 Heaters::Heaters(const Config& config, double now)
-    : config_(&config), hotend_(config.hotend, config.ambient), bed_(config.bed, config.ambient) {
+    : config_(&config),
+      hotend_(config.hotend, config.ambient),
+      bed_(config.bed, config.ambient),
+      hotend_at_change_(hotend_),
+      bed_at_change_(bed_) {
   hotend_.advance_to(now);
   bed_.advance_to(now);
 }
@@ -20,16 +24,20 @@ void Heaters::advance_to(double t) {
 
 void Heaters::set_hotend(double target, double now) {
   hotend_.set_target(std::clamp(target, 0.0, config_->max_hotend_temp));
+  hotend_at_change_ = hotend_;
   update_runaway(now);
 }
 
 void Heaters::set_bed(double target) {
   bed_.set_target(std::clamp(target, 0.0, config_->max_bed_temp));
+  bed_at_change_ = bed_;
 }
 
 void Heaters::all_off() {
   hotend_.set_target(0);
   bed_.set_target(0);
+  hotend_at_change_ = hotend_;
+  bed_at_change_ = bed_;
   runaway_at_ = kNever;
 }
 
@@ -70,6 +78,16 @@ std::string Heaters::wait_report(Which which, double now) const {
     w = fmt::format("{}", left_ms / 1000);
   }
   return states() + " W:" + w;
+}
+
+double Heaters::settled_at(Which which, double band, double residency) const {
+  const Heater& h = which == Which::hotend ? hotend_at_change_ : bed_at_change_;
+  if (h.target() <= 0) return -kNever;
+  const double off = h.temperature() - h.target();
+  const double within = std::abs(off) < band ? h.time()
+                        : off < 0            ? h.time_reaching(h.target() - band)
+                                             : h.time_reaching(h.target() + band);
+  return within + residency;
 }
 
 std::string Heaters::states() const {

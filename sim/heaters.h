@@ -40,6 +40,11 @@ class Heaters {
   // " T:<hotend> /<target> B:<bed> /<target> @:<power> B@:<power>", Marlin's M105 fields.
   std::string states() const;
 
+  // When the heater will have stood within `band` °C of its target for `residency` seconds
+  // counted from its last target change (Teacup's temp_achieved, temp.c: a target change resets
+  // the residency); -infinity for a heater without a target.
+  double settled_at(Which which, double band, double residency) const;
+
   // When thermal protection stops the printer; +infinity when it will not.
   double runaway_at() const { return runaway_at_; }
 
@@ -56,6 +61,7 @@ class Heaters {
 
   const Config* config_;
   Heater hotend_, bed_;
+  Heater hotend_at_change_, bed_at_change_;  // as each was when its target last changed
   double residency_from_ = kNever;  // when the waited-for heater got within its window
   double runaway_at_ = kNever;
 };

@@ -37,6 +37,8 @@ double Motion::plan_move(printer::AxisPosition target, double speed, double now)
   const std::size_t finalized = opened > planner_.pending() ? opened - planner_.pending() : 0;
   if (moves) open_moves_.push_back(now);
   if (finalized == 0) return now;
+  if (!drained_ && open_moves_.front() > stepper_free_) starved_ += open_moves_.front() - stepper_free_;
+  drained_ = false;
   const double start = std::max(stepper_free_, open_moves_.front());
   for (std::size_t i = 0; i < finalized && !open_moves_.empty(); ++i) open_moves_.pop_front();
   stepper_free_ = start + seconds;
@@ -44,6 +46,7 @@ double Motion::plan_move(printer::AxisPosition target, double speed, double now)
 }
 
 double Motion::finish(double now) {
+  drained_ = true;
   const double seconds = planner_.flush();
   if (!open_moves_.empty()) {
     const double start = std::max(stepper_free_, open_moves_.front());
@@ -54,6 +57,7 @@ double Motion::finish(double now) {
 }
 
 void Motion::quickstop(double now) {
+  drained_ = true;
   planner_.flush();
   open_moves_.clear();
   stepper_free_ = std::min(stepper_free_, now);

@@ -55,6 +55,10 @@ class Motion {
   int planner_free() const;
   double motion_time() const { return planner_.total_time(); }  // s of motion planned so far
   double end_time() const { return stepper_free_; }             // when the moves made final end
+  // Seconds the head stood still between moves because the next one had not arrived: the
+  // planner ran empty while printing. Waits the firmware drains the planner for (M400, G28,
+  // M109, the end of the print, ...) are not counted.
+  double starved() const { return starved_; }
 
  private:
   bool e_relative() const;
@@ -67,6 +71,8 @@ class Motion {
   printer::MotionModel planner_;
   std::deque<double> open_moves_;  // arrival time of each move still open in the planner
   double stepper_free_ = 0;        // when all moves made final so far have run
+  bool drained_ = true;            // the planner was emptied on purpose since the last move
+  double starved_ = 0;
   Head head_;
   double fed_ = 0;                 // filament actually fed (flow applied), the planner's E
   double feedrate_ = 25;           // mm/s (Marlin boots with 1500 mm/min)

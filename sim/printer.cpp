@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include <fmt/core.h>
 
@@ -20,13 +21,25 @@ namespace sim {
 namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
-constexpr std::string_view kVersion = "2.0.9.3";
+constexpr std::string_view kVersion = "2.1.2";
+
+// Teacup's M116 (config/printer.mendel.h): every heater with a target within
+// TEMP_HYSTERESIS 10 °C of it for TEMP_RESIDENCY_TIME 60 s.
+constexpr double kTeacupHysteresis = 10, kTeacupResidency = 60;
+// Repetier's timers (gcode.cpp readFromSerial, Configuration.h): a resend request is repeated
+// after 200 ms without input; "wait" after 1 s; "busy:" every KEEP_ALIVE_INTERVAL 2 s.
+constexpr double kRepetierResendRepeat = 0.2, kRepetierWait = 1.0, kRepetierKeepalive = 2.0;
+// Lines Repetier skips after a resend request before it asks again (requestResend: 14).
+constexpr int kRepetierSkips = 14;
 
 // What the command executing waits for before its ok.
-enum class Wait { none, planner, motion, hotend, bed, user };
+enum class Wait { none, planner, motion, hotend, bed, user, teacup_temperatures };
 
 Config checked(Config config) {
-  config.queue_depth = traits(config.dialect).one_line_at_a_time ? 1 : std::max(config.queue_depth, 1);
+  const DialectTraits& t = traits(config.dialect);
+  if (t.queue_depth > 0) config.queue_depth = t.queue_depth;
+  if (t.planner_depth > 0) config.planner_depth = t.planner_depth;
+  config.queue_depth = std::max(config.queue_depth, 1);
   config.planner_depth = std::max(config.planner_depth, 1);
   config.rx_buffer_size = std::max(config.rx_buffer_size, 1);
   config.max_cmd_size = std::max(config.max_cmd_size, 2);
@@ -71,11 +84,14 @@ struct Printer::Firmware {
   double autoreport_interval = 0, next_autoreport = kInfinity;
   double busy_interval = 2;
   double boot_done = 0;
-  int skips_left = 0;  // Repetier: lines in flight after a resend request it answers "skip"
-  // Ok-when-read dialects: what the command executing says, for its ok line (Teacup) or
-  // after it (Repetier).
-  std::vector<std::string> said;
-  bool saying = false;
+  // Repetier (gcode.cpp): waitingForResend, -1 when not waiting; when input last came.
+  int waiting_for_resend = -1;
+  double last_input = 0;
+  // Teacup (temp.c): M116 set the flag; the next G0/G1 waits (temp_wait) until every heater is
+  // settled; clock.c says "Waiting for target temp" each second meanwhile.
+  bool teacup_wait_for_temp = false;
+  double next_teacup_tick = kInfinity;
+  std::optional<printer::GcodeCommand> teacup_waiting_move;
 
   // The firmware waiting for the host: since when (-1: busy), and whether the faults dropped
   // an ok since it last heard from the host (the wait it causes is then a lost ok's).
@@ -89,7 +105,7 @@ struct Printer::Firmware {
         talk(traits(cfg.dialect)),
         faults(cfg.faults),
         wire(cfg.baud),
-        receiver(cfg.rx_buffer_size, cfg.max_cmd_size),
+        receiver(cfg.rx_buffer_size, cfg.max_cmd_size, cfg.dialect == Dialect::teacup),
         replies(cfg.baud),
         queue(cfg.queue_depth),
         motion(cfg, record, 0),
@@ -105,8 +121,12 @@ struct Printer::Firmware {
     stop_reason.clear();
     boot_done = now + std::max(cfg.boot_time, 0.0);
     wire.clear(now);
-    receiver = SerialReceiver(cfg.rx_buffer_size, cfg.max_cmd_size);
+    receiver = SerialReceiver(cfg.rx_buffer_size, cfg.max_cmd_size, cfg.dialect == Dialect::teacup);
     last_n = 0;
+    waiting_for_resend = -1;
+    teacup_wait_for_temp = false;
+    next_teacup_tick = kInfinity;
+    teacup_waiting_move.reset();
     faults.power_on();
     frozen = false;
     queue.clear();
@@ -120,14 +140,14 @@ struct Printer::Firmware {
     autoreport_interval = 0;
     next_autoreport = kInfinity;
     busy_interval = cfg.busy_interval;
-    last_activity = now;
+    last_activity = last_input = now;
     if (cfg.boot_time <= 0) finish_boot();
   }
 
   void finish_boot() {
     state = PrinterState::running;
     for (std::string& line : boot_banner(cfg.dialect, kVersion)) emit(std::move(line));
-    last_activity = now;
+    last_activity = last_input = now;
   }
 
   // ---- output ----------------------------------------------------------------------------
@@ -135,15 +155,6 @@ struct Printer::Firmware {
   void emit(std::string text) {
     if (state == PrinterState::disconnected || frozen) return;
     counters.bytes_sent += replies.send(now + faults.reply_delay(), std::move(text));
-  }
-
-  // What a command prints: at once, or, in an ok-when-read dialect, with its ok.
-  void say(std::string text) {
-    if (saying) {
-      said.push_back(std::move(text));
-    } else {
-      emit(std::move(text));
-    }
   }
 
   // Whether this ok is lost to a fault; `blocked`: the command blocked the firmware.
@@ -155,16 +166,20 @@ struct Printer::Firmware {
     return true;
   }
 
-  // The ok of an executed command; M105's carries the temperatures instead of ADVANCED_OK's
-  // fields, since Marlin's M105 prints its own ok.
+  // A command's ok. Marlin (queue.cpp RingBuffer::ok_to_send): with ADVANCED_OK "ok N<n>
+  // P<planner free> B<queue free>", the command still counted in the queue; M105 prints its
+  // own "ok T:..." instead (temperature.cpp). Repetier (gcode.cpp checkAndPushCommand):
+  // "ok <n>" with ACK_WITH_LINENUMBER. Teacup (mendel.c): "ok".
   void send_ok(const QueuedCommand& command, bool with_temperatures, bool blocked) {
     if (ok_dropped(blocked)) return;
     std::string ok = "ok";
     if (with_temperatures) {
       ok += heaters.states();
-    } else if (cfg.advanced_ok) {
+    } else if (cfg.dialect == Dialect::marlin && cfg.advanced_ok) {
       if (command.line_number) ok += fmt::format(" N{}", *command.line_number);
       ok += fmt::format(" P{} B{}", motion.planner_free(), queue.free());
+    } else if (cfg.dialect == Dialect::repetier && cfg.repetier_ack_with_linenumber) {
+      ok += fmt::format(" {}", command.line_number.value_or(last_n));
     }
     const bool twice = faults.duplicate_ok();
     emit(ok);
@@ -209,6 +224,7 @@ struct Printer::Firmware {
       if (arrived->emergency != Emergency::none && delivered > 0) return true;
       wire.pop();
       if (delivered == 0) heard_from_host();
+      last_input = now;
       const std::uint64_t clears = wire.clears();
       arrive(arrived->byte);
       if (wire.clears() != clears) return false;  // the line it ended disconnected the link
@@ -251,46 +267,151 @@ struct Printer::Firmware {
   }
 
   void line_done(const std::string& raw) {
-    const LineCheck check =
-        check_line(raw, last_n, LineRules{talk.takes_skipped_numbers, talk.requires_checksum});
+    switch (cfg.dialect) {
+      case Dialect::marlin: return marlin_line(raw);
+      case Dialect::teacup: return teacup_line(raw);
+      case Dialect::repetier: return repetier_line(raw);
+    }
+  }
+
+  // queue.cpp GCodeQueue::get_serial_commands: a line starting with N must be last_N + 1
+  // (M110 excepted) and carry a matching checksum; unnumbered lines are not checked.
+  void marlin_line(const std::string& raw) {
+    const LineCheck check = check_line(raw, last_n);
     std::optional<long> number;
     if (check.verdict != LineVerdict::unnumbered) {
-      if (check.verdict == LineVerdict::wrong_line_number && skips_left > 0) {
-        // Repetier: a line sent before its resend request reached the host.
-        --skips_left;
-        emit(fmt::format("skip {}", check.number));
-        emit("ok");
-        receiver.discard_buffered();
-        return;
-      }
-      if (check.verdict != LineVerdict::accepted) return line_error(check.verdict, raw);
+      if (check.verdict != LineVerdict::accepted) return marlin_line_error(check.verdict);
       if (faults.spurious_resend()) {
         ++counters.faults_injected;
-        return line_error(LineVerdict::checksum_mismatch, raw);
+        return marlin_line_error(LineVerdict::checksum_mismatch);
       }
       last_n = check.number;
       number = check.number;
-      skips_left = 0;
       faults.line_accepted(check.number);
     }
-
     QueuedCommand queued{command_text(raw), number, ++counters.lines};
-    if (cfg.dialect == Dialect::repetier && queued.text.starts_with("M112")) {
-      // Repetier stops the moment it reads M112 (checkAndPushCommand), without a word.
-      log.push_back("M112");
-      ++counters.commands;
-      kill("kill() by M112", false);
-      return;
-    }
-    if (cfg.dialect == Dialect::marlin && !emergency_parser() && !number) {
-      // queue.cpp's early check of unnumbered lines.
+    if (!emergency_parser() && !number) {
+      // queue.cpp's early check of unnumbered lines (EMERGENCY_PARSER disabled).
       if (queued.text.starts_with("M108")) emergency(Emergency::m108);
       if (queued.text.starts_with("M112")) emergency(Emergency::m112);
       if (queued.text.starts_with("M410")) emergency(Emergency::m410);
       if (state != PrinterState::running) return;
     }
+    enqueue(std::move(queued));
+  }
+
+  // queue.cpp gcode_line_error: "Error:<what>, Last Line: <n>", the RX buffer emptied, then
+  // flush_and_request_resend: "Resend: <n + 1>" and, in 2.1.x, "ok".
+  void marlin_line_error(LineVerdict verdict) {
+    ++counters.errors;
+    ++counters.resends;
+    emit(fmt::format("Error:{}{}", error_text(verdict), last_n));
+    receiver.discard_buffered();
+    emit(fmt::format("Resend: {}", last_n + 1));
+    if (cfg.ok_after_resend) emit("ok");
+  }
+
+  // gcode_parse.c gcode_parse_char at the line end: without REQUIRE_LINENUMBER the number is
+  // never looked at; with it, N must be at least the expected one (or the line an M110). A
+  // checksum, when there is one, must match. A refused line prints "rs N<expected> ..." and
+  // still draws its ok from the main loop (mendel.c). N_expected follows the last numbered
+  // line processed.
+  void teacup_line(const std::string& raw) {
+    const TeacupLine line = read_teacup_line(raw);
+    const long expected = last_n + 1;
+    const bool numbered_right =
+        !cfg.teacup_require_linenumber || line.m110 || (line.number && *line.number >= expected);
+    if (!numbered_right) {
+      return teacup_refuse(fmt::format("rs N{} Expected line number {}", expected, expected));
+    }
+    if (!line.checksum_ok || (line.number && faults.spurious_resend() && ++counters.faults_injected)) {
+      return teacup_refuse(fmt::format("rs N{} Expected checksum {}", expected, line.computed));
+    }
+    if (line.number) {
+      last_n = *line.number;
+      faults.line_accepted(*line.number);
+    }
+    enqueue(QueuedCommand{command_text(raw), line.number, ++counters.lines});
+  }
+
+  void teacup_refuse(std::string request) {
+    ++counters.errors;
+    ++counters.resends;
+    emit(std::move(request));
+    emit("ok");
+  }
+
+  // gcode.cpp readFromSerial / parseAscii / checkAndPushCommand: a wrong checksum asks for the
+  // line again; M110 and M112 are taken at once; a number at or a little below the last one
+  // draws "skip", one above while a resend is awaited too, any other gap a resend request.
+  void repetier_line(const std::string& raw) {
+    const RepetierLine line = repetier_checked(raw);
+    if (!line.checksum_ok) {
+      emit("Error:Wrong checksum");
+      return repetier_request_resend();
+    }
+    const std::string text = command_text(raw);
+    const printer::GcodeCommand c = printer::parse_gcode_line(text);
+    if (c.is('M', 110)) {
+      last_n = line.number.value_or(last_n);
+      emit("ok");
+      waiting_for_resend = -1;
+      return;
+    }
+    if (c.is('M', 112)) {  // Commands::emergencyStop: heaters off, then nothing more
+      log.push_back("M112");
+      ++counters.commands;
+      kill("kill() by M112", false);
+      return;
+    }
+    if (line.number && *line.number != last_n + 1) {
+      if (static_cast<std::uint16_t>(last_n - *line.number) < 40) {
+        emit(fmt::format("skip {}", *line.number));  // "we have seen that line already"
+        emit("ok");
+      } else if (waiting_for_resend < 0) {
+        emit(fmt::format("Error:expected line {} got {}", last_n + 1, *line.number));
+        repetier_request_resend();
+      } else {
+        --waiting_for_resend;
+        emit(fmt::format("skip {}", *line.number));
+        emit("ok");
+      }
+      return;
+    }
+    if (line.number) {
+      last_n = *line.number;
+      faults.line_accepted(*line.number);
+    }
+    waiting_for_resend = -1;
+    enqueue(QueuedCommand{text, line.number, ++counters.lines});
+  }
+
+  RepetierLine repetier_checked(const std::string& raw) {
+    RepetierLine line = read_repetier_line(raw);
+    if (line.checksum_ok && line.number && *line.number == last_n + 1 && faults.spurious_resend()) {
+      ++counters.faults_injected;
+      line.checksum_ok = false;
+    }
+    return line;
+  }
+
+  // gcode.cpp requestResend: the serial input flushed, an empty line, "Resend:<n>", "ok".
+  void repetier_request_resend() {
+    ++counters.errors;
+    ++counters.resends;
+    receiver.discard_buffered();
+    receiver.drop_line();
+    waiting_for_resend = kRepetierSkips;
+    emit("");
+    emit(fmt::format("Resend:{}", last_n + 1));
+    emit("ok");
+    last_input = now;
+  }
+
+  // A line accepted into the command queue (Repetier acknowledges it here).
+  void enqueue(QueuedCommand queued) {
     last_activity = now;
-    if (talk.ok_at == OkAt::queued) ok_on_queueing(queued.text);
+    if (talk.ok_at == OkAt::queued) send_ok(queued, false, blocks_repetier(queued.text));
     queue.push(std::move(queued));
     if (faults.freezes_at_line(counters.lines)) frozen = true;  // fault freeze-at-line
     if (faults.disconnects_at_line(counters.lines)) {
@@ -298,32 +419,11 @@ struct Printer::Firmware {
     }
   }
 
-  // Repetier's ok as it queues a line (checkAndPushCommand); the command's output comes when
-  // it runs.
-  void ok_on_queueing(const std::string& text) {
+  // Repetier commands that block the firmware once they run (for drop-blocking-ok).
+  static bool blocks_repetier(const std::string& text) {
     const printer::GcodeCommand c = printer::parse_gcode_line(text);
-    const bool blocks = c.is('G', 4) || c.is('G', 28) || c.is('M', 0) || c.is('M', 1) ||
-                        c.is('M', 109) || c.is('M', 190) || c.is('M', 116) || c.is('M', 400);
-    if (ok_dropped(blocks)) return;
-    const bool twice = faults.duplicate_ok();
-    emit("ok");
-    if (twice) {
-      ++counters.faults_injected;
-      emit("ok");
-    }
-  }
-
-  // Marlin's gcode_line_error + flush_and_request_resend, in this dialect's words.
-  void line_error(LineVerdict verdict, std::string_view raw) {
-    ++counters.errors;
-    ++counters.resends;
-    const std::vector<std::string> request =
-        resend_request(cfg.dialect, error_text(verdict), last_n + 1, received_checksum(raw));
-    emit(request.front());
-    receiver.discard_buffered();
-    for (std::size_t i = 1; i < request.size(); ++i) emit(request[i]);
-    if (talk.ok_after_resend.value_or(cfg.ok_after_resend)) emit("ok");
-    if (talk.skips_after_resend) skips_left = 14;  // Repetier's waitingForResend
+    return c.is('G', 4) || c.is('G', 28) || c.is('M', 109) || c.is('M', 190) || c.is('M', 116) ||
+           c.is('M', 400);
   }
 
   void emergency(Emergency e) {
@@ -389,10 +489,10 @@ struct Printer::Firmware {
     wait = which == Heaters::Which::hotend ? Wait::hotend : Wait::bed;
   }
 
-  // The report a heating wait prints each second: Marlin's with "W:", Repetier's without.
+  // The report a heating wait prints each second: Marlin's with "W:", Repetier's auto-report.
   void heating_report(Heaters::Which which) {
     if (!talk.reports_while_heating) return;
-    emit(talk.wait_report_field ? heaters.wait_report(which, now) : heaters.states());
+    emit(talk.wait_report_field ? heaters.wait_report(which, now) : temperature_report());
   }
 
   // ---- commands --------------------------------------------------------------------------
@@ -415,36 +515,23 @@ struct Printer::Firmware {
       ++counters.faults_injected;
       heaters.fail_hotend(now);
     }
-    if (talk.ok_at != OkAt::start) {
-      execute(command);
-      return;
-    }
-    // Teacup writes "ok " before it runs the command and puts its output on the same line.
-    said.clear();
-    saying = true;
     execute(command);
-    saying = false;
-    if (state != PrinterState::running) return;  // M112 or a fault stopped it
-    const bool blocked = wait != Wait::none && wait != Wait::planner;
-    const bool dropped = ok_dropped(blocked);
-    const bool twice = !dropped && faults.duplicate_ok();
-    std::string ok = "ok";
-    if (talk.output_on_ok_line) {  // a lost ok loses what was on its line
-      for (const std::string& text : said) ok += " " + text;
-      said.clear();
+    if (cfg.dialect == Dialect::repetier && executing && wait != Wait::none && wait != Wait::planner) {
+      next_busy = now + kRepetierKeepalive;  // GCode::keepAlive while it blocks
     }
-    if (!dropped) {
-      emit(ok);
-      if (twice) {
-        ++counters.faults_injected;
-        emit(ok);
-      }
-    }
-    for (std::string& text : said) emit(std::move(text));
-    said.clear();
   }
 
   void complete() {
+    if (teacup_waiting_move) {
+      // The temperatures are reached: the move G0/G1 held back (temp_wait) goes ahead.
+      const printer::GcodeCommand move = *std::exchange(teacup_waiting_move, std::nullopt);
+      wait = Wait::none;
+      done_at = motion.move(move, now);
+      if (done_at > now) {
+        wait = Wait::planner;
+        return;
+      }
+    }
     const bool blocked = wait != Wait::none && wait != Wait::planner;
     executing = false;
     wait = Wait::none;
@@ -464,15 +551,24 @@ struct Printer::Firmware {
     return sim::position_reply(cfg.dialect, {h.x, h.y, h.z, h.e}, motion.feedrate(), steps);
   }
 
-  void unknown(const std::string& text, const printer::GcodeCommand& c) {
+  void unknown(const QueuedCommand& command, const printer::GcodeCommand& c) {
     ++counters.unknown_commands;
-    say(unknown_reply(cfg.dialect, text, c));
+    emit(unknown_reply(cfg.dialect, command.text, c, command.line_number));
   }
 
   void execute(const QueuedCommand& command) {
-    const printer::GcodeCommand c = printer::parse_gcode_line(command.text);
-    if (!knows(cfg.dialect, c)) return unknown(command.text, c);
-    if (cfg.dialect != Dialect::marlin && execute_other_dialect(c)) return;
+    printer::GcodeCommand c = printer::parse_gcode_line(command.text);
+    if (cfg.dialect == Dialect::teacup) {
+      // gcode_parse.c: a line of axis words alone is a G1; a line without any command does
+      // nothing (and still gets its ok).
+      if (c.letter != 'G' && c.letter != 'M' && c.letter != 'T') {
+        if (command.text.find_first_of("XYZEFxyzef") == std::string::npos) return;
+        c = printer::parse_gcode_line("G1 " + command.text);
+      }
+    }
+    if (!knows(cfg.dialect, c)) return unknown(command, c);
+    if (cfg.dialect == Dialect::teacup && execute_teacup(c)) return;
+    if (cfg.dialect == Dialect::repetier && execute_repetier(c)) return;
     if (c.letter == 'G') {
       switch (c.code) {
         case 0:
@@ -527,11 +623,7 @@ struct Printer::Firmware {
           if (auto s = c.get('S')) heaters.set_hotend(*s, now);
           return;
         case 105:
-          if (cfg.dialect == Dialect::marlin) {
-            ok_with_temperatures = true;
-          } else {
-            say(heaters.states());  // Repetier: a line after its ok
-          }
+          ok_with_temperatures = true;
           return;
         case 106: fan = static_cast<int>(std::clamp(c.get('S').value_or(255), 0.0, 255.0)); return;
         case 107: fan = 0; return;
@@ -552,13 +644,13 @@ struct Printer::Firmware {
           if (auto n = c.get('N')) last_n = static_cast<long>(*n);
           return;
         case 112:
-          kill("kill() by M112", cfg.dialect == Dialect::marlin);
+          kill("kill() by M112");
           return;
         case 113:
           if (auto s = c.get('S')) busy_interval = std::clamp(*s, 0.0, 60.0);
           return;
         case 114:
-          say(position_reply());
+          emit(position_reply());
           return;
         case 115:
           report_firmware();
@@ -600,52 +692,145 @@ struct Printer::Firmware {
       if (c.code > 0) emit(fmt::format("echo:T{} Invalid extruder", c.code));
       return;
     }
-    unknown(command.text, c);
+    unknown(command, c);
   }
 
-  // What Teacup and Repetier do differently from Marlin's switch; false: Marlin's way.
-  bool execute_other_dialect(const printer::GcodeCommand& c) {
-    if (c.is('M', 116)) {
-      // Wait for every heater with a target, in turn (Teacup's temp_achieved, Repetier's M116).
-      motion.finish(now);
-      done_at = now;
-      for (const Heaters::Which which : {Heaters::Which::bed, Heaters::Which::hotend}) {
-        const Heater& h = which == Heaters::Which::bed ? heaters.bed() : heaters.hotend();
-        if (h.target() > 0) done_at = std::max(done_at, heaters.start_wait(which, false, now));
+  HeaterReadings readings() const {
+    return {heaters.hotend().temperature(), heaters.hotend().target(), heaters.bed().temperature(),
+            heaters.bed().target(), 2 * heaters.hotend().power(), 2 * heaters.bed().power()};
+  }
+
+  // When Teacup's temp_achieved() turns true: every heater with a target settled.
+  double teacup_settled_at() const {
+    return std::max(heaters.settled_at(Heaters::Which::hotend, kTeacupHysteresis, kTeacupResidency),
+                    heaters.settled_at(Heaters::Which::bed, kTeacupHysteresis, kTeacupResidency));
+  }
+
+  // gcode_process.c process_gcode_command, where Teacup differs from Marlin's switch; false:
+  // Marlin's way is Teacup's too.
+  bool execute_teacup(const printer::GcodeCommand& c) {
+    if (c.letter == 'T') return true;  // next_tool; no output
+    if (c.letter == 'G') {
+      switch (c.code) {
+        case 0:
+        case 1:
+          if (teacup_wait_for_temp && teacup_settled_at() > now) {  // temp_wait()
+            teacup_waiting_move = c;
+            done_at = teacup_settled_at();
+            wait = Wait::teacup_temperatures;
+            return true;
+          }
+          return false;
+        case 4:  // queue_wait(), then P milliseconds (no S)
+          done_at = motion.finish(now) + std::max(c.get('P').value_or(0), 0.0) / 1000.0;
+          wait = Wait::motion;
+          return true;
+        case 20: case 21:  // units; the sim keeps millimetres
+          return true;
+        case 28:  // queue_wait(), then home; no position report
+          done_at = motion.home(c, now);
+          wait = Wait::motion;
+          return true;
+        case 92:  // queue_wait() first
+          done_at = motion.finish(now);
+          wait = Wait::motion;
+          motion.set_position(c);
+          return true;
+        case 161: case 162:
+          done_at = motion.home(c, now);
+          wait = Wait::motion;
+          return true;
+        default:
+          return false;
       }
-      wait = Wait::hotend;
-      next_wait_report = talk.reports_while_heating ? now + 1 : kInfinity;
-      return true;
     }
-    if (cfg.dialect != Dialect::teacup) return false;
-    if (c.letter == 'G' && (c.code == 20 || c.code == 21)) return true;  // units: mm only here
-    if (c.letter != 'M') return false;
     switch (c.code) {
       case 0:
       case 2:
       case 84:
-        // Teacup's M0/M2/M84 (slic3r's end G-code): wait for the moves, heaters and motors off.
+        // M0/M2/M84 (M84 "for compatibility with slic3r's default end G-code"): queue_wait(),
+        // every heater off, power off, "\nstop\n".
         done_at = motion.finish(now);
         wait = Wait::motion;
         heaters.set_hotend(0, now);
         heaters.set_bed(0);
+        emit("");
+        emit("stop");
+        return true;
+      case 3: case 5: case 6: case 101: case 103: case 119:
+        return true;
+      case 7:
+        fan = static_cast<int>(std::clamp(c.get('S').value_or(fan), 0.0, 255.0));
         return true;
       case 105:
-        say(teacup_temperatures(heaters.hotend().temperature(), heaters.bed().temperature()));
+        emit(teacup_temperatures(readings()));  // temp_print, then the ok
         return true;
       case 110:
-        return true;  // "a no-op in Teacup": the line's own N set the count
+        return true;  // "a no-op in Teacup": the line's own N set N_expected
+      case 112:  // timer_stop, queue_flush, power_off, cli(), and a loop for ever
+        kill("kill() by M112", false);
+        frozen = true;
+        return true;
       case 115:
-        say(firmware_report(cfg.dialect, kVersion));
+        emit(firmware_report(cfg.dialect, kVersion));
+        emit("cap:AUTOREPORT_TEMP:1");
+        return true;
+      case 116:  // temp_set_wait(): the next G0/G1 waits
+        teacup_wait_for_temp = true;
+        next_teacup_tick = now + 1;
+        return true;
+      case 155:
+        if (auto s = c.get('S')) {
+          autoreport_interval = std::clamp(*s, 0.0, 255.0);
+          next_autoreport = autoreport_interval > 0 ? now + autoreport_interval : kInfinity;
+        }
         return true;
       default:
         return false;
     }
   }
 
+  // Commands.cpp processMCode, where Repetier differs from Marlin's switch.
+  bool execute_repetier(const printer::GcodeCommand& c) {
+    if (c.letter != 'M') return false;
+    switch (c.code) {
+      case 105:
+        emit(repetier_temperatures(readings()));  // after the ok it sent on reading the line
+        return true;
+      case 115: {
+        emit(firmware_report(cfg.dialect, kVersion));
+        for (const std::string_view cap :
+             {"PROGRESS:0", "AUTOREPORT_TEMP:1", "HOST_RESCUE:0", "EEPROM:1", "AUTOLEVEL:0",
+              "Z_PROBE:0", "SOFTWARE_POWER:0", "TOGGLE_LIGHTS:0", "PAUSESTOP:1", "PREHEAT:1",
+              "EMERGENCY_PARSER:0"}) {
+          emit(fmt::format("Cap:{}", cap));
+        }
+        return true;
+      }
+      case 116: {
+        // Every heater with a target, in turn (TemperatureController::waitForTargetTemperature).
+        motion.finish(now);
+        done_at = now;
+        for (const Heaters::Which which : {Heaters::Which::hotend, Heaters::Which::bed}) {
+          const Heater& h = which == Heaters::Which::bed ? heaters.bed() : heaters.hotend();
+          if (h.target() > 0) done_at = std::max(done_at, heaters.start_wait(which, false, now));
+        }
+        wait = Wait::hotend;
+        next_wait_report = now + 1;
+        return true;
+      }
+      case 155:  // S<1/0>: temperatures every second
+        autoreport_interval = c.get('S').value_or(1) != 0 ? 1.0 : 0.0;
+        next_autoreport = autoreport_interval > 0 ? now + autoreport_interval : kInfinity;
+        return true;
+      default:
+        return false;
+    }
+  }
+
+  // M115.cpp: the FIRMWARE_NAME line, then a "Cap:" line per capability.
   void report_firmware() {
-    say(firmware_report(cfg.dialect, kVersion));
-    if (cfg.dialect != Dialect::marlin) return;
+    emit(firmware_report(cfg.dialect, kVersion));
     const std::pair<std::string_view, bool> caps[] = {
         {"SERIAL_XON_XOFF", false},   {"BINARY_FILE_TRANSFER", false},
         {"EEPROM", false},            {"VOLUMETRIC", false},
@@ -701,8 +886,8 @@ struct Printer::Firmware {
       }
     }
     if (executing && now >= next_busy) {
-      emit(wait == Wait::user ? "echo:busy: paused for user" : "echo:busy: processing");
-      next_busy = now + busy_interval;
+      emit(busy_line());
+      next_busy = now + (cfg.dialect == Dialect::repetier ? kRepetierKeepalive : busy_interval);
     }
     if (executing && now >= next_wait_report) {
       if (wait == Wait::hotend) heating_report(Heaters::Which::hotend);
@@ -710,21 +895,62 @@ struct Printer::Firmware {
       next_wait_report = now + 1;
     }
     if (now >= next_autoreport) {
-      emit(heaters.states());
+      emit(temperature_report());
       next_autoreport = now + autoreport_interval;
     }
-    if (idle_wait_interval() > 0 && !executing && queue.empty() && !receiver.has_buffered() &&
-        now >= last_activity + idle_wait_interval()) {
-      emit("wait");
+    if (teacup_wait_for_temp && now >= next_teacup_tick) {
+      // clock.c, each second: "Waiting for target temp" until temp_achieved(), then once
+      // "Temp achieved" and the flag is cleared (temp_waiting).
+      if (teacup_settled_at() > now) {
+        emit("Waiting for target temp");
+        next_teacup_tick = now + 1;
+      } else {
+        emit("Temp achieved");
+        teacup_wait_for_temp = false;
+        next_teacup_tick = kInfinity;
+      }
+    }
+    if (cfg.idle_wait_interval > 0 && !executing && queue.empty() && !receiver.has_buffered() &&
+        now >= last_activity + cfg.idle_wait_interval) {
+      emit("wait");  // Marlin's NO_TIMEOUTS
       last_activity = now;
+    }
+    if (const double t = repetier_idle_at(); now >= t) {
+      if (waiting_for_resend >= 0) {
+        repetier_request_resend();  // "a started line was not continued": ask again
+      } else {
+        emit("wait");  // WAITING_IDENTIFIER: unblock a host whose ok was lost
+        last_input = now;
+      }
     }
     if (state == PrinterState::running && idle() && idle_since < 0) idle_since = now;
   }
 
-  // NO_TIMEOUTS' "wait"; Repetier says it each second by default (WAITING_IDENTIFIER).
-  double idle_wait_interval() const {
-    if (cfg.idle_wait_interval > 0) return cfg.idle_wait_interval;
-    return talk.says_wait_when_idle ? 1.0 : 0.0;
+  // When Repetier, its buffer empty and no input coming, next speaks up (gcode.cpp
+  // readFromSerial): 200 ms after the last input while it awaits a resent line, else 1 s.
+  double repetier_idle_at() const {
+    if (cfg.dialect != Dialect::repetier || state != PrinterState::running || frozen || executing ||
+        !queue.empty() || receiver.has_buffered() || !wire.empty()) {
+      return kInfinity;
+    }
+    return last_input + (waiting_for_resend >= 0 ? kRepetierResendRepeat : kRepetierWait);
+  }
+
+  std::string busy_line() const {
+    if (cfg.dialect == Dialect::repetier) {  // GCode::keepAlive
+      return wait == Wait::hotend || wait == Wait::bed ? "busy:heating" : "busy:processing";
+    }
+    return wait == Wait::user ? "echo:busy: paused for user" : "echo:busy: processing";
+  }
+
+  // An auto-report (M155) in this dialect's words.
+  std::string temperature_report() const {
+    switch (cfg.dialect) {
+      case Dialect::teacup: return teacup_temperatures(readings());
+      case Dialect::repetier: return repetier_temperatures(readings());
+      case Dialect::marlin: break;
+    }
+    return heaters.states();
   }
 
   // The next time after now at which the firmware does something on its own. settle() has
@@ -754,9 +980,11 @@ struct Printer::Firmware {
     }
     consider(next_autoreport);
     consider(heaters.runaway_at());
-    if (idle_wait_interval() > 0 && !executing && queue.empty()) {
-      consider(last_activity + idle_wait_interval());
+    if (cfg.idle_wait_interval > 0 && !executing && queue.empty()) {
+      consider(last_activity + cfg.idle_wait_interval);
     }
+    if (teacup_wait_for_temp) consider(next_teacup_tick);
+    consider(repetier_idle_at());
     return next;
   }
 
@@ -816,6 +1044,7 @@ const Counters& Printer::counters() const { return firmware_->counters; }
 const Config& Printer::config() const { return firmware_->cfg; }
 double Printer::motion_time() const { return firmware_->motion.motion_time(); }
 double Printer::motion_end_time() const { return firmware_->motion.end_time(); }
+double Printer::planner_starved() const { return firmware_->motion.starved(); }
 void Printer::finish() { firmware_->motion.finish(firmware_->now); }
 
 Printer::Position Printer::position() const {

@@ -5,8 +5,9 @@
 // own clock (seconds from power-on), so whoever drives it decides how fast time goes: SimLink
 // (in-process) jumps the clock, the pty front end follows the wall clock.
 //
-// What it emulates, each as Marlin 2.x does it (Marlin/src/gcode/queue.cpp and friends), or
-// as Teacup or Repetier do where Config::dialect says so (sim/dialect.h):
+// What it emulates, each as Marlin 2.1 does it (Marlin/src/gcode/queue.cpp and friends), or
+// as Teacup or Repetier do where Config::dialect says so (sim/dialect.h,
+// printer/firmware_dialect.h has the table):
 // - serial input: bytes arrive at the baud rate into an RX buffer of rx_buffer_size bytes;
 //   the firmware reads them only while its command queue (queue_depth) has room, so a host
 //   that does not wait for `ok` fills the RX buffer, and bytes arriving then are lost
@@ -15,7 +16,7 @@
 //   max_cmd_size - 1 characters is cut there; `N<n> ... *<cs>` is checked in Marlin's order
 //   (line number, then checksum, then a missing checksum); each error prints
 //   "Error:<what>, Last Line: <n>", discards what is in the RX buffer, then "Resend: <n+1>"
-//   and (ok_after_resend) "ok"; unnumbered lines are not checked;
+//   and (ok_after_resend, 2.1.x) "ok"; unnumbered lines are not checked;
 // - `ok` when a command has been executed, which for a move means "entered the planner", so
 //   the planner (planner_depth moves) and the command queue fill before `ok`s slow down;
 // - M112, M108 and M410 act when their line is read, ahead of the queue;
@@ -129,6 +130,9 @@ class Printer {
   // lets queued moves run out (as the firmware does when the host stops sending).
   double motion_time() const;
   double motion_end_time() const;
+  // Seconds the head stood still mid-print because the next move had not arrived (the planner
+  // ran empty; sim/motion.h).
+  double planner_starved() const;
   void finish();
 
   // Live state, for reports and tests.

@@ -48,7 +48,8 @@ void write_record_json(const Printer& printer, const std::string& path) {
              c.ok_after_resend, c.emergency_parser, c.baud);
   fmt::print(f, "\"faults\":{},\n\"state\":\"{}\",\n\"stop_reason\":{},\n", json_string(to_string(c.faults)),
              state_name(printer.state()), json_string(printer.stop_reason()));
-  fmt::print(f, "\"sim_time\":{},\n\"motion_time\":{},\n", printer.now(), printer.motion_time());
+  fmt::print(f, "\"sim_time\":{},\n\"motion_time\":{},\n\"planner_starved\":{},\n", printer.now(),
+             printer.motion_time(), printer.planner_starved());
   fmt::print(f,
              "\"counters\":{{\"bytes_received\":{},\"bytes_sent\":{},\"lines\":{},\"commands\":{},"
              "\"resends\":{},\"errors\":{},\"faults_injected\":{},\"overflows\":{},"

@@ -6,7 +6,8 @@
 //                  queue, planner, RX buffer, ADVANCED_OK, ...
 //   "faults":      the fault spec in effect ("" for none)
 //   "state", "stop_reason": running/halted/disconnected and why
-//   "sim_time":    the simulator's clock at the end, s; "motion_time": seconds of motion
+//   "sim_time":    the simulator's clock at the end, s; "motion_time": seconds of motion;
+//                  "planner_starved": seconds the head stood waiting for the host's next move
 //   "counters":    lines, commands, resends, errors, faults_injected, overflows, ...,
 //                  longest_idle (s)
 //   "lost_ok_waits": per ok the faults dropped, the idle wait it caused (Printer::lost_ok_waits), s

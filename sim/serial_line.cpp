@@ -89,11 +89,9 @@ std::optional<std::string> SerialReceiver::read(char c, bool& cut) {
     return std::nullopt;
   }
   std::string raw = line_.take();
-  if (raw.empty()) return std::nullopt;
+  if (raw.empty() && !empty_lines_) return std::nullopt;
   return raw;
 }
-
-LineCheck check_line(std::string_view command, long last_n) { return check_line(command, last_n, LineRules{}); }
 
 int received_checksum(std::string_view line) {
   const auto star = line.rfind('*');
@@ -102,7 +100,7 @@ int received_checksum(std::string_view line) {
   return sum;
 }
 
-LineCheck check_line(std::string_view command, long last_n, LineRules rules) {
+LineCheck check_line(std::string_view command, long last_n) {
   while (!command.empty() && command.front() == ' ') command.remove_prefix(1);
   LineCheck check;
   if (command.empty() || command.front() != 'N') return check;
@@ -112,15 +110,13 @@ LineCheck check_line(std::string_view command, long last_n, LineRules rules) {
     if (const auto n2 = command.find('N', 4); n2 != std::string_view::npos) npos = command.substr(n2);
   }
   check.number = marlin_strtol(npos.substr(1));
-  const bool in_sequence = rules.takes_skipped_numbers ? check.number >= last_n + 1
-                                                       : check.number == last_n + 1;
-  if (!in_sequence && !m110) {
+  if (check.number != last_n + 1 && !m110) {
     check.verdict = LineVerdict::wrong_line_number;
     return check;
   }
   const auto star = command.rfind('*');
   if (star == std::string_view::npos) {
-    check.verdict = rules.requires_checksum ? LineVerdict::no_checksum : LineVerdict::accepted;
+    check.verdict = LineVerdict::no_checksum;
     return check;
   }
   unsigned char sum = 0;
@@ -128,6 +124,38 @@ LineCheck check_line(std::string_view command, long last_n, LineRules rules) {
   check.verdict = marlin_strtol(command.substr(star + 1)) == sum ? LineVerdict::accepted
                                                                  : LineVerdict::checksum_mismatch;
   return check;
+}
+
+TeacupLine read_teacup_line(std::string_view line) {
+  TeacupLine t;
+  const auto star = line.find('*');
+  unsigned char sum = 0;
+  for (std::size_t i = 0; i < std::min(star, line.size()); ++i) sum ^= static_cast<unsigned char>(line[i]);
+  t.computed = sum;
+  const std::string_view body = line.substr(0, std::min(star, line.size()));
+  for (std::size_t i = 0; i < body.size(); ++i) {
+    const char c = body[i];
+    if (c == 'N' || c == 'n') t.number = marlin_strtol(body.substr(i + 1));
+  }
+  t.m110 = body.find("M110") != std::string_view::npos || body.find("m110") != std::string_view::npos;
+  if (star != std::string_view::npos) {
+    t.has_checksum = true;
+    t.checksum_ok = marlin_strtol(line.substr(star + 1)) == sum;
+  }
+  return t;
+}
+
+RepetierLine read_repetier_line(std::string_view line) {
+  RepetierLine r;
+  std::size_t i = 0;
+  while (i < line.size() && line[i] == ' ') ++i;
+  if (i < line.size() && (line[i] == 'N' || line[i] == 'n')) r.number = marlin_strtol(line.substr(i + 1));
+  if (const auto star = line.find('*'); star != std::string_view::npos) {
+    unsigned char sum = 0;
+    for (std::size_t k = 0; k < star; ++k) sum ^= static_cast<unsigned char>(line[k]);
+    r.checksum_ok = marlin_strtol(line.substr(star + 1)) == sum;
+  }
+  return r;
 }
 
 std::string_view error_text(LineVerdict verdict) {

@@ -41,8 +41,9 @@ class LineAssembler {
 // and the line being assembled from the bytes read. The firmware decides when to read.
 class SerialReceiver {
  public:
-  SerialReceiver(int rx_buffer_size, int max_cmd_size)
-      : rx_size_(rx_buffer_size), line_(max_cmd_size) {}
+  // `empty_lines`: an empty line is a line too (Teacup answers it with ok); Marlin skips it.
+  SerialReceiver(int rx_buffer_size, int max_cmd_size, bool empty_lines = false)
+      : rx_size_(rx_buffer_size), empty_lines_(empty_lines), line_(max_cmd_size) {}
 
   // A byte the firmware cannot read yet: kept in the RX buffer, or lost (the first of a run
   // of lost bytes is one overflow).
@@ -54,13 +55,14 @@ class SerialReceiver {
   void discard_buffered();
 
   // Reads one byte into the line; at a line end, returns the line Marlin kept (empty lines
-  // are not returned). `cut` is set when this byte cut the line at max_cmd_size.
+  // only with `empty_lines`). `cut` is set when this byte cut the line at max_cmd_size.
   std::optional<std::string> read(char c, bool& cut);
   // Drops the line being assembled.
   void drop_line() { line_.take(); }
 
  private:
   int rx_size_;
+  bool empty_lines_;
   std::string rx_;
   std::size_t rx_read_ = 0;  // bytes of rx_ already taken
   bool dropping_ = false;    // inside a run of lost bytes
@@ -75,13 +77,26 @@ struct LineCheck {
   long number = 0;  // the N (for M110 lines, the N after M110 when given)
 };
 LineCheck check_line(std::string_view line, long last_n);
-// The same with another firmware's rules: Teacup takes any number from last_n + 1 up and a
-// numbered line without checksum.
-struct LineRules {
-  bool takes_skipped_numbers = false;
-  bool requires_checksum = true;
+
+// What Teacup reads of a line's number and checksum (gcode_parse.c gcode_parse_char): N is
+// the last N word anywhere in the line, the checksum the XOR of every byte before the first
+// '*', compared with the number after it.
+struct TeacupLine {
+  std::optional<long> number;
+  bool has_checksum = false;
+  bool checksum_ok = true;  // true without a checksum
+  int computed = 0;         // the XOR it computed, for "rs N<n> Expected checksum <computed>"
+  bool m110 = false;
 };
-LineCheck check_line(std::string_view line, long last_n, LineRules rules);
+TeacupLine read_teacup_line(std::string_view line);
+
+// What Repetier reads of a line (gcode.cpp parseAscii): N when the line has one, and whether a
+// checksum, when there is one, matches (no checksum is fine: FEATURE_CHECKSUM_FORCED 0).
+struct RepetierLine {
+  std::optional<long> number;
+  bool checksum_ok = true;
+};
+RepetierLine read_repetier_line(std::string_view line);
 // The XOR of the bytes before the last '*' (all of them without one): the checksum a
 // firmware computes of what it received.
 int received_checksum(std::string_view line);

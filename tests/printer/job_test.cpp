@@ -11,6 +11,7 @@
 #include "printer/error.h"
 #include "printer/gcode_line.h"
 #include "printer/scripted_firmware.h"
+#include "printer/split_link.h"
 #include "printer/test_program.h"
 #include "sim/faults.h"
 #include "sim/sim_link.h"
@@ -238,6 +239,8 @@ TEST_CASE("disconnect_then_resume_reprints_only_the_interrupted_layer") {
       message = e.what();
     }
     CHECK(message.starts_with("simulated printer: the link is gone"));
+    CHECK(message.find("; the link is gone before the heaters could be turned off: check that they "
+                       "are off; to finish the part: mahost resume ") != std::string::npos);
     CHECK(message.find('\n') == std::string::npos);
   }
   const JournalRecord journal = read_journal(options.journal_path);
@@ -676,6 +679,147 @@ TEST_CASE("temperatures_on_the_progress_line_follow_the_printer_while_printing")
     MESSAGE(sim::to_string(dialect) << ": the progress line's hotend at most " << worst
                                     << " C from the printer's over " << checked << " ticks");
   }
+}
+
+// ---- every way a job stops turns the heaters off -----------------------------------------
+
+namespace {
+
+struct Stopped {
+  JobState state = JobState::printing;
+  std::string message;  // what run() threw, or the result's reason
+  std::vector<std::string> executed;
+  double hotend_target = -1, bed_target = -1;
+  std::size_t deposited = 0;
+  std::string read;  // every byte the host read
+  long probes = 0;   // the host's probes for lost oks (there are none to lose)
+};
+
+// A job over the simulated printer whose replies are cut at byte `cut` (test_support::SplitLink).
+Stopped run_cut(const GcodeFile& file, const sim::Config& config, std::size_t cut,
+                const std::function<void(Job&)>& on_tick = {}) {
+  sim::SimLink sim(config);
+  test_support::SplitLink link(sim, cut);
+  LineProtocol protocol(link);
+  protocol.connect();
+  Job job(protocol, file, {});
+  job.on_tick = on_tick;
+  Stopped stopped;
+  try {
+    const JobResult result = job.run();
+    stopped.state = result.state;
+    stopped.message = result.reason;
+  } catch (const std::exception& e) {
+    stopped.state = job.result().state;
+    stopped.message = e.what();
+  }
+  sim.printer().run_until(sim.printer().now() + 60);
+  stopped.executed = sim.printer().executed_commands();
+  stopped.hotend_target = sim.printer().hotend_target();
+  stopped.bed_target = sim.printer().bed_target();
+  stopped.deposited = sim.printer().deposition().moves.size();
+  stopped.read = link.log();
+  stopped.probes = protocol.stats().probes;
+  return stopped;
+}
+
+std::size_t count_of(const std::vector<std::string>& executed, std::string_view command) {
+  return static_cast<std::size_t>(std::count(executed.begin(), executed.end(), command));
+}
+
+}  // namespace
+
+TEST_CASE("a_refusal_cut_across_reads_at_every_byte_ends_with_the_heaters_off") {
+  // Each firmware refusing a command the print needs, in its own words: Marlin has no M116
+  // (an echo line, then ok), Teacup no M190 ("E: Bad M-code 190", then ok), Repetier no M191
+  // (its ok first, then "Unknown command:"). Wherever the reply is cut, the ok in it is handled,
+  // the refused command is not sent again, and M104 S0 and M140 S0 follow.
+  struct Refusal {
+    sim::Dialect dialect;
+    std::string refused, reply;
+  };
+  for (const Refusal& r : {Refusal{sim::Dialect::marlin, "M116", "echo:Unknown command: \"M116\""},
+                           Refusal{sim::Dialect::teacup, "M190 S60", "E: Bad M-code 190"},
+                           Refusal{sim::Dialect::repetier, "M191 S40", "Unknown command:N"}}) {
+    CAPTURE(r.refused);
+    std::string program = test_support::ring_program(3, 10);
+    program.insert(program.find("M190 S60\n"), r.refused + "\n");
+    const GcodeFile file = parse_gcode(program, "ring.gcode");
+    sim::Config config;
+    config.dialect = r.dialect;
+    const Stopped whole = run_cut(file, config, std::string::npos);
+    REQUIRE(whole.message.find("the printer refused " + r.refused) != std::string::npos);
+    const std::size_t at = whole.read.find(r.reply);
+    REQUIRE(at != std::string::npos);
+    const std::size_t ok = whole.read.find("ok", at > 8 ? at - 8 : 0);
+    const std::size_t from = std::min(at, ok) - 1, to = std::max(at + r.reply.size(), ok + 3) + 1;
+    for (std::size_t cut = from; cut <= to; ++cut) {
+      CAPTURE(cut);
+      const Stopped s = run_cut(file, config, cut);
+      CHECK(s.state == JobState::failed);
+      CHECK(s.message.find("the printer refused " + r.refused) != std::string::npos);
+      CHECK(s.message.find("M112") == std::string::npos);  // the heaters went off, confirmed
+      CHECK(count_of(s.executed, r.refused) == 1);
+      CHECK(count_of(s.executed, "M104 S0") == 1);
+      CHECK(count_of(s.executed, "M140 S0") == 1);
+      CHECK(s.hotend_target == 0);
+      CHECK(s.bed_target == 0);
+      CHECK(s.deposited == 0);
+      CHECK(s.probes == 0);  // the ok was in hand: nothing to wait for
+    }
+  }
+}
+
+TEST_CASE("a_cancel_cut_across_reads_at_every_byte_ends_with_the_heaters_off_and_runs_nothing_twice") {
+  const GcodeFile file = parse_gcode(test_support::ring_program(4, 12), "ring.gcode");
+  std::vector<std::string> commands;
+  for (std::size_t i = 0; i < file.size(); ++i) commands.emplace_back(file.command(i));
+  for (const sim::Dialect dialect : {sim::Dialect::marlin, sim::Dialect::teacup, sim::Dialect::repetier}) {
+    CAPTURE(sim::to_string(dialect));
+    std::string program = test_support::ring_program(4, 12);
+    if (dialect == sim::Dialect::teacup) program.replace(program.find("M190 S60\nM109 S210\n"), 19, "M116\n");
+    const GcodeFile file = parse_gcode(program, "ring.gcode");
+    sim::Config config;
+    config.dialect = dialect;
+    const auto cancel_at_layer_3 = [](Job& j) {
+      if (j.progress().layer == 3) j.request(JobRequest::cancel);
+    };
+    const Stopped whole = run_cut(file, config, std::string::npos, cancel_at_layer_3);
+    REQUIRE(whole.state == JobState::cancelled);
+    // Cut every byte of the replies to the cancel's lines (after the last move's ok).
+    const std::size_t from = whole.read.size() - 120;
+    for (std::size_t cut = from; cut < whole.read.size(); ++cut) {
+      CAPTURE(cut);
+      const Stopped s = run_cut(file, config, cut, cancel_at_layer_3);
+      CHECK(s.state == JobState::cancelled);
+      CHECK(s.message.find("M112") == std::string::npos);
+      CHECK(s.hotend_target == 0);
+      CHECK(s.bed_target == 0);
+      // The file's commands ran once each, in order, up to where the cancel came.
+      std::size_t matched = 0;
+      for (const std::string& c : job_part(s.executed)) {
+        if (matched < file.size() && c == file.command(matched)) ++matched;
+      }
+      CHECK(count_of(s.executed, "M104 S0") == 1);
+      CHECK(matched > 0);
+      CHECK(s.probes == whole.probes);  // no ok in hand left to look lost
+    }
+  }
+}
+
+TEST_CASE("a_link_that_only_asks_again_ends_the_job_with_m112") {
+  // Every numbered line refused from line 20 on (fault resend=1): the job gives up on the
+  // link, and M104 S0 and M140 S0 are refused too; M112 turns the heaters off.
+  const GcodeFile file = parse_gcode(test_support::ring_program(4, 12), "ring.gcode");
+  sim::Config config;
+  config.faults = sim::parse_fault_spec("resend=1,from-line=20");
+  const Stopped s = run_cut(file, config, std::string::npos);
+  CHECK(s.state == JobState::failed);
+  CHECK(s.message.find("asked for line") != std::string::npos);
+  CHECK(s.message.find("; the printer did not confirm the heaters off: sent M112") != std::string::npos);
+  CHECK(s.executed.back() == "M112");
+  CHECK(s.hotend_target == 0);
+  CHECK(s.bed_target == 0);
 }
 
 }  // namespace job_test

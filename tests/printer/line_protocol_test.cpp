@@ -440,22 +440,29 @@ TEST_CASE("wait_with_lines_in_flight_probes_at_once") {
   CHECK(firmware.now() - start < 2s);  // the "wait" 1 s after, not the 3 s probe interval
 }
 
-TEST_CASE("teacup_lost_line_is_sent_again_not_skipped_by_a_probe") {
-  // Teacup takes any line number from the next one up: an M105 probe after a line lost on the
-  // wire would be taken in its place and the line never run. The probe is the line itself.
-  ScriptedFirmware firmware;
-  firmware.firmware_name = "Teacup";
-  firmware.accepts_skipped_numbers = true;
-  firmware.resend_as_rs = true;
-  firmware.ok_after_resend = false;
-  firmware.lose = {12};
-  firmware.drop_ok = {25};
-  LineProtocol protocol(firmware);
-  stream(protocol, moves(40));
-  CHECK(protocol.dialect().firmware == printer::Firmware::teacup);
-  CHECK(job_part(firmware) == moves(40));
-  CHECK(protocol.stats().probes == 2);
-  CHECK(protocol.stats().lines_resent == 2);
+TEST_CASE("teacups_probe_runs_nothing_and_tells_a_lost_line_from_a_lost_ok") {
+  // Teacup ignores line numbers (or, with REQUIRE_LINENUMBER, takes any from the next one up):
+  // the unanswered line sent again would run twice, and an M105 probe would be taken in place
+  // of a lost line. A line with a checksum wrong on purpose is refused with "rs N<n>": line 12
+  // never came and is sent again; line 25 ran, its ok lost, and is not.
+  for (const bool require_linenumber : {false, true}) {
+    CAPTURE(require_linenumber);
+    ScriptedFirmware firmware;
+    firmware.firmware_name = "Teacup";
+    firmware.ignores_line_numbers = !require_linenumber;
+    firmware.accepts_skipped_numbers = require_linenumber;
+    firmware.resend_as_rs = true;
+    firmware.ok_after_resend = true;
+    firmware.lose = {12};
+    firmware.drop_ok = {25};
+    LineProtocol protocol(firmware);
+    stream(protocol, moves(40));
+    CHECK(protocol.dialect().firmware == printer::Firmware::teacup);
+    CHECK(job_part(firmware) == moves(40));
+    CHECK(protocol.stats().probes == 2);
+    CHECK(protocol.stats().lines_resent == 1);
+    CHECK(firmware.bad_frames == 2);  // the probes, refused
+  }
 }
 
 TEST_CASE("a_refused_heating_command_throws_command_refused_saying_what_to_set") {
@@ -493,6 +500,7 @@ TEST_CASE("a_refused_command_the_print_can_do_without_is_counted_and_named") {
 TEST_CASE("abandoned_lines_are_given_up_and_numbering_goes_on_after_an_m110") {
   ScriptedFirmware firmware;
   firmware.drop_ok = {6};
+  firmware.lose = {7};  // the probe (a numbered M105, N7) is lost too
   LineProtocol protocol(firmware);
   protocol.connect();
   for (const std::string& c : moves(4)) protocol.send(c);  // N2..N5; N5's ok is lost (N6 is the next)
@@ -501,8 +509,8 @@ TEST_CASE("abandoned_lines_are_given_up_and_numbering_goes_on_after_an_m110") {
   protocol.abandon_unacknowledged();
   protocol.send("M104 S0");
   protocol.wait_acknowledged();
-  CHECK(firmware.received.back() == printer::frame_line(8, "M104 S0"));
-  CHECK(firmware.received[firmware.received.size() - 2] == printer::frame_line(7, "M110 N7"));
+  CHECK(firmware.received.back() == printer::frame_line(9, "M104 S0"));
+  CHECK(firmware.received[firmware.received.size() - 2] == printer::frame_line(8, "M110 N8"));
   CHECK(firmware.executed.back() == "M104 S0");
 }
 

@@ -33,7 +33,8 @@ class ScriptedFirmware : public printer::Link {
   std::chrono::milliseconds home_time{0};      // how long G28 blocks
   std::string firmware_name = "ScriptedFirmware";  // in M115's reply; "" names none
   bool temperatures_before_ok = false;  // M105: "T:..." on a line of its own, then "ok"
-  bool accepts_skipped_numbers = false; // Teacup: any N from last_N + 1 up is taken
+  bool accepts_skipped_numbers = false; // Teacup's REQUIRE_LINENUMBER: any N from last_N + 1 up
+  bool ignores_line_numbers = false;    // Teacup's default: N never looked at (a checksum is)
   bool resend_as_rs = false;            // Teacup: "rs N<n>" instead of Error: + Resend:
   std::set<std::string> refuse;         // command words it does not know ("M190")
   std::chrono::milliseconds chatter{0};  // a temperature line this often, whatever happens
@@ -56,7 +57,7 @@ class ScriptedFirmware : public printer::Link {
   // Record.
   std::vector<std::string> executed;   // commands accepted, in order
   std::vector<std::string> received;   // every line as written by the host
-  long bad_frames = 0;                 // host lines whose checksum is wrong (a host bug)
+  long bad_frames = 0;                 // host lines whose checksum is wrong (refused)
   long max_ahead = 0;                  // most numbered lines received beyond the last ok read
   long last_n = 0;
 
@@ -124,6 +125,7 @@ class ScriptedFirmware : public printer::Link {
   void reject(std::chrono::nanoseconds at, std::string_view error) {
     if (resend_as_rs) {
       emit(at, fmt::format("rs N{} Expected line number {}", last_n + 1, last_n + 1));
+      if (ok_after_resend) emit(at, ok_text());
       return;
     }
     emit(at, fmt::format("Error:{}, Last Line: {}", error, last_n));
@@ -157,10 +159,15 @@ class ScriptedFirmware : public printer::Link {
         return;
       }
       const bool m110 = line.command.starts_with("M110");
-      const bool in_sequence = accepts_skipped_numbers ? n >= last_n + 1 : n == last_n + 1;
+      const bool in_sequence = ignores_line_numbers ||
+                               (accepts_skipped_numbers ? n >= last_n + 1 : n == last_n + 1);
       if (!m110 && !in_sequence) {
         if (!reject_duplicates && n >= last_n - 1 && n <= last_n) return;
         reject(at, "Line Number is not Last Line Number+1");
+        return;
+      }
+      if (!line.checksum_ok) {
+        reject(at, "checksum mismatch");
         return;
       }
       if (m110) {

@@ -8,6 +8,7 @@
 
 #include "printer/error.h"
 #include "printer/gcode_line.h"
+#include "sim/fault_injector.h"
 #include "sim/faults.h"
 #include "sim/printer.h"
 
@@ -223,6 +224,30 @@ TEST_CASE("corruption_is_always_detected_and_a_resending_host_loses_nothing") {
   CHECK(n.faults_injected > 100);          // about 2% of ~60 000 bytes, one per line at most
   CHECK(n.errors <= n.faults_injected);    // a flip inside a "*0" checksum can go unseen
   CHECK(n.errors >= n.faults_injected - n.faults_injected / 20);
+}
+
+TEST_CASE("corrupt_changes_one_byte_a_line_and_a_digit_into_another_digit") {
+  sim::FaultInjector faults(sim::parse_fault_spec("corrupt=0.05,seed=9"));
+  const std::string line = "N123 G1 X45.678 Y90.123 E4.56789*77\n";
+  int digits = 0, others = 0;
+  for (int i = 0; i < 2000; ++i) {
+    std::string sent = line;
+    if (faults.corrupt(sent) == 0) continue;
+    std::vector<std::size_t> changed;
+    for (std::size_t k = 0; k < line.size(); ++k) {
+      if (sent[k] != line[k]) changed.push_back(k);
+    }
+    REQUIRE(changed.size() == 1);
+    const std::size_t at = changed.front();
+    if (line[at] >= '0' && line[at] <= '9') {
+      CHECK((sent[at] >= '0' && sent[at] <= '9'));  // a number changed, still a number
+      ++digits;
+    } else {
+      ++others;
+    }
+  }
+  CHECK(digits > others);  // most bytes of a G-code line are digits
+  CHECK(others > 0);
 }
 
 TEST_CASE("faults_repeat_exactly_with_the_same_seed") {
