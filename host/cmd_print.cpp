@@ -363,7 +363,6 @@ void run_resume(const ResumeOptions& options) {
   job_options.first_command = record.resume_command;
   if (record.layer_index >= 0) {
     job_options.recover_from = record.state_at_resume;
-    job_options.printer_restarted = protocol.restart_seen() || link.sim != nullptr;
   }
   std::string note, socket = base + ".sock";
   if (dry_run) {

@@ -47,6 +47,11 @@ struct SimOptions {
   bool no_ok_after_resend = false;
   bool no_reset_on_open = false;
   bool no_emergency_parser = false;
+  // From a reset (power-on, or a host opening the port: DTR) to `start`: an AVR board's
+  // bootloader waits about a second for an upload before Marlin starts (optiboot, stk500v2).
+  double boot_time = 1.0;
+  bool require_linenumber = false;
+  bool no_ack_line_number = false;
 };
 
 std::atomic<bool> stop_requested{false};
@@ -97,6 +102,9 @@ void run_sim(const SimOptions& options) {
   config.advanced_ok = options.advanced_ok;
   config.ok_after_resend = !options.no_ok_after_resend;
   config.emergency_parser = !options.no_emergency_parser;
+  config.boot_time = options.boot_time;
+  config.teacup_require_linenumber = options.require_linenumber;
+  config.repetier_ack_with_linenumber = !options.no_ack_line_number;
   sim::PtyOptions pty;
   pty.time_scale = parse_time_scale(options.time_scale);
   pty.baud = options.baud;
@@ -194,7 +202,17 @@ void add_sim_command(CLI::App& app) {
       ->capture_default_str();
   sim->add_flag("--advanced-ok", options->advanced_ok, "answer ok N<line> P<planner> B<queue>");
   sim->add_flag("--no-ok-after-resend", options->no_ok_after_resend,
-                "send no ok after Resend: (as Marlin 2.0 does)");
+                "send no ok after Resend: (as Marlin 2.0.9 did; 2.1 sends it)");
+  sim->add_option("--boot-time", options->boot_time,
+                  "seconds from a reset (power-on, or a host opening the port) to 'start', on the "
+                  "sim clock; what arrives meanwhile is lost (a bootloader's wait)")
+      ->check(number_in(0.0, 60.0))
+      ->capture_default_str();
+  sim->add_flag("--require-linenumber", options->require_linenumber,
+                "teacup: built with REQUIRE_LINENUMBER, so lines need a number from the expected "
+                "one up (default: off, numbers ignored, as Teacup ships)");
+  sim->add_flag("--no-ack-line-number", options->no_ack_line_number,
+                "repetier: built without ACK_WITH_LINENUMBER, a plain ok (default: ok <n>)");
   sim->add_flag("--no-reset-on-open", options->no_reset_on_open,
                 "keep state when a host opens the port (a board that ignores DTR)");
   sim->add_flag("--no-emergency-parser", options->no_emergency_parser,

@@ -350,10 +350,17 @@ JobResult Job::run() {
       if (options_.recover_from) {
         const int layer = file_.layer_index_of(done_);
         write_journal_now(JobState::printing, layer, done_, state_);
-        event(fmt::format("resuming at layer {}/{}: heating, lifting, homing X and Y{}", layer + 1,
-                          file_.layers.size(),
-                          options_.printer_restarted ? ", setting Z from the journal" : ""));
-        recover_print(protocol_, state_, options_.printer_restarted, options_.pause);
+        // Where Z is comes from the printer itself, not from whether it said `start`.
+        const std::optional<ReportedPosition> at = protocol_.query_position();
+        const bool z_lost = z_forgotten(at, state_);
+        event(fmt::format(
+            "resuming at layer {}/{}: heating, lifting, homing X and Y{}", layer + 1, file_.layers.size(),
+            !z_lost ? fmt::format(" (the printer kept Z: it reports {:.2f})", at->z)
+            : at    ? fmt::format(", setting Z from the journal (the printer reports Z {:.2f}, the "
+                                  "journal {:.2f})",
+                                  at->z, state_.z)
+                    : ", setting Z from the journal (the printer does not report its position)"));
+        recover_print(protocol_, state_, z_lost, options_.pause);
       } else {
         write_journal_now(JobState::printing, file_.layer_index_of(done_), done_, state_);
       }

@@ -57,8 +57,9 @@ struct JobOptions {
   MotionLimits motion;               // the printer's, for the remaining time (print_eta.h)
   // A resume: start at this command with the printer first brought back onto the part.
   std::size_t first_command = 0;
-  std::optional<PrintState> recover_from;  // state at first_command; set = run recover_print
-  bool printer_restarted = false;          // the printer forgot its position
+  // State at first_command; set: run recover_print, which sets Z from it where the printer
+  // lost its own (z_forgotten, by M114).
+  std::optional<PrintState> recover_from;
   // While paused, how the job waits between two looks at the user and the printer; returns
   // how far the link's clock may run meanwhile. Unset: one tick (100 ms) of the link's clock,
   // right for a real printer, whose clock is the wall clock. A simulated printer at full

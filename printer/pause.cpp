@@ -101,17 +101,20 @@ void resume_print(LineProtocol& protocol, const PausePoint& point, const PauseOp
   send_all(protocol, return_to_part(s, options));
 }
 
-void recover_print(LineProtocol& protocol, const PrintState& s, bool printer_restarted,
-                   const PauseOptions& options) {
+bool z_forgotten(const std::optional<ReportedPosition>& reported, const PrintState& journal) {
+  return !reported || reported->z < journal.z - 0.011;
+}
+
+void recover_print(LineProtocol& protocol, const PrintState& s, bool z_lost, const PauseOptions& options) {
   protocol.send("M105");
   protocol.wait_acknowledged();
   std::vector<std::string> commands;
   // Heat while lifting and homing; wait only once the nozzle is off the part.
   if (s.bed_target > 0) commands.push_back(fmt::format("M140 S{}", s.bed_target));
   if (s.hotend_target > 0) commands.push_back(fmt::format("M104 S{}", s.hotend_target));
-  // A printer that restarted forgot Z; Z did not move (its motors hold or were off), so the
-  // journal's Z is where the nozzle is, to within the layer that was being printed.
-  if (printer_restarted) commands.push_back(fmt::format("G92 Z{}", mm(s.z)));
+  // A printer that lost Z: Z did not move (its motors hold or were off), so the journal's Z is
+  // where the nozzle is, to within the layer that was being printed.
+  if (z_lost) commands.push_back(fmt::format("G92 Z{}", mm(s.z)));
   commands.push_back("G91");
   commands.push_back(fmt::format("G1 Z{} F{}", mm(options.lift), options.z_feedrate));
   commands.push_back("G90");
@@ -120,7 +123,9 @@ void recover_print(LineProtocol& protocol, const PrintState& s, bool printer_res
   protocol.wait_acknowledged();
   send_all(protocol, reheat_commands(s, protocol.temperatures(), 0.0));
   commands = return_to_part(s, options);
-  commands.push_back(s.fan > 0 ? fmt::format("M106 S{}", s.fan) : "M107");
+  commands.push_back(s.fan > 0                        ? fmt::format("M106 S{}", s.fan)
+                     : protocol.dialect().has_m107 ? "M107"
+                                                   : "M106 S0");
   send_all(protocol, commands);
 }
 

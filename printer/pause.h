@@ -6,8 +6,8 @@
 // side could hit it), un-retract, restore E with G92 and the extruder mode, positioning mode
 // and feedrate, so the next line of the file runs exactly as it would have.
 // recover_print: the same after the host or the link died (`mahost resume`): re-heat, lift,
-// home X and Y only (homing Z would drive the nozzle into the part), tell a printer that
-// restarted where Z is, and restore E, modes, feedrate and fan from the journal.
+// home X and Y only (homing Z would drive the nozzle into the part), tell a printer that lost
+// its Z where it is (z_forgotten), and restore E, modes, feedrate and fan from the journal.
 // cancel_print: the safe end of a cancelled job once the lines in flight are done: heaters and
 // fan off, retract, lift 10 mm (to the build height at most), park, motors off.
 //
@@ -45,8 +45,19 @@ struct PausePoint {
 
 PausePoint pause_print(LineProtocol& protocol, const PrintState& state, const PauseOptions& options);
 void resume_print(LineProtocol& protocol, const PausePoint& point, const PauseOptions& options);
-void recover_print(LineProtocol& protocol, const PrintState& at_resume, bool printer_restarted,
+void recover_print(LineProtocol& protocol, const PrintState& at_resume, bool z_lost,
                    const PauseOptions& options);
+
+// Whether a printer found again after an interruption has lost its Z, by its own report
+// (M114 after connect) against the journal. The journal holds the state at the start of the
+// interrupted layer, and the nozzle stood at that Z or above it when the job stopped (printing
+// that layer, or lifted); a printer that reset counts from 0 again (Marlin, Teacup and
+// Repetier all power on at 0,0,0 unhomed), so a reported Z below the journal's, by more than
+// M114's two decimals, means it lost it. No report counts as lost too: setting Z from the
+// journal then puts the nozzle a layer too high at worst, never into the part, where trusting
+// a Z that was reset to 0 prints in the air. Whether the board reset is not read from its
+// `start` banner, which a late flush of the port can throw away.
+bool z_forgotten(const std::optional<ReportedPosition>& reported, const PrintState& journal);
 void cancel_print(LineProtocol& protocol, const PrintState& state, const PauseOptions& options);
 
 // The heating commands resume sends: M190/M109 when the last report is `reheat_margin` or

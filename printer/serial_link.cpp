@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <thread>
@@ -21,6 +22,19 @@
 namespace printer {
 
 namespace {
+
+// For tests: MAHOST_DELAY_AFTER_OPEN_MS=<ms> holds the host that long between opening the port
+// and emptying its input, as a host descheduled there would be (the fault that made a resume
+// lose the board's `start`). Unset or not a number: no delay.
+void delay_after_open() {
+  const char* text = std::getenv("MAHOST_DELAY_AFTER_OPEN_MS");
+  if (text == nullptr) return;
+  char* end = nullptr;
+  const long ms = std::strtol(text, &end, 10);
+  if (end != text && *end == '\0' && ms > 0 && ms < 60000) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(ms));
+  }
+}
 
 std::string open_failure(const std::string& path, int error) {
   switch (error) {
@@ -82,6 +96,10 @@ SerialLink::SerialLink(std::string path, int baud) : path_(std::move(path)) {
     port_ = nullptr;
     throw LinkError(open_failure(path_, error));
   }
+  // What was there before this session goes, at once: whatever the board says from now on (a
+  // `start` after the DTR reset below) is the engine's to read.
+  delay_after_open();
+  sp_flush(port_, SP_BUF_INPUT);
   int fd = -1;
   if (sp_get_port_handle(port_, &fd) == SP_OK && fd >= 0) {
     if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
@@ -115,12 +133,13 @@ SerialLink::SerialLink(std::string path, int baud) : path_(std::move(path)) {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
     sp_set_dtr(port_, SP_DTR_ON);
   }
-  sp_flush(port_, SP_BUF_INPUT);
 }
 
 void SerialLink::open_terminal(int baud) {
   fd_ = ::open(path_.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
   if (fd_ < 0) throw LinkError(open_failure(path_, errno));
+  delay_after_open();
+  tcflush(fd_, TCIFLUSH);  // at once, as above
   if (!::isatty(fd_)) {
     ::close(fd_);
     fd_ = -1;
@@ -150,7 +169,6 @@ void SerialLink::open_terminal(int baud) {
     if (speed != B0) cfsetspeed(&t, speed);
     tcsetattr(fd_, TCSANOW, &t);
   }
-  tcflush(fd_, TCIFLUSH);
 }
 
 SerialLink::~SerialLink() {

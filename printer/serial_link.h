@@ -2,9 +2,12 @@
 // and pseudo-terminals (`mahost sim --pty`).
 //
 // Opens by path at a baud rate, 8N1, no flow control, with the port locked against other
-// programs (flock and TIOCEXCL, as pyserial's exclusive mode); drops and raises DTR so a board
-// that resets on it (Arduino-style Marlin boards) starts fresh: the protocol engine then waits
-// for its `start`. Every failure is a LinkError naming the port and what to do: missing,
+// programs (flock and TIOCEXCL, as pyserial's exclusive mode). Its input is emptied right
+// after opening, before anything else: a board that resets as the port opens (DTR) must not
+// have its `start` thrown away by a flush that comes late (the job does not rely on seeing it:
+// printer/job.h asks the printer where Z is). Then it drops and raises DTR so a board that
+// resets on it (Arduino-style Marlin boards) starts fresh. For tests, MAHOST_DELAY_AFTER_OPEN_MS
+// holds the host between opening and emptying the input. Every failure is a LinkError naming the port and what to do: missing,
 // busy, no permission, vanished mid-print. Time is the steady clock.
 // libserialport 0.1 finds ports through sysfs, where pseudo-terminals are not; a terminal it
 // does not know is driven through termios directly (raw, 8N1), the same way.

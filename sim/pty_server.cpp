@@ -152,6 +152,10 @@ void PtyServer::serve(const std::atomic<bool>& stop) {
     const double wall = seconds_since(wall_base);
     if (max_speed) {
       printer_.run_until(std::max(printer_.now(), sim_base + wall));
+      // Booting is the firmware's own wait: done at once, before any byte is read.
+      while (printer_.state() == PrinterState::booting && printer_.next_event_time() < kInfinity) {
+        printer_.run_until(printer_.next_event_time());
+      }
       sim_base = printer_.now() - wall;
     } else {
       printer_.run_until(sim_base + wall * options_.time_scale);

@@ -10,8 +10,8 @@
 // USB) and keeps its state across opens. While no host has the port open, replies are lost.
 //
 // Time: the sim clock follows the wall clock times time_scale (1 = real time); time_scale 0
-// runs every wait (heating, moves, dwells) at once and follows the wall clock only while the
-// firmware waits for the host. With baud > 0 bytes are paced both ways at 10 bits a byte:
+// runs every wait (booting, heating, moves, dwells) at once and follows the wall clock only
+// while the firmware waits for the host. With baud > 0 bytes are paced both ways at 10 bits a byte:
 // the server reads no faster than a UART at that rate would deliver (the rest waits in the
 // kernel, as in a host's serial driver) and writes no faster either.
 #pragma once

@@ -967,7 +967,6 @@ void PrinterSession::run_job(const JobStart& start) {
     options.first_command = record.resume_command;
     if (record.layer_index >= 0) {
       options.recover_from = record.state_at_resume;
-      options.printer_restarted = protocol_->restart_seen() || link_.sim != nullptr;
     }
     options.journal_path = journal;
     options.journal_durable = !dry_run;

@@ -255,7 +255,6 @@ TEST_CASE("disconnect_then_resume_reprints_only_the_interrupted_layer") {
   resume.journal_path = options.journal_path;
   resume.first_command = journal.resume_command;
   resume.recover_from = journal.state_at_resume;
-  resume.printer_restarted = true;
   Job job(protocol, file, resume);
   CHECK(job.run().state == JobState::completed);
 
@@ -276,6 +275,59 @@ TEST_CASE("disconnect_then_resume_reprints_only_the_interrupted_layer") {
   CHECK(same_moves(head, reference_head));
   CHECK(same_moves(tail, reference_tail));
   CHECK(before - layer_start < 61);  // less than one layer was printed twice
+}
+
+TEST_CASE("a_resume_asks_the_printer_where_z_is_and_sets_it_only_where_it_was_lost") {
+  // The host dies at layer 10 (the job is abandoned from its tick); a second host resumes
+  // from the journal on the same printer. Not reset, it kept Z (M114 reports the layer's Z):
+  // no G92 Z. Reset, it reports 0: Z comes from the journal. Either way the part comes out as
+  // the clean print's moves, the interrupted layer's printed part once more.
+  const std::string dir = test_support::scratch_dir("resume_asks_for_z");
+  const GcodeFile file = parse_gcode(test_support::ring_program(20, 40), "ring.gcode");
+  const Printed clean = print(file, sim::Config{});
+  struct HostDied {};
+  for (const bool reset : {false, true}) {
+    CAPTURE(reset);
+    sim::SimLink link{sim::Config{}};
+    JobOptions options;
+    options.journal_path = dir + fmt::format("/job{}.journal", reset);
+    {
+      LineProtocol protocol(link);
+      protocol.connect();
+      Job job(protocol, file, options);
+      int ticks = 0;  // 100 ms of link time each: 0.3 s into a layer of about 4 s
+      job.on_tick = [&ticks](Job& j) {
+        if (j.progress().layer == 10 && ++ticks == 3) throw HostDied{};
+      };
+      CHECK_THROWS_AS(job.run(), HostDied);
+    }
+    const JournalRecord journal = read_journal(options.journal_path);
+    REQUIRE(journal.layer_index == 9);
+    if (reset) link.printer().reset();
+    link.printer().run_until(link.printer().now() + 5);  // the moves queued run out
+    LineProtocol protocol(link);
+    protocol.connect();
+    JobOptions resume;
+    resume.first_command = journal.resume_command;
+    resume.recover_from = journal.state_at_resume;
+    Job job(protocol, file, resume);
+    std::vector<std::string> events;
+    job.on_event = [&](const std::string& e) { events.push_back(e); };
+    CHECK(job.run().state == JobState::completed);
+    REQUIRE(!events.empty());
+    const std::vector<std::string>& executed = link.printer().executed_commands();
+    const bool set_z = std::find_if(executed.begin(), executed.end(), [](const std::string& c) {
+                         return c.starts_with("G92 Z");
+                       }) != executed.end();
+    CHECK(set_z == reset);
+    CHECK(events.front().find(reset ? "setting Z from the journal (the printer reports Z 0.00"
+                                    : "(the printer kept Z: it reports 2.00)") != std::string::npos);
+    // Every move after the resume at the clean print's heights.
+    const auto& moves = link.printer().deposition().moves;
+    const double top = clean.deposition.moves.back().z;
+    CHECK(moves.back().z == doctest::Approx(top));
+    for (const sim::DepositedMove& m : moves) CHECK(m.z <= top + 1e-9);
+  }
 }
 
 TEST_CASE("pause_at_layer_n_pauses_before_the_files_layer_n_minus_1") {
@@ -327,7 +379,6 @@ TEST_CASE("a_link_lost_while_recovering_keeps_the_journals_resume_point") {
   resume.journal_path = dir + "/job.journal";
   resume.first_command = start;
   resume.recover_from = at;
-  resume.printer_restarted = true;
   Job job(protocol, file, resume);
   CHECK_THROWS_AS(job.run(), LinkError);
 
@@ -455,7 +506,6 @@ TEST_CASE("a_resumed_jobs_estimate_is_that_of_the_layers_it_prints") {
   JobOptions resume;
   resume.first_command = start;
   resume.recover_from = at;
-  resume.printer_restarted = true;
   sim::SimLink link{sim::Config{}};
   LineProtocol protocol(link);
   protocol.connect();
