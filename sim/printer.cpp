@@ -792,6 +792,8 @@ struct Printer::Firmware {
 
   // Commands.cpp processMCode, where Repetier differs from Marlin's switch.
   bool execute_repetier(const printer::GcodeCommand& c) {
+    // G20/G21: units (Commands.cpp processGCode, in every build); the sim keeps millimetres.
+    if (c.is('G', 20) || c.is('G', 21)) return true;
     if (c.letter != 'M') return false;
     switch (c.code) {
       case 105:

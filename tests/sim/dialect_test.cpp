@@ -140,6 +140,8 @@ TEST_CASE("repetier_answers_ok_with_the_line_number_when_queued_and_the_output_a
   CHECK(bench.line(1, "M105") == "ok 1\nT:20.00 /0 B:20.00 /0 B@:0 @:0\n");
   CHECK(bench.line(2, "M113 S1") == "ok 2\nUnknown command:N2 M113  S1\n");
   CHECK(bench.line(3, "M110 N3") == "ok\n");  // taken as it is read, a plain ok
+  CHECK(bench.line(4, "G21") == "ok 4\n");  // units, in every build (Commands.cpp processGCode)
+  CHECK(bench.printer.counters().unknown_commands == 1);
 }
 
 TEST_CASE("repetier_resend_request_has_its_ok_skips_what_it_has_and_repeats") {
