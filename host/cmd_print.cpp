@@ -347,7 +347,9 @@ void run_resume(const ResumeOptions& options) {
         "different part",
         record.gcode_path, record.gcode_hash, file.hash));
   }
-  const printer::PrinterProfile machine = resume_profile(record);
+  printer::PrinterProfile machine = resume_profile(record);
+  // The firmware the job ran with (a --set firmware=... the profile file does not hold).
+  if (const auto firmware = printer::parse_firmware(record.firmware)) machine.firmware = *firmware;
   const int baud = options.link.baud > 0   ? options.link.baud
                    : record.baud > 0       ? record.baud
                                            : machine.baud;

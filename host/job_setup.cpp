@@ -75,7 +75,7 @@ void add_link_options(CLI::App& command, LinkOptions& link, const std::string& b
       ->group(kDryRunGroup);
   command.add_option("--dialect", link.dialect,
                      "the firmware the simulated printer speaks as: " + sim::dialect_names() +
-                         " (default: marlin)")
+                         " (default: the printer profile's firmware)")
       ->check(CLI::IsMember({"marlin", "teacup", "repetier"}))
       ->group(kDryRunGroup);
   command.add_flag("--force", link.force,
@@ -122,7 +122,10 @@ OpenLink open_link(const LinkOptions& options, const printer::PrinterProfile& ma
     config.motion = machine.motion;
     config.filament_diameter = machine.filament_diameter;
     config.time_scale = options.time_scale;
-    if (!options.dialect.empty()) config.dialect = *sim::parse_dialect(options.dialect);
+    // The firmware the printer profile names (`--set firmware=teacup`), unless --dialect says.
+    const std::string_view dialect =
+        !options.dialect.empty() ? std::string_view(options.dialect) : printer::dialect_of(machine.firmware).name;
+    if (const auto d = sim::parse_dialect(dialect)) config.dialect = *d;
     auto link = std::make_unique<sim::SimLink>(config);
     open.sim = link.get();
     open.link = std::move(link);
@@ -204,6 +207,7 @@ printer::JobOptions job_options_for(const printer::GcodeFile& file, const std::s
   job.journal.gcode_path = fs::absolute(gcode_path).string();
   job.journal.gcode_hash = file.hash;
   job.journal.printer = fs::absolute(machine.source).string();
+  job.journal.firmware = std::string(printer::dialect_of(machine.firmware).name);
   job.journal.port = link.dry_run ? "" : link.port;
   job.journal.baud = link.dry_run ? 0 : baud;
   return job;

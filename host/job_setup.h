@@ -37,7 +37,7 @@ struct LinkOptions {
   std::string faults;          // dry run only: the simulated printer's faults
   bool advanced_ok = false;    // dry run only: the simulated firmware reports buffer space
   double time_scale = 0;       // dry run only: sim time per wall time (0: as fast as possible)
-  std::string dialect;         // dry run only: the simulated firmware's dialect ("": marlin)
+  std::string dialect;         // dry run only: the simulated firmware's dialect ("": the profile's)
   bool force = false;          // leave out lines that are not G-code instead of refusing
   std::size_t window = 1;
   double probe_after = 3;      // s
@@ -65,7 +65,8 @@ struct OpenLink {
   std::optional<sim::SupportCheckOptions> check;
 };
 
-// Opens the link: the simulated `machine` for a dry run, else the serial port at `baud`.
+// Opens the link: the simulated `machine` for a dry run (speaking the firmware its profile
+// names unless --dialect says), else the serial port at `baud`.
 // Throws ConfigError for dry-run options given with a port, LinkError for a port that
 // cannot be opened.
 OpenLink open_link(const LinkOptions& options, const printer::PrinterProfile& machine, int baud);

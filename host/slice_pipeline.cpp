@@ -305,7 +305,7 @@ const std::vector<std::string>& model_only_slice_options() {
       "--material",
       "--layer", "--boundaries", "--adaptive", "--tolerance", "--max-layers", "--max-time",
       "--contour",
-      "--perimeters", "--infill", "--set",
+      "--perimeters", "--infill",
       // issue 12
       "--support", "--overhang-angle", "--support-xy-gap", "--support-top-distance",
       "--support-bottom-distance", "--support-interface-thickness", "--support-pattern",

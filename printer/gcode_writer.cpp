@@ -313,7 +313,7 @@ class Emitter {
     values.layer_height = options_.layer_height;
     sink_.comment("start G-code from the printer profile");
     for_each_line(expand_placeholders(printer_.start_gcode, profiles_, values, "gcode.start"),
-                  [&](std::string_view line) { sink_.command(line); });
+                  [&](std::string_view line) { profile_line(line, "gcode.start"); });
     // G90 also resets Marlin's E to absolute, so the E mode comes after it.
     sink_.command("G90");
     sink_.command(printer_.relative_e ? "M83" : "M82");
@@ -328,12 +328,37 @@ class Emitter {
     sink_.command(fan_off());
     sink_.comment("end G-code from the printer profile");
     for_each_line(expand_placeholders(printer_.end_gcode, profiles_, values, "gcode.end"),
-                  [&](std::string_view line) { sink_.command(line); });
+                  [&](std::string_view line) { profile_line(line, "gcode.end"); });
     if (dialect_of(printer_.firmware).has_m73) sink_.command("M73 P100 R0");
   }
 
   // What the profile's firmware turns the fan off with (Teacup has no M107).
   const char* fan_off() const { return dialect_of(printer_.firmware).has_m107 ? "M107" : "M106 S0"; }
+
+  // A line of the profile's start or end G-code, as the profile's firmware takes it: the same,
+  // its own equivalent (Teacup: M107 -> M106 S0, M109 -> M104 + M116), or refused with the
+  // key, the line and what to do.
+  void profile_line(std::string_view line, std::string_view key) {
+    const std::size_t semicolon = line.find(';');
+    std::string_view command = line.substr(0, semicolon);
+    while (!command.empty() && command.back() == ' ') command.remove_suffix(1);
+    if (command.empty()) {
+      sink_.command(line);
+      return;
+    }
+    const FirmwareCommand translated = for_firmware(printer_.firmware, command);
+    if (translated.missing) {
+      throw ConfigError(fmt::format(
+          "the printer profile's {} has \"{}\", which {} does not have: remove it from the profile, "
+          "or set firmware to the printer's (one of {})",
+          key, command, dialect_of(printer_.firmware).display, firmware_names()));
+    }
+    if (translated.lines.size() == 1 && translated.lines.front() == command) {
+      sink_.command(line);
+      return;
+    }
+    for (const std::string& l : translated.lines) sink_.command(l);
+  }
 
   double filament() const { return filament_; }
   double support_filament() const { return support_filament_; }
@@ -388,11 +413,11 @@ class Emitter {
     set_fan(fan_);
   }
 
-  // The part fan at `percent` unless it is there already (M107 for off).
+  // The part fan at `percent` unless it is there already (fan_off() for off).
   void set_fan(double percent) {
     if (percent == fan_written_) return;
     const int pwm = static_cast<int>(std::lround(percent * 2.55));
-    sink_.command(pwm > 0 ? fmt::format("M106 S{}", pwm) : std::string("M107"));
+    sink_.command(pwm > 0 ? fmt::format("M106 S{}", pwm) : std::string(fan_off()));
     fan_written_ = percent;
   }
 

@@ -76,6 +76,7 @@ void write_journal(const std::string& path, const JournalRecord& r, bool durable
          {"gcode", {{"path", r.gcode_path}, {"hash", r.gcode_hash}, {"commands", r.commands},
                     {"layers", r.layers}}},
          {"printer_profile", r.printer},
+         {"firmware", r.firmware},
          {"port", r.port},
          {"baud", r.baud},
          {"state", to_string(r.state)},
@@ -138,6 +139,7 @@ JournalRecord read_journal(const std::string& path) {
     r.commands = j.at("gcode").at("commands").get<std::size_t>();
     r.layers = j.at("gcode").at("layers").get<std::size_t>();
     r.printer = j.value("printer_profile", std::string());
+    r.firmware = j.value("firmware", std::string());
     r.port = j.at("port").get<std::string>();
     r.baud = j.at("baud").get<int>();
     const std::string state = j.at("state").get<std::string>();

@@ -27,6 +27,8 @@ struct JournalRecord {
   std::size_t layers = 0;     // layers in the file
   std::string printer;        // the printer profile it was sliced and timed for (name or
                               // absolute path); "" when not known
+  std::string firmware;       // the profile's firmware as the job ran it ("teacup", after any
+                              // --set); "" when not known
   std::string port;           // where it printed; "" for a dry run
   int baud = 0;
   JobState state = JobState::printing;  // printing, paused, completed, cancelled, stopped, failed

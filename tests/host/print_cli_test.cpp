@@ -499,6 +499,26 @@ TEST_CASE("slice_options_are_refused_for_a_gcode_file") {
   CHECK(r.exit_code == 0);
 }
 
+TEST_CASE("a_gcode_file_prints_on_the_firmware_its_profile_is_set_to") {
+  // A ring that waits for its heaters as Teacup does (M116), printed as a user who owns a
+  // Teacup printer would: --set firmware=teacup. The dry run speaks Teacup, as the profile says.
+  const std::string dir = test_support::scratch_dir("print_set_firmware");
+  use_runtime_dir(dir);
+  std::string program = test_support::ring_program(3, 10);
+  program.replace(program.find("M190 S60\nM109 S210\n"), 19, "M116\n");
+  program.replace(program.find("M107\n"), 5, "M106 S0\n");
+  const std::string gcode = write_file(dir, "ring.gcode", program);
+  auto r = run_mahost({"print", gcode, "--dry-run", "--set", "firmware=teacup"});
+  CHECK(r.exit_code == 0);
+  CHECK(r.out.starts_with("completed: dry run on the simulated printer, "));
+  CHECK(r.out.find("\nfirmware: Teacup (teacup dialect)\n") != std::string::npos);
+  // On a Marlin printer the same file is refused at its M116, with what to set.
+  r = run_mahost({"print", gcode, "--dry-run"});
+  CHECK(r.exit_code == 3);
+  CHECK(r.err.find("the printer refused M116") != std::string::npos);
+  CHECK(r.err.find("set firmware = \"marlin\"") != std::string::npos);
+}
+
 TEST_CASE("killed_host_resumes_and_reprints_only_the_interrupted_layer") {
   const std::string dir = test_support::scratch_dir("print_kill_resume");
   use_runtime_dir(dir);
@@ -799,6 +819,9 @@ TEST_CASE("bunny_prints_exactly_once_in_every_dialect_through_lost_oks_and_corru
     // has handed everything over.
     sim.run_until(sim.now() + 600);
     CHECK(job_part(sim.executed_commands()) == commands);  // each exactly once, in order
+    // Sliced for the firmware, nothing in it is refused (Marlin's stock build has no G21, the
+    // profile's start G-code asks for it all the same).
+    if (build.dialect != "marlin") CHECK(protocol.refused().empty());
 
     const std::vector<double>& waits = sim.lost_ok_waits();
     const double lines = static_cast<double>(sim.counters().lines);

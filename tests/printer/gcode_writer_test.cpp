@@ -562,8 +562,13 @@ TEST_CASE("dense_curve_is_written_within_the_printers_resolution") {
   CHECK(exact.layers[0].chains.at(0).size() > 5000);
 }
 
+std::vector<LayerToolpaths> bridged_part();
+
 TEST_CASE("a_teacup_profile_heats_with_m104_m140_and_waits_with_m116_without_m73_or_m107") {
-  const auto lines = lines_of(write(square_part(), profiles("up-plus-2", "abs", {"firmware=teacup"})));
+  // Teacup has no M107, M109, M190, M73 (gcode_process.c): not even in the profile's own end
+  // G-code (whose M107 becomes M106 S0), nor for a bridge's fan.
+  const auto lines = lines_of(write(bridged_part(), profiles("up-plus-2", "abs",
+                                                             {"firmware=teacup", "material.bridge.fan=30"})));
   const std::size_t wait = index_of(lines, "M116");
   CHECK(index_of(lines, "M140 S105") < wait);
   CHECK(index_of(lines, "M104 S250") < wait);
@@ -574,13 +579,34 @@ TEST_CASE("a_teacup_profile_heats_with_m104_m140_and_waits_with_m116_without_m73
     CHECK_FALSE(c.is('M', 109));
     CHECK_FALSE(c.is('M', 190));
     CHECK_FALSE(c.is('M', 73));
-    if (c.is('M', 107)) CHECK(line == "M107");  // only the profile's own end G-code has it
+    CHECK_FALSE(c.is('M', 107));
   }
   CHECK(index_of(lines, "M106 S0") < index_of(lines, ";LAYER:0"));
+  CHECK(index_of(lines, "M106 S77") < lines.size());  // the bridge's fan, then back
+  const std::size_t end = index_of(lines, ";end G-code from the printer profile");
+  CHECK(index_of(lines, "M106 S0", end) < lines.size());  // the profile's M107
   // Everything else as for Marlin: the same layers and moves.
-  const auto marlin = lines_of(write(square_part(), profiles("up-plus-2", "abs")));
+  const auto marlin = lines_of(write(bridged_part(), profiles("up-plus-2", "abs", {"material.bridge.fan=30"})));
   CHECK(std::count_if(lines.begin(), lines.end(), [](const std::string& l) { return l.starts_with("G1 "); }) ==
         std::count_if(marlin.begin(), marlin.end(), [](const std::string& l) { return l.starts_with("G1 "); }));
+}
+
+TEST_CASE("a_profile_line_the_firmware_does_not_have_is_refused_with_the_key_and_the_line") {
+  std::string message;
+  try {
+    write(square_part(), profiles("up-plus-2", "abs", {"firmware=teacup", "gcode.end=M117 Done\nM84"}));
+  } catch (const ConfigError& e) {
+    message = e.what();
+  }
+  CHECK(message == "the printer profile's gcode.end has \"M117 Done\", which Teacup does not have: "
+                   "remove it from the profile, or set firmware to the printer's (one of marlin, "
+                   "teacup, repetier)");
+  // Its own equivalents are written instead: M109 as M104 and M116, M400 as G4 P0.
+  const auto lines = lines_of(write(square_part(), profiles("up-plus-2", "abs",
+                                                            {"firmware=teacup", "gcode.end=M400\nM109 S0\nM84"})));
+  const std::size_t end = index_of(lines, ";end G-code from the printer profile");
+  CHECK(index_of(lines, "G4 P0", end) < index_of(lines, "M104 S0", end));
+  CHECK(index_of(lines, "M104 S0", end) < index_of(lines, "M116", end));
 }
 
 // A layer of one bridge line over the square, then one support line beside it.
