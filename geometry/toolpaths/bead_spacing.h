@@ -1,6 +1,6 @@
 // Bead spacing: how far apart side-by-side beads lie so that they fill a layer exactly, by
-// the bead model the G-code writer extrudes with (printer/bead_model.h; issue 4, "extrusion
-// amounts from the bead cross-section"). Slic3r's and PrusaSlicer's Flow::spacing.
+// the bead model the G-code writer extrudes with (printer/bead_model.h: the extrusion amounts
+// come from the bead's cross-section). Slic3r's and PrusaSlicer's Flow::spacing.
 //
 // A bead w wide and h tall is a rounded rectangle in cross-section, area (w - h) h + pi h^2/4
 // (a round strand, pi w^2 / 4, when w <= h). Beads s apart fill the layer, volume h per unit

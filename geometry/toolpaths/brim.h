@@ -1,5 +1,4 @@
-// Brim: loops on the first layer, out from the part's edge, that hold it to the bed
-// (issue 12, "Brim and raft").
+// Brim: loops on the first layer, out from the part's edge, that hold it to the bed.
 //
 // Input:  the first layer's footprint (mm: the part's first layer and the support on it, or
 //         the raft), the bead width w (mm), the brim's width (mm).

@@ -1,4 +1,4 @@
-// Infill: the straight lines that fill the inside of a layer's walls (issue 4, "Toolpaths").
+// Infill: the straight lines that fill the inside of a layer's walls.
 //
 // Inputs: the area to fill (mm, outer loops CCW, holes CW; the caller has already grown it
 //         into the innermost wall by the infill overlap), the bead width w (mm), angles in
@@ -63,9 +63,9 @@ std::vector<ExtrusionPath> sparse_infill(const Region& area, double width, doubl
 // below, so that it starts and ends on one (a loop started over the gap between them hangs
 // there), and ends half a bead before it (its round ends then meet).
 // Measured (compare_supports.sh's settings, best; unsupported extrusion by bench_unsupported,
-// print time by the motion model), against no such lines: sphere 37.6 -> 0.0 mm, dome
-// 50.2 -> 4.1, steps 34.3 -> 8.0, bunny 175.9 -> 75.2, vase 3.2 -> 0.6; print time +0.8% to
-// +1.2%.
+// print time by the motion model), unsupported extrusion without these lines and with them:
+// sphere 37.6 and 0.0 mm, dome 50.2 and 4.1, steps 34.3 and 8.0, bunny 175.9 and 75.2, vase
+// 3.2 and 0.6; they add 0.8% to 1.2% to the print time.
 std::vector<ExtrusionPath> skin_edge_lines(const Region& sparse, const Region& core_above,
                                            double width, double density, InfillPattern pattern,
                                            double angle, std::size_t layer_index);

@@ -1,5 +1,4 @@
-// Perimeters: the wall loops of one island of a layer, and what they leave for infill
-// (issue 4, "Toolpaths").
+// Perimeters: the wall loops of one island of a layer, and what they leave for infill.
 //
 // Input:  an island (mm): one outer loop CCW with the holes directly inside it, CW (a whole
 //         Region works too); the bead width w (mm, > 0); the number of loops N (>= 0).

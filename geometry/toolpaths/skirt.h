@@ -1,5 +1,4 @@
-// Skirt: loops around the first layer that prime the nozzle before the part starts (issue 4,
-// "Toolpaths").
+// Skirt: loops around the first layer that prime the nozzle before the part starts.
 //
 // Input:  the first layer's region (mm, any number of islands), the bead width w (mm), the
 //         number of loops, and the gap between the part and the skirt (mm).

@@ -1,5 +1,5 @@
 // Support and raft toolpaths: the lines that fill a layer's support regions and the raft's
-// layers (issue 12; the regions come from geometry/support/support_plan.h).
+// layers (the regions come from geometry/support/support_plan.h).
 //
 // Support body: with `sheath`, of a loop round each island (PrusaSlicer's support sheath)
 //   the stretches that carry the edges of what stands on the body where the part cut its

@@ -1,5 +1,5 @@
-// Thin walls: centre lines for the parts of a layer too narrow for a wall loop (issue 4,
-// "Toolpaths": a thin wall narrower than the bead is still printed, not dropped).
+// Thin walls: centre lines for the parts of a layer too narrow for a wall loop (a wall
+// narrower than the bead is still printed, not dropped).
 //
 // Input:  a region (mm, outer loops CCW, holes CW) that is at most about one bead wide
 //         everywhere: the strips perimeters() finds between the region edge and the first

@@ -55,7 +55,7 @@ bool same_thickness(const Layer& a, const Layer& b) {
 // The share the sparse infill's lines are spaced by on every layer: a bead's at the part's
 // median layer thickness. Each layer's lines must stack on the layer below's (sparse_infill
 // lays them on a grid fixed in the part's frame), and their spacing follows the share: on
-// layers of their own thicknesses (issue 11's adaptive layers) a share of its own per layer
+// layers of their own thicknesses (adaptive layers) a share of its own per layer
 // (0.418 mm at 0.15 mm, 0.364 at 0.4, for a 0.45 mm bead: grid lines 4.18 and 3.64 mm apart
 // at 20%) laid a thin layer's lines between a thick one's (the stepped tiers adaptive at 0.3
 // mm: 29.1 mm of them unsupported). The beads stay the profile's width, so the infill is a

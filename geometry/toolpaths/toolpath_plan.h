@@ -1,5 +1,5 @@
-// Toolpath plan: every layer's toolpaths, in print order, from the layers' regions (issue 4,
-// "Toolpaths"; DESIGN.md §1).
+// Toolpath plan: every layer's toolpaths, in print order, from the layers' regions
+// (DESIGN.md §1).
 //
 // Inputs:  regions[i], the planar region layer i extrudes (any contour strategy: outer loops
 //          CCW, holes CW, mm), and layers[i], its bounds (z_lo, z_hi in mm); options below.
@@ -61,7 +61,7 @@ struct ToolpathOptions {
   double retract_min_travel = 2.0;  // a travel leaving the region retracts if longer, mm
   SeamPosition seam = SeamPosition::aligned;
   InfillLines infill_lines = InfillLines::connected;  // zig-zags along the edge, or separate
-  // With a support plan only (issue 12): the support's and the raft's lines, and the brim.
+  // With a support plan only: the support's and the raft's lines, and the brim.
   SupportPathOptions support;
   double brim_width = 0;            // mm of brim round the first layer; 0 for none
   // Only the part's layers marked here get paths (empty: every layer); the rest are left
@@ -78,7 +78,7 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
                                            const ToolpathOptions& options,
                                            const LayerDone& on_layer_done = {});
 
-// The same with supports, bridges and a raft (geometry/support/support_plan.h; issue 12):
+// The same with supports, bridges and a raft (geometry/support/support_plan.h):
 //   raft layers first, each its own LayerToolpaths (support_paths.h), then the part's layers
 //   `support.lift` higher; each part layer's support body and interface paths are islands
 //   of their own in the nearest-first order, the body's lines joined by connectors only

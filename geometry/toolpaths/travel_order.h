@@ -1,5 +1,5 @@
 // Travel order: the order and direction in which a layer's paths are printed, where closed
-// paths start (the seam), and which travels need a retraction (issue 4, "Toolpaths").
+// paths start (the seam), and which travels need a retraction.
 //
 // Paths in mm (toolpaths.h). Closed paths end where they begin and may start at any vertex;
 // open paths may run either way. All functions accept empty input.

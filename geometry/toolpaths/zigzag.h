@@ -1,7 +1,6 @@
 // Zig-zag: parallel lines across an area, joined end to end along the area's edge, so that
 // the nozzle lays many lines in one path instead of travelling (and retracting) between them
-// (CuraEngine's "connect infill lines", PrusaSlicer's connected rectilinear infill; issue 4,
-// "Toolpaths").
+// (CuraEngine's "connect infill lines", PrusaSlicer's connected rectilinear infill).
 //
 // Inputs:  centre_area: where the beads' centre lines may run (mm, outer loops CCW, holes CW):
 //            the area to fill shrunk by half a bead, so that a bead along its edge reaches

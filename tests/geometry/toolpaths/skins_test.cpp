@@ -164,7 +164,7 @@ TEST_CASE("thin_layers_under_a_top_add_layers_until_the_skin_is_thick_enough") {
   // 1.0 mm at the bottom: 0.3 + 0.3 + 0.3 < 1.0, so four layers (1.2 mm).
   const auto thick_bottom = sparse_cores(regions, layers, {0, 0, 0, 1.0});
   CHECK(solid_layers(thick_bottom) == std::vector<std::size_t>{0, 1, 2, 3});
-  // On uniform layers a thickness of N layers is N layers: the counting as before.
+  // On uniform layers a thickness of N layers is N layers: the same as counting layers.
   const std::vector<Layer> uniform = stack_of(std::vector<double>(16, 0.2));
   CHECK(solid_layers(sparse_cores(regions, uniform, {0, 0, 0.6, 0.6})) ==
         solid_layers(sparse_cores(regions, 3, 3)));

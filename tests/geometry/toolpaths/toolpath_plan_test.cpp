@@ -484,8 +484,8 @@ TEST_CASE("solid_layers_of_sphere_and_holed_cube_are_covered") {
 TEST_CASE("every_sphere_section_is_covered_even_by_beads_cut_square_at_their_ends") {
   // A 20 mm sphere, all solid (100% lines), to the poles, where sections are discs of a few
   // beads. Beads read as segment x width with square-cut ends, as the G-code reader reads
-  // them: the lines' ends no longer count their round blob, so the infill must reach the
-  // curved inner wall by its connectors and gap fill (lines cut square against a curve left
+  // them: the lines' ends do not count their round blob, so the infill must reach the
+  // curved inner wall by its connectors and gap fill (lines cut square against a curve leave
   // 2.4% bare on two of these sections).
   const auto sphere = solids::sphere(10, 96, 48, {0, 0, 10});
   const auto layers = layers_of(100);
@@ -555,7 +555,7 @@ TEST_CASE("solid_plan_covers_the_bunny_layer_by_layer") {
   CHECK(outside / total <= 0.01);
 }
 
-// The support body's zig-zag connectors (issue 12): laid under an edge that carries something
+// The support body's zig-zag connectors: laid under an edge that carries something
 // in the layer above (the interface's loop; a wider body's line ends), not in a body that
 // only goes on up. Lines 2.5 mm apart in a 20 x 10 mm body; separate lines are two points
 // each, a zig-zag more.
