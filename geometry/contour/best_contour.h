@@ -1,4 +1,4 @@
-// The best contour (issue 11): per layer, whichever of mid, optimal-height and ma misses the
+// The best contour: per layer, whichever of mid, optimal-height and ma misses the
 // fewest features of the slab (missed_features.h: islands of its footprint a region does not
 // touch, a tip or a bump between a section's plane and the slab's ends), then has the least
 // distance error D (distance_error.h, as analyze measures it: layer_metrics.h), ties within
@@ -16,8 +16,8 @@
 // Output: the chosen region and the height of the candidate chosen; which one it was, and
 // the candidates' D, in best_choice().
 // Cost: none on a prism (slab.h: the walls straight up through the slab, so mid's section is exact,
-// D 0 and ΔV 0; best takes it unmeasured: 75 of the mush's 135 layers at 0.2 mm, 0.23 -> 0.08 s of
-// contours). Elsewhere the three candidates and their measurements, ma first: a candidate is
+// D 0 and ΔV 0; best takes it unmeasured: 75 of the mush's 135 layers at 0.2 mm, where the
+// contours then take a third of the time). Elsewhere the three candidates and their measurements, ma first: a candidate is
 // measured only until its D is more than a tie above the least so far (distance_error's
 // stop_above), and one that misses more features than another is not measured, nor one whose region
 // is one measured already (it takes that one's D and ΔV: optimal-height often ends at mid's
@@ -26,11 +26,11 @@
 // loses to it by more than a tie. mid's section is cut once, for mid, for ma where it takes the
 // middle section and for optimal-height where its search ends at the middle; each candidate's
 // walls are indexed once, for D and ΔV. About twice ma's time (tests/bench/bench_best.cpp: the
-// bunny at 0.15 mm). Tried and dropped (the sphere at 0.2
-// mm with supports, median of 7): measuring the candidates in the order of a cheap lower bound of D
-// (their surface corners' largest distance), 0.65 -> 0.67 s; a first pass to 10 um to refuse the
-// far ones before the exact measure, 0.64 -> 0.86 s, as ma's and mid's D are within a tie of each
-// other on 114 of the sphere's 149 layers (no gain on the bunny either: 2.11 -> 2.15 s adaptive).
+// bunny at 0.15 mm). Not done, for they take longer (the sphere at 0.2 mm with supports,
+// median of 7): measuring the candidates in the order of a cheap lower bound of D (their
+// surface corners' largest distance), 3% longer; a first pass to 10 um to refuse the far ones
+// before the exact measure, 34% longer, as ma's and mid's D are within a tie of each other on
+// 114 of the sphere's 149 layers (2% longer on the bunny, adaptive).
 // Not done: skipping mid and optimal-height where no section can come within a tie of ma's D.
 // A lower bound on every section's D, from the slab's facets cut to 32 height bands (a section's
 // walls at a height lie in that height's band) and the facets' corners as witnesses, proves it

@@ -1,5 +1,5 @@
 // Orientation: turning a model before it is placed on the bed, by hand (--rotate) or to the
-// resting position that needs the least support (--orient auto; issue 12).
+// resting position that needs the least support (--orient auto).
 //
 // Rotations are proper (determinant +1): facets stay outward. Units: mm, degrees, mm^3. The
 // matrices and the hull's normals are Eigen types inside orientation.cpp; this header hands

@@ -1,5 +1,5 @@
 // Bridges: which way to lay lines across an unsupported area so that both their ends rest on
-// the layer below, and how far they span (issue 12, "Bridges"). PrusaSlicer's BridgeDetector
+// the layer below, and how far they span. PrusaSlicer's BridgeDetector
 // tries directions the same way; CuraEngine's bridgeAngle joins the two largest islands the
 // skin rests on, which is one of the directions tried here.
 //

@@ -1,4 +1,4 @@
-// Overhangs: the part of a layer's region that the layer below does not carry (issue 12).
+// Overhangs: the part of a layer's region that the layer below does not carry.
 //
 // A bead rests on the one below if at least half its width does, and a layer t thick whose
 // wall leans at the overhang angle a from vertical reaches t tan(a) past the layer below; so

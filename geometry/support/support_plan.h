@@ -1,5 +1,5 @@
 // Supports, bridges and the raft: what a part with overhangs needs beyond its own layers so
-// that nothing is extruded into air (issue 12; DESIGN.md §1, the stage after the contours).
+// that nothing is extruded into air (DESIGN.md §1, the stage after the contours).
 //
 // Inputs:  regions[i], the region layer i really prints (any contour strategy; outer loops
 //          CCW, holes CW, mm), layers[i] its bounds (z_lo, z_hi, mm; thicknesses may differ

@@ -1,4 +1,4 @@
-// The strategy dispatcher and the strategies against closed forms (issue 3): on a cone the
+// The strategy dispatcher and the strategies against closed forms: on a cone the
 // medial-axis contour is the mid-plane section, on a cylinder every strategy is the section
 // and every error is zero, and no strategy beats the volume limit.
 #include <doctest/doctest.h>
