@@ -1,4 +1,4 @@
-// Print-time estimates of layer stacks that are not sliced in full (issue 11): the plan
+// Print-time estimates of layer stacks that are not sliced in full: the plan
 // line's "estimated 57 min against 1 h 21 min at uniform 0.15 mm (333 layers)", and the
 // --max-time search's estimate of each candidate plan.
 //

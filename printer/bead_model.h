@@ -1,4 +1,4 @@
-// The bead model: how much filament a bead of a given width and height takes (issue 4).
+// The bead model: how much filament a bead of a given width and height takes.
 //
 // A bead is a rounded rectangle in cross-section: a rectangle (w - h) x h with a half disc of
 // diameter h on each side, area = (w - h) * h + pi * h^2 / 4 (Slic3r's flow model). A bead no

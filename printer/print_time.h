@@ -1,5 +1,5 @@
 // The print-time estimate: the motion model (motion_model.h) run over a G-code program, reading
-// each line as Marlin does (issue 4: the G-code header's estimate; the host's ETA for a file).
+// each line as Marlin does: the G-code header's estimate, and the host's ETA for a file.
 //
 // Understood: G0/G1 (and G2/G3 as a straight move to their end point) with X Y Z E F, F in
 // mm/min and modal (25 mm/s until the first F, Marlin's default); G90/G91 (G90 and G91 switch

@@ -1,5 +1,5 @@
 // The deposition record: what the simulated printer laid down, so tests compare what was
-// printed with what was planned and with the model (DESIGN.md §4, issue 5).
+// printed with what was planned and with the model (DESIGN.md §4).
 //
 // Input: every move the firmware executes that extrudes (E grows) while X or Y moves.
 // Output: those moves in execution order; per-layer bead polygons; an STL of the beads.

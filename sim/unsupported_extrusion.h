@@ -1,5 +1,5 @@
-// The unsupported-extrusion check: how much of what the printer laid has nothing under it
-// (issue 12). Independent of the slicer: it reads only the deposition record, the moves the
+// The unsupported-extrusion check: how much of what the printer laid has nothing under it.
+// Independent of the slicer: it reads only the deposition record, the moves the
 // (simulated) firmware executed, so it judges the toolpaths, the supports and the G-code
 // writer together, and G-code from any slicer.
 //
