@@ -1,4 +1,4 @@
-// What a lost ok costs (issue 14), at 115 200 baud.
+// What a lost ok costs, at 115 200 baud.
 //
 // 1. mahost against the in-process simulated printer, on the sim's clock, in each dialect: a
 //    print with 1% of the oks lost (drop-ok=0.01, three seeds) and the same print clean. Per

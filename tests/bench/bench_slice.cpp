@@ -1,6 +1,6 @@
 // Benchmark: read + repair + place + slice the Stanford bunny as the paper prints it
 // (--up y --units m --height 50, 0.15 mm layers: 334 planes at the layers' mid-heights).
-// Prints wall time per phase and peak memory (VmHWM). Goal (issue 2): all 334 planes in
+// Prints wall time per phase and peak memory (VmHWM). Goal: all 334 planes in
 // under 0.2 s, peak under 100 MiB.
 //
 // Usage: bench_slice [MODEL.stl] [--layer MM]   (default: data/bunny.stl, 0.15)

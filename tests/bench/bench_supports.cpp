@@ -1,4 +1,4 @@
-// Benchmark: the support stage on the 50 mm Stanford bunny (issue 12).
+// Benchmark: the support stage on the 50 mm Stanford bunny.
 //
 //   build*/tests/bench/bench_supports [MODEL.stl] [layer mm] [contour] [none|buildplate|everywhere]
 //                                     [repeat]

@@ -1,4 +1,4 @@
-// Benchmark: plan_toolpaths over every layer of the 50 mm Stanford bunny (issue 4).
+// Benchmark: plan_toolpaths over every layer of the 50 mm Stanford bunny.
 //
 //   build*/tests/bench/bench_toolpaths [MODEL.stl] [layer mm[,mm...]] [lower|mid|optimal-height|ma]
 //                                      [repeat] [runs] [bunny|mm]

@@ -1,7 +1,7 @@
 // The unsupported-extrusion check (sim/unsupported_extrusion.h) on any G-code file, mahost's
 // or a peer's, with its time, and the filament per feature by the ;TYPE: comments (mahost's
-// and Cura's words, PrusaSlicer's ";TYPE:Support material" and the like): for issue 12's
-// comparison of support filament at 0 mm unsupported.
+// and Cura's words, PrusaSlicer's ";TYPE:Support material" and the like): to compare the
+// support filament slicers spend at 0 mm unsupported (compare_supports.sh).
 //
 // Usage: bench_unsupported FILE.gcode... [--bridge MM] [--gap MM] [--filament MM] [--layers]
 //   --bridge   longest bridge (default 10), --gap the contact gap (default 0.2),

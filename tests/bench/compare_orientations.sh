@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# --orient auto (issue 12) on the bunny (50 mm tall as placed by --up y), a T (a 10 x 10 x
+# --orient auto on the bunny (50 mm tall as placed by --up y), a T (a 10 x 10 x
 # 20 mm stem under a 50 x 10 x 5 mm bar), an arch (40 x 10 x 25 mm, a 24 mm opening) and the
 # stl-models gearwheel: the resting face picked, the support volume estimate of the chosen
 # orientation against the input's (orientation.h), the time --orient auto took (its own

@@ -4,7 +4,7 @@
 # same machine and settings everywhere: the UP Plus 2 profile (140 x 140 x 135 mm, 0.4 mm
 # nozzle, 0.45 mm lines, 0.5 mm / 0.3 mm first layer, 1.75 mm ABS), 2 perimeters, 20% grid
 # infill, 3 top and 3 bottom layers, one skirt loop 3 mm out, no support and no raft (the
-# profile has both since issue 12; tests/bench/compare_supports.sh compares supports), the
+# profile has both; tests/bench/compare_supports.sh compares supports), the
 # profile's speeds and accelerations. Prints one table: layers, each slicer's own print-time estimate, filament,
 # wall time, CPU time and peak memory of the slicing run.
 #

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Supports beside CuraEngine 4.13 and PrusaSlicer 2.5 (issue 12): the same placed meshes, the
+# Supports beside CuraEngine 4.13 and PrusaSlicer 2.5: the same placed meshes, the
 # same overhang angle (50 degrees from vertical; PrusaSlicer's threshold is the slope from
 # horizontal, 40), support everywhere, no raft, the same support pattern and density (lines
 # 2.5 mm apart, 0.4 mm of interface at 80% of solid: Cura's roof height, PrusaSlicer's 2

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # How far the plan line's uniform estimates (host/uniform_estimate.h) stand from slicing
-# uniformly (issue 11): per model, `mahost slice --adaptive --tolerance T` says "estimated X
+# uniformly: per model, `mahost slice --adaptive --tolerance T` says "estimated X
 # against Y at uniform t mm (n layers) and ..."; each Y is set beside the estimate of the same
 # part sliced uniformly at t with the same options and contour. Models: the bunny (50 mm,
 # with and without supports and raft), a sphere (r 15 mm), a T (a 50 mm bar on a 10 mm stem,
