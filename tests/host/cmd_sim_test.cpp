@@ -201,8 +201,8 @@ void print_with_printcore(const std::string& faults, const std::string& name) {
   const std::string summary = sim.stop(code);
   CHECK(code == 0);
   CHECK(summary.find("print time") != std::string::npos);
-  // The squares stand on one another: nothing laid on air (issue 12's check, on what the
-  // simulated firmware deposited). 5 layers x (80 + 76.8) mm of bead, walls only.
+  // The squares stand on one another: nothing laid on air (the unsupported-extrusion check,
+  // on what the simulated firmware deposited). 5 layers x (80 + 76.8) mm of bead, walls only.
   CHECK(summary.find("deposited   unsupported extrusion: 0.0 mm of 0.8 m (0.00%; bridges up to "
                      "10 mm, contact gap 0.2 mm)") != std::string::npos);
   std::ifstream in(record_path);

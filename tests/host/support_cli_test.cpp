@@ -1,4 +1,4 @@
-// Supports, bridges, brim, raft and orientation as a user slices with them (issue 12): the
+// Supports, bridges, brim, raft and orientation as a user slices with them: the
 // G-code read back bead by bead and judged by the unsupported-extrusion check
 // (sim/unsupported_extrusion.h), which knows nothing of how the supports were planned; the
 // gaps that let supports come off, measured between the printed beads; the options refused

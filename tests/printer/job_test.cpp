@@ -523,7 +523,7 @@ TEST_CASE("a_resumed_jobs_estimate_is_that_of_the_layers_it_prints") {
   CHECK(motion < job.estimated_seconds() + 15.0);
 }
 
-// ---- cancel and stop on a stalled link, refusals, temperatures (issue 14) -----------------
+// ---- cancel and stop on a stalled link, refusals, temperatures ----------------------------
 
 TEST_CASE("cancel_on_a_stalled_link_ends_within_ten_seconds_and_sends_m112") {
   const std::string dir = test_support::scratch_dir("cancel_stalled");

@@ -352,7 +352,7 @@ TEST_CASE("noise_at_connect_points_at_the_baud_rate") {
   CHECK(message.find("unreadable reply lines: likely the wrong --baud") != std::string::npos);
 }
 
-// ---- progress guarantees (issue 14) ------------------------------------------------------
+// ---- progress guarantees -----------------------------------------------------------------
 
 TEST_CASE("lost_ok_of_m109_costs_seconds_not_the_long_timeout") {
   for (const bool keepalive : {true, false}) {

@@ -132,7 +132,8 @@ TEST_CASE("eta_follows_motion_time_not_the_share_of_lines") {
     if (t.fraction < 0.05 || t.fraction > 0.95) continue;
     ++checked;
     worst = std::max(worst, std::abs(t.elapsed + t.remaining - timed.total) / timed.total);
-    // What the old ETA said: the time so far over the share of lines sent.
+    // The ETA by the share of lines sent (the time so far over that share), which this
+    // test shows to be far off.
     const double by_lines = t.elapsed * static_cast<double>(file.size()) / static_cast<double>(t.done);
     line_share_worst = std::max(line_share_worst, std::abs(by_lines - timed.total) / timed.total);
   }

@@ -359,7 +359,7 @@ TEST_CASE("bad_slice_fields_are_refused_in_one_line_naming_the_field") {
     auto c = serve.client();
     CHECK(c.Get("/api/files/local/other.stl")->status == 404);
   }
-  // Nothing was sliced, and the server answers as before.
+  // Nothing was sliced, and the server still answers.
   CHECK(serve.get_json("/api/mahost/status")["slicing"].is_null());
   CHECK(serve.get_json("/api/version")["api"] == "0.1");
   CHECK(serve.stop() == 0);
