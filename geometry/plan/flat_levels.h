@@ -1,5 +1,5 @@
 // Flat levels: the heights of a model's horizontal faces (a top, a floor, a step), which a
-// layer plan puts on layer boundaries (issue 11). A flat top strictly inside a layer prints at
+// layer plan puts on layer boundaries. A flat top strictly inside a layer prints at
 // that layer's top or bottom instead: an 8.00 mm part at 0.15 mm layers from z = 0 would end
 // at 7.95 or 8.10 mm.
 //
