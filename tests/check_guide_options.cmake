@@ -2,7 +2,8 @@ cmake_minimum_required(VERSION 3.25)
 # Checks that docs/guide.md documents every command and option mahost has: each command that
 # `mahost --help` lists has a section (a line starting "## `mahost NAME`", up to the next "## "),
 # and every long option its `mahost NAME --help` shows (but --help) is named in that section
-# as `--option` (in backquotes, as the guide writes options). Run by ctest as
+# as `--option` (in backquotes, as the guide writes options); mahost's own options (--version)
+# are named before the guide's first section. Run by ctest as
 # docs/guide_names_every_option.
 # Inputs: MAHOST (the built binary), GUIDE (docs/guide.md).
 function(help_of out)
@@ -46,6 +47,22 @@ endif()
 
 set(problems "")
 set(checked 0)
+# mahost's own options (--version) in the guide's opening, before its first section.
+string(FIND "${guide}" "\n## " first_section)
+string(SUBSTRING "${guide}" 0 ${first_section} opening)
+foreach(entry IN LISTS entries)
+  if(entry MATCHES "^Options\\|")
+    string(REGEX MATCHALL "--[a-z][a-z0-9-]*" longs "${entry}")
+    foreach(option IN LISTS longs)
+      if(NOT option STREQUAL "--help")
+        math(EXPR checked "${checked} + 1")
+        if(NOT opening MATCHES "${option}([^a-z0-9-]|$)")
+          string(APPEND problems "\n  mahost ${option}: not named before the guide's first section")
+        endif()
+      endif()
+    endforeach()
+  endif()
+endforeach()
 foreach(command IN LISTS commands)
   string(FIND "${guide}" "\n## `mahost ${command}`" start)
   if(start EQUAL -1)
