@@ -60,8 +60,8 @@ double parse_time_scale(const std::string& text, const std::string& flag = "--ti
 struct OpenLink {
   std::unique_ptr<printer::Link> link;
   sim::SimLink* sim = nullptr;  // set for a dry run
-  // A dry run of a whole print is checked for unsupported extrusion with these (issue 12);
-  // set by the command after opening.
+  // A dry run of a whole print is checked for unsupported extrusion with these; set by the
+  // command after opening.
   std::optional<sim::SupportCheckOptions> check;
 };
 

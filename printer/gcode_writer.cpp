@@ -398,7 +398,7 @@ class Emitter {
                            : n == 0       ? printer_.first_layer_width
                                           : printer_.extrusion_width;
       const double speed = n == 0 ? printer_.first_layer_speed : feature_speed(printer_.speed, path.role);
-      // Bridges: the material's bridge flow and fan (issue 12), the fan back after them.
+      // Bridges: the material's bridge flow and fan, the fan back after them.
       const bool bridge = path.role == geometry::PathRole::bridge;
       set_fan(bridge ? material_.bridge_fan : fan_);
       const double flow = bridge ? material_.bridge_flow : 1.0;

@@ -1,4 +1,4 @@
-// The G-code writer: layers of toolpaths to a Marlin-flavour program (issue 4; DESIGN.md §1).
+// The G-code writer: layers of toolpaths to a Marlin-flavour program (DESIGN.md §1).
 //
 // Input: every layer's toolpaths in the part's frame (part centred on the origin, mm), the
 // printer and material profiles. Output, streamed: a header comment (print-time estimate from

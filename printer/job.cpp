@@ -20,7 +20,7 @@ constexpr nanoseconds kPausedReportEvery = std::chrono::seconds(2);
 // While printing, a temperature report at least this often (where the firmware does not
 // report by itself): the progress line and `mahost ctl status` show the heaters as they are.
 constexpr nanoseconds kPrintingReportEvery = std::chrono::seconds(5);
-// A cancel ends within this much link time, however the link behaves (issue 14): the lines in
+// A cancel ends within this much link time, however the link behaves: the lines in
 // flight get kCancelDrain to be answered before the job gives up on them, and the heaters-off
 // sequence the rest; past it the job sends M112, which turns the heaters off on any firmware.
 constexpr nanoseconds kCancelBound = std::chrono::seconds(10);

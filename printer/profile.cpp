@@ -416,7 +416,7 @@ const Rules<P>& printer_rules() {
                           [](P& p, double v) { p.print.skirt_distance = v; }));
     r.push_back(text<P>("print.seam", {"aligned", "nearest"},
                         [](P& p, const std::string& s) { p.print.seam = s; }));
-    // Supports, brim and raft (issue 12).
+    // Supports, brim and raft.
     r.push_back(text<P>("support.type", {"none", "buildplate", "everywhere"},
                         [](P& p, const std::string& s) { p.support.type = s; }));
     r.push_back(number<P>("support.xy_gap", 0, 10, "mm", [](P& p, double v) { p.support.xy_gap = v; }));

@@ -1,4 +1,4 @@
-// Printer and material profiles: what a printer can do and how a material prints (issue 4).
+// Printer and material profiles: what a printer can do and how a material prints.
 //
 // Profiles are TOML files in configs/printers/<name>.toml and configs/materials/<name>.toml
 // (found by name in a config directory, or given as a path). Every key is checked on load: an
@@ -44,7 +44,7 @@ struct FeatureSpeeds {
 // bed up to the part (a raft below does not count), mm.
 using SupportBoxMm = std::array<double, 6>;
 
-// Supports (issue 12): where they go, how they keep clear of the part, how they are laid.
+// Supports: where they go, how they keep clear of the part, how they are laid.
 struct SupportSettings {
   std::string type = "none";          // "none", "buildplate" or "everywhere"
   double xy_gap = 0.2;                // mm between support and the part in the same layer

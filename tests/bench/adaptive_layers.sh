@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Layer plans judged by our exact metrics: the peers' adaptive layer heights beside uniform
-# layers (issue 11). For the bunny (50 mm, --up y --units m; its hole-filled base, z < 2.25 mm,
+# layers. For the bunny (50 mm, --up y --units m; its hole-filled base, z < 2.25 mm,
 # left out of the percentile) and three OpenSCAD models (tests/bench/models/*.scad: a dome on
 # a plinth, stepped tiers with off-grid flat tops, a twisted vase), each run is one layer plan:
 #   (mahost slices without supports or raft here, as the peers do: --support none --no-raft)
