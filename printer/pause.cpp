@@ -59,20 +59,20 @@ std::vector<std::string> return_to_part(const PrintState& s, const PauseOptions&
 
 }  // namespace
 
-std::vector<std::string> reheat_commands(const PrintState& state,
+std::vector<std::string> reheat_commands(Firmware firmware, const PrintState& state,
                                          const std::optional<Temperatures>& reported,
                                          double reheat_margin) {
-  std::vector<std::string> commands;
   auto cold = [&](const std::optional<double>& current, double target) {
-    return !current || *current < target - reheat_margin;
+    return target > 0 && (!current || *current < target - reheat_margin);
   };
-  if (state.bed_target > 0 && cold(reported ? reported->bed : std::nullopt, state.bed_target)) {
-    commands.push_back(fmt::format("M190 S{}", state.bed_target));
-  }
-  if (state.hotend_target > 0 &&
-      cold(reported ? reported->hotend : std::nullopt, state.hotend_target)) {
-    commands.push_back(fmt::format("M109 S{}", state.hotend_target));
-  }
+  const double bed = cold(reported ? reported->bed : std::nullopt, state.bed_target) ? state.bed_target : 0;
+  const double hotend =
+      cold(reported ? reported->hotend : std::nullopt, state.hotend_target) ? state.hotend_target : 0;
+  // Teacup has no M190 or M109: it sets the targets and waits for both with M116.
+  if (dialect_of(firmware).waits_with_m116) return heat_and_wait(firmware, bed, hotend);
+  std::vector<std::string> commands;
+  if (bed > 0) commands.push_back(fmt::format("M190 S{}", bed));
+  if (hotend > 0) commands.push_back(fmt::format("M109 S{}", hotend));
   return commands;
 }
 
@@ -97,7 +97,7 @@ void resume_print(LineProtocol& protocol, const PausePoint& point, const PauseOp
   const PrintState& s = point.state;
   protocol.send("M105");
   protocol.wait_acknowledged();
-  send_all(protocol, reheat_commands(s, protocol.temperatures(), options.reheat_margin));
+  send_all(protocol, reheat_commands(protocol.firmware().firmware, s, protocol.temperatures(), options.reheat_margin));
   send_all(protocol, return_to_part(s, options));
 }
 
@@ -121,7 +121,7 @@ void recover_print(LineProtocol& protocol, const PrintState& s, bool z_lost, con
   commands.push_back("G28 X Y");
   send_all(protocol, commands);
   protocol.wait_acknowledged();
-  send_all(protocol, reheat_commands(s, protocol.temperatures(), 0.0));
+  send_all(protocol, reheat_commands(protocol.firmware().firmware, s, protocol.temperatures(), 0.0));
   commands = return_to_part(s, options);
   commands.push_back(s.fan > 0                        ? fmt::format("M106 S{}", s.fan)
                      : protocol.dialect().has_m107 ? "M107"

@@ -61,8 +61,9 @@ bool z_forgotten(const std::optional<ReportedPosition>& reported, const PrintSta
 void cancel_print(LineProtocol& protocol, const PrintState& state, const PauseOptions& options);
 
 // The heating commands resume sends: M190/M109 when the last report is `reheat_margin` or
-// more below the target (or there is none), nothing when it is near.
-std::vector<std::string> reheat_commands(const PrintState& state,
+// more below the target (or there is none), nothing when it is near; on a firmware that waits
+// with M116 (Teacup), the targets and one M116.
+std::vector<std::string> reheat_commands(Firmware firmware, const PrintState& state,
                                          const std::optional<Temperatures>& reported,
                                          double reheat_margin);
 

@@ -220,61 +220,73 @@ TEST_CASE("halt_fault_ends_the_job_with_the_reason_and_a_journal") {
 }
 
 TEST_CASE("disconnect_then_resume_reprints_only_the_interrupted_layer") {
-  const std::string dir = test_support::scratch_dir("disconnect_resume");
-  const GcodeFile file = parse_gcode(test_support::ring_program(30, 60), "ring.gcode");
-  const Printed clean = print(file, sim::Config{});
-  sim::Config config;
-  config.faults = sim::parse_fault_spec("disconnect-at-line=1234");
-  sim::SimLink link(config);
-  JobOptions options;
-  options.journal_path = dir + "/job.journal";
-  {
+  // In each firmware: the recovery heats as it does (Teacup: M104/M140 and M116, it has no
+  // M109 or M190), after the board reset on the reconnect and cooled.
+  for (const sim::Dialect dialect : {sim::Dialect::marlin, sim::Dialect::teacup, sim::Dialect::repetier}) {
+    CAPTURE(sim::to_string(dialect));
+    const std::string dir = test_support::scratch_dir(fmt::format("disconnect_resume_{}", sim::to_string(dialect)));
+    std::string text = test_support::ring_program(30, 60);
+    if (dialect == sim::Dialect::teacup) {
+      text.replace(text.find("M190 S60\nM109 S210\n"), 19, "M116\n");
+      text.replace(text.find("M107\n"), 5, "M106 S0\n");
+    }
+    const GcodeFile file = parse_gcode(text, "ring.gcode");
+    sim::Config config;
+    config.dialect = dialect;
+    const Printed clean = print(file, config);
+    config.faults = sim::parse_fault_spec("disconnect-at-line=1234");
+    sim::SimLink link(config);
+    JobOptions options;
+    options.journal_path = dir + "/job.journal";
+    {
+      LineProtocol protocol(link);
+      protocol.connect();
+      Job job(protocol, file, options);
+      std::string message;
+      try {
+        job.run();
+      } catch (const LinkError& e) {
+        message = e.what();
+      }
+      CHECK(message.starts_with("simulated printer: the link is gone"));
+      CHECK(message.find("; the link is gone before the heaters could be turned off: check that they "
+                         "are off; to finish the part: mahost resume ") != std::string::npos);
+      CHECK(message.find('\n') == std::string::npos);
+    }
+    const JournalRecord journal = read_journal(options.journal_path);
+    REQUIRE(journal.state == printer::JobState::failed);
+    const std::size_t before = link.printer().deposition().moves.size();
+
+    link.reconnect();
     LineProtocol protocol(link);
     protocol.connect();
-    Job job(protocol, file, options);
-    std::string message;
-    try {
-      job.run();
-    } catch (const LinkError& e) {
-      message = e.what();
-    }
-    CHECK(message.starts_with("simulated printer: the link is gone"));
-    CHECK(message.find("; the link is gone before the heaters could be turned off: check that they "
-                       "are off; to finish the part: mahost resume ") != std::string::npos);
-    CHECK(message.find('\n') == std::string::npos);
+    CHECK(protocol.restart_seen());
+    JobOptions resume;
+    resume.journal_path = options.journal_path;
+    resume.first_command = journal.resume_command;
+    resume.recover_from = journal.state_at_resume;
+    Job job(protocol, file, resume);
+    CHECK(job.run().state == JobState::completed);
+    CHECK(protocol.refused().empty());
+
+    // What was printed: the clean print's moves up to the failure, then again from the start
+    // of the interrupted layer: that layer's printed part once more, nothing else.
+    const auto& moves = link.printer().deposition().moves;
+    const auto& reference = clean.deposition.moves;
+    std::size_t layer_start = 0;
+    const double layer_z = journal.state_at_resume.z + 0.2;
+    while (layer_start < reference.size() && reference[layer_start].z < layer_z - 1e-6) ++layer_start;
+    REQUIRE(before >= layer_start);
+    REQUIRE(moves.size() == before + (reference.size() - layer_start));
+    sim::DepositionRecord head, tail, reference_head, reference_tail;
+    for (std::size_t i = 0; i < before; ++i) head.moves.push_back(moves[i]);
+    for (std::size_t i = before; i < moves.size(); ++i) tail.moves.push_back(moves[i]);
+    for (std::size_t i = 0; i < before; ++i) reference_head.moves.push_back(reference[i]);
+    for (std::size_t i = layer_start; i < reference.size(); ++i) reference_tail.moves.push_back(reference[i]);
+    CHECK(same_moves(head, reference_head));
+    CHECK(same_moves(tail, reference_tail));
+    CHECK(before - layer_start < 61);  // less than one layer was printed twice
   }
-  const JournalRecord journal = read_journal(options.journal_path);
-  REQUIRE(journal.state == printer::JobState::failed);
-  const std::size_t before = link.printer().deposition().moves.size();
-
-  link.reconnect();
-  LineProtocol protocol(link);
-  protocol.connect();
-  CHECK(protocol.restart_seen());
-  JobOptions resume;
-  resume.journal_path = options.journal_path;
-  resume.first_command = journal.resume_command;
-  resume.recover_from = journal.state_at_resume;
-  Job job(protocol, file, resume);
-  CHECK(job.run().state == JobState::completed);
-
-  // What was printed: the clean print's moves up to the failure, then again from the start
-  // of the interrupted layer: that layer's printed part once more, nothing else.
-  const auto& moves = link.printer().deposition().moves;
-  const auto& reference = clean.deposition.moves;
-  std::size_t layer_start = 0;
-  const double layer_z = journal.state_at_resume.z + 0.2;
-  while (layer_start < reference.size() && reference[layer_start].z < layer_z - 1e-6) ++layer_start;
-  REQUIRE(before >= layer_start);
-  REQUIRE(moves.size() == before + (reference.size() - layer_start));
-  sim::DepositionRecord head, tail, reference_head, reference_tail;
-  for (std::size_t i = 0; i < before; ++i) head.moves.push_back(moves[i]);
-  for (std::size_t i = before; i < moves.size(); ++i) tail.moves.push_back(moves[i]);
-  for (std::size_t i = 0; i < before; ++i) reference_head.moves.push_back(reference[i]);
-  for (std::size_t i = layer_start; i < reference.size(); ++i) reference_tail.moves.push_back(reference[i]);
-  CHECK(same_moves(head, reference_head));
-  CHECK(same_moves(tail, reference_tail));
-  CHECK(before - layer_start < 61);  // less than one layer was printed twice
 }
 
 TEST_CASE("a_resume_asks_the_printer_where_z_is_and_sets_it_only_where_it_was_lost") {
