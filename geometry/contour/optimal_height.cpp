@@ -8,6 +8,7 @@
 #include <boost/math/tools/minima.hpp>
 
 #include "geometry/contour/contour_strategy.h"
+#include "geometry/core/small_polygon.h"
 #include "geometry/metrics/volume_deviation.h"
 #include "geometry/slab/slab.h"
 
@@ -15,66 +16,11 @@ namespace geometry {
 
 namespace {
 
-// A convex polygon of a few corners, on the stack: a facet has at most 5 (a triangle cut by
-// both planes), one cut adds 1, an intersection with a facet of 5 at most 5 more. Its corners
-// are plain pairs, not Vec2, so that making one does not clear all sixteen (a search evaluates
-// about ten thousand cuts a layer).
-struct Corner {
-  double x, y;
-};
-struct SmallPolygon {
-  Corner at[16];
-  int size = 0;
-};
-
-SmallPolygon small(const std::vector<Vec2>& polygon) {
-  SmallPolygon out;
-  for (Vec2 p : polygon) {
-    if (out.size == 16) break;
-    out.at[out.size++] = {p.x, p.y};
-  }
-  return out;
-}
-
-// The part where f0 + fx (x - o.x) + fy (y - o.y) >= 0 (slab_columns.h's clip_to_half_plane),
-// into `out`; each corner's value is taken once.
-void cut_into(const SmallPolygon& polygon, Vec2 o, double f0, double fx, double fy,
-              SmallPolygon& out) {
-  out.size = 0;
-  const int n = polygon.size;
-  if (n == 0) return;
-  const auto at = [&](Corner p) { return f0 + fx * (p.x - o.x) + fy * (p.y - o.y); };
-  Corner a = polygon.at[0];
-  double fa = at(a);
-  for (int i = 0; i < n && out.size < 15; ++i) {
-    const Corner b = polygon.at[i + 1 == n ? 0 : i + 1];
-    const double fb = at(b);
-    if (fa >= 0) out.at[out.size++] = a;
-    if ((fa >= 0) != (fb >= 0)) {
-      const double s = fa / (fa - fb);
-      out.at[out.size++] = {a.x + s * (b.x - a.x), a.y + s * (b.y - a.y)};
-    }
-    a = b;
-    fa = fb;
-  }
-}
-
+// The part of a facet's outline where f0 + fx (x - o.x) + fy (y - o.y) >= 0.
 SmallPolygon cut(const SmallPolygon& polygon, Vec2 o, double f0, double fx, double fy) {
   SmallPolygon out;
-  cut_into(polygon, o, f0, fx, fy, out);
+  cut_small(polygon, o, f0, fx, fy, out);
   return out;
-}
-
-// Cut by each edge's half-plane in turn, between two buffers.
-SmallPolygon intersect(const SmallPolygon& polygon, const SmallPolygon& by) {
-  SmallPolygon buffer[2];
-  const SmallPolygon* in = &polygon;
-  for (int k = 0, next = 0; k < by.size && in->size >= 3; ++k, next ^= 1) {
-    const Corner p = by.at[k], q = by.at[k + 1 == by.size ? 0 : k + 1];
-    cut_into(*in, {p.x, p.y}, 0, -(q.y - p.y), q.x - p.x, buffer[next]);
-    in = &buffer[next];
-  }
-  return *in;
 }
 
 // Area of a polygon and ∫ over it of w0 + wx (x - o.x) + wy (y - o.y).
@@ -84,7 +30,7 @@ struct Integrals {
 Integrals integrals(const SmallPolygon& polygon, Vec2 o, double w0, double wx, double wy) {
   double area = 0, mx = 0, my = 0;
   for (int i = 0, n = polygon.size; i < n && n >= 3; ++i) {
-    const Corner a = polygon.at[i], b = polygon.at[i + 1 == n ? 0 : i + 1];
+    const SmallPolygon::Corner a = polygon.at[i], b = polygon.at[i + 1 == n ? 0 : i + 1];
     const Vec2 p{a.x - o.x, a.y - o.y}, q{b.x - o.x, b.y - o.y};
     const double c = cross(p, q);
     area += c / 2;
@@ -126,7 +72,7 @@ SectionDeviation::SectionDeviation(const SlabColumns& columns)
   for (std::size_t i = 0; i < columns.facets.size(); ++i) {
     const ColumnFacet& f = columns.facets[i];
     Facet& facet = facets_[i];
-    facet.outline = small(f.outline);
+    facet.outline = small_polygon(f.outline);
     facet.loop = f.outline;
     facet.o = f.outline[0];
     facet.w0 = f.w0;
@@ -157,7 +103,7 @@ SectionDeviation::SectionDeviation(const SlabColumns& columns)
     for (int g : facet.partners) {
       const Facet& other = facets_[g];
       facet.occupied += facet.sign * other.sign *
-                        integrals(intersect(facet.outline, other.outline), other.o, other.w0, other.wx, other.wy).integral;
+                        integrals(intersect_small(facet.outline, other.outline), other.o, other.w0, other.wx, other.wy).integral;
     }
   }
   // Facets wholly below h are a prefix of the facets by z_max: their sums are kept per prefix.
@@ -207,7 +153,7 @@ double SectionDeviation::operator()(double h) const {
     for (int g : facet.partners) {
       const Facet& other = facets_[g];
       occupied += facet.sign * other.sign *
-                  integrals(intersect(part, other.outline), other.o, other.w0, other.wx, other.wy).integral;
+                  integrals(intersect_small(part, other.outline), other.o, other.w0, other.wx, other.wy).integral;
     }
   }
   return std::max(volume_ + t * area - 2 * occupied, 0.0);

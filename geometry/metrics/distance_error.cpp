@@ -145,7 +145,8 @@ void search_triangle(const std::array<Vec2, 3>& corners, const std::array<Neares
   walls_near(grid, {box.lo.x - reach, box.lo.y - reach}, {box.hi.x + reach, box.hi.y + reach},
              near);
   if (near.empty()) return;
-  std::vector<Piece> stack{first};
+  thread_local std::vector<Piece> stack;  // kept from call to call: one per piece of surface
+  stack.assign(1, first);
   while (!stack.empty()) {
     const Piece piece = stack.back();
     stack.pop_back();
@@ -193,7 +194,8 @@ void search_segment(Vec2 a, Vec2 b, const Nearest& at_a, const Nearest& at_b,
   const Vec2 hi{std::max(a.x, b.x) + reach, std::max(a.y, b.y) + reach};
   walls_near(grid, lo, hi, near);
   if (near.empty()) return;
-  std::vector<Piece> stack{first};
+  thread_local std::vector<Piece> stack;  // kept from call to call: one per piece of surface
+  stack.assign(1, first);
   while (!stack.empty()) {
     const Piece piece = stack.back();
     stack.pop_back();

@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "geometry/core/clipper.h"
+#include "geometry/core/small_polygon.h"
 
 namespace geometry {
 
@@ -220,7 +221,17 @@ std::vector<std::vector<int>> overlapping_facets(const SlabColumns& columns) {
   for (const ColumnFacet& facet : columns.facets) boxes.push_back({facet.lo, facet.hi});
   // A segment's box is the facet's box, so the grid finds facets whose boxes meet.
   const BoundaryGrid grid(std::move(boxes));
+  // On the stack where the outlines fit (small_polygon.h: the same arithmetic, so the same
+  // answer), else through convex_intersection.
+  std::vector<SmallPolygon> outline(n);
+  for (std::size_t i = 0; i < n; ++i) outline[i] = small_polygon(columns.facets[i].outline);
   const auto overlap = [&](std::size_t a, std::size_t b) {
+    bool complete = columns.facets[a].outline.size() <= kSmallCorners &&
+                    columns.facets[b].outline.size() <= kSmallCorners;
+    if (complete) {
+      const SmallPolygon common = intersect_small(outline[a], outline[b], &complete);
+      if (complete) return common.size >= 3 && small_signed_area(common) > kFoldArea;
+    }
     const std::vector<Vec2> common =
         convex_intersection(columns.facets[a].outline, columns.facets[b].outline);
     return common.size() >= 3 && signed_area(common) > kFoldArea;
