@@ -50,7 +50,6 @@ struct SectionDeviation::Facet {
   double z_min = 0, z_max = 0;
   int lower = 0;                 // its projection: 1 inside C(z_lo), 0 outside, -1 crossing it
   std::vector<int> partners;     // facets it overlaps seen from above (folds)
-  std::vector<Vec2> loop;        // the outline again, for moments_of_intersection
   // While wholly below h: its share of the section's area and of ∫ over C(h) of occ.
   double area = 0, occupied = 0;
 };
@@ -73,7 +72,6 @@ SectionDeviation::SectionDeviation(const SlabColumns& columns)
     const ColumnFacet& f = columns.facets[i];
     Facet& facet = facets_[i];
     facet.outline = small_polygon(f.outline);
-    facet.loop = f.outline;
     facet.o = f.outline[0];
     facet.w0 = f.w0;
     facet.wx = f.wx;
