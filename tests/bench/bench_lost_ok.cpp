@@ -12,8 +12,16 @@
 //    wait per lost ok (wall seconds, from the sim's record) and the wall time lost per lost
 //    ok. printcore waits for an ok without a timeout, so its first lost ok ends its print.
 //
-//   build/tests/bench/bench_lost_ok [layers=60] [limit_s=240]
-// The G-code is the ring test program (tests/printer/test_program.h), 120 moves a layer.
+// 3. A small part at the simulator's real time (`mahost sim --pty --baud 115200 --time-scale 1`,
+//    Marlin) by `mahost print --port`: the bunny 8 mm tall at 0.3 mm (sliced here; its heat-up
+//    waits left out, they would only add the same minutes to both), clean and with 2% of the
+//    oks lost, alternated, `rounds` of each: the print's wall time (medians, and faulty over
+//    clean) and the seconds the planner ran empty in each (the sim's planner_starved: the head
+//    stood still mid-print for want of the next move).
+//
+//   build/tests/bench/bench_lost_ok [layers=60] [limit_s=240] [rounds=3]
+// The G-code of 1 and 2 is the ring test program (tests/printer/test_program.h), 120 moves a
+// layer.
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
@@ -158,18 +166,25 @@ std::vector<double> waits_in_record(const std::string& text) {
   return waits;
 }
 
+// A number the record gives as "key":value, or -1.
+double number_in_record(const std::string& text, const std::string& key) {
+  const auto at = text.find("\"" + key + "\":");
+  return at == std::string::npos ? -1 : std::strtod(text.c_str() + at + key.size() + 3, nullptr);
+}
+
 struct PtyRun {
   int code = -1;
   double wall = 0;
   long executed = 0;
   std::vector<double> waits;
+  double starved = 0;  // s the planner ran empty (sim clock)
 };
 
 PtyRun over_a_pty(const std::string& host, const std::string& gcode_path, const std::string& faults,
-                  std::chrono::seconds limit) {
+                  std::chrono::seconds limit, const std::string& time_scale = "max") {
   const std::string record = "/tmp/bench_lost_ok_" + host + ".json";
   std::vector<std::string> sim_argv = {MAHOST_BINARY, "sim", "--pty", "--baud", "115200", "--time-scale",
-                                       "max", "--record", record};
+                                       time_scale, "--record", record};
   if (!faults.empty()) {
     sim_argv.push_back("--faults");
     sim_argv.push_back(faults);
@@ -194,6 +209,7 @@ PtyRun over_a_pty(const std::string& host, const std::string& gcode_path, const 
   const std::string text = read_record(record);
   run.executed = executed_in_record(text);
   run.waits = waits_in_record(text);
+  run.starved = number_in_record(text, "planner_starved");
   return run;
 }
 
@@ -257,6 +273,50 @@ static int run_bench(int argc, char** argv) {
     const PtyRun faulty = over_a_pty(host, gcode_path, faults, limit);
     report_pty(host, clean, faulty, file.size());
   }
+
+  const int rounds = argc > 3 ? std::atoi(argv[3]) : 3;
+  const std::string part = "/tmp/bench_lost_ok_part.gcode";
+  const Process slice = spawn({MAHOST_BINARY, "slice", MAHOST_DATA_DIR "/bunny.stl", "--up", "y", "--units", "m",
+                               "--height", "8", "--layer", "0.3", "-o", part},
+                              false);
+  if (wait_for(slice, std::chrono::seconds(300)) != 0) return 1;
+  std::string text = read_record(part);
+  for (const std::string wait : {"M190 ", "M109 "}) {
+    for (auto at = text.find("\n" + wait); at != std::string::npos; at = text.find("\n" + wait, at)) {
+      text.erase(at + 1, text.find('\n', at + 1) - at);
+    }
+  }
+  std::ofstream(part) << text;
+  const printer::GcodeFile small = printer::read_gcode_file(part);
+  const std::string lossy = "drop-ok=0.02,from-line=5";
+  fmt::print("3. mahost sim --pty --baud 115200 --time-scale 1 (real time), Marlin: the bunny 8 mm tall at 0.3 mm, "
+             "{} commands, {} layers, no heat-up waits; clean and --faults {},seed=<round>, alternated, {} rounds\n",
+             small.size(), small.layers.size(), lossy, rounds);
+  std::vector<double> clean_wall, lossy_wall, clean_starved, lossy_starved;
+  std::size_t lost = 0;
+  for (int round = 1; round <= rounds; ++round) {
+    const PtyRun clean = over_a_pty("mahost", part, "", limit, "1");
+    const PtyRun faulty = over_a_pty("mahost", part, fmt::format("{},seed={}", lossy, round), limit, "1");
+    if (clean.code != 0 || faulty.code != 0) {
+      fmt::print("  round {}: a print did not complete (exit {} clean, {} with lost oks)\n", round, clean.code,
+                 faulty.code);
+      return 1;
+    }
+    fmt::print("  round {}: clean {:.2f} s, planner empty {:.3f} s; 2% lost: {:.2f} s ({} oks lost), planner "
+               "empty {:.3f} s; {:.4f}x\n",
+               round, clean.wall, clean.starved, faulty.wall, faulty.waits.size(), faulty.starved,
+               faulty.wall / clean.wall);
+    clean_wall.push_back(clean.wall);
+    lossy_wall.push_back(faulty.wall);
+    clean_starved.push_back(clean.starved);
+    lossy_starved.push_back(faulty.starved);
+    lost += faulty.waits.size();
+  }
+  fmt::print("  medians: clean {:.2f} s (planner empty {:.3f} s), 2% of oks lost {:.2f} s (planner empty {:.3f} s, "
+             "{:.1f} oks lost a print): {:.4f}x the clean run's time\n",
+             quantile(clean_wall, 0.5), quantile(clean_starved, 0.5), quantile(lossy_wall, 0.5),
+             quantile(lossy_starved, 0.5), static_cast<double>(lost) / rounds,
+             quantile(lossy_wall, 0.5) / quantile(clean_wall, 0.5));
   return 0;
 }
 
