@@ -53,7 +53,7 @@ adaptive_tolerances=${ADAPTIVE_TOLERANCES:-0.1 0.2 0.3 0.4 0.5}
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-source tests/bench/cura_definitions.sh
+source tests/bench/peer_slicers.sh
 
 # The printer every plan is sliced for (estimates) and judged on.
 timing_printer=(--printer up-plus-2 --set layer.step=0 --set layer.min=0.05 --set layer.max=0.45)
@@ -66,7 +66,8 @@ speed=()
 timed() {
   local name=$1 model=$2
   shift 2
-  /usr/bin/time -f "%e %U %S" -o "$work/time" "$@" >"$work/run.log" 2>&1 ||
+  local TIMEFORMAT="%R %U %S"  # bash's own time: the peers' runs are shell functions
+  { time "$@" >"$work/run.log" 2>&1; } 2>"$work/time" ||
     { echo "adaptive_layers: failed: $name" >&2; tail -3 "$work/run.log" >&2; exit 1; }
   local wall user sys
   read -r wall user sys <"$work/time"
@@ -149,41 +150,14 @@ for model_name in $models; do
   # CuraEngine 4.13, adaptive layers.
   for threshold in $cura_thresholds; do
     out=$work/cura-$threshold.gcode
-    timed "CuraEngine adaptive thr $threshold" "$model_name" \
-    CuraEngine slice -j "$cura_resources/definitions/fdmprinter.def.json" \
-      -s machine_width=140 -s machine_depth=140 -s machine_height=135 -s machine_center_is_zero=true \
-      -s machine_gcode_flavor="RepRap (Marlin/Sprinter)" -s machine_start_gcode="G28" -s machine_end_gcode="M84" \
-      -s layer_height=0.25 -s layer_height_0=0.3 \
-      -s adaptive_layer_height_enabled=true -s adaptive_layer_height_threshold="$threshold" \
-      -s adaptive_layer_height_variation=0.1 -s adaptive_layer_height_variation_step=0.05 \
-      -s wall_line_count=2 -s top_layers=3 -s bottom_layers=3 -s infill_sparse_density=20 \
-      -s adhesion_type=skirt -s skirt_line_count=1 -s support_enable=false \
-      -e0 -s machine_nozzle_size=0.4 -s material_diameter=1.75 \
-      -o "$out" -l "$placed"
+    timed "CuraEngine adaptive thr $threshold" "$model_name" cura_adaptive "$out" "$placed" "$threshold"
     judge "CuraEngine adaptive thr $threshold" "$model" "$place" "$excl" "$out" mid
   done
 
   # Slic3r 1.3, adaptive slicing.
   for quality in $slic3r_qualities; do
-    cfg=$work/slic3r.ini out=$work/slic3r-$quality.gcode
-    cat >"$cfg" <<EOF
-bed_shape = 0x0,140x0,140x140,0x140
-nozzle_diameter = 0.4
-filament_diameter = 1.75
-first_layer_height = 0.3
-layer_height = 0.25
-adaptive_slicing = 1
-adaptive_slicing_quality = $quality%
-min_layer_height = 0.15
-max_layer_height = 0.4
-perimeters = 2
-top_solid_layers = 3
-bottom_solid_layers = 3
-fill_density = 20%
-skirts = 1
-EOF
-    timed "Slic3r adaptive quality $quality%" "$model_name" \
-      slic3r --load "$cfg" --print-center 70,70 "$placed" -o "$out"
+    out=$work/slic3r-$quality.gcode
+    timed "Slic3r adaptive quality $quality%" "$model_name" slic3r_adaptive "$out" "$placed" "$quality"
     judge "Slic3r adaptive quality $quality%" "$model" "$place" "$excl" "$out" mid
   done
 done
