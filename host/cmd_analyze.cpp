@@ -74,8 +74,9 @@ struct AnalyzeOptions {
   std::string contour = "best";  // for --export-layers, and the contour --adaptive plans for
   std::string thick = "0.2,0.25";
   int layer_index = -1;
+  bool from_zero = false;          // --from-zero: uniform layers from the bed, no first layer
   AdaptiveRequest adaptive;        // --adaptive: the layers of a plan, not uniform
-  std::string printer = "up-plus-2";  // whose thicknesses an adaptive plan uses
+  std::string printer = "up-plus-2";  // whose first layer and thicknesses the layers use
 };
 
 struct AdviseOptions {
@@ -160,12 +161,26 @@ geometry::ZRange parse_z_range(const std::string& text) {
 }
 
 // The layers analyze judges: --boundaries (any thicknesses: a peer's plan need not suit our
-// printer; the part above its last layer, if any, is not judged), else uniform --layer from
-// the bed.
+// printer; the part above its last layer, if any, is not judged); else uniform --layer as
+// `slice` lays them on --printer (its first layer, flat tops and floors on boundaries where its
+// thicknesses reach them; for a thickness it lacks, any thickness from its thinnest to that one
+// lands them); or with
+// `from_zero` the plain grid from the bed, every layer --layer thick (the paper's comparison).
 std::vector<geometry::Layer> analysis_layers(const std::string& boundaries, double layer,
-                                             double height) {
-  if (boundaries.empty()) return geometry::uniform_layers(height, layer);
-  return boundary_layers(boundaries, height, std::numeric_limits<double>::infinity()).layers;
+                                             bool from_zero, const std::string& printer_name,
+                                             const geometry::Mesh& mesh, double height) {
+  if (!boundaries.empty()) {
+    return boundary_layers(boundaries, height, std::numeric_limits<double>::infinity()).layers;
+  }
+  if (from_zero) return geometry::uniform_layers(height, layer);
+  const printer::PrinterProfile profile =
+      printer::load_printer_profile(printer_name, printer::config_directory(MAHOST_CONFIG_DIR));
+  geometry::AllowedThicknesses allowed = allowed_thicknesses(profile);
+  if (!allowed.allows(layer)) {
+    allowed = {.listed = {}, .min = std::min(layer, allowed.thinnest()),
+               .max = std::max(layer, allowed.thickest()), .step = 0, .first = allowed.first};
+  }
+  return geometry::uniform_plan(height, layer, allowed, geometry::flat_levels(mesh)).layers;
 }
 
 // The adaptive plan analyze and advise judge: for `printed`, on the printer's thicknesses
@@ -470,7 +485,9 @@ void run_analyze(const AnalyzeOptions& options) {
     plan = adaptive_choice(options.adaptive, options.printer, mesh, height, export_kind);
   }
   const geometry::LayerStack stack(
-      mesh, plan ? plan->layers : analysis_layers(options.boundaries, options.layer, height));
+      mesh, plan ? plan->layers
+                 : analysis_layers(options.boundaries, options.layer, options.from_zero,
+                                   options.printer, mesh, height));
   if (stack.size() == 0) {
     throw geometry::InputError(fmt::format("{}: the model has no height to slice",
                                            options.model.path));
@@ -771,7 +788,7 @@ void run_advise(const AdviseOptions& options) {
     std::optional<LayerChoice> plan;
     if (adaptive) plan = adaptive_choice(options.adaptive, options.printer, mesh, height, *kind);
     const geometry::LayerStack stack(
-        mesh, plan ? plan->layers : analysis_layers(options.boundaries, 0, height));
+        mesh, plan ? plan->layers : analysis_layers(options.boundaries, 0, true, options.printer, mesh, height));
     const auto layers = run_analysis(stack, kinds, false,
                                      fmt::format("{} at the boundaries", name_of(kind)), true);
     const auto summary = geometry::summarize(layers);
@@ -828,6 +845,11 @@ void add_analyze_command(CLI::App& app) {
   CLI::Option* layer = analyze->add_option("--layer", options->layer, "layer thickness, mm")
                            ->check(positive_number())
                            ->capture_default_str();
+  CLI::Option* from_zero = analyze->add_flag(
+      "--from-zero", options->from_zero,
+      "uniform layers from the bed, every one --layer thick, with no first layer of the "
+      "printer's and no flat level landed (the paper's comparison; default: the layers `slice` "
+      "prints at --layer on --printer)");
   analyze->add_option("--boundaries", options->boundaries,
                       "judge these layers instead of --layer: layer tops as a comma list in mm "
                       "(0.3,0.5,...), a file with one top per line (# comments), or a G-code file "
@@ -856,12 +878,13 @@ void add_analyze_command(CLI::App& app) {
       ->check(non_negative_number());
   analyze->add_option("--export-layers", options->export_layers,
                       "write the layered part (each layer's region extruded) as an STL file");
+  from_zero->excludes("--boundaries");
   for (CLI::Option* option : add_adaptive_options(*analyze, options->adaptive)) {
-    option->excludes("--layer")->excludes("--boundaries");
+    option->excludes("--layer")->excludes("--boundaries")->excludes(from_zero);
   }
   analyze->add_option("--printer", options->printer,
-                      "with --adaptive: the printer whose layer thicknesses the plan uses "
-                      "(default: up-plus-2)");
+                      "the printer whose first layer and thicknesses the layers use, uniform "
+                      "or --adaptive (default: up-plus-2)");
   analyze->add_option("--contour", options->contour,
                       fmt::format("with --export-layers: which strategy's layers; with "
                                   "--adaptive: the contour the plan is made for ({})",

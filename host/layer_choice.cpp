@@ -4,6 +4,7 @@
 #include <cctype>
 #include <charconv>
 #include <chrono>
+#include <cmath>
 
 #include <fmt/format.h>
 
@@ -134,6 +135,8 @@ LayerChoice choose_layers(const AdaptiveRequest& request, const printer::Printer
     }
     options.contours = planning_strategies(printed);
     choice.planned_by = std::string(options.contours.front()->name);
+    choice.printed = std::string(printed.name);
+    choice.thinnest_allowed = allowed.thinnest();
     choice.plan = geometry::adaptive_plan(stack, part_height, allowed, flats, options, progress);
     choice.layers = choice.plan.layers;
     choice.flats = choice.plan.flats;
@@ -146,23 +149,62 @@ LayerChoice choose_layers(const AdaptiveRequest& request, const printer::Printer
 
 namespace {
 
-// Runs of unmet layers as height ranges: "z 30.1-31.9, 45.0-45.3 mm".
-std::string unmet_ranges(const geometry::AdaptivePlan& plan) {
-  std::vector<std::string> ranges;
+// "0.15", "0.15-0.4": thicknesses equal to a nanometre are one.
+std::string thickness_range(double thinnest, double thickest) {
+  const auto mm = [](double v) { return std::round(v * 1e6) / 1e6; };
+  return mm(thinnest) == mm(thickest) ? fmt::format("{:g}", mm(thinnest))
+                                      : fmt::format("{:g}-{:g}", mm(thinnest), mm(thickest));
+}
+
+// The layers above the first over the tolerance, as runs of one reason, each with its worst
+// D: "z 30.10-31.90 (slopes down to 4° from horizontal: up to 0.61 mm), z 13.00-13.20 (0.2 mm
+// to land the flat level at 13.5 mm: 0.045 mm)"; at most four, then a count.
+std::string over_tolerance_runs(const geometry::AdaptivePlan& plan) {
+  std::vector<std::string> runs;
   for (std::size_t i = 0; i < plan.layers.size();) {
-    if (plan.met[i]) {
+    const geometry::OverTolerance why = plan.why[i];
+    if (why == geometry::OverTolerance::none || why == geometry::OverTolerance::first_layer) {
       ++i;
       continue;
     }
     std::size_t j = i;
-    while (j + 1 < plan.layers.size() && !plan.met[j + 1]) ++j;
-    ranges.push_back(fmt::format("{:.2f}-{:.2f}", plan.layers[i].z_lo, plan.layers[j].z_hi));
+    double lean = plan.lean[i], worst = plan.distance[i];
+    while (j + 1 < plan.layers.size() && plan.why[j + 1] == why && why != geometry::OverTolerance::landing) {
+      ++j;
+      lean = std::min(lean, plan.lean[j]);
+      worst = std::max(worst, plan.distance[j]);
+    }
+    std::string reason;
+    switch (why) {
+      case geometry::OverTolerance::flat_level:
+        reason = "across a flat level no allowed layer lands";
+        break;
+      case geometry::OverTolerance::landing: {
+        // What it lands: the first flat level at or above its top, or the top.
+        double landed = plan.layers.back().z_hi;
+        for (const geometry::FlatPlacement& flat : plan.flats) {
+          if (flat.on_boundary() && flat.z >= plan.layers[i].z_hi - 1e-6) {
+            landed = flat.z;
+            break;
+          }
+        }
+        reason = fmt::format("{:g} mm to land the {} at {:.2f} mm", std::round(plan.layers[i].thickness() * 1e6) / 1e6,
+                             landed == plan.layers.back().z_hi ? "top" : "flat level", landed);
+        break;
+      }
+      case geometry::OverTolerance::missed_feature:
+        reason = "a tip or bump smaller than a layer, which the contour leaves out";
+        break;
+      default: reason = fmt::format("slopes down to {:.0f}° from horizontal", lean); break;
+    }
+    runs.push_back(fmt::format("z {:.2f}-{:.2f} ({}: {}{:.3g} mm)", plan.layers[i].z_lo,
+                               plan.layers[j].z_hi, reason, j > i ? "up to " : "", worst));
     i = j + 1;
   }
-  const std::size_t shown = std::min<std::size_t>(ranges.size(), 4);
+  const std::size_t shown = std::min<std::size_t>(runs.size(), 4);
   std::string text;
-  for (std::size_t k = 0; k < shown; ++k) text += (k ? ", " : "") + ranges[k];
-  if (ranges.size() > shown) text += fmt::format(" and {} more", ranges.size() - shown);
+  for (std::size_t k = 0; k < shown; ++k) text += (k ? ", " : "") + runs[k];
+  if (runs.size() > shown) text += fmt::format(" and {} more", runs.size() - shown);
   return text;
 }
 
@@ -180,13 +222,18 @@ std::string describe_choice(const LayerChoice& choice) {
   }
   if (choice.adaptive) {
     const geometry::AdaptivePlan& plan = choice.plan;
-    const std::string range =
-        thinnest == thickest ? fmt::format("{:g}", thinnest) : fmt::format("{:g}-{:g}", thinnest, thickest);
-    text = fmt::format("adaptive: {} layer{} of {} mm for D within {:.3g} mm ({}'s D, "
-                       "planned in {:.1f} s: {} of {} candidate layers measured)",
-                       choice.layers.size(), choice.layers.size() == 1 ? "" : "s", range,
-                       plan.tolerance, choice.planned_by, choice.seconds, plan.measured,
-                       plan.candidates);
+    // Whose D: the printed contour's, or for best mid's, which best's is not above on a
+    // layer where mid leaves nothing out (best_contour.h).
+    const std::string whose =
+        choice.planned_by == choice.printed
+            ? fmt::format("{}'s D", choice.printed)
+            : fmt::format("{}'s D, planned by {}'s, which {}'s does not exceed", choice.printed,
+                          choice.planned_by, choice.printed);
+    text = fmt::format("adaptive: {} layer{} of {} mm for D within {:.3g} mm ({}; planned in "
+                       "{:.1f} s: {} of {} candidate layers measured)",
+                       choice.layers.size(), choice.layers.size() == 1 ? "" : "s",
+                       thickness_range(thinnest, thickest), plan.tolerance, whose, choice.seconds,
+                       plan.measured, plan.candidates);
     if (choice.budget_seconds > 0) {
       text += choice.estimated_seconds <= choice.budget_seconds
                   ? fmt::format(", the least tolerance whose print fits --max-time {} (estimated {})",
@@ -202,9 +249,19 @@ std::string describe_choice(const LayerChoice& choice) {
                           choice.max_layers, choice.layers.size());
     }
     if (plan.unmet > 0) {
-      text += fmt::format("; {} layer{} could not meet it even at {:g} mm, where the surface is "
-                          "nearly flat (z {} mm)",
-                          plan.unmet, plan.unmet == 1 ? "" : "s", thinnest, unmet_ranges(plan));
+      double worst = 0;
+      for (std::size_t i = 1; i < plan.layers.size(); ++i) {
+        if (!plan.met[i]) worst = std::max(worst, plan.distance[i]);
+      }
+      text += fmt::format("; {} layer{} over it (up to {:.3g} mm), the thinnest the printer has "
+                          "({:g} mm) unless said: {}",
+                          plan.unmet, plan.unmet == 1 ? "" : "s", worst,
+                          std::round(choice.thinnest_allowed * 1e6) / 1e6, over_tolerance_runs(plan));
+    }
+    if (!plan.why.empty() && plan.why.front() == geometry::OverTolerance::first_layer) {
+      text += fmt::format("; the first layer, the printer's {:g} mm, has D {:.3g} mm",
+                          std::round(plan.layers.front().thickness() * 1e6) / 1e6,
+                          plan.distance.front());
     }
     if (plan.refused_for_overhangs > 0) {
       text += fmt::format("; with supports on, {} candidate layer{} refused as too thick for the "

@@ -64,6 +64,8 @@ struct LayerChoice {
   geometry::AdaptivePlan plan;                    // adaptive only
   std::vector<geometry::FlatPlacement> flats;     // both
   std::string planned_by;                         // the strategy whose D the plan measured
+  std::string printed;                            // the strategy the layers print
+  double thinnest_allowed = 0;                    // the printer's thinnest layer, mm
   double seconds = 0;                             // wall time of the planning
   double budget_seconds = 0;                      // --max-time, s (0: none)
   double estimated_seconds = 0;                   // with a budget: the plan's estimate, s
@@ -85,9 +87,11 @@ LayerChoice choose_layers(const AdaptiveRequest& request, const printer::Printer
                           const PlanningProgress& progress = {},
                           const PrintEstimate& estimate = {});
 
-// "adaptive: 187 layers of 0.15-0.4 mm for D within 0.3 mm (mid's D, planned in 1.2 s);
-// 12 layers could not meet it even at 0.15 mm (nearly flat surface at z 30.1-31.9 mm)", and
-// where flat levels landed when one could not.
+// "adaptive: 187 layers of 0.15-0.4 mm for best's D, planned by mid's, which it does not
+// exceed, within 0.3 mm (planned in 1.2 s: ...); 12 layers over it (up to 0.61 mm), the
+// thinnest the printer has (0.15 mm) unless said: z 30.10-31.90 (the surface there leans 4°
+// from horizontal), ...", the first layer's D where it is over, and where flat levels landed
+// when one could not.
 std::string describe_choice(const LayerChoice& choice);
 
 }  // namespace host

@@ -4,20 +4,25 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <numbers>
 #include <numeric>
 #include <optional>
 #include <thread>
 #include <tuple>
+#include <unordered_map>
 
 #include <tbb/parallel_for.h>
 
 #include "geometry/plan/slab_bound.h"
+#include "geometry/plan/swept_volume.h"
 
 namespace geometry {
 namespace {
 
-// Heights closer than this are one height, mm (far below any printer's step).
-constexpr double kSameHeight = 1e-7;
+// Heights closer than this are one height, mm: far below any printer's step, and above the
+// rounding of a binary STL's 32-bit coordinates (a flat top at 11.2 mm reads 11.1999998, and
+// the boundary that lands it is put at the flat's own height, so that the flat lies on it).
+constexpr double kSameHeight = 1e-4;
 
 long long nanometres(double mm) { return std::llround(mm * 1e6); }
 
@@ -205,46 +210,50 @@ UniformPlan uniform_plan(double part_height, double thickness, const AllowedThic
 namespace {
 
 // The grid of reachable heights: nodes (ascending, the bed first) and, per node, the
-// candidate slabs (edges) starting there.
+// candidate slabs (edges) starting there; every plan ends at one of the nodes `ends`.
 struct HeightGrid {
   std::vector<double> z;
   std::vector<std::uint32_t> edge_begin;  // edges of node i: [edge_begin[i], edge_begin[i+1])
   std::vector<std::uint32_t> edge_to;
   std::vector<std::uint32_t> edge_from;
   std::vector<char> edge_thinnest;        // the thinnest thickness (or the fixed first layer)
+  std::vector<std::uint32_t> ends;
 };
 
-HeightGrid height_grid(double top, const AllowedThicknesses& allowed, std::span<const double> flats,
-                       double grid) {
+// Every height the thicknesses reach from the first layer's top, the flat levels (`targets`,
+// on reachable heights already: flat_targets) and, for a printer of any thickness in a
+// range, the top itself. A plan ends at the lowest reachable height at or above the top, or
+// the next if that is within a step of the top (a tip the thinnest layers pass rather than
+// land with a thicker one): never more than the printer's step above the part (with a range,
+// at the top).
+HeightGrid height_grid(double top, const AllowedThicknesses& allowed,
+                       std::span<const double> targets, double grid) {
   HeightGrid g;
-  // Every reachable height is the first layer's top plus whole multiples of the unit.
-  const double unit = reach_unit(allowed) > 0 ? std::max(1e-3, reach_unit(allowed)) : grid;
+  const bool stepped = reach_unit(allowed) > 0;
+  const double unit = stepped ? std::max(1e-3, reach_unit(allowed)) : grid;
   const double first = allowed.first > 0 ? allowed.first : 0;
   // Heights counted in whole nanometres, so that 0.3 + 74 x 0.05 is 4.0, not 3.9999999999999996.
   const long long first_nm = nanometres(first), unit_nm = std::max(1LL, nanometres(unit));
   const long long last_nm = nanometres(top + allowed.thickest());
-  g.z.push_back(0);
+  std::vector<double> heights{0};
   for (long long k = first > 0 ? 0 : 1; first_nm + k * unit_nm <= last_nm; ++k) {
-    g.z.push_back(static_cast<double>(first_nm + k * unit_nm) * 1e-6);
+    heights.push_back(static_cast<double>(first_nm + k * unit_nm) * 1e-6);
   }
-  // The flat levels (already on reachable heights, flat_targets) at their own heights.
-  for (double z : flats) g.z.push_back(z);
-  std::sort(g.z.begin(), g.z.end());
-  std::vector<double> nodes;
-  for (double z : g.z) {
-    if (!nodes.empty() && z - nodes.back() <= kSameHeight) {
-      if (std::binary_search(flats.begin(), flats.end(), z)) nodes.back() = z;
+  std::vector<double> own(targets.begin(), targets.end());  // heights kept as they are
+  if (!stepped) own.push_back(top);
+  std::sort(own.begin(), own.end());
+  heights.insert(heights.end(), own.begin(), own.end());
+  std::sort(heights.begin(), heights.end());
+  for (double z : heights) {
+    if (!g.z.empty() && z - g.z.back() <= kSameHeight) {
+      if (std::binary_search(own.begin(), own.end(), z)) g.z.back() = z;
       continue;
     }
-    nodes.push_back(z);
+    g.z.push_back(z);
   }
-  g.z = std::move(nodes);
 
   const std::size_t n = g.z.size();
-  g.edge_begin.assign(n + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    g.edge_begin[i] = static_cast<std::uint32_t>(g.edge_to.size());
-    if (g.z[i] >= top - kSameHeight && i > 0) continue;  // at or above the top: done
+  const auto add_edges = [&](std::size_t i) {
     if (i == 0 && first > 0) {
       for (std::size_t j = 1; j < n; ++j) {
         if (std::abs(g.z[j] - first) <= kSameHeight) {
@@ -253,7 +262,7 @@ HeightGrid height_grid(double top, const AllowedThicknesses& allowed, std::span<
           g.edge_thinnest.push_back(1);
         }
       }
-      continue;
+      return;
     }
     const auto lo = std::lower_bound(g.z.begin() + static_cast<long>(i) + 1, g.z.end(),
                                      g.z[i] + allowed.thinnest() - kSameHeight);
@@ -264,47 +273,99 @@ HeightGrid height_grid(double top, const AllowedThicknesses& allowed, std::span<
       g.edge_from.push_back(static_cast<std::uint32_t>(i));
       g.edge_thinnest.push_back(t <= allowed.thinnest() + kSameHeight);
     }
+  };
+  // Which nodes the edges reach, bottom up; the ends are the lowest reached at or above the
+  // top and the next if it is within a step of the top.
+  std::vector<char> reached(n, 0);
+  reached[0] = 1;
+  g.edge_begin.assign(n + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    g.edge_begin[i] = static_cast<std::uint32_t>(g.edge_to.size());
+    if (i > 0 && g.z[i] >= top - kSameHeight) {
+      const bool within = g.ends.empty() || (stepped && g.z[i] <= top + unit + kSameHeight);
+      if (reached[i] && within) g.ends.push_back(static_cast<std::uint32_t>(i));
+      continue;  // at or above the top: done
+    }
+    add_edges(i);
+    for (std::uint32_t e = g.edge_begin[i]; e < g.edge_to.size(); ++e) {
+      if (reached[i]) reached[g.edge_to[e]] = 1;
+    }
   }
   g.edge_begin[n] = static_cast<std::uint32_t>(g.edge_to.size());
   return g;
 }
 
-// A path's cost, compared in this order: flat levels crossed, layers over the tolerance,
-// layers; among paths equal in those, the fewest slabs not yet measured (so that the search
-// keeps to what it has measured instead of wandering among equally short paths). Unreached:
-// the largest.
-using Cost = std::tuple<std::size_t, std::size_t, std::size_t, std::size_t>;
-constexpr Cost kUnreached{std::numeric_limits<std::size_t>::max(), 0, 0, 0};
+// What a search asks of its layers: each within `tolerance` or counted over it (PathCost),
+// and none at all above `most` (a budget's plan keeps the max D of the least tolerance's).
+struct Limits {
+  double tolerance = 0;
+  double most = INFINITY;
+};
+
+// A path's cost in the tolerance's objective, compared in this order: flat levels crossed,
+// layers thicker than the thinnest yet over the tolerance (the only way to land a flat level
+// or the top the thinnest layers miss: on a slope too shallow for the tolerance between two
+// flat levels 0.5 mm apart, 0.15 mm layers cannot land both), the height of the thinnest
+// layers over it (not their count: more of them, thinner, are no worse, and a budget can
+// spend layers there), layers, the volume swept (swept_volume.h); among paths equal in those,
+// the fewest slabs not yet settled (so that the search keeps to what it knows instead of
+// wandering among paths equally good by their bounds).
+struct PathCost {
+  std::uint32_t flats = 0, landing = 0;
+  double landing_thickness = 0;  // of those layers, mm: the thinnest that land
+  double unmet = 0;  // height of the thinnest layers over it, mm
+  std::uint32_t layers = 0;
+  double swept = 0;
+  std::uint32_t unsettled = 0;
+  bool operator<(const PathCost& other) const {
+    return std::tie(flats, landing, landing_thickness, unmet, layers, swept, unsettled) <
+           std::tie(other.flats, other.landing, other.landing_thickness, other.unmet, other.layers,
+                    other.swept, other.unsettled);
+  }
+  // The cost of a path with edge e of `planner` added.
+  template <class Planner>
+  PathCost through(const Planner& planner, std::uint32_t e, Limits limits) const {
+    PathCost c = *this;
+    const bool over = !planner.may_meet(e, limits.tolerance);
+    c.flats += planner.crossed_flats(e);
+    if (over && !planner.thinnest(e)) c.landing += 1, c.landing_thickness += planner.thickness(e);
+    if (over && planner.thinnest(e)) c.unmet += planner.thickness(e);
+    c.layers += 1;
+    c.swept += planner.swept(e);
+    c.unsettled += planner.settled(e, limits) ? 0 : 1;
+    return c;
+  }
+};
+const PathCost kUnreached{std::numeric_limits<std::uint32_t>::max(), 0, 0, 0, 0, 0, 0};
+constexpr std::uint32_t kNoEdge = std::numeric_limits<std::uint32_t>::max();
 
 class LazyPlanner {
  public:
   LazyPlanner(const LayerStack& stack, double top, const AllowedThicknesses& allowed,
               std::span<const double> flats, const AdaptiveOptions& options,
               const PlanProgress& progress)
-      : stack_(stack), top_(top), flats_(flats), options_(options), progress_(progress),
+      : options_(options), progress_(progress),
         grid_(height_grid(top, allowed, flats, options.grid)), meter_(stack, options.error),
-        max_thickness_(allowed.thickest()) {
+        max_thickness_(allowed.thickest()), fixed_first_(allowed.first > 0) {
     const std::size_t edges = grid_.edge_to.size();
-    const SlabSpreadEstimate estimate(stack.mesh());
+    const SweptVolume swept(stack.mesh());
     const AdaptiveOptions::ThickOverhangs& thick = options.thick_overhangs;
     std::optional<ThickOverhangEstimate> overhangs;
     if (thick.overhang_angle > 0) overhangs.emplace(stack.mesh(), thick.overhang_angle, thick.bead_width);
-    estimate_.resize(edges);
+    // Q at every node and every middle, once each (neighbouring candidates share them).
+    std::vector<double> below(grid_.z.size());
+    tbb::parallel_for(std::size_t{0}, grid_.z.size(), [&](std::size_t i) { below[i] = swept.integral_below(grid_.z[i]); });
+    swept_.resize(edges);
     crossed_.resize(edges);
     refused_.assign(edges, 0);
-    // Node by node: its candidates share their bottom, and the estimate takes them together.
-    tbb::parallel_for(std::size_t{0}, grid_.z.size(), [&](std::size_t i) {
-      const std::uint32_t first = grid_.edge_begin[i], last = grid_.edge_begin[i + 1];
-      if (first == last) return;
-      std::vector<double> tops;
-      for (std::uint32_t e = first; e < last; ++e) tops.push_back(grid_.z[grid_.edge_to[e]]);
-      estimate(grid_.z[i], tops, std::span(estimate_).subspan(first, last - first));
-      for (std::uint32_t e = first; e < last; ++e) {
-        const double a = grid_.z[i], b = grid_.z[grid_.edge_to[e]];
-        crossed_[e] = static_cast<std::uint32_t>(crossed(flats_, a, b));
-        refused_[e] = overhangs && !grid_.edge_thinnest[e] && (*overhangs)(a, b) > thick.min_area;
-      }
+    tbb::parallel_for(std::size_t{0}, edges, [&](std::size_t e) {
+      const double a = grid_.z[grid_.edge_from[e]], b = grid_.z[grid_.edge_to[e]];
+      const double middle = swept.integral_below(0.5 * (a + b));
+      swept_[e] = std::max(0.0, below[grid_.edge_from[e]] + below[grid_.edge_to[e]] - 2 * middle);
+      crossed_[e] = static_cast<std::uint32_t>(crossed(flats, a, b));
+      refused_[e] = overhangs && !grid_.edge_thinnest[e] && (*overhangs)(a, b) > thick.min_area;
     });
+    lower_.assign(edges, 0);
     exact_.assign(edges, NAN);
     proven_.assign(edges, NAN);
   }
@@ -313,125 +374,241 @@ class LazyPlanner {
   void measure_all(double tolerance) {
     std::vector<std::uint32_t> all(grid_.edge_to.size());
     std::iota(all.begin(), all.end(), 0u);
-    measure(all, tolerance, false, true);
+    measure(all, tolerance, tolerance, false, true);
   }
 
-  // The slabs of a path that were only shown within `tolerance` (see measure), measured
-  // exactly: a plan gives every layer's D. (Counted once among the measured.)
+  // The slabs of a path not measured exactly (only shown within a tolerance), measured
+  // exactly: a plan gives every layer's D (of the first contour within `tolerance`, else the
+  // least). (Counted once among the measured.)
   void measure_exactly(const std::vector<std::uint32_t>& path, double tolerance) {
-    std::vector<std::uint32_t> settled;
+    std::vector<std::uint32_t> inexact;
     for (std::uint32_t e : path) {
-      if (std::isnan(exact_[e])) settled.push_back(e);
+      if (std::isnan(exact_[e])) inexact.push_back(e);
     }
-    measure(settled, tolerance, false, false);
+    measure(inexact, tolerance, 0, false, false);
   }
 
   std::size_t candidates() const { return grid_.edge_to.size(); }
   std::size_t refused() const { return static_cast<std::size_t>(std::count(refused_.begin(), refused_.end(), 1)); }
   std::size_t measured() const { return measured_; }
   std::size_t rounds() const { return rounds_; }
-  double largest_estimate() const {
-    double m = 0;
-    for (std::size_t e = 0; e < exact_.size(); ++e) {
-      m = std::max(m, std::isnan(exact_[e]) ? estimate_[e] : exact_[e]);
-    }
-    return m;
+
+  // The optimum at `tolerance` (PathCost's order), every slab on it settled: its edges,
+  // bottom up. `settle`: a slab is measured only until it is seen within the tolerance or
+  // past it (a search at one tolerance); else exactly (a budget's, which tries many).
+  // `by_swept`: the swept volume decides among paths of as many layers (else the first found).
+  std::vector<std::uint32_t> plan(double tolerance, bool settle, bool by_swept = true) {
+    const Limits limits{tolerance};
+    return lazily(limits, settle, [&] { return shortest_path(limits, by_swept); });
   }
 
-  // The best path at `tolerance` with every slab on it measured: its edges, bottom up.
-  std::vector<std::uint32_t> plan(double tolerance) {
-    for (;;) {
-      ++rounds_;
-      std::vector<std::uint32_t> path = shortest_path(tolerance);
-      std::vector<std::uint32_t> unmeasured;
-      for (std::uint32_t e : path) {
-        if (!settled(e, tolerance)) unmeasured.push_back(e);
-      }
-      if (unmeasured.empty()) return path;
-      // The lowest few first (LazySP's forward selector): a slab found worse than estimated
-      // reroutes the path above it, so measuring the rest of this path would mostly be wasted.
-      if (unmeasured.size() > batch_) unmeasured.resize(batch_);
-      // The sections far below are rarely wanted again (the path below is measured).
-      meter_.forget_below(grid_.z[grid_.edge_from[unmeasured.front()]] - 2 * max_thickness_);
-      measure(unmeasured, tolerance, settle_, true);
-    }
+  // The least swept volume in at most `budget` layers (in PathCost's order, but for the count
+  // of layers) at `limits`, every slab on it settled.
+  std::vector<std::uint32_t> plan_within(std::size_t budget, Limits limits) {
+    return lazily(limits, true, [&] { return least_swept_path(budget, limits); });
   }
 
-  // What the search takes an edge's D to be: measured, or else the larger of the estimate and
-  // what a measured slab proves (see measure).
-  double value(std::uint32_t e) const { return std::isnan(exact_[e]) ? estimate_[e] : exact_[e]; }
-  // Whether the search knows all it needs of an edge at `tolerance`: its D, or that it is
-  // within the tolerance.
-  bool settled(std::uint32_t e, double tolerance) const {
-    return !std::isnan(exact_[e]) || proven_[e] <= tolerance;
+  // Whether an edge may be within the tolerance, as far as is known (its D or a lower
+  // bound), and whether that is settled (known within, or known past it).
+  bool may_meet(std::uint32_t e, double tolerance) const {
+    if (!std::isnan(exact_[e])) return exact_[e] <= tolerance;
+    return proven_[e] <= tolerance || lower_[e] <= tolerance;
   }
+  // A budget's limits from the plan of its least tolerance (measured exactly): that
+  // tolerance, or the plan's by-height 95th percentile of D if higher, and its largest D, both
+  // over the layers above a fixed first one.
+  Limits budget_limits(const std::vector<std::uint32_t>& path, double tolerance) const {
+    std::vector<std::pair<double, double>> layers;  // (D, thickness)
+    double total = 0, most = 0;
+    for (std::uint32_t e : path) {
+      if (fixed_first(e)) continue;
+      layers.push_back({exact_[e], thickness(e)});
+      total += thickness(e);
+      most = std::max(most, exact_[e]);
+    }
+    std::sort(layers.begin(), layers.end());
+    double covered = 0, percentile = 0;
+    for (const auto& [d, t] : layers) {
+      covered += t;
+      percentile = d;
+      if (covered >= 0.95 * total * (1 - 1e-12)) break;
+    }
+    const double cap = std::max(tolerance, percentile);
+    return {cap, std::max(cap, most)};
+  }
+
+  // Settled: its D is known, or known within the tolerance, or known too large to take, or
+  // (with no ceiling) known over the tolerance.
+  bool settled(std::uint32_t e, Limits limits) const {
+    return !std::isnan(exact_[e]) || proven_[e] <= limits.tolerance || lower_[e] > limits.most ||
+           (!std::isfinite(limits.most) && lower_[e] > limits.tolerance);
+  }
+  // An edge a path may take: not refused, and not known above the ceiling (the fixed first
+  // layer always).
+  bool usable(std::uint32_t e, Limits limits) const {
+    return !refused_[e] &&
+           (fixed_first(e) || (std::isnan(exact_[e]) ? lower_[e] : exact_[e]) <= limits.most);
+  }
+  bool fixed_first(std::uint32_t e) const { return fixed_first_ && grid_.edge_from[e] == 0; }
+  bool thinnest(std::uint32_t e) const { return grid_.edge_thinnest[e]; }
+  double thickness(std::uint32_t e) const { return grid_.z[grid_.edge_to[e]] - grid_.z[grid_.edge_from[e]]; }
   double exact(std::uint32_t e) const { return exact_[e]; }
+  double swept(std::uint32_t e) const { return swept_[e]; }
+  std::size_t missed(std::uint32_t e) const { return missed_.count(e) ? missed_.at(e) : 0; }
+  std::uint32_t crossed_flats(std::uint32_t e) const { return crossed_[e]; }
   double z(std::uint32_t node) const { return grid_.z[node]; }
   std::uint32_t from(std::uint32_t e) const { return grid_.edge_from[e]; }
   std::uint32_t to(std::uint32_t e) const { return grid_.edge_to[e]; }
 
  private:
-  std::vector<std::uint32_t> shortest_path(double tolerance) const {
-    const std::size_t n = grid_.z.size();
-    std::vector<Cost> cost(n, kUnreached);
-    std::vector<std::uint32_t> via(n, std::numeric_limits<std::uint32_t>::max());
-    cost[0] = {0, 0, 0, 0};
-    for (std::size_t i = 0; i < n; ++i) {
-      if (cost[i] == kUnreached) continue;
-      for (std::uint32_t e = grid_.edge_begin[i]; e < grid_.edge_begin[i + 1]; ++e) {
-        if (refused_[e]) continue;
-        const bool met = proven_[e] <= tolerance || value(e) <= tolerance;
-        if (!met && !grid_.edge_thinnest[e]) continue;
-        const auto& [flats, unmet, layers, unmeasured] = cost[i];
-        const Cost through{flats + crossed_[e], unmet + (met ? 0 : 1), layers + 1,
-                           unmeasured + (settled(e, tolerance) ? 0 : 1)};
-        const std::uint32_t j = grid_.edge_to[e];
-        if (through < cost[j]) cost[j] = through, via[j] = e;
+  // LazySP (Dellin and Srinivasa 2016): the best path by what is known, every edge not
+  // measured taken at its lower bound (a D of 0 unless a measurement bounds it: honest, so a
+  // path whose every edge is settled is the optimum); its unsettled edges measured, lowest
+  // first (a slab found past the tolerance reroutes the path above it, so measuring the rest
+  // of this path would mostly be wasted), until none is left.
+  // A slab is measured until it is seen past the ceiling, or with no ceiling the tolerance;
+  // with `settle`, only until it is seen within the tolerance.
+  template <class Search>
+  std::vector<std::uint32_t> lazily(Limits limits, bool settle, const Search& search) {
+    const double refute = std::isfinite(limits.most) ? limits.most : limits.tolerance;
+    for (;;) {
+      ++rounds_;
+      std::vector<std::uint32_t> path = search();
+      std::vector<std::uint32_t> unsettled;
+      for (std::uint32_t e : path) {
+        if (!settled(e, limits)) unsettled.push_back(e);
       }
+      if (unsettled.empty()) return path;
+      if (unsettled.size() > batch_) unsettled.resize(batch_);
+      // The sections far below are rarely wanted again (the path below is settled).
+      meter_.forget_below(grid_.z[grid_.edge_from[unsettled.front()]] - 2 * max_thickness_);
+      measure(unsettled, limits.tolerance, refute, settle, true);
     }
-    std::size_t end = 0;
-    for (std::size_t i = 1; i < n; ++i) {
-      if (grid_.z[i] >= top_ - kSameHeight && cost[i] != kUnreached &&
-          (end == 0 || cost[i] < cost[end])) {
-        end = i;
-      }
-    }
+  }
+
+  std::vector<std::uint32_t> path_to(std::uint32_t node, const std::vector<std::uint32_t>& via) const {
     std::vector<std::uint32_t> path;
-    for (std::size_t i = end; i != 0; i = grid_.edge_from[via[i]]) path.push_back(via[i]);
+    for (std::uint32_t i = node; i != 0 && via[i] != kNoEdge; i = grid_.edge_from[via[i]]) path.push_back(via[i]);
     std::reverse(path.begin(), path.end());
     return path;
   }
 
-  // With `settle`, a slab seen to stay within the tolerance is not measured further: the
-  // search asks only whether it is, and most such slabs are not layers of the plan in the
-  // end (the mush of the benchmarks at 0.3 mm: about 70 of 269), which measure_exactly measures
-  // again once the path is found. Planning and slicing adaptive at 0.2 mm, median of 5: a
-  // sphere 0.38 -> 0.31 s, a dome 0.27 -> 0.23, the mush 0.33 -> 0.26, a torus and the bunny
-  // (whose slabs within the tolerance are mostly near it) the same.
-  // `counted`: the slabs are new to the search (measured() and the progress count them).
-  void measure(const std::vector<std::uint32_t>& edges, double tolerance, bool settle,
-               bool counted) {
+  std::vector<std::uint32_t> shortest_path(Limits limits, bool by_swept) const {
+    const std::size_t n = grid_.z.size();
+    std::vector<PathCost> cost(n, kUnreached);
+    std::vector<std::uint32_t> via(n, kNoEdge);
+    cost[0] = {};
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!(cost[i] < kUnreached)) continue;
+      for (std::uint32_t e = grid_.edge_begin[i]; e < grid_.edge_begin[i + 1]; ++e) {
+        if (!usable(e, limits)) continue;
+        PathCost through = cost[i].through(*this, e, limits);
+        if (!by_swept) through.swept = 0;
+        const std::uint32_t j = grid_.edge_to[e];
+        if (through < cost[j]) cost[j] = through, via[j] = e;
+      }
+    }
+    std::uint32_t end = grid_.ends.empty() ? 0 : grid_.ends.front();
+    for (std::uint32_t i : grid_.ends) {
+      if (cost[i] < cost[end]) end = i;
+    }
+    return path_to(end, via);
+  }
+
+  // The least-cost path of at most `budget` edges: a dynamic program over (node, edges used),
+  // each node's counts limited to those a path through it can have (at least the fewest edges
+  // reaching it, at most the budget less the fewest from it to the end).
+  std::vector<std::uint32_t> least_swept_path(std::size_t budget, Limits limits) const {
+    const std::size_t n = grid_.z.size();
+    constexpr std::uint32_t kFar = std::numeric_limits<std::uint32_t>::max() / 2;
+    std::vector<std::uint32_t> fewest_to(n, kFar), fewest_from(n, kFar);
+    fewest_to[0] = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (fewest_to[i] == kFar) continue;
+      for (std::uint32_t e = grid_.edge_begin[i]; e < grid_.edge_begin[i + 1]; ++e) {
+        if (usable(e, limits)) fewest_to[grid_.edge_to[e]] = std::min(fewest_to[grid_.edge_to[e]], fewest_to[i] + 1);
+      }
+    }
+    for (std::uint32_t end : grid_.ends) fewest_from[end] = 0;
+    for (std::size_t i = n; i-- > 0;) {
+      for (std::uint32_t e = grid_.edge_begin[i]; e < grid_.edge_begin[i + 1]; ++e) {
+        if (usable(e, limits)) fewest_from[i] = std::min(fewest_from[i], fewest_from[grid_.edge_to[e]] + 1);
+      }
+    }
+    // A budget below the fewest layers: the fewest layers' optimum.
+    std::size_t fewest = kFar;
+    for (std::uint32_t end : grid_.ends) fewest = std::min<std::size_t>(fewest, fewest_to[end]);
+    if (fewest == kFar) return {};
+    const std::size_t most = std::max(budget, fewest);
+    std::vector<std::size_t> offset(n + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+      const bool on_a_path = fewest_to[i] != kFar && fewest_from[i] != kFar && fewest_to[i] + fewest_from[i] <= most;
+      offset[i + 1] = offset[i] + (on_a_path ? most - fewest_from[i] - fewest_to[i] + 1 : 0);
+    }
+    std::vector<PathCost> cost(offset[n], kUnreached);
+    std::vector<std::uint32_t> via(offset[n], kNoEdge);
+    const auto state = [&](std::size_t i, std::size_t k) -> std::ptrdiff_t {
+      if (offset[i + 1] == offset[i] || k < fewest_to[i] || k + fewest_from[i] > most) return -1;
+      return static_cast<std::ptrdiff_t>(offset[i] + k - fewest_to[i]);
+    };
+    cost[0] = {};
+    for (std::size_t i = 0; i < n; ++i) {
+      for (std::size_t k = fewest_to[i]; offset[i + 1] > offset[i] && k + fewest_from[i] <= most; ++k) {
+        const std::ptrdiff_t s = state(i, k);
+        if (!(cost[s] < kUnreached)) continue;
+        for (std::uint32_t e = grid_.edge_begin[i]; e < grid_.edge_begin[i + 1]; ++e) {
+          if (!usable(e, limits)) continue;
+          const std::ptrdiff_t t = state(grid_.edge_to[e], k + 1);
+          if (t < 0) continue;
+          PathCost through = cost[s].through(*this, e, limits);
+          through.layers = 0;  // the budget counts them
+          if (through < cost[t]) cost[t] = through, via[t] = e;
+        }
+      }
+    }
+    std::ptrdiff_t best = -1;
+    std::size_t best_end = 0, best_k = 0;
+    for (std::uint32_t end : grid_.ends) {
+      for (std::size_t k = fewest_to[end]; k <= most; ++k) {
+        const std::ptrdiff_t s = state(end, k);
+        if (s >= 0 && cost[s] < kUnreached && (best < 0 || cost[s] < cost[best])) best = s, best_end = end, best_k = k;
+      }
+    }
+    std::vector<std::uint32_t> path;
+    for (std::size_t i = best_end, k = best_k; best >= 0 && i != 0; --k) {
+      const std::uint32_t e = via[state(i, k)];
+      path.push_back(e);
+      i = grid_.edge_from[e];
+    }
+    std::reverse(path.begin(), path.end());
+    return path;
+  }
+
+  // Measures candidate slabs (in parallel). `refute` > 0: a slab that is not the thinnest is
+  // measured only until it is seen past that (it cannot be printed so; the thinnest may be,
+  // and is measured exactly); `settle`: one seen within `tolerance` is not measured further.
+  // What is found either way bounds D from below. `counted`: the slabs are new to the search
+  // (measured() and the progress count them).
+  void measure(const std::vector<std::uint32_t>& edges, double tolerance, double refute,
+               bool settle, bool counted) {
     if (edges.empty()) return;
-    std::vector<double> found(edges.size());
-    std::vector<char> exact(edges.size()), within(edges.size());
+    std::vector<SlabError> found(edges.size());
     tbb::parallel_for(std::size_t{0}, edges.size(), [&](std::size_t k) {
       const std::uint32_t e = edges[k];
-      // A slab that cannot be printed over the tolerance is measured only until it is seen
-      // to exceed it; the thinnest may be printed anyway and is measured exactly.
-      const SlabError error = meter_(grid_.z[grid_.edge_from[e]], grid_.z[grid_.edge_to[e]],
-                                     options_.contours, tolerance, !grid_.edge_thinnest[e], settle);
-      found[k] = error.distance();
-      exact[k] = error.exact();
-      within[k] = error.settled();
+      found[k] = meter_(grid_.z[grid_.edge_from[e]], grid_.z[grid_.edge_to[e]], options_.contours,
+                        tolerance, grid_.edge_thinnest[e] ? 0 : refute, settle);
     });
     for (std::size_t k = 0; k < edges.size(); ++k) {
-      if (exact[k]) {
-        exact_[edges[k]] = found[k];
-      } else {
-        estimate_[edges[k]] = std::max(estimate_[edges[k]], found[k]);
-        if (within[k] && !(proven_[edges[k]] <= tolerance)) proven_[edges[k]] = tolerance;
+      const std::uint32_t e = edges[k];
+      const SlabError& error = found[k];
+      if (error.exact()) {
+        exact_[e] = error.distance();
+      } else if (error.settled() && !(proven_[e] <= tolerance)) {
+        proven_[e] = tolerance;
       }
-      widen(edges[k], found[k]);
+      lower_[e] = std::max(lower_[e], error.distance());
+      if (!error.trials.empty() && error.trials[error.best].missed > 0) missed_[e] = error.trials[error.best].missed;
+      widen(e, error.distance());
     }
     if (!counted) return;
     measured_ += edges.size();
@@ -453,33 +630,32 @@ class LazyPlanner {
          i < grid_.z.size() && grid_.z[i] <= a + kSameHeight; ++i) {
       for (std::uint32_t f = grid_.edge_begin[i]; f < grid_.edge_begin[i + 1]; ++f) {
         const Layer wider{grid_.z[i], grid_.z[grid_.edge_to[f]]};
-        if (wider.z_hi < b - kSameHeight || std::abs(cuts_at(wider) - h) > kSameHeight) continue;
-        if (std::isnan(exact_[f])) estimate_[f] = std::max(estimate_[f], d);
+        if (wider.z_hi < b - kSameHeight || std::abs(cuts_at(wider) - h) > 1e-9) continue;
+        lower_[f] = std::max(lower_[f], d);
       }
     }
   }
 
-  const LayerStack& stack_;
-  double top_;
-  std::span<const double> flats_;
   const AdaptiveOptions& options_;
   const PlanProgress& progress_;
   HeightGrid grid_;
   SlabMeter meter_;
   double max_thickness_;
-  std::vector<double> estimate_, exact_;
+  bool fixed_first_;            // the first layer is the printer's: not planned
+  std::vector<double> swept_;   // swept_volume.h's U of each candidate, mm^3
+  std::vector<double> lower_;   // a lower bound of D (0 until measured), mm
+  std::vector<double> exact_;   // D measured exactly (NaN: not), mm
   std::vector<double> proven_;  // a tolerance the slab is shown within, unmeasured (NaN: none)
+  std::unordered_map<std::uint32_t, std::size_t> missed_;  // features the best trial misses
   std::vector<std::uint32_t> crossed_;
   std::vector<char> refused_;  // thick_overhangs: not a layer of any path
   std::size_t measured_ = 0, rounds_ = 0;
   std::size_t batch_ = 2 * std::max(1u, std::thread::hardware_concurrency());
-  // Slabs shown within the tolerance are not measured further: at one tolerance only (a
-  // budget's search tries many, and would measure them again at each).
-  bool settle_ = options_.max_layers == 0 && !options_.fits;
 };
 
 // Where each flat level should land: itself, or with a printer's fixed steps the nearest
-// height they reach from the first layer (8.03 mm on 8.05 at 0.3 + k x 0.05).
+// height they reach from the first layer (8.03 mm on 8.05 at 0.3 + k x 0.05); itself where
+// that height is within kSameHeight of it (a binary STL's rounding).
 std::vector<double> flat_targets(std::span<const double> flats, const AllowedThicknesses& allowed) {
   std::vector<double> targets;
   for (double z : flats) {
@@ -498,6 +674,22 @@ std::vector<double> flat_targets(std::span<const double> flats, const AllowedThi
   return targets;
 }
 
+// The least angle from horizontal of the model's sloped surface inside [z_lo, z_hi], degrees
+// (90: none but vertical).
+double least_lean(const LayerStack& stack, double z_lo, double z_hi) {
+  const Mesh& mesh = stack.mesh();
+  double least = 90;
+  for (std::uint32_t f : stack.faces_between(z_lo, z_hi)) {
+    const auto& face = mesh.faces[f];
+    const Vec3 a = mesh.vertices[face[0]], b = mesh.vertices[face[1]], c = mesh.vertices[face[2]];
+    const double low = std::min({a.z, b.z, c.z}), high = std::max({a.z, b.z, c.z});
+    if (!(high > low) || !(high > z_lo && low < z_hi)) continue;  // horizontal, or outside
+    const Vec3 n = cross(b - a, c - a);
+    least = std::min(least, std::atan2(std::hypot(n.x, n.y), std::abs(n.z)) * 180 / std::numbers::pi);
+  }
+  return least;
+}
+
 }  // namespace
 
 AdaptivePlan adaptive_plan(const LayerStack& stack, double part_height,
@@ -512,9 +704,7 @@ AdaptivePlan adaptive_plan(const LayerStack& stack, double part_height,
   LazyPlanner planner(stack, part_height, allowed, targets, options, progress);
   plan.candidates = planner.candidates();
   plan.refused_for_overhangs = planner.refused();
-  if (options.measure_all) {
-    planner.measure_all(options.max_layers > 0 || options.fits ? 0 : options.tolerance);
-  }
+  if (options.measure_all) planner.measure_all(options.max_layers > 0 || options.fits ? 0 : options.tolerance);
 
   double tolerance = std::max(0.0, options.tolerance);
   std::vector<std::uint32_t> path;
@@ -524,29 +714,50 @@ AdaptivePlan adaptive_plan(const LayerStack& stack, double part_height,
     return layers;
   };
   if (options.max_layers == 0 && !options.fits) {
-    path = planner.plan(tolerance);
+    path = planner.plan(tolerance, true);
   } else {
-    // The least tolerance whose plan the budget accepts, by bisection between 0 and one that
-    // every candidate meets (the thickest layers everywhere); for `fits`, whose every trial
-    // costs what it costs (an estimate of the print), on a log scale from a micrometre and
-    // to within 2%. A budget even that plan breaks gets that plan.
+    // The least tolerance whose plan the budget accepts, by bisection between 0 and the
+    // largest D of the plan of the thickest layers (which every tolerance above it gives);
+    // for `fits`, whose every trial costs what it costs (an estimate of the print), on a log
+    // scale from a micrometre and to within 2%. A budget even that plan breaks gets that plan.
     const bool by_count = options.max_layers > 0;
     const auto accepts = [&](const std::vector<std::uint32_t>& edges) {
       return by_count ? edges.size() <= options.max_layers : options.fits(layers_of(edges));
     };
-    double lo = by_count ? 0 : 1e-3, hi = planner.largest_estimate() + 1;
+    path = planner.plan(INFINITY, false);
+    planner.measure_exactly(path, INFINITY);
+    // (Its thinnest layers, the fixed first one among them, are on it whatever the tolerance.)
+    double hi = 0;
+    for (std::uint32_t e : path) {
+      if (!planner.thinnest(e)) hi = std::max(hi, planner.exact(e));
+    }
+    hi += 1e-3;
+    double lo = by_count ? 0 : std::min(1e-3, hi / 2);
     const auto open = [&] { return by_count ? hi - lo > 1e-3 * std::max(1.0, hi) * 0.5 : hi > 1.02 * lo; };
-    path = planner.plan(hi);
     if (accepts(path)) {
       while (open()) {
         const double mid = by_count ? 0.5 * (lo + hi) : std::sqrt(lo * hi);
-        std::vector<std::uint32_t> tried = planner.plan(mid);
+        std::vector<std::uint32_t> tried = planner.plan(mid, false, false);
         if (accepts(tried)) {
           hi = mid;
           path = std::move(tried);
         } else {
           lo = mid;
         }
+      }
+      // Then the least swept volume within the budget (all of a layer budget, or as many layers
+      // as the plan that fits a time budget), with no layer above the first over that plan's
+      // largest D and every one over its by-height 95th percentile of D counted first: the
+      // layers go where they take off the most volume, P95h D and max D no worse than the
+      // least tolerance's.
+      planner.measure_exactly(path, hi);
+      const Limits limits = planner.budget_limits(path, hi);
+      std::vector<std::uint32_t> least =
+          planner.plan_within(by_count ? options.max_layers : path.size(), limits);
+      planner.measure_exactly(least, hi);
+      if (!least.empty() && (by_count || accepts(least))) {
+        path = std::move(least);
+        plan.cap = limits.tolerance, plan.ceiling = limits.most;
       }
     }
     tolerance = hi;
@@ -555,10 +766,25 @@ AdaptivePlan adaptive_plan(const LayerStack& stack, double part_height,
 
   planner.measure_exactly(path, tolerance);
   plan.layers = layers_of(path);
-  for (std::uint32_t e : path) {
-    plan.distance.push_back(planner.exact(e));
-    plan.met.push_back(planner.exact(e) <= tolerance);
-    if (!plan.met.back()) ++plan.unmet;
+  for (std::size_t i = 0; i < path.size(); ++i) {
+    const std::uint32_t e = path[i];
+    const double d = planner.exact(e);
+    plan.distance.push_back(d);
+    plan.swept.push_back(planner.swept(e));
+    plan.met.push_back(d <= tolerance);
+    OverTolerance why = OverTolerance::none;
+    double lean = 90;
+    if (d > tolerance) {
+      const Layer& layer = plan.layers[i];
+      if (i == 0 && allowed.first > 0) why = OverTolerance::first_layer;
+      else if (planner.crossed_flats(e) > 0) why = OverTolerance::flat_level;
+      else if (!planner.thinnest(e)) why = OverTolerance::landing;
+      else if (planner.missed(e) > 0) why = OverTolerance::missed_feature;
+      else why = OverTolerance::shallow_surface, lean = least_lean(stack, layer.z_lo, layer.z_hi);
+      if (why != OverTolerance::first_layer) ++plan.unmet;
+    }
+    plan.why.push_back(why);
+    plan.lean.push_back(lean);
   }
   plan.flats = placements(flats, plan.layers);
   plan.measured = planner.measured();

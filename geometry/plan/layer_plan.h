@@ -11,26 +11,34 @@
 // reach: a 20 mm part on the UP Plus 2 at 0.2 mm ends in two 0.15 mm layers, not 0.25). With no flat level above the first layer this is
 // uniform_layers() exactly.
 //
-// Adaptive, by the exact error of the contour printed: the fewest layers such that every
-// layer's distance error D (slab_error.h: the D `mahost analyze` reports for that layer and
-// contour) is within `tolerance`; where no allowed thickness meets it (a nearly flat surface),
-// that layer is the thinnest and counted as unmet. Flat levels land on boundaries first of all
-// (a plan crossing fewer of them always wins), then fewest unmet layers, then fewest layers.
-// Or, with max_layers, the least tolerance whose plan has at most that many layers; or, with
-// `fits` (a print-time budget, say), the least one whose plan it accepts, to within 2%.
+// Adaptive, by the exact error of the contour printed. With a tolerance: every layer above the
+// first within it (its distance error D, slab_error.h: the D `mahost analyze` reports for that
+// layer and contour) or, where no allowed thickness meets it, the thinnest; among such plans,
+// in this order: the fewest flat levels crossed (each lands on a boundary wherever an allowed
+// layer reaches it), the fewest layers over the tolerance, the fewest layers, and the least
+// total error, the volume the layers' sections leave off the surface (swept_volume.h: the
+// volume deviation of the mid contour, exact where the surface is one sheet over each point of
+// a layer). A plan ends at the lowest height the layers reach at or above the part's top (with
+// a printer of any thickness, at the top): never more than the printer's step above it.
+// With a budget, max_layers, or `fits` (a print-time budget, say): the least tolerance whose
+// plan the budget accepts (to within 2% for `fits`), then the least total error in as many
+// layers (a dynamic program over heights and layers used) with none over that plan's largest
+// D, and the layers over its by-height 95th percentile of D (or the tolerance, if higher)
+// fewest first: Alexa, Hildebrand and Lefebvre's min-max objective ("Optimal Discrete
+// Slicing", ACM TOG 2017) for the tolerance, and their min-sum for the error, under it.
 // The optimum over all allowed thickness sequences is a shortest path over the grid of
-// reachable heights (Alexa, Hildebrand, Lefebvre, "Optimal Discrete Slicing", ACM TOG 2017).
-// Measuring every candidate slab exactly costs a few ms each, thousands of them, so the path
-// is found lazily: each candidate's D is first taken as a cheap estimate (slab_bound.h), the
-// shortest path is found, the slabs on it not yet measured are measured (in parallel: only
-// until each is seen to be within the tolerance or past it, since that is all a path's cost
-// asks; with a budget, exactly), and the search runs again until every layer of the path is
-// measured. Every layer of the result is then measured exactly; the path is the optimum among paths whose unmeasured slabs are
-// at least as good as estimated, which is the true optimum wherever the estimate does not
-// exceed the exact D (tests/bench/bench_plan.cpp compares with measuring every candidate).
+// reachable heights. Measuring every candidate slab exactly costs a few ms each, thousands of
+// them, so the path is found lazily (LazySP): every candidate not yet measured counts at a
+// lower bound of its D (0, or what measuring it or a slab inside it with the same section
+// proved), the best path is found, the slabs on it not yet settled are measured (in parallel:
+// with a tolerance, only until each is seen to be within it or past it, since that is all a
+// path's cost asks), and the search runs again until every layer of the path is settled. The
+// swept volume is exact for every candidate from the start. So the path is the optimum over
+// every allowed sequence, not only over the slabs measured. Every layer of the result is then
+// measured exactly.
 //
 // Units mm. A part of no height gets no layers. Total: any options give a plan (a tolerance of
-// 0 gives the thinnest layers everywhere, all unmet where D > 0).
+// 0 gives the thinnest layers everywhere, all over it where D > 0).
 #pragma once
 
 #include <cstddef>
@@ -95,14 +103,33 @@ struct AdaptiveOptions {
   SlabErrorOptions error;
 };
 
+// Why a layer's D is over the tolerance.
+enum class OverTolerance : char {
+  none,             // it is not
+  first_layer,      // the printer's fixed first layer: the tolerance is for the layers above it
+  flat_level,       // it crosses a flat level that no allowed layer lands
+  landing,          // thicker than the thinnest, to land a flat level or the top that the
+                    // thinnest layers (within the tolerance there are no others) miss
+  missed_feature,   // its contour leaves out a tip or bump of the slab (missed_features.h)
+  shallow_surface,  // the surface leans so little that even the thinnest layer steps too far
+};
+
 struct AdaptivePlan {
   std::vector<Layer> layers;
   // Per layer, measured exactly: D of the first of `contours` that meets the tolerance, or the
   // least of them where none does (mm).
   std::vector<double> distance;
+  std::vector<double> swept;         // per layer: swept_volume.h's U, mm^3
   std::vector<char> met;             // per layer: D within the tolerance
-  double tolerance = 0;              // asked, or for max_layers the least one reached
-  std::size_t unmet = 0;             // layers whose D exceeds it (each the thinnest)
+  std::vector<OverTolerance> why;    // per layer: why it is not
+  std::vector<double> lean;          // per layer over it for its surface: the least angle of
+                                     // that surface from horizontal, degrees (else 90)
+  double tolerance = 0;              // asked, or for a budget the least one reached
+  // With a budget: the least swept volume was found with every layer above the first within
+  // `cap` or counted over it, and none above `ceiling` (the least tolerance's plan's by-height
+  // 95th percentile of D, or the tolerance if higher, and its largest D), mm; else 0.
+  double cap = 0, ceiling = 0;
+  std::size_t unmet = 0;             // layers above the first over it (each the thinnest)
   std::vector<FlatPlacement> flats;
   // The search: candidate slabs (edges of the height grid), how many were measured (exactly,
   // or until seen to be within the tolerance or past it), and how many times the shortest

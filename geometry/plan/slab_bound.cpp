@@ -47,7 +47,7 @@ std::vector<SlopedFacet> sloped_facets(const Mesh& mesh) {
     const Vec3 a = mesh.vertices[face[0]], b = mesh.vertices[face[1]], c = mesh.vertices[face[2]];
     const Vec3 n = cross(b - a, c - a);
     const double low = std::min({a.z, b.z, c.z}), high = std::max({a.z, b.z, c.z});
-    // Vertical facets spread nothing; horizontal ones (no height) are flat_levels.h's.
+    // Vertical facets overhang nothing; horizontal ones (no height) are flat_levels.h's.
     if (!(high > low) || !(std::abs(n.z) > 0) || !(std::hypot(n.x, n.y) > 0)) continue;
     sloped.push_back({low, high, {a.z, b.z, c.z}, n});
   }
@@ -55,36 +55,6 @@ std::vector<SlopedFacet> sloped_facets(const Mesh& mesh) {
 }
 
 }  // namespace
-
-SlabSpreadEstimate::SlabSpreadEstimate(const Mesh& mesh) {
-  std::vector<std::pair<double, double>> ranges;
-  for (const SlopedFacet& f : sloped_facets(mesh)) {
-    spread_per_mm_.push_back(std::abs(f.normal.z) / std::hypot(f.normal.x, f.normal.y));
-    ranges.emplace_back(f.low, f.high);
-  }
-  by_height_ = FacetsByHeight(std::move(ranges));
-}
-
-double SlabSpreadEstimate::operator()(double z_lo, double z_hi) const {
-  double widest = 0;
-  (*this)(z_lo, std::span(&z_hi, 1), std::span(&widest, 1));
-  return widest;
-}
-
-void SlabSpreadEstimate::operator()(double z_lo, std::span<const double> z_hi,
-                                    std::span<double> out) const {
-  std::fill(out.begin(), out.end(), 0.0);
-  if (z_hi.empty()) return;
-  by_height_.for_each(z_lo, *std::max_element(z_hi.begin(), z_hi.end()), [&](std::size_t k) {
-    const auto [low, high] = by_height_.range(k);
-    const double from = std::max(z_lo, low);
-    // A facet starting at or above a thinner slab's top adds nothing to it (overlap <= 0).
-    for (std::size_t j = 0; j < z_hi.size(); ++j) {
-      out[j] = std::max(out[j], (std::min(z_hi[j], high) - from) * spread_per_mm_[k]);
-    }
-  });
-  for (double& w : out) w *= 0.5;
-}
 
 ThickOverhangEstimate::ThickOverhangEstimate(const Mesh& mesh, double overhang_angle_degrees,
                                              double bead_width)

@@ -1,19 +1,9 @@
-// A cheap estimate of a candidate slab's distance error, for the layer plan (issue 11): how
-// far the model's surface inside [z_lo, z_hi] spreads horizontally, facet by facet.
-//
-// A planar facet with normal n meets the horizontal plane at z along a line that moves, as z
-// rises, by |n_z| / |n_xy| per mm across its own horizontal direction; over the part of the
-// slab it spans (its overlap, mm) it covers w = overlap * |n_z| / |n_xy| horizontally. A
-// vertical wall standing anywhere across that band leaves one of its ends at least w / 2
-// away, so a region whose boundary follows the facet with one wall (what mid, ma and
-// optimal-height print where the surface is one sheet) has D >= w / 2. The estimate is the
-// largest w / 2 over the slab's facets. It is not a bound for every region (two walls close
-// together, or another sheet's wall nearer, do better) and it misses what facets do together
-// (a cap of many small facets), so the plan measures every layer it keeps exactly
-// (slab_error.h) and uses this only to choose which candidates to measure.
+// Bounds on what a candidate slab of the layer plan would need, from the mesh's facets alone
+// (no section cut): FacetsByHeight finds the facets a slab meets, and ThickOverhangEstimate
+// the overhang a slab has only for being thick.
 //
 // Horizontal facets are left out (flat_levels.h: they decide where boundaries must go).
-// Input: a mesh (mm). Output of operator(): mm, >= 0; 0 for a slab no sloped facet meets.
+// Input: a mesh (mm).
 #pragma once
 
 #include <algorithm>
@@ -65,19 +55,6 @@ class FacetsByHeight {
   std::vector<std::pair<double, double>> ranges_;
   std::vector<std::uint32_t> bucket_begin_, bucket_facets_;
   double z_0_ = 0, bucket_height_ = 0.1;
-};
-
-class SlabSpreadEstimate {
- public:
-  explicit SlabSpreadEstimate(const Mesh& mesh);
-  double operator()(double z_lo, double z_hi) const;
-  // The same for slabs sharing their bottom, [z_lo, z_hi[j]] into out[j] (as many as z_hi),
-  // in one pass over the facets of the thickest: a grid node's candidates.
-  void operator()(double z_lo, std::span<const double> z_hi, std::span<double> out) const;
-
- private:
-  std::vector<double> spread_per_mm_;  // per sloped facet: |n_z| / |n_xy|
-  FacetsByHeight by_height_;
 };
 
 // The overhang a slab has only for being thick (issues 11 and 12), for a plan that keeps

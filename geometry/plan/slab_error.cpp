@@ -85,6 +85,30 @@ SlabMeter::SlabMeter(const LayerStack& stack, SlabErrorOptions options)
   }
   std::sort(flat_heights_.begin(), flat_heights_.end());
   flat_heights_.erase(std::unique(flat_heights_.begin(), flat_heights_.end()), flat_heights_.end());
+  // The vertices no neighbour rises above, or none falls below: a piece of surface that stays
+  // on one side of a height inside a slab has its highest or lowest point at one of them.
+  std::vector<char> higher(mesh.vertices.size(), 0), lower(mesh.vertices.size(), 0);
+  for (const auto& face : mesh.faces) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = face[k], b = face[(k + 1) % 3];
+      const double za = mesh.vertices[a].z, zb = mesh.vertices[b].z;
+      if (zb > za) higher[a] = 1, lower[b] = 1;
+      if (zb < za) lower[a] = 1, higher[b] = 1;
+    }
+  }
+  for (std::uint32_t v = 0; v < mesh.vertices.size(); ++v) {
+    if (!higher[v] || !lower[v]) extreme_heights_.push_back(mesh.vertices[v].z);
+  }
+  std::sort(extreme_heights_.begin(), extreme_heights_.end());
+  extreme_heights_.erase(std::unique(extreme_heights_.begin(), extreme_heights_.end()), extreme_heights_.end());
+}
+
+bool SlabMeter::spans_every_piece(double z_lo, double z_hi) const {
+  const auto any_inside = [&](const std::vector<double>& heights) {
+    const auto it = std::upper_bound(heights.begin(), heights.end(), z_lo);
+    return it != heights.end() && *it < z_hi;
+  };
+  return !any_inside(extreme_heights_) && !any_inside(flat_heights_);
 }
 
 bool SlabMeter::every_piece_crosses(std::span<const std::uint32_t> faces, double z_lo,
@@ -140,15 +164,20 @@ bool SlabMeter::every_piece_crosses(std::span<const std::uint32_t> faces, double
 
 SlabError SlabMeter::operator()(double z_lo, double z_hi,
                                 std::span<const ContourStrategy* const> strategies, double enough,
-                                bool refute, bool settle) const {
+                                double refute_above, bool settle) const {
   SlabError error;
   error.z_lo = z_lo;
   error.z_hi = z_hi;
   const LayerStack view(stack_, {Layer{z_lo, z_hi}});
-  const std::vector<std::uint32_t> faces = stack_.faces_between(z_lo, z_hi);
+  std::vector<std::uint32_t> faces;
+  bool have_faces = false;
+  const auto need_faces = [&]() -> const std::vector<std::uint32_t>& {
+    if (!have_faces) faces = stack_.faces_between(z_lo, z_hi), have_faces = true;
+    return faces;
+  };
   DistanceOptions distance = options_.distance;
   distance.reverse = false;
-  if (refute && enough > 0) distance.stop_above = enough;
+  if (refute_above > 0) distance.stop_above = refute_above;
   // Within `enough` by the metric's tolerance at least, so that a settled D is within it.
   if (settle && enough > 0) distance.settle_below = enough - distance.tolerance;
   // What the strategies may use (contour_input.h): the slab and its surface, cut out of the
@@ -158,7 +187,7 @@ SlabError SlabMeter::operator()(double z_lo, double z_hi,
   reference.layer = {z_lo, z_hi};
   bool have_slab = false, have_surface = false, have_islands = false;
   const auto need_slab = [&] {
-    if (!have_slab) reference.slab = slab_of(stack_.mesh(), faces, z_lo, z_hi), have_slab = true;
+    if (!have_slab) reference.slab = slab_of(stack_.mesh(), need_faces(), z_lo, z_hi), have_slab = true;
   };
   const auto need_surface = [&] {
     need_slab();
@@ -181,7 +210,8 @@ SlabError SlabMeter::operator()(double z_lo, double z_hi,
     }
     const BoundaryGrid walls(trial.region);
     if (section && !have_islands &&
-        every_piece_crosses(faces, z_lo, z_hi, strategy->cuts_at(reference.layer))) {
+        (spans_every_piece(z_lo, z_hi) ||
+         every_piece_crosses(need_faces(), z_lo, z_hi, strategy->cuts_at(reference.layer)))) {
       // Every surface point then counts to the walls; the sections on the slab's two planes,
       // where a section's walls stand farthest from the surface, first: one point past
       // `enough` refuses the slab without the rest of the surface.
@@ -205,6 +235,7 @@ SlabError SlabMeter::operator()(double z_lo, double z_hi,
     } else {
       need_surface();
       const std::vector<BoundaryPair> missed = missed_features(need_islands(), trial.region);
+      trial.missed = missed.size();
       const DistanceError measured = distance_error(reference.surface, walls, missed, distance);
       trial.distance = measured.forward;
       trial.settled = measured.settled;
@@ -221,7 +252,7 @@ SlabError SlabMeter::operator()(double z_lo, double z_hi,
 SlabError slab_error(const LayerStack& stack, double z_lo, double z_hi,
                      std::span<const ContourStrategy* const> strategies, double enough,
                      const SlabErrorOptions& options) {
-  return SlabMeter(stack, options)(z_lo, z_hi, strategies, enough, false);
+  return SlabMeter(stack, options)(z_lo, z_hi, strategies, enough);
 }
 
 }  // namespace geometry

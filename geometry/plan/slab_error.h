@@ -7,9 +7,9 @@
 // layer of the stack), the slab's bounds in mm, the strategies to try in order.
 // Output: per strategy tried, its D (mm) and region; `best` is the one with the least D (ties
 // within 1 um: the first). With `enough` > 0, stops at the first strategy whose D is within
-// it (a feasibility test that usually needs only the cheapest strategy), and with `refute`
-// too, measures each strategy only until it is seen to exceed `enough` (its D then a lower
-// bound, `bounded`). An empty slab (above the part): D = 0 and empty regions.
+// it (a feasibility test that usually needs only the cheapest strategy); with `refute_above`
+// > 0, measures each strategy only until it is seen to exceed that (its D then a lower bound,
+// `bounded`). An empty slab (above the part): D = 0 and empty regions.
 //
 // Cheaper where it can be, same result: surface inside an island of the slab's footprint that
 // the region misses is measured to the island's outline, never farther than to the walls (the
@@ -46,6 +46,7 @@ struct SlabTrial {
   double distance = 0;   // D, mm
   bool bounded = false;  // the search stopped past `enough`: D is at least `distance`
   bool settled = false;  // with `settle`: D proven within `enough`, at least `distance`
+  std::size_t missed = 0;  // islands of the slab's footprint the region misses (missed_features.h)
   Region region;
 };
 
@@ -75,13 +76,16 @@ class SlabMeter {
   // is not measured further (SlabTrial::settled): whether a slab is within a tolerance, not
   // by how much (DistanceOptions::settle_below).
   SlabError operator()(double z_lo, double z_hi, std::span<const ContourStrategy* const> strategies,
-                       double enough = 0, bool refute = false, bool settle = false) const;
+                       double enough = 0, double refute_above = 0, bool settle = false) const;
 
   // Lets go of the sections kept below height z (a search that has moved on above them); one
   // asked for again is cut again.
   void forget_below(double z) const;
 
  private:
+  // Does every connected piece of surface in [z_lo, z_hi] reach both its planes? It does where
+  // no vertex that is a local top or bottom of the surface, and no flat face, lies inside.
+  bool spans_every_piece(double z_lo, double z_hi) const;
   // Does every connected piece of surface in [z_lo, z_hi] cross height h?
   bool every_piece_crosses(std::span<const std::uint32_t> faces, double z_lo, double z_hi,
                            double h) const;
@@ -93,6 +97,7 @@ class SlabMeter {
   SlabErrorOptions options_;
   std::vector<std::array<std::uint32_t, 3>> neighbours_;  // across edge k (corners k, k+1)
   std::vector<double> flat_heights_;  // of the exactly horizontal faces, ascending, once each
+  std::vector<double> extreme_heights_;  // of the vertices no neighbour rises or falls from
   struct Section;
   mutable std::mutex sections_mutex_;
   mutable std::unordered_map<double, std::shared_ptr<Section>> sections_;

@@ -1,8 +1,8 @@
 // Benchmark: the adaptive layer plan (geometry/plan/layer_plan.h) of a model at several
-// tolerances: layers, how many candidate slabs were measured exactly of how many, the rounds
-// of the lazy search, wall and CPU time, and the plan's D (mean, max, by-height 95th
-// percentile). With --exhaustive, also the plan found by measuring every candidate first, to
-// see whether the lazy search lost layers.
+// tolerances: layers, how many candidate slabs were measured of how many, the rounds of the
+// lazy search, wall and CPU time, the plan's D (mean, max, by-height 95th percentile) and its
+// total swept volume (swept_volume.h). With --exhaustive, also the plan found by measuring
+// every candidate first, to see that the lazy search loses nothing.
 //
 // Usage: bench_plan [STL] [--tolerances 0.1,0.2,0.3] [--contours mid|ma|mid,ma,...]
 //                   [--max-layers N] [--exhaustive] [--layers]
@@ -64,19 +64,21 @@ double by_height_percentile(const AdaptivePlan& plan, double share, double z_fro
 
 void report(const char* label, const AdaptivePlan& plan, double wall, double cpu, double z_from,
             bool layers) {
-  double sum = 0, worst = 0, thinnest = 1e9, thickest = 0;
+  double sum = 0, worst = 0, thinnest = 1e9, thickest = 0, swept = 0;
   for (std::size_t i = 0; i < plan.layers.size(); ++i) {
     sum += plan.distance[i];
+    swept += plan.swept[i];
     worst = std::max(worst, plan.distance[i]);
     thinnest = std::min(thinnest, plan.layers[i].thickness());
     thickest = std::max(thickest, plan.layers[i].thickness());
   }
   const double n = static_cast<double>(std::max<std::size_t>(plan.layers.size(), 1));
   std::printf("%-12s tol %6.3f  layers %4zu (%.2f-%.2f mm)  unmet %3zu  mean D %.4f  max D %.4f  "
-              "p95h D %.4f  measured %5zu of %5zu in %3zu rounds  %.2f s wall %.2f s cpu\n",
+              "p95h D %.4f  swept %.2f mm3  measured %5zu of %5zu in %3zu rounds  %.2f s wall "
+              "%.2f s cpu\n",
               label, plan.tolerance, plan.layers.size(), thinnest, thickest, plan.unmet, sum / n,
-              worst, by_height_percentile(plan, 0.95, z_from), plan.measured, plan.candidates,
-              plan.rounds, wall, cpu);
+              worst, by_height_percentile(plan, 0.95, z_from), swept, plan.measured,
+              plan.candidates, plan.rounds, wall, cpu);
   if (layers) {
     for (std::size_t i = 0; i < plan.layers.size(); ++i) {
       std::printf("  %4zu %8.3f %6.3f D %.4f%s\n", i, plan.layers[i].z_lo,

@@ -276,4 +276,43 @@ TEST_CASE("a_print_time_budget_that_is_not_a_duration_is_refused_in_one_line") {
   CHECK(both.err.find("excludes") != std::string::npos);
 }
 
+TEST_CASE("the_plan_line_names_each_layer_over_the_tolerance_and_why") {
+  // A hemisphere of radius 10 on a 2 mm disc, printed by best: near the top even 0.15 mm
+  // layers are over 0.08 mm (the surface flattens), each named by its height with the
+  // shallowest slope there; the plan says it is best's D planned by mid's, and a range of one
+  // thickness is said once.
+  const std::string dir = test_support::scratch_dir("plan_reasons");
+  const std::string dome = dir + "/dome.stl", box = dir + "/box.stl", gcode = dir + "/x.gcode";
+  std::vector<geometry::Vec2> profile{{0, 0}, {10, 0}, {10, 2}};
+  for (int k = 1; k < 24; ++k) {
+    const double a = 3.141592653589793 / 2 * k / 24;
+    profile.push_back({10 * std::cos(a), 2 + 10 * std::sin(a)});
+  }
+  profile.push_back({0, 12});
+  geometry::write_stl_binary(dome, solids::revolve(profile, 64).mesh);
+  auto r = run_mahost({"slice", dome, "--no-raft", "--support", "none", "--adaptive", "--tolerance",
+                       "0.08", "-o", gcode});
+  REQUIRE(r.exit_code == 0);
+  CAPTURE(r.out);
+  CHECK(r.out.find("best's D, planned by mid's") != std::string::npos);
+  CHECK(r.out.find("over it (up to ") != std::string::npos);
+  CHECK(r.out.find("the thinnest the printer has (0.15 mm)") != std::string::npos);
+  CHECK(std::regex_search(r.out, std::regex(R"(z \d+\.\d\d-12\.00 \(slopes down to \d+° from horizontal)")));
+  CHECK(r.out.find("nearly flat") == std::string::npos);
+  // A box 7.15 mm tall of vertical walls: every layer 0.4 mm but what lands the top.
+  geometry::write_stl_binary(box, solids::box({0, 0, 0}, {10, 10, 7.15}).mesh);
+  r = run_mahost({"slice", box, "--no-raft", "--support", "none", "--adaptive", "--tolerance", "0.1",
+                  "--contour", "mid", "-o", gcode});
+  REQUIRE(r.exit_code == 0);
+  CAPTURE(r.out);
+  CHECK(r.out.find("over it") == std::string::npos);
+  CHECK(r.out.find("first layer") == std::string::npos);
+  CHECK(std::regex_search(r.out, std::regex(R"(adaptive: \d+ layers of 0\.\d+-0\.4 mm for D within 0\.1 mm \(mid's D;)")));
+  // Uniform thickness after the first: one number, never "0.15-0.15".
+  r = run_mahost({"slice", dome, "--no-raft", "--support", "none", "--adaptive", "--tolerance",
+                  "0.001", "--contour", "mid", "-o", gcode});
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.out.find("0.15-0.15") == std::string::npos);
+}
+
 }  // namespace adaptive_cli_test

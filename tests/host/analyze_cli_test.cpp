@@ -70,8 +70,9 @@ int count_lines(const std::string& text) {
 TEST_CASE("analyze_cone_reports_closed_form_distances") {
   const std::string dir = test_support::scratch_dir("analyze_cone");
   const std::string stl = cone_stl(dir);
-  const auto result = run_mahost({"analyze", stl, "--layer", "0.25", "--contours", "lower,mid,ma",
-                                  "--csv", dir + "/layers.csv", "--json", dir + "/summary.json"});
+  const auto result = run_mahost({"analyze", stl, "--layer", "0.25", "--from-zero", "--contours",
+                                  "lower,mid,ma", "--csv", dir + "/layers.csv", "--json",
+                                  dir + "/summary.json"});
   CAPTURE(result.err);
   REQUIRE(result.exit_code == 0);
   for (const char* row : {"\nlower ", "\nmid ", "\nma ", "ma vs lower:", "ma vs mid:"})
@@ -158,7 +159,8 @@ TEST_CASE("analyze_refuses_bad_input_with_one_line") {
   const std::vector<Case> cases{
       {{"analyze", stl, "--contours", "lower,median"}, "--contours"},
       {{"analyze", dir + "/missing.stl"}, "missing.stl"},
-      {{"analyze", stl, "--layer", "0.5", "--layer-index", "30"}, "--layer-index"},
+      {{"analyze", stl, "--layer", "0.5", "--from-zero", "--layer-index", "30"}, "--layer-index"},
+      {{"analyze", stl, "--from-zero", "--boundaries", "1,2"}, "--from-zero"},
       {{"analyze", stl, "--csv", dir + "/no/such/dir/x.csv"}, "x.csv"},
       {{"analyze", stl, "--layer", "-1"}, "--layer"},
       {{"analyze", stl, "--export-layers", dir + "/x.stl", "--contour", "median"}, "--contour"},
@@ -216,8 +218,8 @@ TEST_CASE("analyze_compares_with_a_zero_baseline_by_absolute_difference") {
   const std::string dir = test_support::scratch_dir("analyze_zero_baseline");
   const std::string stl = dir + "/cube.stl";
   geometry::write_stl_binary(stl, solids::cube(10).mesh);
-  const auto result = run_mahost({"analyze", stl, "--layer", "0.5", "--contours", "lower,mid,ma",
-                                  "--json", dir + "/summary.json"});
+  const auto result = run_mahost({"analyze", stl, "--layer", "0.5", "--from-zero", "--contours",
+                                  "lower,mid,ma", "--json", dir + "/summary.json"});
   CAPTURE(result.out);
   REQUIRE(result.exit_code == 0);
   for (const char* line : {"ma vs lower: mean D 0.0000 mm, max D 0.0000 mm, total ΔV 0.000 mm³",
@@ -231,6 +233,29 @@ TEST_CASE("analyze_compares_with_a_zero_baseline_by_absolute_difference") {
     CHECK(c["mean_distance_change_percent"].is_null());
     CHECK(std::abs(c["mean_distance_change"].get<double>()) <= 1e-9);
   }
+}
+
+TEST_CASE("analyze_judges_the_layers_slice_prints_unless_from_zero") {
+  // A 7.9 mm box on the UP Plus 2 at 0.2 mm: slice prints a 0.3 mm first layer and lands the
+  // top at 7.9 (0.3 + 38 x 0.2); from zero, 40 layers of 0.2 end at 8.0, past the top.
+  const std::string dir = test_support::scratch_dir("analyze_slice_layers");
+  const std::string stl = dir + "/box.stl", gcode = dir + "/box.gcode";
+  geometry::write_stl_binary(stl, solids::box({0, 0, 0}, {20, 20, 7.9}).mesh);
+  const auto sliced = run_mahost({"slice", stl, "--layer", "0.2", "--no-raft", "--support", "none", "-o", gcode});
+  REQUIRE(sliced.exit_code == 0);
+  const auto same = run_mahost({"analyze", stl, "--layer", "0.2", "--contours", "mid", "--csv", dir + "/slice.csv"});
+  REQUIRE(same.exit_code == 0);
+  const auto rows = read_csv(dir + "/slice.csv");
+  REQUIRE(rows.size() == 39);
+  CHECK(std::stod(rows.front().at("thickness")) == doctest::Approx(0.3));
+  CHECK(std::stod(rows.back().at("z_lo")) + std::stod(rows.back().at("thickness")) == doctest::Approx(7.9));
+  for (const auto& row : rows) CHECK(std::stod(row.at("distance")) <= 1e-6);  // the top on a boundary
+  const auto grid = run_mahost({"analyze", stl, "--layer", "0.2", "--from-zero", "--contours", "mid",
+                                "--csv", dir + "/zero.csv"});
+  REQUIRE(grid.exit_code == 0);
+  const auto zero = read_csv(dir + "/zero.csv");
+  REQUIRE(zero.size() == 40);
+  CHECK(std::stod(zero.front().at("thickness")) == doctest::Approx(0.2));
 }
 
 }  // namespace analyze_cli_test

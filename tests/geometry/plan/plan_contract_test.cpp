@@ -1,0 +1,196 @@
+// The tolerance as a contract (layer_plan.h), against closed forms on solids of revolution
+// whose radius is linear in z between rings (solids.h): between two ring heights a section is
+// a regular n-gon of circumradius rho(z), so a surface point at height z is rho(z) - rho(m)
+// from the mid section's wall at the corners where rho(z) > rho(m), and
+// (rho(m) - rho(z)) cos(pi / n) across its edges where rho(z) < rho(m).
+//   - a tighter tolerance never gives a larger max D or total ΔV (cones between flat levels);
+//   - every flat level and the top land on boundaries, where the thinnest layers alone would
+//     miss them, and the last layer ends at most the printer's step above a pointed top;
+//   - every layer above the first is within the tolerance, or the thinnest, or lands a level;
+//   - the top layer of a flat-topped sphere cap is within the tolerance.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include "geometry/analysis/layer_analysis.h"
+#include "geometry/plan/flat_levels.h"
+#include "geometry/plan/layer_plan.h"
+#include "geometry/slicing/layer_stack.h"
+#include "support/solids.h"
+
+namespace plan_contract_test {
+
+using geometry::AdaptiveOptions;
+using geometry::AdaptivePlan;
+using geometry::AllowedThicknesses;
+using geometry::Layer;
+using geometry::OverTolerance;
+using geometry::Vec2;
+
+namespace {
+
+// The UP Plus 2: 0.15 to 0.4 mm in steps of 0.05, a first layer of 0.3.
+const AllowedThicknesses kUpPlus2{.listed = {}, .min = 0.15, .max = 0.4, .step = 0.05, .first = 0.3};
+constexpr int kSides = 48;
+
+// Three cones between flat levels, each slope of its own: vertical to 2 mm, then leaning in
+// 3 mm over 3.1 mm to a flat ring at 5.1 mm, 1 mm over 4.25 mm to a ring at 9.35, 3.5 mm over
+// 1.7 mm to a flat top at 11.05 (every level on the UP Plus 2's grid: 0.3 + k 0.05).
+const std::vector<Vec2> kStack{{0, 0},    {12, 0},    {12, 2},   {9, 5.1}, {7, 5.1},
+                               {6, 9.35}, {4, 9.35}, {0.5, 11.05}, {0, 11.05}};
+const std::vector<double> kStackFlats{5.1, 9.35, 11.05};
+
+AdaptivePlan plan_for(const geometry::Mesh& mesh, double tolerance) {
+  const geometry::LayerStack stack(mesh, {});
+  AdaptiveOptions options;
+  options.tolerance = tolerance;
+  return geometry::adaptive_plan(stack, geometry::bounding_box(mesh).max.z, kUpPlus2,
+                                 geometry::flat_levels(mesh), options);
+}
+
+bool has_boundary(const std::vector<Layer>& layers, double z) {
+  return std::any_of(layers.begin(), layers.end(),
+                     [&](const Layer& l) { return std::abs(l.z_hi - z) < 1e-9; });
+}
+
+// The outer radius of a revolve profile that narrows upwards (x = rho, y = z, from the
+// bottom's outer corner to the top's), at height z; `above`: the limit from above at a flat.
+double profile_radius(const std::vector<Vec2>& outer, double z, bool above) {
+  double r = 0;
+  for (std::size_t k = 1; k < outer.size(); ++k) {
+    const Vec2 a = outer[k - 1], b = outer[k];
+    if (a.y == b.y) continue;  // a flat ring: the slopes on either side say which radius
+    if (above ? (z >= a.y && z < b.y) : (z > a.y && z <= b.y)) {
+      r = a.x + (b.x - a.x) * (z - a.y) / (b.y - a.y);
+    }
+  }
+  return r;
+}
+
+// mid's D on [a, b] for a narrowing revolve of n sides (see the file comment): the largest of
+// the surface's distances at the slab's ends and at the profile's corners inside it, a flat
+// ring inside counted by both its edges.
+double mid_distance(const std::vector<Vec2>& outer, double a, double b) {
+  const double m = 0.5 * (a + b), r_mid = profile_radius(outer, m, true);
+  std::vector<double> radii{profile_radius(outer, a, true), profile_radius(outer, b, false)};
+  for (const Vec2& corner : outer) {
+    if (corner.y > a && corner.y < b) {
+      radii.push_back(profile_radius(outer, corner.y, false));
+      radii.push_back(profile_radius(outer, corner.y, true));
+    }
+  }
+  double d = 0;
+  for (double r : radii) {
+    d = std::max(d, r > r_mid ? r - r_mid : (r_mid - r) * std::cos(std::numbers::pi / kSides));
+  }
+  return d;
+}
+
+}  // namespace
+
+TEST_CASE("a_tighter_tolerance_never_raises_max_d_or_volume_deviation_on_cones_between_flat_levels") {
+  const solids::Solid stack = solids::revolve(kStack, kSides);
+  const std::vector<Vec2> outer(kStack.begin() + 1, kStack.end() - 1);
+  double looser_max = INFINITY, looser_volume = INFINITY;
+  std::size_t looser_layers = 0;
+  for (double tolerance : {0.3, 0.2, 0.12, 0.08, 0.05, 0.03, 0.02}) {
+    CAPTURE(tolerance);
+    const AdaptivePlan plan = plan_for(stack.mesh, tolerance);
+    REQUIRE(plan.layers.size() > 1);
+    for (double z : kStackFlats) CHECK_MESSAGE(has_boundary(plan.layers, z), "flat at " << z);
+    double max_d = 0;
+    for (std::size_t i = 1; i < plan.layers.size(); ++i) {
+      const Layer& l = plan.layers[i];
+      const double closed = mid_distance(outer, l.z_lo, l.z_hi);
+      CHECK_MESSAGE(std::abs(plan.distance[i] - closed) <= 2e-3, "layer " << i << " at " << l.z_lo);
+      max_d = std::max(max_d, closed);
+    }
+    // The volume deviation of the mid contour the plan is made for, as analyze measures it.
+    const geometry::LayerStack printed(stack.mesh, plan.layers);
+    const geometry::ContourStrategy* mid[] = {&geometry::contour_strategy("mid")};
+    double volume = 0;
+    for (const auto& layer : geometry::analyze_layers(printed, mid)) {
+      volume += layer.strategies[0].metrics.volume_deviation;
+    }
+    CHECK(max_d <= looser_max + 1e-9);
+    CHECK(volume <= looser_volume + 1e-9);
+    CHECK(plan.layers.size() >= looser_layers);
+    looser_max = max_d, looser_volume = volume, looser_layers = plan.layers.size();
+  }
+}
+
+TEST_CASE("every_layer_above_the_first_is_within_the_tolerance_or_the_thinnest_or_lands_a_level") {
+  // At 0.02 mm no layer thicker than 0.15 mm meets it on the cones (D = t s / 2, s the run
+  // per mm of height: 0.97, 0.24 and 2.1; the first and last not even 0.15 mm ones): 3.1, 4.25
+  // and 1.7 mm are no multiples of 0.15, so a thicker layer must land each of 5.1, 9.35, 11.05.
+  const solids::Solid stack = solids::revolve(kStack, kSides);
+  const AdaptivePlan plan = plan_for(stack.mesh, 0.02);
+  for (double z : kStackFlats) CHECK(has_boundary(plan.layers, z));
+  CHECK(plan.layers.back().z_hi == 11.05);
+  std::size_t over = 0;
+  std::vector<std::size_t> landing(kStackFlats.size(), 0);  // per flat level: layers landing it
+  for (std::size_t i = 1; i < plan.layers.size(); ++i) {
+    CAPTURE(i);
+    const double t = plan.layers[i].thickness();
+    if (plan.distance[i] <= 0.02) {
+      CHECK(plan.why[i] == OverTolerance::none);
+      continue;
+    }
+    ++over;
+    if (t > 0.15 + 1e-9) {
+      CHECK(plan.why[i] == OverTolerance::landing);
+      const auto next = std::lower_bound(kStackFlats.begin(), kStackFlats.end(), plan.layers[i].z_hi - 1e-9);
+      REQUIRE(next != kStackFlats.end());
+      ++landing[static_cast<std::size_t>(next - kStackFlats.begin())];
+    } else {
+      CHECK(plan.why[i] == OverTolerance::shallow_surface);
+    }
+  }
+  CHECK(over == plan.unmet);
+  // One thicker layer below each level the 0.15 mm layers miss, none below the others.
+  for (std::size_t k = 0; k < kStackFlats.size(); ++k) CHECK(landing[k] <= 1);
+  CHECK(landing[0] + landing[1] + landing[2] >= 1);
+}
+
+TEST_CASE("the_last_layer_ends_at_most_a_step_above_a_pointed_top") {
+  // A cone whose apex, 20.02 mm, is on no height the UP Plus 2 reaches (0.3 + k 0.05).
+  const solids::Solid cone = solids::cone(10, 20.02, kSides);
+  for (double tolerance : {0.05, 0.1, 0.3}) {
+    CAPTURE(tolerance);
+    const AdaptivePlan plan = plan_for(cone.mesh, tolerance);
+    REQUIRE(!plan.layers.empty());
+    CHECK(plan.layers.back().z_hi >= 20.02);
+    CHECK(plan.layers.back().z_hi <= 20.02 + 0.05 + 1e-9);
+  }
+}
+
+TEST_CASE("the_top_layer_of_a_flat_topped_sphere_cap_is_within_the_tolerance") {
+  // A sphere of radius 10 between 4 mm below its centre and 6 mm above: a flat top of radius
+  // 8 at z = 10, the surface there 53 degrees from horizontal.
+  std::vector<Vec2> profile{{0, 0}};
+  const double low = std::asin(-0.4), high = std::asin(0.6);
+  for (int k = 0; k <= 24; ++k) {
+    const double a = low + (high - low) * k / 24;
+    profile.push_back({10 * std::cos(a), 4 + 10 * std::sin(a)});
+  }
+  profile.back().y = 10;  // the top ring exactly at 10 mm
+  profile.push_back({0, 10});
+  const solids::Solid cap = solids::revolve(profile, kSides);
+  const std::vector<Vec2> outer(profile.begin() + 1, profile.end() - 1);
+  // (At 0.05 mm not even a 0.15 mm layer meets it up there: D = 0.15 cot(53) / 2 = 0.056.)
+  for (double tolerance : {0.1, 0.2, 0.3}) {
+    CAPTURE(tolerance);
+    const AdaptivePlan plan = plan_for(cap.mesh, tolerance);
+    REQUIRE(plan.layers.size() > 1);
+    const Layer& top = plan.layers.back();
+    CHECK(top.z_hi == 10.0);
+    CHECK(mid_distance(outer, top.z_lo, top.z_hi) <= tolerance + 1e-9);
+    CHECK(plan.distance.back() <= tolerance);
+    CHECK(plan.unmet == 0);
+  }
+}
+
+}  // namespace plan_contract_test
