@@ -229,16 +229,31 @@ std::string describe_choice(const LayerChoice& choice) {
             ? fmt::format("{}'s D", choice.printed)
             : fmt::format("{}'s D, planned by {}'s, which {}'s does not exceed", choice.printed,
                           choice.planned_by, choice.printed);
-    text = fmt::format("adaptive: {} layer{} of {} mm for D within {:.3g} mm ({}; planned in "
+    // With a budget met, the least total error was found within a cap (layer_plan.h): the
+    // layers are said against it, and the least tolerance the budget allows beside it.
+    const bool capped = plan.cap > 0;
+    text = fmt::format("adaptive: {} layer{} of {} mm for {}D within {:.3g} mm ({}; planned in "
                        "{:.1f} s: {} of {} candidate layers measured)",
                        choice.layers.size(), choice.layers.size() == 1 ? "" : "s",
-                       thickness_range(thinnest, thickest), plan.tolerance, whose, choice.seconds,
-                       plan.measured, plan.candidates);
-    if (choice.budget_seconds > 0) {
+                       thickness_range(thinnest, thickest), capped ? "the least total error with " : "",
+                       capped ? plan.cap : plan.tolerance, whose, choice.seconds, plan.measured,
+                       plan.candidates);
+    const std::string budget =
+        choice.budget_seconds > 0
+            ? fmt::format("whose print fits --max-time {} (estimated {})",
+                          printer::format_duration(choice.budget_seconds),
+                          printer::format_duration(choice.estimated_seconds))
+            : fmt::format("within --max-layers {}", choice.max_layers);
+    if (capped) {
+      text += fmt::format("; the least tolerance {} is {:.3g} mm", budget, plan.tolerance);
+      if (plan.cap > plan.tolerance) {
+        text += fmt::format(": layers up to {:.3g} mm (that plan's P95h D) where they take off "
+                            "more volume", plan.cap);
+      }
+      text += fmt::format(", none over that plan's largest D, {:.3g} mm", plan.ceiling);
+    } else if (choice.budget_seconds > 0) {
       text += choice.estimated_seconds <= choice.budget_seconds
-                  ? fmt::format(", the least tolerance whose print fits --max-time {} (estimated {})",
-                                printer::format_duration(choice.budget_seconds),
-                                printer::format_duration(choice.estimated_seconds))
+                  ? fmt::format(", the least tolerance {}", budget)
                   : fmt::format("; no plan fits --max-time {}: the thickest layers take {}",
                                 printer::format_duration(choice.budget_seconds),
                                 printer::format_duration(choice.estimated_seconds));

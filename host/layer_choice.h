@@ -87,11 +87,12 @@ LayerChoice choose_layers(const AdaptiveRequest& request, const printer::Printer
                           const PlanningProgress& progress = {},
                           const PrintEstimate& estimate = {});
 
-// "adaptive: 187 layers of 0.15-0.4 mm for best's D, planned by mid's, which it does not
-// exceed, within 0.3 mm (planned in 1.2 s: ...); 12 layers over it (up to 0.61 mm), the
-// thinnest the printer has (0.15 mm) unless said: z 30.10-31.90 (the surface there leans 4°
-// from horizontal), ...", the first layer's D where it is over, and where flat levels landed
-// when one could not.
+// "adaptive: 187 layers of 0.15-0.4 mm for D within 0.3 mm (best's D, planned by mid's, which
+// best's does not exceed; planned in 1.2 s: ...); 12 layers over it (up to 0.61 mm), the
+// thinnest the printer has (0.15 mm) unless said: z 30.10-31.90 (slopes down to 4° from
+// horizontal: up to 0.61 mm), ...", with a budget the least tolerance it allows and the cap
+// the least total error was found within, the first layer's D where it is over, and the flat
+// levels no layer could land.
 std::string describe_choice(const LayerChoice& choice);
 
 }  // namespace host

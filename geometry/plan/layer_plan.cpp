@@ -766,15 +766,18 @@ AdaptivePlan adaptive_plan(const LayerStack& stack, double part_height,
 
   planner.measure_exactly(path, tolerance);
   plan.layers = layers_of(path);
+  // Each layer is judged against the tolerance, or with a budget whose least error was found
+  // within a cap, against that: a layer the cap allows is there by choice, not over anything.
+  const double judged = plan.cap > 0 ? plan.cap : tolerance;
   for (std::size_t i = 0; i < path.size(); ++i) {
     const std::uint32_t e = path[i];
     const double d = planner.exact(e);
     plan.distance.push_back(d);
     plan.swept.push_back(planner.swept(e));
-    plan.met.push_back(d <= tolerance);
+    plan.met.push_back(d <= judged);
     OverTolerance why = OverTolerance::none;
     double lean = 90;
-    if (d > tolerance) {
+    if (d > judged) {
       const Layer& layer = plan.layers[i];
       if (i == 0 && allowed.first > 0) why = OverTolerance::first_layer;
       else if (planner.crossed_flats(e) > 0) why = OverTolerance::flat_level;

@@ -120,8 +120,9 @@ struct AdaptivePlan {
   // least of them where none does (mm).
   std::vector<double> distance;
   std::vector<double> swept;         // per layer: swept_volume.h's U, mm^3
-  std::vector<char> met;             // per layer: D within the tolerance
-  std::vector<OverTolerance> why;    // per layer: why it is not
+  // Per layer: D within the tolerance (with a budget, within `cap`), and if not, why.
+  std::vector<char> met;
+  std::vector<OverTolerance> why;
   std::vector<double> lean;          // per layer over it for its surface: the least angle of
                                      // that surface from horizontal, degrees (else 90)
   double tolerance = 0;              // asked, or for a budget the least one reached
@@ -129,7 +130,7 @@ struct AdaptivePlan {
   // `cap` or counted over it, and none above `ceiling` (the least tolerance's plan's by-height
   // 95th percentile of D, or the tolerance if higher, and its largest D), mm; else 0.
   double cap = 0, ceiling = 0;
-  std::size_t unmet = 0;             // layers above the first over it (each the thinnest)
+  std::size_t unmet = 0;             // layers above the first not `met`
   std::vector<FlatPlacement> flats;
   // The search: candidate slabs (edges of the height grid), how many were measured (exactly,
   // or until seen to be within the tolerance or past it), and how many times the shortest

@@ -116,6 +116,11 @@ TEST_CASE("slice_adaptive_keeps_a_layer_budget") {
   CHECK(tops_of(gcode).size() <= 60);
   CHECK(r.out.find("adaptive: ") != std::string::npos);
   CHECK(r.out.find("no plan has at most") == std::string::npos);
+  // Said against the cap the least error was found within, beside the least tolerance.
+  CAPTURE(r.out);
+  CHECK(r.out.find("for the least total error with D within ") != std::string::npos);
+  CHECK(r.out.find("the least tolerance within --max-layers 60 is ") != std::string::npos);
+  CHECK(r.out.find("to land") == std::string::npos);
   // A budget below the fewest layers the thicknesses allow (20 mm at most 0.4 mm a layer,
   // over a 0.3 mm first one: 1 + ceil(19.7 / 0.4) = 51) is said, with the count printed.
   const auto tight = run_mahost(
