@@ -1,4 +1,4 @@
-// Which layers a part is printed in (issue 11; DESIGN.md §1's layer plan): uniform at
+// Which layers a part is printed in (DESIGN.md §1's layer plan): uniform at
 // --layer, every flat top, floor and step of the model landing on a layer boundary where the
 // printer's thicknesses reach it; or --adaptive, the fewest layers whose distance error D
 // (what `analyze` reports, of the contour printed) is within --tolerance, or the least

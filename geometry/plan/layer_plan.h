@@ -1,4 +1,4 @@
-// The layer plan (issue 11; DESIGN.md §2): where a part's layer boundaries go,
+// The layer plan (DESIGN.md §2): where a part's layer boundaries go,
 // z_0 = 0 < z_1 < ... < z_n, each thickness z_i - z_{i-1} one the printer allows and the last
 // boundary at or above the part's top.
 //

@@ -57,7 +57,7 @@ class FacetsByHeight {
   double z_0_ = 0, bucket_height_ = 0.1;
 };
 
-// The overhang a slab has only for being thick (issues 11 and 12), for a plan that keeps
+// The overhang a slab has only for being thick, for a plan that keeps
 // supports to what the part's slopes need: a downward-facing facet leaning phi from
 // vertical steps out t tan(phi) from one layer to the next, and a layer reaches only
 // min(t tan(a), w / 2) past the one below (overhang.h: a the overhang angle, w the bead

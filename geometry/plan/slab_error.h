@@ -1,4 +1,4 @@
-// The exact error of one candidate slab, for the layer plan (issue 11): the distance error D
+// The exact error of one candidate slab, for the layer plan: the distance error D
 // (distance_error.h, the paper's D_i, the forward direction, to its tolerance) of the region a
 // contour strategy prints for the slab [z_lo, z_hi], measured as `mahost analyze` measures a
 // layer (layer_metrics.h), so that a plan's promise is analyze's figure.

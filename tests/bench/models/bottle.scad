@@ -1,6 +1,6 @@
 // A bottle, 45 mm: a body of r 11 with a rounded shoulder, a neck of r 4, a lip (overhang
 // under a ring of r 5.5, flat on top) and a flat top at 45 mm; a shallow punt (a dome pushed
-// in from below, 2 mm deep) under the body. Written for issue 32's comparison of layer plans
+// in from below, 2 mm deep) under the body. Written for the comparison of layer plans
 // before any plan was judged on it, and never tuned to (tests/bench/plan_vs_peers.sh).
 $fn = 96;
 rotate_extrude() polygon([

@@ -1,7 +1,7 @@
 // A spur gear: 24 involute-like teeth (module 1.5, 8 mm face) with both faces' tooth edges
 // chamfered at 45 degrees 0.6 mm, a hub 12 mm across rising to 14 mm with a rounded top edge,
 // and a 5 mm bore. Mostly vertical walls between flat levels, short slopes at the chamfers.
-// Written for issue 32's comparison of layer plans before any plan was judged on it, and never
+// Written for the comparison of layer plans before any plan was judged on it, and never
 // tuned to (tests/bench/plan_vs_peers.sh).
 teeth = 24; m = 1.5;
 pitch_r = teeth * m / 2; root_r = pitch_r - 1.25 * m; tip_r = pitch_r + m;

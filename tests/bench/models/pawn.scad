@@ -1,6 +1,6 @@
 // A chess pawn, 36 mm tall: a stepped base (flat tops at 3 and 5 mm), a concave waist, a
 // collar (a flat ring at 24 mm on a lip whose underside faces down), and a ball for a head whose
-// top is nearly flat. Written for issue 32's comparison of layer plans before any plan was
+// top is nearly flat. Written for the comparison of layer plans before any plan was
 // judged on it, and never tuned to (tests/bench/plan_vs_peers.sh).
 $fn = 96;
 rotate_extrude() polygon([

@@ -1,7 +1,7 @@
 // A block with several flat levels off a 0.05 mm grid's simple multiples and close together:
 // a 40 x 30 mm base 6.5 mm tall, a tier to 11.2 mm, a chamfered tier to 17 mm, a bore through
 // it all and a cross-slot 3 mm deep in the top, then a 45-degree pyramid roof on one half up to
-// 24.35 mm. Like OpenSCAD's example002, for flat levels; written for issue 32's comparison of
+// 24.35 mm. Like OpenSCAD's example002, for flat levels; written for the comparison of
 // layer plans before any plan was judged on it, and never tuned to (tests/bench/plan_vs_peers.sh).
 difference() {
   union() {
