@@ -3,7 +3,8 @@
 # then slicing them with the default contour, best) against CuraEngine 4.13's adaptive slice
 # of the same placed bunny (50 mm, --up y --units m), both without supports or raft, run by
 # turns in the same run, REPEAT times each; the medians of wall and CPU time (user + system,
-# all threads) and their ratio (mahost / CuraEngine: below 1, mahost is faster).
+# all threads) and their ratio (mahost / CuraEngine: below 1, mahost is faster); and the median
+# of mahost's planning alone (the wall time its plan line gives) against CuraEngine's whole wall.
 #
 # Usage: tests/bench/plan_speed.sh [BUILD_DIR]      (default build; absolute or in the repository)
 #        PAIRS="0.4:0.3 0.3:0.2"  mahost --tolerance : CuraEngine adaptive_layer_height_threshold
@@ -44,9 +45,12 @@ for pair in $pairs; do
   ours=$work/mahost-$tolerance theirs=$work/cura-$threshold
   : >"$ours"
   : >"$theirs"
+  : >"$ours-plan"
   for ((k = 0; k < repeat; ++k)); do
     run "$ours" "$mahost" slice "$placed" --adaptive --tolerance "$tolerance" --support none --no-raft \
       -o "$work/m.gcode"
+    # The planning alone: the wall time the plan line gives ("planned in 2.3 s").
+    sed -n 's/.*planned in \([0-9.]*\) s.*/\1/p' "$work/run.log" | head -1 >>"$ours-plan"
     run "$theirs" cura_adaptive "$work/c.gcode" "$placed" "$threshold"
   done
   plan_line=$("$mahost" slice "$placed" --adaptive --tolerance "$tolerance" --support none --no-raft \
@@ -55,6 +59,9 @@ for pair in $pairs; do
   cw=$(cut -d' ' -f1 "$theirs" | median) cc=$(cut -d' ' -f2 "$theirs" | median)
   printf '%-40s %10.2f %10.2f\n' "mahost --tolerance $tolerance" "$mw" "$mc" \
     "CuraEngine threshold $threshold" "$cw" "$cc"
+  mp=$(median <"$ours-plan")
+  printf '%-40s %10.2f %10s\n' "  of which mahost's planning" "$mp" "-"
+  printf '%-40s %10.2f %10s\n' "  ratio planning / CuraEngine" "$(awk -v a="$mp" -v b="$cw" 'BEGIN { print a / b }')" "-"
   printf '%-40s %10.2f %10.2f\n' "  ratio mahost / CuraEngine" "$(awk -v a="$mw" -v b="$cw" 'BEGIN { print a / b }')" \
     "$(awk -v a="$mc" -v b="$cc" 'BEGIN { print a / b }')"
   echo "  ($plan_line...)"
