@@ -11,7 +11,8 @@ layer prints (the prism R x [z_lo, z_hi]):
       of R). The surface is sampled: the model's sections at the slab's two planes (as limits
       from inside) and at three levels between, their vertices and points along their edges
       every 0.1 mm, every mesh vertex strictly inside the slab, and the outline of every
-      flat level strictly inside it (a step a layer straddles), also every 0.1 mm. The inside
+      flat level strictly inside it (a step a layer straddles), also every 0.1 mm; strictly:
+      more than ON_PLANE, half a G-code file's Z step, from both planes. The inside
       of a flat level is not sampled: it is parallel to the layer's top and bottom, where the
       error is vertical and a horizontal distance means nothing (DESIGN.md section 3 decides
       the same; it is where the paper's slice mesh has no vertex). A piece of the
@@ -56,6 +57,10 @@ from shapely.ops import unary_union
 
 # Sections are cut this far inside a slab's planes (the limit from inside), mm.
 END_INSET = 1e-5
+# A vertex or flat level this close to a layer's plane lies on it, mm: half the 0.001 mm step
+# of a G-code file's Z, far above a binary STL's rounding (a flat top at 11.2 mm reads
+# 11.1999998, and a plan's boundary there is written Z11.2).
+ON_PLANE = 5e-4
 # Spacing of samples along section edges and over horizontal facets, mm.
 SAMPLE_SPACING = 0.1
 # Simpson intervals per layer for dV (split among the pieces between breakpoints).
@@ -377,9 +382,10 @@ def judge_layer(solid, z_lo, z_hi, region):
         if sample:
             for loop in loops:
                 samples.append(densify(loop, SAMPLE_SPACING))
-    inside = (solid.v[:, 2] > z_lo) & (solid.v[:, 2] < z_hi)
+    inside = (solid.v[:, 2] > z_lo + ON_PLANE) & (solid.v[:, 2] < z_hi - ON_PLANE)
     samples.append(solid.v[inside][:, :2])
-    flat = solid.flat_faces[(solid.zlo[solid.flat_faces] > z_lo) & (solid.zlo[solid.flat_faces] < z_hi)]
+    flat_z = solid.zlo[solid.flat_faces]
+    flat = solid.flat_faces[(flat_z > z_lo + ON_PLANE) & (flat_z < z_hi - ON_PLANE)]
     samples.append(flat_outlines(solid, flat, SAMPLE_SPACING))
     points = np.concatenate(samples) if samples else np.zeros((0, 2))
     if len(points) == 0:
