@@ -4,7 +4,6 @@
 #include <charconv>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 
 #include <fmt/core.h>
 
@@ -53,6 +52,20 @@ void GcodeFile::add_command(std::string_view command) {
   starts_.push_back(text_.size());
 }
 
+void GcodeFile::append(const GcodeFile& piece) {
+  const std::size_t first = size();
+  for (GcodeLayer layer : piece.layers) {
+    layer.first_command += first;
+    layers.push_back(layer);
+  }
+  text_.reserve(text_.size() + piece.text_.size());
+  for (std::size_t i = 0; i < piece.size(); ++i) add_command(piece.command(i));
+  skipped_lines += piece.skipped_lines;
+  for (const std::size_t line : piece.skipped_line_numbers) {
+    if (skipped_line_numbers.size() < kSkippedLinesNamed) skipped_line_numbers.push_back(line);
+  }
+}
+
 int GcodeFile::layer_index_of(std::size_t command) const {
   const auto after = std::upper_bound(layers.begin(), layers.end(), command,
                                       [](std::size_t c, const GcodeLayer& l) { return c < l.first_command; });
@@ -65,20 +78,29 @@ int GcodeFile::layer_starting_at(std::size_t command) const {
   return -1;
 }
 
-std::string content_hash(std::string_view bytes) {
-  std::uint64_t hash = 0xcbf29ce484222325ull;
+void ContentHasher::add(std::string_view bytes) {
   for (char c : bytes) {
-    hash ^= static_cast<unsigned char>(c);
-    hash *= 0x100000001b3ull;
+    hash_ ^= static_cast<unsigned char>(c);
+    hash_ *= 0x100000001b3ull;  // FNV-1a's 64-bit prime
   }
-  return fmt::format("fnv1a64:{:016x}", hash);
 }
 
-GcodeFile parse_gcode(std::string_view text, const std::string& name, GcodeReading reading) {
+std::string ContentHasher::text() const { return fmt::format("fnv1a64:{:016x}", hash_); }
+
+std::string content_hash(std::string_view bytes) {
+  ContentHasher hasher;
+  hasher.add(bytes);
+  return hasher.text();
+}
+
+namespace {
+
+// parse_gcode's work on text whose first line is line `first_line` + 1 of the file; no hash.
+GcodeFile parse_lines(std::string_view text, const std::string& name, GcodeReading reading,
+                      std::size_t first_line) {
   GcodeFile file;
   file.path = name;
-  file.hash = content_hash(text);
-  std::size_t line_number = 0;
+  std::size_t line_number = first_line;
   bool awaiting_z = false;
   while (!text.empty()) {
     ++line_number;
@@ -109,7 +131,7 @@ GcodeFile parse_gcode(std::string_view text, const std::string& name, GcodeReadi
     if (const std::optional<std::string> problem = gcode_problem(command)) {
       if (reading.skip_invalid) {
         ++file.skipped_lines;
-        if (file.skipped_line_numbers.size() < 5) file.skipped_line_numbers.push_back(line_number);
+        if (file.skipped_line_numbers.size() < kSkippedLinesNamed) file.skipped_line_numbers.push_back(line_number);
         continue;
       }
       throw ConfigError(fmt::format(
@@ -129,17 +151,61 @@ GcodeFile parse_gcode(std::string_view text, const std::string& name, GcodeReadi
   return file;
 }
 
-GcodeFile read_gcode_file(const std::string& path, GcodeReading reading) {
+}  // namespace
+
+GcodeFile parse_gcode(std::string_view text, const std::string& name, GcodeReading reading) {
+  GcodeFile file = parse_lines(text, name, reading, 0);
+  file.hash = content_hash(text);
+  return file;
+}
+
+std::string for_each_gcode_piece(const std::string& path, const std::string& name, GcodeReading reading,
+                                 const std::function<void(const GcodePiece&)>& on_piece) {
   std::error_code error;
   if (std::filesystem::is_directory(path, error)) {
-    throw ConfigError(fmt::format("{}: is a directory, not a G-code file", path));
+    throw ConfigError(fmt::format("{}: is a directory, not a G-code file", name));
   }
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw ConfigError(fmt::format("{}: cannot open the G-code file: check the path", path));
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  if (in.bad()) throw ConfigError(fmt::format("{}: cannot read the G-code file", path));
-  GcodeFile file = parse_gcode(bytes.str(), path, reading);
+  if (!in) throw ConfigError(fmt::format("{}: cannot open the G-code file: check the path", name));
+  ContentHasher hash;
+  std::string text;  // read and not yet parsed: the lines after the last piece
+  std::vector<char> buffer(kGcodePiece);
+  std::uint64_t offset = 0;  // of `text` in the file
+  std::size_t lines_before = 0;
+  bool at_end = false;
+  while (!at_end) {
+    in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+    const auto got = static_cast<std::size_t>(in.gcount());
+    if (in.bad()) throw ConfigError(fmt::format("{}: cannot read the G-code file", name));
+    at_end = got < buffer.size();
+    hash.add(std::string_view(buffer.data(), got));
+    text.append(buffer.data(), got);
+    // A piece ends before its last ;LAYER: mark (so the ;Z: that follows a mark is read with
+    // it, in the next piece), else after its last whole line; at the end, with the file.
+    std::size_t cut = text.size();
+    if (!at_end) {
+      const std::size_t mark = text.rfind("\n;LAYER:");
+      cut = mark != std::string::npos ? mark + 1 : text.rfind('\n') + 1;
+      if (cut == 0) {  // no line end yet in all that was read
+        if (text.size() < kLongestLine) continue;
+        throw ConfigError(fmt::format("{}: line {} is longer than {} MiB: this is not a G-code text file",
+                                      name, lines_before + 1, kLongestLine >> 20));
+      }
+    }
+    const std::string_view piece_text(text.data(), cut);
+    const GcodeFile piece = parse_lines(piece_text, name, reading, lines_before);
+    on_piece(GcodePiece{piece, piece_text, offset});
+    lines_before += static_cast<std::size_t>(std::count(piece_text.begin(), piece_text.end(), '\n'));
+    offset += cut;
+    text.erase(0, cut);
+  }
+  return hash.text();
+}
+
+GcodeFile read_gcode_file(const std::string& path, GcodeReading reading) {
+  GcodeFile file;
+  file.path = path;
+  file.hash = for_each_gcode_piece(path, path, reading, [&](const GcodePiece& piece) { file.append(piece.gcode); });
   if (file.size() == 0) {
     throw ConfigError(fmt::format("{}: the file has no G-code commands", path));
   }

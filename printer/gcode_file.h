@@ -11,6 +11,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -30,7 +31,7 @@ class GcodeFile {
   std::string hash;                 // "fnv1a64:<16 hex digits>" of the file's bytes
   std::vector<GcodeLayer> layers;   // in file order
   // Lines that are not G-code, left out (only with GcodeReading::skip_invalid): how many,
-  // and the first few line numbers (from 1).
+  // and the first kSkippedLinesNamed line numbers (from 1).
   std::size_t skipped_lines = 0;
   std::vector<std::size_t> skipped_line_numbers;
 
@@ -44,11 +45,16 @@ class GcodeFile {
   int layer_starting_at(std::size_t command) const;
 
   void add_command(std::string_view command);
+  // Adds a piece's commands, layers (their indices moved past this file's commands) and
+  // skipped lines after this file's.
+  void append(const GcodeFile& piece);
 
  private:
   std::string text_;
   std::vector<std::size_t> starts_{0};
 };
+
+inline constexpr std::size_t kSkippedLinesNamed = 5;  // skipped line numbers a file keeps
 
 struct GcodeReading {
   // Leave out lines that are not G-code (printer::gcode_problem) instead of refusing the file.
@@ -63,11 +69,39 @@ struct GcodeReading {
 // is not G-code: NUL bytes or other binary, or a command too long for Marlin's line buffer.
 GcodeFile parse_gcode(std::string_view text, const std::string& name, GcodeReading reading = {});
 
-// Reads and parses a file. Throws ConfigError naming the file when it cannot be read, is
-// empty of commands, or is not G-code.
+// A piece of a G-code file: whole lines, parsed as parse_gcode parses a file.
+struct GcodePiece {
+  const GcodeFile& gcode;  // its commands and layers (indices from the piece's start); no hash
+  std::string_view text;   // its bytes
+  std::uint64_t offset;    // where they start in the file
+};
+inline constexpr std::size_t kGcodePiece = 4 << 20;    // bytes read at a time
+inline constexpr std::size_t kLongestLine = 16 << 20;  // a "line" longer is no G-code text
+
+// Reads a G-code file in pieces of whole lines, kGcodePiece bytes or so, and hands each, parsed,
+// to `on_piece` in order: the same checks and messages as parse_gcode of the whole file, lines
+// numbered as in the file, `name` naming it. A piece ends before a ;LAYER: mark, so a mark and
+// the ;Z: after it are parsed together. Returns the file's content_hash. Throws ConfigError as
+// parse_gcode does, or when the file cannot be read. The file's text is never all in memory.
+std::string for_each_gcode_piece(const std::string& path, const std::string& name, GcodeReading reading,
+                                 const std::function<void(const GcodePiece&)>& on_piece);
+
+// Reads and parses a file, a piece at a time (it holds the commands, not the comments). Throws
+// ConfigError naming the file when it cannot be read, is empty of commands, or is not G-code.
 GcodeFile read_gcode_file(const std::string& path, GcodeReading reading = {});
 
 // "fnv1a64:<16 hex digits>": a hash to notice a changed file, not a cryptographic one.
 std::string content_hash(std::string_view bytes);
+
+// content_hash of bytes that come in pieces (a file read a few MiB at a time): add() each
+// piece in order; text() is content_hash of them all.
+class ContentHasher {
+ public:
+  void add(std::string_view bytes);
+  std::string text() const;
+
+ private:
+  std::uint64_t hash_ = 0xcbf29ce484222325ull;  // FNV-1a's offset basis
+};
 
 }  // namespace printer

@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 
@@ -18,8 +17,8 @@
 #include "host/serve/job_file.h"
 #include "printer/error.h"
 #include "printer/gcode_file.h"
-#include "printer/print_eta.h"
 #include "printer/print_state.h"
+#include "printer/print_time.h"
 
 namespace host::serve {
 
@@ -130,27 +129,29 @@ std::string FileStore::path_of(const std::string& name) const {
 }
 
 GcodeAnalysis FileStore::analyse(const std::string& path) const {
+  // A piece at a time, as a job reads it: a file of any size analysed in a few MiB.
   GcodeAnalysis a;
+  const std::string name = fs::path(path).filename().string();
   try {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream bytes;
-    bytes << in.rdbuf();
-    const std::string text = bytes.str();
-    const printer::GcodeFile file =
-        printer::parse_gcode(text, fs::path(path).filename().string(), kUploadedGcode);
-    if (file.size() == 0) {
-      throw printer::ConfigError(fmt::format("{}: the file has no G-code commands", fs::path(path).filename().string()));
-    }
-    a.commands = file.size();
-    a.layers = file.layers.size();
-    a.estimated_seconds = printer::PrintEta(file, motion_).total();
+    printer::PrintClock clock(motion_);
     printer::PrintState state;
-    for (std::size_t i = 0; i < file.size(); ++i) printer::apply(state, file.command(i));
+    printer::for_each_gcode_piece(path, name, kUploadedGcode, [&](const printer::GcodePiece& piece) {
+      if (piece.offset == 0) a.contour = header_value(piece.text, "; contour: ");
+      for (std::size_t i = 0; i < piece.gcode.size(); ++i) {
+        clock.line(piece.gcode.command(i));
+        printer::apply(state, piece.gcode.command(i));
+      }
+      a.commands += piece.gcode.size();
+      a.layers += piece.gcode.layers.size();
+    });
+    if (a.commands == 0) throw printer::ConfigError(fmt::format("{}: the file has no G-code commands", name));
+    // The motion model's time, as the job's estimate reads it (printer::PrintEta).
+    a.estimated_seconds = clock.finish();
     a.filament_mm = state.filament_fed;
     const double radius = filament_diameter_ / 2;
     a.filament_cm3 = a.filament_mm * std::acos(-1.0) * radius * radius / 1000.0;
-    a.contour = header_value(text, "; contour: ");
   } catch (const printer::ConfigError& e) {
+    a = GcodeAnalysis{};
     a.error = e.what();
   }
   return a;

@@ -1,9 +1,7 @@
 #include "host/serve/job_file.h"
 
 #include <algorithm>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
+#include <cstdint>
 
 #include <fmt/core.h>
 
@@ -49,19 +47,10 @@ std::uint64_t JobFile::filepos(std::size_t commands) const {
   return command_end[std::min(commands, command_end.size()) - 1];
 }
 
-JobFile load_job_file(std::string_view bytes, const std::string& name) {
-  JobFile file;
-  file.gcode = printer::parse_gcode(bytes, name, kUploadedGcode);
-  if (file.gcode.size() == 0) {
-    throw printer::ConfigError(fmt::format("{}: the file has no G-code commands", name));
-  }
-  file.bytes = bytes.size();
-  file.command_end = command_ends(bytes);
-  if (file.command_end.size() != file.gcode.size()) {
-    // Both count by the same rule; a mismatch would be a bug here, not the user's file.
-    throw std::logic_error(fmt::format("{}: {} command lines found for {} commands", name,
-                                       file.command_end.size(), file.gcode.size()));
-  }
+namespace {
+
+// The state at each layer start and the part's extent, from the file's commands.
+void add_layer_states(JobFile& file) {
   file.layer_start.reserve(file.gcode.layers.size());
   printer::PrintState state;
   std::size_t next_layer = 0;
@@ -90,20 +79,45 @@ JobFile load_job_file(std::string_view bytes, const std::string& name) {
   }
   // Layer marks after the last command (an empty last layer) start where the file ends.
   while (file.layer_start.size() < file.gcode.layers.size()) file.layer_start.push_back(state);
+}
+
+void check_command_ends(const JobFile& file, const std::string& name) {
+  if (file.command_end.size() != file.gcode.size()) {
+    // Both count by the same rule; a mismatch would be a bug here, not the user's file.
+    throw std::logic_error(fmt::format("{}: {} command lines found for {} commands", name,
+                                       file.command_end.size(), file.gcode.size()));
+  }
+}
+
+}  // namespace
+
+JobFile load_job_file(std::string_view bytes, const std::string& name) {
+  JobFile file;
+  file.gcode = printer::parse_gcode(bytes, name, kUploadedGcode);
+  if (file.gcode.size() == 0) {
+    throw printer::ConfigError(fmt::format("{}: the file has no G-code commands", name));
+  }
+  file.bytes = bytes.size();
+  file.command_end = command_ends(bytes);
+  check_command_ends(file, name);
+  add_layer_states(file);
   return file;
 }
 
 JobFile read_job_file(const std::string& path) {
-  std::error_code error;
-  if (std::filesystem::is_directory(path, error)) {
-    throw printer::ConfigError(fmt::format("{}: is a directory, not a G-code file", path));
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw printer::ConfigError(fmt::format("{}: cannot open the G-code file: check the path", path));
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  if (in.bad()) throw printer::ConfigError(fmt::format("{}: cannot read the G-code file", path));
-  return load_job_file(bytes.str(), path);
+  // Read a piece at a time: the file's bytes are never all in memory, its commands are.
+  JobFile file;
+  printer::GcodeFile& gcode = file.gcode;
+  gcode.path = path;
+  gcode.hash = printer::for_each_gcode_piece(path, path, kUploadedGcode, [&](const printer::GcodePiece& piece) {
+    gcode.append(piece.gcode);
+    for (const std::uint64_t end : command_ends(piece.text)) file.command_end.push_back(piece.offset + end);
+    file.bytes = piece.offset + piece.text.size();
+  });
+  if (gcode.size() == 0) throw printer::ConfigError(fmt::format("{}: the file has no G-code commands", path));
+  check_command_ends(file, path);
+  add_layer_states(file);
+  return file;
 }
 
 std::vector<LayerMove> layer_moves(const JobFile& file, int index) {

@@ -40,7 +40,9 @@ inline constexpr printer::GcodeReading kUploadedGcode{.otherwise = "then upload 
 // Parses `bytes` as printer::parse_gcode does (same commands, same errors, named `name`) and
 // fills the rest. Throws printer::ConfigError for text that is not G-code or has no command.
 JobFile load_job_file(std::string_view bytes, const std::string& name);
-// Reads the file first; ConfigError naming it when it cannot be read.
+// The same read from a file a piece at a time (its bytes never all in memory: a file of
+// 100 MiB holds its commands, not its text and comments); ConfigError naming it when it
+// cannot be read.
 JobFile read_job_file(const std::string& path);
 
 // One straight move of a layer: extruding (E grows while X or Y moves) or travel.

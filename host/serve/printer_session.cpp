@@ -56,12 +56,16 @@ std::string random_hex(std::size_t bytes) {
   return out;
 }
 
+// The file's content_hash, read a MiB at a time; "" when it cannot be read.
 std::string file_hash(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return {};
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return printer::content_hash(bytes.str());
+  printer::ContentHasher hash;
+  std::vector<char> buffer(1 << 20);
+  while (in.read(buffer.data(), static_cast<std::streamsize>(buffer.size())) || in.gcount() > 0) {
+    hash.add(std::string_view(buffer.data(), static_cast<std::size_t>(in.gcount())));
+  }
+  return in.bad() ? std::string() : hash.text();
 }
 
 // "mid contour, support buildplate, brim 5 mm, no raft, adaptive within 0.25 mm, orient auto":
@@ -900,37 +904,32 @@ void PrinterSession::publish_job(printer::Job& job) {
 std::optional<Heating> PrinterSession::heating_of(const printer::JobProgress& p) const {
   // mutex_ held by the caller. Before the first layer, with a heater short of its target.
   if (p.layer > 0 || p.state != printer::JobState::printing || !p.temperatures) return std::nullopt;
-  const printer::Temperatures& t = *p.temperatures;
-  const auto short_of = [](const std::optional<double>& actual, const std::optional<double>& target) {
-    return actual && target && *target > 0 && *actual < *target - kHeatedWithin;
-  };
-  const bool hotend = short_of(t.hotend, t.hotend_target), bed = short_of(t.bed, t.bed_target);
-  if (!hotend && !bed) return std::nullopt;
-  Heating heating;
-  // Each heater's rise over the window, in the history's samples (one a second).
-  const auto since = history_.empty() ? history_.end()
-                                      : std::find_if(history_.begin(), history_.end(), [&](const TemperaturePoint& point) {
-                                          return point.time >= history_.back().time - kHeatingWindow;
-                                        });
-  double left = 0;
-  bool known = true;
-  const auto add = [&](bool heating_now, std::optional<double> printer::Temperatures::*actual,
-                       const std::optional<double>& target) {
-    if (!heating_now) return;
-    const double span = since == history_.end() ? 0 : static_cast<double>(history_.back().time - since->time);
-    const auto from = since == history_.end() ? std::nullopt : (since->temperatures.*actual);
-    const auto to = history_.empty() ? std::nullopt : (history_.back().temperatures.*actual);
-    const double rate = span > 0 && from && to ? (*to - *from) / span : 0;  // °C/s
-    if (!(rate > kRisingAtLeast)) {
-      known = false;
-      return;
+  const printer::Temperatures& now = *p.temperatures;
+  // The window's first sample (one a second), to take each heater's rise from.
+  const TemperaturePoint* then = nullptr;
+  for (const TemperaturePoint& point : history_) {
+    if (point.time >= history_.back().time - kHeatingWindow) {
+      then = &point;
+      break;
     }
-    left = std::max(left, (*target - *(t.*actual)) / rate);
+  }
+  const double span = then != nullptr ? static_cast<double>(history_.back().time - then->time) : 0;
+  double left = 0;
+  bool heating = false, known = true;
+  const auto heater = [&](std::optional<double> actual, std::optional<double> target, std::optional<double> before) {
+    if (!actual || !target || *target <= 0 || *actual >= *target - kHeatedWithin) return;
+    heating = true;
+    const double rate = span > 0 && before ? (*actual - *before) / span : 0;  // °C/s
+    if (rate > kRisingAtLeast) {
+      left = std::max(left, (*target - *actual) / rate);
+    } else {
+      known = false;
+    }
   };
-  add(hotend, &printer::Temperatures::hotend, t.hotend_target);
-  add(bed, &printer::Temperatures::bed, t.bed_target);
-  if (known) heating.seconds_left = left;
-  return heating;
+  heater(now.hotend, now.hotend_target, then != nullptr ? then->temperatures.hotend : std::nullopt);
+  heater(now.bed, now.bed_target, then != nullptr ? then->temperatures.bed : std::nullopt);
+  if (!heating) return std::nullopt;
+  return Heating{known ? std::optional<double>(left) : std::nullopt};
 }
 
 void PrinterSession::run_job(const JobStart& start) {

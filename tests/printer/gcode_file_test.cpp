@@ -3,8 +3,12 @@
 
 #include <doctest/doctest.h>
 
+#include <fstream>
+#include <string>
+
 #include "printer/error.h"
 #include "printer/print_state.h"
+#include "support/run_command.h"
 
 namespace gcode_file_test {
 
@@ -85,6 +89,62 @@ TEST_CASE("one_bad_line_among_valid_gcode_is_refused_by_its_number_or_skipped_an
   CHECK(kept.skipped_line_numbers == std::vector<std::size_t>{5, 8});
   REQUIRE(kept.layers.size() == 1);
   CHECK(kept.layers[0].first_command == 4);  // the layer starts at G1 X4, "hello" left out
+}
+
+TEST_CASE("a_file_read_in_pieces_is_the_file_parsed_whole_line_numbers_and_all") {
+  // Over three pieces of kGcodePiece bytes: layer marks with their ;Z:, comments, blank
+  // lines, lines that are not G-code (skipped or refused with their number in the file), and a
+  // last line with no line end.
+  std::string text = "; header\nG28\n";
+  for (int layer = 0; text.size() < 2 * kGcodePiece + 100000; ++layer) {
+    text += ";LAYER:" + std::to_string(layer) + "\n;Z:" + std::to_string(0.2 * (layer + 1)) + "\n";
+    for (int i = 0; i < 2000; ++i) text += "G1 X" + std::to_string(i % 100) + " Y1 E0.01 ; move\n\n";
+    if (layer % 3 == 2) text += "hello\n";
+  }
+  text += "M84";
+  const std::string path = test_support::scratch_dir("gcode_file_pieces") + "/big.gcode";
+  const auto write = [&](const std::string& bytes) { std::ofstream(path, std::ios::binary) << bytes; };
+  write(text);
+  const GcodeReading skip{.skip_invalid = true};
+  const GcodeFile whole = parse_gcode(text, path, skip);
+  const GcodeFile pieces = read_gcode_file(path, skip);
+  REQUIRE(pieces.size() == whole.size());
+  bool same_commands = true;
+  for (std::size_t i = 0; i < whole.size(); ++i) same_commands &= pieces.command(i) == whole.command(i);
+  CHECK(same_commands);
+  REQUIRE(pieces.layers.size() == whole.layers.size());
+  bool same_layers = true;
+  for (std::size_t l = 0; l < whole.layers.size(); ++l) {
+    const GcodeLayer &a = pieces.layers[l], &b = whole.layers[l];
+    same_layers &= a.number == b.number && a.first_command == b.first_command && a.z == b.z;
+  }
+  CHECK(same_layers);
+  CHECK(pieces.hash == whole.hash);
+  CHECK(pieces.skipped_lines == whole.skipped_lines);
+  CHECK(pieces.skipped_line_numbers == whole.skipped_line_numbers);
+  CHECK(whole.skipped_lines > 3);
+  // Without skip_invalid, a bad line deep in the third piece (the only one): the same
+  // message, the same line number, from both.
+  std::string message_whole, message_pieces;
+  std::string bad;
+  for (std::size_t at = 0, end; at < text.size(); at = end) {
+    end = std::min(text.find('\n', at), text.size() - 1) + 1;
+    if (text.compare(at, 6, "hello\n") != 0) bad.append(text, at, end - at);
+  }
+  bad.insert(bad.find('\n', 2 * kGcodePiece + 1000) + 1, "G1 X1e999\n");
+  write(bad);
+  try {
+    parse_gcode(bad, path);
+  } catch (const ConfigError& e) {
+    message_whole = e.what();
+  }
+  try {
+    read_gcode_file(path);
+  } catch (const ConfigError& e) {
+    message_pieces = e.what();
+  }
+  CHECK(message_whole.find(" is not G-code (X1e999") != std::string::npos);
+  CHECK(message_pieces == message_whole);
 }
 
 }  // namespace gcode_file_test

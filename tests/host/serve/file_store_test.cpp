@@ -8,6 +8,7 @@
 #include "host/serve/file_store.h"
 #include "host/serve/job_file.h"
 #include "printer/error.h"
+#include "printer/print_eta.h"
 #include "serve_fixture.h"
 
 namespace file_store_test {
@@ -112,6 +113,37 @@ TEST_CASE("a_layer_is_drawn_from_its_own_start_state_split_where_the_print_is") 
   CHECK(svg_path(moves, true, 9, SIZE_MAX) == "M0.00 10.00L0.00 0.00");
   CHECK(layer_moves(file, 2).empty());
   CHECK(layer_moves(file, -1).empty());
+}
+
+TEST_CASE("a_job_file_read_in_pieces_is_the_file_read_whole_and_its_analysis_the_same") {
+  // Over three pieces of printer::kGcodePiece bytes (the pieces themselves: gcode_file_test):
+  // each command's end in the file, the layer states and the part's extent as from the whole
+  // text, and the upload's analysis, read the same way, the motion model's time of it all.
+  const std::string dir = test_support::scratch_dir("job_file_pieces");
+  const std::string text = "; contour: ma\n" + serve_test::ring_gcode(2400, 120) + "\n\n; the end\nM84";
+  REQUIRE(text.size() > 2 * printer::kGcodePiece);
+  const std::string path = dir + "/big.gcode";
+  serve_test::write_text(path, text);
+  const JobFile whole = load_job_file(text, path);
+  const JobFile pieces = read_job_file(path);
+  CHECK(pieces.gcode.size() == whole.gcode.size());
+  CHECK(pieces.gcode.hash == whole.gcode.hash);
+  CHECK(pieces.command_end == whole.command_end);
+  CHECK(pieces.bytes == text.size());
+  REQUIRE(pieces.layer_start.size() == whole.layer_start.size());
+  bool same_states = true;
+  for (std::size_t l = 0; l < whole.layer_start.size(); ++l) {
+    same_states &= pieces.layer_start[l].x == whole.layer_start[l].x && pieces.layer_start[l].e == whole.layer_start[l].e;
+  }
+  CHECK(same_states);
+  CHECK(pieces.max_x == whole.max_x);
+  FileStore store(dir + "/files", printer::MotionLimits{}, 1.75);
+  const GcodeAnalysis a = store.analyse(path);
+  CHECK(a.error.empty());
+  CHECK(a.commands == whole.gcode.size());
+  CHECK(a.layers == whole.gcode.layers.size());
+  CHECK(a.contour == "ma");
+  CHECK(a.estimated_seconds == doctest::Approx(printer::PrintEta(whole.gcode, printer::MotionLimits{}).total()));
 }
 
 TEST_CASE("the_key_comparison_answers_only_an_exact_match") {
