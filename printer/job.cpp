@@ -68,6 +68,25 @@ void Job::request(JobRequest request) {
   }
 }
 
+bool Job::tune(std::string command) {
+  const bool sending = job_state_ == JobState::printing || job_state_ == JobState::pausing ||
+                       job_state_ == JobState::paused;
+  if (tunes_closed_ || !sending || cancel_requested_ || stop_requested_) return false;
+  tunes_.push_back(std::move(command));
+  return true;
+}
+
+void Job::send_tunes(PrintState* also) {
+  // Swapped out first: a send may tick, and a tick may add tunes for the next call.
+  std::vector<std::string> tunes;
+  tunes.swap(tunes_);
+  for (const std::string_view command : tunes) {
+    protocol_.send(command);
+    apply(state_, command);
+    if (also != nullptr) apply(*also, command);
+  }
+}
+
 JobProgress Job::progress() const {
   JobProgress p;
   p.state = job_state_;
@@ -183,7 +202,7 @@ void Job::pause_here(int layer) {
   paused_since_ = began;
   event(fmt::format("pausing before layer {}/{}: finishing the moves in the printer's queue",
                     layer + 1, file_.layers.size()));
-  const PausePoint point = pause_print(protocol_, state_, options_.pause);
+  PausePoint point = pause_print(protocol_, state_, options_.pause);
   // Counted once the printer stands paused: a pause the job is cancelled in is one too.
   ++pauses_;
   job_state_ = JobState::paused;
@@ -207,6 +226,8 @@ void Job::pause_here(int layer) {
                           : std::chrono::duration_cast<std::chrono::milliseconds>(kTick);
     protocol_.poll(wait);
     tick();
+    // A temperature tuned while paused is the one the resume heats to.
+    send_tunes(&point.state);
   }
   if (cancel_requested_) {
     stood_paused_ += protocol_.link().now() - point.stopped_at;
@@ -368,6 +389,7 @@ JobResult Job::run() {
         if (const int layer = file_.layer_starting_at(i); layer >= 0) start_layer(layer, i);
         tick();
         if (cancel_requested_) break;
+        send_tunes();
         const std::string_view command = file_.command(i);
         protocol_.send(command);
         apply(state_, command);
@@ -387,6 +409,9 @@ JobResult Job::run() {
                         layer_ < 0 ? PrintState{} : layer_state_[static_cast<std::size_t>(layer)],
                         result.reason);
     } else {
+      // Tunes taken while the last command was being sent go after it.
+      send_tunes();
+      tunes_closed_ = true;
       protocol_.wait_acknowledged();
       job_state_ = JobState::completed;
       write_journal_now(JobState::completed, -1, file_.size(), state_);

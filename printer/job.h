@@ -88,6 +88,12 @@ class Job {
   // at once (within 10 s of link time however the link behaves: moves stopped, heaters off,
   // lift, park; M112 if the printer does not confirm), stop (M112) at once.
   void request(JobRequest request);
+  // Sends `command` between two of the file's commands, before the next one (while paused, at
+  // once): a user's tune mid-print (a temperature, the fan, speed or flow factor, babystep).
+  // Its effect on the state is kept, so a temperature set here is the one a pause or resume
+  // restores. The caller decides what is safe mid-job. False when the job sends no more (its
+  // file all sent, or cancelling or stopping): the command is not sent.
+  bool tune(std::string command);
   JobProgress progress() const;
   const std::string& journal_path() const { return options_.journal_path; }
   // The motion model's time for the commands this job sends (the whole file, or from a
@@ -115,6 +121,8 @@ class Job {
   struct CancelNow {};      // leave whatever the job waits for: the user cancelled
   struct CancelOverdue {};  // the cancel took longer than its bound
   void tick(bool force = false);
+  // Sends the tunes asked for since the last call; `also` (a pause's saved state) follows them.
+  void send_tunes(PrintState* also = nullptr);
   void ask_temperatures(std::chrono::nanoseconds now);
   void start_layer(int layer, std::size_t command);
   void pause_here(int layer);
@@ -148,6 +156,8 @@ class Job {
   bool pause_requested_ = false, resume_requested_ = false;
   bool cancel_requested_ = false, stop_requested_ = false, stop_sent_ = false;
   bool break_sent_ = false;
+  std::vector<std::string> tunes_;  // tune() commands not yet sent
+  bool tunes_closed_ = false;       // the file's commands all sent: tune() takes no more
   std::chrono::nanoseconds start_{0}, paused_for_{0}, last_tick_{-1};
   std::optional<std::chrono::nanoseconds> paused_since_;  // set while pausing or paused
   std::chrono::nanoseconds done_at_{0};  // printing time when done_ last grew

@@ -18,6 +18,7 @@
 #include "host/local_time.h"
 #include "printer/error.h"
 #include "printer/gcode_file.h"
+#include "printer/gcode_line.h"
 #include "sim/record.h"
 
 namespace host::serve {
@@ -29,6 +30,7 @@ namespace {
 
 constexpr std::size_t kHistoryPoints = 900;  // 15 min at one a second
 constexpr std::size_t kEvents = 200;
+constexpr std::size_t kCommandsWaiting = 256;  // G-code lines from the API not yet sent
 constexpr auto kTemperatureEvery = std::chrono::seconds(2);  // M105 while idle, as OctoPrint
 constexpr auto kRetryAfter = std::chrono::seconds(5);        // reopening a port that failed
 // Heating, as the page shows it: a heater counts as there within kHeatedWithin of its target
@@ -391,6 +393,32 @@ void PrinterSession::stop_pending_start() {
   status_.ended_reason = "emergency stop (M112) before the job started";
 }
 
+std::optional<std::string> tune_refusal(std::string_view command) {
+  const printer::GcodeCommand c = printer::parse_gcode_line(command);
+  if (c.letter == 'M') {
+    switch (c.code) {
+      case 104: case 140:            // hotend and bed targets
+      case 106: case 107:            // part fan
+      case 220: case 221:            // speed and flow factors, %
+      case 290:                      // babystep, mm
+      case 117:                      // a message on the printer's display
+      case 105: case 114:            // temperature and position reports
+        return std::nullopt;
+      case 109: case 190:
+        return fmt::format("{} would hold the print until the heater reaches its target: set the "
+                           "target with {} while a job prints",
+                           command, c.code == 109 ? "M104" : "M140");
+      default:
+        break;
+    }
+  }
+  return fmt::format(
+      "{} is not taken while a job prints: mid-job mahost sends temperatures (M104, M140), the fan "
+      "(M106, M107), speed and flow (M220, M221), babysteps (M290), M117, M105 and M114; pause, "
+      "resume and cancel through /api/job, M112 stops at once",
+      command);
+}
+
 Outcome PrinterSession::send_commands(const std::vector<std::string>& commands) {
   std::lock_guard lock(mutex_);
   if (status_.connection != Connection::operational) {
@@ -410,12 +438,19 @@ Outcome PrinterSession::send_commands(const std::vector<std::string>& commands) 
       work_.notify_all();
       return {};
     }
-    return {409,
-            "a job is printing: G-code commands are taken when no job runs (pause, resume and "
-            "cancel through /api/job; M112 stops at once)"};
+    for (const std::string& c : commands) {
+      if (const std::optional<std::string> why = tune_refusal(c)) return {409, *why};
+    }
+    if (job_tunes_.size() + commands.size() > kCommandsWaiting) {
+      return {409, fmt::format("the job has {} commands waiting already: try again when they are sent",
+                               kCommandsWaiting)};
+    }
+    job_tunes_.insert(job_tunes_.end(), commands.begin(), commands.end());
+    return {};
   }
-  if (pending_commands_.size() + commands.size() > 256) {
-    return {409, "the printer has 256 commands waiting already: try again when they are done"};
+  if (pending_commands_.size() + commands.size() > kCommandsWaiting) {
+    return {409, fmt::format("the printer has {} commands waiting already: try again when they are done",
+                             kCommandsWaiting)};
   }
   for (const std::string& c : commands) {
     if (c == "M112") {
@@ -672,6 +707,7 @@ void PrinterSession::run() {
     status_.job_file.clear();
     pending_start_.reset();
     job_requests_.clear();
+    job_tunes_.clear();
     pending_commands_.clear();
     publish();
     if (shutting_down_) break;
@@ -1005,11 +1041,16 @@ void PrinterSession::run_job(const JobStart& start) {
   job.on_event = [this](const std::string& line) { add_event(line); };
   job.on_tick = [&](printer::Job& j) {
     std::vector<printer::JobRequest> requests;
+    std::vector<std::string> tunes;
     {
       std::lock_guard lock(mutex_);
       requests.swap(job_requests_);
+      tunes.swap(job_tunes_);
     }
     for (printer::JobRequest r : requests) j.request(r);
+    for (const std::string& c : tunes) {
+      add_event(j.tune(c) ? fmt::format("tune: {}", c) : fmt::format("{} not sent: the job was ending", c));
+    }
     take_planned_pause(j);
     if (control) control->serve(j);
     publish_job(j);
@@ -1025,18 +1066,23 @@ void PrinterSession::run_job(const JobStart& start) {
     const std::optional<InterruptedJob> left =
         state == printer::JobState::failed || state == printer::JobState::stopped ? interrupted_job(journal)
                                                                                   : std::nullopt;
-    std::lock_guard lock(mutex_);
-    if (left) status_.interrupted = left;
-    status_.progress = last;
-    status_.filepos = file->filepos(last.commands_done);
-    status_.job_active = false;
-    status_.cancel_requested = false;
-    status_.ended = state;
-    status_.ended_reason = reason;
-    status_.job_file.clear();
-    status_.heating.reset();
-    job_requests_.clear();
-    publish();
+    std::vector<std::string> unsent;  // tunes that came after the job's last look
+    {
+      std::lock_guard lock(mutex_);
+      if (left) status_.interrupted = left;
+      status_.progress = last;
+      status_.filepos = file->filepos(last.commands_done);
+      status_.job_active = false;
+      status_.cancel_requested = false;
+      status_.ended = state;
+      status_.ended_reason = reason;
+      status_.job_file.clear();
+      status_.heating.reset();
+      job_requests_.clear();
+      unsent.swap(job_tunes_);
+      publish();
+    }
+    for (const std::string& c : unsent) add_event(fmt::format("{} not sent: the job had ended", c));
   };
   printer::JobResult result;
   try {

@@ -22,6 +22,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -134,6 +135,13 @@ struct SliceRequest {
   bool select = false, print = false;
 };
 
+// Why `command` (upper case, as http_api's checked_command gives it) is not taken while a job
+// prints, or nothing when it is: a temperature (M104, M140), the fan (M106, M107), the speed
+// and flow factors (M220, M221), a babystep (M290), a message (M117) or a report (M105,
+// M114), as OctoPrint's tune controls send. Moves, homing, waits and anything else would
+// change what the file does under it.
+std::optional<std::string> tune_refusal(std::string_view command);
+
 class PrinterSession {
  public:
   struct Options {
@@ -176,8 +184,9 @@ class PrinterSession {
   Outcome emergency_stop();
   // The layers to pause before (from 1; replaces the list). 400 for a layer below 1.
   Outcome set_pause_at(std::vector<int> layers);
-  // G-code lines for the printer: taken when no job runs; while one runs only M112 (which
-  // stops it at once) is taken.
+  // G-code lines for the printer: any when no job runs; while one runs (or waits paused), the
+  // tunes tune_refusal takes, sent between the job's lines, or M112, which stops it at once;
+  // else 409 with tune_refusal's reason.
   Outcome send_commands(const std::vector<std::string>& commands);
   Outcome reconnect();
   Outcome resume_interrupted();
@@ -259,6 +268,7 @@ class PrinterSession {
   std::optional<JobStart> pending_start_;
   std::vector<printer::JobRequest> job_requests_;
   std::vector<std::string> pending_commands_;
+  std::vector<std::string> job_tunes_;       // for the running job, between its lines
   bool restart_after_cancel_ = false;
   bool reconnect_requested_ = false;
   bool stop_now_ = false;                    // emergency stop with no job

@@ -62,11 +62,14 @@ function report(error) {
   addLocalEvent(`error: ${error.message}`);
 }
 
+// Whether the server took it; a refusal is reported in the event list.
 async function act(method, path, body) {
   try {
     await api(method, path, body);
+    return true;
   } catch (e) {
     report(e);
+    return false;
   }
 }
 
@@ -290,6 +293,10 @@ function updateControls() {
   $("resume").disabled = !live || !paused;
   $("cancel").disabled = !active || text === "Cancelling";
   $("stop").disabled = !operational;
+  for (const id of ["tune-hotend", "tune-bed", "tune-fan", "tune-speed", "tune-flow", "tune-set", "tune-down",
+                    "tune-up", "gcode-line", "gcode-send"]) $(id).disabled = !operational;
+  $("gcode-note").textContent = operational && active
+    ? "while printing: temperatures, fan, M220, M221, M290, M117, M105, M114" : "";
   for (const id of ["pause-at-input", "pause-at-set"]) $(id).disabled = !live;
   for (const id of ["reconnect", "resume-interrupted", "discard-interrupted"]) $(id).disabled = !live;
   $("resume-interrupted").disabled = !operational || active;
@@ -626,7 +633,7 @@ $("pause-at-form").addEventListener("submit", (event) => {
     addLocalEvent("pause before layers: give whole layer numbers from 1, e.g. 20, 45");
     return;
   }
-  act("POST", "/api/mahost/pause-at", { layers }).then(() => { $("pause-at-input").value = ""; });
+  act("POST", "/api/mahost/pause-at", { layers }).then((taken) => { if (taken) $("pause-at-input").value = ""; });
 });
 
 $("start").addEventListener("click", () => act("POST", "/api/job", { command: "start" }));
@@ -637,6 +644,32 @@ $("cancel").addEventListener("click", () => {
 });
 $("stop").addEventListener("click", () => {
   if (confirm("Emergency stop? The printer halts at once (M112) and needs a reset.")) act("POST", "/api/mahost/stop");
+});
+// Tuning: what was filled in as G-code lines, taken mid-print (between the job's lines) as
+// well as idle; the server refuses anything else mid-print and says why.
+$("tune-form").addEventListener("submit", (event) => {
+  event.preventDefault();
+  const value = (id) => $(id).value.trim() === "" ? null : Number($(id).value);
+  const commands = [];
+  const hotend = value("tune-hotend"), bed = value("tune-bed"), fan = value("tune-fan");
+  const speed = value("tune-speed"), flow = value("tune-flow");
+  if (hotend !== null) commands.push(`M104 S${Math.round(hotend)}`);
+  if (bed !== null) commands.push(`M140 S${Math.round(bed)}`);
+  if (fan !== null) commands.push(fan > 0 ? `M106 S${Math.round(Math.min(fan, 100) * 2.55)}` : "M107");
+  if (speed !== null) commands.push(`M220 S${Math.round(speed)}`);
+  if (flow !== null) commands.push(`M221 S${Math.round(flow)}`);
+  if (!commands.length) return;
+  act("POST", "/api/printer/command", { commands }).then((taken) => {
+    if (taken) for (const id of ["tune-hotend", "tune-bed", "tune-fan", "tune-speed", "tune-flow"]) $(id).value = "";
+  });
+});
+$("tune-down").addEventListener("click", () => act("POST", "/api/printer/command", { command: "M290 Z-0.05" }));
+$("tune-up").addEventListener("click", () => act("POST", "/api/printer/command", { command: "M290 Z0.05" }));
+$("gcode-form").addEventListener("submit", (event) => {
+  event.preventDefault();
+  const command = $("gcode-line").value.trim();
+  if (!command) return;
+  act("POST", "/api/printer/command", { command }).then((taken) => { if (taken) $("gcode-line").value = ""; });
 });
 $("reconnect").addEventListener("click", () => act("POST", "/api/connection", { command: "connect" }));
 $("resume-interrupted").addEventListener("click", () => act("POST", "/api/mahost/interrupted", { command: "resume" }));

@@ -2,7 +2,8 @@
 """The mahost serve page in a real browser: headless Chromium driven by Selenium.
 
 Opens the page, checks every control is off before the key is given, gives it the API key,
-uploads a G-code file, starts it, pauses, checks the layer holds, resumes, sees the layer
+uploads a G-code file, starts it, tunes the hotend and speed mid-print and sees a move typed as
+G-code refused with the reason, pauses, checks the layer holds, resumes, sees the layer
 advance, cancels; checks the layer drawing; prints a file that heats first and checks the page
 says it heats (with the targets) and that a pause asked then says it waits for the heat-up, and
 that the printing file's Print and Delete are off; uploads an STL T with supports and adaptive
@@ -173,7 +174,8 @@ def main():
 
         def controls_off(what):
             """Every control of the job and the tuning is off."""
-            on = [id for id in ["start", "pause", "resume", "cancel", "stop", "pause-at-set", "upload-button"]
+            on = [id for id in ["start", "pause", "resume", "cancel", "stop", "pause-at-set", "upload-button",
+                                "tune-set", "tune-up", "tune-down", "gcode-send"]
                   if find(id).is_enabled()]
             if on:
                 raise Failed(f"{what}: {', '.join(on)} enabled")
@@ -229,6 +231,23 @@ def main():
         if "being printed" not in file_button("ring.gcode", "Delete").get_attribute("title"):
             raise Failed("the printing file's Delete does not say why it is off")
         shot("printing")
+
+        # Tuning mid-print: the form's hotend target and speed go to the printer between the
+        # job's lines; a move typed as G-code is refused, and the page says why.
+        find("tune-hotend").send_keys("190")
+        find("tune-speed").send_keys("110")
+        find("tune-set").click()
+        wait_until("the tunes sent", lambda: "tune: M104 S190" in text("events") and "tune: M220 S110" in text("events"))
+        wait_until("the tuned target shown", lambda: "190" in text("t-hotend-target"))
+        if find("tune-hotend").get_attribute("value") != "":
+            raise Failed("the tune form keeps what it sent")
+        find("gcode-line").send_keys("G28")
+        find("gcode-send").click()
+        wait_until("a move refused mid-print", lambda: "G28 is not taken while a job prints" in text("events"))
+        if find("gcode-line").get_attribute("value") != "G28":
+            raise Failed("the refused line was cleared")
+        find("gcode-line").clear()
+        shot("tune")
 
         # Pause: it takes effect at the next layer start, then the layer holds.
         find("pause").click()
@@ -360,7 +379,7 @@ def main():
         server.kill()
         server.wait(30)
         wait_until("the server lost", lambda: text("state-pill") == "Server lost" and find("lost-card").is_displayed())
-        for id in ["pause", "cancel", "stop", "upload-button"]:
+        for id in ["pause", "cancel", "stop", "upload-button", "tune-set", "gcode-send"]:
             if find(id).is_enabled():
                 raise Failed(f"{id} is enabled while the server is lost")
         shot("lost")
