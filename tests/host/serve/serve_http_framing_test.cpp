@@ -2,7 +2,7 @@
 // read (401, 403, 413) is answered once and the connection closed, so the unread body is never
 // taken for requests; Expect: 100-continue is answered before the client sends its body;
 // lengths that are not a number or disagree, and a line break in an uploaded file's name, get
-// a refusal that says what is wrong; a head that trickles in is cut off with 408.
+// a refusal that says what is wrong (a head that never ends: http_server_test.cpp).
 #include <doctest/doctest.h>
 #include <fmt/core.h>
 
@@ -156,30 +156,6 @@ TEST_CASE("lengths_that_are_no_number_or_disagree_and_a_line_break_in_a_file_nam
   CHECK(error_of(r).find("its Content-Disposition is broken (a line break or a quote in the file name?)") !=
         std::string::npos);
   CHECK(fs::is_empty(dirs.files));
-  CHECK(serve.stop() == 0);
-}
-
-TEST_CASE("a_request_head_that_trickles_in_is_cut_off_with_408_and_the_server_goes_on") {
-  ServeDirs dirs("serve_slow_head");
-  Serve serve(dirs, {"--time-scale", "max"});
-  RawConnection raw(serve.port);
-  const std::string head = "GET /api/job HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Api-Key: " + std::string(kKey) + "\r\n";
-  // A byte at a time, never the end of the head: the server stops waiting after its head time
-  // (10 s), whatever the pace.
-  std::string pending;
-  RawResponse r;
-  std::thread trickle([&] {
-    for (char c : head) {
-      if (!raw.send(std::string(1, c))) break;
-      std::this_thread::sleep_for(500ms);
-    }
-  });
-  r = read_response(raw, pending, 120s);
-  trickle.join();
-  CHECK(r.status == 408);
-  CHECK(r.closes());
-  CHECK(error_of(r) == "the request's line and headers did not arrive within 10 s");
-  CHECK(serve.get_json("/api/version")["api"] == "0.1");
   CHECK(serve.stop() == 0);
 }
 
