@@ -394,6 +394,8 @@ def main():
         if find("start").is_enabled():
             raise Failed("Start is enabled while an interrupted job waits")
         shot("interrupted")
+        # Clicked where the header that stays on top does not cover it.
+        driver.execute_script("arguments[0].scrollIntoView({block: 'center'})", find("discard-interrupted"))
         find("discard-interrupted").click()
         wait_until("the confirmation", lambda: driver.switch_to.alert)
         driver.switch_to.alert.accept()
