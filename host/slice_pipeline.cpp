@@ -471,7 +471,9 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
     return Sampled{t, sample_layers(index, geometry::uniform_plan(size.z, t, allowed, flats).layers,
                                     result.profiles)};
   };
-  std::optional<Sampled> thinnest;
+  // The samples, the thinnest and the one at about the plan's count: declared before the
+  // guard that joins the tasks writing into them, so they outlive those tasks on every way out.
+  std::optional<Sampled> thinnest, same_count;
   tbb::task_group beside;
   // Joined on every way out: a failed slice does not leave the estimate running.
   struct Joined {
@@ -497,7 +499,6 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
   const std::size_t count = layers.size();
   const geometry::LayerStack stack(index, layers);
   // The second, at about the plan's count, beside the contours, toolpaths and writing.
-  std::optional<Sampled> same_count;
   if (result.choice.adaptive && count > 1) {
     const double t = nearest_allowed(
         allowed, (layers.back().z_hi - machine.first_layer_height) / static_cast<double>(count - 1));
