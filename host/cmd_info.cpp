@@ -1,4 +1,4 @@
-// `mahost info MODEL.stl [placement] [--export OUT.stl]`: what the model is after reading,
+// `mahost info MODEL [placement] [--export OUT.stl]`: what the model is after reading,
 // repair and placement, the numbers a user checks before slicing (size, volume, watertight),
 // and optionally the placed, repaired mesh as binary STL, which is what every later stage
 // slices.
@@ -30,6 +30,11 @@ void run_info(const InfoOptions& options) {
   const std::string repairs = repair.summary();
 
   fmt::print("model         {}\n", options.model.path);
+  fmt::print("format        {}{}\n", geometry::format_name(model.format),
+             model.format == geometry::ModelFormat::threemf
+                 ? (model.objects == 1 ? std::string(", 1 object")
+                                       : fmt::format(", {} objects placed together", model.objects))
+                 : "");
   fmt::print("triangles     {} in the file, {} after repair\n", repair.facets_read,
              mesh.faces.size());
   fmt::print("vertices      {}\n", mesh.vertices.size());
@@ -42,6 +47,16 @@ void run_info(const InfoOptions& options) {
              repair.open_edges_after);
   fmt::print("repairs       {}\n", repairs.empty() ? "none" : repairs);
   fmt::print("watertight    {}\n", repair.closed ? "yes" : "no");
+  // Stored normals decide nothing (the vertex order and the repair do); those that point into
+  // the repaired part are counted, as a sign of an exporter's disagreement.
+  if (model.normals) {
+    const geometry::StoredNormals& n = *model.normals;
+    fmt::print("normals       {} of {} stored normals point into the repaired part{}\n",
+               n.disagreeing, n.compared,
+               n.no_direction == 0   ? std::string()
+               : n.no_direction == 1 ? std::string(" (1 more is zero or not a number)")
+                                     : fmt::format(" ({} more are zero or not numbers)", n.no_direction));
+  }
   // Support under overhangs past 50 degrees from vertical, columns to the bed or the part
   // below (an estimate; orientation.h), and what --orient auto made of it.
   fmt::print("overhangs     ~{:.0f} mm^3 of support under walls leaning past {:g} deg from vertical\n",

@@ -10,8 +10,9 @@
 #include <fmt/core.h>
 
 #include "geometry/core/error.h"
+#include "geometry/mesh/model_io.h"
 #include "geometry/mesh/placement.h"
-#include "geometry/mesh/stl_io.h"
+#include "geometry/mesh/stored_normals.h"
 #include "host/cli_checks.h"
 
 namespace host {
@@ -131,15 +132,18 @@ std::string orientation_text(const LoadedModel& model) {
 }
 
 void add_model_options(CLI::App& command, ModelOptions& options) {
-  command.add_option("MODEL", options.path, "the STL file (ASCII or binary)")->required();
+  command.add_option("MODEL", options.path,
+                     "the model: STL (ASCII or binary), 3MF (every object of its build, placed "
+                     "together) or OBJ")
+      ->required();
   add_placement_options(command, options);
 }
 
 void add_placement_options(CLI::App& command, ModelOptions& options, const std::string& group) {
   std::vector<CLI::Option*> added;
   added.push_back(command.add_option("--units", options.units,
-                                     "unit of the file's coordinates, which STL does not record "
-                                     "(default: mm)")
+                                     "unit of the file's coordinates, which STL and OBJ do not "
+                                     "record (3MF does) (default: mm)")
                       ->check(one_of({"m", "mm", "in"}, "a unit")));
   auto* scale = command.add_option("--scale", options.scale,
                                    "scale factor, applied after --units (default: 1)")
@@ -163,12 +167,13 @@ void add_placement_options(CLI::App& command, ModelOptions& options, const std::
                                      "needs the least support (then the lowest), after --up and "
                                      "--rotate (default: none, as given)")
                       ->check(one_of({"none", "auto"}, "an orientation")));
-  added.push_back(command.add_flag("--ignore-normals", options.ignore_normals,
-                                   "rebuild the facets' normals from their vertex order instead "
-                                   "of refusing a file whose stored normals contradict it (default: off)"));
   if (!group.empty()) {
     for (CLI::Option* option : added) option->group(group);
   }
+  // Accepted, and not listed, for the scripts of earlier versions, which refused an STL whose
+  // stored normals disagreed with its vertex order unless given this: stored normals are
+  // never used now (geometry/mesh/stl_io.h).
+  command.add_flag("--ignore-normals", options.ignore_normals)->group("");
 }
 
 LoadedModel load_model_with_report(const ModelOptions& options, geometry::Vec2 center) {
@@ -188,20 +193,24 @@ LoadedModel load_model_with_report(const ModelOptions& options, geometry::Vec2 c
   placement.rotation = parse_rotations(options.rotate);
   placement.center = center;
 
-  geometry::StlReadOptions read_options;
-  read_options.check_normals = !options.ignore_normals;
-  std::vector<geometry::Triangle> facets;
-  try {
-    facets = geometry::read_stl(options.path, read_options);
-  } catch (const geometry::StlNormalsError& e) {
-    throw geometry::InputError(
-        fmt::format("{}; if its vertex order is right, --ignore-normals rebuilds the normals "
-                    "from it",
-                    e.what()));
+  geometry::ModelFile file = geometry::read_model(options.path);
+  if (file.units_recorded) {
+    if (options.units != "mm") {
+      throw geometry::InputError(fmt::format(
+          "--units {}: {} is {}, which records its unit; --units is for STL and OBJ files, "
+          "which do not (scale with --scale or --height)",
+          options.units, options.path, geometry::format_name(file.format)));
+    }
+    placement.units_to_mm = 1;  // the reader gave mm
   }
   LoadedModel model;
-  geometry::Mesh repaired = geometry::repair(facets, &model.repair);
+  model.format = file.format;
+  model.objects = file.objects;
+  geometry::Mesh repaired = geometry::repair(file.triangles, &model.repair);
   geometry::check_printable(model.repair, options.path);
+  if (!file.stored_normals.empty()) {
+    model.normals = geometry::compare_stored_normals(file.triangles, file.stored_normals, repaired);
+  }
 
   model.mesh = geometry::place(std::move(repaired), placement);
   if (options.orient == "auto") {

@@ -1,5 +1,5 @@
-// The model options every command shares (MODEL.stl, --units, --scale, --height, --up) and
-// loading a model through them: read, repair, place. What every later stage slices.
+// The model options every command shares (MODEL: STL, 3MF or OBJ; --units, --scale, --height,
+// --up) and loading a model through them: read, repair, place. What every later stage slices.
 #pragma once
 
 #include <optional>
@@ -9,6 +9,8 @@
 #include <CLI/CLI.hpp>
 
 #include "geometry/mesh/mesh.h"
+#include "geometry/mesh/model_io.h"
+#include "geometry/mesh/stored_normals.h"
 #include "geometry/mesh/orientation.h"
 #include "geometry/core/polygon.h"
 #include "geometry/mesh/repair.h"
@@ -27,7 +29,7 @@ struct ModelOptions {
   double scale = 1.0;
   double height = 0;  // 0: keep the size
   std::string up = "z";
-  bool ignore_normals = false;
+  bool ignore_normals = false;      // accepted and unused: stored normals never decide
   std::vector<std::string> rotate;  // "x:90", "1,1,0:30", ... applied in order after --up
   std::string orient = "none";      // "auto": the resting face needing the least support
   double overhang_angle = 50;       // degrees, for --orient auto (slice: the material's)
@@ -56,7 +58,10 @@ geometry::Mesh load_model(const ModelOptions& options, geometry::Vec2 center = {
 // The same, silent, also returning what the repair did (in file units), for `mahost info`.
 struct LoadedModel {
   geometry::Mesh mesh;  // placed, mm
+  geometry::ModelFormat format = geometry::ModelFormat::stl;
+  std::size_t objects = 1;  // 3MF: the build's objects placed together
   geometry::RepairReport repair;
+  std::optional<geometry::StoredNormals> normals;  // STL: its stored normals against the repair
   std::optional<geometry::OrientResult> orientation;  // with --orient auto
   double orient_seconds = 0;
 };

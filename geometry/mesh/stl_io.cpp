@@ -1,10 +1,6 @@
 // STL reading and writing; see stl_io.h. No CGAL here, so the fuzz build stays quick.
 #include "geometry/mesh/stl_io.h"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <bit>
 #include <cerrno>
@@ -18,21 +14,14 @@
 
 #include <fmt/core.h>
 
+#include "geometry/mesh/file_bytes.h"
+
 namespace geometry {
 namespace {
 
 constexpr std::size_t kHeaderBytes = 80;
 constexpr std::size_t kBinaryPrefix = 84;  // header + facet count
 constexpr std::size_t kFacetBytes = 50;    // normal, 3 corners (12 float32), 2 attribute bytes
-
-// A stored normal whose direction differs from the vertex-order normal by more than this
-// (cosine below it) points against its facet. Exporters round normals to a few digits, so
-// only a clear disagreement counts; a flipped normal has a cosine near -1.
-constexpr double kNormalAgreement = -1e-3;
-// A facet whose twice-area is below this share of its longest squared edge is a needle or a
-// cap: rounding of its float corners can turn its vertex-order normal any way, so its stored
-// normal is only checked for being a finite, non-zero vector.
-constexpr double kDegenerateRatio = 1e-5;
 
 [[noreturn]] void fail(std::string_view name, const std::string& problem) {
   throw InputError(fmt::format("{}: {}", name, problem));
@@ -75,53 +64,6 @@ std::string_view trim(std::string_view s) {
   return s;
 }
 
-// Collects facets whose stored normal contradicts their vertex order; reported once at the
-// end, so the message can say how many there are.
-class NormalCheck {
- public:
-  explicit NormalCheck(bool enabled) : enabled_(enabled) {}
-
-  void check(const Vec3& stored, const Triangle& t, std::size_t facet) {
-    if (!enabled_) return;
-    const char* problem = nullptr;
-    if (!std::isfinite(stored.x) || !std::isfinite(stored.y) || !std::isfinite(stored.z)) {
-      problem = "is not a number";
-    } else if (stored.x == 0 && stored.y == 0 && stored.z == 0) {
-      problem = "is zero";
-    } else {
-      const Vec3 ab = t.v[1] - t.v[0], ac = t.v[2] - t.v[0], bc = t.v[2] - t.v[1];
-      const Vec3 winding = cross(ab, ac);
-      const double twice_area = std::sqrt(dot(winding, winding));
-      const double longest = std::max({dot(ab, ab), dot(ac, ac), dot(bc, bc)});
-      if (twice_area > kDegenerateRatio * longest) {
-        const double cosine =
-            dot(stored, winding) / (std::sqrt(dot(stored, stored)) * twice_area);
-        if (cosine < kNormalAgreement) problem = "points against its vertex order";
-      }
-    }
-    if (!problem) return;
-    if (bad_ == 0) {
-      first_facet_ = facet;
-      first_problem_ = problem;
-    }
-    ++bad_;
-  }
-
-  void report(std::string_view name, std::size_t facets) const {
-    if (bad_ == 0) return;
-    throw StlNormalsError(fmt::format(
-        "{}: the stored normal of facet {} {} ({} of {} facets have a bad normal), so the file "
-        "disagrees with itself about which side is outside",
-        name, first_facet_, first_problem_, bad_, facets));
-  }
-
- private:
-  bool enabled_;
-  std::size_t bad_ = 0;
-  std::size_t first_facet_ = 0;
-  const char* first_problem_ = "";
-};
-
 // `where` is appended to the message: "" for binary files, " (line N)" for ASCII.
 void require_finite(std::string_view name, const Triangle& t, std::size_t facet,
                     std::string_view where) {
@@ -147,15 +89,14 @@ std::vector<Triangle> read_binary(std::string_view bytes, std::string_view name,
   const std::size_t count = read_u32(bytes.data() + kHeaderBytes);
   if (count == 0) fail(name, "binary STL with no facets: there is nothing to print");
   std::vector<Triangle> facets(count);
-  NormalCheck normals(options.check_normals);
+  if (options.stored_normals) options.stored_normals->resize(count);
   const char* p = bytes.data() + kBinaryPrefix;
   for (std::size_t i = 0; i < count; ++i, p += kFacetBytes) {
     Triangle& t = facets[i];
     t.v = {read_vec3(p + 12), read_vec3(p + 24), read_vec3(p + 36)};
     require_finite(name, t, i + 1, "");
-    normals.check(read_vec3(p), t, i + 1);
+    if (options.stored_normals) (*options.stored_normals)[i] = read_vec3(p);
   }
-  normals.report(name, count);
   return facets;
 }
 
@@ -247,7 +188,7 @@ std::vector<Triangle> read_ascii(std::string_view text, std::string_view name,
   std::vector<Triangle> facets;
   // About 250 bytes per facet in typical exporters' output: one allocation for most files.
   facets.reserve(text.size() / 256 + 1);
-  NormalCheck normals(options.check_normals);
+  if (options.stored_normals) options.stored_normals->clear();
 
   in.expect("solid", "the first line");
   std::string_view solid_name = in.rest_of_line();
@@ -316,11 +257,10 @@ std::vector<Triangle> read_ascii(std::string_view text, std::string_view name,
     }
     in.expect("endfacet", context);
     require_finite(name, tri, index, fmt::format(" (line {})", facet_line));
-    normals.check(stored, tri, index);
+    if (options.stored_normals) options.stored_normals->push_back(stored);
     facets.push_back(tri);
   }
   if (facets.empty()) fail(name, "ASCII STL with no facets: there is nothing to print");
-  normals.report(name, facets.size());
   return facets;
 }
 
@@ -387,36 +327,7 @@ std::vector<Triangle> read_stl_bytes(std::string_view bytes, std::string_view na
 }
 
 std::vector<Triangle> read_stl(const std::string& path, const StlReadOptions& options) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) {
-    const int error = errno;
-    if (error == ENOENT) fail(path, "no such file (check the path)");
-    if (error == EACCES) fail(path, "permission denied: cannot read the file");
-    fail(path, fmt::format("cannot open the file ({})", std::strerror(error)));
-  }
-  struct Closer {
-    int fd;
-    ~Closer() { ::close(fd); }
-  } closer{fd};
-  struct stat info {};
-  if (::fstat(fd, &info) != 0) {
-    fail(path, fmt::format("cannot read the file ({})", std::strerror(errno)));
-  }
-  if (S_ISDIR(info.st_mode)) fail(path, "is a directory, not an STL file");
-  if (!S_ISREG(info.st_mode)) fail(path, "is not a regular file (a device or pipe?)");
-
-  // One read of the whole file; the parsers work on the bytes in place.
-  std::string bytes(static_cast<std::size_t>(info.st_size), '\0');
-  std::size_t done = 0;
-  while (done < bytes.size()) {
-    const ssize_t got = ::read(fd, bytes.data() + done, bytes.size() - done);
-    if (got < 0 && errno == EINTR) continue;
-    if (got < 0) fail(path, fmt::format("reading failed ({})", std::strerror(errno)));
-    if (got == 0) break;  // the file shrank while we read it
-    done += static_cast<std::size_t>(got);
-  }
-  bytes.resize(done);
-  return read_stl_bytes(bytes, path, options);
+  return read_stl_bytes(read_file_bytes(path), path, options);
 }
 
 void write_stl_binary(const std::string& path, const std::vector<Triangle>& triangles) {

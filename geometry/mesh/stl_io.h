@@ -4,15 +4,14 @@
 // A file is binary when its size is exactly 84 + 50 * (the facet count in its header), even
 // if its header starts with "solid" (many exporters write that); otherwise it must be ASCII.
 // Output: the facets in file order, coordinates in file units (STL has none; see placement.h).
-// Stored normals never enter the geometry: the orientation of a facet is its vertex order.
-// By default they are checked, because a normal that contradicts its vertex order means the
-// file is inconsistent and the part may come out inside-out; `check_normals = false` skips it.
+// Stored normals never enter the geometry, as in every other slicer: the vertex order and the
+// repair (repair.h, which orients every closed surface outward) decide which side is outside.
+// A caller may take them (StlReadOptions::stored_normals) to count those that disagree with
+// the repaired part (stored_normals.h); zero, NaN or contradicting normals are never refused.
 //
 // Errors (geometry::InputError, one line): "<path>: <problem> (facet N)" or "(line N)" for
 // a missing, unreadable or empty file, an ASCII syntax error, a truncated file, a binary
 // facet count that disagrees with the file size, a NaN or infinite coordinate, no facets.
-// A bad stored normal throws StlNormalsError, a kind of InputError, so that a caller can say
-// how to proceed (mahost: --ignore-normals).
 #pragma once
 
 #include <string>
@@ -24,14 +23,10 @@
 
 namespace geometry {
 
-struct StlNormalsError : InputError {
-  using InputError::InputError;
-};
-
 struct StlReadOptions {
-  // Refuse a facet whose stored normal is NaN, infinite, zero, or points against the normal
-  // of its vertex order (beyond rounding). Degenerate facets are only checked for NaN/zero.
-  bool check_normals = true;
+  // If set, receives each facet's stored normal, in file order (as stored: possibly zero,
+  // NaN or not of unit length).
+  std::vector<Vec3>* stored_normals = nullptr;
 };
 
 std::vector<Triangle> read_stl(const std::string& path, const StlReadOptions& options = {});

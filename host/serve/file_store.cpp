@@ -67,7 +67,7 @@ std::string_view to_string(FileKind kind) { return kind == FileKind::gcode ? "ma
 std::optional<FileKind> kind_of(std::string_view name) {
   const std::string extension = lower(fs::path(std::string(name)).extension().string());
   if (extension == ".gcode" || extension == ".gco" || extension == ".g") return FileKind::gcode;
-  if (extension == ".stl") return FileKind::model;
+  if (extension == ".stl" || extension == ".3mf" || extension == ".obj") return FileKind::model;
   return std::nullopt;
 }
 
@@ -97,7 +97,7 @@ CleanName clean_file_name(std::string_view given) {
     name += kept;
   }
   if (!kind_of(name)) {
-    return refuse(415, fmt::format("{}: only G-code (.gcode, .gco, .g) and STL (.stl) files are taken", name));
+    return refuse(415, fmt::format("{}: only G-code (.gcode, .gco, .g) and models (.stl, .3mf, .obj) are taken", name));
   }
   result.name = name;
   return result;

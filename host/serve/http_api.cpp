@@ -16,7 +16,8 @@
 #include <nlohmann/json.hpp>
 
 #include "geometry/core/error.h"
-#include "geometry/mesh/stl_io.h"
+#include "geometry/mesh/file_bytes.h"
+#include "geometry/mesh/model_io.h"
 #include "geometry/support/support_plan.h"
 #include "host/layer_choice.h"
 #include "host/local_time.h"
@@ -707,7 +708,7 @@ void HttpApi::post_file(const Request& req, Response& res) {
     return;
   }
   if (command != "slice") throw Refusal{400, "unknown command: use select, unselect or slice"};
-  if (kind_of(name) != FileKind::model) throw Refusal{415, fmt::format("{} is not an STL model", name)};
+  if (kind_of(name) != FileKind::model) throw Refusal{415, fmt::format("{} is not a model (STL, 3MF, OBJ)", name)};
   if (!files_.find(name)) throw Refusal{404, fmt::format("{}: no such file", name)};
 
   const SliceRequest request = slice_request(body, name, session_.profiles());
@@ -802,15 +803,13 @@ void HttpApi::upload(const Request& req, Response& res, const httplib::ContentRe
     }
   } else {
     try {
-      geometry::StlReadOptions options;
-      options.check_normals = false;  // slicing says so, with what to do
-      geometry::read_stl(file->temporary_path(), options);
+      // Read as the name says (an .obj is OBJ); messages name the client's file.
+      geometry::read_model_bytes(geometry::read_file_bytes(file->temporary_path()), name);
     } catch (const geometry::InputError& e) {
-      // The reader names the temporary file; the client knows it by its own name.
       const std::string what = e.what();
-      const std::string temp = file->temporary_path() + ": ";
-      throw Refusal{415, fmt::format("{}: not a readable STL file: {}", name,
-                                     what.rfind(temp, 0) == 0 ? what.substr(temp.size()) : what)};
+      const std::string prefix = name + ": ";
+      throw Refusal{415, fmt::format("{}: not a readable model file: {}", name,
+                                     what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what)};
     }
   }
   const bool print = truthy(fields["print"]);

@@ -564,10 +564,13 @@ async function loadProfiles() {
 $("opt-printer").addEventListener("change", fillDefaults);
 $("opt-adaptive").addEventListener("change", adaptiveChanged);
 
+// A model the host slices before printing (as file_store.cpp's kind_of).
+const isModel = (name) => /\.(stl|3mf|obj)$/i.test(name);
+
 $("upload-file").addEventListener("change", () => {
   const file = $("upload-file").files[0];
-  $("upload-name").textContent = file ? `${file.name} (${bytes(file.size)})` : "Choose a G-code or STL file…";
-  $("slice-options").hidden = !(file && file.name.toLowerCase().endsWith(".stl"));
+  $("upload-name").textContent = file ? `${file.name} (${bytes(file.size)})` : "Choose a G-code file or a model…";
+  $("slice-options").hidden = !(file && isModel(file.name));
 });
 
 $("upload-form").addEventListener("submit", (event) => {
@@ -579,7 +582,7 @@ $("upload-form").addEventListener("submit", (event) => {
   const print = $("upload-print").checked;
   form.append("print", print ? "true" : "false");
   form.append("select", "true");  // ready for Start (taken only while no job runs)
-  if (file.name.toLowerCase().endsWith(".stl")) {
+  if (isModel(file.name)) {
     form.append("slice", "true");
     for (const [k, v] of Object.entries(sliceOptions())) form.append(k, v);
   }
@@ -611,7 +614,7 @@ $("upload-form").addEventListener("submit", (event) => {
       // The slice settings stay for the next upload; the file and "print" do not.
       $("upload-file").value = "";
       $("upload-print").checked = false;
-      $("upload-name").textContent = "Choose a G-code or STL file…";
+      $("upload-name").textContent = "Choose a G-code file or a model…";
       $("slice-options").hidden = true;
     } else if (request.status === 0) {
       $("upload-message").textContent = "The upload failed: the server did not answer.";

@@ -93,7 +93,8 @@ bool same_facets(const std::vector<Triangle>& a, const std::vector<Triangle>& b)
 }  // namespace
 
 TEST_CASE("broken_files_refused_with_the_reason") {
-  // Each broken file of stl-models and a word its one-line refusal must contain.
+  // Each broken file of stl-models and a word its one-line refusal must contain (its files
+  // whose stored normals are wrong are read: stored_normals_never_refuse_a_file).
   const std::pair<const char*, const char*> cases[] = {
       {"empty.stl", "empty file"},
       {"fourVertices.ascii.stl", "more than 3 vertices"},
@@ -102,10 +103,7 @@ TEST_CASE("broken_files_refused_with_the_reason") {
       {"incorrectFaceCounter.bin.stl", "header says 66 facets"},
       {"missingEndsolid.ascii.stl", "without 'endsolid'"},
       {"missingNormal.ascii.stl", "'facet normal' needs three numbers"},
-      {"notANumberNormal.ascii.stl", "normal of facet 2 is not a number"},
       {"solidNameMismatch.ascii.stl", "'endsolid anything but tetrahedron' does not match"},
-      {"wrongNormal.ascii.stl", "normal of facet 4 points against its vertex order"},
-      {"wrongNormals.ascii.stl", "4 of 4 facets have a bad normal"},
       {"missingFace.ascii.stl", "missing too much"},
       {"singleFace.ascii.stl", "zero volume"},
   };
@@ -149,8 +147,7 @@ TEST_CASE("wrong_header_cube_read_as_binary") {
 
 TEST_CASE("binary_with_solid_header_read_as_binary") {
   const auto cube = cube_facets();
-  const auto facets = read_stl_bytes(binary_stl("solid cube exported by a CAD", cube, 12),
-                                     "cube.stl", {.check_normals = false});
+  const auto facets = read_stl_bytes(binary_stl("solid cube exported by a CAD", cube, 12), "cube.stl");
   CHECK(same_facets(facets, cube));
 }
 
@@ -208,12 +205,15 @@ TEST_CASE("ascii_variants_exporters_write_are_read") {
   CHECK(facets[1].v[2].z == 1.0);
 }
 
-TEST_CASE("ignore_normals_reads_contradicting_normals") {
+TEST_CASE("stored_normals_never_refuse_a_file") {
+  // A normal against the vertex order, several, and a NaN: read, and the repair closes them.
   for (const char* file : {"wrongNormal.ascii.stl", "wrongNormals.ascii.stl",
                            "notANumberNormal.ascii.stl"}) {
     CAPTURE(file);
-    const auto facets = read_stl(kBroken + file, {.check_normals = false});
+    std::vector<Vec3> normals;
+    const auto facets = read_stl(kBroken + file, {.stored_normals = &normals});
     REQUIRE(facets.size() == 4);
+    CHECK(normals.size() == 4);
     RepairReport report;
     repair(facets, &report);
     CHECK(report.closed);
@@ -221,25 +221,23 @@ TEST_CASE("ignore_normals_reads_contradicting_normals") {
   }
 }
 
-TEST_CASE("bad_normal_is_a_normals_error") {
-  // The host tells the user about --ignore-normals only for this kind of refusal.
-  CHECK_THROWS_AS(read_stl(kBroken + "wrongNormal.ascii.stl"), StlNormalsError);
-  CHECK_THROWS_AS(read_stl(kBroken + "fourVertices.ascii.stl"), InputError);
-  bool syntax_is_normals_error = false;
-  try {
-    read_stl(kBroken + "fourVertices.ascii.stl");
-  } catch (const StlNormalsError&) {
-    syntax_is_normals_error = true;
-  } catch (const InputError&) {
-  }
-  CHECK_FALSE(syntax_is_normals_error);
+TEST_CASE("stored_normals_are_handed_out_in_file_order") {
+  const std::string text =
+      "solid t\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n"
+      "endloop\nendfacet\nfacet normal 0 0 -1.5\nouter loop\nvertex 0 0 1\nvertex 1 0 1\n"
+      "vertex 0 1 1\nendloop\nendfacet\nendsolid t\n";
+  std::vector<Vec3> normals;
+  const auto facets = read_stl_bytes(text, "two.stl", {.stored_normals = &normals});
+  REQUIRE(normals.size() == 2);
+  CHECK(normals[0].z == 0);
+  CHECK(normals[1].z == -1.5);  // as stored: neither checked nor normalised
 }
 
 TEST_CASE("files_that_are_not_there_refused") {
   const std::string dir = test_support::scratch_dir("stl_io_missing");
   CHECK(refusal([&] { read_stl(dir + "/nothing.stl"); }) ==
         dir + "/nothing.stl: no such file (check the path)");
-  CHECK(refusal([&] { read_stl(dir); }) == dir + ": is a directory, not an STL file");
+  CHECK(refusal([&] { read_stl(dir); }) == dir + ": is a directory, not a model file");
   spit(dir + "/locked.stl", slurp(kBroken + "wrongHeader.bin.stl"));
   std::filesystem::permissions(dir + "/locked.stl", std::filesystem::perms::none);
   if (access((dir + "/locked.stl").c_str(), R_OK) != 0) {  // root reads anything
@@ -272,7 +270,7 @@ TEST_CASE("non_finite_coordinates_refused") {
   auto cube = cube_facets();
   cube[5].v[1].y = std::numeric_limits<double>::quiet_NaN();
   CHECK(refusal([&] {
-          read_stl_bytes(binary_stl("", cube, 12), "nan.stl", {.check_normals = false});
+          read_stl_bytes(binary_stl("", cube, 12), "nan.stl");
         }) == "nan.stl: facet 6 has a corner that is NaN or infinite");
   const std::string text =
       "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex inf 0 0\nvertex 0 1 0\n"
