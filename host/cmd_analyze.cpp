@@ -53,6 +53,7 @@
 #include "host/layer_boundaries.h"
 #include "host/model_input.h"
 #include "host/plots.h"
+#include "host/profile_paths.h"
 #include "host/progress.h"
 #include "host/slice_pipeline.h"
 #include "printer/profile.h"
@@ -189,7 +190,7 @@ LayerChoice adaptive_choice(const AdaptiveRequest& request, const std::string& p
                             const geometry::Mesh& mesh, double height,
                             const ContourStrategy& printed) {
   const printer::PrinterProfile profile =
-      printer::load_printer_profile(printer_name, printer::config_directory(MAHOST_CONFIG_DIR));
+      printer::load_printer_profile(printer_name, host::profile_search_path());
   const geometry::LayerStack index(mesh, {});
   Progress bar("planning layers", 0);
   LayerChoice choice = choose_layers(request, profile, index, height, 0, printed,
@@ -396,7 +397,7 @@ void write_plan_charts(const LayerChoice& plan, const std::vector<LayerAnalysis>
                        const std::string& printer_name, const geometry::Mesh& mesh, double height,
                        const PathOf& path_of) {
   const printer::PrinterProfile profile =
-      printer::load_printer_profile(printer_name, printer::config_directory(MAHOST_CONFIG_DIR));
+      printer::load_printer_profile(printer_name, host::profile_search_path());
   const geometry::AllowedThicknesses allowed = allowed_thicknesses(profile);
   const std::size_t count = plan.layers.size();
   double same = allowed.thinnest();
@@ -740,7 +741,7 @@ void run_advise(const AdviseOptions& options) {
     source = "--thicknesses";
   } else {
     const printer::PrinterProfile profile = printer::load_printer_profile(
-        options.printer, printer::config_directory(MAHOST_CONFIG_DIR));
+        options.printer, host::profile_search_path());
     thicknesses = allowed_thicknesses(profile);
     source = fmt::format("{} ({})", profile.name, profile.layer.describe());
   }

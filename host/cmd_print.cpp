@@ -28,6 +28,7 @@
 #include "host/control_socket.h"
 #include "host/job_setup.h"
 #include "host/print_ui.h"
+#include "host/profile_paths.h"
 #include "host/slice_pipeline.h"
 #include "printer/bead_model.h"
 #include "printer/error.h"
@@ -322,7 +323,7 @@ struct ResumeOptions {
 printer::PrinterProfile resume_profile(const printer::JournalRecord& record) {
   const std::string name = record.printer.empty() ? "up-plus-2" : record.printer;
   try {
-    return printer::load_printer_profile(name, printer::config_directory(MAHOST_CONFIG_DIR));
+    return printer::load_printer_profile(name, host::profile_search_path());
   } catch (const printer::ConfigError& e) {
     fmt::print(stderr, "note: {}; the remaining time uses Marlin's default motion limits\n", e.what());
     return printer::PrinterProfile{};

@@ -24,6 +24,7 @@
 #include "host/cli_checks.h"
 #include "host/commands.h"
 #include "host/job_setup.h"
+#include "host/profile_paths.h"
 #include "host/serve/api_key.h"
 #include "host/serve/file_store.h"
 #include "host/serve/http_api.h"
@@ -120,7 +121,7 @@ void run_serve(const ServeOptions& options) {
   printer::ProfileRequest request;
   request.printer = options.printer;
   request.material = options.material;
-  request.config_dir = printer::config_directory(MAHOST_CONFIG_DIR);
+  request.config_dir = host::profile_search_path();
   request.overrides = options.overrides;
   const printer::Profiles profiles = printer::load_profiles(request);
 

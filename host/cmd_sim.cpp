@@ -21,6 +21,7 @@
 #include "host/cli_checks.h"
 #include "host/commands.h"
 #include "host/job_setup.h"
+#include "host/profile_paths.h"
 #include "printer/error.h"
 #include "printer/profile.h"
 #include "sim/faults.h"
@@ -86,7 +87,7 @@ void run_sim(const SimOptions& options) {
   check.contact_gap = 0.2;
   if (!options.printer_profile.empty()) {
     // The profile's limits, so the sim's clock matches the estimate the slicer wrote.
-    const std::string dir = printer::config_directory(MAHOST_CONFIG_DIR);
+    const std::string dir = host::profile_search_path();
     const printer::PrinterProfile profile = printer::load_printer_profile(options.printer_profile, dir);
     config.motion = profile.motion;
     config.filament_diameter = profile.filament_diameter;

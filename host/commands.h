@@ -39,5 +39,9 @@ void add_ctl_command(CLI::App& app);
 // `mahost ports`: host/cmd_ports.cpp.
 void add_ports_command(CLI::App& app);
 void add_analyze_command(CLI::App& app);  // `mahost analyze` and `mahost advise`: host/cmd_analyze.cpp
+// `mahost profiles list` and `mahost profiles import`: host/cmd_profiles.cpp.
+void add_profiles_command(CLI::App& app);
+// `mahost help`: host/cmd_help.cpp.
+void add_help_command(CLI::App& app);
 
 }  // namespace host

@@ -28,6 +28,8 @@ int main(int argc, char** argv) {
   host::add_ports_command(app);
   host::add_sim_command(app);
   host::add_analyze_command(app);
+  host::add_profiles_command(app);
+  host::add_help_command(app);
 
   try {
     app.parse(argc, argv);

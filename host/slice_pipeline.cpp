@@ -2,6 +2,7 @@
 #include "host/slice_pipeline.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <atomic>
 #include <charconv>
 #include <chrono>
@@ -26,6 +27,7 @@
 #include "geometry/toolpaths/toolpath_plan.h"
 #include "host/cli_checks.h"
 #include "host/layer_boundaries.h"
+#include "host/profile_paths.h"
 #include "host/progress.h"
 #include "host/uniform_estimate.h"
 #include "printer/error.h"
@@ -82,7 +84,7 @@ geometry::SupportOptions support_options(const printer::Profiles& profiles) {
   options.pattern = geometry::parse_support_pattern(s.pattern).value_or(geometry::SupportPattern::lines);
   options.line_spacing = s.spacing;
   options.line_angle = s.angle;
-  const double cx = machine.bed_x / 2, cy = machine.bed_y / 2;
+  const double cx = printer::bed_centre_x(machine), cy = printer::bed_centre_y(machine);
   auto part_box = [&](const printer::SupportBoxMm& b) {
     return geometry::SupportBox{{b[0] - cx, b[1] - cy, b[2]}, {b[3] - cx, b[4] - cy, b[5]}};
   };
@@ -318,7 +320,7 @@ printer::Profiles load_slice_profiles(const SliceOptions& options) {
   printer::ProfileRequest request;
   request.printer = options.printer;
   request.material = options.material;
-  request.config_dir = printer::config_directory(MAHOST_CONFIG_DIR);
+  request.config_dir = host::profile_search_path();
   request.overrides = options.overrides;
   printer::Profiles profiles = printer::load_profiles(request);
   if (options.perimeters >= 0) profiles.printer.print.perimeters = options.perimeters;
@@ -547,6 +549,7 @@ SliceResult slice_to_gcode(const SliceOptions& options, const std::string& outpu
     nominal = std::round(nominal * 1e6) / 1e6;
   }
   gcode_options.layer_height = nominal;
+  gcode_options.input_filename_base = std::filesystem::path(options.model.path).stem().string();
   gcode_options.notes = {
       fmt::format("model: {} ({:.2f} x {:.2f} x {:.2f} mm)", options.model.path, size.x, size.y,
                   size.z),

@@ -296,6 +296,23 @@ void for_each_line(std::string_view text, F&& f) {
   }
 }
 
+// Whether a G-code block runs one of `codes` with a temperature (S or R): M104 S215 ; comment.
+bool sets_temperature(std::string_view text, std::initializer_list<std::string_view> codes) {
+  bool found = false;
+  for_each_line(text, [&](std::string_view line) {
+    line = line.substr(0, line.find(';'));
+    for (const std::string_view code : codes) {
+      if (!line.starts_with(code)) continue;
+      const std::string_view rest = line.substr(code.size());
+      if (!rest.empty() && rest.front() != ' ') continue;  // M1040 is not M104
+      for (std::size_t i = 0; i + 1 < rest.size(); ++i) {
+        if ((rest[i] == 'S' || rest[i] == 'R') && (i == 0 || rest[i - 1] == ' ')) found = true;
+      }
+    }
+  });
+  return found;
+}
+
 // Generates the program body into a sink; the same code for both runs.
 class Emitter {
  public:
@@ -305,15 +322,19 @@ class Emitter {
 
   void program(const std::vector<LayerToolpaths>& layers) {
     const MaterialProfile& m = material_;
-    for (const std::string& line : heat_and_wait(printer_.firmware, m.first_layer_bed_temperature,
-                                                 m.first_layer_nozzle_temperature)) {
+    PlaceholderValues values = placeholder_values(layers);
+    const std::string start = expand_placeholders(printer_.start_gcode, profiles_, values, "gcode.start");
+    // A start G-code that sets a temperature itself (as PrusaSlicer's vendors' do) heats as it
+    // says, and the writer leaves that heater to it (PrusaSlicer's GCode.cpp does the same).
+    const bool start_heats_bed = sets_temperature(start, {"M140", "M190"});
+    const bool start_heats_nozzle = sets_temperature(start, {"M104", "M109"});
+    for (const std::string& line :
+         heat_and_wait(printer_.firmware, start_heats_bed ? 0 : m.first_layer_bed_temperature,
+                       start_heats_nozzle ? 0 : m.first_layer_nozzle_temperature)) {
       sink_.command(line);
     }
-    PlaceholderValues values;
-    values.layer_height = options_.layer_height;
     sink_.comment("start G-code from the printer profile");
-    for_each_line(expand_placeholders(printer_.start_gcode, profiles_, values, "gcode.start"),
-                  [&](std::string_view line) { profile_line(line, "gcode.start"); });
+    for_each_line(start, [&](std::string_view line) { profile_line(line, "gcode.start"); });
     // G90 also resets Marlin's E to absolute, so the E mode comes after it.
     sink_.command("G90");
     sink_.command(printer_.relative_e ? "M83" : "M82");
@@ -326,10 +347,36 @@ class Emitter {
     }
 
     sink_.command(fan_off());
+    if (!layers.empty()) values.max_layer_z = mm(layers.back().z_hi);
     sink_.comment("end G-code from the printer profile");
     for_each_line(expand_placeholders(printer_.end_gcode, profiles_, values, "gcode.end"),
                   [&](std::string_view line) { profile_line(line, "gcode.end"); });
     if (dialect_of(printer_.firmware).has_m73) sink_.command("M73 P100 R0");
+  }
+
+  // What the slice tells the start and end G-code (the end's max_layer_z is set after the layers).
+  PlaceholderValues placeholder_values(const std::vector<LayerToolpaths>& layers) const {
+    PlaceholderValues values;
+    values.layer_height = options_.layer_height;
+    values.layer_count = layers.size();
+    values.input_filename_base = options_.input_filename_base;
+    if (!layers.empty()) {
+      for (const ExtrusionPath& path : layers.front().paths) {
+        if (path.points.size() < 2) continue;
+        for (const Vec2& point : path.points) {
+          const Vec2 q = place(point);
+          if (values.first_layer_min_x > values.first_layer_max_x) {
+            values.first_layer_min_x = values.first_layer_max_x = q.x;
+            values.first_layer_min_y = values.first_layer_max_y = q.y;
+          }
+          values.first_layer_min_x = std::min(values.first_layer_min_x, q.x);
+          values.first_layer_max_x = std::max(values.first_layer_max_x, q.x);
+          values.first_layer_min_y = std::min(values.first_layer_min_y, q.y);
+          values.first_layer_max_y = std::max(values.first_layer_max_y, q.y);
+        }
+      }
+    }
+    return values;
   }
 
   // What the profile's firmware turns the fan off with (Teacup has no M107).
@@ -546,16 +593,23 @@ void check_build_volume(const std::vector<LayerToolpaths>& layers, const Printer
   if (!(max_x >= min_x)) return;  // nothing to print
   constexpr double kTolerance = 1e-6;
   const double hop = travel_lift(printer);
-  const bool fits = min_x + offset.x >= -kTolerance && max_x + offset.x <= printer.bed_x + kTolerance &&
-                    min_y + offset.y >= -kTolerance && max_y + offset.y <= printer.bed_y + kTolerance &&
-                    top + hop <= printer.bed_z + kTolerance;
+  bool fits = on_bed(printer, min_x + offset.x, min_y + offset.y) &&
+              on_bed(printer, max_x + offset.x, max_y + offset.y) && top + hop <= printer.bed_z + kTolerance;
+  if (fits && printer.round_bed) {
+    // The corners of the paths' box may lie off a round bed while every point is on it.
+    for (const LayerToolpaths& layer : layers) {
+      for (const ExtrusionPath& path : layer.paths) {
+        for (const Vec2& p : path.points) fits = fits && on_bed(printer, p.x + offset.x, p.y + offset.y);
+      }
+    }
+  }
   if (fits) return;
   throw ConfigError(fmt::format(
       "the toolpaths (part and skirt) span {:.1f} x {:.1f} x {:.1f} mm but the {} builds at most "
-      "{:g} x {:g} x {:g} mm; scale the part down (--scale, --height), set a smaller "
+      "{:g} x {:g} x {:g} mm{}; scale the part down (--scale, --height), set a smaller "
       "print.skirt_distance, or choose a bigger printer (--printer)",
       max_x - min_x, max_y - min_y, top + hop, printer.name, printer.bed_x, printer.bed_y,
-      printer.bed_z));
+      printer.bed_z, printer.round_bed ? " (a round bed)" : ""));
 }
 
 void write_header(TextSink& text, const std::vector<LayerToolpaths>& layers, const Profiles& profiles,
@@ -611,7 +665,7 @@ std::string format_duration(double seconds) {
 GcodeSummary write_gcode(std::ostream& out, const std::vector<LayerToolpaths>& layers,
                          const Profiles& profiles, const GcodeOptions& options,
                          const LayersWritten& on_layer) {
-  const Vec2 offset{profiles.printer.bed_x / 2, profiles.printer.bed_y / 2};
+  const Vec2 offset{bed_centre_x(profiles.printer), bed_centre_y(profiles.printer)};
   check_build_volume(layers, profiles.printer, offset);
 
   // The two runs side by side: the clock's and the text's.
@@ -638,7 +692,7 @@ GcodeSummary write_gcode(std::ostream& out, const std::vector<LayerToolpaths>& l
 
 GcodeSummary time_gcode(const std::vector<LayerToolpaths>& layers, const Profiles& profiles,
                         const GcodeOptions& options) {
-  const Vec2 offset{profiles.printer.bed_x / 2, profiles.printer.bed_y / 2};
+  const Vec2 offset{bed_centre_x(profiles.printer), bed_centre_y(profiles.printer)};
   check_build_volume(layers, profiles.printer, offset);
   ClockSink clock(profiles.printer.motion);
   Emitter timing(profiles, options, offset, clock);

@@ -34,6 +34,7 @@ namespace printer {
 struct GcodeOptions {
   double layer_height = 0.2;         // the {layer_height} placeholder and the header, mm
   std::vector<std::string> notes;    // extra header lines ("model: bunny.stl", "contour: ma")
+  std::string input_filename_base;   // the model's name without extension (PrusaSlicer's placeholder)
 };
 
 struct GcodeSummary {

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -18,6 +19,7 @@
 #include <toml++/toml.h>
 
 #include "printer/error.h"
+#include "printer/prusa_variables.h"
 
 namespace printer {
 
@@ -25,7 +27,9 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-enum class Kind { number, integer, boolean, text, number_list, box_list };
+// `constant`: any TOML value (a string, number, boolean or a list of them), for PrusaSlicer's
+// settings kept by name under a table (gcode.constants.NAME).
+enum class Kind { number, integer, boolean, text, number_list, box_list, constant };
 
 struct Value {
   double number = 0;
@@ -34,6 +38,8 @@ struct Value {
   std::string text;
   std::vector<double> list;
   std::vector<SupportBoxMm> boxes;
+  MacroVariable constant;
+  std::string name;  // a constant's name: the key after its table's
 };
 
 template <class Target>
@@ -44,6 +50,7 @@ struct Rule {
   std::string_view unit;
   std::vector<std::string_view> choices;  // text keys with a fixed set of values
   bool required = false;
+  bool table = false;  // every key under `key.` (Kind::constant)
   std::function<void(Target&, const Value&)> apply;
 };
 
@@ -73,6 +80,7 @@ std::string describe(const Rule<Target>& rule) {
         return fmt::format("one of {}", fmt::join(rule.choices, ", "));
       }
       return "a string";
+    case Kind::constant: return "a string, a number, true, false or a list of them";
   }
   return "a value";
 }
@@ -109,6 +117,15 @@ void check_value(const Rule<Target>& rule, const Value& v, const std::string& wh
       shown = fmt::format("[{}]", fmt::join(texts, ", "));
       break;
     }
+    case Kind::constant:
+      if (v.name.empty() || std::isdigit(static_cast<unsigned char>(v.name.front())) ||
+          !std::all_of(v.name.begin(), v.name.end(), [](char c) {
+            return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+          })) {
+        throw ConfigError(fmt::format("{}: key '{}' has a name '{}' that is not a placeholder's "
+                                      "(letters, digits and _)", where, rule.key, v.name));
+      }
+      break;
     case Kind::boolean: break;
   }
   if (bad) {
@@ -159,6 +176,24 @@ Value value_from_node(const Rule<Target>& rule, const toml::node& node, const st
         double x = 0;
         if (!as_number(element, x)) throw wrong_type();
         v.list.push_back(x);
+      }
+      break;
+    }
+    case Kind::constant: {
+      auto scalar = [&](const toml::node& n) -> MacroScalar {
+        if (auto i = n.value_exact<int64_t>()) return static_cast<long long>(*i);
+        if (auto d = n.value_exact<double>()) return *d;
+        if (auto b = n.value_exact<bool>()) return *b;
+        if (auto t = n.value_exact<std::string>()) return *t;
+        throw wrong_type();
+      };
+      if (const toml::array* array = node.as_array()) {
+        std::vector<MacroScalar> values;
+        for (const toml::node& element : *array) values.push_back(scalar(element));
+        if (values.empty()) throw wrong_type();
+        v.constant = macro_vector(std::move(values));
+      } else {
+        v.constant = macro_scalar(scalar(node));
       }
       break;
     }
@@ -216,6 +251,20 @@ Value value_from_text(const Rule<Target>& rule, std::string_view text, const std
       else if (text == "false") v.flag = false;
       else throw wrong();
       break;
+    case Kind::constant: {
+      // A number if it reads as one, else the text.
+      double x = 0;
+      long long i = 0;
+      const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), i);
+      if (!text.empty() && ec == std::errc() && end == text.data() + text.size()) {
+        v.constant = macro_scalar(i);
+      } else if (parse_double(text, x)) {
+        v.constant = macro_scalar(x);
+      } else {
+        v.constant = macro_scalar(std::string(text));
+      }
+      break;
+    }
     case Kind::text: {
       // "\n" typed on a command line means a line break in G-code.
       std::string s(text);
@@ -328,8 +377,16 @@ const Rules<P>& printer_rules() {
     r.push_back(number<P>("build_volume.x", 10, 2000, "mm", [](P& p, double v) { p.bed_x = v; }, true));
     r.push_back(number<P>("build_volume.y", 10, 2000, "mm", [](P& p, double v) { p.bed_y = v; }, true));
     r.push_back(number<P>("build_volume.z", 10, 2000, "mm", [](P& p, double v) { p.bed_z = v; }, true));
+    r.push_back(number<P>("build_volume.origin_x", -2000, 2000, "mm (the G-code's X of the front left corner)",
+                          [](P& p, double v) { p.bed_origin_x = v; }));
+    r.push_back(number<P>("build_volume.origin_y", -2000, 2000, "mm (the G-code's Y of the front left corner)",
+                          [](P& p, double v) { p.bed_origin_y = v; }));
+    r.push_back(text<P>("build_volume.shape", {"rectangle", "circle"},
+                        [](P& p, const std::string& s) { p.round_bed = s == "circle"; }));
     r.push_back(number<P>("nozzle.diameter", 0.1, 2.0, "mm",
                           [](P& p, double v) { p.nozzle_diameter = v; }, true));
+    r.push_back(integer<P>("nozzle.count", 1, 16, "extruders (mahost prints with the first)",
+                           [](P& p, int v) { p.extruders = v; }));
     r.push_back(number<P>("filament.diameter", 1.0, 3.5, "mm",
                           [](P& p, double v) { p.filament_diameter = v; }, true));
     r.push_back(number<P>("extrusion.width", 0.1, 3.0, "mm",
@@ -452,6 +509,15 @@ const Rules<P>& printer_rules() {
     r.push_back(text<P>("gcode.start", {}, [](P& p, const std::string& s) { p.start_gcode = s; }));
     r.push_back(text<P>("gcode.end", {}, [](P& p, const std::string& s) { p.end_gcode = s; }));
     r.push_back(number<P>("gcode.resolution", 0, 0.1, "mm", [](P& p, double v) { p.resolution = v; }));
+    r.push_back(text<P>("gcode.syntax", {"mahost", "prusaslicer"}, [](P& p, const std::string& s) {
+      p.gcode_syntax = s == "prusaslicer" ? GcodeSyntax::prusaslicer : GcodeSyntax::mahost;
+    }));
+    {
+      Rule<P> constants;
+      constants.key = "gcode.constants"; constants.kind = Kind::constant; constants.table = true;
+      constants.apply = [](P& p, const Value& v) { p.gcode_constants[v.name] = v.constant; };
+      r.push_back(constants);
+    }
     {
       Rule<P> baud;
       baud.key = "serial.baud"; baud.kind = Kind::integer; baud.min = 1200; baud.max = 4000000;
@@ -468,6 +534,7 @@ const Rules<M>& material_rules() {
   static const Rules<M> rules = [] {
     Rules<M> r;
     r.push_back(text<M>("name", {}, [](M& m, const std::string& s) { m.name = s; }, true));
+    r.push_back(text<M>("type", {}, [](M& m, const std::string& s) { m.type = s; }));
     r.push_back(number<M>("temperature.nozzle", 0, 350, "C",
                           [](M& m, double v) { m.nozzle_temperature = v; }, true));
     r.push_back(number<M>("temperature.first_layer_nozzle", 0, 350, "C",
@@ -493,9 +560,19 @@ const Rules<M>& material_rules() {
 template <class Target>
 const Rule<Target>* find_rule(const Rules<Target>& rules, std::string_view key) {
   for (const Rule<Target>& rule : rules) {
-    if (rule.key == key) return &rule;
+    if (rule.key == key && !rule.table) return &rule;
+    if (rule.table && key.size() > rule.key.size() + 1 && key.starts_with(rule.key) &&
+        key[rule.key.size()] == '.') {
+      return &rule;
+    }
   }
   return nullptr;
+}
+
+// A table rule's value knows its own name: the key after the table's ("printer_model").
+template <class Target>
+void name_value(const Rule<Target>& rule, std::string_view key, Value& v) {
+  if (rule.table) v.name = std::string(key.substr(rule.key.size() + 1));
 }
 
 // Keys an earlier mahost read and what took their place, for a profile written for it.
@@ -567,7 +644,8 @@ void apply_table(Target& target, const Rules<Target>& rules, std::string_view to
     const std::string where = fmt::format("{}:{}", source, node->source().begin.line);
     const Rule<Target>* rule = find_rule(rules, key);
     if (!rule) throw ConfigError(unknown_key_message(rules, key, where));
-    const Value v = value_from_node(*rule, *node, where);
+    Value v = value_from_node(*rule, *node, where);
+    name_value(*rule, key, v);
     check_value(*rule, v, where);
     rule->apply(target, v);
     seen.insert(rule->key);
@@ -623,6 +701,10 @@ void check_printer(const PrinterProfile& p) {
                                     p.raft.base_thickness));
     }
   }
+  if (p.round_bed && std::abs(p.bed_x - p.bed_y) > 1e-6) {
+    throw ConfigError(fmt::format("{}: build_volume.shape = \"circle\" needs x = y (the circle's "
+                                  "diameter), not {} and {} mm", where, p.bed_x, p.bed_y));
+  }
   if (p.first_layer_width < p.first_layer_height) {
     throw ConfigError(fmt::format("{}: first_layer.width = {} mm is narrower than "
                                   "first_layer.height = {} mm", where, p.first_layer_width,
@@ -647,20 +729,44 @@ std::string read_text_file(const std::string& path, std::string_view what) {
   return text.str();
 }
 
+// A profile given as a file rather than a name: a .toml, or an existing file's path.
 bool looks_like_path(const std::string& s) {
-  return s.find('/') != std::string::npos ||
-         (s.size() > 5 && s.compare(s.size() - 5, 5, ".toml") == 0);
+  if (s.size() > 5 && s.compare(s.size() - 5, 5, ".toml") == 0) return true;
+  std::error_code ec;
+  return s.find('/') != std::string::npos && std::filesystem::is_regular_file(s, ec);
+}
+
+std::vector<std::string> split_search_path(const std::string& config_dir) {
+  std::vector<std::string> dirs;
+  std::string_view rest = config_dir;
+  while (true) {
+    const std::size_t colon = rest.find(':');
+    const std::string_view dir = rest.substr(0, colon);
+    if (!dir.empty()) dirs.emplace_back(dir);
+    if (colon == std::string_view::npos) break;
+    rest.remove_prefix(colon + 1);
+  }
+  return dirs;
 }
 
 std::string resolve_profile(const std::string& name_or_path, const std::string& config_dir,
                             std::string_view kind, std::string_view what) {
   if (looks_like_path(name_or_path)) return name_or_path;
-  const std::string path = config_dir + "/" + std::string(kind) + "/" + name_or_path + ".toml";
-  if (std::filesystem::exists(path)) return path;
+  const std::vector<std::string> dirs = split_search_path(config_dir);
+  for (const std::string& stem : {name_or_path, profile_file_stem(name_or_path)}) {
+    for (const std::string& dir : dirs) {
+      const std::string path = dir + "/" + std::string(kind) + "/" + stem + ".toml";
+      std::error_code ec;
+      if (std::filesystem::is_regular_file(path, ec)) return path;
+    }
+  }
+  std::vector<std::string> folders;
+  for (const std::string& dir : dirs) folders.push_back(dir + "/" + std::string(kind));
   const std::vector<std::string> names = available_profiles(config_dir, kind);
-  throw ConfigError(fmt::format("{} profile '{}' not found in {}/{} (available: {}); give one of "
-                                "these names or a path to a .toml file", what, name_or_path,
-                                config_dir, kind, names.empty() ? "none" : fmt::format("{}", fmt::join(names, ", "))));
+  throw ConfigError(fmt::format("{} profile '{}' not found in {} (available: {}); give one of these "
+                                "names or a path to a .toml file", what, name_or_path,
+                                fmt::join(folders, ", "),
+                                names.empty() ? "none" : fmt::format("{}", fmt::join(names, ", "))));
 }
 
 template <class Target>
@@ -668,7 +774,8 @@ void apply_assignment(Target& target, const Rules<Target>& rules, std::string_vi
                       std::string_view value, const std::string& where) {
   const Rule<Target>* rule = find_rule(rules, key);
   if (!rule) throw ConfigError(unknown_key_message(rules, key, where));
-  const Value v = value_from_text(*rule, value, where);
+  Value v = value_from_text(*rule, value, where);
+  name_value(*rule, key, v);
   check_value(*rule, v, where);
   rule->apply(target, v);
 }
@@ -705,19 +812,73 @@ std::string LayerThicknesses::describe() const {
   return fmt::format("{} mm", fmt::join(values, ", "));
 }
 
-std::string config_directory(const char* built_in) {
+namespace {
+
+// $NAME if it is set to an absolute path (the XDG base directory rules ignore relative ones).
+std::optional<std::string> absolute_from_environment(const char* name) {
+  const char* value = std::getenv(name);
+  if (!value || value[0] != '/') return std::nullopt;
+  return std::string(value);
+}
+
+}  // namespace
+
+std::string user_config_directory() {
+  if (const auto xdg = absolute_from_environment("XDG_CONFIG_HOME")) return *xdg + "/mahost";
+  if (const auto home = absolute_from_environment("HOME")) return *home + "/.config/mahost";
+  return ".config/mahost";
+}
+
+std::string config_directory(const std::string& installed) {
   if (const char* env = std::getenv("MAHOST_CONFIG_DIR"); env && *env) return env;
-  return built_in ? built_in : "configs";
+  std::vector<std::string> dirs{user_config_directory()};
+  // $XDG_CONFIG_DIRS: the system's folders, most important first (default /etc/xdg).
+  const char* system = std::getenv("XDG_CONFIG_DIRS");
+  for (const std::string& dir : split_search_path(system && *system ? system : "/etc/xdg")) {
+    if (dir.front() == '/') dirs.push_back(dir + "/mahost");
+  }
+  if (!installed.empty()) dirs.push_back(installed);
+  return fmt::format("{}", fmt::join(dirs, ":"));
+}
+
+std::string profile_file_stem(std::string_view name) {
+  std::string stem;
+  for (const char c : name) {
+    const auto u = static_cast<unsigned char>(c);
+    if (std::isalnum(u) || c == '.' || c == '+' || c == '_' || u >= 0x80) {
+      stem += static_cast<char>(std::tolower(u));
+    } else if (!stem.empty() && stem.back() != '-') {
+      stem += '-';
+    }
+  }
+  while (!stem.empty() && (stem.back() == '-' || stem.back() == '.')) stem.pop_back();
+  while (!stem.empty() && stem.front() == '.') stem.erase(stem.begin());
+  return stem;
+}
+
+std::vector<ProfileFile> find_profiles(const std::string& config_dir, std::string_view kind) {
+  std::vector<ProfileFile> found;
+  std::set<std::string> seen;
+  for (const std::string& dir : split_search_path(config_dir)) {
+    std::vector<ProfileFile> here;
+    std::error_code ec;
+    for (const auto& entry :
+         std::filesystem::directory_iterator(dir + "/" + std::string(kind), ec)) {
+      if (entry.path().extension() != ".toml") continue;
+      const std::string id = entry.path().stem().string();
+      if (!seen.count(id)) here.push_back({id, entry.path().string()});
+    }
+    for (const ProfileFile& f : here) seen.insert(f.id);
+    found.insert(found.end(), here.begin(), here.end());
+  }
+  std::sort(found.begin(), found.end(),
+            [](const ProfileFile& a, const ProfileFile& b) { return a.id < b.id; });
+  return found;
 }
 
 std::vector<std::string> available_profiles(const std::string& config_dir, std::string_view kind) {
   std::vector<std::string> names;
-  std::error_code ec;
-  for (const auto& entry :
-       std::filesystem::directory_iterator(config_dir + "/" + std::string(kind), ec)) {
-    if (entry.path().extension() == ".toml") names.push_back(entry.path().stem().string());
-  }
-  std::sort(names.begin(), names.end());
+  for (const ProfileFile& f : find_profiles(config_dir, kind)) names.push_back(f.id);
   return names;
 }
 
@@ -738,6 +899,7 @@ MaterialProfile parse_material_profile(std::string_view toml_text, const std::st
   m.first_layer_nozzle_temperature = -1;
   m.first_layer_bed_temperature = -1;
   apply_table(m, material_rules(), toml_text, source);
+  if (m.type.empty()) m.type = m.name;
   if (m.first_layer_nozzle_temperature < 0) m.first_layer_nozzle_temperature = m.nozzle_temperature;
   if (m.first_layer_bed_temperature < 0) m.first_layer_bed_temperature = m.bed_temperature;
   return m;
@@ -816,6 +978,18 @@ void check_layer_tops(const PrinterProfile& printer, std::span<const double> top
   }
 }
 
+double bed_centre_x(const PrinterProfile& printer) { return printer.bed_origin_x + printer.bed_x / 2; }
+double bed_centre_y(const PrinterProfile& printer) { return printer.bed_origin_y + printer.bed_y / 2; }
+
+bool on_bed(const PrinterProfile& printer, double x, double y, double tolerance) {
+  if (printer.round_bed) {
+    const double dx = x - bed_centre_x(printer), dy = y - bed_centre_y(printer);
+    return std::sqrt(dx * dx + dy * dy) <= printer.bed_x / 2 + tolerance;
+  }
+  return x >= printer.bed_origin_x - tolerance && x <= printer.bed_origin_x + printer.bed_x + tolerance &&
+         y >= printer.bed_origin_y - tolerance && y <= printer.bed_origin_y + printer.bed_y + tolerance;
+}
+
 void check_part_fits(const PrinterProfile& printer, double size_x, double size_y, double size_z) {
   constexpr double kTolerance = 1e-6;
   if (size_x <= printer.bed_x + kTolerance && size_y <= printer.bed_y + kTolerance &&
@@ -864,6 +1038,11 @@ void check_layer_tops_fit(const PrinterProfile& printer, double part_z, double t
 std::string expand_placeholders(std::string_view text, const Profiles& profiles,
                                 const PlaceholderValues& values, std::string_view key) {
   const PrinterProfile& p = profiles.printer;
+  if (p.gcode_syntax == GcodeSyntax::prusaslicer) {
+    return expand_prusa_macro(text, prusa_variables(profiles, values), fmt::format("{}: {}", p.source, key),
+                              "mahost evaluates PrusaSlicer's placeholders for the printer, the "
+                              "material and the slice, and the printer's gcode.constants");
+  }
   const MaterialProfile& m = profiles.material;
   struct Entry { std::string_view name; std::string value; };
   const Entry entries[] = {

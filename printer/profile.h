@@ -1,7 +1,8 @@
 // Printer and material profiles: what a printer can do and how a material prints.
 //
-// Profiles are TOML files in configs/printers/<name>.toml and configs/materials/<name>.toml
-// (found by name in a config directory, or given as a path). Every key is checked on load: an
+// Profiles are TOML files printers/<name>.toml and materials/<name>.toml, found by name in a
+// search path of folders (config_directory(); the shipped ones are configs/ in the source tree)
+// or given as a path. Every key is checked on load: an
 // unknown key, a wrong type or a value out of range throws ConfigError naming the file, the key
 // and what is allowed. `--set key=value` overrides go through the same checks (dotted keys as in
 // the file; `material.` in front of a key reaches the material profile).
@@ -17,6 +18,7 @@
 
 #include "printer/firmware_dialect.h"
 #include "printer/motion_model.h"
+#include "printer/prusa_macro.h"
 
 namespace printer {
 
@@ -94,11 +96,22 @@ struct PrintSettings {
   std::string seam = "aligned";  // "aligned" or "nearest"
 };
 
+// How a profile's start and end G-code name values: mahost's own {name} placeholders, or
+// PrusaSlicer's macro language (prusa_macro.h), for printers imported from PrusaSlicer.
+enum class GcodeSyntax { mahost, prusaslicer };
+
 struct PrinterProfile {
   std::string name;         // as shown to the user: "UP Plus 2"
   std::string source;       // the file it came from, for messages
-  double bed_x = 220, bed_y = 220, bed_z = 250;  // build volume, mm; origin at a bed corner
+  double bed_x = 220, bed_y = 220, bed_z = 250;  // build volume, mm
+  // Where the build volume's front left corner is in the G-code's X and Y, mm: 0, 0 for most
+  // printers; -r, -r for a delta whose origin is the centre of its round bed.
+  double bed_origin_x = 0, bed_origin_y = 0;
+  bool round_bed = false;   // the bed is the circle inscribed in bed_x by bed_y (bed_x = bed_y)
   double nozzle_diameter = 0.4;
+  // Extruders the printer has; mahost prints with the first (its nozzle_diameter and the
+  // material). More than one only says that the others' values are not known.
+  int extruders = 1;
   double filament_diameter = 1.75;
   double extrusion_width = 0.45;  // bead width of walls, skins and infill
   LayerThicknesses layer;
@@ -116,6 +129,10 @@ struct PrinterProfile {
   // so a curve sampled every few microns does not flood the printer's serial line.
   double resolution = 0.0125;
   std::string start_gcode, end_gcode;  // with {placeholders}
+  GcodeSyntax gcode_syntax = GcodeSyntax::mahost;
+  // PrusaSlicer syntax: the printer's own PrusaSlicer settings its G-code names that mahost has
+  // no key of its own for (printer_model, printer_notes, print_settings_id, ...).
+  MacroVariables gcode_constants;
   int baud = 115200;
   // The firmware the G-code is written for (`firmware = "marlin" | "teacup" | "repetier"`): how
   // it heats and waits, whether it has M73 and M107 (printer/firmware_dialect.h).
@@ -126,6 +143,7 @@ struct PrinterProfile {
 struct MaterialProfile {
   std::string name;    // "ABS"
   std::string source;
+  std::string type;    // "ABS", "PLA", "PETG", "FLEX", ... (PrusaSlicer's filament_type); "": the name
   double nozzle_temperature = 210, first_layer_nozzle_temperature = 215;
   double bed_temperature = 60, first_layer_bed_temperature = 60;
   double fan_speed = 100;  // percent, from fan_start_layer on
@@ -145,23 +163,49 @@ struct Profiles {
 
 // Which profiles to load, as the user gave them.
 struct ProfileRequest {
-  std::string printer = "up-plus-2";  // a name in config_dir/printers, or a path to a .toml
+  std::string printer = "up-plus-2";  // a name found in config_dir, or a path to a .toml
   std::string material;               // empty: the printer's default_material
   std::string config_dir;             // see config_directory()
   std::vector<std::string> overrides;  // "key=value", applied in order
 };
 
-// The config directory: $MAHOST_CONFIG_DIR if set and non-empty, else `built_in`.
-std::string config_directory(const char* built_in);
+// Profiles are found by name in a search path: folders separated by ':', each holding
+// printers/ and materials/, searched in order (the first folder with the name wins).
+// config_directory() is $MAHOST_CONFIG_DIR alone when it is set and non-empty (tests, or a
+// private set of profiles); else the user's folder (user_config_directory()), then each of
+// $XDG_CONFIG_DIRS/mahost (default /etc/xdg/mahost: profiles an administrator shares), then
+// `installed` (the profiles shipped with mahost; empty: none).
+std::string config_directory(const std::string& installed);
 
-// Names of the profiles found in config_dir/printers or config_dir/materials, sorted.
+// The user's profile folder, where `mahost profiles import` writes: $XDG_CONFIG_HOME/mahost,
+// by default ~/.config/mahost.
+std::string user_config_directory();
+
+// The file name (without .toml) a profile named `name` is stored under, and found by:
+// lower case, every run of other characters than letters, digits, '.', '+' and '_' one '-'
+// ("Creality Ender-3 (0.4 mm nozzle)" -> "creality-ender-3-0.4-mm-nozzle").
+std::string profile_file_stem(std::string_view name);
+
+struct ProfileFile {
+  std::string id;    // the file's name without .toml: what --printer and --material take
+  std::string path;
+};
+
+// The profiles of one kind ("printers" or "materials") in a search path, each id once (the
+// first folder's), sorted by id.
+std::vector<ProfileFile> find_profiles(const std::string& config_dir, std::string_view kind);
+
+// Their ids alone.
 std::vector<std::string> available_profiles(const std::string& config_dir, std::string_view kind);
 
 // Parses and checks a profile's TOML text; `source` names it in messages.
 PrinterProfile parse_printer_profile(std::string_view toml, const std::string& source);
 MaterialProfile parse_material_profile(std::string_view toml, const std::string& source);
 
-// Reads a profile by name (from config_dir) or by path (anything with a '/' or ending in .toml).
+// Reads a profile by path (a name ending in .toml, or an existing file's path) or by name: the
+// first folder of config_dir holding printers/NAME.toml (materials/), or the file of the
+// name's profile_file_stem, so that `--printer "Creality Ender-3 (0.4 mm nozzle)"` finds
+// creality-ender-3-0.4-mm-nozzle.toml.
 PrinterProfile load_printer_profile(const std::string& name_or_path, const std::string& config_dir);
 MaterialProfile load_material_profile(const std::string& name_or_path, const std::string& config_dir);
 
@@ -181,8 +225,16 @@ void check_layer_thickness(const PrinterProfile& printer, double thickness);
 // first layer that is not (counted from 1, with its heights) and what is allowed there.
 void check_layer_tops(const PrinterProfile& printer, std::span<const double> tops);
 
+// The bed's centre in the G-code's X and Y, mm: where a part is placed.
+double bed_centre_x(const PrinterProfile& printer);
+double bed_centre_y(const PrinterProfile& printer);
+
+// Whether a point (G-code X and Y, mm) is on the bed, within `tolerance` mm.
+bool on_bed(const PrinterProfile& printer, double x, double y, double tolerance = 1e-6);
+
 // Throws ConfigError with the part's size and the build volume's unless a part of this size
-// (mm) fits.
+// (mm) fits (on a round bed: its bounding box fits the bed's square; the toolpaths are checked
+// against the circle when the G-code is written).
 void check_part_fits(const PrinterProfile& printer, double size_x, double size_y, double size_z);
 
 // How far a retracted travel lifts the nozzle above the layer (mm): the z-hop, or 0 where
@@ -197,16 +249,24 @@ double travel_lift(const PrinterProfile& printer);
 void check_layer_tops_fit(const PrinterProfile& printer, double part_z, double top_z,
                           double thickness, double raft = 0);
 
-// Values for the {placeholders} of start and end G-code.
+// Values for the {placeholders} of start and end G-code that the slice decides.
 struct PlaceholderValues {
   double layer_height = 0.2;
+  std::size_t layer_count = 0;
+  double max_layer_z = 0;  // the top of the last layer, mm (end G-code)
+  // The first layer's extrusions' bounds in the G-code's X and Y, mm (PrusaSlicer's
+  // first_layer_print_min and _max); unset (min > max): the bed's centre.
+  double first_layer_min_x = 1, first_layer_min_y = 1, first_layer_max_x = 0, first_layer_max_y = 0;
+  std::string input_filename_base;  // the model's file name without its extension
 };
 
-// Expands {name} placeholders in a profile's G-code; an unknown name throws ConfigError naming
-// `key` and the known names. Known: nozzle_temperature, first_layer_nozzle_temperature,
+// Expands the placeholders of a profile's G-code (`key`: "gcode.start" or "gcode.end"); an
+// unknown name or a malformed placeholder throws ConfigError naming the profile and `key`.
+// mahost syntax, {name}: nozzle_temperature, first_layer_nozzle_temperature,
 // bed_temperature, first_layer_bed_temperature, bed_x, bed_y, bed_z, nozzle_diameter,
 // filament_diameter, layer_height, first_layer_height, fan_speed (0-255), printer_name,
-// material_name.
+// material_name. PrusaSlicer syntax: its macro language (prusa_macro.h) over the values
+// prusa_variables.h names.
 std::string expand_placeholders(std::string_view text, const Profiles& profiles,
                                 const PlaceholderValues& values, std::string_view key);
 

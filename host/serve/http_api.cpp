@@ -21,6 +21,7 @@
 #include "geometry/support/support_plan.h"
 #include "host/layer_choice.h"
 #include "host/local_time.h"
+#include "host/profile_paths.h"
 #include "host/serve/api_key.h"
 #include "host/serve/file_store.h"
 #include "host/serve/http_server.h"
@@ -390,7 +391,7 @@ SliceRequest slice_request(const json& given, const std::string& name, const pri
   if (kind_of(clean.name) != FileKind::gcode) throw Refusal{400, "gcode: name a .gcode file"};
   request.gcode = clean.name;
   SliceOptions& o = request.options;
-  const std::string config_dir = printer::config_directory(MAHOST_CONFIG_DIR);
+  const std::string config_dir = host::profile_search_path();
   // Profiles by name only: a client names one of the server's, never a path to read.
   const std::string printer_name = string_field(body, "printer");
   if (!printer_name.empty()) {
@@ -1043,7 +1044,7 @@ void HttpApi::get_layer(const Request& req, Response& res) {
 }
 
 void HttpApi::get_profiles(const Request&, Response& res) {
-  const std::string config_dir = printer::config_directory(MAHOST_CONFIG_DIR);
+  const std::string config_dir = host::profile_search_path();
   json printers = json::array();
   for (const std::string& id : printer::available_profiles(config_dir, "printers")) {
     try {

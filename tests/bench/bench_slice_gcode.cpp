@@ -101,7 +101,9 @@ static int run_bench(int argc, char** argv) {
   stage.report("toolpaths");
 
   std::ostringstream out;
-  const printer::GcodeSummary summary = printer::write_gcode(out, toolpaths, profiles, {thickness, {}});
+  printer::GcodeOptions gcode_options;
+  gcode_options.layer_height = thickness;
+  const printer::GcodeSummary summary = printer::write_gcode(out, toolpaths, profiles, gcode_options);
   const double write_wall = std::chrono::duration<double>(Clock::now() - stage.wall).count();
   stage.report("G-code (clock + text)");
   fmt::print("  {} layers, {} toolpath points -> {} lines, {:.1f} MiB, {:.0f} lines/s written\n",

@@ -480,7 +480,8 @@ TEST_CASE("print_slices_an_stl_in_process_as_slice_does_and_a_dry_run_leaves_not
   REQUIRE(record);
   CHECK(record->state == printer::JobState::completed);
   CHECK(record->gcode_path == kept[0]);
-  CHECK(record->printer == MAHOST_SOURCE_DIR "/configs/printers/up-plus-2.toml");
+  // The shipped profile, through the build tree's share/mahost.
+  CHECK(std::filesystem::equivalent(record->printer, MAHOST_SOURCE_DIR "/configs/printers/up-plus-2.toml"));
 }
 
 TEST_CASE("slice_options_are_refused_for_a_gcode_file") {

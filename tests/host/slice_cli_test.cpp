@@ -30,6 +30,8 @@ using test_support::run_mahost;
 namespace {
 
 const std::string kConfigDir = MAHOST_SOURCE_DIR "/configs";
+// The shipped profiles as the mahost under test finds them: its build tree's share/mahost.
+const std::string kShipped = std::filesystem::path(MAHOST_BINARY).parent_path().string() + "/share/mahost";
 
 std::string read_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -248,7 +250,7 @@ TEST_CASE("layer_not_allowed_by_the_printer_is_refused_with_the_list") {
   const auto result = run_mahost({"slice", stl, "-o", dir + "/cube.gcode", "--layer", "0.17"});
   CHECK(result.exit_code == 2);
   CHECK(result.err == "mahost: layer thickness 0.17 mm is not allowed on the UP Plus 2 (" +
-                          kConfigDir + "/printers/up-plus-2.toml); allowed: 0.15, 0.2, 0.25, "
+                          kShipped + "/printers/up-plus-2.toml); allowed: 0.15, 0.2, 0.25, "
                           "0.3, 0.35, 0.4 mm\n");
   CHECK_FALSE(std::filesystem::exists(dir + "/cube.gcode"));
 }
@@ -302,7 +304,9 @@ TEST_CASE("unknown_printer_is_refused_with_the_available_ones") {
   const std::string dir = test_support::scratch_dir("slice_bad_printer");
   const std::string stl = dir + "/cube.stl";
   geometry::write_stl_binary(stl, solids::cube(10).mesh);
+  ::setenv("MAHOST_CONFIG_DIR", kConfigDir.c_str(), 1);
   const auto result = run_mahost({"slice", stl, "-o", dir + "/c.gcode", "--printer", "ender9"});
+  ::unsetenv("MAHOST_CONFIG_DIR");
   CHECK(result.exit_code == 2);
   CHECK(result.err == "mahost: printer profile 'ender9' not found in " + kConfigDir +
                           "/printers (available: generic-marlin, up-plus-2); give one of these "

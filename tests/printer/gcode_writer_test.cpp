@@ -711,3 +711,61 @@ TEST_CASE("each_layer_is_laid_at_its_own_thickness") {
 }
 
 }  // namespace gcode_writer_test
+
+namespace gcode_writer_test {
+
+TEST_CASE("a_start_gcode_that_heats_itself_is_left_to_heat") {
+  // The heater a start G-code sets (as PrusaSlicer's vendors' do) is not heated before it again;
+  // the other one still is.
+  const std::string start = "G28\nM190 S{first_layer_bed_temperature} ; the bed, waiting\nG1 Z5";
+  const Profiles p = profiles("generic-marlin", "pla", {"gcode.start=" + start});
+  const auto lines = lines_of(write(square_part(), p));
+  const std::size_t home = index_of(lines, "G28");
+  CHECK(index_of(lines, "M190 S60 ; the bed, waiting") > home);
+  CHECK(index_of(lines, "M140 S60") == lines.size());  // no bed heating of the writer's
+  CHECK(index_of(lines, "M104 S210") < home);
+  CHECK(index_of(lines, "M109 S210") < home);
+  // M1040 or an M104 in a comment heats nothing.
+  const Profiles q = profiles("generic-marlin", "pla", {"gcode.start=G28 ; M104 S200\\nM1040 S1"});
+  CHECK(index_of(lines_of(write(square_part(), q)), "M109 S210") < lines.size());
+}
+
+TEST_CASE("a_part_is_centred_on_the_bed_in_the_gcodes_coordinates") {
+  // A delta's bed: a circle of 200 mm whose centre is the G-code's origin.
+  const Profiles p = profiles("generic-marlin", "pla",
+                              {"build_volume.x=200", "build_volume.y=200", "build_volume.origin_x=-100",
+                               "build_volume.origin_y=-100", "build_volume.shape=circle"});
+  const test_support::PrintedProgram program = test_support::read_printed_program(write(square_part(), p));
+  double min_x = 1e9, max_x = -1e9, min_y = 1e9, max_y = -1e9;
+  for (const auto& layer : program.layers) {
+    for (const auto& chain : layer.chains) {
+      for (const auto& bead : chain) {
+        min_x = std::min({min_x, bead.from.x, bead.to.x});
+        max_x = std::max({max_x, bead.from.x, bead.to.x});
+        min_y = std::min({min_y, bead.from.y, bead.to.y});
+        max_y = std::max({max_y, bead.from.y, bead.to.y});
+      }
+    }
+  }
+  CHECK(min_x == doctest::Approx(-9.75));
+  CHECK(max_x == doctest::Approx(9.75));
+  CHECK(min_y == doctest::Approx(-9.75));
+  CHECK(max_y == doctest::Approx(9.75));
+  // The corners of a square that fits the circle's box but not the circle are off the bed.
+  std::vector<LayerToolpaths> wide = {square_layer(0, 0.2, 160, 0.5)};
+  CHECK(config_error([&] { write(wide, p); }).find("(a round bed)") != std::string::npos);
+  std::vector<LayerToolpaths> fits = {square_layer(0, 0.2, 140, 0.5)};
+  CHECK(config_error([&] { write(fits, p); }).empty());
+}
+
+TEST_CASE("prusaslicer_end_gcode_knows_the_top_of_the_last_layer") {
+  Profiles p = profiles("generic-marlin", "pla");
+  p.printer.gcode_syntax = GcodeSyntax::prusaslicer;
+  p.printer.start_gcode = "G28 ; [first_layer_temperature]";
+  p.printer.end_gcode = "G1 Z{max_layer_z + 10} ; of {total_layer_count}";
+  const auto lines = lines_of(write(square_part(), p));
+  CHECK(index_of(lines, "G28 ; 210") < lines.size());
+  CHECK(index_of(lines, "G1 Z10.7 ; of 3") < lines.size());
+}
+
+}  // namespace gcode_writer_test

@@ -1,6 +1,8 @@
 // Printer and material profiles: the shipped files load with the machine's figures, and every
 // kind of bad key or value is refused with a message naming the file, the key and what is allowed.
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <initializer_list>
 #include <string>
 
@@ -8,6 +10,7 @@
 
 #include "printer/error.h"
 #include "printer/profile.h"
+#include "support/run_command.h"
 
 namespace profile_test {
 
@@ -171,9 +174,11 @@ TEST_CASE("unknown_placeholder_in_start_gcode_is_refused") {
 TEST_CASE("placeholders_expand_from_both_profiles") {
   Profiles profiles{load_printer_profile("up-plus-2", kConfigDir),
                     load_material_profile("abs", kConfigDir)};
+  PlaceholderValues values;
+  values.layer_height = 0.15;
   CHECK(expand_placeholders("M190 S{first_layer_bed_temperature}\nG1 X{bed_x} Y{bed_y} ; "
                             "{material_name} {layer_height}",
-                            profiles, {0.15}, "test") == "M190 S105\nG1 X140 Y140 ; ABS 0.15");
+                            profiles, values, "test") == "M190 S105\nG1 X140 Y140 ; ABS 0.15");
 }
 
 TEST_CASE("set_overrides_a_dotted_key_with_the_same_checks") {
@@ -239,13 +244,6 @@ TEST_CASE("profile_by_path_loads") {
   const PrinterProfile p =
       load_printer_profile(kConfigDir + "/printers/generic-marlin.toml", "/nonexistent");
   CHECK(p.name == "Generic Marlin");
-}
-
-TEST_CASE("config_dir_environment_variable_wins_over_built_in") {
-  ::setenv("MAHOST_CONFIG_DIR", "/somewhere/else", 1);
-  CHECK(config_directory("/built/in") == "/somewhere/else");
-  ::unsetenv("MAHOST_CONFIG_DIR");
-  CHECK(config_directory("/built/in") == "/built/in");
 }
 
 TEST_CASE("part_too_big_is_refused_with_both_sizes") {
@@ -360,6 +358,109 @@ TEST_CASE("skin_thicknesses_are_profile_keys_in_mm") {
   apply_override(profiles, "print.top_thickness=1.2");
   CHECK(profiles.printer.print.top_thickness == doctest::Approx(1.2));
   CHECK(config_error([&] { apply_override(profiles, "print.bottom_thickness=-1"); }) != "");
+}
+
+}  // namespace profile_test
+
+namespace profile_test {
+
+namespace {
+
+// A search path of scratch folders, each with printers/ and materials/.
+struct Folders {
+  std::string root;
+  explicit Folders(const std::string& name) : root(test_support::scratch_dir(name)) {}
+  std::string add(const std::string& folder, const std::string& file, const std::string& text) const {
+    const std::string dir = root + "/" + folder + "/" + file.substr(0, file.find('/'));
+    std::filesystem::create_directories(dir);
+    std::ofstream(root + "/" + folder + "/" + file) << text;
+    return root + "/" + folder;
+  }
+};
+
+std::string named(const std::string& name) {
+  std::string text = kMinimalPrinter;
+  text.replace(text.find("\"Test\""), 6, "\"" + name + "\"");
+  return text;
+}
+
+}  // namespace
+
+TEST_CASE("the_first_folder_of_the_search_path_with_a_name_wins") {
+  const Folders f("profile_search_path");
+  const std::string user = f.add("user", "printers/shared.toml", named("Mine"));
+  f.add("user", "printers/creality-ender-3-0.4-mm-nozzle.toml", named("Creality Ender-3 (0.4 mm nozzle)"));
+  const std::string shipped = f.add("shipped", "printers/shared.toml", named("Shipped"));
+  f.add("shipped", "printers/only-shipped.toml", named("Only shipped"));
+  const std::string path = user + ":" + shipped;
+  CHECK(load_printer_profile("shared", path).name == "Mine");
+  CHECK(load_printer_profile("only-shipped", path).name == "Only shipped");
+  // By the profile's name as well as by its file's: the file name is the name's stem.
+  CHECK(load_printer_profile("Creality Ender-3 (0.4 mm nozzle)", path).source ==
+        user + "/printers/creality-ender-3-0.4-mm-nozzle.toml");
+  const auto found = find_profiles(path, "printers");
+  REQUIRE(found.size() == 3);
+  CHECK(found[0].id == "creality-ender-3-0.4-mm-nozzle");
+  CHECK(found[2].id == "shared");
+  CHECK(found[2].path == user + "/printers/shared.toml");
+  CHECK(config_error([&] { load_printer_profile("prusa-mk4", path); }) ==
+        "printer profile 'prusa-mk4' not found in " + user + "/printers, " + shipped +
+            "/printers (available: creality-ender-3-0.4-mm-nozzle, only-shipped, shared); give one "
+            "of these names or a path to a .toml file");
+}
+
+TEST_CASE("the_search_path_is_the_users_then_the_systems_then_the_installed_folder") {
+  ::unsetenv("MAHOST_CONFIG_DIR");
+  ::setenv("XDG_CONFIG_HOME", "/home/u/.config", 1);
+  ::setenv("XDG_CONFIG_DIRS", "/etc/xdg:relative:/opt/xdg", 1);
+  CHECK(config_directory("/usr/share/mahost") ==
+        "/home/u/.config/mahost:/etc/xdg/mahost:/opt/xdg/mahost:/usr/share/mahost");
+  CHECK(user_config_directory() == "/home/u/.config/mahost");
+  ::unsetenv("XDG_CONFIG_DIRS");
+  ::setenv("XDG_CONFIG_HOME", "not/absolute", 1);  // ignored, as the XDG rules say
+  ::setenv("HOME", "/home/v", 1);
+  CHECK(config_directory("") == "/home/v/.config/mahost:/etc/xdg/mahost");
+  ::setenv("MAHOST_CONFIG_DIR", "/tests/configs", 1);
+  CHECK(config_directory("/usr/share/mahost") == "/tests/configs");
+  ::unsetenv("MAHOST_CONFIG_DIR");
+  ::unsetenv("XDG_CONFIG_HOME");
+}
+
+TEST_CASE("profile_file_stems_are_lower_case_words_joined_by_dashes") {
+  CHECK(profile_file_stem("Creality Ender-3 (0.4 mm nozzle)") == "creality-ender-3-0.4-mm-nozzle");
+  CHECK(profile_file_stem("Original Prusa i3 MK3S & MK3S+") == "original-prusa-i3-mk3s-mk3s+");
+  CHECK(profile_file_stem("Generic PLA @CREALITY") == "generic-pla-creality");
+  CHECK(profile_file_stem("a/b") == "a-b");
+  CHECK(profile_file_stem("...") == "");
+}
+
+TEST_CASE("a_round_bed_and_gcode_constants_load_and_check") {
+  const std::string text = kMinimalPrinter + R"(
+[gcode]
+syntax = "prusaslicer"
+[gcode.constants]
+printer_model = "MK3S"
+speeds = [1.5, 2]
+silent = false
+count = 3
+)";
+  PrinterProfile p = parse_printer_profile(text, "t.toml");
+  CHECK(p.gcode_syntax == GcodeSyntax::prusaslicer);
+  REQUIRE(p.gcode_constants.size() == 4);
+  CHECK(std::get<std::string>(p.gcode_constants.at("printer_model").values[0]) == "MK3S");
+  CHECK(p.gcode_constants.at("speeds").is_vector);
+  CHECK(std::get<double>(p.gcode_constants.at("speeds").values[0]) == 1.5);
+  CHECK(std::get<long long>(p.gcode_constants.at("speeds").values[1]) == 2);  // TOML's types
+  CHECK(std::get<long long>(p.gcode_constants.at("count").values[0]) == 3);
+  Profiles both{p, MaterialProfile{}};
+  apply_override(both, "gcode.constants.printer_model=MINI");
+  CHECK(std::get<std::string>(both.printer.gcode_constants.at("printer_model").values[0]) == "MINI");
+  CHECK(config_error([&] { parse_printer_profile(text + "[gcode.constants.more]\nx = 1\n", "t.toml"); })
+            .ends_with(": key 'gcode.constants' has a name 'more.x' that is not a placeholder's (letters, "
+                       "digits and _)"));
+  CHECK(config_error([&] { apply_override(both, "build_volume.shape=circle"); }) ==
+        "t.toml: build_volume.shape = \"circle\" needs x = y (the circle's diameter), not 100 and 120 mm "
+        "(after --set build_volume.shape=circle)");
 }
 
 }  // namespace profile_test
