@@ -3,14 +3,17 @@
 
 #include <zip.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <map>
 #include <memory>
 #include <optional>
 #include <set>
 #include <unordered_map>
+#include <utility>
 
 #include <fmt/core.h>
 #include <pugixml.hpp>
@@ -96,6 +99,18 @@ double unit_to_mm(std::string_view unit, std::string_view where) {
                           "foot, meter)", unit));
 }
 
+// A part's bytes in memory from malloc, which pugixml frees once a document owns them
+// (load_buffer_inplace_own: parsed where they are, neither copied nor zeroed first).
+struct PartBytes {
+  char* data = nullptr;
+  std::size_t size = 0;
+  PartBytes() = default;
+  PartBytes(const PartBytes&) = delete;
+  PartBytes& operator=(const PartBytes&) = delete;
+  PartBytes(PartBytes&& other) noexcept : data(std::exchange(other.data, nullptr)), size(other.size) {}
+  ~PartBytes() { std::free(data); }
+};
+
 // The zip archive, read in place from the caller's bytes.
 class Archive {
  public:
@@ -121,7 +136,7 @@ class Archive {
   bool has(const std::string& part) const { return zip_name_locate(zip_, part.c_str(), 0) >= 0; }
 
   // The part's bytes; `part` without a leading '/'.
-  std::string read(const std::string& part) const {
+  PartBytes read(const std::string& part) const {
     const zip_int64_t index = zip_name_locate(zip_, part.c_str(), 0);
     if (index < 0) fail(name_, fmt::format("the archive has no part '/{}'", part));
     zip_stat_t stat;
@@ -131,8 +146,11 @@ class Archive {
     }
     zip_file_t* file = zip_fopen_index(zip_, index, 0);
     if (!file) fail(name_, fmt::format("/{}: cannot be opened ({})", part, zip_strerror(zip_)));
-    std::string bytes(stat.size, '\0');
-    const zip_int64_t got = zip_fread(file, bytes.data(), bytes.size());
+    PartBytes bytes;
+    bytes.size = stat.size;
+    bytes.data = static_cast<char*>(std::malloc(std::max<std::size_t>(bytes.size, 1)));
+    if (!bytes.data) throw std::bad_alloc();
+    const zip_int64_t got = zip_fread(file, bytes.data, bytes.size);
     const std::string why = got < 0 ? zip_file_strerror(file) : "";
     zip_fclose(file);
     if (got < 0 || static_cast<zip_uint64_t>(got) != stat.size) {
@@ -146,10 +164,12 @@ class Archive {
   std::string name_;
 };
 
-pugi::xml_document parse_xml(const std::string& bytes, std::string_view name, const std::string& part) {
+// Elements and attributes only: no text, escapes or line-end conversions, which nothing read
+// here needs (numbers, ids, names).
+pugi::xml_document parse_xml(PartBytes bytes, std::string_view name, const std::string& part) {
   pugi::xml_document doc;
-  const pugi::xml_parse_result parsed =
-      doc.load_buffer(bytes.data(), bytes.size(), pugi::parse_default & ~pugi::parse_escapes);
+  const pugi::xml_parse_result parsed = doc.load_buffer_inplace_own(bytes.data, bytes.size, pugi::parse_minimal);
+  bytes.data = nullptr;  // the document's now
   if (!parsed) {
     fail(name, fmt::format("/{}: not well-formed XML at byte {}: {}", part, parsed.offset,
                            parsed.description()));
@@ -324,14 +344,17 @@ class Reader {
     std::vector<Vec3> vertices;
     for (pugi::xml_node v = child(mesh, "vertices").first_child(); v; v = v.next_sibling()) {
       if (v.type() != pugi::node_element) continue;
-      const auto x = number(v.attribute("x").value());
-      const auto y = number(v.attribute("y").value());
-      const auto z = number(v.attribute("z").value());
-      if (!x || !y || !z) {
+      // The attributes in one pass (a mesh has millions): x, y and z by their one letter.
+      std::optional<double> c[3];
+      for (pugi::xml_attribute a = v.first_attribute(); a; a = a.next_attribute()) {
+        const char* n = a.name();
+        if (n[0] >= 'x' && n[0] <= 'z' && n[1] == '\0') c[n[0] - 'x'] = number(a.value());
+      }
+      if (!c[0] || !c[1] || !c[2]) {
         fail(where(part_path), fmt::format("object {}, vertex {}: x, y and z must be numbers",
                                            id, vertices.size()));
       }
-      vertices.push_back(placed.apply({*x, *y, *z}));
+      vertices.push_back(placed.apply({*c[0], *c[1], *c[2]}));
     }
     // PrusaSlicer's modifiers, blockers and enforcers share the mesh with the parts.
     const std::vector<Volume>* volumes = nullptr;
@@ -354,19 +377,24 @@ class Reader {
       if (t.type() != pugi::node_element) continue;
       const std::size_t triangle = index++;
       if (volumes && !part_triangle(*volumes, triangle)) continue;
+      // v1, v2, v3 in one pass over the attributes (p1, pid, ... are skipped).
+      const char* corners[3] = {nullptr, nullptr, nullptr};
+      for (pugi::xml_attribute a = t.first_attribute(); a; a = a.next_attribute()) {
+        const char* n = a.name();
+        if (n[0] == 'v' && n[1] >= '1' && n[1] <= '3' && n[2] == '\0') corners[n[1] - '1'] = a.value();
+      }
       Triangle tri;
-      int k = 0;
-      for (const char* corner : {"v1", "v2", "v3"}) {
-        const char* text = t.attribute(corner).value();
+      for (int k = 0; k < 3; ++k) {
+        const char* text = corners[k] ? corners[k] : "";
         std::size_t v = 0;
         const char* end = text + std::strlen(text);
         const auto [stop, error] = std::from_chars(text, end, v);
         if (error != std::errc() || stop != end || v >= vertices.size()) {
-          fail(where(part_path), fmt::format("object {}, triangle {}: {}=\"{}\" is not a vertex "
-                                             "(the mesh has {})", id, triangle, corner, text,
+          fail(where(part_path), fmt::format("object {}, triangle {}: v{}=\"{}\" is not a vertex "
+                                             "(the mesh has {})", id, triangle, k + 1, text,
                                              vertices.size()));
         }
-        tri.v[k++] = vertices[v];
+        tri.v[k] = vertices[v];
       }
       if (mirrored) std::swap(tri.v[1], tri.v[2]);
       out.push_back(tri);
