@@ -1,5 +1,6 @@
 // `mahost help [COMMAND ...] [--all]`: the text `mahost --help` and `mahost COMMAND --help`
 // print, under one command (the man page is made from `mahost help --all`, so it says the same).
+#include <algorithm>
 #include <memory>
 #include <string>
 #include <vector>
@@ -40,7 +41,17 @@ void run_help(const CLI::App& app, const HelpOptions& options) {
     for (const auto& [path, sub] : commands) {
       const std::size_t space = path.rfind(' ');
       const std::string parents = space == std::string::npos ? "" : " " + path.substr(0, space);
-      fmt::print("\n{}:\n{}", path, sub->help(app.get_name() + parents));
+      // "mahost info:" heads the command's help, its summary and usage indented under it (so
+      // that help2man makes the heading a section of the man page, the rest its text).
+      std::string text = sub->help(app.get_name() + parents);
+      const std::size_t head_end = std::min(text.find("\n\n"), text.size());
+      std::string head;
+      for (std::size_t at = 0; at < head_end;) {
+        const std::size_t end = std::min(text.find('\n', at), head_end);
+        head += "  " + text.substr(at, end - at) + "\n";
+        at = end + 1;
+      }
+      fmt::print("\n{} {}:\n{}{}", app.get_name(), path, head, text.substr(head_end));
     }
     return;
   }

@@ -24,6 +24,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
+#include "geometry/mesh/model_io.h"
 #include "host/commands.h"
 #include "host/control_socket.h"
 #include "host/job_setup.h"
@@ -47,7 +48,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kSliceGroup = "Slicing (an STL model; see mahost slice --help)";
+constexpr const char* kSliceGroup = "Slicing (a model; see mahost slice --help)";
 constexpr const char* kDryRunHelp =
     "print on the in-process simulated printer, at full speed (a pause waits in real time), "
     "instead of a port (default: off; give --port or --dry-run)";
@@ -211,11 +212,11 @@ void run_print(const PrintOptions& options) {
   for (int layer : options.pause_at) {
     if (layer < 1) throw printer::ConfigError(fmt::format("--pause-at-layer {}: layers count from 1", layer));
   }
-  const bool stl = is_stl(options.input);
+  const bool stl = geometry::is_model_name(options.input);
   if (!stl && !options.model_options_given.empty()) {
     throw printer::ConfigError(fmt::format(
         "{}: {} is G-code, already sliced; slice options other than --printer and --set apply "
-        "to an STL model",
+        "to a model (STL, 3MF, OBJ)",
         options.model_options_given.front(), options.input));
   }
   if (!stl && !options.output.empty()) {
@@ -402,14 +403,15 @@ void run_resume(const ResumeOptions& options) {
 
 void add_print_command(CLI::App& app) {
   auto options = std::make_shared<PrintOptions>();
-  auto* print = app.add_subcommand("print", "Print an STL model or a G-code file");
+  auto* print = app.add_subcommand("print", "Print a model or a G-code file");
   print->footer(
-      "An STL model is sliced first, as mahost slice would. Layers are numbered from 1 as the "
+      "A model (STL, 3MF or OBJ) is sliced first, as mahost slice would. Layers are numbered from 1 as the "
       "progress line shows them (layer n/N); layer n is the file's ;LAYER:n-1 comment. Keys on "
       "a terminal: p pause, r resume, c cancel, ! emergency stop; without one, mahost ctl. A "
       "dry run removes its journal and sliced G-code when it ends; a print removes them once "
       "it completes and keeps them otherwise, for mahost resume.");
-  print->add_option("MODEL", options->input, "the STL model (sliced first) or G-code file to print")
+  print->add_option("MODEL", options->input,
+                    "the model (STL, 3MF or OBJ; sliced first) or G-code file to print")
       ->required()
       ->check(CLI::ExistingFile);
   add_link_options(*print, options->link, "the printer profile's serial.baud", kDryRunHelp);

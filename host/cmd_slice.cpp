@@ -31,7 +31,7 @@ void run_slice(const SliceCommandOptions& options) {
 
 void add_slice_command(CLI::App& app) {
   auto options = std::make_shared<SliceCommandOptions>();
-  CLI::App* slice = app.add_subcommand("slice", "Slice an STL model into G-code");
+  CLI::App* slice = app.add_subcommand("slice", "Slice a model (STL, 3MF, OBJ) into G-code");
   slice->footer(
       "Each layer extrudes the region its contour strategy picks (--contour); walls, skins, "
       "infill and a skirt follow the printer profile, and the G-code header carries the "

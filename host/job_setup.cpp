@@ -3,8 +3,6 @@
 #include <signal.h>
 #include <unistd.h>
 
-#include <algorithm>
-#include <cctype>
 #include <charconv>
 #include <ctime>
 #include <filesystem>
@@ -22,15 +20,6 @@
 namespace host {
 
 namespace fs = std::filesystem;
-
-namespace {
-
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-  return s;
-}
-
-}  // namespace
 
 void add_link_options(CLI::App& command, LinkOptions& link, const std::string& baud_default,
                       const std::string& dry_run_help) {
@@ -212,8 +201,6 @@ printer::JobOptions job_options_for(const printer::GcodeFile& file, const std::s
   job.journal.baud = link.dry_run ? 0 : baud;
   return job;
 }
-
-bool is_stl(const std::string& path) { return lower(fs::path(path).extension().string()) == ".stl"; }
 
 bool other_mahost_running(int pid) {
   if (pid <= 0 || pid == ::getpid() || ::kill(pid, 0) != 0) return false;

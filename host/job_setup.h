@@ -99,8 +99,6 @@ printer::JobOptions job_options_for(const printer::GcodeFile& file, const std::s
                                     const printer::PrinterProfile& machine,
                                     const LinkOptions& link, int baud, const std::string& journal);
 
-bool is_stl(const std::string& path);
-
 // True when `pid` is another live process of this very mahost binary (a journal's writer
 // still printing), false for this process, a dead one or another program.
 bool other_mahost_running(int pid);

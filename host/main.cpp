@@ -1,4 +1,4 @@
-// mahost: STL model to printed part. Parses the command line, runs one subcommand, and turns
+// mahost: a 3D model to a printed part. Parses the command line, runs one subcommand, and turns
 // every error into one line on stderr and an exit code (host/commands.h).
 #include <charconv>
 #include <cstdio>
@@ -13,8 +13,11 @@
 #include "printer/error.h"
 
 int main(int argc, char** argv) {
-  CLI::App app{"mahost: slice STL models with medial-axis contours and print them on a "
-               "Marlin-style printer"};
+  // Named, not taken from argv[0]: the usage lines say "mahost" wherever it was run from (and
+  // the man page, which help2man makes by running the built binary, names no build folder).
+  CLI::App app{"mahost: slice 3D models (STL, 3MF, OBJ) with medial-axis contours and print "
+               "them on a Marlin-style printer",
+               "mahost"};
   app.set_version_flag("--version", "mahost " MAHOST_VERSION);
   app.require_subcommand(1);
   app.fallthrough(false);

@@ -20,6 +20,10 @@ bool ends_with_nocase(std::string_view name, std::string_view suffix) {
 
 }  // namespace
 
+bool is_model_name(std::string_view name) {
+  return ends_with_nocase(name, ".stl") || ends_with_nocase(name, ".3mf") || ends_with_nocase(name, ".obj");
+}
+
 std::string_view format_name(ModelFormat format) {
   switch (format) {
     case ModelFormat::stl: return "STL";

@@ -26,6 +26,9 @@ struct ModelFile {
   std::size_t objects = 1;           // 3MF: the build items placed together
 };
 
+// Whether a file's name says it is a model mahost reads: .stl, .3mf or .obj, in any case.
+bool is_model_name(std::string_view name);
+
 // Reads the whole file. Errors: a missing or unreadable file, a directory, then the format's.
 ModelFile read_model(const std::string& path);
 

@@ -72,7 +72,7 @@ TEST_CASE("command_summaries_are_short_capitalised_lines_without_a_period") {
 TEST_CASE("print_help_groups_the_slice_options_and_says_how_layers_are_numbered") {
   const auto r = run_mahost({"print", "--help"});
   REQUIRE(r.exit_code == 0);
-  const std::size_t group = r.out.find("\nSlicing (an STL model; see mahost slice --help):\n");
+  const std::size_t group = r.out.find("\nSlicing (a model; see mahost slice --help):\n");
   REQUIRE(group != std::string::npos);
   // Every slice option is listed under that heading, after the link and job options.
   for (const char* option : {"--units", "--scale", "--height", "--up", "--printer", "--material",

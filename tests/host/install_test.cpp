@@ -76,8 +76,9 @@ TEST_CASE("installed_mahost_slices_with_its_shipped_profiles_from_anywhere") {
   CHECK(man.find(".TH MAHOST \"1\"") != std::string::npos);
   for (const char* command : {"slice", "print", "serve", "profiles import", "info"}) {
     CAPTURE(command);
-    CHECK(man.find(std::string(command) + ":") != std::string::npos);
+    CHECK(man.find(".SS \"mahost " + std::string(command) + ":\"") != std::string::npos);
   }
+  CHECK(man.find("Usage: mahost slice [OPTIONS] MODEL") != std::string::npos);
   // The service runs the installed binary.
   const std::string unit = read_file(prefix + "/lib/systemd/system/mahost-serve.service");
   CHECK(unit.find("ExecStart=" + mahost + " serve ") != std::string::npos);

@@ -491,7 +491,7 @@ TEST_CASE("slice_options_are_refused_for_a_gcode_file") {
   auto r = run_mahost({"print", gcode, "--dry-run", "--layer", "0.3"});
   CHECK(r.exit_code == 2);
   CHECK(r.err == "mahost: --layer: " + gcode + " is G-code, already sliced; slice options other "
-                 "than --printer and --set apply to an STL model\n");
+                 "than --printer and --set apply to a model (STL, 3MF, OBJ)\n");
   r = run_mahost({"print", gcode, "--dry-run", "-o", dir + "/x.gcode"});
   CHECK(r.exit_code == 2);
   CHECK(count_lines(r.err) == 1);
