@@ -156,6 +156,11 @@ void run_import(const ImportOptions& options) {
                  p.printer.name, printer_path.string(), p.material.name, p.print_profile);
     }
   }
+  if (printers == 0 && imported.refused.size() == 1) {
+    // The one printer asked for (or the file's only one) refused: that reason is the error.
+    const printer::ImportRefusal& r = imported.refused.front();
+    throw printer::ConfigError(fmt::format("{}: cannot import {}: {}", options.file, r.printer, r.reason));
+  }
   if (options.all) {
     fmt::print("imported {} printer{} and {} material{} into {}\n", printers, printers == 1 ? "" : "s",
                materials.size(), materials.size() == 1 ? "" : "s", into.string());
@@ -164,7 +169,8 @@ void run_import(const ImportOptions& options) {
     fmt::print("refused {}: {}\n", r.printer, r.reason);
   }
   if (printers == 0) {
-    throw CommandExit{kExitBadInput, fmt::format("nothing imported from {}", options.file)};
+    throw CommandExit{kExitBadInput, fmt::format("nothing imported from {}: {} printers refused, each "
+                                                 "for the reason above", options.file, imported.refused.size())};
   }
   if (!options.all && !imported.refused.empty()) {
     throw CommandExit{kExitBadInput, ""};

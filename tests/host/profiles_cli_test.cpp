@@ -2,6 +2,7 @@
 // sliced with by name, every printer of Debian's PrusaSlicer bundles (when prusa-slicer is
 // installed) either imported and slicing a 20 mm cube on its bed that starts with the vendor's
 // start G-code, or refused for a reason of a known kind; and 3MF and OBJ models sliced.
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -198,6 +199,44 @@ TEST_CASE("an_imported_printer_slices_by_its_name_with_the_vendors_start_gcode")
   CHECK(r.out.find("refused Acme Cube (0.4 mm nozzle): " + path + " exists and was not imported") != std::string::npos);
   CHECK(r.out.find("refused Acme Cube Resin: printer_technology SLA") != std::string::npos);
   CHECK(read_file(path) == "name = \"mine\"\n");
+}
+
+TEST_CASE("a_bad_ini_an_unknown_placeholder_and_a_missing_printer_are_one_line_errors") {
+  const UserFolder user("profiles_import_errors");
+  const std::string tail = "[print:P]\nlayer_height = 0.2\n[filament:F]\ntemperature = 200\n";
+  auto write = [&](const std::string& name, const std::string& text) {
+    std::ofstream(user.dir + "/" + name) << text;
+    return user.dir + "/" + name;
+  };
+  const std::string not_ini = write("notes.ini", "[printer:X]\njust words\n");
+  const std::string placeholder = write("placeholder.ini", "[printer:Y]\nstart_gcode = G28\\nM104 S[no_such_thing]\n" + tail);
+  const std::string bed = write("bed.ini", "[printer:Z]\nbed_shape = garbage\n" + tail);
+  const std::string acme = write("acme.ini", kBundle);
+  const std::string cube = user.dir + "/cube.stl";
+  geometry::write_stl_binary(cube, solids::cube(20).mesh);
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases{
+      {{"profiles", "import", not_ini, "--all"},
+       not_ini + ":2: expected key = value, a [section] or a # comment, found 'just words'"},
+      {{"profiles", "import", placeholder, "--printer", "Y"},
+       placeholder + ": cannot import Y: gcode.start: line 2: [no_such_thing]: 'no_such_thing' is not a value "
+       "mahost knows; mahost evaluates PrusaSlicer's placeholders for the printer, the material and the "
+       "slice, and the printer's gcode.constants"},
+      {{"profiles", "import", bed}, bed + ": cannot import Z: bed_shape 'garbage' is not a list of points"},
+      {{"profiles", "import", acme, "--printer", "Acme Box"},
+       acme + " has no printer 'Acme Box' (it has 2; mahost profiles import " + acme + " --all takes them all)"},
+      {{"profiles", "import", user.dir + "/missing.ini", "--all"}, user.dir + "/missing.ini: no such file (check the path)"},
+      {{"slice", cube, "-o", user.dir + "/cube.gcode", "--printer", "Acme Box"}, ""},
+  };
+  for (const auto& [args, error] : cases) {
+    CAPTURE(args.back());
+    const auto r = run_mahost(args);
+    CHECK(r.exit_code == 2);
+    CHECK(r.out == "");
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    if (!error.empty()) CHECK(r.err == "mahost: " + error + "\n");
+  }
+  CHECK(!fs::exists(user.printers() + "/y.toml"));
+  CHECK(!fs::exists(user.printers() + "/z.toml"));
 }
 
 TEST_CASE("every_printer_of_debians_prusaslicer_bundles_imports_or_says_why") {
