@@ -175,7 +175,7 @@ std::vector<geometry::Layer> analysis_layers(const std::string& boundaries, doub
   }
   if (from_zero) return geometry::uniform_layers(height, layer);
   const printer::PrinterProfile profile =
-      printer::load_printer_profile(printer_name, printer::config_directory(MAHOST_CONFIG_DIR));
+      printer::load_printer_profile(printer_name, host::profile_search_path());
   geometry::AllowedThicknesses allowed = allowed_thicknesses(profile);
   if (!allowed.allows(layer)) {
     allowed = {.listed = {}, .min = std::min(layer, allowed.thinnest()),
