@@ -13,6 +13,7 @@
 #include <fmt/core.h>
 
 #include "printer/error.h"
+#include "printer/gcode_interpreter.h"
 #include "printer/gcode_line.h"
 
 namespace printer {
@@ -65,8 +66,7 @@ bool looks_like_gcode(std::string_view text) {
 
 std::vector<double> layer_tops_from_gcode(std::string_view text, const std::string& name) {
   std::vector<double> tops;
-  bool relative_xyz = false, relative_e = false;
-  double x = 0, y = 0, z = 0, e = 0;
+  GcodeState state;
   double lift = 0;  // a mahost raft's, mm
   std::size_t line_number = 0;
   while (!text.empty()) {
@@ -84,32 +84,9 @@ std::vector<double> layer_tops_from_gcode(std::string_view text, const std::stri
                          line.front() != 'm')) {
       continue;
     }
-    const GcodeCommand command = parse_gcode_line(line);
-    if (command.is('G', 90)) relative_xyz = false, relative_e = false;  // Marlin: E too
-    if (command.is('G', 91)) relative_xyz = true, relative_e = true;
-    if (command.is('M', 82)) relative_e = false;
-    if (command.is('M', 83)) relative_e = true;
-    if (command.is('G', 92)) {
-      if (auto v = command.get('E')) e = *v;
-      if (auto v = command.get('Z')) z = *v;
-      if (auto v = command.get('X')) x = *v;
-      if (auto v = command.get('Y')) y = *v;
-      continue;
-    }
-    if (!command.is('G', 0) && !command.is('G', 1)) continue;
-    const auto axis = [&](char letter, double& value, bool relative) {
-      const auto word = command.get(letter);
-      if (!word) return false;
-      const double before = value;
-      value = relative ? value + *word : *word;
-      return value != before;
-    };
-    const bool moved_x = axis('X', x, relative_xyz);
-    const bool moved_y = axis('Y', y, relative_xyz);
-    axis('Z', z, relative_xyz);
-    const double e_before = e;
-    axis('E', e, relative_e);
-    if (!(moved_x || moved_y) || !(e > e_before)) continue;
+    const GcodeStep step = interpret(state, parse_gcode_line(line));
+    if (step.count == 0 || !lays_filament(step.motions[0])) continue;
+    const double z = step.motions[0].to.z;
     if (!tops.empty() && std::abs(z - tops.back()) <= kSameHeight) continue;
     if (!tops.empty() && z < tops.back()) {
       throw ConfigError(fmt::format(

@@ -12,7 +12,8 @@
 //   mahost:      ";LAYER:n", ";Z:z", ";HEIGHT:t", then the Z move.
 // So the comments are not what is read (they differ, Slic3r has none, an empty Cura layer has
 // one); the heights that filament is laid at are, which all four share. Z-hop travels and the
-// start G-code's moves lay nothing and do not count; G91/G90, M82/M83 and G92 are followed.
+// start G-code's moves lay nothing and do not count; the moves are read by
+// printer/gcode_interpreter.h's rules (modes, units, G92, G28, firmware retraction).
 // Heights closer than 0.5 um are one layer (they are written to 1 um). A mahost file printed
 // on a raft (its header's "; raft: N layers, L mm under the part") gives the part's layers,
 // as on the bed: the raft's left out, L taken off the rest.

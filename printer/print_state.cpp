@@ -9,68 +9,25 @@
 namespace printer {
 
 void apply(PrintState& s, const GcodeCommand& c) {
-  if (c.letter == 'G') {
-    switch (c.code) {
-      case 0: case 1: case 2: case 3: {
-        if (const auto f = c.get('F')) s.feedrate = *f;
-        auto axis = [&](char letter, double& value, bool relative) {
-          if (const auto v = c.get(letter)) value = relative ? value + *v : *v;
-        };
-        axis('X', s.x, s.relative_xyz);
-        axis('Y', s.y, s.relative_xyz);
-        axis('Z', s.z, s.relative_xyz);
-        if (const auto e = c.get('E')) {
-          const double before = s.e;
-          s.e = s.relative_e ? s.e + *e : *e;
-          s.filament_fed += s.e - before;  // retractions count back: the net feed
-        }
-        break;
+  const GcodeStep step = interpret(s, c);
+  for (const Motion& move : step.moves()) s.filament_fed += move.to.e - move.from.e;
+  if (c.letter != 'M') return;
+  switch (c.code) {
+    case 104: case 109:
+      if (const auto t = c.get('S')) {
+        s.hotend_target = *t;
+        s.hotend_target_set = true;
       }
-      case 28: {
-        const bool all = !c.has('X') && !c.has('Y') && !c.has('Z');
-        if (all || c.has('X')) s.x = 0;
-        if (all || c.has('Y')) s.y = 0;
-        if (all || c.has('Z')) s.z = 0;
-        break;
+      break;
+    case 140: case 190:
+      if (const auto t = c.get('S')) {
+        s.bed_target = *t;
+        s.bed_target_set = true;
       }
-      case 90: s.relative_xyz = false; s.relative_e = false; break;
-      case 91: s.relative_xyz = true; s.relative_e = true; break;
-      case 92: {
-        const bool none = !c.has('X') && !c.has('Y') && !c.has('Z') && !c.has('E');
-        if (none) {
-          s.x = s.y = s.z = s.e = 0;
-        } else {
-          if (const auto v = c.get('X')) s.x = *v;
-          if (const auto v = c.get('Y')) s.y = *v;
-          if (const auto v = c.get('Z')) s.z = *v;
-          if (const auto v = c.get('E')) s.e = *v;
-        }
-        break;
-      }
-      default: break;
-    }
-    return;
-  }
-  if (c.letter == 'M') {
-    switch (c.code) {
-      case 82: s.relative_e = false; break;
-      case 83: s.relative_e = true; break;
-      case 104: case 109:
-        if (const auto t = c.get('S')) {
-          s.hotend_target = *t;
-          s.hotend_target_set = true;
-        }
-        break;
-      case 140: case 190:
-        if (const auto t = c.get('S')) {
-          s.bed_target = *t;
-          s.bed_target_set = true;
-        }
-        break;
-      case 106: s.fan = static_cast<int>(std::lround(c.get('S').value_or(255))); break;
-      case 107: s.fan = 0; break;
-      default: break;
-    }
+      break;
+    case 106: s.fan = static_cast<int>(std::lround(c.get('S').value_or(255))); break;
+    case 107: s.fan = 0; break;
+    default: break;
   }
 }
 
@@ -80,7 +37,14 @@ std::vector<std::string> restore_modes(const PrintState& state) {
   std::vector<std::string> commands;
   commands.push_back(state.relative_xyz ? "G91" : "G90");
   commands.push_back(state.relative_e ? "M83" : "M82");
-  if (state.feedrate > 0) commands.push_back(fmt::format("G1 F{}", state.feedrate));
+  // A file in inches goes on in inches, its F too.
+  if (state.unit != 1) commands.push_back("G20");
+  if (state.feedrate > 0) {
+    // In inches to the micro-inch: F as the file wrote it, not 25.4's rounding.
+    const double f = state.unit == 1 ? state.feedrate
+                                     : std::round(state.feedrate / state.unit * 1e6) / 1e6;
+    commands.push_back(fmt::format("G1 F{}", f));
+  }
   return commands;
 }
 

@@ -1,26 +1,24 @@
 // The state a G-code stream leaves the printer in, followed command by command: position,
-// positioning and extruder modes, feedrate, heater targets, fan.
+// positioning and extruder modes, feedrate (printer/gcode_interpreter.h's rules, Marlin's),
+// heater targets, fan.
 //
 // Input: commands in the order the printer runs them. Output: what the firmware would hold
 // after them, for what a pause must restore (modes, feedrate), what a journal records at
-// each layer start (E, Z, temperatures), and the filament a job feeds. It follows Marlin:
-// G90/G91 switch all axes including E, M82/M83 only E; G92 with no axis zeroes all four.
-// Units: mm, mm/min (feedrate as written in F), °C, fan 0-255.
+// each layer start (E, Z, temperatures), and the filament a job feeds.
+// Units: mm, mm/min (feedrate, F in mm), °C, fan 0-255.
 #pragma once
 
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "printer/gcode_interpreter.h"
 #include "printer/gcode_line.h"
 
 namespace printer {
 
-struct PrintState {
-  double x = 0, y = 0, z = 0, e = 0;  // logical position, mm
-  double feedrate = 0;                // mm/min, the last F; 0 before any
-  bool relative_xyz = false;          // G91
-  bool relative_e = false;            // M83 or G91
+// The interpreter's state (position, modes, feedrate, units, retraction, layer), and:
+struct PrintState : GcodeState {
   double hotend_target = 0, bed_target = 0;  // °C
   // Whether a command has set each target (M104/M109 S, M140/M190 S): until then the
   // targets above are not the file's, and a printer's own report is the better word.

@@ -4,6 +4,12 @@
 
 namespace printer {
 
+namespace {
+
+constexpr double kDefaultFeedrate = 25.0;  // mm/s before any F: Marlin's 1500 mm/min
+
+}  // namespace
+
 PrintClock::PrintClock(MotionLimits limits, std::size_t lookahead) : model_(limits, lookahead) {}
 
 void PrintClock::line(std::string_view text) {
@@ -16,64 +22,34 @@ void PrintClock::line(std::string_view text) {
 
 void PrintClock::drain() { model_.flush(); }
 
-void PrintClock::linear_move(const MoveWords& words) {
-  auto axis = [&](const std::optional<double>& word, double current, bool relative) {
-    if (!word) return current;
-    return relative ? current + *word : *word;
-  };
-  AxisPosition target;
-  target.x = axis(words.x, position_.x, relative_xyz_);
-  target.y = axis(words.y, position_.y, relative_xyz_);
-  target.z = axis(words.z, position_.z, relative_xyz_);
-  target.e = axis(words.e, position_.e, relative_e_);
-  if (words.f && *words.f > 0) feedrate_ = *words.f / 60.0;
-  // The same test the motion model makes for a move that takes time.
-  const double dx = target.x - position_.x, dy = target.y - position_.y, dz = target.z - position_.z;
-  const double xyz = std::sqrt(dx * dx + dy * dy + dz * dz);
-  const double length = xyz > 0 ? xyz : std::abs(target.e - position_.e);
-  if (length > 0 && std::isfinite(length)) ++moves_;
-  model_.push(target, feedrate_);
-  position_ = target;
+void PrintClock::run(const GcodeStep& step) {
+  if (step.homed) drain();
+  for (const Motion& move : step.moves()) {
+    // The same test the motion model makes for a move that takes time.
+    const double dx = move.to.x - move.from.x, dy = move.to.y - move.from.y,
+                 dz = move.to.z - move.from.z;
+    const double xyz = std::sqrt(dx * dx + dy * dy + dz * dz);
+    const double length = xyz > 0 ? xyz : std::abs(move.to.e - move.from.e);
+    if (length > 0 && std::isfinite(length)) ++moves_;
+    model_.push(move.to, move.feedrate != 0 ? move.feedrate : kDefaultFeedrate);
+  }
+  if (step.position_set) model_.set_position(machine_position(state_));
 }
 
+void PrintClock::linear_move(const MoveWords& words) { run(interpret_move(state_, words)); }
+
 void PrintClock::command(const GcodeCommand& c) {
-  if (c.letter == 'G') {
-    switch (c.code) {
-      case 0: case 1: case 2: case 3:
-        linear_move({c.get('X'), c.get('Y'), c.get('Z'), c.get('E'), c.get('F')});
-        return;
-      case 4:
-        drain();
-        if (auto p = c.get('P')) dwell_ += *p / 1000.0;
-        if (auto s = c.get('S')) dwell_ += *s;
-        return;
-      case 28: {
-        drain();
-        const bool all = !c.has('X') && !c.has('Y') && !c.has('Z');
-        if (all || c.has('X')) position_.x = 0;
-        if (all || c.has('Y')) position_.y = 0;
-        if (all || c.has('Z')) position_.z = 0;
-        model_.set_position(position_);
-        return;
-      }
-      case 90: relative_xyz_ = false; relative_e_ = false; return;
-      case 91: relative_xyz_ = true; relative_e_ = true; return;
-      case 92:
-        if (auto v = c.get('X')) position_.x = *v;
-        if (auto v = c.get('Y')) position_.y = *v;
-        if (auto v = c.get('Z')) position_.z = *v;
-        if (auto v = c.get('E')) position_.e = *v;
-        model_.set_position(position_);
-        return;
-      default: return;
-    }
+  run(interpret(state_, c));
+  if (c.letter == 'G' && c.code == 4) {
+    drain();
+    if (auto p = c.get('P')) dwell_ += *p / 1000.0;
+    if (auto s = c.get('S')) dwell_ += *s;
+    return;
   }
   if (c.letter != 'M') return;
   MotionLimits limits = model_.limits();
   static constexpr char kAxes[4] = {'X', 'Y', 'Z', 'E'};
   switch (c.code) {
-    case 82: relative_e_ = false; return;
-    case 83: relative_e_ = true; return;
     case 109: case 190: case 400: drain(); return;
     case 201:
       for (int i = 0; i < 4; ++i) {

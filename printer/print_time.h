@@ -1,28 +1,21 @@
-// The print-time estimate: the motion model (motion_model.h) run over a G-code program, reading
-// each line as Marlin does: the G-code header's estimate, and the host's ETA for a file.
+// The print-time estimate: the motion model (motion_model.h) run over a G-code program, read
+// by printer/gcode_interpreter.h's rules (Marlin's: modes, units, G92, G28, firmware
+// retraction): the G-code header's estimate; the host's ETA for a file.
 //
-// Understood: G0/G1 (and G2/G3 as a straight move to their end point) with X Y Z E F, F in
-// mm/min and modal (25 mm/s until the first F, Marlin's default); G90/G91 (G90 and G91 switch
-// E too, as in Marlin), M82/M83, G92; G28 (the axes named, or all, go to 0); M201 X Y Z E,
-// M203 X Y Z E (mm/s), M204 P R T S, M205 J: the limits change for later moves. The planner
-// drains (flush) before G28, G4, M400, M109 and M190 (the firmware waits there); G4 P<ms> or
-// S<s> adds its dwell. Heating time is not counted: the estimate is motion (and dwell) time.
-// Everything else is ignored. Units: mm, s.
+// Besides the interpreter's moves: F is modal, 25 mm/s until the first (Marlin's default);
+// M201 X Y Z E, M203 X Y Z E (mm/s), M204 P R T S, M205 J: the limits change for later moves.
+// The planner drains (flush) before G28, G4, M400, M109 and M190 (the firmware waits there);
+// G4 P<ms> or S<s> adds its dwell. Heating time is not counted: the estimate is motion (and
+// dwell) time. Everything else is ignored. Units: mm, s.
 #pragma once
 
-#include <optional>
 #include <string_view>
 
+#include "printer/gcode_interpreter.h"
 #include "printer/gcode_line.h"
 #include "printer/motion_model.h"
 
 namespace printer {
-
-// The words of a G0/G1 as written; absent words keep their axis (or the modal feedrate).
-struct MoveWords {
-  std::optional<double> x, y, z, e;
-  std::optional<double> f;  // mm/min
-};
 
 class PrintClock {
  public:
@@ -43,15 +36,14 @@ class PrintClock {
   // Drains the planner and returns the whole program's seconds so far.
   double finish();
 
-  AxisPosition position() const { return position_; }
-  bool relative_e() const { return relative_e_; }
+  AxisPosition position() const { return machine_position(state_); }
+  bool relative_e() const { return state_.relative_e; }
 
  private:
   void drain();
+  void run(const GcodeStep& step);
   MotionModel model_;
-  AxisPosition position_;
-  double feedrate_ = 25.0;  // mm/s
-  bool relative_xyz_ = false, relative_e_ = false;
+  GcodeState state_;
   double dwell_ = 0;
   std::size_t moves_ = 0;
 };

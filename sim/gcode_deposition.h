@@ -4,10 +4,9 @@
 // simulated printer keeps while it prints the file, move for move, since both read the
 // lines with printer/gcode_line.h in Marlin's modes.
 //
-// Read: G0/G1 (X Y Z E F), G90/G91 (both also set E's mode, as Marlin's do), M82/M83, G92,
-// G28 (homed axes to 0), M221 S (flow percent). G2/G3 arcs are not read (neither the
-// slicers compared here nor mahost write them). A move records when E grows while X or Y
-// moves. Any text is read; lines that are not G-code are skipped.
+// Read by printer/gcode_interpreter.h's rules (Marlin's: modes, units, G92, G28, firmware
+// retraction, M221 flow). A move records when E grows while X or Y moves, its filament times
+// the flow. Any text is read; lines that are not G-code are skipped.
 #pragma once
 
 #include <string_view>

@@ -191,6 +191,15 @@ TEST_CASE("gcode_that_is_not_one_stack_of_layers_is_refused") {
   check_tops(layer_tops_from_gcode(relative, "rel.gcode"), {0.2, 0.4});
 }
 
+TEST_CASE("homing_firmware_retraction_and_inches_are_followed") {
+  // G28 Z puts Z at 0 before a relative rise; a G10/G11 pair with a Z-raise lays nothing and
+  // leaves Z; G20 reads inches.
+  const std::string program =
+      "G1 Z5\nG28 Z\nG91\nG1 Z0.3\nG90\nG1 X10 Y10 E1\nM207 Z1\nG10\nG0 X20\nG11\n"
+      "G1 X30 E2\nG20\nG1 Z0.023622047\nG21\nG1 X40 E3\n";
+  check_tops(layer_tops_from_gcode(program, "rules.gcode"), {0.3, 0.6});
+}
+
 TEST_CASE("layer_top_lists_take_commas_lines_and_comments") {
   check_tops(layer_tops_from_list("0.3, 0.5,0.7", "--boundaries"), {0.3, 0.5, 0.7});
   check_tops(layer_tops_from_list("# tops, mm\n0.3\n0.45  # thin\n\n0.85\n", "plan.txt"),

@@ -71,6 +71,23 @@ TEST_CASE("homing_drains_and_zeroes_the_named_axes") {
   CHECK(clock.position().z == 0);
 }
 
+TEST_CASE("firmware_retraction_moves_the_filament_at_marlins_feedrates") {
+  // G10: 3 mm back at 45 mm/s; G11: 3 mm forward at 8 mm/s (Marlin's defaults), each an
+  // E-only move at the retract acceleration; the position the G-code sees stays.
+  PrintClock clock(plain_limits());
+  clock.line("G10");
+  clock.line("G11");
+  CHECK(clock.finish() ==
+        doctest::Approx(rest_to_rest(3, 45, 1000) + rest_to_rest(3, 8, 1000)).epsilon(1e-12));
+  CHECK(clock.position().e == 0);
+}
+
+TEST_CASE("g20_moves_and_feedrates_are_in_inches") {
+  // 2 in at 60 in/min: 50.8 mm at 25.4 mm/s.
+  const double t = estimate_print_time("G20\nG1 X2 F60\n", plain_limits());
+  CHECK(t == doctest::Approx(rest_to_rest(50.8, 25.4, 1000)).epsilon(1e-12));
+}
+
 TEST_CASE("dwell_adds_its_time") {
   CHECK(estimate_print_time("G4 P500\nG4 S2\n", plain_limits()) == doctest::Approx(2.5));
 }

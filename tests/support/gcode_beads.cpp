@@ -6,6 +6,7 @@
 #include <fmt/core.h>
 #include "geometry/core/clipper.h"
 #include "printer/bead_model.h"
+#include "printer/gcode_interpreter.h"
 #include "printer/gcode_line.h"
 
 namespace test_support {
@@ -14,18 +15,52 @@ double Bead::length() const { return std::hypot(to.x - from.x, to.y - from.y); }
 
 PrintedProgram read_printed_program(std::string_view gcode, const BeadSettings& settings) {
   PrintedProgram program;
-  double x = 0, y = 0, z = 0, e = 0;
-  bool relative_xyz = false, relative_e = false, homed = false;
+  printer::GcodeState state;
   bool chain_open = false;
-  std::string type;
   std::size_t line_number = 0;
 
-  auto reach = [&]() {
-    if (!homed) return;
-    program.min_xy = {std::min(program.min_xy.x, x), std::min(program.min_xy.y, y)};
-    program.max_xy = {std::max(program.max_xy.x, x), std::max(program.max_xy.y, y)};
-    program.min_z = std::min(program.min_z, z);
-    program.max_z = std::max(program.max_z, z);
+  auto reach = [&](const printer::AxisPosition& at) {
+    if (!state.homed) return;
+    program.min_xy = {std::min(program.min_xy.x, at.x), std::min(program.min_xy.y, at.y)};
+    program.max_xy = {std::max(program.max_xy.x, at.x), std::max(program.max_xy.y, at.y)};
+    program.min_z = std::min(program.min_z, at.z);
+    program.max_z = std::max(program.max_z, at.z);
+  };
+  // One extruding move: a bead of the current layer (none before the first: the start
+  // G-code's prime line).
+  auto lay = [&](const printer::Motion& move) {
+    if (program.layers.empty()) return;
+    PrintedLayer& layer = program.layers.back();
+    const double z = move.to.z, de = move.to.e - move.from.e;
+    if (layer.chains.empty()) {
+      // Measured from the last layer below that laid something.
+      double below = 0;
+      for (std::size_t i = program.layers.size() - 1; i-- > 0;) {
+        if (program.layers[i].filament > 0) {
+          below = program.layers[i].z;
+          break;
+        }
+      }
+      layer.z = z;
+      layer.height = z - below;
+    } else if (std::abs(z - layer.z) > 1e-9) {
+      program.problems.push_back(fmt::format("line {}: layer {} extrudes at z = {} and at {}",
+                                             line_number, layer.number, layer.z, z));
+    }
+    Bead bead;
+    bead.from = {move.from.x, move.from.y};
+    bead.to = {move.to.x, move.to.y};
+    bead.filament = de;
+    bead.width = printer::bead_width(de, bead.length(), layer.height, settings.filament_diameter,
+                                     settings.flow);
+    if (!chain_open) {
+      layer.chains.emplace_back();
+      layer.chain_types.push_back(state.type);
+    }
+    layer.chains.back().push_back(bead);
+    chain_open = true;
+    layer.filament += de;
+    program.filament += de;
   };
 
   while (!gcode.empty()) {
@@ -34,19 +69,19 @@ PrintedProgram read_printed_program(std::string_view gcode, const BeadSettings& 
     gcode.remove_prefix(end == std::string_view::npos ? gcode.size() : end + 1);
     ++line_number;
     const printer::GcodeCommand c = printer::parse_gcode_line(line);
+    const printer::GcodeStep step = printer::interpret(state, c);
 
     if (c.empty()) {
-      const std::string& comment = c.comment;
-      if (comment.starts_with("LAYER:")) {
+      if (step.layer_started) {
         PrintedLayer layer;
-        layer.number = std::strtol(comment.c_str() + 6, nullptr, 10);
+        layer.number = state.layer;
         program.layers.push_back(layer);
         chain_open = false;
-      } else if (comment.starts_with("TYPE:")) {
-        type = comment.substr(5);
-        if (!program.layers.empty()) program.layers.back().types.push_back(type);
+      } else if (step.type_started) {
+        if (!program.layers.empty()) program.layers.back().types.push_back(state.type);
         chain_open = false;
       } else if (program.layers.empty()) {
+        const std::string& comment = c.comment;
         const std::size_t colon = comment.find(':');
         if (colon != std::string::npos && colon > 0 && comment.find(' ') > colon) {
           program.header[comment.substr(0, colon)] = comment.substr(colon + 1);
@@ -54,82 +89,22 @@ PrintedProgram read_printed_program(std::string_view gcode, const BeadSettings& 
       }
       continue;
     }
-    if (c.letter == 'G' && (c.code == 0 || c.code == 1)) {
-      const double x0 = x, y0 = y, e0 = e;
-      if (auto v = c.get('X')) x = relative_xyz ? x + *v : *v;
-      if (auto v = c.get('Y')) y = relative_xyz ? y + *v : *v;
-      if (auto v = c.get('Z')) z = relative_xyz ? z + *v : *v;
-      if (auto v = c.get('E')) e = relative_e ? e + *v : *v;
+    if (step.homed) reach(printer::machine_position(state));
+    if (step.count == 0) chain_open = false;
+    for (const printer::Motion& move : step.moves()) {
       ++program.moves;
-      reach();
-      const double de = e - e0;
-      const bool moves_xy = x != x0 || y != y0;
-      if (moves_xy && de > 0) {
-        if (program.layers.empty()) continue;  // the start G-code's prime line
-        PrintedLayer& layer = program.layers.back();
-        if (layer.chains.empty()) {
-          // Measured from the last layer below that laid something.
-          double below = 0;
-          for (std::size_t i = program.layers.size() - 1; i-- > 0;) {
-            if (program.layers[i].filament > 0) {
-              below = program.layers[i].z;
-              break;
-            }
-          }
-          layer.z = z;
-          layer.height = z - below;
-        } else if (std::abs(z - layer.z) > 1e-9) {
-          program.problems.push_back(fmt::format("line {}: layer {} extrudes at z = {} and at {}",
-                                                 line_number, layer.number, layer.z, z));
-        }
-        Bead bead;
-        bead.from = {x0, y0};
-        bead.to = {x, y};
-        bead.filament = de;
-        bead.width = printer::bead_width(de, bead.length(), layer.height,
-                                         settings.filament_diameter, settings.flow);
-        if (!chain_open) {
-          layer.chains.emplace_back();
-          layer.chain_types.push_back(type);
-        }
-        layer.chains.back().push_back(bead);
-        chain_open = true;
-        layer.filament += de;
-        program.filament += de;
-      } else {
-        chain_open = false;
-        if (!moves_xy && de < 0 && c.get('Z') == std::nullopt) ++program.retractions;
-        if (moves_xy && de < 0) {
-          program.problems.push_back(fmt::format("line {}: moves while retracting", line_number));
-        }
+      reach(move.to);
+      const double de = move.to.e - move.from.e;
+      const bool moves_xy = move.to.x != move.from.x || move.to.y != move.from.y;
+      if (printer::lays_filament(move)) {
+        lay(move);
+        continue;
       }
-      continue;
-    }
-    chain_open = false;
-    if (c.letter == 'G') {
-      switch (c.code) {
-        case 28: {
-          const bool all = !c.has('X') && !c.has('Y') && !c.has('Z');
-          if (all || c.has('X')) x = 0;
-          if (all || c.has('Y')) y = 0;
-          if (all || c.has('Z')) z = 0;
-          homed = true;
-          reach();
-          break;
-        }
-        case 90: relative_xyz = relative_e = false; break;
-        case 91: relative_xyz = relative_e = true; break;
-        case 92:
-          if (auto v = c.get('X')) x = *v;
-          if (auto v = c.get('Y')) y = *v;
-          if (auto v = c.get('Z')) z = *v;
-          if (auto v = c.get('E')) e = *v;
-          break;
-        default: break;
+      chain_open = false;
+      if (!moves_xy && de < 0 && move.to.z == move.from.z) ++program.retractions;
+      if (moves_xy && de < 0) {
+        program.problems.push_back(fmt::format("line {}: moves while retracting", line_number));
       }
-    } else if (c.letter == 'M') {
-      if (c.code == 82) relative_e = false;
-      if (c.code == 83) relative_e = true;
     }
   }
   return program;

@@ -1,8 +1,8 @@
 // Reading a written G-code program back as a printer would lay it: per layer, the beads of
 // filament (segment x width) rebuilt from the moves alone, for coverage and extrusion tests.
 //
-// The program is read with printer/gcode_line.h in the firmware's modes (G90/G91, M82/M83,
-// G92, G28). Layers start at ";LAYER:<n>" comments; a layer's height is its Z minus the last
+// The program is read by printer/gcode_interpreter.h's rules (Marlin's: modes, units, G92,
+// G28, firmware retraction). Layers start at ";LAYER:<n>" comments; a layer's height is its Z minus the last
 // layer's Z (its Z for the first). An extruding move (E grows while X/Y move) is a bead whose
 // width comes from the bead model inverted: the filament it used over its length at the
 // layer's height. Consecutive extruding moves form a chain; the chain's polygon is its centre
