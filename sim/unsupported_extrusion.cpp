@@ -9,6 +9,7 @@
 #include <polyclipping/clipper.hpp>
 
 #include "geometry/core/clipper.h"
+#include "geometry/core/point_in_region.h"
 #include "printer/bead_model.h"
 
 namespace sim {
@@ -131,16 +132,6 @@ double median_width(const Layer& layer) {
   return widths.back().first;
 }
 
-bool inside(const Paths& region, const IntPoint& p) {
-  int winding = 0;
-  for (const Path& loop : region) {
-    const int at = ClipperLib::PointInPolygon(p, loop);
-    if (at == -1) return true;
-    if (at == 1) winding += ClipperLib::Orientation(loop) ? 1 : -1;
-  }
-  return winding != 0;
-}
-
 double length_of(const Path& path) {
   double length = 0;
   for (std::size_t i = 1; i < path.size(); ++i) {
@@ -179,7 +170,8 @@ std::vector<UnsupportedStretch> check_layer(const Layer& layer, int k, const Pat
     if (piece.size() < 2) continue;
     const double length = length_of(piece);
     if (!(length > 0)) continue;
-    const bool anchored = !held.empty() && inside(held, piece.front()) && inside(held, piece.back());
+    const bool anchored = !held.empty() && clipper::point_in_region(held, piece.front()) &&
+                          clipper::point_in_region(held, piece.back());
     if (anchored && length <= o.bridge_length) continue;
     if (!enclosed_known) {
       enclosed = raw_below.empty() ? raw_below
@@ -199,7 +191,7 @@ std::vector<UnsupportedStretch> check_layer(const Layer& layer, int k, const Pat
       }
       walked += step;
     }
-    const bool between = !enclosed.empty() && inside(enclosed, middle);
+    const bool between = !enclosed.empty() && clipper::point_in_region(enclosed, middle);
     found.push_back({k, layer.z, geometry::from_clipper(piece.front()),
                      geometry::from_clipper(piece.back()), length, anchored, between});
   }

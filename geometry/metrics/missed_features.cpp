@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "geometry/core/clipper.h"
+#include "geometry/core/point_in_region.h"
 
 namespace geometry {
 
@@ -13,17 +14,12 @@ namespace {
 int winding_of(const BoundaryPair& island, Vec2 p, double& clearance) {
   int winding = 0;
   clearance = std::numeric_limits<double>::infinity();
-  const auto visit = [&](const Loop& loop) {
-    for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
-      const Vec2 a = loop[i], b = loop[(i + 1) % n];
-      clearance = std::min(clearance, distance_to_segment(p, a, b));
-      if ((a.y > p.y) == (b.y > p.y)) continue;
-      const double x = a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
-      if (x > p.x) winding += b.y > a.y ? 1 : -1;
+  for (const Loop* loop : loops_of(island)) {
+    winding += winding_number(*loop, p);
+    for (std::size_t i = 0, n = loop->size(); i < n; ++i) {
+      clearance = std::min(clearance, distance_to_segment(p, (*loop)[i], (*loop)[(i + 1) % n]));
     }
-  };
-  visit(island.outer);
-  for (const Loop& hole : island.inner) visit(hole);
+  }
   return winding;
 }
 

@@ -40,10 +40,4 @@ std::vector<const Loop*> loops_of(const BoundaryPair& pair);
 // of the loop's vertices, which lie at least the footprint margin away from the surface.
 std::vector<char> solid_beside(const BoundaryPair& pair, const Region& section);
 
-// Is p inside `region` (non-zero winding)? Points on a loop count as inside.
-bool point_in_region(const Region& region, Vec2 p);
-
-// Winding number of one closed loop around p (0 outside); a point on the loop gives 1 or -1.
-int winding_number(const Loop& loop, Vec2 p);
-
 }  // namespace geometry

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "geometry/core/clipper.h"
+#include "geometry/core/point_in_region.h"
 
 namespace geometry {
 
@@ -26,17 +27,6 @@ constexpr double kHopeless = 0.5;
 // Shares within this of the best count as equal, and the shorter span wins.
 constexpr double kShareTie = 0.005;
 constexpr double kAnchoredShare = 0.98;
-
-// Non-zero winding of the region round p; on an edge counts as inside.
-bool inside(const clipper::Paths& region, const ClipperLib::IntPoint& p) {
-  int winding = 0;
-  for (const auto& loop : region) {
-    const int at = ClipperLib::PointInPolygon(p, loop);
-    if (at == -1) return true;
-    if (at == 1) winding += ClipperLib::Orientation(loop) ? 1 : -1;
-  }
-  return winding != 0;
-}
 
 struct Trial {
   double share = 0, span = 0;
@@ -74,7 +64,8 @@ Trial try_direction(double angle, const clipper::Paths& area, const clipper::Pat
       length += std::hypot(step.x, step.y);
     }
     total += length;
-    if (inside(anchors, piece.front()) && inside(anchors, piece.back())) {
+    if (clipper::point_in_region(anchors, piece.front()) &&
+        clipper::point_in_region(anchors, piece.back())) {
       held += length;
       trial.span = std::max(trial.span, length);
     }

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "geometry/core/clipper.h"
+#include "geometry/core/point_in_region.h"
 #include "geometry/toolpaths/thin_walls.h"
 #include "geometry/toolpaths/zigzag.h"
 
@@ -89,21 +90,11 @@ std::vector<ExtrusionPath> lines_across(const ScanFrame& frame, double first, do
   return lines(frame, first, spacing, r.y_max, r.x_min, r.x_max, r.paths, role, width);
 }
 
-// Whether the region's windings round p sum to more than 0 (a loop's edge counts as inside it).
-bool inside(const clipper::Paths& region, Vec2 p) {
-  const ClipperLib::IntPoint q = to_clipper(p);
-  int winding = 0;
-  for (const auto& loop : region) {
-    if (ClipperLib::PointInPolygon(q, loop) != 0) winding += ClipperLib::Orientation(loop) ? 1 : -1;
-  }
-  return winding > 0;
-}
-
 // The piece (by index) whose area contains p, or the first one.
 PathRole role_at(Vec2 p, const std::vector<SolidPiece>& pieces,
                  const std::vector<clipper::Paths>& piece_paths) {
   for (std::size_t i = 0; i < pieces.size(); ++i) {
-    if (inside(piece_paths[i], p)) return pieces[i].role;
+    if (clipper::point_in_region(piece_paths[i], to_clipper(p))) return pieces[i].role;
   }
   return pieces.front().role;
 }
@@ -298,7 +289,8 @@ std::vector<ExtrusionPath> skin_edge_lines(const Region& sparse, const Region& c
       for (int c = 0; c < cuts; ++c) {
         const Vec2 from = a + (static_cast<double>(c) / cuts) * (b - a);
         const Vec2 to = a + (static_cast<double>(c + 1) / cuts) * (b - a);
-        steps.push_back({from, to, c + 1 == cuts, inside(shrunk, 0.5 * (from + to))});
+        steps.push_back({from, to, c + 1 == cuts,
+                         clipper::point_in_region(shrunk, to_clipper(0.5 * (from + to)))});
       }
     }
     const std::size_t m = steps.size();

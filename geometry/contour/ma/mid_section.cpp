@@ -5,6 +5,8 @@
 #include <limits>
 #include <utility>
 
+#include "geometry/core/point_in_region.h"
+
 namespace geometry::ma {
 
 namespace {

@@ -21,6 +21,7 @@
 
 #include "geometry/slab/boundary_pair.h"
 #include "geometry/core/clipper.h"
+#include "geometry/core/point_in_region.h"
 #include "geometry/metrics/layer_metrics.h"
 #include "geometry/slicing/layer_stack.h"
 #include "geometry/contour/ma_contour.h"

@@ -4,8 +4,9 @@
 #include <algorithm>
 #include <vector>
 
-#include "geometry/slab/boundary_pair.h"
+#include "geometry/core/point_in_region.h"
 #include "geometry/core/polygon.h"
+#include "geometry/slab/boundary_pair.h"
 
 namespace boundary_pair_test {
 

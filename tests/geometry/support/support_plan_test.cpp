@@ -1,5 +1,6 @@
 // plan_supports: where supports, bridges and the raft go, for parts made of boxes whose every
 // layer's region is known exactly.
+#include "geometry/core/point_in_region.h"
 #include "geometry/support/support_plan.h"
 
 #include <doctest/doctest.h>
@@ -43,16 +44,9 @@ clipper::Paths support_of(const SupportPlan& plan, std::size_t layer) {
   return clipper::union_nonzero(all);
 }
 
-bool inside(const Region& region, Vec2 p) {
-  int winding = 0;
-  for (const auto& loop : to_clipper(region)) {
-    if (ClipperLib::PointInPolygon(to_clipper(p), loop) != 0) winding += ClipperLib::Orientation(loop) ? 1 : -1;
-  }
-  return winding != 0;
-}
-
 bool supported_at(const SupportPlan& plan, std::size_t layer, Vec2 p) {
-  return inside(plan.layers[layer].body, p) || inside(plan.layers[layer].interface, p);
+  return point_in_region(plan.layers[layer].body, p) ||
+         point_in_region(plan.layers[layer].interface, p);
 }
 
 std::size_t layer_from(const std::vector<Layer>& layers, double z_lo) {
@@ -83,10 +77,10 @@ TEST_CASE("t_wings_are_supported_from_the_bed_to_the_top_contact_distance") {
     for (std::size_t j = 0; j <= top; ++j) CHECK(supported_at(plan, j, p));
     for (std::size_t j = top + 1; j < layers.size(); ++j) CHECK_FALSE(supported_at(plan, j, p));
     // Dense right under the bar, sparse below.
-    CHECK(inside(plan.layers[top].interface, p));
-    CHECK(inside(plan.layers[top - 1].interface, p));
-    CHECK(inside(plan.layers[top - 2].body, p));
-    CHECK(inside(plan.layers[0].body, p));
+    CHECK(point_in_region(plan.layers[top].interface, p));
+    CHECK(point_in_region(plan.layers[top - 1].interface, p));
+    CHECK(point_in_region(plan.layers[top - 2].body, p));
+    CHECK(point_in_region(plan.layers[0].body, p));
   }
   CHECK_FALSE(supported_at(plan, 0, {0, 0}));  // the stem
   CHECK(plan.raft.empty());
@@ -172,15 +166,15 @@ TEST_CASE("interface_is_a_thickness_in_mm_rounded_up_to_whole_layers_on_any_stac
     for (const Vec2 p : {Vec2{15, 0}, Vec2{-20, 3}}) {
       for (std::size_t j = 0; j <= top; ++j) {
         CAPTURE(j);
-        CHECK(inside(plan.layers[j].interface, p) == (j + c.dense > top));
-        CHECK(inside(plan.layers[j].body, p) == (j + c.dense <= top));
+        CHECK(point_in_region(plan.layers[j].interface, p) == (j + c.dense > top));
+        CHECK(point_in_region(plan.layers[j].body, p) == (j + c.dense <= top));
       }
     }
     o.interface_thickness = 0;  // none: all of it sparse
     const SupportPlan sparse = plan_supports(regions, layers, o);
     for (std::size_t j = 0; j <= top; ++j) {
       CHECK(sparse.layers[j].interface.loops.empty());
-      CHECK(inside(sparse.layers[j].body, {15, 0}));
+      CHECK(point_in_region(sparse.layers[j].body, {15, 0}));
     }
   }
 }
@@ -204,7 +198,7 @@ TEST_CASE("contacts_are_widened_across_the_lines_not_along_them") {
   const double w = o.bead_width;
   for (const std::size_t j : {top - 1, top}) {
     CAPTURE(j);
-    for (const Vec2 p : {Vec2{0, 5.4}, Vec2{-4.95, 6.5}, Vec2{4.95, 7.7}}) CHECK(inside(plan.layers[j].interface, p));
+    for (const Vec2 p : {Vec2{0, 5.4}, Vec2{-4.95, 6.5}, Vec2{4.95, 7.7}}) CHECK(point_in_region(plan.layers[j].interface, p));
     for (const Vec2 p : {Vec2{5.05, 5.4}, Vec2{-5.05, 6.5}, Vec2{0, 7.5 + w / 2 + 0.02}}) {
       CHECK_FALSE(supported_at(plan, j, p));
     }
