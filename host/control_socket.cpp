@@ -14,6 +14,7 @@
 
 #include <fmt/core.h>
 
+#include "geometry/core/text.h"
 #include "host/print_ui.h"
 #include "printer/error.h"
 #include "printer/journal.h"
@@ -21,6 +22,8 @@
 namespace host {
 
 namespace {
+
+using geometry::trim;
 
 sockaddr_un address_of(const std::string& path) {
   sockaddr_un address{};
@@ -35,17 +38,10 @@ sockaddr_un address_of(const std::string& path) {
   return address;
 }
 
-std::string trim(std::string s) {
-  while (!s.empty() && (s.back() == '\n' || s.back() == '\r' || s.back() == ' ')) s.pop_back();
-  std::size_t start = 0;
-  while (start < s.size() && s[start] == ' ') ++start;
-  return s.substr(start);
-}
-
 }  // namespace
 
 std::string answer_request(printer::Job& job, const std::string& raw) {
-  const std::string request = trim(raw);
+  const std::string request(trim(raw));
   const printer::JobProgress before = job.progress();
   if (request == "status") return "ok " + progress_text(before);
   if (request == "pause") {
@@ -163,7 +159,7 @@ std::string send_control(const std::string& socket_path, const std::string& requ
     throw printer::LinkError(fmt::format("{}: the job did not answer within {} s", socket_path,
                                          timeout.count() / 1000.0));
   }
-  return trim(reply.substr(0, reply.find('\n')));
+  return std::string(trim(reply.substr(0, reply.find('\n'))));
 }
 
 std::vector<std::string> running_jobs() {

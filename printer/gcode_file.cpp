@@ -7,6 +7,7 @@
 
 #include <fmt/core.h>
 
+#include "geometry/core/text.h"
 #include "printer/error.h"
 #include "printer/gcode_line.h"
 
@@ -14,15 +15,11 @@ namespace printer {
 
 namespace {
 
+using geometry::trim;
+
 // Marlin's MAX_CMD_SIZE is 96 with the terminating NUL; the host adds "N<line> " and "*<cs>",
 // up to 13 characters for a line number of seven digits.
 constexpr std::size_t kLongestCommand = 95 - 13;
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
-  return s;
-}
 
 // The start of a line for a message: printable, at most 40 characters.
 std::string excerpt(std::string_view line) {

@@ -9,15 +9,13 @@
 
 #include <fmt/core.h>
 
+#include "geometry/core/text.h"
+
 namespace printer {
 
 namespace {
 
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
-  return s;
-}
+using geometry::trim;
 
 // Parses a decimal number at the front of `s` (as Marlin's strtod does), advancing `s`.
 std::optional<double> take_number(std::string_view& s) {

@@ -12,6 +12,7 @@
 
 #include <fmt/core.h>
 
+#include "geometry/core/text.h"
 #include "printer/error.h"
 #include "printer/gcode_interpreter.h"
 #include "printer/gcode_line.h"
@@ -23,11 +24,6 @@ namespace {
 // Heights are written to 1 um (ours, PrusaSlicer's, Slic3r's; Cura's fewer digits): closer
 // than half of that they are the same layer.
 constexpr double kSameHeight = 0.5e-3;
-
-std::string_view trim_left(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  return s;
-}
 
 // mahost's header note on a raft, "; raft: 4 layers, 1.10 mm under the part (...)": how far
 // the part stands lifted, mm; 0 for any other line.
@@ -49,7 +45,7 @@ double raft_lift(std::string_view line) {
 bool looks_like_gcode(std::string_view text) {
   while (!text.empty()) {
     const std::size_t end = text.find('\n');
-    const std::string_view line = trim_left(text.substr(0, end));
+    const std::string_view line = geometry::trim(text.substr(0, end));
     if (!line.empty()) {
       const char c = line.front();
       if (c == ';') return true;
@@ -71,7 +67,7 @@ std::vector<double> layer_tops_from_gcode(std::string_view text, const std::stri
   std::size_t line_number = 0;
   while (!text.empty()) {
     const std::size_t end = text.find('\n');
-    const std::string_view line = trim_left(text.substr(0, end));
+    const std::string_view line = geometry::trim(text.substr(0, end));
     text.remove_prefix(end == std::string_view::npos ? text.size() : end + 1);
     ++line_number;
     // Only G and M commands matter, and mahost's note of a raft; other comments, blank lines
@@ -145,10 +141,7 @@ std::vector<double> layer_tops_from_list(std::string_view text, const std::strin
       const std::size_t comma = line.find(',');
       std::string_view item = line.substr(0, comma);
       line.remove_prefix(comma == std::string_view::npos ? line.size() : comma + 1);
-      while (!item.empty() && (item.front() == ' ' || item.front() == '\t')) item.remove_prefix(1);
-      while (!item.empty() && (item.back() == ' ' || item.back() == '\t' || item.back() == '\r')) {
-        item.remove_suffix(1);
-      }
+      item = geometry::trim(item);
       if (item.empty()) continue;
       double value = 0;
       const auto [ptr, error] = std::from_chars(item.data(), item.data() + item.size(), value);

@@ -18,12 +18,15 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include "geometry/core/text.h"
 #include "printer/error.h"
 #include "printer/prusa_variables.h"
 
 namespace printer {
 
 namespace {
+
+using geometry::trim;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
@@ -221,12 +224,6 @@ bool parse_double(std::string_view text, double& out) {
   char* end = nullptr;
   out = std::strtod(s.c_str(), &end);
   return end == s.c_str() + s.size();
-}
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
-  return s;
 }
 
 // Converts a --set value typed on the command line to the rule's kind.

@@ -4,17 +4,18 @@
 #include <cctype>
 #include <charconv>
 
+#include "geometry/core/text.h"
+
 namespace printer {
 
 namespace {
 
 bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\0'; }
 
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && is_blank(s.front())) s.remove_prefix(1);
-  while (!s.empty() && is_blank(s.back())) s.remove_suffix(1);
-  return s;
-}
+// The same blanks for trim: white space and NUL, line noise on a serial port.
+constexpr std::string_view kReplyBlanks{" \t\r\n\0", 5};
+
+std::string_view trim(std::string_view s) { return geometry::trim(s, kReplyBlanks); }
 
 bool starts_with_nocase(std::string_view s, std::string_view prefix) {
   if (s.size() < prefix.size()) return false;

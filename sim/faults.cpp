@@ -6,11 +6,14 @@
 
 #include <fmt/core.h>
 
+#include "geometry/core/text.h"
 #include "printer/error.h"
 
 namespace sim {
 
 namespace {
+
+using geometry::trim;
 
 constexpr std::string_view kKeys =
     "corrupt, drop-ok, drop-blocking-ok, dup-ok, resend, delay, disconnect-at-line, "
@@ -19,12 +22,6 @@ constexpr std::string_view kKeys =
 [[noreturn]] void bad(std::string_view key, std::string_view value, std::string_view what) {
   throw printer::ConfigError(
       fmt::format("fault spec '{}={}': {}", key, value, what));
-}
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
-  return s;
 }
 
 // A number in full (no trailing text); nullopt otherwise.

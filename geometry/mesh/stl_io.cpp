@@ -14,6 +14,7 @@
 
 #include <fmt/core.h>
 
+#include "geometry/core/text.h"
 #include "geometry/mesh/file_bytes.h"
 
 namespace geometry {
@@ -56,12 +57,6 @@ bool iequals(std::string_view a, std::string_view b) {
 
 bool is_space(char c) {
   return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v';
-}
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && is_space(s.front())) s.remove_prefix(1);
-  while (!s.empty() && is_space(s.back())) s.remove_suffix(1);
-  return s;
 }
 
 // `where` is appended to the message: "" for binary files, " (line N)" for ASCII.

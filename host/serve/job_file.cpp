@@ -5,6 +5,7 @@
 
 #include <fmt/core.h>
 
+#include "geometry/core/text.h"
 #include "printer/error.h"
 #include "printer/gcode_line.h"
 
@@ -12,11 +13,7 @@ namespace host::serve {
 
 namespace {
 
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
-  return s;
-}
+using geometry::trim;
 
 // The byte after each command's line, by parse_gcode's own rule for what is a command: the
 // text before ';' on a line, trimmed, when not empty.
