@@ -34,6 +34,7 @@
 #include "geometry/mesh/repair.h"
 #include "geometry/mesh/stl_io.h"
 #include "bench/bench_main.h"
+#include "bench/bench_model.h"
 
 using namespace geometry;
 using Clock = std::chrono::steady_clock;
@@ -125,13 +126,7 @@ static int run_bench(int argc, char** argv) {
   }
 
   auto start = Clock::now();
-  Placement placement;
-  if (path.find("bunny") != std::string::npos) {
-    placement.units_to_mm = 1000;
-    placement.up = Axis::y;
-    placement.height = 50;
-  }
-  const Mesh mesh = place(repair(read_stl(path)), placement);
+  const Mesh mesh = bench::load_model(path);
   const double load = seconds_since(start);
   const Box3 box = bounding_box(mesh);
   LayerStack stack(mesh, uniform_layers(box.max.z - box.min.z, thickness));

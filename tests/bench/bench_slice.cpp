@@ -25,6 +25,7 @@
 #include "geometry/slicing/slicer.h"
 #include "geometry/mesh/stl_io.h"
 #include "bench/bench_main.h"
+#include "bench/bench_model.h"
 
 namespace {
 
@@ -100,11 +101,7 @@ static int run_bench(int argc, char** argv) {
                report.closed ? "yes" : "no");
 
     start = Clock::now();
-    geometry::Placement placement;
-    placement.units_to_mm = 1000;
-    placement.up = geometry::Axis::y;
-    placement.height = 50;
-    mesh = geometry::place(std::move(mesh), placement);
+    mesh = geometry::place(std::move(mesh), bench::bunny_placement());
     const geometry::Box3 box = geometry::bounding_box(mesh);
     fmt::print("  place     {:8.3f} s  height {:.3f} mm, volume {:.1f} mm^3\n",
                seconds_since(start), box.max.z - box.min.z, geometry::signed_volume(mesh));

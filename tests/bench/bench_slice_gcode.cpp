@@ -28,6 +28,7 @@
 #include "printer/gcode_writer.h"
 #include "printer/profile.h"
 #include "bench/bench_main.h"
+#include "bench/bench_model.h"
 
 namespace {
 
@@ -72,12 +73,7 @@ static int run_bench(int argc, char** argv) {
 
   Stage stage;
   geometry::RepairReport report;
-  geometry::Placement placement;
-  placement.units_to_mm = 1000;
-  placement.height = 50;
-  placement.up = geometry::Axis::y;
-  const geometry::Mesh mesh =
-      geometry::place(geometry::repair(geometry::read_stl(bunny), &report), placement);
+  const geometry::Mesh mesh = bench::load_model(bunny, &report);
   stage.report("read, repair, place");
 
   const auto layers = geometry::uniform_layers(50, thickness, profiles.printer.first_layer_height);

@@ -36,6 +36,7 @@
 #include "geometry/support/support_plan.h"
 #include "geometry/toolpaths/toolpath_plan.h"
 #include "bench/bench_main.h"
+#include "bench/bench_model.h"
 
 namespace {
 
@@ -87,11 +88,7 @@ static int run_bench(int argc, char** argv) {
                  contour_names().c_str());
     return 2;
   }
-  Placement placement;
-  placement.units_to_mm = 1000;
-  placement.up = Axis::y;
-  placement.height = 50;
-  const Mesh mesh = place(repair(read_stl(model)), placement);
+  const Mesh mesh = bench::load_model(model);
   const Box3 box = bounding_box(mesh);
   const LayerStack stack(mesh, uniform_layers(box.max.z - box.min.z, layer, 0.3));
   std::vector<Region> regions(stack.size());

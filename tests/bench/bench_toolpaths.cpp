@@ -42,6 +42,7 @@
 #include "geometry/mesh/stl_io.h"
 #include "geometry/toolpaths/toolpath_plan.h"
 #include "bench/bench_main.h"
+#include "bench/bench_model.h"
 
 namespace {
 
@@ -144,13 +145,7 @@ static int run_bench(int argc, char** argv) {
   }
 
   auto start = std::chrono::steady_clock::now();
-  Placement placement;
-  if (placing == "bunny") {
-    placement.units_to_mm = 1000;
-    placement.up = Axis::y;
-    placement.height = 50;
-  }
-  const Mesh mesh = place(repair(read_stl(model)), placement);
+  const Mesh mesh = place(repair(read_stl(model)), placing == "bunny" ? bench::bunny_placement() : Placement{});
   const double height = bounding_box(mesh).max.z - bounding_box(mesh).min.z;
   std::printf("model %s: load+repair+place %.3f s\n", model.c_str(), seconds_since(start));
 

@@ -37,15 +37,9 @@ done
 for tool in CuraEngine prusa-slicer openscad /usr/bin/time; do
   command -v "$tool" >/dev/null || { echo "compare_supports: $tool not found; run scripts/setup" >&2; exit 2; }
 done
-cura_resources=""
-for dir in /usr/share/cura/resources "${XDG_CACHE_HOME:-$HOME/.cache}/mahost/cura-4.13/resources"; do
-  [[ -f $dir/definitions/fdmprinter.def.json ]] && { cura_resources=$dir; break; }
-done
-[[ -n $cura_resources ]] || { echo "compare_supports: run tests/bench/compare_slicers.sh once (it fetches Cura's definitions)" >&2; exit 2; }
-export CURA_ENGINE_SEARCH_PATH=$cura_resources/definitions:$cura_resources/extruders
-
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
+source "$(dirname "$0")/cura_definitions.sh"
 
 # --- the models ------------------------------------------------------------------------------
 "$mahost" info data/bunny.stl --up y --units m --height 50 --export "$work/bunny.stl" >/dev/null 2>&1
