@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
+#include "app/value_check.h"
 #include "printer/serial_link.h"
 
 namespace host {
@@ -20,25 +21,8 @@ namespace host {
 // PositiveNumber a bound of 308 digits, and both let "inf" through.
 inline CLI::Validator number_check(double lo, double hi, bool above_lo, bool whole,
                                    const std::string& unit) {
-  const std::string kind = whole ? "a whole number" : "a number";
-  const std::string wanted =
-      std::isinf(hi)
-          ? fmt::format("{} {} {:g}", kind, above_lo ? "greater than" : "of at least", lo)
-          : fmt::format("{} from {:g} to {:g}", kind, lo, hi);
   return CLI::Validator(
-      [=](std::string& text) -> std::string {
-        double value = 0;
-        long integer = 0;
-        const char* first = text.data();
-        const char* last = text.data() + text.size();
-        const auto [end, ec] = whole ? std::from_chars(first, last, integer)
-                                     : std::from_chars(first, last, value);
-        if (whole) value = static_cast<double>(integer);
-        const bool in = ec == std::errc() && end == last && std::isfinite(value) &&
-                        (above_lo ? value > lo : value >= lo) && value <= hi;
-        return in ? std::string() : fmt::format("needs {}, not '{}'", wanted, text);
-      },
-      unit);
+      [=](std::string& text) { return app::number_problem(text, lo, hi, above_lo, whole); }, unit);
 }
 inline CLI::Validator positive_number(const std::string& unit = "> 0") {
   return number_check(0, INFINITY, true, false, unit);

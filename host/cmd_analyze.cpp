@@ -48,14 +48,17 @@
 #include "geometry/slab/slab.h"
 #include "geometry/mesh/stl_io.h"
 #include "geometry/plan/flat_levels.h"
+#include "app/layer_boundaries.h"
+#include "app/layer_choice.h"
+#include "app/model.h"
+#include "app/profile_paths.h"
+#include "app/slice.h"
+#include "app/slice_options.h"
 #include "host/cli_checks.h"
 #include "host/commands.h"
-#include "host/layer_boundaries.h"
-#include "host/model_input.h"
 #include "host/plots.h"
-#include "host/profile_paths.h"
 #include "host/progress.h"
-#include "host/slice_pipeline.h"
+#include "host/slice_flags.h"
 #include "printer/profile.h"
 
 namespace host {
@@ -66,7 +69,7 @@ using geometry::LayerAnalysis;
 using geometry::StrategySummary;
 
 struct AnalyzeOptions {
-  ModelOptions model;
+  app::ModelOptions model;
   double layer = 0.15;
   std::string boundaries;  // explicit layer tops instead of --layer
   std::string exclude_z;   // "LO:HI", mm: left out of the by-height percentile
@@ -76,19 +79,19 @@ struct AnalyzeOptions {
   std::string thick = "0.2,0.25";
   int layer_index = -1;
   bool from_zero = false;          // --from-zero: uniform layers from the bed, no first layer
-  AdaptiveRequest adaptive;        // --adaptive: the layers of a plan, not uniform
-  std::string printer = "up-plus-2";  // whose first layer and thicknesses the layers use
+  app::AdaptiveRequest adaptive;   // --adaptive: the layers of a plan, not uniform
+  std::string printer = printer::kDefaultPrinter;  // whose first layer and thicknesses the layers use
 };
 
 struct AdviseOptions {
-  ModelOptions model;
+  app::ModelOptions model;
   std::string boundaries;  // a layer plan to judge beside the uniform thicknesses
-  std::string printer = "up-plus-2";
+  std::string printer = printer::kDefaultPrinter;
   std::string contour = "ma";
   std::string thicknesses;
   double share = 95;
   std::string json;
-  AdaptiveRequest adaptive;  // --adaptive: the plan as one more row
+  app::AdaptiveRequest adaptive;  // --adaptive: the plan as one more row
 };
 
 using Strategies = std::vector<const ContourStrategy*>;
@@ -171,12 +174,15 @@ std::vector<geometry::Layer> analysis_layers(const std::string& boundaries, doub
                                              bool from_zero, const std::string& printer_name,
                                              const geometry::Mesh& mesh, double height) {
   if (!boundaries.empty()) {
-    return boundary_layers(boundaries, height, std::numeric_limits<double>::infinity()).layers;
+    app::BoundaryLayers layers =
+        app::boundary_layers(boundaries, height, std::numeric_limits<double>::infinity());
+    for (const std::string& note : layers.notes) fmt::print(stderr, "{}\n", note);
+    return std::move(layers.layers);
   }
   if (from_zero) return geometry::uniform_layers(height, layer);
   const printer::PrinterProfile profile =
-      printer::load_printer_profile(printer_name, host::profile_search_path());
-  geometry::AllowedThicknesses allowed = allowed_thicknesses(profile);
+      printer::load_printer_profile(printer_name, app::profile_search_path());
+  geometry::AllowedThicknesses allowed = app::allowed_thicknesses(profile);
   if (!allowed.allows(layer)) {
     allowed = {.listed = {}, .min = std::min(layer, allowed.thinnest()),
                .max = std::max(layer, allowed.thickest()), .step = 0, .first = allowed.first};
@@ -186,14 +192,14 @@ std::vector<geometry::Layer> analysis_layers(const std::string& boundaries, doub
 
 // The adaptive plan analyze and advise judge: for `printed`, on the printer's thicknesses
 // (its first layer too), with a progress line while it measures candidate layers.
-LayerChoice adaptive_choice(const AdaptiveRequest& request, const std::string& printer_name,
+app::LayerChoice adaptive_choice(const app::AdaptiveRequest& request, const std::string& printer_name,
                             const geometry::Mesh& mesh, double height,
                             const ContourStrategy& printed) {
   const printer::PrinterProfile profile =
-      printer::load_printer_profile(printer_name, host::profile_search_path());
+      printer::load_printer_profile(printer_name, app::profile_search_path());
   const geometry::LayerStack index(mesh, {});
   Progress bar("planning layers", 0);
-  LayerChoice choice = choose_layers(request, profile, index, height, 0, printed,
+  app::LayerChoice choice = app::choose_layers(request, profile, index, height, 0, printed,
                                      [&](std::size_t measured) {
                                        bar.update(measured, fmt::format("{} candidate layers measured", measured));
                                      });
@@ -392,13 +398,13 @@ void draw_layer(const geometry::LayerStack& stack, std::size_t index,
 // many layers: each layer's thickness against height (adaptive-thickness.svg) and the printed
 // contour's D against height with the tolerance (adaptive-distance.svg).
 template <typename PathOf>
-void write_plan_charts(const LayerChoice& plan, const std::vector<LayerAnalysis>& layers,
+void write_plan_charts(const app::LayerChoice& plan, const std::vector<LayerAnalysis>& layers,
                        const Strategies& kinds, const ContourStrategy& printed,
                        const std::string& printer_name, const geometry::Mesh& mesh, double height,
                        const PathOf& path_of) {
   const printer::PrinterProfile profile =
-      printer::load_printer_profile(printer_name, host::profile_search_path());
-  const geometry::AllowedThicknesses allowed = allowed_thicknesses(profile);
+      printer::load_printer_profile(printer_name, app::profile_search_path());
+  const geometry::AllowedThicknesses allowed = app::allowed_thicknesses(profile);
   const std::size_t count = plan.layers.size();
   double same = allowed.thinnest();
   if (count > 1) {
@@ -452,7 +458,7 @@ void write_plan_charts(const LayerChoice& plan, const std::vector<LayerAnalysis>
 void run_analyze(const AnalyzeOptions& options) {
   Strategies kinds;
   for (const std::string& name : split_list(options.contours)) {
-    const ContourStrategy& kind = contour_strategy_option(name, "--contours");
+    const ContourStrategy& kind = app::contour_strategy_option(name, "--contours");
     if (index_of(kinds, kind.name) < 0) kinds.push_back(&kind);
   }
   if (kinds.empty()) {
@@ -460,7 +466,7 @@ void run_analyze(const AnalyzeOptions& options) {
         fmt::format("--contours: give at least one of {}", geometry::contour_names()));
   }
   const bool exporting = !options.export_layers.empty();
-  const ContourStrategy& export_kind = contour_strategy_option(options.contour, "--contour");
+  const ContourStrategy& export_kind = app::contour_strategy_option(options.contour, "--contour");
   const bool adaptive_plan = options.adaptive.wanted();
   if ((exporting || adaptive_plan) && index_of(kinds, export_kind.name) < 0) {
     kinds.push_back(&export_kind);
@@ -479,9 +485,9 @@ void run_analyze(const AnalyzeOptions& options) {
 
   const geometry::ZRange excluded =
       options.exclude_z.empty() ? geometry::ZRange{} : parse_z_range(options.exclude_z);
-  const geometry::Mesh mesh = load_model(options.model);
+  const geometry::Mesh mesh = load_model_noting(options.model);
   const double height = part_height(mesh);
-  std::optional<LayerChoice> plan;
+  std::optional<app::LayerChoice> plan;
   if (adaptive_plan) {
     plan = adaptive_choice(options.adaptive, options.printer, mesh, height, export_kind);
   }
@@ -493,7 +499,7 @@ void run_analyze(const AnalyzeOptions& options) {
     throw geometry::InputError(fmt::format("{}: the model has no height to slice",
                                            options.model.path));
   }
-  const std::string layers_text = describe_layers(stack.layers());
+  const std::string layers_text = app::describe_layers(stack.layers());
   if (options.layer_index >= static_cast<int>(stack.size())) {
     throw geometry::InputError(fmt::format("--layer-index {}: the part has {} (indices 0 to {})",
                                            options.layer_index, layers_text, stack.size() - 1));
@@ -509,7 +515,7 @@ void run_analyze(const AnalyzeOptions& options) {
   fmt::print("{}: {:.2f} mm tall, {}; volume limit {:.3f} mm³ (the least ΔV any extruded "
              "layers can have)\n",
              options.model.path, height, layers_text, total_limit);
-  if (plan) fmt::print("{}\n", describe_choice(*plan));
+  if (plan) fmt::print("{}\n", app::describe_choice(*plan));
   fmt::print("{:<15} {:>8} {:>8} {:>8} {:>8} {:>10} {:>9} {:>9} {:>7} {:>7} {:>5} {:>10}\n",
              "strategy", "mean D", "max D", "P95h D", "mean H", "total ΔV", "mean ΔV", "ΔV>limit",
              "missed", ">lower", ">mid", "ms/layer");
@@ -733,7 +739,7 @@ std::vector<double> allowed_thicknesses(const printer::PrinterProfile& profile) 
 }
 
 void run_advise(const AdviseOptions& options) {
-  const ContourStrategy* kind = &contour_strategy_option(options.contour, "--contour");
+  const ContourStrategy* kind = &app::contour_strategy_option(options.contour, "--contour");
   std::vector<double> thicknesses;
   std::string source;
   if (!options.thicknesses.empty()) {
@@ -741,13 +747,13 @@ void run_advise(const AdviseOptions& options) {
     source = "--thicknesses";
   } else {
     const printer::PrinterProfile profile = printer::load_printer_profile(
-        options.printer, host::profile_search_path());
+        options.printer, app::profile_search_path());
     thicknesses = allowed_thicknesses(profile);
     source = fmt::format("{} ({})", profile.name, profile.layer.describe());
   }
   if (thicknesses.empty()) throw geometry::InputError("--thicknesses: give at least one thickness");
 
-  const geometry::Mesh mesh = load_model(options.model);
+  const geometry::Mesh mesh = load_model_noting(options.model);
   const double height = part_height(mesh);
   const double thinnest = thicknesses.front();
   const geometry::LayerStack bench_stack(mesh, geometry::uniform_layers(height, thinnest));
@@ -786,7 +792,7 @@ void run_advise(const AdviseOptions& options) {
   nlohmann::json plan_row(nullptr);
   const bool adaptive = options.adaptive.wanted();
   if (!options.boundaries.empty() || adaptive) {
-    std::optional<LayerChoice> plan;
+    std::optional<app::LayerChoice> plan;
     if (adaptive) plan = adaptive_choice(options.adaptive, options.printer, mesh, height, *kind);
     const geometry::LayerStack stack(
         mesh, plan ? plan->layers : analysis_layers(options.boundaries, 0, true, options.printer, mesh, height));
@@ -799,8 +805,8 @@ void run_advise(const AdviseOptions& options) {
                plan ? "adaptive" : "plan", stack.size(),
                summary.empty() ? 0.0 : summary[0].mean_distance,
                summary.empty() ? 0.0 : summary[0].max_distance, share, saving,
-               describe_layers(stack.layers()));
-    if (plan) fmt::print("          {}\n", describe_choice(*plan));
+               app::describe_layers(stack.layers()));
+    if (plan) fmt::print("          {}\n", app::describe_choice(*plan));
     plan_row = {{"boundaries", plan ? std::string("adaptive") : options.boundaries},
                 {"tolerance", plan ? nlohmann::json(plan->plan.tolerance) : nlohmann::json(nullptr)},
                 {"layers", stack.size()},
@@ -863,7 +869,7 @@ void add_analyze_command(CLI::App& app) {
                       "(default: none)");
   analyze->add_option("--contours", options->contours,
                       fmt::format("strategies to compare, comma-separated: {}",
-                                  contour_strategies_help()))
+                                  app::contour_strategies_help()))
       ->capture_default_str();
   analyze->add_option("--csv", options->csv, "write one row per layer and strategy to this CSV file");
   analyze->add_option("--json", options->json, "write the summary to this JSON file");
@@ -884,8 +890,9 @@ void add_analyze_command(CLI::App& app) {
     option->excludes("--layer")->excludes("--boundaries")->excludes(from_zero);
   }
   analyze->add_option("--printer", options->printer,
-                      "the printer whose first layer and thicknesses the layers use, uniform "
-                      "or --adaptive (default: up-plus-2)");
+                      fmt::format("the printer whose first layer and thicknesses the layers "
+                                  "use, uniform or --adaptive (default: {})",
+                                  printer::kDefaultPrinter));
   analyze->add_option("--contour", options->contour,
                       fmt::format("with --export-layers: which strategy's layers; with "
                                   "--adaptive: the contour the plan is made for ({})",

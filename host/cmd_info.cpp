@@ -8,21 +8,22 @@
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
+#include "app/model.h"
 #include "geometry/mesh/mesh.h"
 #include "geometry/mesh/stl_io.h"
 #include "host/commands.h"
-#include "host/model_input.h"
+#include "host/slice_flags.h"
 
 namespace host {
 namespace {
 
 struct InfoOptions {
-  ModelOptions model;
+  app::ModelOptions model;
   std::string export_path;
 };
 
 void run_info(const InfoOptions& options) {
-  const LoadedModel model = load_model_with_report(options.model);
+  const app::LoadedModel model = app::load_model(options.model);
   const geometry::Mesh& mesh = model.mesh;
   const geometry::RepairReport& repair = model.repair;
   const geometry::Box3 box = geometry::bounding_box(mesh);
@@ -62,7 +63,7 @@ void run_info(const InfoOptions& options) {
   fmt::print("overhangs     ~{:.0f} mm^3 of support under walls leaning past {:g} deg from vertical\n",
              geometry::support_volume_estimate(mesh, options.model.overhang_angle),
              options.model.overhang_angle);
-  if (model.orientation) fmt::print("orientation   {}\n", orientation_text(model));
+  if (model.orientation) fmt::print("orientation   {}\n", app::orientation_text(model));
   if (!options.export_path.empty()) {
     geometry::write_stl_binary(options.export_path, mesh);
     fmt::print("exported      {} (binary STL, mm)\n", options.export_path);

@@ -1,7 +1,7 @@
 // `mahost print MODEL.stl|FILE.gcode (--port P [--baud B] | --dry-run) ...` and
 // `mahost resume JOURNAL (--port P | --dry-run)`: a print job from the command line, with
 // the terminal UI, the control socket for `mahost ctl`, and the journal for `mahost resume`.
-// An STL is sliced first, in this process, by the slice pipeline (host/slice_pipeline.h) with
+// An STL is sliced first, in this process, by the slice pipeline (app/slice.h) with
 // the same options as `mahost slice`.
 //
 // The files of a job: its journal, control socket and (for an STL) sliced G-code, in the job
@@ -24,13 +24,15 @@
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
-#include "geometry/mesh/model_io.h"
+#include "app/job.h"
+#include "app/model.h"
+#include "app/slice.h"
+#include "app/stage_options.h"
 #include "host/commands.h"
 #include "host/control_socket.h"
 #include "host/job_setup.h"
 #include "host/print_ui.h"
-#include "host/profile_paths.h"
-#include "host/slice_pipeline.h"
+#include "host/slice_flags.h"
 #include "printer/bead_model.h"
 #include "printer/error.h"
 #include "printer/gcode_file.h"
@@ -60,7 +62,7 @@ struct PrintOptions {
   std::string journal;         // --journal: the user's path, kept
   std::string output;          // -o: where to keep the sliced G-code
   bool keep = false;
-  SliceOptions slice;
+  app::SliceOptions slice;
   std::vector<std::string> model_options_given;  // slice options that need an STL, as given
 };
 
@@ -212,7 +214,7 @@ void run_print(const PrintOptions& options) {
   for (int layer : options.pause_at) {
     if (layer < 1) throw printer::ConfigError(fmt::format("--pause-at-layer {}: layers count from 1", layer));
   }
-  const bool stl = geometry::is_model_name(options.input);
+  const bool stl = app::is_model_name(options.input);
   if (!stl && !options.model_options_given.empty()) {
     throw printer::ConfigError(fmt::format(
         "{}: {} is G-code, already sliced; slice options other than --printer and --set apply "
@@ -228,7 +230,7 @@ void run_print(const PrintOptions& options) {
   if (!options.link.dry_run) printer::check_serial_port(options.link.port);
   // The printer the job is for: an STL is sliced for it, and its motion limits time the job
   // (and are what a dry run simulates).
-  const printer::Profiles profiles = load_slice_profiles(options.slice);
+  const printer::Profiles profiles = app::load_slice_profiles(options.slice);
 
   const std::string stem = fs::path(options.input).stem().string();
   const std::string name = job_name(stem);
@@ -240,24 +242,26 @@ void run_print(const PrintOptions& options) {
   JobFiles own;
   if (!named_journal) own.add(journal);
   std::string gcode_path = options.input;
-  std::optional<SliceResult> sliced;
+  std::optional<app::SliceResult> sliced;
   if (stl) {
     gcode_path = !options.output.empty() ? options.output : base + ".gcode";
     if (options.output.empty() && !named_journal) own.add(gcode_path);
-    SliceOptions slice = options.slice;
+    app::SliceOptions slice = options.slice;
     slice.model.path = options.input;
     // Ctrl-C while slicing stops at the next layer, and the job's files go with it.
     install_print_signals();
-    const SliceProgress bars = slice_progress_bars(slice.contour);
-    sliced = slice_to_gcode(slice, gcode_path, [&bars](SliceStage stage, std::size_t done, std::size_t total) {
-      if (interrupt_count() > 0) throw CommandExit{kExitInterrupted, "interrupted while slicing; nothing was printed"};
-      bars(stage, done, total);
-    });
+    app::SliceEvents events = terminal_slice_events(slice.contour);
+    events.cancelled = [] { return interrupt_count() > 0; };
+    try {
+      sliced = app::slice(slice, gcode_path, events);
+    } catch (const app::SliceCancelled&) {
+      throw CommandExit{kExitInterrupted, "interrupted while slicing; nothing was printed"};
+    }
     fmt::print("sliced {}{}: {}\n", options.input,
                options.output.empty() && !named_journal && !options.keep ? ""
                                                                           : " to " + gcode_path,
-               slice_summary_text(*sliced));
-    if (const std::string plan = slice_plan_text(*sliced); !plan.empty()) fmt::print("{}\n", plan);
+               app::slice_summary_text(*sliced));
+    if (const std::string plan = app::slice_plan_text(*sliced); !plan.empty()) fmt::print("{}\n", plan);
     std::fflush(stdout);
     // The slicer's meshes and toolpaths are freed; hand their pages back before the job
     // loads the file, so the print's memory does not stack on the slicer's.
@@ -272,7 +276,7 @@ void run_print(const PrintOptions& options) {
   }
   const int baud = options.link.baud > 0 ? options.link.baud : profiles.printer.baud;
   OpenLink link = open_link(options.link, profiles.printer, baud);
-  if (link.sim != nullptr) link.check = support_check_options(profiles);
+  if (link.sim != nullptr) link.check = app::support_check_options(profiles);
   printer::LineProtocol protocol(*link.link, protocol_options(options.link, profiles.printer));
   connect(protocol, link);
   if (options.link.window > 1 && !protocol.advanced_ok()) {
@@ -320,17 +324,6 @@ struct ResumeOptions {
   LinkOptions link;
 };
 
-// The printer profile the job was sliced and timed for; its motion limits time the rest.
-printer::PrinterProfile resume_profile(const printer::JournalRecord& record) {
-  const std::string name = record.printer.empty() ? "up-plus-2" : record.printer;
-  try {
-    return printer::load_printer_profile(name, host::profile_search_path());
-  } catch (const printer::ConfigError& e) {
-    fmt::print(stderr, "note: {}; the remaining time uses Marlin's default motion limits\n", e.what());
-    return printer::PrinterProfile{};
-  }
-}
-
 void run_resume(const ResumeOptions& options) {
   check_link_choice(options.link, "resume");
   const std::string journal = fs::absolute(options.journal).string();
@@ -343,15 +336,10 @@ void run_resume(const ResumeOptions& options) {
         "{}: the job is still running (process {}); steer it with mahost ctl", journal, record.pid));
   }
   const printer::GcodeFile file = read_job_gcode(record.gcode_path, options.link);
-  if (file.hash != record.gcode_hash || file.size() != record.commands) {
-    throw printer::ConfigError(fmt::format(
-        "{}: the file changed since the job started ({} then, {} now): resuming would print a "
-        "different part",
-        record.gcode_path, record.gcode_hash, file.hash));
-  }
-  printer::PrinterProfile machine = resume_profile(record);
-  // The firmware the job ran with (a --set firmware=... the profile file does not hold).
-  if (const auto firmware = printer::parse_firmware(record.firmware)) machine.firmware = *firmware;
+  app::check_resumable_file(record, file);
+  // The printer profile the job was sliced and timed for: its motion limits time the rest.
+  const printer::PrinterProfile machine = app::resume_profile(
+      record, [](const std::string& line) { fmt::print(stderr, "note: {}\n", line); });
   const int baud = options.link.baud > 0   ? options.link.baud
                    : record.baud > 0       ? record.baud
                                            : machine.baud;
@@ -361,13 +349,9 @@ void run_resume(const ResumeOptions& options) {
 
   const bool dry_run = options.link.dry_run;
   const std::string base = fs::path(journal).replace_extension().string();
-  printer::JobOptions job_options;
-  job_options.pause = pause_options(options.link, machine);
-  job_options.motion = machine.motion;
-  job_options.first_command = record.resume_command;
-  if (record.layer_index >= 0) {
-    job_options.recover_from = record.state_at_resume;
-  }
+  printer::JobOptions job_options =
+      app::resume_job_options(record, machine, pause_options(options.link, machine),
+                              dry_run ? "" : journal, options.link.port, baud, true);
   std::string note, socket = base + ".sock";
   if (dry_run) {
     // A rehearsal: the journal stays as it is, for the real resume.
@@ -377,11 +361,6 @@ void run_resume(const ResumeOptions& options) {
                  .string();
     note = fmt::format("dry run: {} is left as it was, for the real resume", journal);
   } else {
-    job_options.journal_path = journal;
-    job_options.journal = record;
-    job_options.journal.port = options.link.port;
-    job_options.journal.baud = baud;
-    job_options.journal.pid = 0;
     job_options.resume_command = printer::resume_command(journal, options.link.port);
     note = fmt::format("journal: {} (if the print is interrupted again: {})", journal,
                        *job_options.resume_command);
@@ -435,7 +414,7 @@ void add_print_command(CLI::App& app) {
   add_slice_options(*print, options->slice, kSliceGroup);
   print->callback([options, print] {
     options->model_options_given.clear();
-    for (const std::string& name : model_only_slice_options()) {
+    for (const std::string& name : app::model_only_slice_flags()) {
       if (print->count(name) > 0) options->model_options_given.push_back(name);
     }
     run_print(*options);

@@ -15,8 +15,8 @@
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
+#include "app/profile_paths.h"
 #include "host/commands.h"
-#include "host/profile_paths.h"
 #include "geometry/mesh/file_bytes.h"
 #include "printer/error.h"
 #include "printer/profile.h"
@@ -59,7 +59,7 @@ void print_table(std::string_view title, const std::vector<ListedProfile>& rows)
 }
 
 void run_list() {
-  const std::string search_path = profile_search_path();
+  const std::string search_path = app::profile_search_path();
   print_table("printers", listed(search_path, "printers", [&](const std::string& path) {
                 return printer::load_printer_profile(path, search_path);
               }));

@@ -21,10 +21,10 @@
 #include <fmt/core.h>
 #include <httplib.h>
 
+#include "app/profile_paths.h"
 #include "host/cli_checks.h"
 #include "host/commands.h"
 #include "host/job_setup.h"
-#include "host/profile_paths.h"
 #include "host/serve/api_key.h"
 #include "host/serve/file_store.h"
 #include "host/serve/http_api.h"
@@ -45,7 +45,7 @@ struct ServeOptions {
   LinkOptions link;
   std::string listen = "127.0.0.1:5000";
   std::string files;
-  std::string printer = "up-plus-2";
+  std::string printer = printer::kDefaultPrinter;
   std::string material;
   std::vector<std::string> overrides;
   std::string time_scale = "1";
@@ -121,7 +121,7 @@ void run_serve(const ServeOptions& options) {
   printer::ProfileRequest request;
   request.printer = options.printer;
   request.material = options.material;
-  request.config_dir = host::profile_search_path();
+  request.config_dir = app::profile_search_path();
   request.overrides = options.overrides;
   const printer::Profiles profiles = printer::load_profiles(request);
 
@@ -258,8 +258,9 @@ void add_serve_command(CLI::App& app) {
       ->check(number_in(0.001, 65536.0))
       ->group(kServeGroup);
   serve->add_option("--printer", options->printer,
-                    "the printer's profile: a name (up-plus-2, generic-marlin) or a .toml path; "
-                    "uploaded STL files are sliced for it (default: up-plus-2)")
+                    fmt::format("the printer's profile: a name (up-plus-2, generic-marlin) or a "
+                                ".toml path; uploaded STL files are sliced for it (default: {})",
+                                printer::kDefaultPrinter))
       ->group(kServeGroup);
   serve->add_option("--material", options->material,
                     "the material profile STL uploads are sliced with (default: the printer's)")

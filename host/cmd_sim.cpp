@@ -18,10 +18,10 @@
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
+#include "app/profile_paths.h"
 #include "host/cli_checks.h"
 #include "host/commands.h"
 #include "host/job_setup.h"
-#include "host/profile_paths.h"
 #include "printer/error.h"
 #include "printer/profile.h"
 #include "sim/faults.h"
@@ -87,7 +87,7 @@ void run_sim(const SimOptions& options) {
   check.contact_gap = 0.2;
   if (!options.printer_profile.empty()) {
     // The profile's limits, so the sim's clock matches the estimate the slicer wrote.
-    const std::string dir = host::profile_search_path();
+    const std::string dir = app::profile_search_path();
     const printer::PrinterProfile profile = printer::load_printer_profile(options.printer_profile, dir);
     config.motion = profile.motion;
     config.filament_diameter = profile.filament_diameter;

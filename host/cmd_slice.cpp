@@ -1,30 +1,31 @@
 // `mahost slice MODEL.stl [placement] -o OUT.gcode [--printer up-plus-2] [--material abs]
 //  [--layer 0.2 | --boundaries FILE|z1,z2,...] [--contour ma] [--perimeters 2] [--infill 20] [--set key=value ...]`
 //
-// The slice pipeline (host/slice_pipeline.h) into a file: a progress bar per stage on a
-// terminal; one final line: layers, print-time estimate, filament, output size.
+// The slice pipeline (app/slice.h) into a file: a progress bar per stage on a terminal; one
+// final line: layers, print-time estimate, filament, output size.
 #include <memory>
 #include <string>
 
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
+#include "app/slice.h"
 #include "host/commands.h"
-#include "host/slice_pipeline.h"
+#include "host/slice_flags.h"
 
 namespace host {
 namespace {
 
 struct SliceCommandOptions {
-  SliceOptions slice;
+  app::SliceOptions slice;
   std::string output;
 };
 
 void run_slice(const SliceCommandOptions& options) {
-  const SliceResult result =
-      slice_to_gcode(options.slice, options.output, slice_progress_bars(options.slice.contour));
-  fmt::print("{}: {}\n", options.output, slice_summary_text(result));
-  if (const std::string plan = slice_plan_text(result); !plan.empty()) fmt::print("{}\n", plan);
+  const app::SliceResult result =
+      app::slice(options.slice, options.output, terminal_slice_events(options.slice.contour));
+  fmt::print("{}: {}\n", options.output, app::slice_summary_text(result));
+  if (const std::string plan = app::slice_plan_text(result); !plan.empty()) fmt::print("{}\n", plan);
 }
 
 }  // namespace

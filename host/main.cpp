@@ -8,7 +8,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
-#include "geometry/core/error.h"
+#include "app/error.h"
 #include "host/commands.h"
 #include "printer/error.h"
 
@@ -77,7 +77,7 @@ int main(int argc, char** argv) {
   } catch (const host::CommandExit& e) {
     if (!e.message.empty()) fmt::print(stderr, "mahost: {}\n", e.message);
     return e.code;
-  } catch (const geometry::InputError& e) {
+  } catch (const app::InputError& e) {
     fmt::print(stderr, "mahost: {}\n", e.what());
     return host::kExitBadInput;
   } catch (const printer::ConfigError& e) {

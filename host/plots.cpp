@@ -14,7 +14,7 @@
 #include <fmt/core.h>
 #include <fmt/format.h>
 
-#include "geometry/core/error.h"
+#include "app/error.h"
 
 namespace host {
 
@@ -49,7 +49,7 @@ bool on_path(const std::string& program) {
 // Runs gnuplot on the script; throws InputError naming `path` if anything goes wrong.
 void run_gnuplot(const std::string& path, const std::string& script) {
   if (!on_path("gnuplot")) {
-    throw geometry::InputError(fmt::format(
+    throw app::InputError(fmt::format(
         "{}: drawing plots needs gnuplot, which is not on PATH (install it: apt install "
         "gnuplot-nox), or leave out --plots/--layer-index",
         path));
@@ -57,7 +57,7 @@ void run_gnuplot(const std::string& path, const std::string& script) {
   {  // Fail early, in our words, when the file cannot be written at all.
     std::ofstream probe(path, std::ios::app);
     if (!probe) {
-      throw geometry::InputError(fmt::format("{}: cannot write the plot here ({}); give a "
+      throw app::InputError(fmt::format("{}: cannot write the plot here ({}); give a "
                                              "directory you can write to with --plots",
                                              path, std::strerror(errno)));
     }
@@ -128,7 +128,7 @@ void run_gnuplot(const std::string& path, const std::string& script) {
       if (e == std::string::npos) break;
       p = e + 1;
     }
-    throw geometry::InputError(fmt::format("{}: gnuplot could not draw the plot: {}", path,
+    throw app::InputError(fmt::format("{}: gnuplot could not draw the plot: {}", path,
                                            first.empty() ? "it exited with an error" : first));
   }
 }

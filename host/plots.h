@@ -4,7 +4,7 @@
 // gnuplot runs as a child process on one script file with the data inline (gnuplot 5 data
 // blocks), removed afterwards, so nothing is left behind but the SVG. Errors are the user's to
 // fix and say how: gnuplot missing (install gnuplot-nox), a file that cannot be written, or
-// gnuplot failing (its first error line) throw geometry::InputError naming the file.
+// gnuplot failing (its first error line) throw app::InputError naming the file.
 #pragma once
 
 #include <string>

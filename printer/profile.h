@@ -161,9 +161,12 @@ struct Profiles {
   MaterialProfile material;
 };
 
+// The printer profile a command uses when none is named (configs/printers/up-plus-2.toml).
+inline constexpr const char* kDefaultPrinter = "up-plus-2";
+
 // Which profiles to load, as the user gave them.
 struct ProfileRequest {
-  std::string printer = "up-plus-2";  // a name found in config_dir, or a path to a .toml
+  std::string printer = kDefaultPrinter;  // a name found in config_dir, or a path to a .toml
   std::string material;               // empty: the printer's default_material
   std::string config_dir;             // see config_directory()
   std::vector<std::string> overrides;  // "key=value", applied in order

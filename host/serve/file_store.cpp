@@ -14,7 +14,7 @@
 
 #include <fmt/core.h>
 
-#include "geometry/mesh/model_io.h"
+#include "app/model.h"
 #include "host/serve/job_file.h"
 #include "printer/error.h"
 #include "printer/gcode_file.h"
@@ -68,7 +68,7 @@ std::string_view to_string(FileKind kind) { return kind == FileKind::gcode ? "ma
 std::optional<FileKind> kind_of(std::string_view name) {
   const std::string extension = lower(fs::path(std::string(name)).extension().string());
   if (extension == ".gcode" || extension == ".gco" || extension == ".g") return FileKind::gcode;
-  if (geometry::is_model_name(name)) return FileKind::model;
+  if (app::is_model_name(name)) return FileKind::model;
   return std::nullopt;
 }
 

@@ -15,13 +15,12 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
-#include "geometry/core/error.h"
-#include "geometry/mesh/file_bytes.h"
-#include "geometry/mesh/model_io.h"
-#include "geometry/support/support_plan.h"
-#include "host/layer_choice.h"
+#include "app/error.h"
+#include "app/layer_choice.h"
+#include "app/model.h"
+#include "app/profile_paths.h"
+#include "app/slice_options.h"
 #include "host/local_time.h"
-#include "host/profile_paths.h"
 #include "host/serve/api_key.h"
 #include "host/serve/file_store.h"
 #include "host/serve/http_server.h"
@@ -91,22 +90,6 @@ bool bool_field(const json& body, const char* key) {
     return v == "true" || v == "1" || v == "yes";
   }
   throw Refusal{400, fmt::format("\"{}\" must be true or false", key)};
-}
-
-std::optional<double> number_field(const json& body, const char* key) {
-  const auto it = body.find(key);
-  if (it == body.end() || it->is_null()) return std::nullopt;
-  if (it->is_number()) return it->get<double>();
-  if (it->is_string()) {
-    try {
-      std::size_t used = 0;
-      const std::string text = it->get<std::string>();
-      const double v = std::stod(text, &used);
-      if (used == text.size()) return v;
-    } catch (const std::exception&) {
-    }
-  }
-  throw Refusal{400, fmt::format("\"{}\" must be a number", key)};
 }
 
 bool truthy(std::string text) {
@@ -266,20 +249,17 @@ int admit(const Request& req, Response& res, const std::string& key, const Serve
 
 // The fields a slice request may carry, as the slice command's JSON keys and an STL upload's
 // form fields (OctoPrint's slicing plugins take their options as extra form fields): what the
-// upload passes on, and what a "profile." prefix may name. Each is a `mahost slice` option.
-constexpr const char* kSliceFields[] = {
-    "gcode",     "printer",  "material",  "layer",   "contour", "units", "up",
-    "height",    "scale",    "perimeters", "infill", "support", "brim",  "raft",
-    "adaptive",  "tolerance", "maxLayers", "maxTime", "orient"};
-
+// upload passes on, and what a "profile." prefix may name. Besides the G-code's name and the
+// profiles (by name only), each is an option of app/slice_options.h's table with an HTTP field.
 bool is_slice_field(const std::string& key) {
-  return std::any_of(std::begin(kSliceFields), std::end(kSliceFields),
-                     [&](const char* field) { return key == field; });
+  return key == "gcode" || key == "printer" || key == "material" || app::find_slice_option_field(key);
 }
 
 std::string slice_field_list() {
-  std::string out;
-  for (const char* field : kSliceFields) out += (out.empty() ? "" : ", ") + std::string(field);
+  std::string out = "gcode, printer, material";
+  for (const app::SliceOption& option : app::slice_options()) {
+    if (!option.field.empty()) out += ", " + std::string(option.field);
+  }
   return out;
 }
 
@@ -311,69 +291,50 @@ json with_octoprint_names(const json& body) {
   return merged;
 }
 
-// A true/false field that may be left out: nullopt then (the profile decides).
-std::optional<bool> optional_bool_field(const json& body, const char* key) {
+// A slice field's JSON value as the text the option table checks: a number as written, a
+// string as given (true/false for a flag however a form spells it), "" for a field left out.
+std::string slice_field_text(const json& body, const app::SliceOption& option) {
+  const std::string key(option.field);
   const auto it = body.find(key);
-  if (it == body.end() || it->is_null()) return std::nullopt;
-  if (it->is_boolean()) return it->get<bool>();
-  if (it->is_string()) {
-    std::string v = it->get<std::string>();
-    std::transform(v.begin(), v.end(), v.begin(), [](unsigned char c) { return std::tolower(c); });
-    if (v == "true" || v == "1" || v == "yes" || v == "on") return true;
-    if (v == "false" || v == "0" || v == "no" || v == "off") return false;
+  if (it == body.end() || it->is_null()) return {};
+  const bool yes_no = option.kind == app::OptionKind::flag || option.kind == app::OptionKind::toggle;
+  if (it->is_boolean()) {
+    if (!yes_no) throw Refusal{400, fmt::format("\"{}\" must be a number or text, not true or false", key)};
+    return it->get<bool>() ? "true" : "false";
   }
-  throw Refusal{400, fmt::format("\"{}\" must be true or false", key)};
+  if (it->is_number_integer()) return std::to_string(it->get<std::int64_t>());
+  if (it->is_number()) return fmt::format("{}", it->get<double>());
+  if (!it->is_string()) throw Refusal{400, fmt::format("\"{}\" must be a number, text or true or false", key)};
+  std::string text = it->get<std::string>();
+  if (yes_no) {
+    std::string lower = text;
+    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+    if (lower == "true" || lower == "1" || lower == "yes" || lower == "on") return "true";
+    if (lower == "false" || lower == "0" || lower == "no" || lower == "off") return "false";
+  }
+  return text;
 }
 
-// Supports, brim, raft, the adaptive plan and the orientation, as `mahost slice` takes them
-// (--support, --brim, --raft/--no-raft, --adaptive, --tolerance, --max-layers, --max-time,
-// --orient auto), with the command line's ranges and exclusions; each left out is the profile's.
-void apply_slice_extras(const json& body, SliceOptions& o) {
-  const std::string support = string_field(body, "support");
-  if (!support.empty()) {
-    if (!geometry::parse_support_placement(support)) {
-      throw Refusal{400, fmt::format("support: '{}' is not none, buildplate or everywhere", support)};
+// The table's options with an HTTP field, as the body gives them, checked and set; those that
+// exclude each other refused as the command line refuses them.
+void apply_slice_fields(const json& body, app::SliceOptions& o) {
+  std::vector<const app::SliceOption*> given;
+  for (const app::SliceOption& option : app::slice_options()) {
+    if (option.field.empty()) continue;
+    const std::string text = slice_field_text(body, option);
+    if (text.empty()) continue;
+    try {
+      app::set_slice_option(o, option, text, option.field);
+    } catch (const app::OptionError& e) {
+      throw Refusal{400, e.what()};
     }
-    o.support.placement = support;
+    // A flag given as false asks for nothing.
+    if (!(option.kind == app::OptionKind::flag && text == "false")) given.push_back(&option);
   }
-  if (const auto brim = number_field(body, "brim")) {
-    if (!(*brim >= 0) || *brim > 50) throw Refusal{400, "brim must be 0 to 50 mm (0 for none)"};
-    o.support.brim = *brim;
-  }
-  if (const auto raft = optional_bool_field(body, "raft")) {
-    o.support.raft = *raft;
-    o.support.no_raft = !*raft;
-  }
-  AdaptiveRequest& a = o.adaptive;
-  a.adaptive = optional_bool_field(body, "adaptive").value_or(false);
-  if (const auto tolerance = number_field(body, "tolerance")) {
-    if (!(*tolerance > 0) || *tolerance > 10) throw Refusal{400, "tolerance must be above 0 mm (10 at most)"};
-    a.tolerance = *tolerance;
-  }
-  if (const auto layers = number_field(body, "maxLayers")) {
-    if (!(*layers >= 1) || *layers > 100000 || *layers != std::floor(*layers)) {
-      throw Refusal{400, "maxLayers must be a whole number of layers, 1 to 100000"};
-    }
-    a.max_layers = static_cast<std::size_t>(*layers);
-  }
-  const std::string max_time = string_field(body, "maxTime");
-  if (!max_time.empty()) {
-    const std::optional<double> seconds = parse_duration(max_time);
-    if (!seconds || !(*seconds > 0)) {
-      throw Refusal{400, fmt::format("maxTime: '{}' is not a duration: give hours, minutes and seconds, as "
-                                     "1h30m, 90m or 5400s", max_time)};
-    }
-    a.max_seconds = *seconds;
-  }
-  const int budgets = (a.tolerance > 0) + (a.max_layers > 0) + (a.max_seconds > 0);
-  if (budgets > 1) throw Refusal{400, "give one of tolerance, maxLayers and maxTime, not two"};
-  if (a.wanted() && o.layer > 0) {
-    throw Refusal{400, "layer and adaptive layers: give one (an adaptive plan chooses each layer's thickness)"};
-  }
-  const std::string orient = string_field(body, "orient");
-  if (!orient.empty()) {
-    if (orient != "none" && orient != "auto") throw Refusal{400, fmt::format("orient: '{}' is not none or auto", orient)};
-    o.model.orient = orient;
+  try {
+    app::check_exclusions(given, [](const app::SliceOption& option) { return std::string(option.field); });
+  } catch (const app::OptionError& e) {
+    throw Refusal{400, e.what()};
   }
 }
 
@@ -390,8 +351,8 @@ SliceRequest slice_request(const json& given, const std::string& name, const pri
   if (clean.status != 0) throw Refusal{clean.status == 415 ? 400 : clean.status, "gcode: " + clean.error};
   if (kind_of(clean.name) != FileKind::gcode) throw Refusal{400, "gcode: name a .gcode file"};
   request.gcode = clean.name;
-  SliceOptions& o = request.options;
-  const std::string config_dir = host::profile_search_path();
+  app::SliceOptions& o = request.options;
+  const std::string config_dir = app::profile_search_path();
   // Profiles by name only: a client names one of the server's, never a path to read.
   const std::string printer_name = string_field(body, "printer");
   if (!printer_name.empty()) {
@@ -413,51 +374,13 @@ SliceRequest slice_request(const json& given, const std::string& name, const pri
   } else if (printer_name.empty()) {
     o.material = serving.material.source;  // the material the server was started with
   }
-  if (const auto layer = number_field(body, "layer")) {
-    if (!(*layer > 0) || *layer > 5) throw Refusal{400, "layer must be a thickness in mm above 0"};
-    o.layer = *layer;
-  }
-  const std::string contour = string_field(body, "contour");
-  if (!contour.empty()) {
-    const std::vector<std::string> known = contour_strategy_names();
-    if (std::find(known.begin(), known.end(), contour) == known.end()) {
-      throw Refusal{400, fmt::format("contour must be one of {}", names_of(known))};
-    }
-    o.contour = contour;
-  }
-  const std::string units = string_field(body, "units");
-  if (!units.empty()) {
-    if (units != "mm" && units != "m" && units != "in") throw Refusal{400, "units must be mm, m or in"};
-    o.model.units = units;
-  }
-  const std::string up = string_field(body, "up");
-  if (!up.empty()) {
-    if (up != "x" && up != "y" && up != "z") throw Refusal{400, "up must be x, y or z"};
-    o.model.up = up;
-  }
-  if (const auto height = number_field(body, "height")) {
-    if (!(*height > 0) || *height > 10000) throw Refusal{400, "height must be above 0 mm"};
-    o.model.height = *height;
-  }
-  if (const auto scale = number_field(body, "scale")) {
-    if (!(*scale > 0) || *scale > 1000) throw Refusal{400, "scale must be above 0"};
-    o.model.scale = *scale;
-  }
-  if (const auto perimeters = number_field(body, "perimeters")) {
-    if (*perimeters < 0 || *perimeters > 50) throw Refusal{400, "perimeters must be 0 to 50"};
-    o.perimeters = static_cast<int>(*perimeters);
-  }
-  if (const auto infill = number_field(body, "infill")) {
-    if (*infill < 0 || *infill > 100) throw Refusal{400, "infill must be 0 to 100 (percent)"};
-    o.infill = *infill;
-  }
-  apply_slice_extras(body, o);
+  apply_slice_fields(body, o);
   request.print = bool_field(body, "print");
   request.select = request.print || bool_field(body, "select");
   // The printer must allow the layer (and a raft's): said now, not after slicing.
   try {
-    const printer::Profiles profiles = load_slice_profiles(o);
-    printer::check_layer_thickness(profiles.printer, o.layer > 0 ? o.layer : profiles.printer.layer.default_thickness);
+    const printer::Profiles profiles = app::load_slice_profiles(o);
+    printer::check_layer_thickness(profiles.printer, app::uniform_thickness(o, profiles.printer));
   } catch (const printer::ConfigError& e) {
     throw Refusal{400, e.what()};
   }
@@ -804,9 +727,8 @@ void HttpApi::upload(const Request& req, Response& res, const httplib::ContentRe
     }
   } else {
     try {
-      // Read as the name says (an .obj is OBJ); messages name the client's file.
-      geometry::read_model_bytes(geometry::read_file_bytes(file->temporary_path()), name);
-    } catch (const geometry::InputError& e) {
+      app::check_model_file(file->temporary_path(), name);
+    } catch (const app::InputError& e) {
       const std::string what = e.what();
       const std::string prefix = name + ": ";
       throw Refusal{415, fmt::format("{}: not a readable model file: {}", name,
@@ -1044,7 +966,7 @@ void HttpApi::get_layer(const Request& req, Response& res) {
 }
 
 void HttpApi::get_profiles(const Request&, Response& res) {
-  const std::string config_dir = host::profile_search_path();
+  const std::string config_dir = app::profile_search_path();
   json printers = json::array();
   for (const std::string& id : printer::available_profiles(config_dir, "printers")) {
     try {
@@ -1064,7 +986,7 @@ void HttpApi::get_profiles(const Request&, Response& res) {
                           {"material", p.default_material},
                           {"defaults", {{"support", p.support.type}, {"brim", p.brim_width},
                                         {"raft", p.raft.enabled}, {"adaptive", false},
-                                        {"tolerance", kDefaultTolerance}, {"orient", "none"}}}});
+                                        {"tolerance", app::kDefaultTolerance}, {"orient", "none"}}}});
     } catch (const printer::ConfigError&) {
       // a broken profile is left out of the choice; slicing with it would say why
     }
@@ -1079,8 +1001,8 @@ void HttpApi::get_profiles(const Request&, Response& res) {
   const printer::Profiles& serving = session_.profiles();
   send_json(res, {{"printers", printers},
                   {"materials", materials},
-                  {"contours", contour_strategy_names()},
-                  {"supports", support_placement_names()},
+                  {"contours", app::contour_strategy_names()},
+                  {"supports", app::support_placement_names()},
                   {"serving",
                    {{"printer", fs::path(serving.printer.source).stem().string()},
                     {"printerName", serving.printer.name},

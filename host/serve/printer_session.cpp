@@ -13,10 +13,13 @@
 
 #include <fmt/core.h>
 
-#include "geometry/core/error.h"
+#include "app/error.h"
+#include "app/job.h"
+#include "app/slice.h"
 #include "host/control_socket.h"
 #include "host/local_time.h"
 #include "printer/error.h"
+#include "printer/gcode_writer.h"
 #include "printer/gcode_file.h"
 #include "printer/gcode_line.h"
 #include "sim/record.h"
@@ -47,8 +50,6 @@ struct Halted {
   std::string reason;
 };
 
-struct SliceCancelled {};
-
 std::int64_t unix_now() { return static_cast<std::int64_t>(std::time(nullptr)); }
 
 std::string random_hex(std::size_t bytes) {
@@ -72,18 +73,17 @@ std::string file_hash(const std::string& path) {
 
 // "mid contour, support buildplate, brim 5 mm, no raft, adaptive within 0.25 mm, orient auto":
 // the settings of a slice, those left to the profile left out, for the event log.
-std::string slice_settings_text(const SliceOptions& o) {
+std::string slice_settings_text(const app::SliceOptions& o) {
   std::string text = o.contour + " contour";
   const auto add = [&](const std::string& part) { text += ", " + part; };
-  if (o.layer > 0) add(fmt::format("layer {:g} mm", o.layer));
+  if (o.layer) add(fmt::format("layer {:g} mm", *o.layer));
   if (!o.support.placement.empty()) add("support " + o.support.placement);
-  if (o.support.brim >= 0) add(fmt::format("brim {:g} mm", o.support.brim));
-  if (o.support.raft) add("raft");
-  if (o.support.no_raft) add("no raft");
-  const AdaptiveRequest& a = o.adaptive;
+  if (o.support.brim) add(fmt::format("brim {:g} mm", *o.support.brim));
+  if (o.support.raft) add(*o.support.raft ? "raft" : "no raft");
+  const app::AdaptiveRequest& a = o.adaptive;
   if (a.max_layers > 0) add(fmt::format("adaptive, at most {} layers", a.max_layers));
   else if (a.max_seconds > 0) add(fmt::format("adaptive, within {}", printer::format_duration(a.max_seconds)));
-  else if (a.wanted()) add(fmt::format("adaptive within {:g} mm", a.tolerance > 0 ? a.tolerance : kDefaultTolerance));
+  else if (a.wanted()) add(fmt::format("adaptive within {:g} mm", a.tolerance > 0 ? a.tolerance : app::kDefaultTolerance));
   if (o.model.orient != "none") add("orient " + o.model.orient);
   return text;
 }
@@ -589,8 +589,16 @@ Outcome PrinterSession::delete_file(const std::string& name) {
 
 // ---- The slicing thread --------------------------------------------------------------------
 
+std::string PrinterSession::client_text(std::string text) const {
+  // The client knows its files by name, not by the server's folder.
+  for (std::size_t at; (at = text.find(files_.folder() + "/")) != std::string::npos;) {
+    text.erase(at, files_.folder().size() + 1);
+  }
+  return text;
+}
+
 void PrinterSession::slice_worker(SliceRequest request) {
-  SliceOptions options = request.options;
+  app::SliceOptions options = request.options;
   options.model.path = files_.path_of(request.model);
   const std::string output = files_.path_of(request.gcode);
   auto last = std::chrono::steady_clock::now() - 1s;
@@ -598,36 +606,38 @@ void PrinterSession::slice_worker(SliceRequest request) {
   std::string summary, plan, error;
   add_event(fmt::format("slicing {} to {} ({})", request.model, request.gcode, slice_settings_text(options)));
   try {
-    const SliceResult result = slice_to_gcode(
-        options, output, [&](SliceStage stage, std::size_t done, std::size_t total) {
-          std::lock_guard lock(mutex_);
-          if (shutting_down_) throw SliceCancelled{};
-          const auto now = std::chrono::steady_clock::now();
-          if (done != 0 && done != total && now - last < 100ms) return;
-          last = now;
-          if (status_.slicing) {
-            status_.slicing->stage = std::string(stage_name(stage));
-            status_.slicing->done = done;
-            status_.slicing->total = total;
-          }
-          publish();
-        });
-    summary = slice_summary_text(result);
-    plan = slice_plan_text(result);
+    app::SliceEvents events;
+    events.progress = [&](app::SliceStage stage, std::size_t done, std::size_t total) {
+      std::lock_guard lock(mutex_);
+      const auto now = std::chrono::steady_clock::now();
+      if (done != 0 && done != total && now - last < 100ms) return;
+      last = now;
+      if (status_.slicing) {
+        status_.slicing->stage = std::string(app::stage_name(stage));
+        status_.slicing->done = done;
+        status_.slicing->total = total;
+      }
+      publish();
+    };
+    events.warning = [&](const std::string& line) { add_event(client_text(line)); };
+    events.cancelled = [&] {
+      std::lock_guard lock(mutex_);
+      return shutting_down_;
+    };
+    const app::SliceResult result = app::slice(options, output, events);
+    summary = app::slice_summary_text(result);
+    plan = app::slice_plan_text(result);
     ok = true;
-  } catch (const SliceCancelled&) {
+  } catch (const app::SliceCancelled&) {
     error = "the server is shutting down";
-  } catch (const geometry::InputError& e) {
+  } catch (const app::InputError& e) {
     error = e.what();
   } catch (const printer::ConfigError& e) {
     error = e.what();
   } catch (const std::exception& e) {
     error = fmt::format("internal error while slicing: {} (please report this)", e.what());
   }
-  // The client knows its files by name, not by the server's folder.
-  for (std::size_t at; (at = error.find(files_.folder() + "/")) != std::string::npos;) {
-    error.erase(at, files_.folder().size() + 1);
-  }
+  error = client_text(error);
   {
     std::lock_guard lock(mutex_);
     slicing_ = false;
@@ -975,11 +985,7 @@ void PrinterSession::run_job(const JobStart& start) {
   std::shared_ptr<JobFile> file;
   try {
     file = std::make_shared<JobFile>(read_job_file(path));
-    if (start.recover && (file->gcode.hash != start.recover->gcode_hash ||
-                          file->gcode.size() != start.recover->commands)) {
-      throw printer::ConfigError(fmt::format(
-          "{}: the file changed since the job started: resuming would print a different part", path));
-    }
+    if (start.recover) app::check_resumable_file(*start.recover, file->gcode);
   } catch (const printer::ConfigError& e) {
     {
       std::lock_guard lock(mutex_);
@@ -996,19 +1002,9 @@ void PrinterSession::run_job(const JobStart& start) {
   std::string journal;
   if (start.recover) {
     journal = start.recover_journal;
-    const printer::JournalRecord& record = *start.recover;
-    options.pause = pause_options(options_.link, machine);
-    options.motion = machine.motion;
-    options.first_command = record.resume_command;
-    if (record.layer_index >= 0) {
-      options.recover_from = record.state_at_resume;
-    }
-    options.journal_path = journal;
-    options.journal_durable = !dry_run;
-    options.journal = record;
-    options.journal.port = dry_run ? "" : options_.link.port;
-    options.journal.baud = dry_run ? 0 : options_.baud;
-    options.journal.pid = 0;
+    options = app::resume_job_options(*start.recover, machine, pause_options(options_.link, machine),
+                                      journal, dry_run ? "" : options_.link.port,
+                                      dry_run ? 0 : options_.baud, !dry_run);
   } else {
     journal = (fs::path(printer::job_directory()) /
                (job_name(fs::path(start.name).stem().string()) + ".journal"))

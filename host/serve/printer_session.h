@@ -26,10 +26,10 @@
 #include <thread>
 #include <vector>
 
+#include "app/slice_options.h"
 #include "host/job_setup.h"
 #include "host/serve/file_store.h"
 #include "host/serve/job_file.h"
-#include "host/slice_pipeline.h"
 #include "printer/job.h"
 #include "printer/journal.h"
 #include "printer/profile.h"
@@ -131,7 +131,7 @@ enum class PauseAction { pause, resume, toggle };
 struct SliceRequest {
   std::string model;             // a clean STL name in the files folder
   std::string gcode;             // the clean G-code name to write
-  SliceOptions options;          // printer, material, layer, contour, placement (model.path set here)
+  app::SliceOptions options;     // printer, material, layer, contour, placement (model.path set here)
   bool select = false, print = false;
 };
 
@@ -236,6 +236,8 @@ class PrinterSession {
   std::optional<InterruptedJob> interrupted_job(const std::string& journal) const;
   void install_idle_hook();
   void slice_worker(SliceRequest request);
+  // `text` with the files folder's paths as the client names the files.
+  std::string client_text(std::string text) const;
   void publish(bool force = false);
   void publish_job(printer::Job& job);
   std::optional<Heating> heating_of(const printer::JobProgress& progress) const;

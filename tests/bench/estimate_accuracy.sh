@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# How far the plan line's uniform estimates (host/uniform_estimate.h) stand from slicing
+# How far the plan line's uniform estimates (app/uniform_estimate.h) stand from slicing
 # uniformly: per model, `mahost slice --adaptive --tolerance T` says "estimated X
 # against Y at uniform t mm (n layers) and ..."; each Y is set beside the estimate of the same
 # part sliced uniformly at t with the same options and contour. Models: the bunny (50 mm,

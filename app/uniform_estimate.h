@@ -39,7 +39,7 @@
 #include "printer/gcode_writer.h"
 #include "printer/profile.h"
 
-namespace host {
+namespace app {
 
 // `layers` of the part in `index` (a layer stack of the placed mesh), the profiles' print.
 double estimated_seconds(const geometry::LayerStack& index, const std::vector<geometry::Layer>& layers,
@@ -60,4 +60,4 @@ LayerSample sample_layers(const geometry::LayerStack& index, const std::vector<g
 double uniform_seconds(const LayerSample& sample, const std::vector<geometry::Layer>& printed,
                        const printer::GcodeSummary& summary);
 
-}  // namespace host
+}  // namespace app

@@ -1,5 +1,5 @@
 // Explicit layer boundaries; see layer_boundaries.h.
-#include "host/layer_boundaries.h"
+#include "app/layer_boundaries.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include "printer/error.h"
 #include "printer/layer_tops.h"
 
-namespace host {
+namespace app {
 
 namespace {
 constexpr double kTolerance = 1e-6;  // mm
@@ -33,13 +33,15 @@ BoundaryLayers boundary_layers(const std::string& argument, double part_height,
           "tops up to at least {:.3f} mm",
           argument, tops.back(), part_height, part_height));
     }
-    fmt::print(stderr, "--boundaries {}: the layers end at {:g} mm, {:.3f} mm below the part's "
-               "top: that much of it is left out\n",
-               argument, tops.back(), result.uncovered);
+    result.notes.push_back(fmt::format("--boundaries {}: the layers end at {:g} mm, {:.3f} mm "
+                                       "below the part's top: that much of it is left out",
+                                       argument, tops.back(), result.uncovered));
   }
   if (result.above_part > 0) {
-    fmt::print(stderr, "--boundaries {}: {} layer top{} above the part's top ({:.3f} mm) left out\n",
-               argument, result.above_part, result.above_part == 1 ? "" : "s", part_height);
+    result.notes.push_back(fmt::format("--boundaries {}: {} layer top{} above the part's top "
+                                       "({:.3f} mm) left out",
+                                       argument, result.above_part,
+                                       result.above_part == 1 ? "" : "s", part_height));
   }
   result.layers = geometry::layers_from_tops(tops);
   return result;
@@ -60,4 +62,4 @@ std::string describe_layers(const std::vector<geometry::Layer>& layers) {
   return fmt::format("{} layers, {:g} to {:g} mm thick", layers.size(), mm(thinnest), mm(thickest));
 }
 
-}  // namespace host
+}  // namespace app

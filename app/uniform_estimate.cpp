@@ -1,5 +1,5 @@
 // Estimates of layer stacks from a sample of their layers; see uniform_estimate.h.
-#include "host/uniform_estimate.h"
+#include "app/uniform_estimate.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,9 +9,9 @@
 #include "geometry/core/clipper.h"
 #include "geometry/support/support_plan.h"
 #include "geometry/toolpaths/toolpath_plan.h"
-#include "host/slice_pipeline.h"
+#include "app/stage_options.h"
 
-namespace host {
+namespace app {
 namespace {
 
 // The sample's one pair in so many: estimated_seconds's, uniform_seconds's.
@@ -210,4 +210,4 @@ double uniform_seconds(const LayerSample& sample, const std::vector<geometry::La
   return seconds;
 }
 
-}  // namespace host
+}  // namespace app

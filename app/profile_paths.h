@@ -4,7 +4,7 @@
 
 #include <string>
 
-namespace host {
+namespace app {
 
 // The shipped profiles: share/mahost beside the bin/ folder this executable is installed in
 // (the layout `cmake --install` and the Debian package make), else, run from its build
@@ -16,4 +16,4 @@ std::string installed_profiles_dir();
 // printer::config_directory(installed_profiles_dir()).
 std::string profile_search_path();
 
-}  // namespace host
+}  // namespace app

@@ -1,4 +1,4 @@
-#include "host/layer_choice.h"
+#include "app/layer_choice.h"
 
 #include <algorithm>
 #include <cctype>
@@ -9,10 +9,9 @@
 #include <fmt/format.h>
 
 #include "geometry/plan/flat_levels.h"
-#include "host/cli_checks.h"
 #include "printer/gcode_writer.h"
 
-namespace host {
+namespace app {
 
 std::optional<double> parse_duration(std::string_view text) {
   double seconds = 0;
@@ -39,57 +38,6 @@ std::optional<double> parse_duration(std::string_view text) {
     at = end + length;
   }
   return seconds;
-}
-
-std::vector<CLI::Option*> add_adaptive_options(CLI::App& command, AdaptiveRequest& request,
-                                               const std::string& group, bool print_time) {
-  std::vector<CLI::Option*> added;
-  added.push_back(command.add_flag(
-      "--adaptive", request.adaptive,
-      fmt::format("vary the layer thickness: the fewest layers whose distance error D (as "
-                  "analyze reports it, of the contour printed) stays within --tolerance "
-                  "(default {:g} mm), thinner where the surface flattens, thicker where it "
-                  "stands; flat tops and floors on layer boundaries",
-                  kDefaultTolerance)));
-  added.push_back(command
-                      .add_option("--tolerance", request.tolerance,
-                                  fmt::format("with --adaptive: the largest D a layer may "
-                                              "have, mm (implies --adaptive); layers where "
-                                              "even the thinnest thickness exceeds it are "
-                                              "printed thinnest and counted (default: {:g} "
-                                              "with --adaptive, none without)",
-                                              kDefaultTolerance))
-                      ->check(positive_number()));
-  added.push_back(command
-                      .add_option("--max-layers", request.max_layers,
-                                  "with --adaptive: at most this many layers, with the least "
-                                  "tolerance that allows it (implies --adaptive; default: none)")
-                      ->check(whole_number_in(1, 100000)));
-  added[1]->excludes(added[2]);
-  if (print_time) {
-    added.push_back(
-        command
-            .add_option_function<std::string>(
-                "--max-time",
-                [&request](const std::string& text) {
-                  const std::optional<double> seconds = parse_duration(text);
-                  if (!seconds || !(*seconds > 0)) {
-                    throw CLI::ValidationError("--max-time",
-                                               "'" + text + "' is not a duration: give hours, "
-                                               "minutes and seconds, as 1h30m, 90m or 5400s");
-                  }
-                  request.max_seconds = *seconds;
-                },
-                "with --adaptive: an estimated print time the plan must fit, as 1h30m, 90m or "
-                "5400s: the least tolerance whose plan's estimate (mid sections, the profile's "
-                "supports and raft) is within it, to 2% (implies --adaptive; default: none)")
-            ->type_name("DURATION"));
-    added.back()->excludes(added[1])->excludes(added[2]);
-  }
-  if (!group.empty()) {
-    for (CLI::Option* option : added) option->group(group);
-  }
-  return added;
 }
 
 geometry::AllowedThicknesses allowed_thicknesses(const printer::PrinterProfile& machine) {
@@ -299,4 +247,4 @@ std::string describe_choice(const LayerChoice& choice) {
   return text;
 }
 
-}  // namespace host
+}  // namespace app

@@ -3,7 +3,8 @@
 // printer's thicknesses reach it; or --adaptive, the fewest layers whose distance error D
 // (what `analyze` reports, of the contour printed) is within --tolerance, or the least
 // tolerance for at most --max-layers layers (geometry/plan/layer_plan.h). slice, print,
-// analyze and advise share these options and the one-line report of the plan.
+// analyze and advise share the request (its options are in app/slice_options.h's table) and
+// the one-line report of the plan.
 #pragma once
 
 #include <cstddef>
@@ -13,14 +14,12 @@
 #include <string_view>
 #include <vector>
 
-#include <CLI/CLI.hpp>
-
 #include "geometry/contour/contour_strategy.h"
 #include "geometry/plan/layer_plan.h"
 #include "geometry/slicing/layer_stack.h"
 #include "printer/profile.h"
 
-namespace host {
+namespace app {
 
 struct AdaptiveRequest {
   bool adaptive = false;       // --adaptive (also set by --tolerance and --max-layers)
@@ -37,13 +36,6 @@ struct AdaptiveRequest {
 
 // The tolerance of a bare --adaptive, mm: about the bunny's D at PrusaSlicer's 0.15 mm layers.
 inline constexpr double kDefaultTolerance = 0.3;
-
-// Adds --adaptive, --tolerance and --max-layers, and with `print_time` --max-time (a budget
-// of estimated print time: slice and print, which estimate it), listed under `group` (""
-// leaves them with the command's other options); returns them, for the caller's excludes.
-std::vector<CLI::Option*> add_adaptive_options(CLI::App& command, AdaptiveRequest& request,
-                                               const std::string& group = {},
-                                               bool print_time = false);
 
 // "1h30m", "90m", "45m30s", "5400s", "2h" in seconds; nullopt for anything else (a bare
 // number has no unit).
@@ -70,6 +62,7 @@ struct LayerChoice {
   double budget_seconds = 0;                      // --max-time, s (0: none)
   double estimated_seconds = 0;                   // with a budget: the plan's estimate, s
   std::size_t max_layers = 0;                     // --max-layers (0: none)
+  std::vector<std::string> notes;                 // --boundaries: the tops left out (BoundaryLayers)
 };
 
 // Called with the candidate slabs measured so far.
@@ -95,4 +88,4 @@ LayerChoice choose_layers(const AdaptiveRequest& request, const printer::Printer
 // levels no layer could land.
 std::string describe_choice(const LayerChoice& choice);
 
-}  // namespace host
+}  // namespace app

@@ -1,5 +1,5 @@
-// The model options every command shares, and loading a model through them; see model_input.h.
-#include "host/model_input.h"
+// Loading a model; see model.h.
+#include "app/model.h"
 
 #include <algorithm>
 #include <charconv>
@@ -10,39 +10,14 @@
 #include <fmt/core.h>
 
 #include "geometry/core/error.h"
+#include "geometry/mesh/file_bytes.h"
 #include "geometry/mesh/model_io.h"
 #include "geometry/mesh/placement.h"
 #include "geometry/mesh/stored_normals.h"
-#include "host/cli_checks.h"
 
-namespace host {
-
-geometry::SupportCost support_cost(const printer::PrinterProfile& machine) {
-  const printer::SupportSettings& s = machine.support;
-  geometry::SupportCost cost;
-  const double sets = s.pattern == "grid" ? 2 : 1;
-  cost.body_share = s.spacing > 0 ? std::min(1.0, sets * machine.extrusion_width / s.spacing) : 1;
-  cost.interface_share = std::clamp(s.interface_density / 100, 0.0, 1.0);
-  cost.interface_thickness = s.interface_thickness;
-  cost.top_gap = s.top_contact_distance;
-  cost.bottom_gap = s.bottom_contact_distance;
-  return cost;
-}
+namespace app {
 
 namespace {
-
-CLI::Validator one_of(std::vector<std::string> choices, const std::string& what) {
-  std::string list;
-  for (const std::string& c : choices) list += (list.empty() ? "" : "|") + c;
-  return CLI::Validator(
-      [choices, list, what](std::string& text) -> std::string {
-        for (const std::string& c : choices) {
-          if (text == c) return {};
-        }
-        return fmt::format("'{}' is not {}; use one of {}", text, what, list);
-      },
-      list);
-}
 
 // The options are checked on the command line already; these guard other callers.
 double units_to_mm(const std::string& units) {
@@ -131,52 +106,7 @@ std::string orientation_text(const LoadedModel& model) {
       model.orient_seconds);
 }
 
-void add_model_options(CLI::App& command, ModelOptions& options) {
-  command.add_option("MODEL", options.path,
-                     "the model: STL (ASCII or binary), 3MF (every object of its build, placed "
-                     "together) or OBJ")
-      ->required();
-  add_placement_options(command, options);
-}
-
-void add_placement_options(CLI::App& command, ModelOptions& options, const std::string& group) {
-  std::vector<CLI::Option*> added;
-  added.push_back(command.add_option("--units", options.units,
-                                     "unit of the file's coordinates, which STL and OBJ do not "
-                                     "record (3MF does) (default: mm)")
-                      ->check(one_of({"m", "mm", "in"}, "a unit")));
-  auto* scale = command.add_option("--scale", options.scale,
-                                   "scale factor, applied after --units (default: 1)")
-                    ->check(positive_number("F > 0"));
-  added.push_back(scale);
-  added.push_back(command.add_option("--height", options.height,
-                                     "scale uniformly so the part is MM tall, mm (default: "
-                                     "the file's size)")
-                      ->check(positive_number("MM > 0"))
-                      ->excludes(scale));
-  added.push_back(command.add_option("--up", options.up,
-                                     "the model's axis that points up on the bed (default: z)")
-                      ->check(one_of({"x", "y", "z"}, "an axis")));
-  added.push_back(command.add_option("--rotate", options.rotate,
-                                     "turn the model by DEGREES about an AXIS (x, y, z or a "
-                                     "vector a,b,c) after --up, e.g. --rotate x:90 or --rotate "
-                                     "1,1,0:30; repeatable, applied in order (default: none)")
-                      ->allow_extra_args(false));
-  added.push_back(command.add_option("--orient", options.orient,
-                                     "auto: rest the model on the face of its convex hull that "
-                                     "needs the least support (then the lowest), after --up and "
-                                     "--rotate (default: none, as given)")
-                      ->check(one_of({"none", "auto"}, "an orientation")));
-  if (!group.empty()) {
-    for (CLI::Option* option : added) option->group(group);
-  }
-  // Accepted, and not listed, for the scripts of earlier versions, which refused an STL whose
-  // stored normals disagreed with its vertex order unless given this: stored normals are
-  // never used now (geometry/mesh/stl_io.h).
-  command.add_flag("--ignore-normals", options.ignore_normals)->group("");
-}
-
-LoadedModel load_model_with_report(const ModelOptions& options, geometry::Vec2 center) {
+LoadedModel load_model(const ModelOptions& options, geometry::Vec2 center) {
   if (!(options.scale > 0) || !std::isfinite(options.scale)) {
     throw geometry::InputError(
         fmt::format("--scale: needs a number greater than 0, not {}", options.scale));
@@ -231,13 +161,17 @@ LoadedModel load_model_with_report(const ModelOptions& options, geometry::Vec2 c
   return model;
 }
 
-geometry::Mesh load_model(const ModelOptions& options, geometry::Vec2 center) {
-  LoadedModel model = load_model_with_report(options, center);
-  if (model.repair.anything_repaired()) {
-    fmt::print(stderr, "mahost: {}: repaired: {}\n", options.path, model.repair.summary());
-  }
-  if (model.orientation) fmt::print(stderr, "mahost: {}: {}\n", options.path, orientation_text(model));
-  return std::move(model.mesh);
+void check_model_file(const std::string& path, const std::string& name) {
+  geometry::read_model_bytes(geometry::read_file_bytes(path), name);
 }
 
-}  // namespace host
+std::vector<std::string> model_notes(const ModelOptions& options, const LoadedModel& model) {
+  std::vector<std::string> notes;
+  if (model.repair.anything_repaired()) {
+    notes.push_back(fmt::format("{}: repaired: {}", options.path, model.repair.summary()));
+  }
+  if (model.orientation) notes.push_back(fmt::format("{}: {}", options.path, orientation_text(model)));
+  return notes;
+}
+
+}  // namespace app

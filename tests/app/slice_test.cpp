@@ -1,0 +1,154 @@
+// The slice pipeline called in-process (app/slice.h), as the command line and the web host
+// call it: the result carries what a user should hear of, progress and cancellation go
+// through SliceEvents, and nothing is printed.
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <doctest/doctest.h>
+#include <fmt/core.h>
+
+#include "app/slice.h"
+#include "geometry/core/error.h"
+#include "geometry/mesh/stl_io.h"
+#include "printer/error.h"
+#include "support/run_command.h"
+#include "support/solids.h"
+
+namespace slice_test {
+
+namespace fs = std::filesystem;
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// A 20 x 20 x 10 mm box as an STL in `dir`; with `open`, one of its facets left out (a hole
+// the repair fills).
+std::string box_stl(const std::string& dir, bool open = false) {
+  const geometry::Mesh mesh = solids::box({0, 0, 0}, {20, 20, 10}).mesh;
+  std::vector<geometry::Triangle> facets;
+  for (const auto& face : mesh.faces) {
+    facets.push_back({{mesh.vertices[face[0]], mesh.vertices[face[1]], mesh.vertices[face[2]]}});
+  }
+  if (open) facets.pop_back();
+  const std::string path = dir + (open ? "/open_box.stl" : "/box.stl");
+  geometry::write_stl_binary(path, facets);
+  return path;
+}
+
+TEST_CASE("slice_in_process_writes_the_gcode_the_options_ask_for") {
+  const std::string dir = test_support::scratch_dir("app_slice_options");
+  app::SliceOptions options;
+  options.model.path = box_stl(dir);
+  options.layer = 0.2;
+  options.support.raft = false;
+  options.support.brim = 4;
+  options.perimeters = 3;
+  const std::string gcode = dir + "/box.gcode";
+  std::vector<app::SliceStage> started;
+  app::SliceEvents events;
+  events.progress = [&](app::SliceStage stage, std::size_t done, std::size_t) {
+    if (done == 0) started.push_back(stage);  // from the calling thread
+  };
+  const app::SliceResult result = app::slice(options, gcode, events);
+
+  // The up-plus-2's first layer, then 0.2 mm layers to the box's top at 10 mm.
+  const double first = result.profiles.printer.first_layer_height;
+  REQUIRE(result.layers.size() == static_cast<std::size_t>(std::ceil((10 - first) / 0.2 - 1e-9)) + 1);
+  CHECK(result.layers.front().z_hi == doctest::Approx(first));
+  CHECK(result.layers.back().z_hi == doctest::Approx(10).epsilon(0.2 / 10));
+  CHECK(result.layer_thickness == 0.2);
+  CHECK(result.part_size.x == doctest::Approx(20));
+  CHECK(result.part_size.z == doctest::Approx(10));
+  CHECK(result.summary.layers == result.layers.size());  // no raft
+  CHECK(result.profiles.printer.print.perimeters == 3);
+  CHECK(result.profiles.printer.brim_width == 4);
+  CHECK_FALSE(result.repair.anything_repaired());
+  CHECK(result.warnings.empty());
+  CHECK(started == std::vector<app::SliceStage>{app::SliceStage::planning, app::SliceStage::contours,
+                                                 app::SliceStage::supports, app::SliceStage::toolpaths,
+                                                 app::SliceStage::writing});
+  const std::string text = read_file(gcode);
+  CHECK(text.size() == result.summary.bytes);
+  CHECK(text.find("\n; brim: 4 mm\n") != std::string::npos);
+  CHECK(text.find("perimeters: 3,") != std::string::npos);
+  CHECK(app::slice_summary_text(result).starts_with(fmt::format("{} layers, estimated print time", result.layers.size())));
+}
+
+TEST_CASE("the_repair_report_comes_back_in_the_result_and_as_it_happens") {
+  const std::string dir = test_support::scratch_dir("app_slice_repair");
+  app::SliceOptions options;
+  options.model.path = box_stl(dir, true);
+  std::vector<std::string> heard;
+  app::SliceEvents events;
+  events.warning = [&](const std::string& line) { heard.push_back(line); };
+  const app::SliceResult result = app::slice(options, dir + "/open_box.gcode", events);
+  CHECK(result.repair.anything_repaired());
+  CHECK(result.repair.open_edges_before == 3);
+  CHECK(result.repair.open_edges_after == 0);
+  REQUIRE(result.warnings.size() == 1);
+  CHECK(result.warnings == heard);
+  CHECK(result.warnings[0] == options.model.path + ": repaired: " + result.repair.summary());
+  CHECK(result.part_size.z == doctest::Approx(10));
+}
+
+TEST_CASE("layer_tops_left_out_are_said_in_the_result") {
+  const std::string dir = test_support::scratch_dir("app_slice_boundaries");
+  app::SliceOptions options;
+  options.model.path = box_stl(dir);
+  options.support.raft = false;
+  // The up-plus-2's first layer (0.3 mm), then 0.3 mm layers to 10.8 mm: 10.2 mm covers the
+  // box's top, the two above it are left out.
+  std::string tops;
+  for (int k = 1; k <= 36; ++k) tops += fmt::format("{}{:.1f}", k == 1 ? "" : ",", 0.3 * k);
+  options.boundaries = tops;
+  const app::SliceResult result = app::slice(options, dir + "/box.gcode");
+  REQUIRE(result.warnings.size() == 1);
+  CHECK(result.warnings[0].find("2 layer tops above the part's top") != std::string::npos);
+  CHECK(result.layers.back().z_hi == doctest::Approx(10.2));
+}
+
+TEST_CASE("a_cancelled_slice_stops_and_leaves_no_file") {
+  const std::string dir = test_support::scratch_dir("app_slice_cancel");
+  app::SliceOptions options;
+  options.model.path = box_stl(dir);
+  const std::string gcode = dir + "/box.gcode";
+  for (const app::SliceStage stop_at : {app::SliceStage::planning, app::SliceStage::contours,
+                                        app::SliceStage::toolpaths, app::SliceStage::writing}) {
+    CAPTURE(app::stage_name(stop_at));
+    std::atomic<bool> stop{false};
+    std::atomic<bool> reached{false};
+    app::SliceEvents events;
+    events.progress = [&](app::SliceStage stage, std::size_t, std::size_t) {
+      if (stage == stop_at) reached = stop = true;
+    };
+    events.cancelled = [&] { return stop.load(); };
+    CHECK_THROWS_AS(app::slice(options, gcode, events), app::SliceCancelled);
+    CHECK(reached);
+    CHECK_FALSE(fs::exists(gcode));
+  }
+}
+
+TEST_CASE("bad_requests_throw_the_errors_host_turns_into_one_line") {
+  const std::string dir = test_support::scratch_dir("app_slice_errors");
+  app::SliceOptions options;
+  options.model.path = dir + "/missing.stl";
+  CHECK_THROWS_AS(app::slice(options, dir + "/x.gcode"), geometry::InputError);
+  options.model.path = box_stl(dir);
+  options.layer = 0.17;  // not one of the up-plus-2's thicknesses
+  CHECK_THROWS_AS(app::slice(options, dir + "/x.gcode"), printer::ConfigError);
+  options.layer.reset();
+  options.printer = "no-such-printer";
+  CHECK_THROWS_AS(app::slice(options, dir + "/x.gcode"), printer::ConfigError);
+  CHECK_FALSE(fs::exists(dir + "/x.gcode"));
+}
+
+}  // namespace slice_test
