@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <charconv>
 #include <filesystem>
 #include <functional>
 #include <stdexcept>
@@ -105,12 +106,26 @@ CommandResult run_mahost(const std::vector<std::string>& args, const std::string
 
 std::string scratch_dir(const std::string& test_name) {
   namespace fs = std::filesystem;
-  // One folder per checkout (a short hash of its path), so two checkouts' test runs at once
-  // (a clean-clone check beside the working tree) never clear each other's files; short, so
-  // that the sockets made inside stay within the 108 bytes a socket path may have.
+  // One folder per checkout (a short hash of its path) and per test process, so two checkouts'
+  // test runs at once (a clean-clone check beside the working tree), or two copies of one test
+  // binary, never clear each other's files; short, so that the sockets made inside stay within
+  // the 108 bytes a socket path may have. The folders of processes that have exited are
+  // removed by the first test of the next process.
   const std::size_t checkout = std::hash<std::string_view>{}(MAHOST_SOURCE_DIR) % 0xfffff;
-  const fs::path dir = fs::temp_directory_path() /
-                       fmt::format("mahost-test-{}-{:05x}", getuid(), checkout) / test_name;
+  const fs::path base = fs::temp_directory_path() / fmt::format("mahost-test-{}-{:05x}", getuid(), checkout);
+  static const fs::path mine = [&] {
+    std::error_code ignored;
+    for (const auto& entry : fs::directory_iterator(base, ignored)) {
+      const std::string name = entry.path().filename().string();
+      pid_t pid = 0;
+      const auto [end, error] = std::from_chars(name.data(), name.data() + name.size(), pid);
+      const bool a_process_folder = error == std::errc{} && end == name.data() + name.size();
+      // Anything else here is no live process's folder and goes too.
+      if (!a_process_folder || (kill(pid, 0) != 0 && errno == ESRCH)) fs::remove_all(entry.path(), ignored);
+    }
+    return base / std::to_string(getpid());
+  }();
+  const fs::path dir = mine / test_name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir.string();
