@@ -267,6 +267,325 @@ Vec2 front_left(const Region& region) {
   return corner;
 }
 
+const LayerSupport* support_at(const SupportPlan& support, std::size_t i) {
+  return i < support.layers.size() ? &support.layers[i] : nullptr;
+}
+
+// The support's bead on layer i: on the bed (layer 0 without a raft) the first layer's width.
+double support_bead(std::size_t i, bool raft, const ToolpathOptions& o) {
+  return i == 0 && !raft ? o.first_layer_width : o.extrusion_width;
+}
+
+// Every layer's region, simplified, then cleaned and split into islands by one non-zero
+// union (simplifying first: the union has half the vertices to sweep): a layer past the
+// given regions is empty. `outline` is the region straightened for the skins.
+struct LayerRegions {
+  std::vector<std::vector<clipper::Paths>> islands;
+  std::vector<Region> region, outline;
+};
+
+LayerRegions layer_regions(const std::vector<Region>& regions, std::size_t n) {
+  LayerRegions parts;
+  parts.islands.resize(n);
+  parts.region.resize(n);
+  parts.outline.resize(n);
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+    if (i >= regions.size()) return;
+    parts.islands[i] = clipper::islands(clipper::simplified(to_clipper(regions[i]), kSimplifyTolerance));
+    clipper::Paths all;
+    for (const clipper::Paths& island : parts.islands[i]) {
+      for (const auto& path : island) {
+        parts.region[i].loops.push_back(from_clipper(path));
+        all.push_back(path);
+      }
+    }
+    parts.outline[i] = from_clipper(clipper::simplified(all, kSkinTolerance));
+  });
+  return parts;
+}
+
+// Skins need the neighbours' regions: every layer's sparse core (skins.h), before the layers
+// are planned. A planned layer needs the core of the layer above too (its skin edges,
+// skin_edge_lines).
+std::vector<std::optional<Region>> layer_cores(const std::vector<Region>& outline,
+                                               const std::vector<Layer>& layers,
+                                               const ToolpathOptions& o) {
+  std::vector<char> with_cores = o.planned;
+  for (std::size_t i = with_cores.size(); i-- > 1;) {
+    with_cores[i] = with_cores[i] || with_cores[i - 1];
+  }
+  return sparse_cores(outline, layers, {o.top_layers, o.bottom_layers, o.top_thickness, o.bottom_thickness},
+                      with_cores);
+}
+
+// The support's sheath (support_paths.h) on each layer, the ring its beads make and the
+// interface's loop, each layer's own, in parallel. A layer whose support is the one below's to
+// the bit, and its beads and thickness too, as in a column's straight run (a table's layers
+// under its top), repeats it: the same sheath and rings, copied. All empty without supports.
+struct SupportRings {
+  std::vector<char> repeats;
+  std::vector<SupportSheath> sheath;
+  std::vector<clipper::Paths> ring, interface_ring;
+};
+
+SupportRings support_rings(const SupportPlan& support, const std::vector<Layer>& layers,
+                           const ToolpathOptions& o, bool raft) {
+  const std::size_t n = layers.size();
+  SupportRings rings;
+  rings.repeats.assign(n, 0);
+  for (std::size_t i = 1; i < n; ++i) {
+    const LayerSupport* held = support_at(support, i);
+    const LayerSupport* below = support_at(support, i - 1);
+    rings.repeats[i] = held && below && held->body.loops == below->body.loops &&
+                       held->interface.loops == below->interface.loops &&
+                       support_bead(i, raft, o) == support_bead(i - 1, raft, o) &&
+                       same_thickness(layers[i], layers[i - 1]);
+  }
+  if (support.layers.empty()) return rings;
+  rings.sheath.resize(n);
+  rings.ring.resize(n);
+  rings.interface_ring.resize(n);
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+    const LayerSupport* held = support_at(support, i);
+    if (rings.repeats[i] || !held || (held->body.loops.empty() && held->interface.loops.empty())) {
+      return;
+    }
+    const clipper::Paths interface = to_clipper(held->interface);
+    clipper::Paths all = to_clipper(held->body);
+    all.insert(all.end(), interface.begin(), interface.end());
+    all = clipper::union_nonzero(all);
+    // The sheath's bead, and the interface's loop's: where a loop fits (a part narrower
+    // than a bead gets none), less what lies inside it.
+    const double w = o.extrusion_width;
+    rings.sheath[i] = support_sheath(all, held->body, support_bead(i, raft, o), o.support);
+    rings.ring[i] = rings.sheath[i].beads;
+    if (!interface.empty()) {
+      rings.interface_ring[i] = clipper::difference(clipper::opening(interface, w / 2), clipper::offset(interface, -w));
+    }
+  });
+  for (std::size_t i = 1; i < n; ++i) {
+    if (!rings.repeats[i]) continue;
+    rings.sheath[i] = rings.sheath[i - 1];
+    rings.ring[i] = rings.ring[i - 1];
+    rings.interface_ring[i] = rings.interface_ring[i - 1];
+  }
+  return rings;
+}
+
+// Where each layer offers a sheath something to rest on: its part, and its own sheath as far
+// as that is laid, which is as far as the layer below offers (so a sheath never stands on one
+// that was left out). In turn, layer by layer. Empty without supports.
+std::vector<clipper::Paths> sheath_carriers(const SupportPlan& support,
+                                            const std::vector<Region>& region,
+                                            const SupportRings& rings, double width) {
+  if (support.layers.empty()) return {};
+  const std::size_t n = region.size();
+  std::vector<clipper::Paths> carries(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    // What the layer below offered it, offered again on the same part and support.
+    if (rings.repeats[i] && i >= 2 && carries[i - 1] == carries[i - 2] &&
+        region[i].loops == region[i - 1].loops) {
+      carries[i] = carries[i - 1];
+      continue;
+    }
+    clipper::Paths offered = to_clipper(region[i]);
+    if (!rings.ring[i].empty()) {
+      const clipper::Paths laid = i == 0 ? rings.ring[i]
+                                         : clipper::intersection(rings.ring[i], clipper::offset(carries[i - 1], width / 2));
+      offered.insert(offered.end(), laid.begin(), laid.end());
+    }
+    offered.insert(offered.end(), rings.interface_ring[i].begin(), rings.interface_ring[i].end());
+    carries[i] = clipper::union_nonzero(offered);
+  }
+  return carries;
+}
+
+// Each layer's part, of those o.planned marks: planned, or copied from a layer that plans it
+// alike (plan_sources); the planned layers first, in parallel, then the copies.
+std::vector<std::vector<Island>> plan_parts(const PartInputs& inputs, const LayerDone& on_layer_done) {
+  const ToolpathOptions& o = inputs.o;
+  const std::vector<Layer>& layers = inputs.layers;
+  const std::size_t n = layers.size();
+  const bool top_skins = o.top_layers > 0 || o.top_thickness > 0;
+  const bool bottom_skins = o.bottom_layers > 0 || o.bottom_thickness > 0;
+  const double sparse_share = sparse_infill_share(layers, o.extrusion_width);
+  const Region nothing;
+  const std::vector<std::size_t> source = plan_sources(inputs);
+  std::vector<std::vector<Island>> islands(n);
+  std::atomic<std::size_t> done{0};
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+    if (!inputs.planned(i)) {
+      if (on_layer_done) on_layer_done(++done);
+      return;
+    }
+    if (source[i] != i) return;
+    const double width = i == 0 ? o.first_layer_width : o.extrusion_width;
+    const double height = layers[i].z_hi - layers[i].z_lo;
+    const Region* core = inputs.cores[i] ? &*inputs.cores[i] : nullptr;
+    const Region* below = bottom_skins ? (i > 0 ? &inputs.outline[i - 1] : &nothing) : nullptr;
+    const Region* above = top_skins ? (i + 1 < n ? &inputs.outline[i + 1] : &nothing) : nullptr;
+    const LayerSupport* held = support_at(inputs.support, i);
+    const std::vector<Bridge>* bridges = held ? &held->bridges : nullptr;
+    const Region* core_above = i + 1 < n && inputs.cores[i + 1] ? &*inputs.cores[i + 1] : nullptr;
+    for (const clipper::Paths& island : inputs.islands[i]) {
+      islands[i].push_back(plan_island(island, i, width, height, sparse_share, o, core, below,
+                                       above, core_above, bridges));
+    }
+    if (on_layer_done) on_layer_done(++done);
+  });
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+    if (!inputs.planned(i) || source[i] == i) return;
+    islands[i] = islands[source[i]];
+    if (on_layer_done) on_layer_done(++done);
+  });
+  return islands;
+}
+
+// The support's islands of each planned layer (the body and the interface, each an island of
+// its own in the nearest-first order), and where travels need no retraction: the part, with
+// its support where there is any.
+struct SupportLayers {
+  std::vector<std::vector<Island>> islands;
+  std::vector<Region> travel_region;
+};
+
+SupportLayers plan_support_layers(const PartInputs& inputs, const std::vector<Region>& region,
+                                  const SupportRings& rings,
+                                  const std::vector<clipper::Paths>& carries, bool raft) {
+  const SupportPlan& support = inputs.support;
+  const ToolpathOptions& o = inputs.o;
+  const std::vector<Layer>& layers = inputs.layers;
+  const std::size_t n = layers.size();
+  // The body's zig-zag connectors run along its edge: they are laid where something stands
+  // on that edge in the layer above, the interface's loop or the body's own line ends where
+  // the body grows (a line end reaching past the one below rests on its connector), and
+  // nowhere else (a body that only goes on up, or narrows, has its lines on the lines below:
+  // connectors there are filament that carries nothing; 9% of the T's support).
+  const auto body_connected = [&](std::size_t i) {
+    const LayerSupport* held = support_at(support, i);
+    const LayerSupport* up = i + 1 < n ? support_at(support, i + 1) : nullptr;
+    if (!held || !up) return false;
+    if (!up->interface.loops.empty()) return true;
+    if (up->body.loops.empty()) return false;
+    const clipper::Paths grown = clipper::difference(
+        to_clipper(up->body), clipper::offset(to_clipper(held->body), kBodyGrowthSlack));
+    return clipper::area_mm2(grown) > kBodyGrowthArea;
+  };
+  SupportLayers result;
+  result.islands.resize(n);
+  result.travel_region.resize(n);
+  // A layer that repeats the one below (above), stands on what that one stood on and has what
+  // that one had above it (so its connectors are laid alike) on the same part: a copy of that
+  // one's, after the others.
+  std::vector<char> copies(n, 0);
+  for (std::size_t i = 2; i + 1 < n; ++i) {
+    copies[i] = rings.repeats[i] && rings.repeats[i + 1] && inputs.planned(i) && inputs.planned(i - 1) &&
+                carries[i - 1] == carries[i - 2] && region[i].loops == region[i - 1].loops;
+  }
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+    if (!inputs.planned(i) || copies[i]) return;
+    const LayerSupport* held = support_at(support, i);
+    const double height = layers[i].thickness();
+    result.travel_region[i] = region[i];
+    if (held && !(held->body.loops.empty() && held->interface.loops.empty())) {
+      const double bead = support_bead(i, raft, o);
+      // What carries a sheath here: the layer below's sheath where it is laid, and its part;
+      // on the bed or the raft, anything.
+      std::optional<Region> carried;
+      if (i > 0) carried = from_clipper(carries[i - 1]);
+      SupportPathOptions body_options = o.support;
+      body_options.connectors = o.support.connectors && body_connected(i);
+      for (auto paths : {support_body_paths(held->body, bead, body_options, rings.sheath[i], carried ? &*carried : nullptr),
+                         support_interface_paths(held->interface, bead, height, o.support)}) {
+        if (!paths.empty()) result.islands[i].push_back(Island{{std::move(paths)}});
+      }
+      clipper::Paths all = to_clipper(region[i]);
+      for (const Region* r : {&held->body, &held->interface}) {
+        const clipper::Paths more = to_clipper(*r);
+        all.insert(all.end(), more.begin(), more.end());
+      }
+      result.travel_region[i] = from_clipper(clipper::union_nonzero(all));
+    }
+  });
+  for (std::size_t i = 0; i < n; ++i) {
+    if (copies[i]) {
+      result.islands[i] = result.islands[i - 1];
+      result.travel_region[i] = result.travel_region[i - 1];
+    }
+  }
+  return result;
+}
+
+// The raft's layers' paths (support_paths.h), each its own.
+std::vector<std::vector<ExtrusionPath>> raft_layer_paths(const SupportPlan& support, const ToolpathOptions& o) {
+  const std::size_t r = support.raft.size();
+  std::vector<std::vector<ExtrusionPath>> raft_layers(r);
+  tbb::parallel_for(std::size_t{0}, r, [&](std::size_t k) {
+    const RaftLayer& layer = support.raft[k];
+    const double width = k == 0 ? o.first_layer_width : o.extrusion_width;
+    raft_layers[k] = raft_paths(support.raft_area, layer.part, k, width,
+                                layer.bounds.thickness(), o.support);
+  });
+  return raft_layers;
+}
+
+// The first printed layer's skirt loops, then its brim, round `first` (the raft, or the part's
+// first layer and its support).
+std::vector<ExtrusionPath> skirt_and_brim(const Region& first, const ToolpathOptions& o) {
+  const double width = o.first_layer_width;
+  std::vector<ExtrusionPath> paths = brim(first, width, o.brim_width);
+  const double extent = brim_extent(width, o.brim_width);
+  const Region around =
+      extent > 0 ? from_clipper(clipper::offset(to_clipper(first), extent, ClipperLib::jtRound)) : first;
+  std::vector<ExtrusionPath> loops = skirt(around, width, o.skirt_loops, o.skirt_distance);
+  paths.insert(paths.begin(), std::make_move_iterator(loops.begin()), std::make_move_iterator(loops.end()));
+  return paths;
+}
+
+// The layers' paths in printing order: sequential, since each layer starts where the one
+// below ended, from `start`; the skirt and brim first on the first layer printed, then each
+// layer's islands nearest first. Aligned seams remember where the layer below had them, so
+// that they line up.
+std::vector<LayerToolpaths> order_layers(const SupportPlan& support, const std::vector<Layer>& layers,
+                                         const ToolpathOptions& o,
+                                         std::vector<std::vector<ExtrusionPath>> raft_layers,
+                                         std::vector<ExtrusionPath> skirt_paths,
+                                         std::vector<std::vector<Island>> islands, Vec2 start) {
+  const std::size_t r = raft_layers.size(), n = layers.size();
+  std::vector<LayerToolpaths> plan(r + n);
+  Vec2 position = start;
+  std::vector<Seam> below, laid;
+  for (std::size_t k = 0; k < r; ++k) {
+    plan[k].z_lo = support.raft[k].bounds.z_lo;
+    plan[k].z_hi = support.raft[k].bounds.z_hi;
+    if (k == 0) append_nearest_first(std::move(skirt_paths), o.seam, position, plan[k].paths);
+    append_nearest_first(std::move(raft_layers[k]), o.seam, position, plan[k].paths);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    plan[r + i].z_lo = layers[i].z_lo + support.lift;
+    plan[r + i].z_hi = layers[i].z_hi + support.lift;
+    std::vector<ExtrusionPath>& out = plan[r + i].paths;
+    laid.clear();
+    if (i == 0 && r == 0) append_nearest_first(std::move(skirt_paths), o.seam, position, out);
+    std::vector<Island>& left = islands[i];
+    while (!left.empty()) {
+      std::size_t next = 0;
+      double nearest = std::numeric_limits<double>::infinity();
+      for (std::size_t k = 0; k < left.size(); ++k) {
+        if (left[k].groups.empty()) continue;
+        const auto start_at = nearest_start(left[k].groups.front(), o.seam, position);
+        if (start_at && start_at->distance < nearest) { nearest = start_at->distance; next = k; }
+      }
+      for (auto& group : left[next].groups) {
+        append_nearest_first(std::move(group), o.seam, position, out, &below, &laid);
+      }
+      left.erase(left.begin() + static_cast<std::ptrdiff_t>(next));
+    }
+    std::swap(below, laid);
+  }
+  return plan;
+}
+
 }  // namespace
 
 std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
@@ -284,267 +603,30 @@ std::vector<LayerToolpaths> plan_toolpaths(const std::vector<Region>& regions,
   const ToolpathOptions o = sane(options);
   const std::size_t n = layers.size();
   const bool raft = !support.raft.empty();
-  auto support_at = [&](std::size_t i) -> const LayerSupport* {
-    return i < support.layers.size() ? &support.layers[i] : nullptr;
-  };
-  // Every layer's region, simplified, then cleaned and split into islands by one non-zero
-  // union (simplifying first: the union has half the vertices to sweep): a layer past the
-  // given regions is empty.
-  std::vector<std::vector<clipper::Paths>> island_paths(n);
-  std::vector<Region> region(n), outline(n);
-  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-    if (i >= regions.size()) return;
-    island_paths[i] = clipper::islands(clipper::simplified(to_clipper(regions[i]), kSimplifyTolerance));
-    clipper::Paths all;
-    for (const clipper::Paths& island : island_paths[i]) {
-      for (const auto& path : island) {
-        region[i].loops.push_back(from_clipper(path));
-        all.push_back(path);
-      }
-    }
-    outline[i] = from_clipper(clipper::simplified(all, kSkinTolerance));
-  });
-  // Skins need the neighbours' regions: every layer's core first, then the layers in parallel.
-  // A planned layer needs the core of the layer above too (its skin edges, skin_edge_lines).
-  std::vector<char> with_cores = o.planned;
-  for (std::size_t i = with_cores.size(); i-- > 1;) {
-    with_cores[i] = with_cores[i] || with_cores[i - 1];
-  }
-  const std::vector<std::optional<Region>> cores = sparse_cores(
-      outline, layers, {o.top_layers, o.bottom_layers, o.top_thickness, o.bottom_thickness},
-      with_cores);
-  const bool top_skins = o.top_layers > 0 || o.top_thickness > 0;
-  const bool bottom_skins = o.bottom_layers > 0 || o.bottom_thickness > 0;
-  const double sparse_share = sparse_infill_share(layers, o.extrusion_width);
-  const Region nothing;
-
-  // Where each layer offers a sheath (support_paths.h) something to rest on: its part, and
-  // its own sheath (the outer bead of its support) as far as that is laid, which is as far
-  // as the layer below offers (so a sheath never stands on one that was left out). In turn,
-  // layer by layer, beside the parts' plans (which need none of it); each layer's ring first,
-  // in parallel. The sheath itself (support_paths.h) is each layer's own, in parallel too.
-  // On the bed (layer 0 without a raft) the support's beads are the first layer's width.
-  const auto support_bead = [&](std::size_t i) { return i == 0 && !raft ? o.first_layer_width : o.extrusion_width; };
-  // A layer whose support is the one below's to the bit, and its beads and thickness too, as
-  // in a column's straight run (a table's layers under its top), has the same sheath and
-  // rings: copied.
-  std::vector<char> repeats(n, 0);
-  for (std::size_t i = 1; i < n; ++i) {
-    const LayerSupport* held = support_at(i);
-    const LayerSupport* below = support_at(i - 1);
-    repeats[i] = held && below && held->body.loops == below->body.loops &&
-                 held->interface.loops == below->interface.loops &&
-                 support_bead(i) == support_bead(i - 1) && same_thickness(layers[i], layers[i - 1]);
-  }
-  std::vector<clipper::Paths> carries;
-  std::vector<SupportSheath> sheath;
-  std::vector<clipper::Paths> ring, interface_ring;
-  if (!support.layers.empty()) {
-    carries.resize(n);
-    sheath.resize(n);
-    ring.resize(n);
-    interface_ring.resize(n);
-    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-      const LayerSupport* held = support_at(i);
-      if (repeats[i] || !held || (held->body.loops.empty() && held->interface.loops.empty())) {
-        return;
-      }
-      const clipper::Paths interface = to_clipper(held->interface);
-      clipper::Paths all = to_clipper(held->body);
-      all.insert(all.end(), interface.begin(), interface.end());
-      all = clipper::union_nonzero(all);
-      // The sheath's bead, and the interface's loop's: where a loop fits (a part narrower
-      // than a bead gets none), less what lies inside it.
-      const double w = o.extrusion_width;
-      sheath[i] = support_sheath(all, held->body, support_bead(i), o.support);
-      ring[i] = sheath[i].beads;
-      if (!interface.empty()) {
-        interface_ring[i] = clipper::difference(clipper::opening(interface, w / 2), clipper::offset(interface, -w));
-      }
-    });
-    for (std::size_t i = 1; i < n; ++i) {
-      if (!repeats[i]) continue;
-      sheath[i] = sheath[i - 1];
-      ring[i] = ring[i - 1];
-      interface_ring[i] = interface_ring[i - 1];
-    }
-  }
-  const auto offer = [&] {
-    if (support.layers.empty()) return;
-    for (std::size_t i = 0; i < n; ++i) {
-      // What the layer below offered it, offered again on the same part and support.
-      if (repeats[i] && i >= 2 && carries[i - 1] == carries[i - 2] &&
-          region[i].loops == region[i - 1].loops) {
-        carries[i] = carries[i - 1];
-        continue;
-      }
-      clipper::Paths offered = to_clipper(region[i]);
-      if (!ring[i].empty()) {
-        const clipper::Paths laid = i == 0 ? ring[i]
-                                      : clipper::intersection(ring[i], clipper::offset(carries[i - 1], o.extrusion_width / 2));
-        offered.insert(offered.end(), laid.begin(), laid.end());
-      }
-      offered.insert(offered.end(), interface_ring[i].begin(), interface_ring[i].end());
-      carries[i] = clipper::union_nonzero(offered);
-    }
-  };
-
-  // Each layer's part, of those o.planned marks: planned, or copied from a layer that plans
-  // it alike (plan_sources); the planned layers first, in parallel, then the copies.
-  const PartInputs inputs{island_paths, outline, cores, layers, o, support};
-  const auto planned = [&](std::size_t i) { return inputs.planned(i); };
-  const std::vector<std::size_t> source = plan_sources(inputs);
+  const LayerRegions parts = layer_regions(regions, n);
+  const std::vector<std::optional<Region>> cores = layer_cores(parts.outline, layers, o);
+  const SupportRings rings = support_rings(support, layers, o, raft);
+  const PartInputs inputs{parts.islands, parts.outline, cores, layers, o, support};
+  // What each layer offers the sheath above, a chain up the stack, beside the parts' plans,
+  // which need none of it. Sized first: in a cancelled task group (a slice given up on while
+  // it samples layers for an estimate) TBB may skip either, and what follows still indexes
+  // them.
+  std::vector<clipper::Paths> carries(support.layers.empty() ? 0 : n);
   std::vector<std::vector<Island>> islands(n);
-  std::atomic<std::size_t> done{0};
-  const auto plan_parts = [&] {
-    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-      if (!planned(i)) {
-        if (on_layer_done) on_layer_done(++done);
-        return;
-      }
-      if (source[i] != i) return;
-      const double width = i == 0 ? o.first_layer_width : o.extrusion_width;
-      const double height = layers[i].z_hi - layers[i].z_lo;
-      const Region* core = cores[i] ? &*cores[i] : nullptr;
-      const Region* below = bottom_skins ? (i > 0 ? &outline[i - 1] : &nothing) : nullptr;
-      const Region* above = top_skins ? (i + 1 < n ? &outline[i + 1] : &nothing) : nullptr;
-      const LayerSupport* held = support_at(i);
-      const std::vector<Bridge>* bridges = held ? &held->bridges : nullptr;
-      const Region* core_above = i + 1 < n && cores[i + 1] ? &*cores[i + 1] : nullptr;
-      for (const clipper::Paths& island : island_paths[i]) {
-        islands[i].push_back(plan_island(island, i, width, height, sparse_share, o, core, below,
-                                         above, core_above, bridges));
-      }
-      if (on_layer_done) on_layer_done(++done);
-    });
-    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-      if (!planned(i) || source[i] == i) return;
-      islands[i] = islands[source[i]];
-      if (on_layer_done) on_layer_done(++done);
-    });
-  };
-  tbb::parallel_invoke(offer, plan_parts);
-
-  // The body's zig-zag connectors run along its edge: they are laid where something stands
-  // on that edge in the layer above, the interface's loop or the body's own line ends where
-  // the body grows (a line end reaching past the one below rests on its connector), and
-  // nowhere else (a body that only goes on up, or narrows, has its lines on the lines below:
-  // connectors there are filament that carries nothing; 9% of the T's support).
-  const auto body_connected = [&](std::size_t i) {
-    const LayerSupport* held = support_at(i);
-    const LayerSupport* up = i + 1 < n ? support_at(i + 1) : nullptr;
-    if (!held || !up) return false;
-    if (!up->interface.loops.empty()) return true;
-    if (up->body.loops.empty()) return false;
-    const clipper::Paths grown = clipper::difference(
-        to_clipper(up->body), clipper::offset(to_clipper(held->body), kBodyGrowthSlack));
-    return clipper::area_mm2(grown) > kBodyGrowthArea;
-  };
-  std::vector<Region> travel_region(n);  // where travels need no retraction
-  // The support's islands of a layer that repeats the one below (above), stands on what that
-  // one stood on and has what that one had above it (so its connectors are laid alike) on the
-  // same part: a copy of that one's, after the others.
-  std::vector<std::vector<Island>> support_islands(n);
-  std::vector<char> copies(n, 0);
-  for (std::size_t i = 2; i + 1 < n; ++i) {
-    copies[i] = repeats[i] && repeats[i + 1] && planned(i) && planned(i - 1) &&
-                carries[i - 1] == carries[i - 2] && region[i].loops == region[i - 1].loops;
-  }
-  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-    if (!planned(i) || copies[i]) return;
-    const LayerSupport* held = support_at(i);
-    const double height = layers[i].thickness();
-    travel_region[i] = region[i];
-    if (held && !(held->body.loops.empty() && held->interface.loops.empty())) {
-      // The support's own islands, the body and the interface, in the nearest-first order.
-      const double bead = support_bead(i);
-      // What carries a sheath here: the layer below's sheath where it is laid, and its part;
-      // on the bed or the raft, anything.
-      std::optional<Region> carried;
-      if (i > 0) carried = from_clipper(carries[i - 1]);
-      SupportPathOptions body_options = o.support;
-      body_options.connectors = o.support.connectors && body_connected(i);
-      for (auto paths : {support_body_paths(held->body, bead, body_options, sheath[i], carried ? &*carried : nullptr),
-                         support_interface_paths(held->interface, bead, height, o.support)}) {
-        if (!paths.empty()) support_islands[i].push_back(Island{{std::move(paths)}});
-      }
-      clipper::Paths all = to_clipper(region[i]);
-      for (const Region* r : {&held->body, &held->interface}) {
-        const clipper::Paths more = to_clipper(*r);
-        all.insert(all.end(), more.begin(), more.end());
-      }
-      travel_region[i] = from_clipper(clipper::union_nonzero(all));
-    }
-  });
+  tbb::parallel_invoke([&] { carries = sheath_carriers(support, parts.region, rings, o.extrusion_width); },
+                       [&] { islands = plan_parts(inputs, on_layer_done); });
+  SupportLayers held = plan_support_layers(inputs, parts.region, rings, carries, raft);
   for (std::size_t i = 0; i < n; ++i) {
-    if (copies[i]) {
-      support_islands[i] = support_islands[i - 1];
-      travel_region[i] = travel_region[i - 1];
-    }
+    for (Island& island : held.islands[i]) islands[i].push_back(std::move(island));
   }
-  for (std::size_t i = 0; i < n; ++i) {
-    for (Island& island : support_islands[i]) islands[i].push_back(std::move(island));
-  }
-
-  // The raft's layers, and the first printed layer's brim and skirt: round the raft, or
-  // round the part's first layer and its support.
+  const Region* first = raft ? &support.raft_area : n > 0 ? &held.travel_region[0] : nullptr;
+  std::vector<LayerToolpaths> plan =
+      order_layers(support, layers, o, raft_layer_paths(support, o),
+                   first ? skirt_and_brim(*first, o) : std::vector<ExtrusionPath>{}, std::move(islands),
+                   first ? front_left(*first) : Vec2{});
   const std::size_t r = support.raft.size();
-  std::vector<std::vector<ExtrusionPath>> raft_layers(r);
-  tbb::parallel_for(std::size_t{0}, r, [&](std::size_t k) {
-    const RaftLayer& layer = support.raft[k];
-    const double width = k == 0 ? o.first_layer_width : o.extrusion_width;
-    raft_layers[k] = raft_paths(support.raft_area, layer.part, k, width,
-                                layer.bounds.thickness(), o.support);
-  });
-  const Region* first = raft ? &support.raft_area : n > 0 ? &travel_region[0] : nullptr;
-  std::vector<ExtrusionPath> skirt_paths;
-  if (first) {
-    const double width = o.first_layer_width;
-    skirt_paths = brim(*first, width, o.brim_width);
-    const double extent = brim_extent(width, o.brim_width);
-    const Region around =
-        extent > 0 ? from_clipper(clipper::offset(to_clipper(*first), extent, ClipperLib::jtRound))
-                   : *first;
-    std::vector<ExtrusionPath> loops = skirt(around, width, o.skirt_loops, o.skirt_distance);
-    skirt_paths.insert(skirt_paths.begin(), std::make_move_iterator(loops.begin()),
-                       std::make_move_iterator(loops.end()));
-  }
-
-  // Order: sequential, since each layer starts where the one below ended.
-  // Aligned seams remember where the layer below had them, so that they line up.
-  std::vector<LayerToolpaths> plan(r + n);
-  Vec2 position = first ? front_left(*first) : Vec2{};
-  std::vector<Seam> below, laid;
-  for (std::size_t k = 0; k < r; ++k) {
-    plan[k].z_lo = support.raft[k].bounds.z_lo;
-    plan[k].z_hi = support.raft[k].bounds.z_hi;
-    if (k == 0) append_nearest_first(std::move(skirt_paths), o.seam, position, plan[k].paths);
-    append_nearest_first(std::move(raft_layers[k]), o.seam, position, plan[k].paths);
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    plan[r + i].z_lo = layers[i].z_lo + support.lift;
-    plan[r + i].z_hi = layers[i].z_hi + support.lift;
-    std::vector<ExtrusionPath>& out = plan[r + i].paths;
-    laid.clear();
-    if (i == 0 && !raft) append_nearest_first(std::move(skirt_paths), o.seam, position, out);
-    std::vector<Island>& left = islands[i];
-    while (!left.empty()) {
-      std::size_t next = 0;
-      double nearest = std::numeric_limits<double>::infinity();
-      for (std::size_t k = 0; k < left.size(); ++k) {
-        if (left[k].groups.empty()) continue;
-        const auto start = nearest_start(left[k].groups.front(), o.seam, position);
-        if (start && start->distance < nearest) { nearest = start->distance; next = k; }
-      }
-      for (auto& group : left[next].groups) {
-        append_nearest_first(std::move(group), o.seam, position, out, &below, &laid);
-      }
-      left.erase(left.begin() + static_cast<std::ptrdiff_t>(next));
-    }
-    std::swap(below, laid);
-  }
   tbb::parallel_for(std::size_t{0}, r + n, [&](std::size_t k) {
-    const Region& where = k < r ? support.raft_area : travel_region[k - r];
+    const Region& where = k < r ? support.raft_area : held.travel_region[k - r];
     mark_retractions(plan[k].paths, where, o.retract_min_travel);
   });
   return plan;
