@@ -13,6 +13,7 @@
 #include "geometry/mesh/file_bytes.h"
 #include "geometry/mesh/model_io.h"
 #include "geometry/mesh/placement.h"
+#include "geometry/mesh/stl_io.h"
 #include "geometry/mesh/stored_normals.h"
 
 namespace app {
@@ -159,6 +160,26 @@ LoadedModel load_model(const ModelOptions& options, geometry::Vec2 center) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
   return model;
+}
+
+ModelFigures model_figures(const LoadedModel& model, double overhang_angle) {
+  ModelFigures figures;
+  figures.format = std::string(geometry::format_name(model.format));
+  if (model.format == geometry::ModelFormat::threemf) {
+    figures.format += model.objects == 1 ? std::string(", 1 object")
+                                         : fmt::format(", {} objects placed together", model.objects);
+  }
+  figures.triangles = model.mesh.faces.size();
+  figures.vertices = model.mesh.vertices.size();
+  figures.box = geometry::bounding_box(model.mesh);
+  figures.volume = geometry::signed_volume(model.mesh);
+  figures.surface_area = geometry::surface_area(model.mesh);
+  figures.support_volume = geometry::support_volume_estimate(model.mesh, overhang_angle);
+  return figures;
+}
+
+void export_stl(const LoadedModel& model, const std::string& path) {
+  geometry::write_stl_binary(path, model.mesh);
 }
 
 void check_model_file(const std::string& path, const std::string& name) {

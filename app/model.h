@@ -65,6 +65,23 @@ void check_model_file(const std::string& path, const std::string& name);
 // one-line reason for a file that cannot be used.
 LoadedModel load_model(const ModelOptions& options, geometry::Vec2 center = {0, 0});
 
+// What `mahost info` reports of a loaded model besides its repair report and stored normals.
+struct ModelFigures {
+  std::string format;         // "STL", "3MF, 1 object", "3MF, 2 objects placed together"
+  std::size_t triangles = 0;  // after repair
+  std::size_t vertices = 0;
+  geometry::Box3 box;         // the placed part's, mm
+  double volume = 0;          // mm^3
+  double surface_area = 0;    // mm^2
+  // mm^3 of support under the walls leaning past `overhang_angle` degrees from vertical, in
+  // columns to the bed or the part below (support_volume_estimate, orientation.h).
+  double support_volume = 0;
+};
+ModelFigures model_figures(const LoadedModel& model, double overhang_angle);
+
+// Writes the placed, repaired mesh to `path` as binary STL, mm.
+void export_stl(const LoadedModel& model, const std::string& path);
+
 // What loading did that a user should hear of, one line each (none when nothing was repaired
 // or turned): "FILE: repaired: ...", "FILE: --orient auto: ...".
 std::vector<std::string> model_notes(const ModelOptions& options, const LoadedModel& model);

@@ -48,8 +48,6 @@ set(host_geometry_users
   host/cmd_analyze.cpp
   # the SVG charts draw geometry::Loop outlines (analyze's --layer-index).
   host/plots.h
-  # info prints the mesh's figures and exports it.
-  host/cmd_info.cpp
   # Text and file tools, no geometry: the control socket's and a job file's lines trimmed by
   # geometry/core/text.h; profiles import reads the .ini whole by geometry/mesh/file_bytes.h,
   # whose errors say what to do as a model's do.
