@@ -455,7 +455,8 @@ void write_plan_charts(const app::LayerChoice& plan, const std::vector<LayerAnal
   fmt::print("wrote {}, {}\n", path_of("adaptive-thickness.svg"), path_of("adaptive-distance.svg"));
 }
 
-void run_analyze(const AnalyzeOptions& options) {
+// The strategies --contours names, each once.
+Strategies listed_strategies(const AnalyzeOptions& options) {
   Strategies kinds;
   for (const std::string& name : split_list(options.contours)) {
     const ContourStrategy& kind = app::contour_strategy_option(name, "--contours");
@@ -465,57 +466,34 @@ void run_analyze(const AnalyzeOptions& options) {
     throw geometry::InputError(
         fmt::format("--contours: give at least one of {}", geometry::contour_names()));
   }
-  const bool exporting = !options.export_layers.empty();
-  const ContourStrategy& export_kind = app::contour_strategy_option(options.contour, "--contour");
-  const bool adaptive_plan = options.adaptive.wanted();
-  if ((exporting || adaptive_plan) && index_of(kinds, export_kind.name) < 0) {
-    kinds.push_back(&export_kind);
-  }
-  const std::vector<double> thick = options.plots.empty() ? std::vector<double>{}
-                                                          : thickness_list(options.thick, "--thick");
-  if (!options.plots.empty()) {
-    std::error_code error;
-    std::filesystem::create_directories(options.plots, error);
-    if (error || !std::filesystem::is_directory(options.plots)) {
-      throw geometry::InputError(fmt::format(
-          "--plots {}: cannot create this directory ({}); give one you can write to",
-          options.plots, error ? error.message() : "not a directory"));
-    }
-  }
+  return kinds;
+}
 
-  const geometry::ZRange excluded =
-      options.exclude_z.empty() ? geometry::ZRange{} : parse_z_range(options.exclude_z);
-  const geometry::Mesh mesh = load_model_noting(options.model);
-  const double height = part_height(mesh);
-  std::optional<app::LayerChoice> plan;
-  if (adaptive_plan) {
-    plan = adaptive_choice(options.adaptive, options.printer, mesh, height, export_kind);
+void make_plots_folder(const std::string& plots) {
+  std::error_code error;
+  std::filesystem::create_directories(plots, error);
+  if (error || !std::filesystem::is_directory(plots)) {
+    throw geometry::InputError(fmt::format(
+        "--plots {}: cannot create this directory ({}); give one you can write to", plots,
+        error ? error.message() : "not a directory"));
   }
-  const geometry::LayerStack stack(
-      mesh, plan ? plan->layers
-                 : analysis_layers(options.boundaries, options.layer, options.from_zero,
-                                   options.printer, mesh, height));
-  if (stack.size() == 0) {
-    throw geometry::InputError(fmt::format("{}: the model has no height to slice",
-                                           options.model.path));
-  }
-  const std::string layers_text = app::describe_layers(stack.layers());
-  if (options.layer_index >= static_cast<int>(stack.size())) {
-    throw geometry::InputError(fmt::format("--layer-index {}: the part has {} (indices 0 to {})",
-                                           options.layer_index, layers_text, stack.size() - 1));
-  }
+}
 
-  const std::vector<LayerAnalysis> layers = run_analysis(stack, kinds, exporting, "analyze");
-  const std::vector<StrategySummary> summaries =
-      geometry::summarize(layers, geometry::DistanceOptions{}.tolerance, excluded);
-
-  double total_limit = 0;
+// The least ΔV any extruded layers can have, mm³: the layers' volume limits summed.
+double total_volume_limit(const std::vector<LayerAnalysis>& layers) {
+  double total = 0;
   for (const LayerAnalysis& layer : layers)
-    if (!layer.strategies.empty()) total_limit += layer.strategies[0].metrics.volume_limit;
-  fmt::print("{}: {:.2f} mm tall, {}; volume limit {:.3f} mm³ (the least ΔV any extruded "
-             "layers can have)\n",
-             options.model.path, height, layers_text, total_limit);
-  if (plan) fmt::print("{}\n", app::describe_choice(*plan));
+    if (!layer.strategies.empty()) total += layer.strategies[0].metrics.volume_limit;
+  return total;
+}
+
+double ms_per_layer(const StrategySummary& s) {
+  return 1e3 * s.contour_seconds / std::max<std::size_t>(s.layers, 1);
+}
+
+// The table of the strategies' summaries, its legend, and optimal-height's time per slice.
+void print_summary_table(const std::vector<StrategySummary>& summaries, const Strategies& kinds,
+                         const geometry::ZRange& excluded) {
   fmt::print("{:<15} {:>8} {:>8} {:>8} {:>8} {:>10} {:>9} {:>9} {:>7} {:>7} {:>5} {:>10}\n",
              "strategy", "mean D", "max D", "P95h D", "mean H", "total ΔV", "mean ΔV", "ΔV>limit",
              "missed", ">lower", ">mid", "ms/layer");
@@ -531,13 +509,20 @@ void run_analyze(const AnalyzeOptions& options) {
                s.missed_features,
                lower >= 0 ? std::to_string(s.worse_than_lower) : "-",
                mid >= 0 ? std::to_string(s.worse_than_mid) : "-",
-               1e3 * s.contour_seconds / std::max<std::size_t>(s.layers, 1));
+               ms_per_layer(s));
   }
   fmt::print("(D: distance error surface to walls, H: Hausdorff, mm; P95h D: the D within which "
              "layers covering 95% of the height stay{}; ΔV mm³; >lower, >mid: layers whose D "
              "exceeds that strategy's; ms/layer: CPU time to make the contour)\n",
              excluded.empty() ? std::string()
                               : fmt::format(", z {:g} to {:g} mm left out", excluded.lo, excluded.hi));
+}
+
+// Each strategy against lower, and against mid (but lower and mid themselves), as compare()
+// prints and returns them.
+nlohmann::json comparisons_of(const std::vector<LayerAnalysis>& layers,
+                              const std::vector<StrategySummary>& summaries, const Strategies& kinds) {
+  const int lower = index_of(kinds, "lower"), mid = index_of(kinds, "mid");
   nlohmann::json comparisons = nlohmann::json::array();
   for (std::size_t k = 0; k < kinds.size(); ++k) {
     if (lower >= 0 && static_cast<int>(k) != lower)
@@ -549,103 +534,242 @@ void run_analyze(const AnalyzeOptions& options) {
   if (optimal >= 0) {
     fmt::print("optimal-height: {:.1f} ms per slice on one core (the paper's CATIA search: about "
                "90 s per slice)\n",
-               1e3 * summaries[optimal].contour_seconds / std::max<std::size_t>(summaries[optimal].layers, 1));
+               ms_per_layer(summaries[optimal]));
   }
+  return comparisons;
+}
 
-  if (!options.csv.empty()) {
-    std::ofstream out = open_output(options.csv, "--csv");
-    out << "layer,strategy,z_lo,thickness,height,area,volume_deviation,volume_limit,distance,"
-           "reverse_distance,hausdorff,missed_features,contour_ms\n";
-    for (std::size_t i = 0; i < layers.size(); ++i) {
-      for (const geometry::StrategyLayer& s : layers[i].strategies) {
-        const auto& m = s.metrics;
-        out << fmt::format("{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.12g},{:.12g},{:.6f},{:.6f},{:.6f},{},{:.3f}\n",
-                           i, name_of(s.strategy), m.z_lo, m.thickness, s.height, m.area,
-                           m.volume_deviation, m.volume_limit, m.distance, m.reverse_distance,
-                           m.hausdorff, m.missed_features, 1e3 * s.contour_seconds);
-      }
+void write_layers_csv(const std::string& path, const std::vector<LayerAnalysis>& layers,
+                      std::size_t strategies) {
+  std::ofstream out = open_output(path, "--csv");
+  out << "layer,strategy,z_lo,thickness,height,area,volume_deviation,volume_limit,distance,"
+         "reverse_distance,hausdorff,missed_features,contour_ms\n";
+  for (std::size_t i = 0; i < layers.size(); ++i) {
+    for (const geometry::StrategyLayer& s : layers[i].strategies) {
+      const auto& m = s.metrics;
+      out << fmt::format("{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.12g},{:.12g},{:.6f},{:.6f},{:.6f},{},{:.3f}\n",
+                         i, name_of(s.strategy), m.z_lo, m.thickness, s.height, m.area,
+                         m.volume_deviation, m.volume_limit, m.distance, m.reverse_distance,
+                         m.hausdorff, m.missed_features, 1e3 * s.contour_seconds);
     }
-    if (!out) throw geometry::InputError(fmt::format("--csv {}: writing failed", options.csv));
-    fmt::print("wrote {}: {} rows\n", options.csv, layers.size() * kinds.size());
   }
+  if (!out) throw geometry::InputError(fmt::format("--csv {}: writing failed", path));
+  fmt::print("wrote {}: {} rows\n", path, layers.size() * strategies);
+}
 
-  // Fig. 24-25: the medial-axis contour at thicker layers against lower at this thickness.
+// Fig. 24-25: the medial-axis contour at thicker layers against lower at this thickness, a
+// line and a chart each.
+nlohmann::json thicker_ma(const AnalyzeOptions& options, const std::vector<double>& thick,
+                          const geometry::Mesh& mesh, double height,
+                          const std::vector<LayerAnalysis>& layers, std::size_t lower) {
   nlohmann::json thicker = nlohmann::json::array();
+  const Strategies ma_only{&geometry::contour_strategy("ma")};
+  for (double t : thick) {
+    if (std::abs(t - options.layer) < 1e-9) continue;
+    const geometry::LayerStack thick_stack(mesh, geometry::uniform_layers(height, t));
+    const auto thick_layers =
+        run_analysis(thick_stack, ma_only, false, fmt::format("ma at {:g} mm", t), true);
+    std::vector<double> limits;
+    const double share = share_within(thick_layers, 0, layers, lower,
+                                      geometry::DistanceOptions{}.tolerance, &limits);
+    const auto thick_summary = geometry::summarize(thick_layers);
+    fmt::print("ma at {:g} mm: {} layers, mean D {:.4f} mm, max D {:.4f} mm; D within lower's at "
+               "{:g} mm on {:.1f}% of layers\n",
+               t, thick_stack.size(), thick_summary[0].mean_distance,
+               thick_summary[0].max_distance, options.layer, share);
+    thicker.push_back({{"thickness", t},
+                       {"layers", thick_stack.size()},
+                       {"mean_distance", thick_summary[0].mean_distance},
+                       {"max_distance", thick_summary[0].max_distance},
+                       {"within_benchmark_percent", share}});
+    Chart chart{fmt::format("Distance error: lower ({:g} mm) vs MA ({:g} mm)", options.layer, t),
+                "height, mm", "distance error D, mm", {}};
+    chart.series.push_back(per_layer_series(layers, lower, true,
+                                            fmt::format("lower, {:g} mm", options.layer)));
+    chart.series.push_back(per_layer_series(thick_layers, 0, true, fmt::format("ma, {:g} mm", t)));
+    const std::string path = (std::filesystem::path(options.plots) /
+                              fmt::format("distance-lower-{:g}-vs-ma-{:g}.svg", options.layer, t))
+                                 .string();
+    fit_y_axis(chart);
+    write_chart_svg(path, chart);
+    fmt::print("wrote {}\n", path);
+  }
+  return thicker;
+}
+
+// The charts of --plots: D and ΔV per layer of every strategy, the plan's, and Fig. 22's pairs
+// (lower and mid each against the medial-axis contour).
+void write_layer_charts(const AnalyzeOptions& options, const std::vector<LayerAnalysis>& layers,
+                        const Strategies& kinds, const std::optional<app::LayerChoice>& plan,
+                        const ContourStrategy& export_kind, const geometry::Mesh& mesh, double height) {
+  const auto path_of = [&](const std::string& name) {
+    return (std::filesystem::path(options.plots) / name).string();
+  };
+  const std::string at =
+      plan ? std::string("of the adaptive plan") : fmt::format("at {:g} mm", options.layer);
+  Chart all{fmt::format("Distance error per layer {}", at), "height, mm",
+            "distance error D, mm", {}};
+  Chart volume{fmt::format("Volume deviation per layer {}", at), "height, mm",
+               "volume deviation, mm³", {}};
+  for (std::size_t k = 0; k < kinds.size(); ++k) {
+    all.series.push_back(per_layer_series(layers, k, true, name_of(kinds[k])));
+    volume.series.push_back(per_layer_series(layers, k, false, name_of(kinds[k])));
+  }
+  Series limit{"volume limit", {}, {}, "lines lw 1", "#000000"};
+  for (const LayerAnalysis& layer : layers) {
+    limit.x.push_back(layer.layer.z_mid());
+    limit.y.push_back(layer.strategies[0].metrics.volume_limit);
+  }
+  volume.series.push_back(limit);
+  fit_y_axis(all);
+  fit_y_axis(volume);
+  write_chart_svg(path_of("distance.svg"), all);
+  write_chart_svg(path_of("volume.svg"), volume);
+  fmt::print("wrote {}, {}\n", path_of("distance.svg"), path_of("volume.svg"));
+  if (plan) write_plan_charts(*plan, layers, kinds, export_kind, options.printer, mesh, height, path_of);
+  const int lower = index_of(kinds, "lower"), mid = index_of(kinds, "mid");
+  const int ma = index_of(kinds, "ma");
+  for (int base : {lower, mid}) {
+    if (base < 0 || ma < 0) continue;
+    Chart pair{fmt::format("Distance error: {} vs ma at {:g} mm", name_of(kinds[base]), options.layer),
+               "height, mm", "distance error D, mm", {}};
+    pair.series.push_back(per_layer_series(layers, static_cast<std::size_t>(base), true, name_of(kinds[base])));
+    pair.series.push_back(per_layer_series(layers, static_cast<std::size_t>(ma), true, "ma"));
+    const std::string path = path_of(fmt::format("distance-{}-vs-ma.svg", name_of(kinds[base])));
+    fit_y_axis(pair);
+    write_chart_svg(path, pair);
+    fmt::print("wrote {}\n", path);
+  }
+}
+
+// --export-layers: the regions of `export_kind` extruded between their layers' planes, as STL.
+void export_layered_part(const AnalyzeOptions& options, const geometry::LayerStack& stack,
+                         const std::vector<LayerAnalysis>& layers, const Strategies& kinds,
+                         const ContourStrategy& export_kind, const geometry::Mesh& mesh) {
+  const std::size_t k = static_cast<std::size_t>(index_of(kinds, export_kind.name));
+  std::vector<geometry::Region> regions;
+  regions.reserve(layers.size());
+  for (const LayerAnalysis& layer : layers) regions.push_back(layer.strategies[k].region);
+  const geometry::Mesh extruded = geometry::extruded_layers(stack.layers(), regions);
+  geometry::write_stl_binary(options.export_layers, extruded);
+  fmt::print("wrote {}: the layered part of {} ({} layers, {} triangles, {:.2f} mm³; model "
+             "{:.2f} mm³)\n",
+             options.export_layers, export_kind.name, layers.size(), extruded.faces.size(),
+             geometry::signed_volume(extruded), geometry::signed_volume(mesh));
+}
+
+// What --json writes: the part, its layers, the summaries, comparisons and thicker MA.
+struct AnalysisReport {
+  double height = 0;
+  std::size_t layer_count = 0;
+  geometry::ZRange excluded;
+  double volume_limit = 0;
+  nlohmann::json comparisons, thicker;
+};
+
+void write_analysis_json(const AnalyzeOptions& options, const AnalysisReport& report,
+                         const std::vector<LayerAnalysis>& layers,
+                         const std::vector<StrategySummary>& summaries) {
+  nlohmann::json j;
+  j["model"] = options.model.path;
+  j["height"] = report.height;
+  j["layer_thickness"] = options.boundaries.empty() ? nlohmann::json(options.layer)
+                                                    : nlohmann::json(nullptr);
+  if (!options.boundaries.empty()) j["boundaries"] = options.boundaries;
+  j["layers"] = report.layer_count;
+  double thinnest = layers.front().layer.thickness(), thickest = thinnest;
+  for (const LayerAnalysis& layer : layers) {
+    thinnest = std::min(thinnest, layer.layer.thickness());
+    thickest = std::max(thickest, layer.layer.thickness());
+  }
+  j["layer_thickness_min"] = thinnest;
+  j["layer_thickness_max"] = thickest;
+  j["layers_top"] = layers.empty() ? 0.0 : layers.back().layer.z_hi;
+  j["percentile_excluded_z"] = report.excluded.empty()
+                                   ? nlohmann::json(nullptr)
+                                   : nlohmann::json::array({report.excluded.lo, report.excluded.hi});
+  j["volume_limit"] = report.volume_limit;
+  j["strategies"] = nlohmann::json::array();
+  const auto number_or_null = [](double v) {
+    return std::isnan(v) ? nlohmann::json(nullptr) : nlohmann::json(v);
+  };
+  for (const StrategySummary& s : summaries) {
+    j["strategies"].push_back({{"strategy", name_of(s.strategy)},
+                               {"mean_distance", s.mean_distance},
+                               {"max_distance", s.max_distance},
+                               {"p95_distance_by_height", number_or_null(s.p95_distance_by_height)},
+                               {"mean_hausdorff", s.mean_hausdorff},
+                               {"max_hausdorff", s.max_hausdorff},
+                               {"total_volume_deviation", s.total_deviation},
+                               {"mean_volume_deviation", s.mean_deviation},
+                               {"above_limit_percent", number_or_null(s.above_limit_percent)},
+                               {"missed_features", s.missed_features},
+                               {"layers_worse_than_lower", s.worse_than_lower},
+                               {"layers_worse_than_mid", s.worse_than_mid},
+                               {"contour_ms_per_layer", ms_per_layer(s)}});
+  }
+  j["comparisons"] = report.comparisons;
+  j["thicker_ma"] = report.thicker;
+  std::ofstream out = open_output(options.json, "--json");
+  out << j.dump(2) << "\n";
+  if (!out) throw geometry::InputError(fmt::format("--json {}: writing failed", options.json));
+  fmt::print("wrote {}\n", options.json);
+}
+
+void run_analyze(const AnalyzeOptions& options) {
+  Strategies kinds = listed_strategies(options);
+  // --contour's strategy is measured too where --export-layers or --adaptive needs it.
+  const bool exporting = !options.export_layers.empty();
+  const ContourStrategy& export_kind = app::contour_strategy_option(options.contour, "--contour");
+  if ((exporting || options.adaptive.wanted()) && index_of(kinds, export_kind.name) < 0) {
+    kinds.push_back(&export_kind);
+  }
+  const std::vector<double> thick = options.plots.empty() ? std::vector<double>{}
+                                                          : thickness_list(options.thick, "--thick");
+  if (!options.plots.empty()) make_plots_folder(options.plots);
+
+  AnalysisReport report;
+  report.excluded = options.exclude_z.empty() ? geometry::ZRange{} : parse_z_range(options.exclude_z);
+  const geometry::Mesh mesh = load_model_noting(options.model);
+  report.height = part_height(mesh);
+  std::optional<app::LayerChoice> plan;
+  if (options.adaptive.wanted()) {
+    plan = adaptive_choice(options.adaptive, options.printer, mesh, report.height, export_kind);
+  }
+  const geometry::LayerStack stack(
+      mesh, plan ? plan->layers
+                 : analysis_layers(options.boundaries, options.layer, options.from_zero,
+                                   options.printer, mesh, report.height));
+  if (stack.size() == 0) {
+    throw geometry::InputError(fmt::format("{}: the model has no height to slice",
+                                           options.model.path));
+  }
+  report.layer_count = stack.size();
+  const std::string layers_text = app::describe_layers(stack.layers());
+  if (options.layer_index >= static_cast<int>(stack.size())) {
+    throw geometry::InputError(fmt::format("--layer-index {}: the part has {} (indices 0 to {})",
+                                           options.layer_index, layers_text, stack.size() - 1));
+  }
+
+  const std::vector<LayerAnalysis> layers = run_analysis(stack, kinds, exporting, "analyze");
+  const std::vector<StrategySummary> summaries =
+      geometry::summarize(layers, geometry::DistanceOptions{}.tolerance, report.excluded);
+  report.volume_limit = total_volume_limit(layers);
+  fmt::print("{}: {:.2f} mm tall, {}; volume limit {:.3f} mm³ (the least ΔV any extruded "
+             "layers can have)\n",
+             options.model.path, report.height, layers_text, report.volume_limit);
+  if (plan) fmt::print("{}\n", app::describe_choice(*plan));
+  print_summary_table(summaries, kinds, report.excluded);
+  report.comparisons = comparisons_of(layers, summaries, kinds);
+  if (!options.csv.empty()) write_layers_csv(options.csv, layers, kinds.size());
+  report.thicker = nlohmann::json::array();
+  const int lower = index_of(kinds, "lower");
   if (!thick.empty() && lower >= 0) {
-    const Strategies ma_only{&geometry::contour_strategy("ma")};
-    for (double t : thick) {
-      if (std::abs(t - options.layer) < 1e-9) continue;
-      const geometry::LayerStack thick_stack(mesh, geometry::uniform_layers(height, t));
-      const auto thick_layers =
-          run_analysis(thick_stack, ma_only, false, fmt::format("ma at {:g} mm", t), true);
-      std::vector<double> limits;
-      const double share = share_within(thick_layers, 0, layers, static_cast<std::size_t>(lower),
-                                        geometry::DistanceOptions{}.tolerance, &limits);
-      const auto thick_summary = geometry::summarize(thick_layers);
-      fmt::print("ma at {:g} mm: {} layers, mean D {:.4f} mm, max D {:.4f} mm; D within lower's at "
-                 "{:g} mm on {:.1f}% of layers\n",
-                 t, thick_stack.size(), thick_summary[0].mean_distance,
-                 thick_summary[0].max_distance, options.layer, share);
-      thicker.push_back({{"thickness", t},
-                         {"layers", thick_stack.size()},
-                         {"mean_distance", thick_summary[0].mean_distance},
-                         {"max_distance", thick_summary[0].max_distance},
-                         {"within_benchmark_percent", share}});
-      Chart chart{fmt::format("Distance error: lower ({:g} mm) vs MA ({:g} mm)", options.layer, t),
-                  "height, mm", "distance error D, mm", {}};
-      chart.series.push_back(per_layer_series(layers, static_cast<std::size_t>(lower), true,
-                                              fmt::format("lower, {:g} mm", options.layer)));
-      chart.series.push_back(per_layer_series(thick_layers, 0, true, fmt::format("ma, {:g} mm", t)));
-      const std::string path = (std::filesystem::path(options.plots) /
-                                fmt::format("distance-lower-{:g}-vs-ma-{:g}.svg", options.layer, t))
-                                   .string();
-      fit_y_axis(chart);
-      write_chart_svg(path, chart);
-      fmt::print("wrote {}\n", path);
-    }
+    report.thicker = thicker_ma(options, thick, mesh, report.height, layers, static_cast<std::size_t>(lower));
   }
-
   if (!options.plots.empty()) {
-    const auto path_of = [&](const std::string& name) {
-      return (std::filesystem::path(options.plots) / name).string();
-    };
-    const std::string at =
-        plan ? std::string("of the adaptive plan") : fmt::format("at {:g} mm", options.layer);
-    Chart all{fmt::format("Distance error per layer {}", at), "height, mm",
-              "distance error D, mm", {}};
-    Chart volume{fmt::format("Volume deviation per layer {}", at), "height, mm",
-                 "volume deviation, mm³", {}};
-    for (std::size_t k = 0; k < kinds.size(); ++k) {
-      all.series.push_back(per_layer_series(layers, k, true, name_of(kinds[k])));
-      volume.series.push_back(per_layer_series(layers, k, false, name_of(kinds[k])));
-    }
-    Series limit{"volume limit", {}, {}, "lines lw 1", "#000000"};
-    for (const LayerAnalysis& layer : layers) {
-      limit.x.push_back(layer.layer.z_mid());
-      limit.y.push_back(layer.strategies[0].metrics.volume_limit);
-    }
-    volume.series.push_back(limit);
-    fit_y_axis(all);
-    fit_y_axis(volume);
-    write_chart_svg(path_of("distance.svg"), all);
-    write_chart_svg(path_of("volume.svg"), volume);
-    fmt::print("wrote {}, {}\n", path_of("distance.svg"), path_of("volume.svg"));
-    if (plan) write_plan_charts(*plan, layers, kinds, export_kind, options.printer, mesh, height, path_of);
-    // Fig. 22: two strategies per chart, each against the medial-axis contour.
-    const int ma = index_of(kinds, "ma");
-    for (int base : {lower, mid}) {
-      if (base < 0 || ma < 0) continue;
-      Chart pair{fmt::format("Distance error: {} vs ma at {:g} mm", name_of(kinds[base]), options.layer),
-                 "height, mm", "distance error D, mm", {}};
-      pair.series.push_back(per_layer_series(layers, static_cast<std::size_t>(base), true, name_of(kinds[base])));
-      pair.series.push_back(per_layer_series(layers, static_cast<std::size_t>(ma), true, "ma"));
-      const std::string path = path_of(fmt::format("distance-{}-vs-ma.svg", name_of(kinds[base])));
-      fit_y_axis(pair);
-      write_chart_svg(path, pair);
-      fmt::print("wrote {}\n", path);
-    }
+    write_layer_charts(options, layers, kinds, plan, export_kind, mesh, report.height);
   }
-
   if (options.layer_index >= 0) {
     const std::string name = fmt::format("layer-{}.svg", options.layer_index);
     const std::string path = options.plots.empty()
@@ -653,67 +777,8 @@ void run_analyze(const AnalyzeOptions& options) {
                                  : (std::filesystem::path(options.plots) / name).string();
     draw_layer(stack, static_cast<std::size_t>(options.layer_index), kinds, path);
   }
-
-  if (exporting) {
-    const std::size_t k = static_cast<std::size_t>(index_of(kinds, export_kind.name));
-    std::vector<geometry::Region> regions;
-    regions.reserve(layers.size());
-    for (const LayerAnalysis& layer : layers) regions.push_back(layer.strategies[k].region);
-    const geometry::Mesh extruded = geometry::extruded_layers(stack.layers(), regions);
-    geometry::write_stl_binary(options.export_layers, extruded);
-    fmt::print("wrote {}: the layered part of {} ({} layers, {} triangles, {:.2f} mm³; model "
-               "{:.2f} mm³)\n",
-               options.export_layers, export_kind.name, layers.size(), extruded.faces.size(),
-               geometry::signed_volume(extruded), geometry::signed_volume(mesh));
-  }
-
-  if (!options.json.empty()) {
-    nlohmann::json j;
-    j["model"] = options.model.path;
-    j["height"] = height;
-    j["layer_thickness"] = options.boundaries.empty() ? nlohmann::json(options.layer)
-                                                      : nlohmann::json(nullptr);
-    if (!options.boundaries.empty()) j["boundaries"] = options.boundaries;
-    j["layers"] = stack.size();
-    double thinnest = layers.front().layer.thickness(), thickest = thinnest;
-    for (const LayerAnalysis& layer : layers) {
-      thinnest = std::min(thinnest, layer.layer.thickness());
-      thickest = std::max(thickest, layer.layer.thickness());
-    }
-    j["layer_thickness_min"] = thinnest;
-    j["layer_thickness_max"] = thickest;
-    j["layers_top"] = layers.empty() ? 0.0 : layers.back().layer.z_hi;
-    j["percentile_excluded_z"] = excluded.empty() ? nlohmann::json(nullptr)
-                                                  : nlohmann::json::array({excluded.lo, excluded.hi});
-    j["volume_limit"] = total_limit;
-    j["strategies"] = nlohmann::json::array();
-    for (const StrategySummary& s : summaries) {
-      j["strategies"].push_back({{"strategy", name_of(s.strategy)},
-                                 {"mean_distance", s.mean_distance},
-                                 {"max_distance", s.max_distance},
-                                 {"p95_distance_by_height", std::isnan(s.p95_distance_by_height)
-                                                                ? nlohmann::json(nullptr)
-                                                                : nlohmann::json(s.p95_distance_by_height)},
-                                 {"mean_hausdorff", s.mean_hausdorff},
-                                 {"max_hausdorff", s.max_hausdorff},
-                                 {"total_volume_deviation", s.total_deviation},
-                                 {"mean_volume_deviation", s.mean_deviation},
-                                 {"above_limit_percent", std::isnan(s.above_limit_percent)
-                                                             ? nlohmann::json(nullptr)
-                                                             : nlohmann::json(s.above_limit_percent)},
-                                 {"missed_features", s.missed_features},
-                                 {"layers_worse_than_lower", s.worse_than_lower},
-                                 {"layers_worse_than_mid", s.worse_than_mid},
-                                 {"contour_ms_per_layer",
-                                  1e3 * s.contour_seconds / std::max<std::size_t>(s.layers, 1)}});
-    }
-    j["comparisons"] = comparisons;
-    j["thicker_ma"] = thicker;
-    std::ofstream out = open_output(options.json, "--json");
-    out << j.dump(2) << "\n";
-    if (!out) throw geometry::InputError(fmt::format("--json {}: writing failed", options.json));
-    fmt::print("wrote {}\n", options.json);
-  }
+  if (exporting) export_layered_part(options, stack, layers, kinds, export_kind, mesh);
+  if (!options.json.empty()) write_analysis_json(options, report, layers, summaries);
 }
 
 std::vector<double> allowed_thicknesses(const printer::PrinterProfile& profile) {
