@@ -8,16 +8,28 @@
 // of them leaves a feature out (D measures a left-out feature to its own outline, which can
 // be nearer than any wall that prints it: the bunny's first and last layer).
 //
+// optimal-height minimises ΔV, not D, so it takes part only where a section is in the running:
+// where mid (or mid+features) is within a tie of the least D of mid, ma and mid+features, or
+// where no section misses as few features as ma. Elsewhere ma is nearer than mid by more than
+// a tie, and a section of the same slab at another height would have to come within a tie of
+// it. On the bunny at 0.15 mm one did on 1 of 333 layers (optimal-height 0.96 um above ma's D,
+// chosen for 0.7% less ΔV there: best's total ΔV is 0.004 mm³ more of 121 without it), and its
+// search is left out on at least 189 layers (mid measured and more than a tie behind ma).
+//
 // Input: a layer of a stack (contour_input.h), with the layer's reference if the caller has
-// one; without, it builds one (slab, footprint, surface) and the slab's columns.
+// one; without, it builds one (slab, footprint, surface), and the slab's columns only where
+// optimal-height's search or a ΔV needs them.
 // Among the candidates of fewest missed features, those within kDistanceTie of the least D
 // tie, and the least ΔV of them wins (so the choice does not depend on the candidates' order).
+// A section's ΔV is the figure optimal-height's search has for its height (SectionDeviation,
+// which agrees with the metric's volume_deviation to ~1e-8 relative; mid's is evaluated at the
+// middle), any other's the metric's; a region two candidates share has one figure.
 //
 // Output: the chosen region and the height of the candidate chosen; which one it was, and
 // the candidates' D, in best_choice().
 // Cost: none on a prism (slab.h: the walls straight up through the slab, so mid's section is exact,
 // D 0 and ΔV 0; best takes it unmeasured: 75 of the mush's 135 layers at 0.2 mm, where the
-// contours then take a third of the time). Elsewhere the three candidates and their measurements, ma first: a candidate is
+// contours then take a third of the time). Elsewhere the candidates and their measurements, ma first: a candidate is
 // measured only until its D is more than a tie above the least so far (distance_error's
 // stop_above), and one that misses more features than another is not measured, nor one whose region
 // is one measured already (it takes that one's D and ΔV: optimal-height often ends at mid's
@@ -25,13 +37,13 @@
 // on every layer it planned by mid) mid is not measured again, and ma is measured only until it
 // loses to it by more than a tie. mid's section is cut once, for mid, for ma where it takes the
 // middle section and for optimal-height where its search ends at the middle; each candidate's
-// walls are indexed once, for D and ΔV. About twice ma's time (tests/bench/bench_best.cpp: the
+// walls are indexed once, for D and ΔV. About 1.75 times ma's time (tests/bench/bench_best.cpp: the
 // bunny at 0.15 mm). Not done, for they take longer (the sphere at 0.2 mm with supports,
 // median of 7): measuring the candidates in the order of a cheap lower bound of D (their
 // surface corners' largest distance), 3% longer; a first pass to 10 um to refuse the far ones
 // before the exact measure, 34% longer, as ma's and mid's D are within a tie of each other on
 // 114 of the sphere's 149 layers (2% longer on the bunny, adaptive).
-// Not done: skipping mid and optimal-height where no section can come within a tie of ma's D.
+// Not done: skipping mid where no section can come within a tie of ma's D.
 // A lower bound on every section's D, from the slab's facets cut to 32 height bands (a section's
 // walls at a height lie in that height's band) and the facets' corners as witnesses, proves it
 // on only 63 of the 195 bunny layers where the sections do lose: ma wins there by a few per cent.
@@ -53,11 +65,12 @@ inline constexpr double kNotMeasured = std::numeric_limits<double>::infinity();
 
 ContourResult best_strategy(const ContourInput& input);
 
-// The regions best compares on a layer, as it makes them: "mid", "optimal-height" and "ma",
+// The regions best may compare on a layer, as it makes them: "mid", "optimal-height" and "ma",
 // then a section that misses a feature once more with the feature's own middle section added
 // ("mid+features", "optimal-height+features"), each with the islands it misses
 // (missed_features.h). For judging best's choice against measuring every candidate in full.
-// On a prism best takes mid without making the others. Out-of-range layer: none.
+// All of them, though best makes the optimal-height ones only where a section is in the
+// running, and on a prism takes mid without making the others. Out-of-range layer: none.
 struct BestCandidate {
   std::string_view name;
   ContourResult result;
@@ -73,7 +86,8 @@ struct BestChoice {
   std::size_t missed_features = 0;
   // mid's, optimal-height's and ma's D: exact for the chosen one and any within a tie of it;
   // for one refuted early, a lower bound above the chosen one's; kNotMeasured for one that
-  // misses more features, and for ma on a prism (slab.h), where mid's D is 0.
+  // misses more features, optimal-height where no section was in the running, and ma on a
+  // prism (slab.h), where mid's D is 0.
   double candidate_distance[3];
 };
 BestChoice best_choice(const ContourInput& input);

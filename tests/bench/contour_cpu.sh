@@ -10,6 +10,8 @@
 #        RUNS=N       runs of each (default 7)
 #        LAYER=T      layer thickness, mm (default 0.15)
 #        CONTOURS=... mahost's strategies (default "best ma mid")
+#        BASELINE=DIR another build whose mahost runs best too, in the same alternation (a
+#                     change's effect against the machine's load of the moment)
 #        CALLGRIND=1  also counts each strategy's instructions once (valgrind --tool=callgrind,
 #                     about a minute each): the same figure on a busy machine as on a quiet one
 set -euo pipefail
@@ -21,6 +23,10 @@ contours=${CONTOURS:-best ma mid}
 [[ $runs =~ ^[1-9][0-9]*$ ]] || { echo "contour_cpu: RUNS must be a whole number >= 1" >&2; exit 2; }
 mahost=$build/mahost
 [[ -x $mahost ]] || { echo "contour_cpu: $mahost not found; build first (scripts/build)" >&2; exit 2; }
+baseline=${BASELINE:-}
+if [[ -n $baseline && ! -x $baseline/mahost ]]; then
+  echo "contour_cpu: $baseline/mahost not found" >&2; exit 2
+fi
 for tool in CuraEngine /usr/bin/time; do
   command -v "$tool" >/dev/null || { echo "contour_cpu: $tool not found; run scripts/setup" >&2; exit 2; }
 done
@@ -47,6 +53,7 @@ run() {
 }
 for ((i = 0; i < runs; i++)); do
   for contour in $contours; do run "$contour" "$mahost" "${mahost_args[@]}" --contour "$contour" -o "$work/$contour.gcode"; done
+  [[ -z $baseline ]] || run baseline "$baseline/mahost" "${mahost_args[@]}" --contour best -o "$work/baseline.gcode"
   run cura "${cura[@]}"
 done
 
@@ -58,6 +65,11 @@ for contour in $contours; do
   printf '%-22s %8.2f %14.2f   %s\n' "mahost ($contour)" "$(median "$contour")" \
     "$(awk -v m="$(median "$contour")" -v c="$cura_cpu" 'BEGIN { print m / c }')" "$(sort -n "$work/$contour" | tr '\n' ' ')"
 done
+if [[ -n $baseline ]]; then
+  printf '%-22s %8.2f %14.2f   %s\n' "baseline (best)" "$(median baseline)" \
+    "$(awk -v m="$(median baseline)" -v c="$cura_cpu" 'BEGIN { print m / c }')" "$(sort -n "$work/baseline" | tr '\n' ' ')"
+  echo "baseline: $baseline/mahost; best's G-code $(cmp -s "$work/best.gcode" "$work/baseline.gcode" && echo identical || echo differs) (last run of each)"
+fi
 printf '%-22s %8.2f %14s   %s\n' "CuraEngine 4.13" "$cura_cpu" 1.00 "$(sort -n "$work/cura" | tr '\n' ' ')"
 
 if [[ ${CALLGRIND:-0} == 1 ]]; then

@@ -3,14 +3,17 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "geometry/analysis/layer_analysis.h"
 #include "geometry/contour/best_contour.h"
 #include "geometry/contour/contour_strategy.h"
+#include "geometry/contour/optimal_height.h"
 #include "geometry/mesh/placement.h"
 #include "geometry/mesh/repair.h"
 #include "geometry/mesh/stl_io.h"
@@ -48,9 +51,13 @@ void check_never_worse(const geometry::Mesh& mesh, double thickness) {
   }
 }
 
-// best's rule applied by measuring every candidate in full (best_contour.h): the fewest missed
-// features, then those within a tie of the least D, of them the least ΔV, equal ΔV going to
-// the first in the order ma, mid, optimal-height, then the +features ones.
+// best's rule applied by measuring every candidate in full (best_contour.h): first mid, ma and
+// mid+features, of the fewest missed features the least D; optimal-height (and its +features)
+// joins only where a section is within a tie of that least, or no section misses as few
+// features. Then, of the candidates of fewest missed features, those within a tie of the least
+// D, of them the least ΔV (a section's as optimal-height's search figures it, SectionDeviation,
+// at its height; others the metric's; one figure per region), equal ΔV going to the first in
+// the order ma, mid, optimal-height, then the +features ones.
 struct Choice {
   std::string name;
   geometry::Region region;
@@ -63,25 +70,66 @@ Choice exhaustive_choice(const geometry::LayerStack& stack, std::size_t layer) {
   std::vector<geometry::BestCandidate> candidates =
       geometry::best_candidates({stack, layer, options, &reference});
   REQUIRE(candidates.size() >= 3);
-  std::vector<std::size_t> order{2, 0, 1};
-  for (std::size_t k = 3; k < candidates.size(); ++k) order.push_back(k);
-  std::size_t fewest = std::numeric_limits<std::size_t>::max();
-  for (const auto& c : candidates) fewest = std::min(fewest, c.missed.size());
+  const auto is_optimal = [&](std::size_t k) { return candidates[k].name.starts_with("optimal-height"); };
   std::vector<double> distance(candidates.size(), std::numeric_limits<double>::infinity());
   geometry::DistanceOptions full;
   full.reverse = false;
-  double least = std::numeric_limits<double>::infinity();
-  for (std::size_t k : order) {
-    if (candidates[k].missed.size() != fewest) continue;
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
     const geometry::BoundaryGrid walls(candidates[k].result.region);
     distance[k] = geometry::distance_error(reference.surface, walls, candidates[k].missed, full).forward;
-    least = std::min(least, distance[k]);
   }
+  // Of `among`, the fewest missed features and the least D of those.
+  const auto fewest_and_least = [&](const std::vector<std::size_t>& among) {
+    std::size_t fewest = std::numeric_limits<std::size_t>::max();
+    for (std::size_t k : among) fewest = std::min(fewest, candidates[k].missed.size());
+    double least = std::numeric_limits<double>::infinity();
+    for (std::size_t k : among) {
+      if (candidates[k].missed.size() == fewest) least = std::min(least, distance[k]);
+    }
+    return std::pair{fewest, least};
+  };
+  std::vector<std::size_t> first, all;
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    all.push_back(k);
+    if (!is_optimal(k)) first.push_back(k);
+  }
+  const auto [fewest_first, least_first] = fewest_and_least(first);
+  bool section_of_fewest = false, section_within = false;
+  for (std::size_t k : first) {
+    if (candidates[k].name == "ma" || candidates[k].missed.size() != fewest_first) continue;
+    section_of_fewest = true;
+    section_within = section_within || distance[k] <= least_first + geometry::kDistanceTie;
+  }
+  const bool optimal_joins = section_within || !section_of_fewest;
+  const std::vector<std::size_t>& considered = optimal_joins ? all : first;
+  const auto [fewest, least] = fewest_and_least(considered);
+  // ΔV: the search's figure for mid's and optimal-height's sections where it ran.
+  const geometry::SectionDeviation section_deviation(reference.columns);
+  const geometry::Layer bounds = stack.layers()[layer];
+  const auto own_deviation = [&](std::size_t k) {
+    const auto& c = candidates[k];
+    const bool section = c.name == "mid" || c.name == "optimal-height";
+    if (optimal_joins && section && c.result.height < bounds.z_hi) return section_deviation(c.result.height);
+    if (optimal_joins && section) return geometry::optimal_height(stack, layer, reference.columns).volume_deviation;
+    return std::numeric_limits<double>::quiet_NaN();
+  };
+  const auto deviation_of = [&](std::size_t k) {
+    for (std::size_t m : considered) {
+      if (candidates[m].result.region.loops == candidates[k].result.region.loops &&
+          !std::isnan(own_deviation(m))) {
+        return own_deviation(m);
+      }
+    }
+    return geometry::volume_deviation(reference.columns, candidates[k].result.region);
+  };
+  std::vector<std::size_t> order{2, 0, 1};
+  for (std::size_t k = 3; k < candidates.size(); ++k) order.push_back(k);
   std::size_t best = candidates.size();
   double best_deviation = 0;
   for (std::size_t k : order) {
-    if (!(distance[k] <= least + geometry::kDistanceTie)) continue;
-    const double deviation = geometry::volume_deviation(reference.columns, candidates[k].result.region);
+    if (std::find(considered.begin(), considered.end(), k) == considered.end()) continue;
+    if (candidates[k].missed.size() != fewest || !(distance[k] <= least + geometry::kDistanceTie)) continue;
+    const double deviation = deviation_of(k);
     if (best == candidates.size() || deviation < best_deviation) {
       best = k;
       best_deviation = deviation;
