@@ -4,7 +4,8 @@
 # settings (the UP Plus 2, no support, no raft, one skirt loop). CPU time is user + system
 # over all threads, which a machine shared with other work inflates less than wall time; the
 # runs alternate (best, ma, mid, CuraEngine, best, ...) so that a busy spell hits all alike,
-# and each figure is the median of RUNS. Prints each median and its ratio to CuraEngine's.
+# and each figure is the median of RUNS. Prints each median and its ratio to CuraEngine's, and
+# the median wall time beside it (mahost slices its layers in parallel, CuraEngine 4.13 too).
 #
 # Usage: tests/bench/contour_cpu.sh [BUILD_DIR]   (default: build; mahost must be built)
 #        RUNS=N       runs of each (default 7)
@@ -43,13 +44,15 @@ model=$work/bunny50.stl
 mahost_args=(slice data/bunny.stl --up y --units m --height 50 --layer "$layer" --support none --no-raft)
 cura_command "$layer" "$model" "$work/cura.gcode"
 
-# run NAME COMMAND...: one run under /usr/bin/time, its CPU seconds appended to $work/NAME.
+# run NAME COMMAND...: one run under /usr/bin/time, its CPU seconds appended to $work/NAME,
+# its wall seconds to $work/NAME.wall.
 run() {
   local name=$1
   shift
-  /usr/bin/time -f "%U %S" -o "$work/time" "$@" >"$work/log" 2>&1 || {
+  /usr/bin/time -f "%U %S %e" -o "$work/time" "$@" >"$work/log" 2>&1 || {
     echo "contour_cpu: failed: $*" >&2; tail -5 "$work/log" >&2; exit 1; }
   awk '{ printf "%.3f\n", $1 + $2 }' "$work/time" >>"$work/$name"
+  awk '{ printf "%.3f\n", $3 }' "$work/time" >>"$work/$name.wall"
 }
 for ((i = 0; i < runs; i++)); do
   for contour in $contours; do run "$contour" "$mahost" "${mahost_args[@]}" --contour "$contour" -o "$work/$contour.gcode"; done
@@ -59,18 +62,20 @@ done
 
 median() { sort -n "$work/$1" | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
 cura_cpu=$(median cura)
-echo "bunny 50 mm at $layer mm, no support: CPU seconds (user + system), median of $runs alternated runs"
-printf '%-22s %8s %14s   %s\n' slicer cpu "/ CuraEngine" "runs"
-for contour in $contours; do
-  printf '%-22s %8.2f %14.2f   %s\n' "mahost ($contour)" "$(median "$contour")" \
-    "$(awk -v m="$(median "$contour")" -v c="$cura_cpu" 'BEGIN { print m / c }')" "$(sort -n "$work/$contour" | tr '\n' ' ')"
-done
+# row LABEL NAME: the medians of run NAME, its CPU time against CuraEngine's, and its CPU runs.
+row() {
+  printf '%-22s %8.2f %14.2f %8.2f   %s\n' "$1" "$(median "$2")" \
+    "$(awk -v m="$(median "$2")" -v c="$cura_cpu" 'BEGIN { print m / c }')" "$(median "$2.wall")" \
+    "$(sort -n "$work/$2" | tr '\n' ' ')"
+}
+echo "bunny 50 mm at $layer mm, no support: CPU seconds (user + system) and wall seconds, medians of $runs alternated runs"
+printf '%-22s %8s %14s %8s   %s\n' slicer cpu "/ CuraEngine" wall "cpu runs"
+for contour in $contours; do row "mahost ($contour)" "$contour"; done
 if [[ -n $baseline ]]; then
-  printf '%-22s %8.2f %14.2f   %s\n' "baseline (best)" "$(median baseline)" \
-    "$(awk -v m="$(median baseline)" -v c="$cura_cpu" 'BEGIN { print m / c }')" "$(sort -n "$work/baseline" | tr '\n' ' ')"
+  row "baseline (best)" baseline
   echo "baseline: $baseline/mahost; best's G-code $(cmp -s "$work/best.gcode" "$work/baseline.gcode" && echo identical || echo differs) (last run of each)"
 fi
-printf '%-22s %8.2f %14s   %s\n' "CuraEngine 4.13" "$cura_cpu" 1.00 "$(sort -n "$work/cura" | tr '\n' ' ')"
+row "CuraEngine 4.13" cura
 
 if [[ ${CALLGRIND:-0} == 1 ]]; then
   echo "instructions (callgrind, one run each):"
