@@ -119,7 +119,9 @@ GcodeStep interpret(GcodeState& s, const GcodeCommand& c) {
       case 28: home(s, c, step); break;
       case 90: s.relative_xyz = s.relative_e = false; break;
       case 91: s.relative_xyz = s.relative_e = true; break;
-      case 92: set_position(s, c, step); break;
+      case 92:
+        if (c.subcode == 0) set_position(s, c, step);
+        break;
       default: break;
     }
   } else if (c.letter == 'M') {

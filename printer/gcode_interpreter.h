@@ -16,8 +16,10 @@
 //   M82/M83   E alone absolute/relative (set_e_absolute/set_e_relative, gcode/gcode.h).
 //   G20/G21   inches/mm: X Y Z E and F are read times 25.4 after G20 (parser.h,
 //             set_input_linear_units and value_axis_units; gcode/units/G20_G21.cpp).
-//   G92       sets each axis given with a value to it; G92 with no axis changes nothing, and
-//             E is set directly (gcode/geometry/G92.cpp: only parser.seenval axes).
+//   G92       sets each axis given with a value to it; an axis without a value ("G92 X") and
+//             G92 with no axis change nothing, and E is set directly; G92.1 and G92.9 are
+//             ignored, as without CNC_COORDINATE_SYSTEMS and POWER_LOSS_RECOVERY, Marlin's
+//             default (gcode/geometry/G92.cpp: only parser.seenval axes; "default: return").
 //   G28       homes the axes named, or X, Y and Z when none or all are named; a homed axis is
 //             at its home, 0 here (a minimum endstop at the bed's origin); E is not touched
 //             (gcode/calibrate/G28.cpp: home_all = homeX == homeY && homeX == homeZ).

@@ -40,6 +40,13 @@ std::optional<double> GcodeCommand::get(char word) const {
   return std::nullopt;
 }
 
+bool GcodeCommand::has(char word) const {
+  for (const GcodeWord& w : words) {
+    if (w.letter == word) return true;
+  }
+  return false;
+}
+
 GcodeCommand parse_gcode_line(std::string_view line) {
   GcodeCommand command;
   if (const auto semicolon = line.find(';'); semicolon != std::string_view::npos) {
@@ -61,9 +68,12 @@ GcodeCommand parse_gcode_line(std::string_view line) {
   command.letter = letter;
   std::from_chars(rest.data(), rest.data() + digits, command.code);
   rest.remove_prefix(digits);
-  if (!rest.empty() && rest.front() == '.') {  // G29.1-style subcodes: skip the suffix
+  if (!rest.empty() && rest.front() == '.') {  // a subcode: G92.1, M862.3
     rest.remove_prefix(1);
-    while (!rest.empty() && std::isdigit(static_cast<unsigned char>(rest.front()))) rest.remove_prefix(1);
+    std::size_t n = 0;
+    while (n < rest.size() && std::isdigit(static_cast<unsigned char>(rest[n]))) ++n;
+    std::from_chars(rest.data(), rest.data() + n, command.subcode);
+    rest.remove_prefix(n);
   }
 
   while (!rest.empty()) {
@@ -73,8 +83,7 @@ GcodeCommand parse_gcode_line(std::string_view line) {
       continue;
     }
     rest.remove_prefix(1);
-    GcodeWord word{static_cast<char>(std::toupper(c)), 0};
-    if (auto value = take_number(rest)) word.value = *value;
+    GcodeWord word{static_cast<char>(std::toupper(c)), take_number(rest)};
     command.words.push_back(word);
   }
   return command;

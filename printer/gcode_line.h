@@ -14,20 +14,25 @@ namespace printer {
 
 struct GcodeWord {
   char letter = 0;  // upper case
-  double value = 0;
+  std::optional<double> value;  // none for a letter alone ("X" in "G28 X")
 };
 
 struct GcodeCommand {
   char letter = 0;    // 'G', 'M' or 'T'; 0 for a line with no command (empty or comment only)
   int code = -1;      // 1 for G1, 109 for M109
+  int subcode = 0;    // 1 for G92.1; 0 when none is written
   std::vector<GcodeWord> words;  // parameters in the order written (X, Y, E, S, ...)
   std::string text;   // the command without comment or surrounding blanks: "G1 X10 Y5 E0.3"
   std::string comment;  // text after ';' without the ';', trimmed ("LAYER:3", "TYPE:WALL-OUTER")
 
   bool empty() const { return letter == 0; }
   bool is(char l, int c) const { return letter == l && code == c; }
+  // The word's value, none when the word is absent or written without one: Marlin's
+  // parser.seenval (gcode/parser.h), which G0-G3, G92, M104 and most commands read.
   std::optional<double> get(char word) const;
-  bool has(char word) const { return get(word).has_value(); }
+  // Whether the word is written at all, with or without a value: parser.seen, which G28
+  // reads ("G28 X" homes X).
+  bool has(char word) const;
 };
 
 // Parses a line without line number or checksum (use parse_numbered_line first for those).

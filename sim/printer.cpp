@@ -594,7 +594,9 @@ struct Printer::Firmware {
           return;
         case 90: motion.absolute_positioning(true); return;
         case 91: motion.absolute_positioning(false); return;
-        case 92: motion.set_position(c); return;
+        case 92:  // G92.1 and G92.9 only with CNC_COORDINATE_SYSTEMS or POWER_LOSS_RECOVERY
+          if (c.subcode == 0) motion.set_position(c);
+          return;
         default: break;
       }
     } else if (c.letter == 'M') {
@@ -731,11 +733,19 @@ struct Printer::Firmware {
           done_at = motion.home(c, now);
           wait = Wait::motion;
           return true;
-        case 92:  // queue_wait() first
+        case 92: {  // queue_wait() first
           done_at = motion.finish(now);
           wait = Wait::motion;
-          motion.set_position(c);
+          // A seen axis takes its value, 0 when written bare (gcode_parse.c reads "X" as X0);
+          // G92 with no axis sets all four to 0.
+          printer::GcodeCommand teacup = c;
+          for (printer::GcodeWord& w : teacup.words) w.value = w.value.value_or(0);
+          if (!c.has('X') && !c.has('Y') && !c.has('Z') && !c.has('E')) {
+            teacup = printer::parse_gcode_line("G92 X0 Y0 Z0 E0");
+          }
+          motion.set_position(teacup);
           return true;
+        }
         case 161: case 162:
           done_at = motion.home(c, now);
           wait = Wait::motion;

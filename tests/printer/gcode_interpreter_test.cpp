@@ -116,6 +116,13 @@ TEST_CASE("g92_sets_the_axes_given_and_a_bare_g92_changes_nothing") {
   CHECK(s.x == 0);
   CHECK(s.y == 20);
   CHECK(s.z == 1);
+  // An axis without a value is not set (parser.seenval); G92.1 and G92.9 are not G92.
+  run(s, "G92 Y Z");
+  CHECK(s.y == 20);
+  CHECK(s.z == 1);
+  run(s, "G92.1 X5");
+  run(s, "G92.9 X5");
+  CHECK(s.x == 0);
 }
 
 TEST_CASE("g28_homes_the_axes_named_or_all_three_and_leaves_e") {

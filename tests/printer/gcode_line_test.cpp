@@ -48,10 +48,13 @@ TEST_CASE("parse_gcode_line_is_case_blind_and_total") {
   CHECK(printer::parse_gcode_line("T0").is('T', 0));
   const auto sub = printer::parse_gcode_line("G29.1 S2");
   CHECK(sub.is('G', 29));
+  CHECK(sub.subcode == 1);
   CHECK(sub.get('S') == 2);
+  CHECK(printer::parse_gcode_line("G29 S2").subcode == 0);
+  // A letter without a value is seen (parser.seen) but has none (parser.seenval).
   const auto bare = printer::parse_gcode_line("M84 X");
   CHECK(bare.has('X'));
-  CHECK(bare.get('X') == 0);
+  CHECK_FALSE(bare.get('X'));
 }
 
 TEST_CASE("parse_numbered_line_splits_number_command_and_checksum") {

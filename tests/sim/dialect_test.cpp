@@ -61,6 +61,18 @@ TEST_CASE("teacup_prints_a_commands_output_then_its_ok_on_a_line_of_its_own") {
   CHECK(bench.send("\n") == "ok\n");  // an empty line is a line too
 }
 
+TEST_CASE("teacup_g92_reads_a_bare_axis_as_zero_and_no_axis_as_all_four_zero") {
+  // gcode_process.c case 92: a seen axis takes the parsed value (0 for "X" alone); with no
+  // axis seen, X, Y, Z and E are all set to 0. Marlin's G92 changes neither.
+  Bench bench(sim::Dialect::teacup);
+  CHECK(bench.line(1, "G92 X5 Y6 Z7 E8") == "ok\n");
+  CHECK(bench.line(2, "M114") == "X:5.000,Y:6.000,Z:7.000,E:8.000,F:1500\nok\n");
+  CHECK(bench.line(3, "G92 X") == "ok\n");
+  CHECK(bench.line(4, "M114") == "X:0.000,Y:6.000,Z:7.000,E:8.000,F:1500\nok\n");
+  CHECK(bench.line(5, "G92") == "ok\n");
+  CHECK(bench.line(6, "M114") == "X:0.000,Y:0.000,Z:0.000,E:0.000,F:1500\nok\n");
+}
+
 TEST_CASE("teacup_refuses_what_it_does_not_have_and_still_says_ok") {
   Bench bench(sim::Dialect::teacup);
   CHECK(bench.line(1, "M107") == "E: Bad M-code 107\nok\n");
