@@ -47,7 +47,11 @@ std::string progress_text(const printer::JobProgress& p) {
                         : fmt::format("start of {} layers", p.layers);
   }
   text += fmt::format("  {:.1f}%  elapsed {}", 100.0 * p.fraction, clock_text(p.elapsed));
-  if (p.remaining) text += fmt::format("  ETA {}", clock_text(*p.remaining));
+  if (p.remaining) {
+    text += fmt::format("  ETA {}", clock_text(*p.remaining));
+  } else if (p.estimating) {
+    text += "  ETA estimating";
+  }
   if (p.temperatures) {
     const auto& t = *p.temperatures;
     if (t.hotend) text += fmt::format("  hotend {:.1f}/{:.0f} °C", *t.hotend, t.hotend_target.value_or(0));

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <stdexcept>
+#include <string>
 
 namespace printer {
 
@@ -22,9 +23,16 @@ struct PrinterError : std::runtime_error {
 };
 
 // The firmware refused a command the print cannot go without (heating, waiting, homing): the
-// message says what it refused and what to set in the printer profile (exit code 3).
+// message says what it refused, where the print stopped when that is known, and what to set
+// in the printer profile (exit code 3).
 struct CommandRefused : PrinterError {
-  using PrinterError::PrinterError;
+  // `refusal`: "PORT: the printer refused CMD (\"REPLY\")"; `where`: "before anything was
+  // extruded", "at layer 12/40 ...", or "" when the caller does not know; `advice`: what to do.
+  CommandRefused(const std::string& refusal, const std::string& where, const std::string& advice)
+      : PrinterError(refusal + ", so the print stopped" + (where.empty() ? "" : " " + where) + ": " + advice),
+        refusal(refusal),
+        advice(advice) {}
+  std::string refusal, advice;
 };
 
 // The firmware stopped itself: kill() (a halt, thermal runaway, M112) or a reset. It turned its

@@ -44,23 +44,11 @@ std::optional<double> number_after(std::string_view comment, std::string_view ke
 
 }  // namespace
 
-void GcodeFile::add_command(std::string_view command) {
+void GcodeFile::add_command(std::string_view command, std::uint64_t end) {
   text_.append(command);
   starts_.push_back(text_.size());
-}
-
-void GcodeFile::append(const GcodeFile& piece) {
-  const std::size_t first = size();
-  for (GcodeLayer layer : piece.layers) {
-    layer.first_command += first;
-    layers.push_back(layer);
-  }
-  text_.reserve(text_.size() + piece.text_.size());
-  for (std::size_t i = 0; i < piece.size(); ++i) add_command(piece.command(i));
-  skipped_lines += piece.skipped_lines;
-  for (const std::size_t line : piece.skipped_line_numbers) {
-    if (skipped_line_numbers.size() < kSkippedLinesNamed) skipped_line_numbers.push_back(line);
-  }
+  ends_.push_back(end);
+  ++count_;
 }
 
 int GcodeFile::layer_index_of(std::size_t command) const {
@@ -97,6 +85,7 @@ GcodeFile parse_lines(std::string_view text, const std::string& name, GcodeReadi
                       std::size_t first_line) {
   GcodeFile file;
   file.path = name;
+  const char* const start = text.data();
   std::size_t line_number = first_line;
   bool awaiting_z = false;
   while (!text.empty()) {
@@ -115,6 +104,7 @@ GcodeFile parse_lines(std::string_view text, const std::string& name, GcodeReadi
       command = raw.substr(0, semicolon);
     }
     command = trim(command);
+    const std::uint64_t line_end = static_cast<std::uint64_t>(text.data() - start);
     if (!comment.empty()) {
       if (const auto layer = number_after(comment, "LAYER:")) {
         file.layers.push_back({static_cast<int>(*layer), file.size(), std::nullopt});
@@ -143,7 +133,7 @@ GcodeFile parse_lines(std::string_view text, const std::string& name, GcodeReadi
           "number and checksum: shorten it",
           name, line_number, command.size(), kLongestCommand));
     }
-    file.add_command(command);
+    file.add_command(command, line_end);
   }
   return file;
 }
@@ -199,14 +189,114 @@ std::string for_each_gcode_piece(const std::string& path, const std::string& nam
   return hash.text();
 }
 
-GcodeFile read_gcode_file(const std::string& path, GcodeReading reading) {
+namespace {
+
+std::uint64_t commands_hash(const GcodeFile& held, std::size_t from, std::size_t to) {
+  ContentHasher hash;
+  for (std::size_t i = from; i < to; ++i) {
+    hash.add(held.command(i));
+    hash.add("\n");
+  }
+  return hash.value();
+}
+
+}  // namespace
+
+GcodeFile read_gcode_file(const std::string& path, GcodeReading reading, std::size_t block_size,
+                          const std::function<void(const GcodePiece&)>& on_piece) {
   GcodeFile file;
   file.path = path;
-  file.hash = for_each_gcode_piece(path, path, reading, [&](const GcodePiece& piece) { file.append(piece.gcode); });
+  file.reading_ = reading;
+  file.block_size_ = std::max<std::size_t>(block_size, 1);
+  std::uint64_t block_begin = 0;  // where the block being read starts in the file
+  ContentHasher block_hash;
+  std::size_t in_block = 0;       // its commands so far
+  // A block read on into the next piece is kept with the commands so far, and replaced.
+  const auto close_block = [&](std::uint64_t end) {
+    const GcodeFile::Block block{block_begin, end, block_hash.value()};
+    if (!file.blocks_.empty() && file.blocks_.back().begin == block_begin) {
+      file.blocks_.back() = block;
+    } else {
+      file.blocks_.push_back(block);
+    }
+  };
+  file.hash = for_each_gcode_piece(path, path, reading, [&](const GcodePiece& piece) {
+    const GcodeFile& held = piece.gcode;
+    for (GcodeLayer layer : held.layers) {
+      layer.first_command += file.count_;
+      file.layers.push_back(layer);
+    }
+    for (std::size_t i = 0; i < held.size(); ++i) {
+      block_hash.add(held.command(i));
+      block_hash.add("\n");
+      if (++in_block < file.block_size_) continue;
+      const std::uint64_t end = piece.offset + held.command_end(i);
+      close_block(end);
+      block_begin = end;
+      block_hash = ContentHasher();
+      in_block = 0;
+    }
+    if (in_block > 0 && held.size() > 0) close_block(piece.offset + held.command_end(held.size() - 1));
+    file.count_ += held.size();
+    file.skipped_lines += held.skipped_lines;
+    for (const std::size_t line : held.skipped_line_numbers) {
+      if (file.skipped_line_numbers.size() < kSkippedLinesNamed) file.skipped_line_numbers.push_back(line);
+    }
+    if (on_piece) on_piece(piece);
+  });
   if (file.size() == 0) {
     throw ConfigError(fmt::format("{}: the file has no G-code commands", path));
   }
   return file;
+}
+
+GcodeReader::GcodeReader(const GcodeFile& file) : file_(file) {
+  if (file_.held()) return;
+  in_.open(file_.path, std::ios::binary);
+  if (!in_) throw ConfigError(fmt::format("{}: cannot open the G-code file any more: check the path", file_.path));
+}
+
+void GcodeReader::load(std::size_t block) {
+  const GcodeFile::Block& b = file_.blocks().at(block);
+  std::string text(static_cast<std::size_t>(b.end - b.begin), '\0');
+  in_.clear();
+  in_.seekg(static_cast<std::streamoff>(b.begin));
+  in_.read(text.data(), static_cast<std::streamsize>(text.size()));
+  const auto got = static_cast<std::size_t>(in_.gcount());
+  const std::size_t first = block * file_.block_size();
+  const std::size_t count = std::min(file_.block_size(), file_.size() - first);
+  const auto changed = [&] {
+    return GcodeFileChanged(fmt::format(
+        "{}: the file changed on disk while it printed (commands {} to {} are not what was "
+        "checked): nothing of it was sent from there; print the file again once it stays as it is",
+        file_.path, first + 1, first + count));
+  };
+  if (in_.bad()) throw ConfigError(fmt::format("{}: cannot read the G-code file any more", file_.path));
+  if (got != text.size()) throw changed();
+  try {
+    block_ = parse_lines(text, file_.path, file_.reading(), 0);
+  } catch (const ConfigError&) {
+    throw changed();  // the check read the block without a refusal
+  }
+  if (block_.size() != count || commands_hash(block_, 0, count) != b.commands_hash) {
+    block_ = GcodeFile();
+    throw changed();
+  }
+  loaded_ = block;
+}
+
+std::string_view GcodeReader::command(std::size_t i) {
+  if (file_.held()) return file_.command(i);
+  const std::size_t block = i / file_.block_size();
+  if (block_.size() == 0 || block != loaded_) load(block);
+  return block_.command(i - block * file_.block_size());
+}
+
+std::uint64_t GcodeReader::command_end(std::size_t i) {
+  if (file_.held()) return file_.command_end(i);
+  const std::size_t block = i / file_.block_size();
+  if (block_.size() == 0 || block != loaded_) load(block);
+  return file_.blocks()[block].begin + block_.command_end(i - block * file_.block_size());
 }
 
 }  // namespace printer

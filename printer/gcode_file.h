@@ -5,17 +5,24 @@
 // G-code before anything is sent; the layers, from the
 // `;LAYER:<n>` comments slicers write at each layer start (Cura's and ours), with the `;Z:`
 // that follows when there is one; a hash of the file's bytes, so a journal can tell whether the
-// file changed before a resume. Commands are kept in one buffer (a bunny print has a million
-// of them).
+// file changed before a resume.
+//
+// A file read from disk (read_gcode_file) is an index, not its commands: one checking pass
+// keeps where each block of kGcodeBlock commands lies in the file and a hash of the block's
+// commands, and a GcodeReader loads one block at a time, so a job's memory does not grow with
+// the file. A file parsed from text (parse_gcode) holds its commands.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <fstream>
 #include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "printer/error.h"
 
 namespace printer {
 
@@ -24,6 +31,19 @@ struct GcodeLayer {
   std::size_t first_command = 0;  // index of the layer's first command
   std::optional<double> z;        // mm, from ;Z: when given
 };
+
+struct GcodeReading {
+  // Leave out lines that are not G-code (printer::gcode_problem) instead of refusing the file.
+  bool skip_invalid = false;
+  // What a refusal suggests besides fixing the line: the command line's way round it.
+  std::string_view otherwise = "or print with --force to leave such lines out";
+};
+
+// Commands a block of a file on disk holds (the last block may hold fewer): about 100 kB of
+// G-code, read in one go when a job reaches it.
+inline constexpr std::size_t kGcodeBlock = 4096;
+
+struct GcodePiece;
 
 class GcodeFile {
  public:
@@ -35,33 +55,50 @@ class GcodeFile {
   std::size_t skipped_lines = 0;
   std::vector<std::size_t> skipped_line_numbers;
 
-  std::size_t size() const { return starts_.empty() ? 0 : starts_.size() - 1; }
-  std::string_view command(std::size_t i) const {
-    return std::string_view(text_).substr(starts_[i], starts_[i + 1] - starts_[i]);
-  }
+  std::size_t size() const { return count_; }
   // Index into layers of the layer command i belongs to; -1 before the first layer mark.
   int layer_index_of(std::size_t command) const;
   // Index into layers of the layer that starts at command i, or -1.
   int layer_starting_at(std::size_t command) const;
 
-  void add_command(std::string_view command);
-  // Adds a piece's commands, layers (their indices moved past this file's commands) and
-  // skipped lines after this file's.
-  void append(const GcodeFile& piece);
+  // A file parsed from text holds its commands; one read from disk is read through a
+  // GcodeReader.
+  bool held() const { return blocks_.empty(); }
+  // Command i of a held file (see held()).
+  std::string_view command(std::size_t i) const {
+    return std::string_view(text_).substr(starts_[i], starts_[i + 1] - starts_[i]);
+  }
+  // The byte after command i's line (its line end included) in the text it was parsed from.
+  std::uint64_t command_end(std::size_t i) const { return ends_[i]; }
+
+  void add_command(std::string_view command, std::uint64_t end);
+
+  // A block of a file on disk: commands [index * block_size, ...), the bytes [begin, end) of
+  // the file (from the line after the block before to its last command's line end), and a
+  // hash of its commands as sent, to notice a file changed under a job.
+  struct Block {
+    std::uint64_t begin = 0, end = 0;
+    std::uint64_t commands_hash = 0;
+  };
+  const std::vector<Block>& blocks() const { return blocks_; }
+  std::size_t block_size() const { return block_size_; }
+  GcodeReading reading() const { return reading_; }
 
  private:
+  friend GcodeFile read_gcode_file(const std::string& path, GcodeReading reading, std::size_t block_size,
+                                   const std::function<void(const GcodePiece&)>& on_piece);
+  std::size_t count_ = 0;
+  // A held file's commands.
   std::string text_;
   std::vector<std::size_t> starts_{0};
+  std::vector<std::uint64_t> ends_;
+  // A file on disk.
+  std::vector<Block> blocks_;
+  std::size_t block_size_ = kGcodeBlock;
+  GcodeReading reading_;
 };
 
 inline constexpr std::size_t kSkippedLinesNamed = 5;  // skipped line numbers a file keeps
-
-struct GcodeReading {
-  // Leave out lines that are not G-code (printer::gcode_problem) instead of refusing the file.
-  bool skip_invalid = false;
-  // What a refusal suggests besides fixing the line: the command line's way round it.
-  std::string_view otherwise = "or print with --force to leave such lines out";
-};
 
 // Parses G-code text; `name` is used in messages. Every line must be a command
 // (printer::gcode_problem) or a comment: anything else is refused with its line number and why
@@ -71,7 +108,9 @@ GcodeFile parse_gcode(std::string_view text, const std::string& name, GcodeReadi
 
 // A piece of a G-code file: whole lines, parsed as parse_gcode parses a file.
 struct GcodePiece {
-  const GcodeFile& gcode;  // its commands and layers (indices from the piece's start); no hash
+  // Its commands and layers (indices from the piece's start; command_end from its text's
+  // start); no hash.
+  const GcodeFile& gcode;
   std::string_view text;   // its bytes
   std::uint64_t offset;    // where they start in the file
 };
@@ -86,9 +125,42 @@ inline constexpr std::size_t kLongestLine = 16 << 20;  // a "line" longer is no 
 std::string for_each_gcode_piece(const std::string& path, const std::string& name, GcodeReading reading,
                                  const std::function<void(const GcodePiece&)>& on_piece);
 
-// Reads and parses a file, a piece at a time (it holds the commands, not the comments). Throws
-// ConfigError naming the file when it cannot be read, is empty of commands, or is not G-code.
-GcodeFile read_gcode_file(const std::string& path, GcodeReading reading = {});
+// Reads and checks a file a piece at a time and returns its index: layers, hash, blocks of
+// `block_size` commands (see GcodeFile), no commands; `on_piece`, when given, sees each piece
+// as for_each_gcode_piece hands it (to read more from the same pass). Throws ConfigError naming
+// the file when it cannot be read, is empty of commands, or is not G-code.
+GcodeFile read_gcode_file(const std::string& path, GcodeReading reading = {},
+                          std::size_t block_size = kGcodeBlock,
+                          const std::function<void(const GcodePiece&)>& on_piece = {});
+
+// A file changed on disk after it was read: a block no longer holds the commands the check
+// read there. Nothing of the changed block is sent.
+struct GcodeFileChanged : ConfigError {
+  using ConfigError::ConfigError;
+};
+
+// Reads a GcodeFile's commands: a held file's from memory, a file on disk's a block at a time
+// (the file kept open, so a file replaced by a new one under the same name is still read as
+// it was checked; one changed in place throws GcodeFileChanged). In order is cheapest; any
+// command may be asked for (a resume starts mid-file).
+class GcodeReader {
+ public:
+  explicit GcodeReader(const GcodeFile& file);
+  // Command i; the view lasts until the next call that asks for a command of another block.
+  // Throws GcodeFileChanged, or ConfigError when the file cannot be read any more.
+  std::string_view command(std::size_t i);
+  // The byte after command i's line in the file (OctoPrint's filepos once it is done).
+  std::uint64_t command_end(std::size_t i);
+  // Commands in memory for this reader: at most a block (0 for a held file's reader).
+  std::size_t commands_held() const { return file_.held() ? 0 : block_.size(); }
+
+ private:
+  void load(std::size_t block);
+  const GcodeFile& file_;
+  std::ifstream in_;
+  std::size_t loaded_ = 0;  // index of the block in block_ (valid when block_ has commands)
+  GcodeFile block_;
+};
 
 // "fnv1a64:<16 hex digits>": a hash to notice a changed file, not a cryptographic one.
 std::string content_hash(std::string_view bytes);
@@ -99,6 +171,7 @@ class ContentHasher {
  public:
   void add(std::string_view bytes);
   std::string text() const;
+  std::uint64_t value() const { return hash_; }
 
  private:
   std::uint64_t hash_ = 0xcbf29ce484222325ull;  // FNV-1a's offset basis

@@ -34,7 +34,11 @@ constexpr nanoseconds kAliveWithin = std::chrono::seconds(5);
 }  // namespace
 
 Job::Job(LineProtocol& protocol, const GcodeFile& file, JobOptions options)
-    : protocol_(protocol), file_(file), options_(std::move(options)), eta_(file, options_.motion) {
+    : protocol_(protocol),
+      file_(file),
+      reader_(file),
+      options_(std::move(options)),
+      eta_(file, options_.motion, options_.first_command) {
   layer_sequence_.assign(file_.layers.size(), -1);
   layer_state_.assign(file_.layers.size(), PrintState{});
   done_ = std::min(options_.first_command, file_.size());
@@ -98,9 +102,13 @@ JobProgress Job::progress() const {
   p.elapsed = now - start_;
   const double printing = std::chrono::duration<double>(printing_time(now)).count();
   const double done_at = std::chrono::duration<double>(done_at_).count();
-  p.remaining = std::chrono::duration_cast<nanoseconds>(
-      std::chrono::duration<double>(eta_.remaining(done_, done_at, printing)));
-  p.fraction = eta_.fraction(done_);
+  if (const std::optional<double> left = eta_.remaining(done_, done_at, printing)) {
+    p.remaining = std::chrono::duration_cast<nanoseconds>(std::chrono::duration<double>(*left));
+  }
+  p.estimating = !p.remaining;
+  p.fraction = eta_.fraction(done_).value_or(
+      file_.size() > 0 ? static_cast<double>(done_) / static_cast<double>(file_.size()) : 1.0);
+  p.bytes_done = bytes_done_;
   p.temperatures = protocol_.temperatures();
   // The last report may be old (a printer reports only when asked, and the job asks while
   // paused only), but the targets are what the file's commands set: those sent are in state_.
@@ -128,6 +136,9 @@ void Job::tick(bool force) {
   const nanoseconds now = protocol_.link().now();
   if (!force && last_tick_.count() >= 0 && now - last_tick_ < kTick) return;
   last_tick_ = now;
+  // The model reads on (print_eta.h), before the UI asks for the time left; not while a cancel
+  // ends the job.
+  if (!cancel_deadline_) eta_.work(done_);
   if (on_tick) on_tick(*this);
   if (stop_requested_ && !stop_sent_) {
     protocol_.emergency("M112");
@@ -352,6 +363,13 @@ void Job::journal_interrupted(JobState state, const std::string& reason) {
                     layer_state_[static_cast<std::size_t>(layer)], reason);
 }
 
+std::string Job::fail(const std::string& reason) {
+  job_state_ = JobState::failed;
+  const std::string safe = heaters_off_after_failure();
+  journal_interrupted(JobState::failed, reason);
+  return safe;
+}
+
 std::string Job::resume_hint() const {
   if (options_.resume_command) {
     return options_.resume_command->empty() ? "" : "; to finish the part: " + *options_.resume_command;
@@ -385,15 +403,17 @@ JobResult Job::run() {
       } else {
         write_journal_now(JobState::printing, file_.layer_index_of(done_), done_, state_);
       }
+      if (done_ > 0) bytes_done_ = reader_.command_end(done_ - 1);
       for (std::size_t i = done_; i < file_.size(); ++i) {
         if (const int layer = file_.layer_starting_at(i); layer >= 0) start_layer(layer, i);
         tick();
         if (cancel_requested_) break;
         send_tunes();
-        const std::string_view command = file_.command(i);
+        const std::string_view command = reader_.command(i);
         protocol_.send(command);
         apply(state_, command);
         done_ = i + 1;
+        bytes_done_ = reader_.command_end(i);
         done_at_ = printing_time(protocol_.link().now());
         eta_.command_done(done_, std::chrono::duration<double>(done_at_).count());
       }
@@ -435,10 +455,13 @@ JobResult Job::run() {
   } catch (const CommandRefused& e) {
     // The firmware cannot print this file as written: nothing to resume, the file is to be
     // sliced again. The heaters it did set go off.
-    job_state_ = JobState::failed;
-    const std::string safe = heaters_off_after_failure();
-    journal_interrupted(JobState::failed, e.what());
-    throw CommandRefused(std::string(e.what()) + safe);
+    const std::string where =
+        state_.filament_fed <= 0 && !options_.recover_from ? "before anything was extruded"
+        : layer_ >= 0 ? fmt::format("at layer {}/{}, the part printed so far left on the bed", layer_ + 1,
+                                    file_.layers.size())
+                      : fmt::format("before the first layer, after {:.1f} mm of filament", state_.filament_fed);
+    const std::string safe = fail(CommandRefused(e.refusal, where, e.advice).what());
+    throw CommandRefused(e.refusal, where, e.advice + safe);
   } catch (const FirmwareStopped& e) {
     // kill() or a reset turned the heaters off; the firmware reads nothing more.
     protocol_.on_wait = nullptr;
@@ -450,19 +473,28 @@ JobResult Job::run() {
     job_state_ = JobState::stopped;
     result.reason = "emergency stop (M112): the printer is halted";
   } catch (const PrinterError& e) {
-    job_state_ = JobState::failed;
-    const std::string safe = heaters_off_after_failure();
-    journal_interrupted(JobState::failed, e.what());
+    const std::string safe = fail(e.what());
     throw PrinterError(std::string(e.what()) + safe + resume_hint());
   } catch (const LinkError& e) {
-    job_state_ = JobState::failed;
-    const std::string safe = heaters_off_after_failure();
-    journal_interrupted(JobState::failed, e.what());
+    const std::string safe = fail(e.what());
     throw LinkError(std::string(e.what()) + safe + resume_hint());
+  } catch (const GcodeFileChanged& e) {
+    // What is left to print is not the file that was checked: no resume, the heaters go off.
+    const std::string safe = fail(e.what());
+    throw GcodeFileChanged(std::string(e.what()) + safe);
+  } catch (const ConfigError& e) {
+    // The file cannot be read any more (a disk error).
+    const std::string safe = fail(e.what());
+    throw ConfigError(std::string(e.what()) + safe + resume_hint());
   }
   protocol_.on_wait = nullptr;
   reason_ = result.reason;
   return this->result();
+}
+
+double Job::estimated_seconds() {
+  eta_.finish(done_);
+  return eta_.total().value_or(0.0) - eta_.at_first_command().value_or(0.0);
 }
 
 JobResult Job::result() const {

@@ -1,7 +1,7 @@
 // A print job: streams a G-code file through the protocol engine, pauses at layer
 // boundaries, cancels safely, stops at once, and keeps the journal (DESIGN.md §4).
 //
-// Input: a loaded GcodeFile, a connected LineProtocol, requests from the user (pause, resume,
+// Input: a GcodeFile (read a block at a time as the job reaches it), a connected LineProtocol, requests from the user (pause, resume,
 // cancel, stop) that arrive through on_tick. Output: the file's commands sent exactly once
 // and in order (a resume starts at a layer start), one-line events, the journal rewritten at
 // each layer start, and a JobResult. The job knows layers and commands, never reply syntax:
@@ -10,6 +10,7 @@
 
 #include <chrono>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
@@ -35,9 +36,12 @@ struct JobProgress {
   int layer = 0, layers = 0;       // layer being printed counted from 1; 0 before the first
   std::chrono::nanoseconds elapsed{0};                 // since the job started (link clock)
   // The motion model's time left for the file, scaled by the pace kept so far (print_eta.h);
-  // heating and pauses to come are not in it.
+  // heating and pauses to come are not in it. Unset while the model still reads the file.
   std::optional<std::chrono::nanoseconds> remaining;
-  double fraction = 0;             // share of the file's modelled print time done, 0..1
+  // Share of the file's modelled print time done, 0..1; while estimating, of its commands.
+  double fraction = 0;
+  bool estimating = false;         // the model has not read far enough yet: no remaining time
+  std::uint64_t bytes_done = 0;    // the file's bytes through the last command done
   // Current temperatures from the printer's last report (while paused the job asks for one
   // every 2 s of link time); targets as the file's commands last set them (the report's until
   // the file sets one: a printer heated by hand).
@@ -97,8 +101,12 @@ class Job {
   JobProgress progress() const;
   const std::string& journal_path() const { return options_.journal_path; }
   // The motion model's time for the commands this job sends (the whole file, or from a
-  // resume's first command on), s: the print-time estimate to hold its motion against.
-  double estimated_seconds() const { return eta_.total() - eta_.at(options_.first_command); }
+  // resume's first command on), s: the print-time estimate to hold its motion against. Models
+  // what the job has not yet (a job that ended early).
+  double estimated_seconds();
+  // Commands of the file this job holds in memory (the block it sends from and the model's):
+  // a few blocks, however long the file.
+  std::size_t commands_held() const { return reader_.commands_held() + eta_.commands_held(); }
 
   // Called while the job streams and waits, about every 100 ms of link time: the UI draws
   // and reads keys, the control socket answers; either may call request().
@@ -110,7 +118,8 @@ class Job {
   // if the printer does not confirm; the firmware did so itself where it stopped or reset),
   // writes the journal and rethrows the LinkError or PrinterError with how to resume appended;
   // a CommandRefused (the firmware refused to heat, wait or home) is rethrown without it: the
-  // file needs slicing again.
+  // file needs slicing again. A file changed on disk under the job (GcodeFileChanged: nothing
+  // of the changed block is sent) or no longer readable (ConfigError) fails the job the same way.
   JobResult run();
   // What the job did so far: after run() returned, its result; after it threw, the same for
   // the failed job (state failed, the commands the firmware accepted), for a summary.
@@ -135,6 +144,9 @@ class Job {
   std::string heaters_off_after_failure();
   void write_journal_now(JobState state, int layer, std::size_t command, const PrintState& at,
                          const std::string& reason = {});
+  // A failed job: the heaters off and the journal written; what went wrong turning them off,
+  // as heaters_off_after_failure says.
+  std::string fail(const std::string& reason);
   // The journal of a job that ended early: the layer a resume reprints, with its state.
   void journal_interrupted(JobState state, const std::string& reason);
   // "; to finish the part: mahost resume ..." for a failure's message, or "".
@@ -146,10 +158,12 @@ class Job {
 
   LineProtocol& protocol_;
   const GcodeFile& file_;
+  GcodeReader reader_;
   JobOptions options_;
   PrintState state_;
   JobState job_state_ = JobState::printing;
   std::size_t done_ = 0;
+  std::uint64_t bytes_done_ = 0;  // JobProgress::bytes_done
   int layer_ = -1;
   std::vector<long> layer_sequence_;  // commands_sent() before each layer's first command
   std::vector<PrintState> layer_state_;  // the state at each layer's start

@@ -498,9 +498,9 @@ void LineProtocol::handle_refusal(std::string_view text, std::optional<long> ans
   if (refused == nullptr) return;
   const GcodeCommand c = parse_gcode_line(refused->command);
   if (!print_needs(c)) return;
-  throw CommandRefused(fmt::format("{}: the printer refused {} (\"{}\"), so the print stopped "
-                                   "before anything was extruded: {}",
-                                   link_.name(), refused->command, text, refusal_advice(c, dialect())));
+  // Where the print stopped is the job's to say (the protocol does not know what was printed).
+  throw CommandRefused(fmt::format("{}: the printer refused {} (\"{}\")", link_.name(), refused->command, text), "",
+                       refusal_advice(c, dialect()));
 }
 
 LineProtocol::Blocking LineProtocol::blocking(long before) const {

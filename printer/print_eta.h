@@ -8,6 +8,12 @@
 // before that, and until the model has seen min_sample seconds of motion since then, the
 // remaining time is the model's alone. Pauses are the caller's to leave out of the printing
 // time. Units: s.
+//
+// The model runs while the job prints, a slice at a time (work()), so the first line goes out
+// at once whatever the file's size: two runs of it over the file from its start, one for the
+// whole file's time, one that keeps each command's time for the block of commands the job is
+// in. Until both reach what the job needs the time is not known (an ETA "estimating"). Memory:
+// a block of commands and its times, however long the file.
 #pragma once
 
 #include <cstddef>
@@ -16,26 +22,41 @@
 
 #include "printer/gcode_file.h"
 #include "printer/motion_model.h"
+#include "printer/print_time.h"
 
 namespace printer {
 
+// Commands the model reads per work() call: about 10 ms of CPU, once a tick (100 ms) of the job.
+inline constexpr std::size_t kEtaCommandsPerStep = 16384;
+
 class PrintEta {
  public:
-  // Runs the model over the whole file once (a bunny's 100 000 commands take a few ms).
-  PrintEta(const GcodeFile& file, const MotionLimits& limits);
+  // Models nothing yet. `first_command`: where the job starts (a resume's layer start).
+  PrintEta(const GcodeFile& file, const MotionLimits& limits, std::size_t first_command = 0);
 
-  // Model seconds from the start of the file to the end of its first `commands` commands;
-  // at(file.size()) is the whole file's estimate. Moves count once the planner made them
-  // final, as the printer runs them a buffer behind the commands it acknowledged.
-  double at(std::size_t commands) const;
-  double total() const { return times_.empty() ? 0.0 : times_.back(); }
+  // Models up to `budget` more commands: first up to the block of the job's next command (the
+  // job has done `commands`), then on through the file for total().
+  void work(std::size_t commands, std::size_t budget = kEtaCommandsPerStep);
+  // Models everything work() has still to do for `commands` done.
+  void finish(std::size_t commands);
+
+  // Model seconds from the start of the file to the end of its first `commands` commands, for
+  // `commands` in the block of the job's next command (unknown elsewhere, or before work() got
+  // there). at(file.size()) is the whole file's estimate. Moves count once the planner made
+  // them final, as the printer runs them a buffer behind the commands it acknowledged.
+  std::optional<double> at(std::size_t commands) const;
+  std::optional<double> total() const { return total_; }
+  // at(first_command), once known.
+  std::optional<double> at_first_command() const { return at_first_; }
 
   // The pace may start at `commands` done (the job passes a layer start after the heat-up and
   // homing, which the model does not time); it starts at the first command done after that
   // which the model counts time for, when the printer runs the layer's moves. Later calls
-  // change nothing.
+  // change nothing once one found its time known.
   void arm_pace(std::size_t commands);
-  // A command is done: `commands` in all, at `printing_seconds` of printing time.
+  // A command is done: `commands` in all, at `printing_seconds` of printing time. Crossing
+  // into the next block models that block at once, so a job that started at its file's first
+  // block always knows the time of its next command.
   void command_done(std::size_t commands, double printing_seconds);
   bool pace_started() const { return pace_start_.has_value(); }
 
@@ -44,13 +65,17 @@ class PrintEta {
   std::optional<double> pace(std::size_t commands, double printing_seconds) const;
 
   // Seconds left at `now` (printing time), the job having finished `commands` commands at
-  // `done_at`. Between two commands the printer runs the move the next one's
-  // acknowledgement waits for, so the time since done_at counts against that move's share.
-  double remaining(std::size_t commands, double done_at, double now) const;
+  // `done_at`; nullopt while still estimating. Between two commands the printer runs the move
+  // the next one's acknowledgement waits for, so the time since done_at counts against that
+  // move's share.
+  std::optional<double> remaining(std::size_t commands, double done_at, double now) const;
 
   // Share of the model's time done after `commands` commands, 0..1 (of the commands, for a
-  // file without motion).
-  double fraction(std::size_t commands) const;
+  // file without motion); nullopt while still estimating.
+  std::optional<double> fraction(std::size_t commands) const;
+
+  // Commands the model's readers hold in memory: at most two blocks.
+  std::size_t commands_held() const { return near_.reader.commands_held() + whole_.reader.commands_held(); }
 
   // Model seconds since the pace started before it is trusted. At an acknowledgement the
   // printer may be a move ahead of or behind the model (how its planner counts the move it
@@ -58,11 +83,29 @@ class PrintEta {
   double min_sample = 60;
 
  private:
+  // The model run over the file from its start, a block at a time.
+  struct Run {
+    Run(const GcodeFile& file, const MotionLimits& limits) : clock(limits), reader(file) {}
+    PrintClock clock;
+    GcodeReader reader;
+    std::size_t next = 0;  // commands read
+  };
+  // Reads the next block into `run`; `times` (when given) gets at() of its start and after
+  // each of its commands. Returns the commands read.
+  std::size_t read_block(Run& run, std::vector<float>* times);
+  std::size_t block_of(std::size_t commands) const;
+
   struct PaceStart {
     double model = 0, printing = 0;
   };
-  std::vector<float> times_;  // times_[i] = at(i); float: 2 ms steps over 10 hours suffice
-  std::optional<std::size_t> armed_at_;
+  const GcodeFile& file_;
+  std::size_t first_command_ = 0;
+  Run near_;                 // up to the job's block, whose times it keeps
+  Run whole_;                // through the file, for total()
+  std::optional<std::size_t> near_block_;  // the block times_ holds
+  std::vector<float> times_;  // at(near_block_ * block + k) = times_[k]; float: 2 ms over 10 hours
+  std::optional<double> total_, at_first_;
+  std::optional<double> armed_model_;
   std::optional<PaceStart> pace_start_;
 };
 

@@ -950,7 +950,12 @@ void HttpApi::get_layer(const Request& req, Response& res) {
   }
   if (layers == 0) throw Refusal{404, "the file has no ;LAYER: marks: nothing to draw per layer"};
   if (layer < 1 || layer > layers) throw Refusal{404, fmt::format("layer {}: the file has layers 1 to {}", layer, layers)};
-  const std::vector<LayerMove> moves = layer_moves(*file, layer - 1);
+  std::vector<LayerMove> moves;
+  try {
+    moves = layer_moves(*file, layer - 1);  // read from the file on disk
+  } catch (const printer::ConfigError&) {
+    throw Refusal{409, "the job's file changed on disk or cannot be read: nothing to draw"};
+  }
   const std::size_t done = s.progress ? s.progress->commands_done : 0;
   const auto& mark = file->gcode.layers[static_cast<std::size_t>(layer - 1)];
   const auto& bed = session_.profiles().printer;

@@ -5,7 +5,6 @@
 
 #include <fmt/core.h>
 
-#include "geometry/core/text.h"
 #include "printer/error.h"
 #include "printer/gcode_line.h"
 
@@ -13,78 +12,51 @@ namespace host::serve {
 
 namespace {
 
-using geometry::trim;
-
-// The byte after each command's line, by parse_gcode's own rule for what is a command: the
-// text before ';' on a line, trimmed, when not empty.
-std::vector<std::uint64_t> command_ends(std::string_view text) {
-  std::vector<std::uint64_t> ends;
-  std::uint64_t offset = 0;
-  while (offset < text.size()) {
-    const std::size_t end = text.find('\n', offset);
-    const std::size_t line_end = end == std::string_view::npos ? text.size() : end;
-    std::string_view line = text.substr(offset, line_end - offset);
-    if (const auto semicolon = line.find(';'); semicolon != std::string_view::npos) {
-      line = line.substr(0, semicolon);
-    }
-    offset = end == std::string_view::npos ? text.size() : end + 1;
-    if (!trim(line).empty()) ends.push_back(offset);
-  }
-  return ends;
-}
-
 bool is_move(const printer::GcodeCommand& c) {
   return c.letter == 'G' && c.code >= 0 && c.code <= 3;
 }
 
-}  // namespace
+// The state at each layer start and the part's extent, read from the commands in order, a
+// piece of the file at a time.
+class LayerStates {
+ public:
+  explicit LayerStates(JobFile& file) : file_(file) {}
 
-std::uint64_t JobFile::filepos(std::size_t commands) const {
-  if (commands == 0 || command_end.empty()) return 0;
-  return command_end[std::min(commands, command_end.size()) - 1];
-}
-
-namespace {
-
-// The state at each layer start and the part's extent, from the file's commands.
-void add_layer_states(JobFile& file) {
-  file.layer_start.reserve(file.gcode.layers.size());
-  printer::PrintState state;
-  std::size_t next_layer = 0;
-  bool any = false;
-  for (std::size_t i = 0; i < file.gcode.size(); ++i) {
-    while (next_layer < file.gcode.layers.size() && file.gcode.layers[next_layer].first_command == i) {
-      file.layer_start.push_back(state);
-      ++next_layer;
-    }
-    const printer::GcodeCommand command = printer::parse_gcode_line(file.gcode.command(i));
-    const printer::PrintState before = state;
-    printer::apply(state, command);
-    // The part's extent: extrusions inside layers (a prime line before the first is not part).
-    if (next_layer > 0 && is_move(command) && state.filament_fed > before.filament_fed &&
-        (state.x != before.x || state.y != before.y)) {
-      if (!any) {
-        file.min_x = file.max_x = before.x;
-        file.min_y = file.max_y = before.y;
-        any = true;
+  // A held piece's commands and its layers (their first_command counted from the piece's start).
+  void add(const printer::GcodeFile& piece) {
+    std::size_t next_layer = 0;
+    for (std::size_t i = 0; i < piece.size(); ++i) {
+      while (next_layer < piece.layers.size() && piece.layers[next_layer].first_command == i) {
+        file_.layer_start.push_back(state_);
+        ++next_layer;
       }
-      file.min_x = std::min({file.min_x, before.x, state.x});
-      file.max_x = std::max({file.max_x, before.x, state.x});
-      file.min_y = std::min({file.min_y, before.y, state.y});
-      file.max_y = std::max({file.max_y, before.y, state.y});
+      const printer::GcodeCommand command = printer::parse_gcode_line(piece.command(i));
+      const printer::PrintState before = state_;
+      printer::apply(state_, command);
+      // The part's extent: extrusions inside layers (a prime line before the first is not part).
+      if (!file_.layer_start.empty() && is_move(command) && state_.filament_fed > before.filament_fed &&
+          (state_.x != before.x || state_.y != before.y)) {
+        if (!any_) {
+          file_.min_x = file_.max_x = before.x;
+          file_.min_y = file_.max_y = before.y;
+          any_ = true;
+        }
+        file_.min_x = std::min({file_.min_x, before.x, state_.x});
+        file_.max_x = std::max({file_.max_x, before.x, state_.x});
+        file_.min_y = std::min({file_.min_y, before.y, state_.y});
+        file_.max_y = std::max({file_.max_y, before.y, state_.y});
+      }
     }
+    // Layer marks after the piece's last command: a piece ends before a mark except at the
+    // file's end, so these are empty last layers, starting where the file ends.
+    for (; next_layer < piece.layers.size(); ++next_layer) file_.layer_start.push_back(state_);
   }
-  // Layer marks after the last command (an empty last layer) start where the file ends.
-  while (file.layer_start.size() < file.gcode.layers.size()) file.layer_start.push_back(state);
-}
 
-void check_command_ends(const JobFile& file, const std::string& name) {
-  if (file.command_end.size() != file.gcode.size()) {
-    // Both count by the same rule; a mismatch would be a bug here, not the user's file.
-    throw std::logic_error(fmt::format("{}: {} command lines found for {} commands", name,
-                                       file.command_end.size(), file.gcode.size()));
-  }
-}
+ private:
+  JobFile& file_;
+  printer::PrintState state_;
+  bool any_ = false;
+};
 
 }  // namespace
 
@@ -95,25 +67,18 @@ JobFile load_job_file(std::string_view bytes, const std::string& name) {
     throw printer::ConfigError(fmt::format("{}: the file has no G-code commands", name));
   }
   file.bytes = bytes.size();
-  file.command_end = command_ends(bytes);
-  check_command_ends(file, name);
-  add_layer_states(file);
+  LayerStates(file).add(file.gcode);
   return file;
 }
 
 JobFile read_job_file(const std::string& path) {
-  // Read a piece at a time: the file's bytes are never all in memory, its commands are.
   JobFile file;
-  printer::GcodeFile& gcode = file.gcode;
-  gcode.path = path;
-  gcode.hash = printer::for_each_gcode_piece(path, path, kUploadedGcode, [&](const printer::GcodePiece& piece) {
-    gcode.append(piece.gcode);
-    for (const std::uint64_t end : command_ends(piece.text)) file.command_end.push_back(piece.offset + end);
-    file.bytes = piece.offset + piece.text.size();
-  });
-  if (gcode.size() == 0) throw printer::ConfigError(fmt::format("{}: the file has no G-code commands", path));
-  check_command_ends(file, path);
-  add_layer_states(file);
+  LayerStates states(file);
+  file.gcode = printer::read_gcode_file(path, kUploadedGcode, printer::kGcodeBlock,
+                                        [&](const printer::GcodePiece& piece) {
+                                          states.add(piece.gcode);
+                                          file.bytes = piece.offset + piece.text.size();
+                                        });
   return file;
 }
 
@@ -126,8 +91,9 @@ std::vector<LayerMove> layer_moves(const JobFile& file, int index) {
                               ? layers[static_cast<std::size_t>(index) + 1].first_command
                               : file.gcode.size();
   printer::PrintState state = file.layer_start[static_cast<std::size_t>(index)];
+  printer::GcodeReader reader(file.gcode);
   for (std::size_t i = first; i < end; ++i) {
-    const printer::GcodeCommand command = printer::parse_gcode_line(file.gcode.command(i));
+    const printer::GcodeCommand command = printer::parse_gcode_line(reader.command(i));
     const printer::PrintState before = state;
     printer::apply(state, command);
     if (!is_move(command) || (state.x == before.x && state.y == before.y)) continue;

@@ -110,6 +110,7 @@ json job_json(const Status& s) {
     mahost["commandsDone"] = p.commands_done;
     mahost["commandsTotal"] = p.commands_total;
     mahost["pauseBeforeLayer"] = p.pause_before_layer;
+    mahost["estimating"] = p.estimating;
   }
   if (s.job_active && s.heating) {
     mahost["heating"] = {{"secondsLeft", s.heating->seconds_left ? json(std::llround(*s.heating->seconds_left)) : json(nullptr)}};

@@ -938,7 +938,7 @@ void PrinterSession::publish_job(printer::Job& job) {
   status_.progress = p;
   status_.heating = heating_of(p);
   if (job_file_) {
-    status_.filepos = job_file_->filepos(p.commands_done);
+    status_.filepos = p.bytes_done;
     const auto& layers = job_file_->gcode.layers;
     status_.layer_z = p.layer > 0 && static_cast<std::size_t>(p.layer) <= layers.size()
                           ? layers[static_cast<std::size_t>(p.layer - 1)].z
@@ -1067,7 +1067,7 @@ void PrinterSession::run_job(const JobStart& start) {
       std::lock_guard lock(mutex_);
       if (left) status_.interrupted = left;
       status_.progress = last;
-      status_.filepos = file->filepos(last.commands_done);
+      status_.filepos = last.bytes_done;
       status_.job_active = false;
       status_.cancel_requested = false;
       status_.ended = state;

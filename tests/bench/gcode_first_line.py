@@ -9,7 +9,10 @@ hosts are `mahost print FILE --port PTY` and Printrun's `printcore PTY FILE`, al
 `rounds` times each, medians. The small file's figures are each host's fixed costs (start-up,
 connect); the large file's, over them, are what the file's size costs.
 
-  tests/bench/gcode_first_line.py MAHOST SMALL.gcode LARGE.gcode [rounds=3] [stream_s=2]
+  tests/bench/gcode_first_line.py MAHOST[,MAHOST...] SMALL.gcode LARGE.gcode [rounds=3] [stream_s=2]
+
+Several mahost binaries (a build and the one before it), comma-separated, each run in turn
+with printcore.
 
 A large file: tests/bench/gcode_first_line.py --make LARGE.gcode [MB=200] writes rings of short
 moves with ;LAYER: marks until the file has MB megabytes.
@@ -119,10 +122,12 @@ def main():
     mahost, small, large = sys.argv[1:4]
     rounds = int(sys.argv[4]) if len(sys.argv) > 4 else 3
     stream_s = float(sys.argv[5]) if len(sys.argv) > 5 else 2
-    hosts = {
-        "mahost": lambda g: (lambda port: [mahost, "print", g, "--port", port, "--baud", "115200"]),
-        "printcore": lambda g: (lambda port: ["printcore", "-b", "115200", port, g]),
-    }
+    binaries = mahost.split(",")
+    hosts = {}
+    for binary in binaries:
+        name = "mahost" if len(binaries) == 1 else binary
+        hosts[name] = (lambda b: lambda g: (lambda port: [b, "print", g, "--port", port, "--baud", "115200"]))(binary)
+    hosts["printcore"] = lambda g: (lambda port: ["printcore", "-b", "115200", port, g])
     results = {(h, f): [] for h in hosts for f in (small, large)}
     for _ in range(rounds):
         for f in (small, large):
@@ -136,7 +141,7 @@ def main():
             peaks = [r[1] for r in results[(h, f)]]
             first = f"{statistics.median(firsts):.2f} s" if len(firsts) == rounds else \
                 f"never in {rounds - len(firsts)} of {rounds} runs"
-            print(f"  {h:<10} {os.path.basename(f):<24} first line {first:<12} peak memory "
+            print(f"  {h:<10} {os.path.basename(f):<16} first line {first:<12} peak memory "
                   f"{statistics.median(peaks) / 1024:.0f} MiB")
     return 0
 

@@ -2,7 +2,9 @@
 #include "printer/gcode_file.h"
 
 #include <doctest/doctest.h>
+#include <fmt/core.h>
 
+#include <filesystem>
 #include <fstream>
 #include <string>
 
@@ -109,8 +111,12 @@ TEST_CASE("a_file_read_in_pieces_is_the_file_parsed_whole_line_numbers_and_all")
   const GcodeFile whole = parse_gcode(text, path, skip);
   const GcodeFile pieces = read_gcode_file(path, skip);
   REQUIRE(pieces.size() == whole.size());
+  CHECK_FALSE(pieces.held());
+  GcodeReader reader(pieces);
   bool same_commands = true;
-  for (std::size_t i = 0; i < whole.size(); ++i) same_commands &= pieces.command(i) == whole.command(i);
+  for (std::size_t i = 0; i < whole.size(); ++i) {
+    same_commands &= reader.command(i) == whole.command(i) && reader.command_end(i) == whole.command_end(i);
+  }
   CHECK(same_commands);
   REQUIRE(pieces.layers.size() == whole.layers.size());
   bool same_layers = true;
@@ -145,6 +151,90 @@ TEST_CASE("a_file_read_in_pieces_is_the_file_parsed_whole_line_numbers_and_all")
   }
   CHECK(message_whole.find(" is not G-code (X1e999") != std::string::npos);
   CHECK(message_pieces == message_whole);
+}
+
+}  // namespace gcode_file_test
+
+namespace gcode_file_test {
+
+TEST_CASE("a_commands_end_is_the_byte_after_its_line_as_octoprints_filepos_counts") {
+  const std::string text = "; header\nG28 ; home\n\n   \nG1 X1 Y2 E0.5\r\n;LAYER:0\nG1 X3\nM84";
+  const GcodeFile file = parse_gcode(text, "t.gcode");
+  REQUIRE(file.size() == 4);
+  CHECK(file.command_end(0) == std::string("; header\nG28 ; home\n").size());
+  CHECK(file.command_end(1) == text.find(";LAYER:0"));
+  CHECK(file.command_end(2) == text.find("M84"));
+  CHECK(file.command_end(3) == text.size());
+}
+
+TEST_CASE("a_file_on_disk_is_read_a_block_at_a_time_in_any_order_as_parsed_whole") {
+  std::string text = "; header\nG28\n\n";
+  for (int i = 0; i < 1000; ++i) {
+    if (i % 90 == 0) text += fmt::format(";LAYER:{}\n;Z:{}\n", i / 90, 0.2 * (i / 90 + 1));
+    text += fmt::format("G1 X{} Y1 E{} ; move\n", i % 100, i);
+  }
+  text += "; end\n";
+  const std::string path = test_support::scratch_dir("gcode_file_blocks") + "/blocks.gcode";
+  std::ofstream(path, std::ios::binary) << text;
+  const GcodeFile whole = parse_gcode(text, path);
+  const GcodeFile file = read_gcode_file(path, {}, 64);
+  REQUIRE(file.size() == whole.size());
+  CHECK(file.blocks().size() == (whole.size() + 63) / 64);
+  // The blocks follow each other through the file, each to its last command's line end.
+  bool adjacent = file.blocks().front().begin == 0;
+  for (std::size_t b = 1; b < file.blocks().size(); ++b) adjacent &= file.blocks()[b].begin == file.blocks()[b - 1].end;
+  CHECK(adjacent);
+  CHECK(file.blocks().back().end == whole.command_end(whole.size() - 1));
+  // Backwards, a block at a time: what a reader holds is one block.
+  GcodeReader reader(file);
+  bool same = true;
+  for (std::size_t i = whole.size(); i-- > 0;) {
+    same &= reader.command(i) == whole.command(i) && reader.command_end(i) == whole.command_end(i);
+    same &= reader.commands_held() <= 64;
+  }
+  CHECK(same);
+  CHECK(reader.command(700) == whole.command(700));
+}
+
+TEST_CASE("a_file_changed_in_place_is_refused_block_by_block_and_one_replaced_is_read_as_checked") {
+  std::string text;
+  for (int i = 0; i < 300; ++i) text += fmt::format("G1 X{} E{}\n", i % 10, i);
+  const std::string dir = test_support::scratch_dir("gcode_file_changed");
+  const std::string path = dir + "/c.gcode";
+  std::ofstream(path, std::ios::binary) << text;
+  const GcodeFile whole = parse_gcode(text, path);
+  {
+    // Replaced by another file under the same name (as an upload is renamed into place): the
+    // reader opened before reads the file it checked.
+    const GcodeFile file = read_gcode_file(path, {}, 64);
+    GcodeReader reader(file);
+    CHECK(reader.command(0) == "G1 X0 E0");
+    std::ofstream(dir + "/other.gcode", std::ios::binary) << "G28\n";
+    std::filesystem::rename(dir + "/other.gcode", path);
+    bool same = true;
+    for (std::size_t i = 0; i < whole.size(); ++i) same &= reader.command(i) == whole.command(i);
+    CHECK(same);
+  }
+  std::ofstream(path, std::ios::binary) << text;
+  const GcodeFile file = read_gcode_file(path, {}, 64);
+  GcodeReader reader(file);
+  CHECK(reader.command(10) == "G1 X0 E10");
+  // Changed in place: one digit of command 200 (block 3); then a line added in block 0.
+  std::string changed = text;
+  changed.replace(changed.find("G1 X0 E200"), 10, "G1 X9 E200");
+  std::ofstream(path, std::ios::binary | std::ios::in | std::ios::out) << changed;
+  CHECK(reader.command(150) == "G1 X0 E150");  // block 2: as it was
+  CHECK_THROWS_WITH_AS(reader.command(200),
+                       (path + ": the file changed on disk while it printed (commands 193 to 256 are not "
+                               "what was checked): nothing of it was sent from there; print the file "
+                               "again once it stays as it is")
+                           .c_str(),
+                       GcodeFileChanged);
+  changed = text;
+  changed.replace(changed.find("G1 X0 E20\n"), 10, "G1 X0 E20\nG1 X0 E20\n");  // a line more
+  std::ofstream(path, std::ios::binary) << changed;
+  GcodeReader late(file);
+  CHECK_THROWS_AS(late.command(0), GcodeFileChanged);
 }
 
 }  // namespace gcode_file_test

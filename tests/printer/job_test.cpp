@@ -3,6 +3,7 @@
 #include "printer/job.h"
 
 #include <filesystem>
+#include <fstream>
 #include <optional>
 
 #include <doctest/doctest.h>
@@ -522,7 +523,9 @@ TEST_CASE("a_resumed_jobs_estimate_is_that_of_the_layers_it_prints") {
   LineProtocol protocol(link);
   protocol.connect();
   Job job(protocol, file, resume);
-  const double whole = PrintEta(file, MotionLimits{}).total();
+  PrintEta eta(file, MotionLimits{});
+  eta.finish(0);
+  const double whole = *eta.total();
   CHECK(job.run().state == JobState::completed);
   link.printer().finish();
   // The last 10 layers of 30 ring layers of about the same size: about a third of the whole.
@@ -621,6 +624,35 @@ TEST_CASE("a_refused_m109_stops_the_job_before_anything_is_extruded") {
   CHECK(message.starts_with("simulated printer: the printer refused M109 S210 (\"E: Bad M-code 109\"), so the "
                             "print stopped before anything was extruded"));
   CHECK(link.printer().deposition().moves.empty());
+  CHECK(link.printer().hotend_target() == 0);
+  CHECK(job.result().state == JobState::failed);
+}
+
+TEST_CASE("a_refusal_mid_print_says_at_which_layer_the_print_stopped") {
+  // A temperature change the firmware refuses inside the file (Teacup has no M109): the part is
+  // half printed, and the message says so rather than "before anything was extruded".
+  std::string text = test_support::ring_program(10, 40);
+  text.erase(text.find("M190 S60\nM109 S210\n"), 19);
+  text.insert(text.find(";LAYER:5\n"), "M109 S215\n");
+  text.replace(text.find("M107\n"), 5, "M106 S0\n");
+  const GcodeFile file = parse_gcode(text, "ring.gcode");
+  sim::Config config;
+  config.dialect = sim::Dialect::teacup;
+  sim::SimLink link(config);
+  LineProtocol protocol(link);
+  protocol.connect();
+  Job job(protocol, file, {});
+  std::string message;
+  try {
+    job.run();
+  } catch (const CommandRefused& e) {
+    message = e.what();
+  }
+  // Teacup answers a line as it reads it: its refusal of the last line of layer 5 comes once
+  // the job has begun layer 6.
+  CHECK(message.starts_with("simulated printer: the printer refused M109 S215 (\"E: Bad M-code 109\"), so the "
+                            "print stopped at layer 6/10, the part printed so far left on the bed: "));
+  CHECK_FALSE(link.printer().deposition().moves.empty());
   CHECK(link.printer().hotend_target() == 0);
   CHECK(job.result().state == JobState::failed);
 }
@@ -882,6 +914,149 @@ TEST_CASE("a_link_that_only_asks_again_ends_the_job_with_m112") {
   CHECK(s.executed.back() == "M112");
   CHECK(s.hotend_target == 0);
   CHECK(s.bed_target == 0);
+}
+
+// ---- a file streamed from disk a block at a time ------------------------------------------
+
+namespace {
+
+// `text` written to a scratch file and read back as a job reads it, in blocks of `block`
+// commands (64 here, so that a small program spans many blocks).
+struct OnDisk {
+  std::string path;
+  GcodeFile file;
+};
+OnDisk on_disk(const std::string& test, const std::string& text, std::size_t block = 64) {
+  OnDisk d;
+  d.path = test_support::scratch_dir(test) + "/ring.gcode";
+  std::ofstream(d.path, std::ios::binary) << text;
+  d.file = read_gcode_file(d.path, {}, block);
+  return d;
+}
+
+}  // namespace
+
+TEST_CASE("a_file_streamed_a_block_at_a_time_prints_what_the_file_held_whole_prints_through_faults") {
+  const std::string text = test_support::ring_program(12, 60);
+  const GcodeFile held = parse_gcode(text, "ring.gcode");
+  const OnDisk streamed = on_disk("job_streamed", text);
+  REQUIRE(streamed.file.blocks().size() > 10);
+  sim::Config noisy;
+  noisy.faults = sim::parse_fault_spec("corrupt=0.01,drop-ok=0.02,resend=0.01,dup-ok=0.005,seed=5");
+  // Held in memory while it prints: the block being sent and the model's two, never more.
+  std::size_t most_held = 0;
+  const Printed faulty = print(streamed.file, noisy, {}, {}, [&](Job& job) {
+    most_held = std::max(most_held, job.commands_held());
+  });
+  CHECK(job_part(faulty.executed) == commands_of(held));
+  CHECK(faulty.stats.resend_requests > 5);
+  CHECK(faulty.stats.probes > 5);
+  CHECK(most_held > 0);
+  CHECK(most_held <= 3 * 64);
+  // Resends across a block boundary: the job read on into the next block while the line the
+  // printer asked again for was in the block before (the protocol keeps the lines in flight).
+  CHECK(same_moves(faulty.deposition, print(held, sim::Config{}).deposition));
+}
+
+TEST_CASE("a_streamed_resume_starts_mid_block_as_the_file_held_whole_resumes") {
+  const std::string text = test_support::ring_program(12, 60);
+  const GcodeFile held = parse_gcode(text, "ring.gcode");
+  const OnDisk streamed = on_disk("job_streamed_resume", text);
+  const std::size_t start = held.layers[7].first_command;
+  REQUIRE(start % 64 != 0);  // inside a block
+  PrintState at;
+  for (std::size_t i = 0; i < start; ++i) apply(at, held.command(i));
+  JobOptions resume;
+  resume.first_command = start;
+  resume.recover_from = at;
+  double held_estimate = 0, streamed_estimate = 0;
+  const auto resumed = [&](const GcodeFile& file, double& estimate) {
+    sim::SimLink link{sim::Config{}};
+    LineProtocol protocol(link);
+    protocol.connect();
+    Job job(protocol, file, resume);
+    REQUIRE(job.run().state == JobState::completed);
+    estimate = job.estimated_seconds();
+    return link.printer().executed_commands();
+  };
+  const std::vector<std::string> from_held = resumed(held, held_estimate);
+  const std::vector<std::string> from_disk = resumed(streamed.file, streamed_estimate);
+  CHECK(from_disk == from_held);
+  const std::vector<std::string> file = commands_of(held);
+  const std::vector<std::string> tail(file.begin() + static_cast<std::ptrdiff_t>(start), file.end());
+  const std::vector<std::string> printed = job_part(from_disk);
+  REQUIRE(printed.size() > tail.size());
+  CHECK(std::vector<std::string>(printed.end() - static_cast<std::ptrdiff_t>(tail.size()), printed.end()) == tail);
+  CHECK(streamed_estimate == held_estimate);
+  CHECK(streamed_estimate > 0);
+}
+
+TEST_CASE("a_file_changed_on_disk_under_its_job_stops_it_before_the_changed_block_heaters_off") {
+  const std::string text = test_support::ring_program(12, 60);
+  const GcodeFile held = parse_gcode(text, "ring.gcode");
+  const OnDisk streamed = on_disk("job_streamed_changed", text);
+  // Rewritten in place (an editor saving over it) while layer 3 prints: layer 9's first
+  // extrusion pushes 5 mm more.
+  std::string changed = text;
+  const std::size_t layer9 = changed.find(";LAYER:9\n");
+  const std::size_t e = changed.find("G1 E1.00000", layer9);
+  REQUIRE(e != std::string::npos);
+  changed.replace(e, 11, "G1 E6.00000");
+  bool rewritten = false;
+  sim::SimLink link{sim::Config{}};
+  LineProtocol protocol(link);
+  protocol.connect();
+  Job job(protocol, streamed.file, {});
+  job.on_tick = [&](Job& j) {
+    if (rewritten || j.progress().layer < 4) return;
+    std::ofstream(streamed.path, std::ios::binary | std::ios::in | std::ios::out) << changed;
+    rewritten = true;
+  };
+  std::string message;
+  try {
+    job.run();
+  } catch (const GcodeFileChanged& e) {
+    message = e.what();
+  }
+  REQUIRE(rewritten);
+  CHECK(message.starts_with(streamed.path + ": the file changed on disk while it printed (commands "));
+  CHECK(message.find('\n') == std::string::npos);
+  CHECK(job.result().state == JobState::failed);
+  // What ran is the file as checked, up to a block before layer 9, then the heaters off.
+  const std::vector<std::string> printed = job_part(link.printer().executed_commands());
+  const std::vector<std::string> file = commands_of(held);
+  REQUIRE(printed.size() >= 2);
+  const std::vector<std::string> ran(printed.begin(), printed.end() - 2);
+  CHECK(std::vector<std::string>(printed.end() - 2, printed.end()) ==
+        std::vector<std::string>{"M104 S0", "M140 S0"});
+  std::size_t changed_command = held.layers[9].first_command;
+  while (held.command(changed_command) != "G1 E1.00000 F1800") ++changed_command;
+  CHECK(ran.size() <= changed_command);
+  CHECK(ran.size() % 64 == 0);  // up to the changed block's start
+  CHECK(ran.size() > held.layers[4].first_command);
+  CHECK(ran == std::vector<std::string>(file.begin(), file.begin() + static_cast<std::ptrdiff_t>(ran.size())));
+}
+
+TEST_CASE("the_models_time_read_a_block_at_a_time_is_the_whole_files_command_by_command") {
+  const std::string text = test_support::ring_program(12, 60);
+  const GcodeFile held = parse_gcode(text, "ring.gcode");
+  const OnDisk streamed = on_disk("eta_streamed", text);
+  MotionLimits limits;
+  PrintEta whole(held, limits), blocks(streamed.file, limits);
+  whole.finish(0);
+  // A step too small for the whole file: still estimating after it, with no time left given.
+  blocks.work(0, 100);
+  CHECK_FALSE(blocks.total());
+  CHECK_FALSE(blocks.remaining(0, 0, 0));
+  bool same = true;
+  for (std::size_t i = 0; i <= held.size(); ++i) {
+    blocks.command_done(i, 0);
+    blocks.work(i);
+    same = same && blocks.at(i) && *blocks.at(i) == *whole.at(i);
+  }
+  CHECK(same);
+  CHECK(blocks.total() == whole.total());
+  CHECK(blocks.commands_held() <= 2 * 64);
 }
 
 }  // namespace job_test

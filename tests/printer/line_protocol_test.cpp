@@ -482,7 +482,7 @@ TEST_CASE("a_refused_heating_command_throws_command_refused_saying_what_to_set")
   }
   CHECK(message ==
         "fake printer: the printer refused M190 S60 (\"echo:Unknown command: \"M190 S60\"\"), so "
-        "the print stopped before anything was extruded: this firmware has no M190; if it waits "
+        "the print stopped: this firmware has no M190; if it waits "
         "for temperatures with M116 (as Teacup does), set firmware = \"teacup\" in the printer "
         "profile (or --set firmware=teacup) and slice again");
   CHECK(job_part(firmware) == std::vector<std::string>{"M140 S60", "M190 S60"});  // no G28

@@ -214,6 +214,7 @@ function render(s) {
   $("fact-elapsed").textContent = clock(p.printTime);
   // While heating at a pace not known yet, the time left cannot be told.
   $("fact-left").textContent = heating && m.heating.secondsLeft === null ? "heating…"
+    : active && m.estimating ? "estimating…"
     : active ? clock(p.printTimeLeft) : (m.jobState === "completed" ? "done" : "—");
   $("fact-z").textContent = m.z !== null && m.z !== undefined ? `${m.z.toFixed(2)} mm` : "—";
 
