@@ -493,7 +493,11 @@ JobResult Job::run() {
 }
 
 double Job::estimated_seconds() {
-  eta_.finish(done_);
+  try {
+    eta_.finish(done_);
+  } catch (const ConfigError&) {
+    // The file changed or cannot be read: the estimate is of what could be read.
+  }
   return eta_.total().value_or(0.0) - eta_.at_first_command().value_or(0.0);
 }
 

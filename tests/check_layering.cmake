@@ -48,11 +48,10 @@ set(host_geometry_users
   host/cmd_analyze.cpp
   # the SVG charts draw geometry::Loop outlines (analyze's --layer-index).
   host/plots.h
-  # Text and file tools, no geometry: the control socket's and a job file's lines trimmed by
+  # Text and file tools, no geometry: the control socket's lines trimmed by
   # geometry/core/text.h; profiles import reads the .ini whole by geometry/mesh/file_bytes.h,
   # whose errors say what to do as a model's do.
   host/control_socket.cpp
-  host/serve/job_file.cpp
   host/cmd_profiles.cpp
 )
 foreach(file IN LISTS host_geometry_users)

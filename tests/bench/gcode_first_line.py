@@ -6,8 +6,9 @@ answers every line with `ok` at once (no pacing, no banner): the time from start
 to the arrival of the file's first command (after the host's own handshake lines), and the
 host's peak resident memory (VmHWM) once it has streamed for `stream_s` seconds more. The
 hosts are `mahost print FILE --port PTY` and Printrun's `printcore PTY FILE`, alternated,
-`rounds` times each, medians. The small file's figures are each host's fixed costs (start-up,
-connect); the large file's, over them, are what the file's size costs.
+`rounds` times each, medians; beside the time to the first line, the CPU time the host used
+until then (what a loaded machine does not change). The small file's figures are each host's
+fixed costs (start-up, connect); the large file's, over them, are what the file's size costs.
 
   tests/bench/gcode_first_line.py MAHOST[,MAHOST...] SMALL.gcode LARGE.gcode [rounds=3] [stream_s=2]
 
@@ -67,8 +68,19 @@ def peak_kib(pid):
     return -1
 
 
+def cpu_s(pid):
+    """CPU seconds (user and system) the process has used so far: load-independent, unlike
+    the wall time on a shared machine."""
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            fields = f.read().rsplit(")", 1)[1].split()
+        return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+    except OSError:
+        return None
+
+
 def run(argv_of_port, gcode, stream_s, limit_s=600):
-    """(seconds to the file's first command or None, peak KiB)"""
+    """(seconds to the file's first command or None, peak KiB, CPU seconds to the first command)"""
     master, slave = os.openpty()
     tty.setraw(slave)
     port = os.ttyname(slave)
@@ -76,7 +88,7 @@ def run(argv_of_port, gcode, stream_s, limit_s=600):
     start = time.monotonic()
     host = subprocess.Popen(argv_of_port(port), stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
                             stderr=subprocess.DEVNULL)
-    first, pending, peak = None, b"", -1
+    first, pending, peak, cpu = None, b"", -1, None
     while time.monotonic() - start < limit_s:
         if first is not None and time.monotonic() - first_at >= stream_s:
             break
@@ -100,6 +112,7 @@ def run(argv_of_port, gcode, stream_s, limit_s=600):
             if first is None and text == want:
                 first_at = time.monotonic()
                 first = first_at - start
+                cpu = cpu_s(host.pid)
             reply = b"ok\n"
             if text.startswith("M115"):
                 reply = b"FIRMWARE_NAME:Marlin 2.1.2 (stand-in)\nok\n"
@@ -109,7 +122,7 @@ def run(argv_of_port, gcode, stream_s, limit_s=600):
     host.wait()
     os.close(master)
     os.close(slave)
-    return first, peak
+    return first, peak, cpu
 
 
 def main():
@@ -139,9 +152,11 @@ def main():
         for f in (small, large):
             firsts = [r[0] for r in results[(h, f)] if r[0] is not None]
             peaks = [r[1] for r in results[(h, f)]]
+            cpus = [r[2] for r in results[(h, f)] if r[2] is not None]
+            cpu = f"{statistics.median(cpus):.2f} s" if cpus else "-"
             first = f"{statistics.median(firsts):.2f} s" if len(firsts) == rounds else \
                 f"never in {rounds - len(firsts)} of {rounds} runs"
-            print(f"  {h:<10} {os.path.basename(f):<16} first line {first:<12} peak memory "
+            print(f"  {h:<10} {os.path.basename(f):<16} first line {first:<12} (CPU {cpu:<8}) peak memory "
                   f"{statistics.median(peaks) / 1024:.0f} MiB")
     return 0
 
