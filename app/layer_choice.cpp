@@ -199,6 +199,11 @@ std::string describe_choice(const LayerChoice& choice) {
                             "more volume", plan.cap);
       }
       text += fmt::format(", none over that plan's largest D, {:.3g} mm", plan.ceiling);
+      if (plan.split > 0) {
+        text += fmt::format("; {} layer{} split in two to use the layers left (no volume to take "
+                            "off there; each no worse, the mean D lower)",
+                            plan.split, plan.split == 1 ? "" : "s");
+      }
     } else if (choice.budget_seconds > 0) {
       text += choice.estimated_seconds <= choice.budget_seconds
                   ? fmt::format(", the least tolerance {}", budget)

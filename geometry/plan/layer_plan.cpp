@@ -322,6 +322,13 @@ struct PathCost {
            std::tie(other.flats, other.landing, other.landing_thickness, other.unmet, other.layers,
                     other.swept, other.unsettled);
   }
+  // Equal but for the count of layers, the slabs not yet settled, and rounding in the sum of
+  // swept volumes (a part's volume times 1e-9).
+  bool same_error(const PathCost& other) const {
+    return std::tie(flats, landing, landing_thickness, unmet) ==
+               std::tie(other.flats, other.landing, other.landing_thickness, other.unmet) &&
+           std::abs(swept - other.swept) <= 1e-9 * std::max({1.0, swept, other.swept});
+  }
   // The cost of a path with edge e of `planner` added.
   template <class Planner>
   PathCost through(const Planner& planner, std::uint32_t e, Limits limits) const {
@@ -346,7 +353,8 @@ class LazyPlanner {
               const PlanProgress& progress)
       : options_(options), progress_(progress),
         grid_(height_grid(top, allowed, flats, options.grid)), meter_(stack, options.error),
-        max_thickness_(allowed.thickest()), fixed_first_(allowed.first > 0) {
+        max_thickness_(allowed.thickest()), thinnest_thickness_(allowed.thinnest()),
+        fixed_first_(allowed.first > 0) {
     const std::size_t edges = grid_.edge_to.size();
     const SweptVolume swept(stack.mesh());
     const AdaptiveOptions::ThickOverhangs& thick = options.thick_overhangs;
@@ -406,6 +414,43 @@ class LazyPlanner {
   // of layers) at `limits`, every slab on it settled.
   std::vector<std::uint32_t> plan_within(std::size_t budget, Limits limits) {
     return lazily(limits, true, [&] { return least_swept_path(budget, limits); });
+  }
+
+  // Spends what a layer budget has left after the least swept volume (more layers took off
+  // no volume there: vertical walls, the thinnest layers already where the surface leans):
+  // one layer at a time, the layer of the largest D (then the thickest, then the lowest) is
+  // split into two allowed layers meeting as near its middle as the grid allows, if together
+  // they sweep no more volume, cross no more flat levels, neither has a larger D and both are
+  // usable at `limits`; a layer that cannot be split so is left. No layer's D, no flat level
+  // and no swept volume gets worse, and the mean D over layers falls. `path` is measured
+  // exactly; it stays so. Returns the layers added.
+  std::size_t spend(std::vector<std::uint32_t>& path, std::size_t budget, Limits limits) {
+    std::vector<char> kept(path.size(), 0);  // per layer of `path`: tried, not split
+    std::size_t added = 0;
+    while (path.size() < budget) {
+      std::size_t pick = path.size();
+      for (std::size_t k = 0; k < path.size(); ++k) {
+        const std::uint32_t e = path[k];
+        if (kept[k] || fixed_first(e) || thickness(e) < 2 * thinnest_thickness_ - kSameHeight) continue;
+        if (pick == path.size() ||
+            std::make_pair(exact_[e], thickness(e)) > std::make_pair(exact_[path[pick]], thickness(path[pick]))) {
+          pick = k;
+        }
+      }
+      if (pick == path.size()) break;
+      const std::uint32_t e = path[pick];
+      const std::optional<std::pair<std::uint32_t, std::uint32_t>> halves = split_of(e, limits);
+      if (!halves) {
+        kept[pick] = 1;
+        continue;
+      }
+      const auto [lower, upper] = *halves;
+      path[pick] = upper;
+      path.insert(path.begin() + static_cast<long>(pick), lower);
+      kept.insert(kept.begin() + static_cast<long>(pick), 0);
+      ++added;
+    }
+    return added;
   }
 
   // Whether an edge may be within the tolerance, as far as is known (its D or a lower
@@ -484,6 +529,40 @@ class LazyPlanner {
       meter_.forget_below(grid_.z[grid_.edge_from[unsettled.front()]] - 2 * max_thickness_);
       measure(unsettled, limits.tolerance, refute, settle, true);
     }
+  }
+
+  // The two edges, lower and upper, that split edge e as spend() asks (measured exactly),
+  // nearest its middle first; none if no pair qualifies.
+  std::optional<std::pair<std::uint32_t, std::uint32_t>> split_of(std::uint32_t e, Limits limits) {
+    const std::uint32_t i = grid_.edge_from[e], j = grid_.edge_to[e];
+    const auto edge = [&](std::uint32_t from, std::uint32_t to) -> std::optional<std::uint32_t> {
+      for (std::uint32_t f = grid_.edge_begin[from]; f < grid_.edge_begin[from + 1]; ++f) {
+        if (grid_.edge_to[f] == to) return f;
+      }
+      return std::nullopt;
+    };
+    std::vector<std::uint32_t> middles;
+    for (std::uint32_t m = i + 1; m < j; ++m) middles.push_back(m);
+    const double middle = 0.5 * (grid_.z[i] + grid_.z[j]);
+    std::stable_sort(middles.begin(), middles.end(), [&](std::uint32_t m, std::uint32_t n) {
+      return std::abs(grid_.z[m] - middle) < std::abs(grid_.z[n] - middle);
+    });
+    for (std::uint32_t m : middles) {
+      const std::optional<std::uint32_t> lower = edge(i, m), upper = edge(m, j);
+      if (!lower || !upper || refused_[*lower] || refused_[*upper]) continue;
+      if (swept_[*lower] + swept_[*upper] > swept_[e] * (1 + 1e-9) + 1e-12) continue;
+      if (crossed_[*lower] + crossed_[*upper] > crossed_[e]) continue;
+      measure_exactly({*lower, *upper}, limits.tolerance);
+      const double most = std::max(exact_[*lower], exact_[*upper]);
+      if (most > exact_[e] + 1e-9 || !usable(*lower, limits) || !usable(*upper, limits)) continue;
+      // No more layers over the tolerance than the one split, none of them the thinnest (the
+      // path's cost, PathCost, no worse): a layer split within it stays within it.
+      const auto over = [&](std::uint32_t f) { return exact_[f] > limits.tolerance; };
+      if (over(*lower) && (thinnest(*lower) || !over(e))) continue;
+      if (over(*upper) && (thinnest(*upper) || !over(e) || over(*lower))) continue;
+      return std::make_pair(*lower, *upper);
+    }
+    return std::nullopt;
   }
 
   std::vector<std::uint32_t> path_to(std::uint32_t node, const std::vector<std::uint32_t>& via) const {
@@ -571,7 +650,11 @@ class LazyPlanner {
     for (std::uint32_t end : grid_.ends) {
       for (std::size_t k = fewest_to[end]; k <= most; ++k) {
         const std::ptrdiff_t s = state(end, k);
-        if (s >= 0 && cost[s] < kUnreached && (best < 0 || cost[s] < cost[best])) best = s, best_end = end, best_k = k;
+        if (s < 0 || !(cost[s] < kUnreached)) continue;
+        // Of plans no worse but for rounding, the one of more layers: the budget is the
+        // user's, and a layer more where it takes off no volume lowers the mean D.
+        const bool taken = best < 0 || (cost[s].same_error(cost[best]) ? k > best_k : cost[s] < cost[best]);
+        if (taken) best = s, best_end = end, best_k = k;
       }
     }
     std::vector<std::uint32_t> path;
@@ -641,6 +724,7 @@ class LazyPlanner {
   HeightGrid grid_;
   SlabMeter meter_;
   double max_thickness_;
+  double thinnest_thickness_;
   bool fixed_first_;            // the first layer is the printer's: not planned
   std::vector<double> swept_;   // swept_volume.h's U of each candidate, mm^3
   std::vector<double> lower_;   // a lower bound of D (0 until measured), mm
@@ -758,6 +842,7 @@ AdaptivePlan adaptive_plan(const LayerStack& stack, double part_height,
       if (!least.empty() && (by_count || accepts(least))) {
         path = std::move(least);
         plan.cap = limits.tolerance, plan.ceiling = limits.most;
+        if (by_count) plan.split = planner.spend(path, options.max_layers, limits);
       }
     }
     tolerance = hi;

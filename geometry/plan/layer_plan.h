@@ -25,7 +25,10 @@
 // layers (a dynamic program over heights and layers used) with none over that plan's largest
 // D, and the layers over its by-height 95th percentile of D (or the tolerance, if higher)
 // fewest first: Alexa, Hildebrand and Lefebvre's min-max objective ("Optimal Discrete
-// Slicing", ACM TOG 2017) for the tolerance, and their min-sum for the error, under it.
+// Slicing", ACM TOG 2017) for the tolerance, and their min-sum for the error, under it. A layer
+// budget the least error leaves unused (more layers would take off no volume) is spent
+// splitting the layers of the largest D in two where that makes nothing worse: the mean D over
+// layers falls, as the user's count allows.
 // The optimum over all allowed thickness sequences is a shortest path over the grid of
 // reachable heights. Measuring every candidate slab exactly costs a few ms each, thousands of
 // them, so the path is found lazily (LazySP): every candidate not yet measured counts at a
@@ -131,6 +134,10 @@ struct AdaptivePlan {
   // 95th percentile of D, or the tolerance if higher, and its largest D), mm; else 0.
   double cap = 0, ceiling = 0;
   std::size_t unmet = 0;             // layers above the first not `met`
+  // With max_layers: layers added by splitting others in two where the least swept volume left
+  // the budget unused (no layer's D, no flat level, no swept volume worse; the mean D over
+  // layers lower).
+  std::size_t split = 0;
   std::vector<FlatPlacement> flats;
   // The search: candidate slabs (edges of the height grid), how many were measured (exactly,
   // or until seen to be within the tolerance or past it), and how many times the shortest

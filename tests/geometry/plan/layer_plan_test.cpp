@@ -308,6 +308,26 @@ TEST_CASE("adaptive_plan_with_a_layer_budget_finds_the_least_tolerance") {
   CHECK(geometry::adaptive_plan(stack, 20, kUpPlus2, flats, options).layers.size() > 60);
 }
 
+TEST_CASE("adaptive_plan_spends_a_layer_budget_where_more_layers_take_off_nothing") {
+  // A box of vertical walls, 10 mm: D = 0 and no volume left off at any thickness, so the least
+  // error needs only the fewest layers (0.3 + 25 above it, as above). A budget is still spent
+  // to the last layer, every layer one the printer allows and the top landed, up to the most
+  // layers there are: 9.7 mm is at most 64 layers of 0.15 mm and more (62 x 0.15 + 2 x 0.2).
+  const solids::Solid prism = solids::box({-5, -5, 0}, {5, 5, 10});
+  const geometry::LayerStack stack(prism.mesh, {});
+  const auto flats = geometry::flat_levels(prism.mesh);
+  for (std::size_t budget : {26, 40, 60, 65, 500}) {
+    CAPTURE(budget);
+    AdaptiveOptions options;
+    options.max_layers = budget;
+    const AdaptivePlan plan = geometry::adaptive_plan(stack, 10, kUpPlus2, flats, options);
+    check_thicknesses(plan.layers, kUpPlus2);
+    CHECK(plan.layers.size() == std::min<std::size_t>(budget, 65));
+    CHECK(plan.layers.back().z_hi == 10.0);
+    for (std::size_t i = 1; i < plan.layers.size(); ++i) CHECK(plan.distance[i] <= 1e-9);
+  }
+}
+
 TEST_CASE("adaptive_plan_with_any_budget_finds_the_least_tolerance_it_accepts") {
   // The cone above under a budget that only a plan's layers can judge (here their count, as a
   // print-time estimate would be): the same least tolerance, D = t / 4 at 0.35 mm layers.
