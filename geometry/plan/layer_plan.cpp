@@ -45,6 +45,11 @@ std::vector<double> flat_heights(std::span<const FlatLevel> flats, double top) {
   for (const FlatLevel& level : flats) {
     if (level.z > kSameHeight && level.z <= top + kSameHeight) heights.push_back(level.z);
   }
+  // Levels one height apart but for a binary STL's rounding (4.13 read as 4.1300001 and
+  // 4.1299996) are one level.
+  std::sort(heights.begin(), heights.end());
+  heights.erase(std::unique(heights.begin(), heights.end(), [](double a, double b) { return b - a <= kSameHeight; }),
+                heights.end());
   return heights;
 }
 
@@ -865,7 +870,9 @@ AdaptivePlan adaptive_plan(const LayerStack& stack, double part_height,
     if (d > judged) {
       const Layer& layer = plan.layers[i];
       if (i == 0 && allowed.first > 0) why = OverTolerance::first_layer;
-      else if (planner.crossed_flats(e) > 0) why = OverTolerance::flat_level;
+      // (A flat level off the heights the layers reach is crossed by every plan: its target,
+      // the nearest reachable height, is on a boundary, and the level inside a layer.)
+      else if (planner.crossed_flats(e) > 0 || crossed(flats, layer.z_lo, layer.z_hi) > 0) why = OverTolerance::flat_level;
       else if (!planner.thinnest(e)) why = OverTolerance::landing;
       else if (planner.missed(e) > 0) why = OverTolerance::missed_feature;
       else why = OverTolerance::shallow_surface, lean = least_lean(stack, layer.z_lo, layer.z_hi);

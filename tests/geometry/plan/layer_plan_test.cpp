@@ -210,6 +210,30 @@ TEST_CASE("adaptive_plan_of_a_stepped_box_has_each_step_on_a_boundary") {
   CHECK(plan.unmet == 0);
 }
 
+TEST_CASE("adaptive_plan_names_a_step_off_the_reachable_heights_as_the_reason_for_its_layer") {
+  // A 20 mm box with a 10 mm one on it from 4.13 mm: the UP Plus 2 reaches 4.10 and 4.15
+  // (0.3 + k 0.05), so some layer holds the step, and its D is at least the step's 5 mm width
+  // (7.07 at the corners, with the upper box's section). That layer has only vertical walls
+  // besides the step: the reason is the flat level, not a slope.
+  const solids::Solid block = solids::stepped_box({20, 20}, 4.13, {10, 10}, 3.5);
+  const AdaptivePlan plan = plan_for(block.mesh, 0.05);
+  check_thicknesses(plan.layers, kUpPlus2);
+  std::size_t holding = 0;
+  for (std::size_t i = 1; i < plan.layers.size(); ++i) {
+    const Layer& l = plan.layers[i];
+    CAPTURE(l.z_lo);
+    if (l.z_lo < 4.13 && l.z_hi > 4.13) {
+      ++holding;
+      CHECK(plan.distance[i] >= 5 - 1e-6);
+      CHECK(plan.why[i] == geometry::OverTolerance::flat_level);
+    } else {
+      CHECK(plan.why[i] == geometry::OverTolerance::none);
+    }
+  }
+  CHECK(holding == 1);
+  CHECK(plan.unmet == 1);
+}
+
 TEST_CASE("adaptive_plan_of_a_cone_meets_the_tolerance_by_the_closed_form") {
   // Circumradius 10 (1 - z / 20): D of a layer t thick is t / 4 off the apex, so the
   // tolerance 0.07 allows 0.28 mm and the UP Plus 2's steps 0.25 mm.
