@@ -381,6 +381,7 @@ class LazyPlanner {
     lower_.assign(edges, 0);
     exact_.assign(edges, NAN);
     proven_.assign(edges, NAN);
+    counted_.assign(edges, 0);
   }
 
   // Every candidate measured exactly: the search then needs one round.
@@ -699,7 +700,12 @@ class LazyPlanner {
       widen(e, error.distance());
     }
     if (!counted) return;
-    measured_ += edges.size();
+    // A slab measured again (exactly after settled, or by a budget's search at another
+    // tolerance) is one candidate: measured() never exceeds candidates().
+    for (const std::uint32_t e : edges) {
+      if (!counted_[e]) ++measured_;
+      counted_[e] = 1;
+    }
     if (progress_) progress_(measured_);
   }
 
@@ -738,6 +744,7 @@ class LazyPlanner {
   std::unordered_map<std::uint32_t, std::size_t> missed_;  // features the best trial misses
   std::vector<std::uint32_t> crossed_;
   std::vector<char> refused_;  // thick_overhangs: not a layer of any path
+  std::vector<char> counted_;  // measured at least once (measured())
   std::size_t measured_ = 0, rounds_ = 0;
   std::size_t batch_ = 2 * std::max(1u, std::thread::hardware_concurrency());
 };

@@ -139,9 +139,9 @@ struct AdaptivePlan {
   // layers lower).
   std::size_t split = 0;
   std::vector<FlatPlacement> flats;
-  // The search: candidate slabs (edges of the height grid), how many were measured (exactly,
-  // or until seen to be within the tolerance or past it), and how many times the shortest
-  // path was found.
+  // The search: candidate slabs (edges of the height grid), how many of them were measured
+  // (exactly, or until seen to be within the tolerance or past it; each counted once), and how
+  // many times the shortest path was found.
   std::size_t candidates = 0, measured = 0, rounds = 0;
   // Candidate slabs refused for the overhang a thick layer there would have (thick_overhangs).
   std::size_t refused_for_overhangs = 0;

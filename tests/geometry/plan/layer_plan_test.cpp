@@ -369,6 +369,9 @@ TEST_CASE("adaptive_plan_with_any_budget_finds_the_least_tolerance_it_accepts") 
   CHECK(plan.layers.size() <= 60);
   CHECK(plan.tolerance == doctest::Approx(0.0875).epsilon(0.03));
   CHECK(asked <= 12);  // a log-scale bisection to 2%, not a scan
+  // Each candidate slab counts once, however many of the bisection's searches measured it.
+  CHECK(plan.measured > 0);
+  CHECK(plan.measured <= plan.candidates);
   // A budget no plan meets gets the thickest plan (every layer within its tolerance).
   options.fits = [](const std::vector<geometry::Layer>&) { return false; };
   const AdaptivePlan thickest = geometry::adaptive_plan(stack, 20, kUpPlus2, flats, options);
