@@ -604,10 +604,18 @@ TEST_CASE("cancel_on_a_frozen_link_ends_within_ten_seconds_in_every_dialect") {
   }
 }
 
-TEST_CASE("a_refused_m109_stops_the_job_before_anything_is_extruded") {
-  // Only the nozzle is waited for (no M190): Teacup refuses M109 as it refuses M190.
-  std::string text = test_support::ring_program(10, 40);
-  text.erase(text.find("M190 S60\n"), 9);
+namespace {
+
+// A ring printed on the simulated Teacup until the firmware refuses a line: the refusal's
+// message and what the printer was left with.
+struct TeacupRefusal {
+  std::string message;
+  bool extruded = false;
+  double hotend_target = 0;
+  JobState state = JobState::printing;
+};
+
+TeacupRefusal print_on_teacup(const std::string& text) {
   const GcodeFile file = parse_gcode(text, "ring.gcode");
   sim::Config config;
   config.dialect = sim::Dialect::teacup;
@@ -615,17 +623,30 @@ TEST_CASE("a_refused_m109_stops_the_job_before_anything_is_extruded") {
   LineProtocol protocol(link);
   protocol.connect();
   Job job(protocol, file, {});
-  std::string message;
+  TeacupRefusal refusal;
   try {
     job.run();
   } catch (const CommandRefused& e) {
-    message = e.what();
+    refusal.message = e.what();
   }
-  CHECK(message.starts_with("simulated printer: the printer refused M109 S210 (\"E: Bad M-code 109\"), so the "
-                            "print stopped before anything was extruded"));
-  CHECK(link.printer().deposition().moves.empty());
-  CHECK(link.printer().hotend_target() == 0);
-  CHECK(job.result().state == JobState::failed);
+  refusal.extruded = !link.printer().deposition().moves.empty();
+  refusal.hotend_target = link.printer().hotend_target();
+  refusal.state = job.result().state;
+  return refusal;
+}
+
+}  // namespace
+
+TEST_CASE("a_refused_m109_stops_the_job_before_anything_is_extruded") {
+  // Only the nozzle is waited for (no M190): Teacup refuses M109 as it refuses M190.
+  std::string text = test_support::ring_program(10, 40);
+  text.erase(text.find("M190 S60\n"), 9);
+  const TeacupRefusal r = print_on_teacup(text);
+  CHECK(r.message.starts_with("simulated printer: the printer refused M109 S210 (\"E: Bad M-code 109\"), so the "
+                              "print stopped before anything was extruded"));
+  CHECK_FALSE(r.extruded);
+  CHECK(r.hotend_target == 0);
+  CHECK(r.state == JobState::failed);
 }
 
 TEST_CASE("a_refusal_mid_print_says_at_which_layer_the_print_stopped") {
@@ -635,26 +656,14 @@ TEST_CASE("a_refusal_mid_print_says_at_which_layer_the_print_stopped") {
   text.erase(text.find("M190 S60\nM109 S210\n"), 19);
   text.insert(text.find(";LAYER:5\n"), "M109 S215\n");
   text.replace(text.find("M107\n"), 5, "M106 S0\n");
-  const GcodeFile file = parse_gcode(text, "ring.gcode");
-  sim::Config config;
-  config.dialect = sim::Dialect::teacup;
-  sim::SimLink link(config);
-  LineProtocol protocol(link);
-  protocol.connect();
-  Job job(protocol, file, {});
-  std::string message;
-  try {
-    job.run();
-  } catch (const CommandRefused& e) {
-    message = e.what();
-  }
+  const TeacupRefusal r = print_on_teacup(text);
   // Teacup answers a line as it reads it: its refusal of the last line of layer 5 comes once
   // the job has begun layer 6.
-  CHECK(message.starts_with("simulated printer: the printer refused M109 S215 (\"E: Bad M-code 109\"), so the "
-                            "print stopped at layer 6/10, the part printed so far left on the bed: "));
-  CHECK_FALSE(link.printer().deposition().moves.empty());
-  CHECK(link.printer().hotend_target() == 0);
-  CHECK(job.result().state == JobState::failed);
+  CHECK(r.message.starts_with("simulated printer: the printer refused M109 S215 (\"E: Bad M-code 109\"), so the "
+                              "print stopped at layer 6/10, the part printed so far left on the bed: "));
+  CHECK(r.extruded);
+  CHECK(r.hotend_target == 0);
+  CHECK(r.state == JobState::failed);
 }
 
 TEST_CASE("cancel_right_after_a_lost_ok_ends_at_once_with_the_heaters_off") {
