@@ -119,7 +119,7 @@ std::size_t number_length(std::string_view s) {
   return n;
 }
 
-bool takes_text(char letter, int code) {
+bool text_command(char letter, int code) {
   if (letter != 'M') return false;
   switch (code) {
     case 0: case 1: case 16: case 23: case 28: case 30: case 32: case 117: case 118: case 928:
@@ -130,6 +130,8 @@ bool takes_text(char letter, int code) {
 }
 
 }  // namespace
+
+bool takes_text(const GcodeCommand& command) { return text_command(command.letter, command.code); }
 
 std::optional<std::string> gcode_problem(std::string_view command) {
   for (char c : command) {
@@ -160,7 +162,7 @@ std::optional<std::string> gcode_problem(std::string_view command) {
   if (i < command.size() && command[i] != ' ' && command[i] != '\t' && !is_letter(command[i])) {
     return std::string("its command word is followed by something that is not a parameter");
   }
-  if (takes_text(letter, code)) return std::nullopt;  // M117 Hello: the rest is text
+  if (text_command(letter, code)) return std::nullopt;  // M117 Hello: the rest is text
   while (i < command.size()) {
     const char c = command[i];
     if (c == ' ' || c == '\t') {

@@ -47,6 +47,10 @@ GcodeCommand parse_gcode_line(std::string_view line);
 // value past a 32-bit float's range (X1e999), which firmware would read as infinite.
 std::optional<std::string> gcode_problem(std::string_view command);
 
+// Whether the command's words after the command word are free text, not parameters: M0/M1,
+// M16, M23, M28, M30, M32, M117, M118 and M928 ("M117 Hello" shows "Hello").
+bool takes_text(const GcodeCommand& command);
+
 // The checksum Marlin checks: XOR of every byte before '*'.
 std::uint8_t gcode_checksum(std::string_view bytes);
 

@@ -28,6 +28,7 @@
 #include "host/serve/printer_session.h"
 #include "host/serve/web_assets.h"
 #include "printer/error.h"
+#include "printer/gcode_line.h"
 #include "printer/line_protocol.h"
 #include "printer/profile.h"
 
@@ -156,8 +157,13 @@ std::string checked_command(const std::string& line) {
       (c.size() > 1 && (c[0] == 'N' || c[0] == 'n') && std::isdigit(static_cast<unsigned char>(c[1])))) {
     throw Refusal{400, "send the command alone: mahost numbers and checksums every line itself"};
   }
+  // Marlin reads parameter letters in upper case only (without GCODE_CASE_INSENSITIVE), so the
+  // line goes out in upper case, save the text of a command that takes text ("M117 Hello").
   std::string upper = c;
-  std::transform(upper.begin(), upper.end(), upper.begin(), [](unsigned char ch) { return std::toupper(ch); });
+  const std::size_t word_end =
+      printer::takes_text(printer::parse_gcode_line(c)) ? std::min(c.find(' '), c.size()) : c.size();
+  std::transform(upper.begin(), upper.begin() + static_cast<std::ptrdiff_t>(word_end), upper.begin(),
+                 [](unsigned char ch) { return std::toupper(ch); });
   if (upper.rfind("M110", 0) == 0) throw Refusal{400, "M110 would renumber the lines under mahost's feet"};
   if (printer::command_waits_for_user(upper)) {
     throw Refusal{400, fmt::format("{} waits for a button on the printer: not taken from the API", c)};

@@ -223,7 +223,7 @@ TEST_CASE("tunes_sent_mid_print_reach_the_printer_between_the_files_lines_once_e
   REQUIRE(wait_for([&] { return serve.get_json("/api/job")["mahost"].value("layer", 0) >= 3; }, 120s));
   // As OctoPrint's tune controls and Cura send them: one line, or a list.
   const std::vector<std::string> tunes = {"M104 S205", "M140 S55", "M106 S128", "M220 S120",
-                                          "M221 S95", "M290 Z0.05", "M117 TUNED", "M114"};
+                                          "M221 S95", "M290 Z0.05", "M117 Tuned mid-print", "M114"};
   CHECK(serve.post_json("/api/printer/command", {{"command", tunes[0]}}) == 204);
   CHECK(serve.post_json("/api/printer/command", {{"commands", std::vector<std::string>(tunes.begin() + 1, tunes.end())}}) == 204);
   // The tuned target is the job's: /api/printer reports it.
