@@ -8,7 +8,9 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
+#include <optional>
 #include <thread>
 
 #include <httplib.h>
@@ -393,6 +395,133 @@ SliceRequest slice_request(const json& given, const std::string& name, const pri
   return request;
 }
 
+// An upload's multipart form as read: the file (written to the files folder under a temporary
+// name as it arrives), its name as the client gave it, and the other fields.
+struct UploadForm {
+  std::optional<FileStore::Upload> file;
+  std::string filename;
+  std::map<std::string, std::string> fields;
+
+  std::string field(const std::string& key) const {
+    const auto found = fields.find(key);
+    return found == fields.end() ? std::string() : found->second;
+  }
+};
+
+// Reads the form into `form`: the 'file' part into the files folder, at most 32 other fields
+// of 4 KiB each. Refusal for a part without a name, a second file, a file over `max_upload`
+// bytes or that cannot be written, too many or too long fields, a form cut short or without
+// a file.
+void read_upload_form(const httplib::ContentReader& reader, FileStore& files, std::uint64_t max_upload,
+                      UploadForm& form) {
+  constexpr std::size_t kFields = 32, kFieldBytes = 4096;  // a form's fields besides the file
+  std::string field;
+  std::string refused;  // why the form was refused while it was read
+  int refused_status = 400;
+  bool second_file = false;
+  const bool read = reader(
+      [&](const httplib::MultipartFormData& part) {
+        field = part.name;
+        if (field.empty()) {
+          // httplib reads a part's name from its Content-Disposition line; a line break or
+          // quote in the file name breaks that line.
+          refused = "a part of the form has no name httplib could read: its Content-Disposition is "
+                    "broken (a line break or a quote in the file name?)";
+          return false;
+        }
+        if (field == "file") {
+          if (form.file) {
+            second_file = true;
+            return false;
+          }
+          form.filename = part.filename;
+          form.file.emplace(files);
+        } else if (form.fields.size() >= kFields) {
+          refused = fmt::format("the form has more than {} fields", kFields);
+          return false;
+        }
+        return true;
+      },
+      [&](const char* data, std::size_t size) {
+        if (field == "file") {
+          if (form.file->size() + size > max_upload) {
+            refused_status = 413;
+            refused = fmt::format("the upload is larger than this server takes ({:.0f} MiB, --max-upload)",
+                                  max_upload / 1048576.0);
+            return false;
+          }
+          if (!form.file->write(data, size)) {
+            refused_status = 507;
+            refused = "the file could not be written to the files folder (disk full?)";
+            return false;
+          }
+          return true;
+        }
+        std::string& value = form.fields[field];
+        if (value.size() + size > kFieldBytes) {
+          refused = fmt::format("the form field '{}' is longer than {} bytes", field.substr(0, 40), kFieldBytes);
+          return false;
+        }
+        value.append(data, size);
+        return true;
+      });
+  if (!refused.empty()) throw Refusal{refused_status, refused};
+  if (second_file) throw Refusal{400, "one file per upload"};
+  if (!read) throw Refusal{400, "the upload was cut short or is not valid multipart/form-data"};
+  if (!form.file) throw Refusal{400, "no 'file' field in the upload"};
+}
+
+// The name an upload is stored under: the client's file name, checked; Refusal for a name
+// that cannot be stored, or a folder ('path': the files folder has none).
+std::string upload_name(const UploadForm& form) {
+  const CleanName clean = clean_file_name(form.filename);
+  if (clean.status != 0) throw Refusal{clean.status, clean.error};
+  std::string path = form.field("path");
+  path.erase(std::remove_if(path.begin(), path.end(), [](char c) { return c == '/' || std::isspace(static_cast<unsigned char>(c)); }),
+             path.end());
+  if (!path.empty()) throw Refusal{400, "folders are not supported: leave 'path' empty"};
+  return clean.name;
+}
+
+// Reads the uploaded file at `path` as its name says it is: G-code every line checked (the
+// analysis kept for the store), a model read whole. Refusal (415) for content that is not.
+std::optional<GcodeAnalysis> check_upload_content(const FileStore& files, const std::string& path,
+                                                  const std::string& name, FileKind kind) {
+  if (kind == FileKind::gcode) {
+    GcodeAnalysis analysis = files.analyse(path);
+    if (!analysis.error.empty()) {
+      const std::size_t colon = analysis.error.find(": ");
+      throw Refusal{415, fmt::format("{}: {}", name, colon == std::string::npos ? analysis.error : analysis.error.substr(colon + 2))};
+    }
+    return analysis;
+  }
+  try {
+    app::check_model_file(path, name);
+  } catch (const app::InputError& e) {
+    const std::string what = e.what();
+    const std::string prefix = name + ": ";
+    throw Refusal{415, fmt::format("{}: not a readable model file: {}", name,
+                                   what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what)};
+  }
+  return std::nullopt;
+}
+
+// mahost's own fields of a model's upload: it is sliced on the host with the page's settings.
+// They are checked before the file is stored: a value out of range is a 400 and leaves the
+// folder as it was.
+SliceRequest upload_slice_request(const UploadForm& form, const std::string& name, bool select, bool print,
+                                  const printer::Profiles& serving) {
+  json body = json::object();
+  for (const auto& [key, value] : form.fields) {
+    if (!value.empty() && (is_slice_field(key) || key == "printerProfile" || key.rfind("profile.", 0) == 0)) {
+      body[key] = value;
+    }
+  }
+  body["select"] = select;
+  body["print"] = print;
+  return slice_request(body, name, serving);
+}
+
 using Handler = void (HttpApi::*)(const Request&, Response&);
 
 struct Route {
@@ -654,112 +783,24 @@ void HttpApi::upload(const Request& req, Response& res, const httplib::ContentRe
     const std::uint64_t length = std::stoull(req.get_header_value("Content-Length"));
     if (length > files_.free_bytes()) throw Refusal{507, "not enough free space in the files folder"};
   }
-  std::optional<FileStore::Upload> file;
-  std::string filename, field;
-  std::map<std::string, std::string> fields;
-  constexpr std::size_t kFields = 32, kFieldBytes = 4096;  // a form's fields besides the file
-  std::string refused;  // why the form was refused while it was read
-  int refused_status = 400;
-  bool second_file = false;
-  const bool read = reader(
-      [&](const httplib::MultipartFormData& part) {
-        field = part.name;
-        if (field.empty()) {
-          // httplib reads a part's name from its Content-Disposition line; a line break or
-          // quote in the file name breaks that line.
-          refused = "a part of the form has no name httplib could read: its Content-Disposition is "
-                    "broken (a line break or a quote in the file name?)";
-          return false;
-        }
-        if (field == "file") {
-          if (file) {
-            second_file = true;
-            return false;
-          }
-          filename = part.filename;
-          file.emplace(files_);
-        } else if (fields.size() >= kFields) {
-          refused = fmt::format("the form has more than {} fields", kFields);
-          return false;
-        }
-        return true;
-      },
-      [&](const char* data, std::size_t size) {
-        if (field == "file") {
-          if (file->size() + size > limits_.max_upload) {
-            refused_status = 413;
-            refused = fmt::format("the upload is larger than this server takes ({:.0f} MiB, --max-upload)",
-                                  limits_.max_upload / 1048576.0);
-            return false;
-          }
-          if (!file->write(data, size)) {
-            refused_status = 507;
-            refused = "the file could not be written to the files folder (disk full?)";
-            return false;
-          }
-          return true;
-        }
-        std::string& value = fields[field];
-        if (value.size() + size > kFieldBytes) {
-          refused = fmt::format("the form field '{}' is longer than {} bytes", field.substr(0, 40), kFieldBytes);
-          return false;
-        }
-        value.append(data, size);
-        return true;
-      });
-  if (!refused.empty()) throw Refusal{refused_status, refused};
-  if (second_file) throw Refusal{400, "one file per upload"};
-  if (!read) throw Refusal{400, "the upload was cut short or is not valid multipart/form-data"};
-  if (!file) throw Refusal{400, "no 'file' field in the upload"};
-
-  const CleanName clean = clean_file_name(filename);
-  if (clean.status != 0) throw Refusal{clean.status, clean.error};
-  std::string path = fields.count("path") ? fields["path"] : "";
-  path.erase(std::remove_if(path.begin(), path.end(), [](char c) { return c == '/' || std::isspace(static_cast<unsigned char>(c)); }),
-             path.end());
-  if (!path.empty()) throw Refusal{400, "folders are not supported: leave 'path' empty"};
-  const std::string& name = clean.name;
+  UploadForm form;
+  read_upload_form(reader, files_, limits_.max_upload, form);
+  const std::string name = upload_name(form);
   // Said before the checks that read the file: a name that cannot be stored now.
   if (const std::string lock = file_lock(session_.status(), name); !lock.empty()) {
     throw Refusal{409, lock + ": upload it under another name"};
   }
   const FileKind kind = *kind_of(name);
-  std::optional<GcodeAnalysis> analysis;
-  if (kind == FileKind::gcode) {
-    analysis = files_.analyse(file->temporary_path());
-    if (!analysis->error.empty()) {
-      const std::size_t colon = analysis->error.find(": ");
-      throw Refusal{415, fmt::format("{}: {}", name, colon == std::string::npos ? analysis->error : analysis->error.substr(colon + 2))};
-    }
-  } else {
-    try {
-      app::check_model_file(file->temporary_path(), name);
-    } catch (const app::InputError& e) {
-      const std::string what = e.what();
-      const std::string prefix = name + ": ";
-      throw Refusal{415, fmt::format("{}: not a readable model file: {}", name,
-                                     what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what)};
-    }
-  }
-  const bool print = truthy(fields["print"]);
-  const bool select = print || truthy(fields["select"]);
-  // mahost's own fields: an STL is sliced on the host with the page's settings. They are checked
-  // before the file is stored: a value out of range is a 400 and leaves the folder as it was.
+  const std::optional<GcodeAnalysis> analysis = check_upload_content(files_, form.file->temporary_path(), name, kind);
+  const bool print = truthy(form.field("print"));
+  const bool select = print || truthy(form.field("select"));
   std::optional<SliceRequest> slicing;
-  if (kind == FileKind::model && (truthy(fields["slice"]) || select)) {
-    json body = json::object();
-    for (const auto& [key, value] : fields) {
-      if (!value.empty() && (is_slice_field(key) || key == "printerProfile" || key.rfind("profile.", 0) == 0)) {
-        body[key] = value;
-      }
-    }
-    body["select"] = select;
-    body["print"] = print;
-    slicing = slice_request(body, name, session_.profiles());
+  if (kind == FileKind::model && (truthy(form.field("slice")) || select)) {
+    slicing = upload_slice_request(form, name, select, print, session_.profiles());
   }
-  if (!file->finish()) throw Refusal{507, "the file could not be written to the files folder (disk full?)"};
+  if (!form.file->finish()) throw Refusal{507, "the file could not be written to the files folder (disk full?)"};
   const PrinterSession::Stored stored =
-      session_.store_upload(*file, name, analysis, select && kind == FileKind::gcode, print);
+      session_.store_upload(*form.file, name, analysis, select && kind == FileKind::gcode, print);
   if (!stored.outcome.ok()) throw Refusal{stored.outcome.status, stored.outcome.message};
 
   json reply = {{"files", {{"local", abridged_file_json(name, base_url(req))}}},
