@@ -357,97 +357,120 @@ std::set<std::string> names_in(std::string_view gcode) {
   return names;
 }
 
-struct Written {
-  std::string printer, material;
+// What several of the printer profile's sections take from PrusaSlicer's settings, read in
+// this order (a refusal names the first key at fault).
+struct PrinterFigures {
+  std::string firmware, flavor_note;
+  Bed bed;
+  double nozzle = 0;
+  std::size_t extruders = 1;
+  // The print's layers, within the printer's range (widened to take them, as PrusaSlicer
+  // would print them); step 0.01 mm where they are all on that grid, else any thickness.
+  double layer = 0, first_layer = 0, min_layer = 0, max_layer = 0, step = 0;
+  double width = 0, first_width = 0;
+  // Speeds, mm/s: 0 is PrusaSlicer's "auto", which its max_print_speed bounds.
+  double auto_speed = 0, perimeter = 0, infill = 0, solid = 0, support = 0, travel_z = 0;
+
+  double speed_or_auto(double v) const { return v > 0 ? v : auto_speed; }
 };
 
-Written write_profiles(const Settings& s, const std::string& file, const PrusaIni& ini,
-                       const PrusaPreset* print, const PrusaPreset& filament,
-                       const MacroVariables& known) {
-  const PrusaPreset& printer = s.printer();
+PrinterFigures printer_figures(const Settings& s) {
   if (s.number("z_offset") != 0) {
     throw Settings::Refused{fmt::format("z_offset = {:g} mm: mahost moves Z as planned, with no offset",
                                         s.number("z_offset"))};
   }
-  std::string flavor_note;
-  const std::string firmware = firmware_of(s.text("gcode_flavor"), flavor_note);
-  const Bed bed = bed_of(s);
-  const double nozzle = s.number("nozzle_diameter");
-  const std::size_t extruders = s.count("nozzle_diameter");
+  PrinterFigures f;
+  f.firmware = firmware_of(s.text("gcode_flavor"), f.flavor_note);
+  f.bed = bed_of(s);
+  f.nozzle = s.number("nozzle_diameter");
+  f.extruders = s.count("nozzle_diameter");
 
-  // Layers: the print's, within the printer's range (widened to take them, as PrusaSlicer
-  // would print them).
-  const double layer = s.number("layer_height");
-  const double first_layer = s.relative("first_layer_height", layer);
-  double min_layer = s.number("min_layer_height");
-  double max_layer = s.number("max_layer_height");
-  if (!(max_layer > 0)) max_layer = 0.75 * nozzle;
-  min_layer = std::min({min_layer, layer, first_layer});
-  max_layer = std::max({max_layer, layer, first_layer});
+  f.layer = s.number("layer_height");
+  f.first_layer = s.relative("first_layer_height", f.layer);
+  f.min_layer = s.number("min_layer_height");
+  f.max_layer = s.number("max_layer_height");
+  if (!(f.max_layer > 0)) f.max_layer = 0.75 * f.nozzle;
+  f.min_layer = std::min({f.min_layer, f.layer, f.first_layer});
+  f.max_layer = std::max({f.max_layer, f.layer, f.first_layer});
   const auto on_grid = [](double v) { return std::abs(v * 100 - std::round(v * 100)) < 1e-6; };
-  const double step = on_grid(min_layer) && on_grid(layer) && on_grid(first_layer) ? 0.01 : 0;
+  f.step = on_grid(f.min_layer) && on_grid(f.layer) && on_grid(f.first_layer) ? 0.01 : 0;
 
-  double width = s.relative("extrusion_width", layer);
-  if (!(width > 0)) width = s.relative("perimeter_extrusion_width", layer);
-  if (!(width > 0)) width = 1.125 * nozzle;
-  double first_width = s.relative("first_layer_extrusion_width", first_layer);
-  if (!(first_width > 0)) first_width = width;
+  f.width = s.relative("extrusion_width", f.layer);
+  if (!(f.width > 0)) f.width = s.relative("perimeter_extrusion_width", f.layer);
+  if (!(f.width > 0)) f.width = 1.125 * f.nozzle;
+  f.first_width = s.relative("first_layer_extrusion_width", f.first_layer);
+  if (!(f.first_width > 0)) f.first_width = f.width;
 
-  // Speeds: 0 is PrusaSlicer's "auto", which its max_print_speed bounds.
-  const double auto_speed = s.number("max_print_speed");
-  const auto speed_or_auto = [&](double v) { return v > 0 ? v : auto_speed; };
-  const double perimeter = speed_or_auto(s.number("perimeter_speed"));
-  const double infill = speed_or_auto(s.number("infill_speed"));
-  const double solid = speed_or_auto(s.relative("solid_infill_speed", infill));
-  const double support = speed_or_auto(s.number("support_material_speed"));
-  double travel_z = s.number("travel_speed_z");
-  if (!(travel_z > 0)) travel_z = s.number("machine_max_feedrate_z");
+  f.auto_speed = s.number("max_print_speed");
+  f.perimeter = f.speed_or_auto(s.number("perimeter_speed"));
+  f.infill = f.speed_or_auto(s.number("infill_speed"));
+  f.solid = f.speed_or_auto(s.relative("solid_infill_speed", f.infill));
+  f.support = f.speed_or_auto(s.number("support_material_speed"));
+  f.travel_z = s.number("travel_speed_z");
+  if (!(f.travel_z > 0)) f.travel_z = s.number("machine_max_feedrate_z");
+  return f;
+}
 
-  TomlWriter t;
+// "bundle of Prusa Research" or "settings": where a profile was imported from.
+std::string source_of(const PrusaIni& ini) {
+  return ini.is_vendor ? "bundle of " + ini.vendor : std::string("settings");
+}
+
+// The header comments, name, material and firmware.
+void write_identity(TomlWriter& t, const PrinterFigures& f, const std::string& file, const PrusaIni& ini,
+                    const PrusaPreset& printer, const PrusaPreset* print, const PrusaPreset& filament) {
   t.comment(fmt::format("{} for mahost, imported from PrusaSlicer's {} ({})", printer.name,
-                        ini.is_vendor ? "bundle of " + ini.vendor : std::string("settings"), file));
+                        source_of(ini), file));
   t.comment(fmt::format("with the print profile \"{}\" and the filament \"{}\". Import again to update;",
                         print ? print->name : "(PrusaSlicer's defaults)", filament.name));
   t.comment("keys as in mahost's own profiles (printer/profile.h). Units: mm, s, mm/s, mm/s^2.");
   t.text("name", printer.name);
   t.text("material", filament.name);
-  t.text("firmware", firmware, flavor_note);
+  t.text("firmware", f.firmware, f.flavor_note);
+}
 
+// [build_volume], [nozzle], [filament], [extrusion].
+void write_machine(TomlWriter& t, const Settings& s, const PrinterFigures& f) {
   t.section("build_volume");
-  t.number("x", bed.x);
-  t.number("y", bed.y);
+  t.number("x", f.bed.x);
+  t.number("y", f.bed.y);
   t.number("z", s.number("max_print_height"));
-  if (bed.origin_x != 0 || bed.origin_y != 0) {
-    t.number("origin_x", bed.origin_x, "the G-code's X of the front left corner");
-    t.number("origin_y", bed.origin_y);
+  if (f.bed.origin_x != 0 || f.bed.origin_y != 0) {
+    t.number("origin_x", f.bed.origin_x, "the G-code's X of the front left corner");
+    t.number("origin_y", f.bed.origin_y);
   }
-  if (bed.round) t.text("shape", "circle", "the bed is the circle of diameter x");
+  if (f.bed.round) t.text("shape", "circle", "the bed is the circle of diameter x");
 
   t.section("nozzle");
-  t.number("diameter", nozzle);
-  if (extruders > 1) t.integer("count", static_cast<long long>(extruders), "mahost prints with the first");
+  t.number("diameter", f.nozzle);
+  if (f.extruders > 1) t.integer("count", static_cast<long long>(f.extruders), "mahost prints with the first");
   t.section("filament");
   t.number("diameter", s.number("filament_diameter"));
   t.section("extrusion");
-  t.number("width", width);
+  t.number("width", f.width);
   t.text("e_mode", s.flag("use_relative_e_distances") ? "relative" : "absolute");
+}
 
+// [layer], [first_layer].
+void write_layers(TomlWriter& t, const Settings& s, const PrinterFigures& f) {
   t.section("layer");
-  t.number("min", min_layer);
-  t.number("max", max_layer);
-  t.number("step", step, step > 0 ? "" : "any thickness in the range");
-  t.number("default", layer);
+  t.number("min", f.min_layer);
+  t.number("max", f.max_layer);
+  t.number("step", f.step, f.step > 0 ? "" : "any thickness in the range");
+  t.number("default", f.layer);
   t.section("first_layer");
-  t.number("height", first_layer,
+  t.number("height", f.first_layer,
            s.first("first_layer_height").percent
                ? fmt::format("PrusaSlicer's {}: as Slic3r took it, a percent of layer_height (PrusaSlicer 2.5 "
                              "reads it as mm and does not slice)", s.raw("first_layer_height"))
                : std::string());
-  t.number("width", first_width);
-  t.number("speed", s.relative("first_layer_speed", perimeter));
+  t.number("width", f.first_width);
+  t.number("speed", s.relative("first_layer_speed", f.perimeter));
+}
 
-  // The machine's limits; a limit past what mahost takes (a vendor's 8000 mm/s extruder) is
-  // mahost's largest, which no move reaches either.
+// [motion]: the machine's limits; a limit past what mahost takes (a vendor's 8000 mm/s
+// extruder) is mahost's largest, which no move reaches either.
+void write_motion(TomlWriter& t, const Settings& s) {
   t.section("motion");
   const auto limit = [&](const std::string& key, std::string_view from, double most) {
     const double v = s.number(from);
@@ -467,23 +490,26 @@ Written write_profiles(const Settings& s, const std::string& file, const PrusaIn
   limit("travel_acceleration", "machine_max_acceleration_travel", 100000);
   limit("retract_acceleration", "machine_max_acceleration_retracting", 100000);
   t.number("min_feedrate", s.number("machine_min_extruding_rate"));
+}
 
+// [speed], [retraction].
+void write_speeds(TomlWriter& t, const Settings& s, const PrinterFigures& f) {
   t.section("speed");
-  t.number("outer_wall", speed_or_auto(s.relative("external_perimeter_speed", perimeter)));
-  t.number("inner_wall", perimeter);
-  t.number("thin_wall", speed_or_auto(s.number("gap_fill_speed")));
-  t.number("skirt", perimeter);
-  t.number("top_skin", speed_or_auto(s.relative("top_solid_infill_speed", solid)));
-  t.number("bottom_skin", solid);
-  t.number("solid_infill", solid);
-  t.number("sparse_infill", infill);
-  t.number("support", support);
-  t.number("support_interface", speed_or_auto(s.relative("support_material_interface_speed", support)));
-  t.number("bridge", speed_or_auto(s.number("bridge_speed")));
-  t.number("brim", perimeter);
-  t.number("raft", support);
-  t.number("travel", speed_or_auto(s.number("travel_speed")));
-  t.number("z", travel_z);
+  t.number("outer_wall", f.speed_or_auto(s.relative("external_perimeter_speed", f.perimeter)));
+  t.number("inner_wall", f.perimeter);
+  t.number("thin_wall", f.speed_or_auto(s.number("gap_fill_speed")));
+  t.number("skirt", f.perimeter);
+  t.number("top_skin", f.speed_or_auto(s.relative("top_solid_infill_speed", f.solid)));
+  t.number("bottom_skin", f.solid);
+  t.number("solid_infill", f.solid);
+  t.number("sparse_infill", f.infill);
+  t.number("support", f.support);
+  t.number("support_interface", f.speed_or_auto(s.relative("support_material_interface_speed", f.support)));
+  t.number("bridge", f.speed_or_auto(s.number("bridge_speed")));
+  t.number("brim", f.perimeter);
+  t.number("raft", f.support);
+  t.number("travel", f.speed_or_auto(s.number("travel_speed")));
+  t.number("z", f.travel_z);
 
   t.section("retraction");
   const double retract_speed = s.number("retract_speed");
@@ -493,7 +519,10 @@ Written write_profiles(const Settings& s, const std::string& file, const PrusaIn
   t.number("prime_speed", deretract > 0 ? deretract : retract_speed);
   t.number("min_travel", s.number("retract_before_travel"));
   t.number("z_hop", s.number("retract_lift"));
+}
 
+// [print]: walls, infill, skins, skirt, seam.
+void write_print(TomlWriter& t, const Settings& s) {
   t.section("print");
   t.integer("perimeters", std::lround(s.number("perimeters")));
   t.number("infill_density", s.number("fill_density"));
@@ -509,7 +538,10 @@ Written write_profiles(const Settings& s, const std::string& file, const PrusaIn
   t.number("skirt_distance", s.number("skirt_distance"));
   const std::string seam = s.text("seam_position");
   t.text("seam", seam == "nearest" || seam == "random" ? "nearest" : "aligned");
+}
 
+// [support], [brim], [raft].
+void write_support(TomlWriter& t, const Settings& s, const PrinterFigures& f) {
   t.section("support");
   t.text("type", !s.flag("support_material") ? "none"
                  : s.flag("support_material_buildplate_only") ? "buildplate" : "everywhere");
@@ -517,8 +549,8 @@ Written write_profiles(const Settings& s, const std::string& file, const PrusaIn
   const double bottom_gap = s.number("support_material_bottom_contact_distance");
   t.number("top_contact_distance", top_gap);
   t.number("bottom_contact_distance", bottom_gap > 0 ? bottom_gap : top_gap);
-  t.number("xy_gap", s.relative("support_material_xy_spacing", width));
-  t.number("interface_thickness", s.number("support_material_interface_layers") * layer);
+  t.number("xy_gap", s.relative("support_material_xy_spacing", f.width));
+  t.number("interface_thickness", s.number("support_material_interface_layers") * f.layer);
   t.number("spacing", s.number("support_material_spacing"));
   t.number("angle", s.number("support_material_angle"));
   t.text("pattern", s.text("support_material_pattern") == "rectilinear-grid" ? "grid" : "lines");
@@ -527,10 +559,15 @@ Written write_profiles(const Settings& s, const std::string& file, const PrusaIn
   t.number("width", s.number("brim_width"));
   t.section("raft");
   t.flag("enabled", s.number("raft_layers") > 0);
-  t.number("layer_thickness", layer);
-  t.number("base_thickness", first_layer);
-  t.number("base_width", std::max(first_width, first_layer));
+  t.number("layer_thickness", f.layer);
+  t.number("base_thickness", f.first_layer);
+  t.number("base_width", std::max(f.first_width, f.first_layer));
+}
 
+// [gcode]: the start and end G-code with PrusaSlicer's placeholders, and [gcode.constants]:
+// the printer's own settings they name that mahost has no key of its own for.
+void write_gcode(TomlWriter& t, const Settings& s, const PrusaPreset& printer, const PrusaPreset* print,
+                 const MacroVariables& known) {
   t.section("gcode");
   t.number("resolution", s.number("gcode_resolution"));
   t.text("syntax", "prusaslicer");
@@ -542,7 +579,6 @@ Written write_profiles(const Settings& s, const std::string& file, const PrusaIn
       t.comment(fmt::format("PrusaSlicer's {} is not used: mahost writes each layer's start itself", hook));
     }
   }
-  // The printer's own settings its G-code names that mahost has no key of its own for.
   std::vector<std::pair<std::string, MacroVariable>> constants;
   std::set<std::string> names = names_in(start);
   names.merge(names_in(end));
@@ -556,20 +592,21 @@ Written write_profiles(const Settings& s, const std::string& file, const PrusaIn
       constants.emplace_back(name, macro_scalar(printer.name));
     }
   }
-  if (!constants.empty()) {
-    t.section("gcode.constants");
-    for (const auto& [name, v] : constants) {
-      std::vector<std::string> items;
-      for (const MacroScalar& x : v.values) items.push_back(toml_scalar(x));
-      t.raw(name, v.is_vector ? fmt::format("[{}]", fmt::join(items, ", ")) : items.front());
-    }
+  if (constants.empty()) return;
+  t.section("gcode.constants");
+  for (const auto& [name, v] : constants) {
+    std::vector<std::string> items;
+    for (const MacroScalar& x : v.values) items.push_back(toml_scalar(x));
+    t.raw(name, v.is_vector ? fmt::format("[{}]", fmt::join(items, ", ")) : items.front());
   }
+}
 
-  // The material: the filament profile's keys.
+// The material profile: the filament profile's keys.
+std::string material_profile(const PrusaPreset& filament, const PrusaIni& ini, const std::string& file) {
   const Settings f(filament, nullptr, nullptr);
   TomlWriter m;
   m.comment(fmt::format("{} for mahost, imported from PrusaSlicer's {} ({}).", filament.name,
-                        ini.is_vendor ? "bundle of " + ini.vendor : std::string("settings"), file));
+                        source_of(ini), file));
   m.comment("Temperatures in degrees Celsius; fan in percent of full speed.");
   m.text("name", filament.name);
   m.text("type", f.text("filament_type"));
@@ -588,7 +625,28 @@ Written write_profiles(const Settings& s, const std::string& file, const PrusaIn
   // printer whose default filament it is, each with a print profile of its own.
   m.section("bridge");
   m.number("fan", f.number("bridge_fan_speed"));
-  return {t.str(), m.str()};
+  return m.str();
+}
+
+struct Written {
+  std::string printer, material;
+};
+
+Written write_profiles(const Settings& s, const std::string& file, const PrusaIni& ini,
+                       const PrusaPreset* print, const PrusaPreset& filament,
+                       const MacroVariables& known) {
+  const PrinterFigures f = printer_figures(s);
+  TomlWriter t;
+  write_identity(t, f, file, ini, s.printer(), print, filament);
+  write_machine(t, s, f);
+  write_layers(t, s, f);
+  write_motion(t, s);
+  write_speeds(t, s, f);
+  write_print(t, s);
+  write_support(t, s, f);
+  write_gcode(t, s, s.printer(), print, known);
+  std::string material = material_profile(filament, ini, file);
+  return {t.str(), std::move(material)};
 }
 
 // Names in `available` close to `wanted`: those containing it, ignoring case.
