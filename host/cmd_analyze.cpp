@@ -4,31 +4,20 @@
 // `mahost advise MODEL.stl [placement] [--printer up-plus-2] [--contour ma]
 //  [--thicknesses 0.15,0.2,...] [--boundaries FILE|z1,z2,...] [--share 95] [--json F]`
 //
-// analyze (paper §4, Fig. 22-26): slices the model into uniform layers (or the layers of
-// --boundaries: any plan, a peer's read from its G-code, no printer asked), makes each layer's
-// region with every strategy asked for, measures each region (geometry/metrics/layer_metrics.h:
-// ΔV exactly, D to 1 um over the whole surface, H's reverse direction at 5 heights)
-// and prints one summary row per strategy, then how every strategy compares with lower (the
-// paper's baseline) and with mid (what PrusaSlicer, Slic3r and CuraEngine print). Optional
-// outputs: a CSV row per layer and strategy, a JSON summary, SVG charts (D per layer, ΔV per
-// layer, the medial-axis contour at thicker layers against lower at this one), a drawing of
-// one layer's contours, and the layered part as an STL.
-//
-// advise (paper §4): takes lower's distance error at the printer's thinnest layer as the
-// benchmark and, for every layer thickness the printer allows, reports the share of the
-// contour's layers whose D stays within the benchmark at the same heights, the layer count,
-// and the largest thickness that keeps at least --share percent of layers within it. Advise
-// compares thicknesses, so a plan of mixed ones (--boundaries) is one more row beside them,
-// judged against the same benchmark, not a candidate for the advice.
+// The command line of app/analyze.h's analyze and advise (paper §4, Fig. 22-26): their flags
+// as a request, their result as a table on stdout (one summary row per strategy, then how
+// every strategy compares with lower and with mid; advise's row per thickness and its advice)
+// and in the files asked for: a CSV row per layer and strategy, a JSON summary, SVG charts (D
+// per layer, ΔV per layer, the medial-axis contour at thicker layers against lower at this
+// one, an adaptive plan against uniform layers), a drawing of one layer's contours, and the
+// layered part as an STL.
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <limits>
 #include <memory>
+#include <mutex>
 #include <optional>
-#include <numeric>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -38,21 +27,11 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "geometry/slab/boundary_pair.h"
-#include "geometry/contour/contour_strategy.h"
-#include "geometry/core/error.h"
-#include "geometry/metrics/extruded_layers.h"
-#include "geometry/analysis/layer_analysis.h"
-#include "geometry/slicing/layer_stack.h"
-#include "geometry/mesh/mesh.h"
-#include "geometry/slab/slab.h"
-#include "geometry/mesh/stl_io.h"
-#include "geometry/plan/flat_levels.h"
+#include "app/analyze.h"
+#include "app/error.h"
 #include "app/layer_boundaries.h"
 #include "app/layer_choice.h"
 #include "app/model.h"
-#include "app/profile_paths.h"
-#include "app/slice.h"
 #include "app/slice_options.h"
 #include "host/cli_checks.h"
 #include "host/commands.h"
@@ -64,6 +43,7 @@
 namespace host {
 namespace {
 
+using app::Strategies;
 using geometry::ContourStrategy;
 using geometry::LayerAnalysis;
 using geometry::StrategySummary;
@@ -73,7 +53,7 @@ struct AnalyzeOptions {
   double layer = 0.15;
   std::string boundaries;  // explicit layer tops instead of --layer
   std::string exclude_z;   // "LO:HI", mm: left out of the by-height percentile
-  std::string contours = geometry::contour_names(",");  // all of them
+  std::string contours = app::contour_names(",");  // all of them
   std::string csv, json, plots, export_layers;
   std::string contour = "best";  // for --export-layers, and the contour --adaptive plans for
   std::string thick = "0.2,0.25";
@@ -94,8 +74,6 @@ struct AdviseOptions {
   app::AdaptiveRequest adaptive;  // --adaptive: the plan as one more row
 };
 
-using Strategies = std::vector<const ContourStrategy*>;
-
 std::string name_of(const ContourStrategy* strategy) { return std::string(strategy->name); }
 
 std::vector<std::string> split_list(const std::string& text) {
@@ -115,7 +93,7 @@ std::vector<double> thickness_list(const std::string& text, const std::string& f
     char* end = nullptr;
     const double v = std::strtod(item.c_str(), &end);
     if (end == item.c_str() || *end != '\0' || !std::isfinite(v) || !(v > 0) || v > 100) {
-      throw geometry::InputError(fmt::format(
+      throw app::InputError(fmt::format(
           "{}: '{}' is not a layer thickness in mm (give positive numbers, e.g. 0.15,0.2)", flag,
           item));
     }
@@ -131,16 +109,17 @@ std::vector<double> thickness_list(const std::string& text, const std::string& f
 std::ofstream open_output(const std::string& path, const std::string& flag) {
   std::ofstream out(path);
   if (!out) {
-    throw geometry::InputError(fmt::format("{} {}: cannot write this file; give a path in a "
-                                           "directory you can write to",
-                                           flag, path));
+    throw app::InputError(fmt::format("{} {}: cannot write this file; give a path in a "
+                                      "directory you can write to",
+                                      flag, path));
   }
   return out;
 }
 
-double part_height(const geometry::Mesh& mesh) {
-  const geometry::Box3 box = geometry::bounding_box(mesh);
-  return box.max.z - box.min.z;
+void write_json(const nlohmann::json& j, const std::string& path) {
+  std::ofstream out = open_output(path, "--json");
+  out << j.dump(2) << "\n";
+  if (!out) throw app::InputError(fmt::format("--json {}: writing failed", path));
 }
 
 // "0:2.25" -> [0, 2.25] mm.
@@ -158,99 +137,45 @@ geometry::ZRange parse_z_range(const std::string& text) {
            std::isfinite(range.hi) && range.hi > range.lo;
   }
   if (!fine) {
-    throw geometry::InputError(fmt::format(
+    throw app::InputError(fmt::format(
         "--exclude-z {}: give a height range LO:HI in mm with LO below HI, e.g. 0:2.25", text));
   }
   return range;
 }
 
-// The layers analyze judges: --boundaries (any thicknesses: a peer's plan need not suit our
-// printer; the part above its last layer, if any, is not judged); else uniform --layer as
-// `slice` lays them on --printer (its first layer, flat tops and floors on boundaries where its
-// thicknesses reach them; for a thickness it lacks, any thickness from its thinnest to that one
-// lands them); or with
-// `from_zero` the plain grid from the bed, every layer --layer thick (the paper's comparison).
-std::vector<geometry::Layer> analysis_layers(const std::string& boundaries, double layer,
-                                             bool from_zero, const std::string& printer_name,
-                                             const geometry::Mesh& mesh, double height) {
-  if (!boundaries.empty()) {
-    app::BoundaryLayers layers =
-        app::boundary_layers(boundaries, height, std::numeric_limits<double>::infinity());
-    for (const std::string& note : layers.notes) fmt::print(stderr, "{}\n", note);
-    return std::move(layers.layers);
+// analyze and advise on a terminal: one progress bar at a time (a run's first call, done = 0
+// on the calling thread, replaces the last run's bar, which clears its line), the model's
+// notes on stderr as "mahost: LINE", --boundaries' as they are.
+class TerminalEvents {
+ public:
+  app::AnalysisEvents events() {
+    app::AnalysisEvents events;
+    events.model_note = [](const std::string& line) { fmt::print(stderr, "mahost: {}\n", line); };
+    events.layers_note = [](const std::string& line) { fmt::print(stderr, "{}\n", line); };
+    events.progress = [this](const std::string& label, std::size_t done, std::size_t total) {
+      std::lock_guard lock(mutex_);
+      if (!bar_ || label != label_) {
+        bar_.reset();
+        bar_ = std::make_unique<Progress>(label, total);
+        label_ = label;
+      }
+      // Planning has no total: the candidate layers measured so far.
+      bar_->update(done, total == 0 ? fmt::format("{} candidate layers measured", done)
+                                    : fmt::format("layer {}/{}", done, total));
+    };
+    return events;
   }
-  if (from_zero) return geometry::uniform_layers(height, layer);
-  const printer::PrinterProfile profile =
-      printer::load_printer_profile(printer_name, app::profile_search_path());
-  geometry::AllowedThicknesses allowed = app::allowed_thicknesses(profile);
-  if (!allowed.allows(layer)) {
-    allowed = {.listed = {}, .min = std::min(layer, allowed.thinnest()),
-               .max = std::max(layer, allowed.thickest()), .step = 0, .first = allowed.first};
+  // Clears the last bar's line, before the results are printed.
+  void finish() {
+    std::lock_guard lock(mutex_);
+    bar_.reset();
   }
-  return geometry::uniform_plan(height, layer, allowed, geometry::flat_levels(mesh)).layers;
-}
 
-// The adaptive plan analyze and advise judge: for `printed`, on the printer's thicknesses
-// (its first layer too), with a progress line while it measures candidate layers.
-app::LayerChoice adaptive_choice(const app::AdaptiveRequest& request, const std::string& printer_name,
-                            const geometry::Mesh& mesh, double height,
-                            const ContourStrategy& printed) {
-  const printer::PrinterProfile profile =
-      printer::load_printer_profile(printer_name, app::profile_search_path());
-  const geometry::LayerStack index(mesh, {});
-  Progress bar("planning layers", 0);
-  app::LayerChoice choice = app::choose_layers(request, profile, index, height, 0, printed,
-                                     [&](std::size_t measured) {
-                                       bar.update(measured, fmt::format("{} candidate layers measured", measured));
-                                     });
-  bar.finish();
-  return choice;
-}
-
-// Analyses every layer with the given strategies, with a progress line on stderr. Where only
-// the distance error D is compared (advise, the thicker layers), `distance_only` leaves out the
-// volume metrics and the reverse distance, a third of the work.
-std::vector<LayerAnalysis> run_analysis(const geometry::LayerStack& stack,
-                                        const Strategies& kinds, bool keep_regions,
-                                        const std::string& label, bool distance_only = false) {
-  geometry::AnalysisOptions options;
-  options.keep_regions = keep_regions;
-  if (distance_only) {
-    options.metrics.volumes = false;
-    options.metrics.distance.reverse = false;
-  }
-  Progress progress(label, stack.size());
-  auto layers = geometry::analyze_layers(stack, kinds, options, [&](std::size_t done) {
-    progress.update(done, fmt::format("layer {}/{}", done, stack.size()));
-  });
-  progress.finish();
-  return layers;
-}
-
-// D of strategy k per layer, and the benchmark's D over the same heights: the largest D of the
-// benchmark layers overlapping the layer (the worst the benchmark prints there). Returns the
-// share of layers within it (D <= benchmark + tolerance), in percent.
-double share_within(const std::vector<LayerAnalysis>& layers, std::size_t k,
-                    const std::vector<LayerAnalysis>& benchmark, std::size_t bench_k,
-                    double tolerance, std::vector<double>* limits = nullptr) {
-  if (layers.empty()) return 0;
-  std::size_t within = 0, first = 0;
-  for (const LayerAnalysis& layer : layers) {
-    double limit = 0;
-    while (first < benchmark.size() && benchmark[first].layer.z_hi <= layer.layer.z_lo) ++first;
-    for (std::size_t b = first; b < benchmark.size() && benchmark[b].layer.z_lo < layer.layer.z_hi; ++b)
-      limit = std::max(limit, benchmark[b].strategies[bench_k].metrics.distance);
-    if (limits) limits->push_back(limit);
-    if (layer.strategies[k].metrics.distance <= limit + tolerance) ++within;
-  }
-  return 100.0 * within / layers.size();
-}
-
-int index_of(const Strategies& kinds, std::string_view name) {
-  for (std::size_t k = 0; k < kinds.size(); ++k)
-    if (kinds[k]->name == name) return static_cast<int>(k);
-  return -1;
-}
+ private:
+  std::mutex mutex_;
+  std::unique_ptr<Progress> bar_;
+  std::string label_;
+};
 
 // x with its sign and `decimals` decimals, but a value that rounds to zero as plain zero
 // ("0.0", never "-0.0" or "+0.0").
@@ -277,59 +202,47 @@ nlohmann::json percent_or_null(double value, double base, double negligible) {
   return 100 * (value - base) / base;
 }
 
-// How strategy k compares with baseline b: one line of text and its figures.
-nlohmann::json compare(const std::vector<LayerAnalysis>& layers,
-                       const std::vector<StrategySummary>& summaries, std::size_t k,
-                       std::size_t b) {
-  double per_layer = 0, lowest = 0, highest = 0;
-  std::size_t counted = 0, better = 0, worse = 0;
-  const double tolerance = geometry::DistanceOptions{}.tolerance;
-  for (const LayerAnalysis& layer : layers) {
-    const auto& m = layer.strategies[k].metrics;
-    const auto& base = layer.strategies[b].metrics;
-    if (base.volume_deviation > geometry::kNegligibleVolume) {
-      const double change = (m.volume_deviation - base.volume_deviation) / base.volume_deviation;
-      per_layer += change;
-      lowest = counted ? std::min(lowest, change) : change;
-      highest = counted ? std::max(highest, change) : change;
-      ++counted;
-    }
-    if (m.distance < base.distance - tolerance) ++better;
-    if (m.distance > base.distance + tolerance) ++worse;
-  }
-  const StrategySummary& s = summaries[k];
-  const StrategySummary& base = summaries[b];
-  nlohmann::json j;
-  j["strategy"] = name_of(s.strategy);
-  j["baseline"] = name_of(base.strategy);
-  // Below the distance metric's tolerance a D is zero; below a 10 um cube per layer a ΔV is.
-  const double no_distance = tolerance;
-  const double no_volume = geometry::kNegligibleVolume * static_cast<double>(layers.size());
-  j["mean_distance_change_percent"] = percent_or_null(s.mean_distance, base.mean_distance, no_distance);
-  j["max_distance_change_percent"] = percent_or_null(s.max_distance, base.max_distance, no_distance);
-  j["total_deviation_change_percent"] =
-      percent_or_null(s.total_deviation, base.total_deviation, no_volume);
-  j["mean_distance_change"] = s.mean_distance - base.mean_distance;
-  j["max_distance_change"] = s.max_distance - base.max_distance;
-  j["total_deviation_change"] = s.total_deviation - base.total_deviation;
-  j["per_layer_deviation_change_percent"] = counted ? 100 * per_layer / counted : 0.0;
-  j["layers_compared_for_deviation"] = counted;
-  j["per_layer_deviation_change_min_percent"] = 100 * lowest;
-  j["per_layer_deviation_change_max_percent"] = 100 * highest;
-  j["layers_distance_better"] = better;
-  j["layers_distance_worse"] = worse;
+// A comparison's line: "ma vs lower: mean D -12.3%, ...".
+void print_comparison(const app::Comparison& c, const std::vector<StrategySummary>& summaries,
+                      std::size_t layers) {
+  const StrategySummary& s = summaries[c.strategy];
+  const StrategySummary& base = summaries[c.baseline];
   const std::string per_layer_text =
-      counted ? fmt::format("ΔV per layer {}% on average ({}% to {}%)",
-                            signed_text(100 * per_layer / counted, 1), signed_text(100 * lowest, 0),
-                            signed_text(100 * highest, 0))
-              : std::string("ΔV per layer: n/a (the baseline's is negligible)");
+      c.layers_compared ? fmt::format("ΔV per layer {}% on average ({}% to {}%)",
+                                      signed_text(c.per_layer_change_percent, 1),
+                                      signed_text(c.least_change_percent, 0),
+                                      signed_text(c.greatest_change_percent, 0))
+                        : std::string("ΔV per layer: n/a (the baseline's is negligible)");
   fmt::print("{} vs {}: mean D {}, max D {}, total ΔV {}, {}; D better on {}, worse on {} of {} "
              "layers\n",
              name_of(s.strategy), name_of(base.strategy),
-             change_text(s.mean_distance, base.mean_distance, no_distance, "mm", 4),
-             change_text(s.max_distance, base.max_distance, no_distance, "mm", 4),
-             change_text(s.total_deviation, base.total_deviation, no_volume, "mm³", 3),
-             per_layer_text, better, worse, layers.size());
+             change_text(s.mean_distance, base.mean_distance, c.negligible_distance, "mm", 4),
+             change_text(s.max_distance, base.max_distance, c.negligible_distance, "mm", 4),
+             change_text(s.total_deviation, base.total_deviation, c.negligible_volume, "mm³", 3),
+             per_layer_text, c.distance_better, c.distance_worse, layers);
+}
+
+nlohmann::json comparison_json(const app::Comparison& c, const std::vector<StrategySummary>& summaries) {
+  const StrategySummary& s = summaries[c.strategy];
+  const StrategySummary& base = summaries[c.baseline];
+  nlohmann::json j;
+  j["strategy"] = name_of(s.strategy);
+  j["baseline"] = name_of(base.strategy);
+  j["mean_distance_change_percent"] =
+      percent_or_null(s.mean_distance, base.mean_distance, c.negligible_distance);
+  j["max_distance_change_percent"] =
+      percent_or_null(s.max_distance, base.max_distance, c.negligible_distance);
+  j["total_deviation_change_percent"] =
+      percent_or_null(s.total_deviation, base.total_deviation, c.negligible_volume);
+  j["mean_distance_change"] = s.mean_distance - base.mean_distance;
+  j["max_distance_change"] = s.max_distance - base.max_distance;
+  j["total_deviation_change"] = s.total_deviation - base.total_deviation;
+  j["per_layer_deviation_change_percent"] = c.per_layer_change_percent;
+  j["layers_compared_for_deviation"] = c.layers_compared;
+  j["per_layer_deviation_change_min_percent"] = c.least_change_percent;
+  j["per_layer_deviation_change_max_percent"] = c.greatest_change_percent;
+  j["layers_distance_better"] = c.distance_better;
+  j["layers_distance_worse"] = c.distance_worse;
   return j;
 }
 
@@ -364,19 +277,20 @@ void fit_y_axis(Chart& chart) {
   chart.title += fmt::format(" ({} point{} above {:.3g} not shown)", above, above == 1 ? "" : "s", cap);
 }
 
-void draw_layer(const geometry::LayerStack& stack, std::size_t index,
-                const Strategies& kinds, const std::string& path) {
-  geometry::AnalysisOptions options;
-  const LayerAnalysis analysis = geometry::analyze_layer(stack, index, kinds, options);
-  const geometry::Slab slab = geometry::slab_of(stack, index);
-  const geometry::Region footprint = geometry::slab_footprint(slab);
+void write_chart(const std::string& path, Chart chart) {
+  fit_y_axis(chart);
+  write_chart_svg(path, chart);
+}
+
+// --layer-index: the layer's footprint and contours drawn, and their metrics printed.
+void draw_layer(const app::LayerDrawing& drawing, const std::string& path) {
   std::vector<Outline> outlines;
-  Outline pair{"boundary pair (slab footprint)", footprint.loops, "#888888", 4.0, false};
+  Outline pair{"boundary pair (slab footprint)", drawing.footprint.loops, "#888888", 4.0, false};
   outlines.push_back(pair);
-  const geometry::Layer layer = stack.layers()[index];
-  fmt::print("layer {} [{:.3f}, {:.3f}] mm: {} island(s)\n", index, layer.z_lo, layer.z_hi,
-             geometry::boundary_pairs(footprint).size());
-  for (const geometry::StrategyLayer& s : analysis.strategies) {
+  const geometry::Layer& layer = drawing.layer;
+  fmt::print("layer {} [{:.3f}, {:.3f}] mm: {} island(s)\n", drawing.index, layer.z_lo, layer.z_hi,
+             drawing.islands);
+  for (const geometry::StrategyLayer& s : drawing.analysis.strategies) {
     Outline o{fmt::format("{} (D {:.3f} mm, ΔV {:.4f} mm³)", name_of(s.strategy),
                           s.metrics.distance, s.metrics.volume_deviation),
               s.region.loops, std::string(s.strategy->colour), 1.6, s.strategy->name == "lower"};
@@ -388,8 +302,8 @@ void draw_layer(const geometry::LayerStack& stack, std::size_t index,
                s.metrics.missed_features);
   }
   write_outlines_svg(path,
-                     fmt::format("layer {} (z {:.3f} to {:.3f} mm): contours", index, layer.z_lo,
-                                 layer.z_hi),
+                     fmt::format("layer {} (z {:.3f} to {:.3f} mm): contours", drawing.index,
+                                 layer.z_lo, layer.z_hi),
                      outlines);
   fmt::print("wrote {}\n", path);
 }
@@ -398,25 +312,9 @@ void draw_layer(const geometry::LayerStack& stack, std::size_t index,
 // many layers: each layer's thickness against height (adaptive-thickness.svg) and the printed
 // contour's D against height with the tolerance (adaptive-distance.svg).
 template <typename PathOf>
-void write_plan_charts(const app::LayerChoice& plan, const std::vector<LayerAnalysis>& layers,
-                       const Strategies& kinds, const ContourStrategy& printed,
-                       const std::string& printer_name, const geometry::Mesh& mesh, double height,
+void write_plan_charts(const app::AnalyzeResult& result, const ContourStrategy& printed,
                        const PathOf& path_of) {
-  const printer::PrinterProfile profile =
-      printer::load_printer_profile(printer_name, app::profile_search_path());
-  const geometry::AllowedThicknesses allowed = app::allowed_thicknesses(profile);
-  const std::size_t count = plan.layers.size();
-  double same = allowed.thinnest();
-  if (count > 1) {
-    // The allowed thickness nearest to the plan's mean after the first layer.
-    const double mean = (plan.layers.back().z_hi - plan.layers.front().z_hi) / static_cast<double>(count - 1);
-    for (double t = allowed.thinnest(); t <= allowed.thickest() + 1e-9;
-         t += allowed.step > 0 ? allowed.step : 0.01) {
-      if (allowed.allows(t) && std::abs(t - mean) < std::abs(same - mean)) same = t;
-    }
-  }
-  const auto flats = geometry::flat_levels(mesh);
-  const Strategies printed_only{&printed};
+  const app::LayerChoice& plan = *result.plan;
   Chart thickness{"Layer thickness: adaptive against uniform", "height, mm", "thickness, mm", {}};
   Chart distance{fmt::format("Distance error of {}: adaptive (D within {:.3g} mm) against uniform",
                              printed.name, plan.plan.tolerance),
@@ -435,18 +333,15 @@ void write_plan_charts(const app::LayerChoice& plan, const std::vector<LayerAnal
     if (style != "points") d.style = "points pt 6 ps 0.4";
     distance.series.push_back(d);
   };
-  add(layers, static_cast<std::size_t>(index_of(kinds, printed.name)),
-      fmt::format("adaptive, {} layers", count), "points", "#d62728");
+  add(result.analysis, static_cast<std::size_t>(app::strategy_index(result.strategies, printed.name)),
+      fmt::format("adaptive, {} layers", plan.layers.size()), "points", "#d62728");
   const char* colours[] = {"#1f77b4", "#2ca02c"};
-  int c = 0;
-  for (double t : {allowed.thinnest(), same}) {
-    if (c == 1 && std::abs(t - allowed.thinnest()) < 1e-9) break;
-    const geometry::LayerStack uniform(mesh, geometry::uniform_plan(height, t, allowed, flats).layers);
-    const auto judged = run_analysis(uniform, printed_only, false,
-                                     fmt::format("{} at {:g} mm", printed.name, t), true);
-    add(judged, 0, fmt::format("uniform {:g} mm, {} layers", t, uniform.size()), "lines", colours[c++]);
+  for (std::size_t c = 0; c < result.uniform.size(); ++c) {
+    const app::UniformLayers& uniform = result.uniform[c];
+    add(uniform.layers, 0, fmt::format("uniform {:g} mm, {} layers", uniform.thickness, uniform.layers.size()),
+        "lines", colours[c]);
   }
-  Series limit{fmt::format("tolerance {:.3g} mm", plan.plan.tolerance), {0, height},
+  Series limit{fmt::format("tolerance {:.3g} mm", plan.plan.tolerance), {0, result.height},
                {plan.plan.tolerance, plan.plan.tolerance}, "lines lw 1 dt 2", "#000000"};
   distance.series.push_back(limit);
   fit_y_axis(distance);
@@ -455,49 +350,27 @@ void write_plan_charts(const app::LayerChoice& plan, const std::vector<LayerAnal
   fmt::print("wrote {}, {}\n", path_of("adaptive-thickness.svg"), path_of("adaptive-distance.svg"));
 }
 
-// The strategies --contours names, each once.
-Strategies listed_strategies(const AnalyzeOptions& options) {
-  Strategies kinds;
-  for (const std::string& name : split_list(options.contours)) {
-    const ContourStrategy& kind = app::contour_strategy_option(name, "--contours");
-    if (index_of(kinds, kind.name) < 0) kinds.push_back(&kind);
-  }
-  if (kinds.empty()) {
-    throw geometry::InputError(
-        fmt::format("--contours: give at least one of {}", geometry::contour_names()));
-  }
-  return kinds;
-}
-
 void make_plots_folder(const std::string& plots) {
   std::error_code error;
   std::filesystem::create_directories(plots, error);
   if (error || !std::filesystem::is_directory(plots)) {
-    throw geometry::InputError(fmt::format(
+    throw app::InputError(fmt::format(
         "--plots {}: cannot create this directory ({}); give one you can write to", plots,
         error ? error.message() : "not a directory"));
   }
-}
-
-// The least ΔV any extruded layers can have, mm³: the layers' volume limits summed.
-double total_volume_limit(const std::vector<LayerAnalysis>& layers) {
-  double total = 0;
-  for (const LayerAnalysis& layer : layers)
-    if (!layer.strategies.empty()) total += layer.strategies[0].metrics.volume_limit;
-  return total;
 }
 
 double ms_per_layer(const StrategySummary& s) {
   return 1e3 * s.contour_seconds / std::max<std::size_t>(s.layers, 1);
 }
 
-// The table of the strategies' summaries, its legend, and optimal-height's time per slice.
+// The table of the strategies' summaries, its legend.
 void print_summary_table(const std::vector<StrategySummary>& summaries, const Strategies& kinds,
                          const geometry::ZRange& excluded) {
   fmt::print("{:<15} {:>8} {:>8} {:>8} {:>8} {:>10} {:>9} {:>9} {:>7} {:>7} {:>5} {:>10}\n",
              "strategy", "mean D", "max D", "P95h D", "mean H", "total ΔV", "mean ΔV", "ΔV>limit",
              "missed", ">lower", ">mid", "ms/layer");
-  const int lower = index_of(kinds, "lower"), mid = index_of(kinds, "mid");
+  const int lower = app::strategy_index(kinds, "lower"), mid = app::strategy_index(kinds, "mid");
   for (const StrategySummary& s : summaries) {
     fmt::print("{:<15} {:8.4f} {:8.4f} {:8.4f} {:8.4f} {:10.3f} {:9.5f} {:>9} {:7} {:>7} {:>5} "
                "{:10.2f}\n",
@@ -518,25 +391,17 @@ void print_summary_table(const std::vector<StrategySummary>& summaries, const St
                               : fmt::format(", z {:g} to {:g} mm left out", excluded.lo, excluded.hi));
 }
 
-// Each strategy against lower, and against mid (but lower and mid themselves), as compare()
-// prints and returns them.
-nlohmann::json comparisons_of(const std::vector<LayerAnalysis>& layers,
-                              const std::vector<StrategySummary>& summaries, const Strategies& kinds) {
-  const int lower = index_of(kinds, "lower"), mid = index_of(kinds, "mid");
-  nlohmann::json comparisons = nlohmann::json::array();
-  for (std::size_t k = 0; k < kinds.size(); ++k) {
-    if (lower >= 0 && static_cast<int>(k) != lower)
-      comparisons.push_back(compare(layers, summaries, k, static_cast<std::size_t>(lower)));
-    if (mid >= 0 && static_cast<int>(k) != mid && static_cast<int>(k) != lower)
-      comparisons.push_back(compare(layers, summaries, k, static_cast<std::size_t>(mid)));
+// The comparisons' lines and optimal-height's time per slice.
+void print_comparisons(const app::AnalyzeResult& result) {
+  for (const app::Comparison& c : result.comparisons) {
+    print_comparison(c, result.summaries, result.analysis.size());
   }
-  const int optimal = index_of(kinds, "optimal-height");
+  const int optimal = app::strategy_index(result.strategies, "optimal-height");
   if (optimal >= 0) {
     fmt::print("optimal-height: {:.1f} ms per slice on one core (the paper's CATIA search: about "
                "90 s per slice)\n",
-               ms_per_layer(summaries[optimal]));
+               ms_per_layer(result.summaries[optimal]));
   }
-  return comparisons;
 }
 
 void write_layers_csv(const std::string& path, const std::vector<LayerAnalysis>& layers,
@@ -553,60 +418,56 @@ void write_layers_csv(const std::string& path, const std::vector<LayerAnalysis>&
                          m.hausdorff, m.missed_features, 1e3 * s.contour_seconds);
     }
   }
-  if (!out) throw geometry::InputError(fmt::format("--csv {}: writing failed", path));
+  if (!out) throw app::InputError(fmt::format("--csv {}: writing failed", path));
   fmt::print("wrote {}: {} rows\n", path, layers.size() * strategies);
 }
 
 // Fig. 24-25: the medial-axis contour at thicker layers against lower at this thickness, a
 // line and a chart each.
-nlohmann::json thicker_ma(const AnalyzeOptions& options, const std::vector<double>& thick,
-                          const geometry::Mesh& mesh, double height,
-                          const std::vector<LayerAnalysis>& layers, std::size_t lower) {
-  nlohmann::json thicker = nlohmann::json::array();
-  const Strategies ma_only{&geometry::contour_strategy("ma")};
-  for (double t : thick) {
-    if (std::abs(t - options.layer) < 1e-9) continue;
-    const geometry::LayerStack thick_stack(mesh, geometry::uniform_layers(height, t));
-    const auto thick_layers =
-        run_analysis(thick_stack, ma_only, false, fmt::format("ma at {:g} mm", t), true);
-    std::vector<double> limits;
-    const double share = share_within(thick_layers, 0, layers, lower,
-                                      geometry::DistanceOptions{}.tolerance, &limits);
-    const auto thick_summary = geometry::summarize(thick_layers);
+void print_thicker_ma(const AnalyzeOptions& options, const app::AnalyzeResult& result) {
+  const auto lower = static_cast<std::size_t>(app::strategy_index(result.strategies, "lower"));
+  for (const app::ThickerLayers& thick : result.thicker) {
     fmt::print("ma at {:g} mm: {} layers, mean D {:.4f} mm, max D {:.4f} mm; D within lower's at "
                "{:g} mm on {:.1f}% of layers\n",
-               t, thick_stack.size(), thick_summary[0].mean_distance,
-               thick_summary[0].max_distance, options.layer, share);
-    thicker.push_back({{"thickness", t},
-                       {"layers", thick_stack.size()},
-                       {"mean_distance", thick_summary[0].mean_distance},
-                       {"max_distance", thick_summary[0].max_distance},
-                       {"within_benchmark_percent", share}});
-    Chart chart{fmt::format("Distance error: lower ({:g} mm) vs MA ({:g} mm)", options.layer, t),
+               thick.thickness, thick.layers.size(), thick.mean_distance, thick.max_distance,
+               options.layer, thick.within_percent);
+    Chart chart{fmt::format("Distance error: lower ({:g} mm) vs MA ({:g} mm)", options.layer, thick.thickness),
                 "height, mm", "distance error D, mm", {}};
-    chart.series.push_back(per_layer_series(layers, lower, true,
+    chart.series.push_back(per_layer_series(result.analysis, lower, true,
                                             fmt::format("lower, {:g} mm", options.layer)));
-    chart.series.push_back(per_layer_series(thick_layers, 0, true, fmt::format("ma, {:g} mm", t)));
-    const std::string path = (std::filesystem::path(options.plots) /
-                              fmt::format("distance-lower-{:g}-vs-ma-{:g}.svg", options.layer, t))
-                                 .string();
-    fit_y_axis(chart);
-    write_chart_svg(path, chart);
+    chart.series.push_back(per_layer_series(thick.layers, 0, true, fmt::format("ma, {:g} mm", thick.thickness)));
+    const std::string path =
+        (std::filesystem::path(options.plots) /
+         fmt::format("distance-lower-{:g}-vs-ma-{:g}.svg", options.layer, thick.thickness))
+            .string();
+    write_chart(path, chart);
     fmt::print("wrote {}\n", path);
+  }
+}
+
+nlohmann::json thicker_json(const app::AnalyzeResult& result) {
+  nlohmann::json thicker = nlohmann::json::array();
+  for (const app::ThickerLayers& thick : result.thicker) {
+    thicker.push_back({{"thickness", thick.thickness},
+                       {"layers", thick.layers.size()},
+                       {"mean_distance", thick.mean_distance},
+                       {"max_distance", thick.max_distance},
+                       {"within_benchmark_percent", thick.within_percent}});
   }
   return thicker;
 }
 
 // The charts of --plots: D and ΔV per layer of every strategy, the plan's, and Fig. 22's pairs
 // (lower and mid each against the medial-axis contour).
-void write_layer_charts(const AnalyzeOptions& options, const std::vector<LayerAnalysis>& layers,
-                        const Strategies& kinds, const std::optional<app::LayerChoice>& plan,
-                        const ContourStrategy& export_kind, const geometry::Mesh& mesh, double height) {
+void write_layer_charts(const AnalyzeOptions& options, const app::AnalyzeResult& result,
+                        const ContourStrategy& printed) {
+  const std::vector<LayerAnalysis>& layers = result.analysis;
+  const Strategies& kinds = result.strategies;
   const auto path_of = [&](const std::string& name) {
     return (std::filesystem::path(options.plots) / name).string();
   };
   const std::string at =
-      plan ? std::string("of the adaptive plan") : fmt::format("at {:g} mm", options.layer);
+      result.plan ? std::string("of the adaptive plan") : fmt::format("at {:g} mm", options.layer);
   Chart all{fmt::format("Distance error per layer {}", at), "height, mm",
             "distance error D, mm", {}};
   Chart volume{fmt::format("Volume deviation per layer {}", at), "height, mm",
@@ -621,14 +482,12 @@ void write_layer_charts(const AnalyzeOptions& options, const std::vector<LayerAn
     limit.y.push_back(layer.strategies[0].metrics.volume_limit);
   }
   volume.series.push_back(limit);
-  fit_y_axis(all);
-  fit_y_axis(volume);
-  write_chart_svg(path_of("distance.svg"), all);
-  write_chart_svg(path_of("volume.svg"), volume);
+  write_chart(path_of("distance.svg"), all);
+  write_chart(path_of("volume.svg"), volume);
   fmt::print("wrote {}, {}\n", path_of("distance.svg"), path_of("volume.svg"));
-  if (plan) write_plan_charts(*plan, layers, kinds, export_kind, options.printer, mesh, height, path_of);
-  const int lower = index_of(kinds, "lower"), mid = index_of(kinds, "mid");
-  const int ma = index_of(kinds, "ma");
+  if (result.plan) write_plan_charts(result, printed, path_of);
+  const int lower = app::strategy_index(kinds, "lower"), mid = app::strategy_index(kinds, "mid");
+  const int ma = app::strategy_index(kinds, "ma");
   for (int base : {lower, mid}) {
     if (base < 0 || ma < 0) continue;
     Chart pair{fmt::format("Distance error: {} vs ma at {:g} mm", name_of(kinds[base]), options.layer),
@@ -636,47 +495,32 @@ void write_layer_charts(const AnalyzeOptions& options, const std::vector<LayerAn
     pair.series.push_back(per_layer_series(layers, static_cast<std::size_t>(base), true, name_of(kinds[base])));
     pair.series.push_back(per_layer_series(layers, static_cast<std::size_t>(ma), true, "ma"));
     const std::string path = path_of(fmt::format("distance-{}-vs-ma.svg", name_of(kinds[base])));
-    fit_y_axis(pair);
-    write_chart_svg(path, pair);
+    write_chart(path, pair);
     fmt::print("wrote {}\n", path);
   }
 }
 
-// --export-layers: the regions of `export_kind` extruded between their layers' planes, as STL.
-void export_layered_part(const AnalyzeOptions& options, const geometry::LayerStack& stack,
-                         const std::vector<LayerAnalysis>& layers, const Strategies& kinds,
-                         const ContourStrategy& export_kind, const geometry::Mesh& mesh) {
-  const std::size_t k = static_cast<std::size_t>(index_of(kinds, export_kind.name));
-  std::vector<geometry::Region> regions;
-  regions.reserve(layers.size());
-  for (const LayerAnalysis& layer : layers) regions.push_back(layer.strategies[k].region);
-  const geometry::Mesh extruded = geometry::extruded_layers(stack.layers(), regions);
-  geometry::write_stl_binary(options.export_layers, extruded);
+// --export-layers: the layered part as STL.
+void export_layered_part(const AnalyzeOptions& options, const app::AnalyzeResult& result,
+                         const ContourStrategy& exported) {
+  const geometry::Mesh& part = *result.layered_part;
+  app::write_stl(part, options.export_layers);
   fmt::print("wrote {}: the layered part of {} ({} layers, {} triangles, {:.2f} mm³; model "
              "{:.2f} mm³)\n",
-             options.export_layers, export_kind.name, layers.size(), extruded.faces.size(),
-             geometry::signed_volume(extruded), geometry::signed_volume(mesh));
+             options.export_layers, exported.name, result.analysis.size(), part.faces.size(),
+             result.layered_part_volume, result.model_volume);
 }
 
-// What --json writes: the part, its layers, the summaries, comparisons and thicker MA.
-struct AnalysisReport {
-  double height = 0;
-  std::size_t layer_count = 0;
-  geometry::ZRange excluded;
-  double volume_limit = 0;
-  nlohmann::json comparisons, thicker;
-};
-
-void write_analysis_json(const AnalyzeOptions& options, const AnalysisReport& report,
-                         const std::vector<LayerAnalysis>& layers,
-                         const std::vector<StrategySummary>& summaries) {
+void write_analysis_json(const AnalyzeOptions& options, const geometry::ZRange& excluded,
+                         const app::AnalyzeResult& result) {
+  const std::vector<LayerAnalysis>& layers = result.analysis;
   nlohmann::json j;
   j["model"] = options.model.path;
-  j["height"] = report.height;
+  j["height"] = result.height;
   j["layer_thickness"] = options.boundaries.empty() ? nlohmann::json(options.layer)
                                                     : nlohmann::json(nullptr);
   if (!options.boundaries.empty()) j["boundaries"] = options.boundaries;
-  j["layers"] = report.layer_count;
+  j["layers"] = result.layers.size();
   double thinnest = layers.front().layer.thickness(), thickest = thinnest;
   for (const LayerAnalysis& layer : layers) {
     thinnest = std::min(thinnest, layer.layer.thickness());
@@ -685,15 +529,14 @@ void write_analysis_json(const AnalyzeOptions& options, const AnalysisReport& re
   j["layer_thickness_min"] = thinnest;
   j["layer_thickness_max"] = thickest;
   j["layers_top"] = layers.empty() ? 0.0 : layers.back().layer.z_hi;
-  j["percentile_excluded_z"] = report.excluded.empty()
-                                   ? nlohmann::json(nullptr)
-                                   : nlohmann::json::array({report.excluded.lo, report.excluded.hi});
-  j["volume_limit"] = report.volume_limit;
+  j["percentile_excluded_z"] = excluded.empty() ? nlohmann::json(nullptr)
+                                                : nlohmann::json::array({excluded.lo, excluded.hi});
+  j["volume_limit"] = result.volume_limit;
   j["strategies"] = nlohmann::json::array();
   const auto number_or_null = [](double v) {
     return std::isnan(v) ? nlohmann::json(nullptr) : nlohmann::json(v);
   };
-  for (const StrategySummary& s : summaries) {
+  for (const StrategySummary& s : result.summaries) {
     j["strategies"].push_back({{"strategy", name_of(s.strategy)},
                                {"mean_distance", s.mean_distance},
                                {"max_distance", s.max_distance},
@@ -708,204 +551,197 @@ void write_analysis_json(const AnalyzeOptions& options, const AnalysisReport& re
                                {"layers_worse_than_mid", s.worse_than_mid},
                                {"contour_ms_per_layer", ms_per_layer(s)}});
   }
-  j["comparisons"] = report.comparisons;
-  j["thicker_ma"] = report.thicker;
-  std::ofstream out = open_output(options.json, "--json");
-  out << j.dump(2) << "\n";
-  if (!out) throw geometry::InputError(fmt::format("--json {}: writing failed", options.json));
+  j["comparisons"] = nlohmann::json::array();
+  for (const app::Comparison& c : result.comparisons) j["comparisons"].push_back(comparison_json(c, result.summaries));
+  j["thicker_ma"] = thicker_json(result);
+  write_json(j, options.json);
   fmt::print("wrote {}\n", options.json);
 }
 
+// The request the flags make, checked in the order a user hears of them: --contours,
+// --contour, --thick, --plots, --exclude-z.
+app::AnalyzeRequest analyze_request(const AnalyzeOptions& options) {
+  app::AnalyzeRequest request;
+  request.strategies = app::strategy_list(split_list(options.contours), "--contours");
+  request.contour = &app::contour_strategy_option(options.contour, "--contour");
+  if (!options.plots.empty()) {
+    request.thicker = thickness_list(options.thick, "--thick");
+    make_plots_folder(options.plots);
+    request.plan_beside_uniform = true;
+  }
+  if (!options.exclude_z.empty()) request.excluded = parse_z_range(options.exclude_z);
+  request.model = options.model;
+  request.layer = options.layer;
+  request.boundaries = options.boundaries;
+  request.from_zero = options.from_zero;
+  request.adaptive = options.adaptive;
+  request.printer = options.printer;
+  if (options.layer_index >= 0) request.layer_index = static_cast<std::size_t>(options.layer_index);
+  request.export_layers = !options.export_layers.empty();
+  return request;
+}
+
 void run_analyze(const AnalyzeOptions& options) {
-  Strategies kinds = listed_strategies(options);
-  // --contour's strategy is measured too where --export-layers or --adaptive needs it.
-  const bool exporting = !options.export_layers.empty();
-  const ContourStrategy& export_kind = app::contour_strategy_option(options.contour, "--contour");
-  if ((exporting || options.adaptive.wanted()) && index_of(kinds, export_kind.name) < 0) {
-    kinds.push_back(&export_kind);
-  }
-  const std::vector<double> thick = options.plots.empty() ? std::vector<double>{}
-                                                          : thickness_list(options.thick, "--thick");
-  if (!options.plots.empty()) make_plots_folder(options.plots);
-
-  AnalysisReport report;
-  report.excluded = options.exclude_z.empty() ? geometry::ZRange{} : parse_z_range(options.exclude_z);
-  const geometry::Mesh mesh = load_model_noting(options.model);
-  report.height = part_height(mesh);
-  std::optional<app::LayerChoice> plan;
-  if (options.adaptive.wanted()) {
-    plan = adaptive_choice(options.adaptive, options.printer, mesh, report.height, export_kind);
-  }
-  const geometry::LayerStack stack(
-      mesh, plan ? plan->layers
-                 : analysis_layers(options.boundaries, options.layer, options.from_zero,
-                                   options.printer, mesh, report.height));
-  if (stack.size() == 0) {
-    throw geometry::InputError(fmt::format("{}: the model has no height to slice",
-                                           options.model.path));
-  }
-  report.layer_count = stack.size();
-  const std::string layers_text = app::describe_layers(stack.layers());
-  if (options.layer_index >= static_cast<int>(stack.size())) {
-    throw geometry::InputError(fmt::format("--layer-index {}: the part has {} (indices 0 to {})",
-                                           options.layer_index, layers_text, stack.size() - 1));
-  }
-
-  const std::vector<LayerAnalysis> layers = run_analysis(stack, kinds, exporting, "analyze");
-  const std::vector<StrategySummary> summaries =
-      geometry::summarize(layers, geometry::DistanceOptions{}.tolerance, report.excluded);
-  report.volume_limit = total_volume_limit(layers);
+  const app::AnalyzeRequest request = analyze_request(options);
+  TerminalEvents terminal;
+  const app::AnalyzeResult result = app::analyze(request, terminal.events());
+  terminal.finish();
   fmt::print("{}: {:.2f} mm tall, {}; volume limit {:.3f} mm³ (the least ΔV any extruded "
              "layers can have)\n",
-             options.model.path, report.height, layers_text, report.volume_limit);
-  if (plan) fmt::print("{}\n", app::describe_choice(*plan));
-  print_summary_table(summaries, kinds, report.excluded);
-  report.comparisons = comparisons_of(layers, summaries, kinds);
-  if (!options.csv.empty()) write_layers_csv(options.csv, layers, kinds.size());
-  report.thicker = nlohmann::json::array();
-  const int lower = index_of(kinds, "lower");
-  if (!thick.empty() && lower >= 0) {
-    report.thicker = thicker_ma(options, thick, mesh, report.height, layers, static_cast<std::size_t>(lower));
-  }
-  if (!options.plots.empty()) {
-    write_layer_charts(options, layers, kinds, plan, export_kind, mesh, report.height);
-  }
-  if (options.layer_index >= 0) {
+             options.model.path, result.height, app::describe_layers(result.layers), result.volume_limit);
+  if (result.plan) fmt::print("{}\n", app::describe_choice(*result.plan));
+  print_summary_table(result.summaries, result.strategies, request.excluded);
+  print_comparisons(result);
+  if (!options.csv.empty()) write_layers_csv(options.csv, result.analysis, result.strategies.size());
+  print_thicker_ma(options, result);
+  if (!options.plots.empty()) write_layer_charts(options, result, *request.contour);
+  if (result.drawing) {
     const std::string name = fmt::format("layer-{}.svg", options.layer_index);
     const std::string path = options.plots.empty()
                                  ? name
                                  : (std::filesystem::path(options.plots) / name).string();
-    draw_layer(stack, static_cast<std::size_t>(options.layer_index), kinds, path);
+    draw_layer(*result.drawing, path);
   }
-  if (exporting) export_layered_part(options, stack, layers, kinds, export_kind, mesh);
-  if (!options.json.empty()) write_analysis_json(options, report, layers, summaries);
+  if (result.layered_part) export_layered_part(options, result, *request.contour);
+  if (!options.json.empty()) write_analysis_json(options, request.excluded, result);
 }
 
-std::vector<double> allowed_thicknesses(const printer::PrinterProfile& profile) {
-  const printer::LayerThicknesses& layer = profile.layer;
-  if (!layer.allowed.empty()) {
-    std::vector<double> values = layer.allowed;
-    std::sort(values.begin(), values.end());
-    return values;
+// The flags as a request: --contour, then --thicknesses.
+app::AdviseRequest advise_request(const AdviseOptions& options) {
+  app::AdviseRequest request;
+  request.contour = &app::contour_strategy_option(options.contour, "--contour");
+  if (!options.thicknesses.empty()) request.thicknesses = thickness_list(options.thicknesses, "--thicknesses");
+  request.model = options.model;
+  request.printer = options.printer;
+  request.boundaries = options.boundaries;
+  request.adaptive = options.adaptive;
+  request.share = options.share;
+  return request;
+}
+
+nlohmann::json advise_row_json(const app::AdviseRow& row) {
+  return {{"layers", row.layers},
+          {"mean_distance", row.mean_distance},
+          {"max_distance", row.max_distance},
+          {"within_benchmark_percent", row.within_percent},
+          {"fewer_layers_percent", row.fewer_layers_percent}};
+}
+
+void print_advise_table(const app::AdviseResult& result) {
+  fmt::print("{:>9} {:>7} {:>8} {:>8} {:>8} {:>12}\n", "thickness", "layers", "mean D", "max D",
+             "within", "fewer layers");
+  for (const app::AdviseRow& row : result.rows) {
+    fmt::print("{:>7.3g}mm {:7} {:8.4f} {:8.4f} {:7.1f}% {:11.1f}%\n", row.thickness, row.layers,
+               row.mean_distance, row.max_distance, row.within_percent, row.fewer_layers_percent);
   }
-  if (!(layer.step > 0)) {
-    throw geometry::InputError(fmt::format(
-        "--printer {}: it allows any layer from {:g} to {:g} mm, not a list; give the "
-        "thicknesses to compare with --thicknesses, e.g. --thicknesses 0.1,0.15,0.2",
-        profile.name, layer.min, layer.max));
+  if (result.plan) {
+    const app::AdviseRow& row = *result.plan;
+    fmt::print("{:>9} {:7} {:8.4f} {:8.4f} {:7.1f}% {:11.1f}%   ({})\n",
+               result.adaptive ? "adaptive" : "plan", row.layers, row.mean_distance,
+               row.max_distance, row.within_percent, row.fewer_layers_percent,
+               app::describe_layers(result.plan_layers));
+    if (result.adaptive) fmt::print("          {}\n", app::describe_choice(*result.adaptive));
   }
-  std::vector<double> values;
-  for (int i = 0;; ++i) {
-    const double t = layer.min + i * layer.step;
-    if (t > layer.max + 1e-9) break;
-    values.push_back(std::round(t * 1e6) / 1e6);
+}
+
+void write_advise_json(const AdviseOptions& options, const app::AdviseResult& result,
+                       const std::string& contour) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const app::AdviseRow& row : result.rows) {
+    nlohmann::json j = {{"thickness", row.thickness}};
+    j.update(advise_row_json(row));
+    rows.push_back(j);
   }
-  return values;
+  nlohmann::json plan_row(nullptr);
+  if (result.plan) {
+    plan_row = {{"boundaries", result.adaptive ? std::string("adaptive") : options.boundaries},
+                {"tolerance", result.adaptive ? nlohmann::json(result.adaptive->plan.tolerance)
+                                              : nlohmann::json(nullptr)}};
+    plan_row.update(advise_row_json(*result.plan));
+  }
+  nlohmann::json j{{"model", options.model.path},
+                   {"contour", contour},
+                   {"benchmark_thickness", result.benchmark_thickness},
+                   {"share_required_percent", options.share},
+                   {"thicknesses", rows},
+                   {"plan", plan_row},
+                   {"advised_thickness", result.advised ? nlohmann::json(*result.advised) : nlohmann::json(nullptr)}};
+  write_json(j, options.json);
 }
 
 void run_advise(const AdviseOptions& options) {
-  const ContourStrategy* kind = &app::contour_strategy_option(options.contour, "--contour");
-  std::vector<double> thicknesses;
-  std::string source;
-  if (!options.thicknesses.empty()) {
-    thicknesses = thickness_list(options.thicknesses, "--thicknesses");
-    source = "--thicknesses";
-  } else {
-    const printer::PrinterProfile profile = printer::load_printer_profile(
-        options.printer, app::profile_search_path());
-    thicknesses = allowed_thicknesses(profile);
-    source = fmt::format("{} ({})", profile.name, profile.layer.describe());
-  }
-  if (thicknesses.empty()) throw geometry::InputError("--thicknesses: give at least one thickness");
-
-  const geometry::Mesh mesh = load_model_noting(options.model);
-  const double height = part_height(mesh);
-  const double thinnest = thicknesses.front();
-  const geometry::LayerStack bench_stack(mesh, geometry::uniform_layers(height, thinnest));
-  const Strategies bench_kinds{&geometry::contour_strategy("lower")};
-  const auto benchmark = run_analysis(bench_stack, bench_kinds, false,
-                                      fmt::format("lower at {:g} mm", thinnest), true);
-  const auto bench_summary = geometry::summarize(benchmark);
-  fmt::print("{}: {:.2f} mm tall; thicknesses from {}\n", options.model.path, height, source);
+  const app::AdviseRequest request = advise_request(options);
+  TerminalEvents terminal;
+  const app::AdviseResult result = app::advise(request, terminal.events());
+  terminal.finish();
+  const std::string contour = name_of(request.contour);
+  const double thinnest = result.benchmark_thickness;
+  fmt::print("{}: {:.2f} mm tall; thicknesses from {}\n", options.model.path, result.height,
+             result.thicknesses_from);
   fmt::print("benchmark: lower at {:g} mm, {} layers, mean D {:.4f} mm, max D {:.4f} mm\n",
-             thinnest, bench_stack.size(), bench_summary.empty() ? 0.0 : bench_summary[0].mean_distance,
-             bench_summary.empty() ? 0.0 : bench_summary[0].max_distance);
-  fmt::print("{:>9} {:>7} {:>8} {:>8} {:>8} {:>12}\n", "thickness", "layers", "mean D", "max D",
-             "within", "fewer layers");
-  nlohmann::json rows = nlohmann::json::array();
-  double best = 0;
-  const Strategies kinds{kind};
-  for (double t : thicknesses) {
-    const geometry::LayerStack stack(mesh, geometry::uniform_layers(height, t));
-    const auto layers =
-        run_analysis(stack, kinds, false, fmt::format("{} at {:g} mm", name_of(kind), t), true);
-    const auto summary = geometry::summarize(layers);
-    const double share = share_within(layers, 0, benchmark, 0, geometry::DistanceOptions{}.tolerance);
-    const double saving = 100.0 * (1.0 - static_cast<double>(stack.size()) / bench_stack.size());
-    fmt::print("{:>7.3g}mm {:7} {:8.4f} {:8.4f} {:7.1f}% {:11.1f}%\n", t, stack.size(),
-               summary.empty() ? 0.0 : summary[0].mean_distance,
-               summary.empty() ? 0.0 : summary[0].max_distance, share, saving);
-    if (share >= options.share) best = std::max(best, t);
-    rows.push_back({{"thickness", t},
-                    {"layers", stack.size()},
-                    {"mean_distance", summary.empty() ? 0.0 : summary[0].mean_distance},
-                    {"max_distance", summary.empty() ? 0.0 : summary[0].max_distance},
-                    {"within_benchmark_percent", share},
-                    {"fewer_layers_percent", saving}});
-  }
-  // A layer plan (--boundaries) is judged as one more row, against the same benchmark.
-  nlohmann::json plan_row(nullptr);
-  const bool adaptive = options.adaptive.wanted();
-  if (!options.boundaries.empty() || adaptive) {
-    std::optional<app::LayerChoice> plan;
-    if (adaptive) plan = adaptive_choice(options.adaptive, options.printer, mesh, height, *kind);
-    const geometry::LayerStack stack(
-        mesh, plan ? plan->layers : analysis_layers(options.boundaries, 0, true, options.printer, mesh, height));
-    const auto layers = run_analysis(stack, kinds, false,
-                                     fmt::format("{} at the boundaries", name_of(kind)), true);
-    const auto summary = geometry::summarize(layers);
-    const double share = share_within(layers, 0, benchmark, 0, geometry::DistanceOptions{}.tolerance);
-    const double saving = 100.0 * (1.0 - static_cast<double>(stack.size()) / bench_stack.size());
-    fmt::print("{:>9} {:7} {:8.4f} {:8.4f} {:7.1f}% {:11.1f}%   ({})\n",
-               plan ? "adaptive" : "plan", stack.size(),
-               summary.empty() ? 0.0 : summary[0].mean_distance,
-               summary.empty() ? 0.0 : summary[0].max_distance, share, saving,
-               app::describe_layers(stack.layers()));
-    if (plan) fmt::print("          {}\n", app::describe_choice(*plan));
-    plan_row = {{"boundaries", plan ? std::string("adaptive") : options.boundaries},
-                {"tolerance", plan ? nlohmann::json(plan->plan.tolerance) : nlohmann::json(nullptr)},
-                {"layers", stack.size()},
-                {"mean_distance", summary.empty() ? 0.0 : summary[0].mean_distance},
-                {"max_distance", summary.empty() ? 0.0 : summary[0].max_distance},
-                {"within_benchmark_percent", share},
-                {"fewer_layers_percent", saving}};
-  }
-  if (best > 0) {
+             thinnest, result.benchmark_layers, result.benchmark_mean_distance,
+             result.benchmark_max_distance);
+  print_advise_table(result);
+  if (result.advised) {
     fmt::print("advice: {} at {:g} mm keeps at least {:g}% of layers within lower's distance error "
                "at {:g} mm\n",
-               name_of(kind), best, options.share, thinnest);
+               contour, *result.advised, options.share, thinnest);
   } else {
     fmt::print("advice: no thickness keeps {:g}% of {}'s layers within lower's distance error at "
                "{:g} mm; print at {:g} mm\n",
-               options.share, name_of(kind), thinnest, thinnest);
+               options.share, contour, thinnest, thinnest);
   }
-  if (!options.json.empty()) {
-    nlohmann::json j{{"model", options.model.path},
-                     {"contour", name_of(kind)},
-                     {"benchmark_thickness", thinnest},
-                     {"share_required_percent", options.share},
-                     {"thicknesses", rows},
-                     {"plan", plan_row},
-                     {"advised_thickness", best > 0 ? nlohmann::json(best) : nlohmann::json(nullptr)}};
-    std::ofstream out = open_output(options.json, "--json");
-    out << j.dump(2) << "\n";
-    if (!out) throw geometry::InputError(fmt::format("--json {}: writing failed", options.json));
-  }
+  if (!options.json.empty()) write_advise_json(options, result, contour);
 }
 
-}  // namespace
+// analyze's layers: --layer, --from-zero, --boundaries.
+CLI::Option* add_layer_flags(CLI::App& analyze, AnalyzeOptions& options) {
+  CLI::Option* layer = analyze.add_option("--layer", options.layer, "layer thickness, mm")
+                           ->check(positive_number())
+                           ->capture_default_str();
+  CLI::Option* from_zero = analyze.add_flag(
+      "--from-zero", options.from_zero,
+      "uniform layers from the bed, every one --layer thick, with no first layer of the "
+      "printer's and no flat level landed (the paper's comparison; default: the layers `slice` "
+      "prints at --layer on --printer)");
+  analyze.add_option("--boundaries", options.boundaries,
+                     "judge these layers instead of --layer: layer tops as a comma list in mm "
+                     "(0.3,0.5,...), a file with one top per line (# comments), or a G-code file "
+                     "of CuraEngine, PrusaSlicer, Slic3r or mahost, whose layer heights are "
+                     "used; any thicknesses (no printer is checked)")
+      ->excludes(layer);
+  from_zero->excludes("--boundaries");
+  return from_zero;
+}
 
-void add_analyze_command(CLI::App& app) {
+// analyze's strategies and what it writes: --exclude-z, --contours, --csv, --json, --plots,
+// --thick, --layer-index, --export-layers.
+void add_output_flags(CLI::App& analyze, AnalyzeOptions& options) {
+  analyze.add_option("--exclude-z", options.exclude_z,
+                     "leave this height range out of the by-height 95th percentile of D "
+                     "(P95h D), LO:HI in mm, e.g. 0:2.25 for the bunny's hole-filled base "
+                     "(default: none)");
+  analyze.add_option("--contours", options.contours,
+                     fmt::format("strategies to compare, comma-separated: {}",
+                                 app::contour_strategies_help()))
+      ->capture_default_str();
+  analyze.add_option("--csv", options.csv, "write one row per layer and strategy to this CSV file");
+  analyze.add_option("--json", options.json, "write the summary to this JSON file");
+  analyze.add_option("--plots", options.plots,
+                     "write SVG charts (needs gnuplot) into this directory: D and ΔV per layer, "
+                     "lower and mid against ma, ma at the --thick layers against lower");
+  analyze.add_option("--thick", options.thick,
+                     "with --plots: thicker layers for ma to compare with lower at --layer, mm")
+      ->capture_default_str();
+  analyze.add_option("--layer-index", options.layer_index,
+                     "draw this layer's footprint and contours as layer-N.svg (in --plots, or "
+                     "here) and print its metrics")
+      ->check(non_negative_number());
+  analyze.add_option("--export-layers", options.export_layers,
+                     "write the layered part (each layer's region extruded) as an STL file");
+}
+
+void add_analyze(CLI::App& app) {
   auto options = std::make_shared<AnalyzeOptions>();
   CLI::App* analyze = app.add_subcommand(
       "analyze",
@@ -914,43 +750,8 @@ void add_analyze_command(CLI::App& app) {
       "volume limit, missed features; CSV, JSON, SVG plots, a layer's contours, the layered "
       "part as STL.");
   add_model_options(*analyze, options->model);
-  CLI::Option* layer = analyze->add_option("--layer", options->layer, "layer thickness, mm")
-                           ->check(positive_number())
-                           ->capture_default_str();
-  CLI::Option* from_zero = analyze->add_flag(
-      "--from-zero", options->from_zero,
-      "uniform layers from the bed, every one --layer thick, with no first layer of the "
-      "printer's and no flat level landed (the paper's comparison; default: the layers `slice` "
-      "prints at --layer on --printer)");
-  analyze->add_option("--boundaries", options->boundaries,
-                      "judge these layers instead of --layer: layer tops as a comma list in mm "
-                      "(0.3,0.5,...), a file with one top per line (# comments), or a G-code file "
-                      "of CuraEngine, PrusaSlicer, Slic3r or mahost, whose layer heights are "
-                      "used; any thicknesses (no printer is checked)")
-      ->excludes(layer);
-  analyze->add_option("--exclude-z", options->exclude_z,
-                      "leave this height range out of the by-height 95th percentile of D "
-                      "(P95h D), LO:HI in mm, e.g. 0:2.25 for the bunny's hole-filled base "
-                      "(default: none)");
-  analyze->add_option("--contours", options->contours,
-                      fmt::format("strategies to compare, comma-separated: {}",
-                                  app::contour_strategies_help()))
-      ->capture_default_str();
-  analyze->add_option("--csv", options->csv, "write one row per layer and strategy to this CSV file");
-  analyze->add_option("--json", options->json, "write the summary to this JSON file");
-  analyze->add_option("--plots", options->plots,
-                      "write SVG charts (needs gnuplot) into this directory: D and ΔV per layer, "
-                      "lower and mid against ma, ma at the --thick layers against lower");
-  analyze->add_option("--thick", options->thick,
-                      "with --plots: thicker layers for ma to compare with lower at --layer, mm")
-      ->capture_default_str();
-  analyze->add_option("--layer-index", options->layer_index,
-                      "draw this layer's footprint and contours as layer-N.svg (in --plots, or "
-                      "here) and print its metrics")
-      ->check(non_negative_number());
-  analyze->add_option("--export-layers", options->export_layers,
-                      "write the layered part (each layer's region extruded) as an STL file");
-  from_zero->excludes("--boundaries");
+  CLI::Option* from_zero = add_layer_flags(*analyze, *options);
+  add_output_flags(*analyze, *options);
   for (CLI::Option* option : add_adaptive_options(*analyze, options->adaptive)) {
     option->excludes("--layer")->excludes("--boundaries")->excludes(from_zero);
   }
@@ -961,39 +762,48 @@ void add_analyze_command(CLI::App& app) {
   analyze->add_option("--contour", options->contour,
                       fmt::format("with --export-layers: which strategy's layers; with "
                                   "--adaptive: the contour the plan is made for ({})",
-                                  geometry::contour_names()))
+                                  app::contour_names()))
       ->capture_default_str();
   analyze->callback([options] { run_analyze(*options); });
+}
 
-  auto advise_options = std::make_shared<AdviseOptions>();
+void add_advise(CLI::App& app) {
+  auto options = std::make_shared<AdviseOptions>();
   CLI::App* advise = app.add_subcommand(
       "advise",
       "Which layer thickness can the contour strategy print while its distance error stays "
       "within lower's at the printer's thinnest layer (paper §4)?");
-  add_model_options(*advise, advise_options->model);
-  advise->add_option("--boundaries", advise_options->boundaries,
+  add_model_options(*advise, options->model);
+  advise->add_option("--boundaries", options->boundaries,
                      "also judge this layer plan against the benchmark, as one more row "
                      "(\"plan\"): layer tops as a comma list in mm, a file with one top per "
                      "line, or a G-code file of CuraEngine, PrusaSlicer, Slic3r or mahost "
                      "(default: none)");
-  for (CLI::Option* option : add_adaptive_options(*advise, advise_options->adaptive)) {
+  for (CLI::Option* option : add_adaptive_options(*advise, options->adaptive)) {
     option->excludes("--boundaries");
   }
-  advise->add_option("--printer", advise_options->printer,
+  advise->add_option("--printer", options->printer,
                      "printer profile whose layer thicknesses to try (a name or a .toml path)")
       ->capture_default_str();
-  advise->add_option("--contour", advise_options->contour,
-                     fmt::format("strategy for the thicker layers: {}", geometry::contour_names()))
+  advise->add_option("--contour", options->contour,
+                     fmt::format("strategy for the thicker layers: {}", app::contour_names()))
       ->capture_default_str();
-  advise->add_option("--thicknesses", advise_options->thicknesses,
+  advise->add_option("--thicknesses", options->thicknesses,
                      "thicknesses to try instead of the printer's, mm, comma-separated; the "
                      "thinnest is the benchmark");
-  advise->add_option("--share", advise_options->share,
+  advise->add_option("--share", options->share,
                      "percent of layers that must stay within the benchmark")
       ->check(number_in(0.0, 100.0))
       ->capture_default_str();
-  advise->add_option("--json", advise_options->json, "write the table to this JSON file");
-  advise->callback([advise_options] { run_advise(*advise_options); });
+  advise->add_option("--json", options->json, "write the table to this JSON file");
+  advise->callback([options] { run_advise(*options); });
+}
+
+}  // namespace
+
+void add_analyze_command(CLI::App& app) {
+  add_analyze(app);
+  add_advise(app);
 }
 
 }  // namespace host

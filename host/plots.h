@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "geometry/core/polygon.h"
+#include "app/analyze.h"  // geometry::Loop, as analyze's regions and footprints carry them
 
 namespace host {
 

@@ -43,11 +43,6 @@ endforeach()
 # here that includes geometry/ breaks the layering, and a listed one that no longer does must
 # leave the list.
 set(host_geometry_users
-  # analyze and advise compute their tables, charts and exports from the stages' own types
-  # (LayerAnalysis, LayerStack, Slab, extruded layers): their move into app/ is the next step.
-  host/cmd_analyze.cpp
-  # the SVG charts draw geometry::Loop outlines (analyze's --layer-index).
-  host/plots.h
   # Text and file tools, no geometry: the control socket's lines trimmed by
   # geometry/core/text.h; profiles import reads the .ini whole by geometry/mesh/file_bytes.h,
   # whose errors say what to do as a model's do.
