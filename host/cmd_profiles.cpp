@@ -17,7 +17,6 @@
 
 #include "app/profile_paths.h"
 #include "host/commands.h"
-#include "geometry/mesh/file_bytes.h"
 #include "printer/error.h"
 #include "printer/profile.h"
 #include "printer/prusa_import.h"
@@ -114,8 +113,7 @@ void run_import(const ImportOptions& options) {
   if (options.all && !options.printers.empty()) {
     throw printer::ConfigError("profiles import: give --printer NAME or --all, not both");
   }
-  const std::string text = geometry::read_file_bytes(options.file);
-  printer::PrusaImport imported = printer::import_prusa_ini(text, options.file, options.printers);
+  printer::PrusaImport imported = printer::import_prusa_ini_file(options.file, options.printers);
   if (!options.all && options.printers.empty() && imported.available.size() > 1) {
     throw printer::ConfigError(fmt::format(
         "{} has {} printers: name one with --printer (e.g. --printer \"{}\"), or take them all "

@@ -14,7 +14,7 @@
 
 #include <fmt/core.h>
 
-#include "geometry/core/text.h"
+#include "base/text.h"
 #include "host/print_ui.h"
 #include "printer/error.h"
 #include "printer/journal.h"
@@ -23,7 +23,7 @@ namespace host {
 
 namespace {
 
-using geometry::trim;
+using base::trim;
 
 sockaddr_un address_of(const std::string& path) {
   sockaddr_un address{};

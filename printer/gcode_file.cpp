@@ -7,7 +7,7 @@
 
 #include <fmt/core.h>
 
-#include "geometry/core/text.h"
+#include "base/text.h"
 #include "printer/error.h"
 #include "printer/gcode_line.h"
 
@@ -15,7 +15,7 @@ namespace printer {
 
 namespace {
 
-using geometry::trim;
+using base::trim;
 
 // Marlin's MAX_CMD_SIZE is 96 with the terminating NUL; the host adds "N<line> " and "*<cs>",
 // up to 13 characters for a line number of seven digits.

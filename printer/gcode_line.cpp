@@ -9,13 +9,13 @@
 
 #include <fmt/core.h>
 
-#include "geometry/core/text.h"
+#include "base/text.h"
 
 namespace printer {
 
 namespace {
 
-using geometry::trim;
+using base::trim;
 
 // Parses a decimal number at the front of `s` (as Marlin's strtod does), advancing `s`.
 std::optional<double> take_number(std::string_view& s) {

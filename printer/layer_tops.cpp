@@ -12,7 +12,7 @@
 
 #include <fmt/core.h>
 
-#include "geometry/core/text.h"
+#include "base/text.h"
 #include "printer/error.h"
 #include "printer/gcode_interpreter.h"
 #include "printer/gcode_line.h"
@@ -45,7 +45,7 @@ double raft_lift(std::string_view line) {
 bool looks_like_gcode(std::string_view text) {
   while (!text.empty()) {
     const std::size_t end = text.find('\n');
-    const std::string_view line = geometry::trim(text.substr(0, end));
+    const std::string_view line = base::trim(text.substr(0, end));
     if (!line.empty()) {
       const char c = line.front();
       if (c == ';') return true;
@@ -67,7 +67,7 @@ std::vector<double> layer_tops_from_gcode(std::string_view text, const std::stri
   std::size_t line_number = 0;
   while (!text.empty()) {
     const std::size_t end = text.find('\n');
-    const std::string_view line = geometry::trim(text.substr(0, end));
+    const std::string_view line = base::trim(text.substr(0, end));
     text.remove_prefix(end == std::string_view::npos ? text.size() : end + 1);
     ++line_number;
     // Only G and M commands matter, and mahost's note of a raft; other comments, blank lines
@@ -141,7 +141,7 @@ std::vector<double> layer_tops_from_list(std::string_view text, const std::strin
       const std::size_t comma = line.find(',');
       std::string_view item = line.substr(0, comma);
       line.remove_prefix(comma == std::string_view::npos ? line.size() : comma + 1);
-      item = geometry::trim(item);
+      item = base::trim(item);
       if (item.empty()) continue;
       double value = 0;
       const auto [ptr, error] = std::from_chars(item.data(), item.data() + item.size(), value);

@@ -18,7 +18,7 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
-#include "geometry/core/text.h"
+#include "base/text.h"
 #include "printer/error.h"
 #include "printer/prusa_variables.h"
 
@@ -26,7 +26,7 @@ namespace printer {
 
 namespace {
 
-using geometry::trim;
+using base::trim;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 

@@ -11,6 +11,7 @@
 #include <fmt/core.h>
 #include <fmt/format.h>
 
+#include "geometry/mesh/file_bytes.h"
 #include "printer/error.h"
 #include "printer/profile.h"
 #include "printer/prusa_ini.h"
@@ -750,6 +751,10 @@ PrusaImport import_prusa_ini(std::string_view text, const std::string& name,
     if (only.empty()) result.refused.push_back({printer, why});
   }
   return result;
+}
+
+PrusaImport import_prusa_ini_file(const std::string& path, const std::vector<std::string>& only) {
+  return import_prusa_ini(geometry::read_file_bytes(path), path, only);
 }
 
 }  // namespace printer

@@ -66,4 +66,8 @@ struct PrusaImport {
 PrusaImport import_prusa_ini(std::string_view text, const std::string& name,
                              const std::vector<std::string>& only = {});
 
+// The same for the file at `path`, read whole (geometry::InputError naming it when it cannot
+// be read).
+PrusaImport import_prusa_ini_file(const std::string& path, const std::vector<std::string>& only = {});
+
 }  // namespace printer

@@ -4,7 +4,7 @@
 #include <cctype>
 #include <charconv>
 
-#include "geometry/core/text.h"
+#include "base/text.h"
 
 namespace printer {
 
@@ -15,7 +15,7 @@ bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' |
 // The same blanks for trim: white space and NUL, line noise on a serial port.
 constexpr std::string_view kReplyBlanks{" \t\r\n\0", 5};
 
-std::string_view trim(std::string_view s) { return geometry::trim(s, kReplyBlanks); }
+std::string_view trim(std::string_view s) { return base::trim(s, kReplyBlanks); }
 
 bool starts_with_nocase(std::string_view s, std::string_view prefix) {
   if (s.size() < prefix.size()) return false;

@@ -6,14 +6,14 @@
 
 #include <fmt/core.h>
 
-#include "geometry/core/text.h"
+#include "base/text.h"
 #include "printer/error.h"
 
 namespace sim {
 
 namespace {
 
-using geometry::trim;
+using base::trim;
 
 constexpr std::string_view kKeys =
     "corrupt, drop-ok, drop-blocking-ok, dup-ok, resend, delay, disconnect-at-line, "

@@ -6,7 +6,7 @@ cmake_minimum_required(VERSION 3.25)
 # files that include a CGAL header, each of them named by its path, and no header including one.
 # Run by ctest as docs/architecture_names_every_source_folder (cmake -P, no build needed).
 # Inputs: SOURCE_DIR.
-set(modules geometry printer sim host app)
+set(modules base geometry printer sim host app)
 set(doc_file ${SOURCE_DIR}/docs/architecture.md)
 file(READ ${doc_file} doc)
 

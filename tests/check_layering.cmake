@@ -1,11 +1,11 @@
 cmake_minimum_required(VERSION 3.25)
 # Checks that every #include "module/..." in the sources respects the layering:
-#   geometry/<stage>/ may include geometry/<earlier or same stage>/ only, and no other module;
+#   base/ (the one trim) includes no module but itself, and every module may include it;
+#   geometry/<stage>/ may include geometry/<earlier or same stage>/ only, and base/;
 #   printer/ may include geometry/ and printer/; sim/ geometry/, printer/ and sim/;
 #   app/ (the application layer) geometry/, printer/, sim/ and app/; host/ (the command line
-#   and `mahost serve`) app/, printer/, sim/ and host/: it reaches geometry/ only through app/,
-#   but for the files in host_geometry_users below. Run by ctest as layering/includes (cmake
-#   -P, no build needed).
+#   and `mahost serve`) app/, printer/, sim/ and host/: it reaches geometry/ only through app/.
+#   Run by ctest as layering/includes (cmake -P, no build needed).
 # Inputs: SOURCE_DIR, STAGES (geometry's stage folders in order, ;-separated).
 set(violations "")
 function(check_file file allowed_modules allowed_stages)
@@ -36,27 +36,11 @@ foreach(stage IN LISTS STAGES)
   list(APPEND earlier ${stage})
   file(GLOB_RECURSE files ${SOURCE_DIR}/geometry/${stage}/*.h ${SOURCE_DIR}/geometry/${stage}/*.cpp)
   foreach(file IN LISTS files)
-    check_file(${file} "geometry" "${earlier}")
+    check_file(${file} "geometry;base" "${earlier}")
   endforeach()
 endforeach()
-# The host files that still include geometry/ headers, each with its reason; a file not listed
-# here that includes geometry/ breaks the layering, and a listed one that no longer does must
-# leave the list.
-set(host_geometry_users
-  # Text and file tools, no geometry: the control socket's lines trimmed by
-  # geometry/core/text.h; profiles import reads the .ini whole by geometry/mesh/file_bytes.h,
-  # whose errors say what to do as a model's do.
-  host/control_socket.cpp
-  host/cmd_profiles.cpp
-)
-foreach(file IN LISTS host_geometry_users)
-  file(STRINGS ${SOURCE_DIR}/${file} geometry_includes REGEX "^[ \t]*#[ \t]*include[ \t]+\"geometry/")
-  if(NOT geometry_includes)
-    set(violations "${violations}\n  ${file}: includes no geometry/ header: take it off host_geometry_users")
-  endif()
-endforeach()
-
-foreach(module_rule "printer|geometry;printer" "sim|geometry;printer;sim" "app|geometry;printer;sim;app")
+foreach(module_rule "base|base" "printer|geometry;printer;base" "sim|geometry;printer;sim;base"
+                    "app|geometry;printer;sim;app;base" "host|app;printer;sim;host;base")
   string(REPLACE "|" ";" parts "${module_rule}")
   list(GET parts 0 module)
   list(SUBLIST parts 1 -1 allowed)
@@ -64,15 +48,6 @@ foreach(module_rule "printer|geometry;printer" "sim|geometry;printer;sim" "app|g
   foreach(file IN LISTS files)
     check_file(${file} "${allowed}" "")
   endforeach()
-endforeach()
-
-file(GLOB_RECURSE host_files RELATIVE ${SOURCE_DIR} ${SOURCE_DIR}/host/*.h ${SOURCE_DIR}/host/*.cpp)
-foreach(file IN LISTS host_files)
-  if(file IN_LIST host_geometry_users)
-    check_file(${SOURCE_DIR}/${file} "geometry;app;printer;sim;host" "")
-  else()
-    check_file(${SOURCE_DIR}/${file} "app;printer;sim;host" "")
-  endif()
 endforeach()
 
 if(violations)

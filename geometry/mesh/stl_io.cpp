@@ -14,11 +14,13 @@
 
 #include <fmt/core.h>
 
-#include "geometry/core/text.h"
+#include "base/text.h"
 #include "geometry/mesh/file_bytes.h"
 
 namespace geometry {
 namespace {
+
+using base::trim;
 
 constexpr std::size_t kHeaderBytes = 80;
 constexpr std::size_t kBinaryPrefix = 84;  // header + facet count

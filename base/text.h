@@ -5,7 +5,7 @@
 
 #include <string_view>
 
-namespace geometry {
+namespace base {
 
 // ASCII white space: space, tab, line feed, vertical tab, form feed, carriage return (what
 // std::isspace takes in the C locale).
@@ -18,4 +18,4 @@ constexpr std::string_view trim(std::string_view s, std::string_view blanks = kW
   return s.substr(first, s.find_last_not_of(blanks) - first + 1);
 }
 
-}  // namespace geometry
+}  // namespace base
