@@ -396,8 +396,9 @@ void advise_plan(const AdviseRequest& request, const geometry::Mesh& mesh,
 AdviseResult advise(const AdviseRequest& request, const AnalysisEvents& events) {
   const Reporter report(events);
   AdviseResult result;
-  std::vector<double> thicknesses = request.thicknesses;
-  if (!thicknesses.empty()) {
+  std::vector<double> thicknesses;
+  if (request.thicknesses) {
+    thicknesses = *request.thicknesses;
     result.thicknesses_from = "--thicknesses";
   } else {
     const printer::PrinterProfile profile = printer_profile(request.printer);

@@ -162,7 +162,8 @@ void write_stl(const geometry::Mesh& mesh, const std::string& path);
 struct AdviseRequest {
   ModelOptions model;
   const geometry::ContourStrategy* contour = nullptr;  // for the thicker layers
-  std::vector<double> thicknesses;  // mm, ascending; empty: the printer's
+  // mm, ascending (none given: refused); without them, the printer's.
+  std::optional<std::vector<double>> thicknesses;
   std::string printer = printer::kDefaultPrinter;
   std::string boundaries;    // a layer plan judged as one more row
   AdaptiveRequest adaptive;  // or an adaptive plan for `contour`

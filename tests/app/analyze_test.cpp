@@ -153,7 +153,7 @@ TEST_CASE("advise_in_process_keeps_a_box_within_the_benchmark_at_every_thickness
   app::AdviseRequest request;
   request.model.path = stl_of(solids::box({0, 0, 0}, {20, 20, 10}), dir, "box.stl");
   request.contour = &geometry::contour_strategy("ma");
-  request.thicknesses = {0.5, 1.0, 2.0};
+  request.thicknesses = std::vector<double>{0.5, 1.0, 2.0};
   request.boundaries = "1,3,10";
   const app::AdviseResult result = app::advise(request);
 
@@ -176,6 +176,21 @@ TEST_CASE("advise_in_process_keeps_a_box_within_the_benchmark_at_every_thickness
   CHECK(result.plan->fewer_layers_percent == doctest::Approx(85));
   CHECK(result.plan_layers.size() == 3);
   CHECK_FALSE(result.adaptive);
+}
+
+TEST_CASE("advise_in_process_takes_the_printers_thicknesses_unless_given_and_refuses_an_empty_list") {
+  const std::string dir = test_support::scratch_dir("app_advise_thicknesses");
+  app::AdviseRequest request;
+  request.model.path = stl_of(solids::box({0, 0, 0}, {20, 20, 4}), dir, "box.stl");
+  request.contour = &geometry::contour_strategy("mid");
+  const app::AdviseResult result = app::advise(request);
+  CHECK(result.thicknesses_from.rfind("UP Plus 2 (", 0) == 0);  // the default printer's
+  REQUIRE(result.rows.size() > 1);
+  CHECK(result.rows.front().thickness == result.benchmark_thickness);
+
+  request.thicknesses = std::vector<double>{};  // --thicknesses given, with no thickness in it
+  CHECK_THROWS_WITH_AS(app::advise(request), "--thicknesses: give at least one thickness",
+                       geometry::InputError);
 }
 
 }  // namespace analyze_test
