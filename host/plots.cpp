@@ -46,44 +46,54 @@ bool on_path(const std::string& program) {
   return false;
 }
 
-// Runs gnuplot on the script; throws InputError naming `path` if anything goes wrong.
-void run_gnuplot(const std::string& path, const std::string& script) {
+// gnuplot on PATH and `path` writable, or InputError saying what to do.
+void check_can_plot(const std::string& path) {
   if (!on_path("gnuplot")) {
     throw app::InputError(fmt::format(
         "{}: drawing plots needs gnuplot, which is not on PATH (install it: apt install "
         "gnuplot-nox), or leave out --plots/--layer-index",
         path));
   }
-  {  // Fail early, in our words, when the file cannot be written at all.
-    std::ofstream probe(path, std::ios::app);
-    if (!probe) {
-      throw app::InputError(fmt::format("{}: cannot write the plot here ({}); give a "
-                                             "directory you can write to with --plots",
-                                             path, std::strerror(errno)));
-    }
+  // Fail early, in our words, when the file cannot be written at all.
+  std::ofstream probe(path, std::ios::app);
+  if (!probe) {
+    throw app::InputError(fmt::format("{}: cannot write the plot here ({}); give a "
+                                      "directory you can write to with --plots",
+                                      path, std::strerror(errno)));
   }
-  // The script goes to a temporary file rather than down a pipe: gnuplot dying half-way
-  // through a pipe would kill us with SIGPIPE.
+}
+
+// The script in a temporary file (in $TMPDIR, else /tmp), its path; the caller removes it.
+// A file rather than a pipe: gnuplot dying half-way through a pipe would kill us with SIGPIPE.
+std::string write_script_file(const std::string& script) {
   const char* tmp = std::getenv("TMPDIR");
   std::string script_path = std::string(tmp && *tmp ? tmp : "/tmp") + "/mahost-plot-XXXXXX";
   const int fd = mkstemp(script_path.data());
   if (fd < 0) throw std::runtime_error("cannot create a temporary file for gnuplot");
-  {
-    const char* data = script.data();
-    std::size_t left = script.size();
-    while (left > 0) {
-      const ssize_t n = write(fd, data, left);
-      if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) {
-        close(fd);
-        unlink(script_path.c_str());
-        throw std::runtime_error("cannot write a temporary file for gnuplot");
-      }
-      data += n;
-      left -= static_cast<std::size_t>(n);
+  const char* data = script.data();
+  std::size_t left = script.size();
+  while (left > 0) {
+    const ssize_t n = write(fd, data, left);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      close(fd);
+      unlink(script_path.c_str());
+      throw std::runtime_error("cannot write a temporary file for gnuplot");
     }
-    close(fd);
+    data += n;
+    left -= static_cast<std::size_t>(n);
   }
+  close(fd);
+  return script_path;
+}
+
+struct GnuplotRun {
+  bool ok = false;
+  std::string said;  // its stderr
+};
+
+// Runs gnuplot on the script file, its stdin and stdout /dev/null.
+GnuplotRun run_script(const std::string& script_path) {
   int errors[2];
   if (pipe(errors) != 0) throw std::runtime_error("pipe() failed");
   const pid_t child = fork();
@@ -100,36 +110,53 @@ void run_gnuplot(const std::string& path, const std::string& script) {
     _exit(127);
   }
   close(errors[1]);
-  std::string said;
+  GnuplotRun run;
   char buffer[4096];
   for (ssize_t n; (n = read(errors[0], buffer, sizeof buffer)) != 0;) {
     if (n < 0) {
       if (errno == EINTR) continue;
       break;
     }
-    said.append(buffer, static_cast<std::size_t>(n));
+    run.said.append(buffer, static_cast<std::size_t>(n));
   }
   close(errors[0]);
   int status = 0;
   while (waitpid(child, &status, 0) < 0 && errno == EINTR) {
   }
-  unlink(script_path.c_str());
-  const bool ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
-  if (!ok) {
-    std::string first;
-    for (std::size_t p = 0; p < said.size();) {
-      const std::size_t e = said.find('\n', p);
-      std::string line = said.substr(p, e == std::string::npos ? std::string::npos : e - p);
-      if (line.find_first_not_of(" ^") != std::string::npos) first = line;
-      if (line.find("error") != std::string::npos || line.find("rror") != std::string::npos) {
-        first = line;
-        break;
-      }
-      if (e == std::string::npos) break;
-      p = e + 1;
+  run.ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  return run;
+}
+
+// The line of gnuplot's stderr that says what went wrong: the first naming an error, else
+// the last that is more than its caret marks.
+std::string first_error_line(const std::string& said) {
+  std::string first;
+  for (std::size_t p = 0; p < said.size();) {
+    const std::size_t e = said.find('\n', p);
+    std::string line = said.substr(p, e == std::string::npos ? std::string::npos : e - p);
+    if (line.find_first_not_of(" ^") != std::string::npos) first = line;
+    if (line.find("error") != std::string::npos || line.find("rror") != std::string::npos) {
+      first = line;
+      break;
     }
+    if (e == std::string::npos) break;
+    p = e + 1;
+  }
+  return first;
+}
+
+// Runs gnuplot on the script; throws InputError naming `path` if anything goes wrong.
+void run_gnuplot(const std::string& path, const std::string& script) {
+  check_can_plot(path);
+  struct Removed {  // on every way out, a failed fork() too
+    std::string path;
+    ~Removed() { unlink(path.c_str()); }
+  } script_file{write_script_file(script)};
+  const GnuplotRun run = run_script(script_file.path);
+  if (!run.ok) {
+    const std::string first = first_error_line(run.said);
     throw app::InputError(fmt::format("{}: gnuplot could not draw the plot: {}", path,
-                                           first.empty() ? "it exited with an error" : first));
+                                      first.empty() ? "it exited with an error" : first));
   }
 }
 
