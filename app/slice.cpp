@@ -175,91 +175,139 @@ printer::GcodeOptions gcode_options_for(const SliceOptions& options, const Slice
   return gcode_options;
 }
 
-}  // namespace
+// What slice() tells its caller as it goes: progress (which also asks whether to stop) and
+// the lines a user should read, kept in the result as well.
+struct SliceReporter {
+  const SliceEvents& events;
+  SliceResult& result;
 
-SliceResult slice(const SliceOptions& options, const std::string& output,
-                  const SliceEvents& events) {
-  auto report = [&](SliceStage stage, std::size_t done, std::size_t total) {
+  void progress(SliceStage stage, std::size_t done, std::size_t total) const {
     if (events.cancelled && events.cancelled()) throw SliceCancelled();
     if (events.progress) events.progress(stage, done, total);
-  };
-  SliceResult result;
-  auto warn = [&](const std::string& line) {
+  }
+  void warn(const std::string& line) const {
     result.warnings.push_back(line);
     if (events.warning) events.warning(line);
-  };
-  result.profiles = load_slice_profiles(options);
-  const printer::PrinterProfile& machine = result.profiles.printer;
+  }
+};
 
-  const geometry::ContourStrategy& contour = contour_strategy_option(options.contour, "--contour");
+// The uniform thickness: one the printer lacks is refused before the model is read.
+void check_uniform_thickness(const SliceOptions& options, SliceResult& result) {
+  const printer::PrinterProfile& machine = result.profiles.printer;
   const bool uniform = options.boundaries.empty();
   result.layer_thickness = uniform ? uniform_thickness(options, machine) : 0;
-  // A thickness the printer lacks is refused before the model is read.
   if (uniform) printer::check_layer_thickness(machine, result.layer_thickness);
+}
 
+// The placed, repaired part, checked against the build volume.
+geometry::Mesh load_part(const SliceOptions& options, SliceResult& result,
+                         const SliceReporter& reporter) {
+  const printer::PrinterProfile& machine = result.profiles.printer;
   ModelOptions model = options.model;
   model.overhang_angle = result.profiles.material.overhang_angle;  // for --orient auto
   model.support_cost = support_cost(machine);
   LoadedModel loaded = load_model(model);
-  for (const std::string& line : model_notes(model, loaded)) warn(line);
+  for (const std::string& line : model_notes(model, loaded)) reporter.warn(line);
   result.repair = loaded.repair;
-  const geometry::Mesh mesh = std::move(loaded.mesh);
-  const geometry::Box3 box = geometry::bounding_box(mesh);
+  const geometry::Box3 box = geometry::bounding_box(loaded.mesh);
   result.part_size = box.max - box.min;
   const geometry::Vec3& size = result.part_size;
   printer::check_part_fits(machine, size.x, size.y, size.z);
+  return std::move(loaded.mesh);
+}
 
-  const geometry::LayerStack index(mesh, {});
-  // The plan line compares an adaptive plan with uniform slicing at the thinnest layer and at
-  // about as many layers (uniform_estimate.h): a sample of each is timed beside the work, the
-  // first beside the planning, whose rounds of measurements leave cores idle, the second
-  // beside what follows the plan; the plan's own program fills in the rest at the end.
-  const geometry::AllowedThicknesses allowed = allowed_thicknesses(machine);
-  const bool adaptive = options.adaptive.wanted();
-  const std::vector<geometry::FlatLevel> flats =
-      adaptive ? geometry::flat_levels(mesh) : std::vector<geometry::FlatLevel>{};
-  using Sampled = std::pair<double, LayerSample>;  // the thickness, the sample
-  const auto sample_uniform = [&](double t) {
-    return Sampled{t, sample_layers(index, geometry::uniform_plan(size.z, t, allowed, flats).layers,
-                                    result.profiles)};
-  };
-  // The samples, the thinnest and the one at about the plan's count: declared before the
-  // guard that joins the tasks writing into them, so they outlive those tasks on every way out.
-  std::optional<Sampled> thinnest, same_count;
-  tbb::task_group beside;
-  // Joined on every way out: a failed slice does not leave the estimate running.
-  struct Joined {
-    tbb::task_group& group;
-    ~Joined() {
-      group.cancel();
-      try {
-        group.wait();
-      } catch (...) {
-      }
+// The plan line compares an adaptive plan with uniform slicing at the thinnest layer and at
+// about as many layers (uniform_estimate.h): a sample of each is timed beside the work, the
+// first beside the planning, whose rounds of measurements leave cores idle, the second beside
+// what follows the plan; the plan's own program fills in the rest at the end. The samples are
+// joined on every way out: a failed slice does not leave them running.
+class UniformSamples {
+ public:
+  UniformSamples(const geometry::Mesh& mesh, const geometry::LayerStack& index,
+                 const SliceResult& result, bool adaptive)
+      : index_(index),
+        profiles_(result.profiles),
+        part_height_(result.part_size.z),
+        allowed_(allowed_thicknesses(result.profiles.printer)),
+        flats_(adaptive ? geometry::flat_levels(mesh) : std::vector<geometry::FlatLevel>{}) {}
+  UniformSamples(const UniformSamples&) = delete;
+  UniformSamples& operator=(const UniformSamples&) = delete;
+  ~UniformSamples() {
+    beside_.cancel();
+    try {
+      beside_.wait();
+    } catch (...) {
     }
-  } joined{beside};
-  if (adaptive) beside.run([&] { thinnest = sample_uniform(allowed.thinnest()); });
-  report(SliceStage::planning, 0, 0);
+  }
+
+  void start_thinnest() {
+    beside_.run([this] { thinnest_ = sample(allowed_.thinnest()); });
+  }
+
+  // At about the plan's count, unless that is the thinnest again.
+  void start_same_count(const std::vector<geometry::Layer>& layers, double first_layer_height) {
+    const double t = nearest_allowed(
+        allowed_, (layers.back().z_hi - first_layer_height) / static_cast<double>(layers.size() - 1));
+    if (std::abs(t - allowed_.thinnest()) > 1e-9) beside_.run([this, t] { same_count_ = sample(t); });
+  }
+
+  // Waits for the samples started.
+  void join() { beside_.wait(); }
+
+  // What uniform slicing would take, after join(): at the thinnest layer, and at about as many
+  // layers.
+  std::vector<SliceResult::Uniform> uniform(const std::vector<geometry::Layer>& layers,
+                                            const printer::GcodeSummary& summary) const {
+    std::vector<SliceResult::Uniform> uniform;
+    for (const std::optional<Sampled>* sampled : {&thinnest_, &same_count_}) {
+      if (!*sampled) continue;
+      const auto& [t, sample] = **sampled;
+      uniform.push_back({t, sample.layers.size(), uniform_seconds(sample, layers, summary)});
+    }
+    return uniform;
+  }
+
+ private:
+  using Sampled = std::pair<double, LayerSample>;  // the thickness, the sample
+
+  Sampled sample(double t) const {
+    return Sampled{t, sample_layers(index_, geometry::uniform_plan(part_height_, t, allowed_, flats_).layers,
+                                    profiles_)};
+  }
+
+  const geometry::LayerStack& index_;
+  const printer::Profiles& profiles_;
+  const double part_height_;
+  const geometry::AllowedThicknesses allowed_;
+  const std::vector<geometry::FlatLevel> flats_;
+  // Declared before the group whose tasks write into them, so they outlive those tasks.
+  std::optional<Sampled> thinnest_, same_count_;
+  tbb::task_group beside_;
+};
+
+// The layer plan into the result, its notes reported.
+void plan_part_layers(const SliceOptions& options, const geometry::LayerStack& index,
+                      const geometry::ContourStrategy& contour, SliceResult& result,
+                      const SliceReporter& reporter) {
+  reporter.progress(SliceStage::planning, 0, 0);
   result.choice = plan_layers(
-      options, result.profiles, index, size.z, contour,
-      [&](std::size_t measured) { report(SliceStage::planning, measured, 0); },
+      options, result.profiles, index, result.part_size.z, contour,
+      [&](std::size_t measured) { reporter.progress(SliceStage::planning, measured, 0); },
       [&](const std::vector<geometry::Layer>& layers) {
         return estimated_seconds(index, layers, result.profiles);
       });
-  for (const std::string& line : result.choice.notes) warn(line);
+  for (const std::string& line : result.choice.notes) reporter.warn(line);
   result.layers = result.choice.layers;
-  const std::vector<geometry::Layer>& layers = result.layers;
-  const std::size_t count = layers.size();
-  const geometry::LayerStack stack(index, layers);
-  // The second, at about the plan's count, beside the contours, toolpaths and writing.
-  if (result.choice.adaptive && count > 1) {
-    const double t = nearest_allowed(
-        allowed, (layers.back().z_hi - machine.first_layer_height) / static_cast<double>(count - 1));
-    if (std::abs(t - allowed.thinnest()) > 1e-9) beside.run([&, t] { same_count = sample_uniform(t); });
-  }
+}
 
+// Each layer's region, in parallel.
+std::vector<geometry::Region> layer_regions(const geometry::LayerStack& stack,
+                                            const geometry::ContourStrategy& contour,
+                                            const SliceResult& result,
+                                            const SliceReporter& reporter) {
+  const std::size_t count = result.layers.size();
   std::vector<geometry::Region> regions(count);
-  report(SliceStage::contours, 0, count);
+  reporter.progress(SliceStage::contours, 0, count);
   std::atomic<std::size_t> contours_done{0};
   // A plan by mid's D has measured it on every layer: a strategy that compares mid (best)
   // takes it from there.
@@ -269,41 +317,82 @@ SliceResult slice(const SliceOptions& options, const std::string& output,
   tbb::parallel_for(std::size_t{0}, count, [&](std::size_t i) {
     regions[i] = geometry::layer_contour(stack, i, contour, {},
                                          mid_measured ? planned[i] : std::nan(""));
-    report(SliceStage::contours, ++contours_done, count);
+    reporter.progress(SliceStage::contours, ++contours_done, count);
   });
+  return regions;
+}
 
-  // Supports, bridges and the raft, under the regions the layers really print.
-  report(SliceStage::supports, 0, count);
+// Supports, bridges and the raft, under the regions the layers really print; their wall time
+// and bridge count into the result.
+geometry::SupportPlan part_supports(const std::vector<geometry::Region>& regions,
+                                    SliceResult& result, const SliceReporter& reporter) {
+  const std::size_t count = result.layers.size();
+  reporter.progress(SliceStage::supports, 0, count);
   const auto support_start = std::chrono::steady_clock::now();
   const geometry::SupportOptions support = support_options(result.profiles);
-  const geometry::SupportPlan plan =
-      geometry::plan_supports(regions, layers, support, raft_options(machine));
+  geometry::SupportPlan plan = geometry::plan_supports(regions, result.layers, support,
+                                                       raft_options(result.profiles.printer));
   result.support_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - support_start).count();
   for (const geometry::LayerSupport& layer : plan.layers) result.bridges += layer.bridges.size();
-  report(SliceStage::supports, count, count);
+  reporter.progress(SliceStage::supports, count, count);
+  return plan;
+}
 
-  report(SliceStage::toolpaths, 0, count);
-  const std::vector<geometry::LayerToolpaths> toolpaths = geometry::plan_toolpaths(
-      regions, layers, toolpath_options(machine), plan,
-      [&](std::size_t done) { report(SliceStage::toolpaths, done, count); });
+// The toolpaths of every layer; the regions are freed once they are laid.
+std::vector<geometry::LayerToolpaths> part_toolpaths(std::vector<geometry::Region>& regions,
+                                                     const geometry::SupportPlan& plan,
+                                                     const SliceResult& result,
+                                                     const SliceReporter& reporter) {
+  const std::size_t count = result.layers.size();
+  reporter.progress(SliceStage::toolpaths, 0, count);
+  std::vector<geometry::LayerToolpaths> toolpaths = geometry::plan_toolpaths(
+      regions, result.layers, toolpath_options(result.profiles.printer), plan,
+      [&](std::size_t done) { reporter.progress(SliceStage::toolpaths, done, count); });
   regions.clear();
   regions.shrink_to_fit();
+  return toolpaths;
+}
 
+// The G-code file and its summary into the result.
+void write_part_gcode(const std::string& output, const SliceOptions& options,
+                      const geometry::ContourStrategy& contour, const geometry::SupportPlan& plan,
+                      const std::vector<geometry::LayerToolpaths>& toolpaths, SliceResult& result,
+                      const SliceReporter& reporter) {
+  const std::size_t count = result.layers.size();
   const printer::GcodeOptions gcode_options = gcode_options_for(options, result, contour, plan);
-  report(SliceStage::writing, 0, count);
+  reporter.progress(SliceStage::writing, 0, count);
   result.summary = printer::write_gcode_file(
       output, toolpaths, result.profiles, gcode_options,
-      [&](std::size_t done) { report(SliceStage::writing, done, count); });
-  beside.wait();
-  if (result.choice.adaptive && count > 1) {
-    // What uniform slicing would take: at the thinnest layer, and at about as many layers.
-    for (const std::optional<Sampled>* sampled : {&thinnest, &same_count}) {
-      if (!*sampled) continue;
-      const auto& [t, sample] = **sampled;
-      result.uniform.push_back({t, sample.layers.size(), uniform_seconds(sample, layers, result.summary)});
-    }
-  }
+      [&](std::size_t done) { reporter.progress(SliceStage::writing, done, count); });
+}
+
+}  // namespace
+
+SliceResult slice(const SliceOptions& options, const std::string& output,
+                  const SliceEvents& events) {
+  SliceResult result;
+  const SliceReporter reporter{events, result};
+  result.profiles = load_slice_profiles(options);
+  const geometry::ContourStrategy& contour = contour_strategy_option(options.contour, "--contour");
+  check_uniform_thickness(options, result);
+  const geometry::Mesh mesh = load_part(options, result, reporter);
+  const geometry::LayerStack index(mesh, {});
+  const bool adaptive = options.adaptive.wanted();
+  UniformSamples samples(mesh, index, result, adaptive);
+  if (adaptive) samples.start_thinnest();
+  plan_part_layers(options, index, contour, result, reporter);
+  const geometry::LayerStack stack(index, result.layers);
+  const bool compared = result.choice.adaptive && result.layers.size() > 1;
+  if (compared) samples.start_same_count(result.layers, result.profiles.printer.first_layer_height);
+
+  std::vector<geometry::Region> regions = layer_regions(stack, contour, result, reporter);
+  const geometry::SupportPlan plan = part_supports(regions, result, reporter);
+  const std::vector<geometry::LayerToolpaths> toolpaths =
+      part_toolpaths(regions, plan, result, reporter);
+  write_part_gcode(output, options, contour, plan, toolpaths, result, reporter);
+  samples.join();
+  if (compared) result.uniform = samples.uniform(result.layers, result.summary);
   return result;
 }
 
