@@ -10,6 +10,7 @@
 #include <cerrno>
 #include <charconv>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <stdexcept>
 #include <string_view>
@@ -104,19 +105,37 @@ CommandResult run_mahost(const std::vector<std::string>& args, const std::string
   return run_command(argv, input, timeout);
 }
 
-std::string scratch_dir(const std::string& test_name) {
-  namespace fs = std::filesystem;
+namespace {
+
+namespace fs = std::filesystem;
+
+// The folder of this checkout's test processes: one a process, named by its id.
+fs::path scratch_base() {
   // One folder per checkout (a short hash of its path) and per test process, so two checkouts'
   // test runs at once (a clean-clone check beside the working tree), or two copies of one test
   // binary, never clear each other's files; short, so that the sockets made inside stay within
-  // the 108 bytes a socket path may have. The folders of processes that have exited are
-  // removed by the first test of the next process.
+  // the 108 bytes a socket path may have.
   const std::size_t checkout = std::hash<std::string_view>{}(MAHOST_SOURCE_DIR) % 0xfffff;
-  const fs::path base = fs::temp_directory_path() / fmt::format("mahost-test-{}-{:05x}", getuid(), checkout);
-  static const fs::path mine = [&] {
+  return fs::temp_directory_path() / fmt::format("mahost-test-{}-{:05x}", getuid(), checkout);
+}
+
+constexpr std::string_view kKeptPrefix = "failed-";
+constexpr auto kKeptFor = std::chrono::hours(24);
+
+// This process's folder, made once: the folders of processes that have exited are removed
+// first, save a failed test's (kept_after_failure) for a day.
+const fs::path& process_scratch() {
+  static const fs::path mine = [] {
+    const fs::path base = scratch_base();
     std::error_code ignored;
     for (const auto& entry : fs::directory_iterator(base, ignored)) {
       const std::string name = entry.path().filename().string();
+      if (name.rfind(kKeptPrefix, 0) == 0) {
+        const auto written = fs::last_write_time(entry.path(), ignored);
+        if (!ignored && fs::file_time_type::clock::now() - written < kKeptFor) continue;
+        fs::remove_all(entry.path(), ignored);
+        continue;
+      }
       pid_t pid = 0;
       const auto [end, error] = std::from_chars(name.data(), name.data() + name.size(), pid);
       const bool a_process_folder = error == std::errc{} && end == name.data() + name.size();
@@ -125,10 +144,49 @@ std::string scratch_dir(const std::string& test_name) {
     }
     return base / std::to_string(getpid());
   }();
-  const fs::path dir = mine / test_name;
+  return mine;
+}
+
+bool made_scratch = false;
+
+// The last `lines` lines of a text file.
+std::string tail_of(const fs::path& path, std::size_t lines) {
+  std::ifstream in(path, std::ios::binary);
+  std::vector<std::string> last;
+  for (std::string line; std::getline(in, line);) {
+    last.push_back(std::move(line));
+    if (last.size() > lines) last.erase(last.begin());
+  }
+  std::string out;
+  for (const std::string& line : last) out += line + "\n";
+  return out;
+}
+
+}  // namespace
+
+std::string scratch_dir(const std::string& test_name) {
+  const fs::path dir = process_scratch() / test_name;
+  made_scratch = true;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir.string();
+}
+
+std::string keep_scratch_after_failure() {
+  if (!made_scratch) return {};
+  std::error_code error;
+  const fs::path& mine = process_scratch();
+  std::string said;
+  for (const auto& entry : fs::recursive_directory_iterator(mine, error)) {
+    if (entry.is_regular_file(error) && entry.path().extension() == ".log") {
+      said += fmt::format("---- the end of {} ----\n{}", entry.path().string(), tail_of(entry.path(), 80));
+    }
+  }
+  const fs::path kept = mine.parent_path() / fmt::format("{}{}", kKeptPrefix, mine.filename().string());
+  fs::rename(mine, kept, error);
+  said += error ? fmt::format("the test's files: {} (removed by the next run)\n", mine.string())
+                : fmt::format("the test's files are kept for a day in {}\n", kept.string());
+  return said;
 }
 
 }  // namespace test_support

@@ -25,4 +25,9 @@ CommandResult run_mahost(const std::vector<std::string>& args, const std::string
 // Path of a fresh, empty scratch directory for one test (removed by the next run's cleanup).
 std::string scratch_dir(const std::string& test_name);
 
+// After a failed test: the ends of the logs in this process's scratch folders (a server's,
+// a simulated printer's), and the folder kept for a day where they say; "" when the process
+// made none. The tests' main calls it when a test fails.
+std::string keep_scratch_after_failure();
+
 }  // namespace test_support

@@ -212,17 +212,18 @@ class Serve {
 };
 
 // `mahost sim` on a pseudo-terminal: a printer serve reaches by a port, which a test can
-// unplug (kill) and plug back (start again, on a new terminal).
+// unplug (kill) and plug back (start again, on a new terminal). What it says on stderr goes to
+// `log` (appended: a printer plugged back writes on), read when a test fails.
 class SimPrinter {
  public:
-  explicit SimPrinter(std::vector<std::string> args) {
+  SimPrinter(std::vector<std::string> args, const std::string& log) {
     int out[2];
     REQUIRE(pipe2(out, O_CLOEXEC) == 0);
     posix_spawn_file_actions_t actions;
     posix_spawn_file_actions_init(&actions);
     posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
     posix_spawn_file_actions_adddup2(&actions, out[1], 1);
-    posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&actions, 2, log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0600);
     args.insert(args.begin(), {MAHOST_BINARY, "sim"});
     std::vector<char*> argv;
     for (std::string& a : args) argv.push_back(a.data());

@@ -33,7 +33,7 @@ std::size_t count(const std::string& text, const std::string& part) {
 TEST_CASE("a_printer_unplugged_mid_print_and_plugged_back_is_found_again_and_its_job_offered") {
   ServeDirs dirs("serve_replug");
   const std::string link = dirs.root + "/printer";
-  auto printer = std::make_unique<SimPrinter>(std::vector<std::string>{"--time-scale", "20"});
+  auto printer = std::make_unique<SimPrinter>(std::vector<std::string>{"--time-scale", "20"}, dirs.root + "/sim.log");
   REQUIRE(printer->port.rfind("/dev/pts/", 0) == 0);
   point(link, printer->port);
   Serve serve(dirs, {"--port", link});
@@ -55,7 +55,7 @@ TEST_CASE("a_printer_unplugged_mid_print_and_plugged_back_is_found_again_and_its
   CHECK(away.find(link + ": no such serial port") != std::string::npos);
 
   // Plugged back, on another terminal behind the same stable name: found again.
-  printer = std::make_unique<SimPrinter>(std::vector<std::string>{"--time-scale", "max"});
+  printer = std::make_unique<SimPrinter>(std::vector<std::string>{"--time-scale", "max"}, dirs.root + "/sim.log");
   point(link, printer->port);
   REQUIRE(wait_for([&] {
     const json s = serve.get_json("/api/mahost/status");
