@@ -819,15 +819,21 @@ std::optional<InterruptedJob> PrinterSession::interrupted_job(const std::string&
 }
 
 void PrinterSession::find_interrupted() {
-  std::optional<InterruptedJob> best;
+  std::vector<InterruptedJob> found;
   std::error_code error;
   for (const fs::directory_entry& entry : fs::directory_iterator(printer::job_directory(), error)) {
     if (entry.path().extension() != ".journal") continue;
-    const std::optional<InterruptedJob> job = interrupted_job(entry.path().string());
-    if (job && (!best || job->updated > best->updated)) best = job;
+    if (std::optional<InterruptedJob> job = interrupted_job(entry.path().string())) found.push_back(std::move(*job));
   }
+  std::optional<InterruptedJob> best;
   {
     std::lock_guard lock(mutex_);
+    // A resume taken since the link came back (the job it left was offered from the moment it
+    // failed) is no longer interrupted: its journal is the job about to run.
+    const std::string resuming = pending_start_ && pending_start_->recover ? pending_start_->recover_journal : "";
+    for (InterruptedJob& job : found) {
+      if (job.journal != resuming && (!best || job.updated > best->updated)) best = std::move(job);
+    }
     status_.interrupted = best;
     publish();
   }
@@ -1055,7 +1061,10 @@ void PrinterSession::run_job(const JobStart& start) {
                                         start.recover->layer_index + 1, file->gcode.layers.size())
                           : fmt::format("printing {}: {} layers, {} commands", start.name,
                                         file->gcode.layers.size(), file->gcode.size()));
-  auto end_job = [&](printer::JobState state, const std::string& reason) {
+  // `printer_lost`: the job ended with the link or the printer (failed with it, or a halt):
+  // the connection is down in the same update, so no client sees the printer operational
+  // between the two and has a start or a resume taken, then dropped.
+  auto end_job = [&](printer::JobState state, const std::string& reason, bool printer_lost) {
     const printer::JobProgress last = job.progress();
     // A job that failed or was stopped left its journal: from now on it is the interrupted
     // job, its file locked, not only once the printer is back.
@@ -1074,6 +1083,10 @@ void PrinterSession::run_job(const JobStart& start) {
       status_.ended_reason = reason;
       status_.job_file.clear();
       status_.heating.reset();
+      if (printer_lost) {
+        status_.connection = Connection::error;
+        status_.error = reason;
+      }
       job_requests_.clear();
       unsent.swap(job_tunes_);
       publish();
@@ -1085,13 +1098,13 @@ void PrinterSession::run_job(const JobStart& start) {
     result = job.run();
     install_idle_hook();
   } catch (const printer::LinkError& e) {
-    end_job(printer::JobState::failed, e.what());
+    end_job(printer::JobState::failed, e.what(), true);
     throw;
   } catch (const printer::PrinterError& e) {
-    end_job(printer::JobState::failed, e.what());
+    end_job(printer::JobState::failed, e.what(), true);
     throw;
   }
-  end_job(result.state, result.reason);
+  end_job(result.state, result.reason, result.state == printer::JobState::stopped);
   control.reset();
   if (result.state == printer::JobState::completed || result.state == printer::JobState::cancelled) {
     // Nothing to resume: the journal goes (and a G-code `mahost print` sliced beside it).
