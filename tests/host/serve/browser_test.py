@@ -10,8 +10,9 @@ that the printing file's Print and Delete are off; uploads an STL T with support
 layers set on the form (a bad brim refused first) and finds them in the sliced G-code, and no
 support where the form says none; checks that the page fits a phone's width; kills the server
 mid-print and sees the page say it is lost with its controls off, starts it again and sees the
-page find it, its events and the interrupted job. Against `mahost serve --dry-run` on a free
-loopback port.
+page find it, its events and the interrupted job; on that server's slow clock prints a file
+long enough that the page says the time left is being estimated (controls on) until the model
+has read it, then shows the time. Against `mahost serve --dry-run` on a free loopback port.
 
 Usage: browser_test.py MAHOST SCRATCH_DIR [--screenshots DIR]
 With --screenshots, the page is saved at desktop (1280x800) and phone (390x844) sizes at each
@@ -40,6 +41,7 @@ except ImportError:
 CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
 CHROMEDRIVER = shutil.which("chromedriver") or "/usr/bin/chromedriver"
 KEY = "browser-test-key-0123456789abcdef"
+RING_LAYERS = 400
 
 
 def ring_program(layers, segments):
@@ -125,16 +127,22 @@ def main():
     os.makedirs(runtime, mode=0o700)
     gcode = os.path.join(scratch, "ring.gcode")
     with open(gcode, "w") as f:
-        f.write(ring_program(30, 60))
+        # Long enough (160 s at --time-scale 10) that the steps below (tunes, a pause, a
+        # resume) happen mid-print however slowly a loaded machine runs the browser.
+        f.write(ring_program(RING_LAYERS, 60))
+    long_ring = os.path.join(scratch, "long.gcode")
+    with open(long_ring, "w") as f:
+        # Without the homing, which on this clock would outlast the estimate.
+        f.write(ring_program(1000, 60).replace("G28\n", "", 1))
     heat = os.path.join(scratch, "heat.gcode")
     with open(heat, "w") as f:
         f.write("M140 S60\nM104 S215\nM190 S60\nM109 S215\n" + ring_program(8, 60))
     env = dict(os.environ, MAHOST_API_KEY=KEY, XDG_RUNTIME_DIR=runtime, HOME=scratch)
     log = open(os.path.join(scratch, "serve.log"), "w")
 
-    def start_server(listen):
+    def start_server(listen, time_scale="10"):
         process = subprocess.Popen(
-            [mahost, "serve", "--dry-run", "--time-scale", "10", "--listen", listen,
+            [mahost, "serve", "--dry-run", "--time-scale", time_scale, "--listen", listen,
              "--files", os.path.join(scratch, "files")],
             stdout=subprocess.PIPE, stderr=log, env=env, text=True)
         line = process.stdout.readline()
@@ -253,6 +261,7 @@ def main():
         find("pause").click()
         wait_until("paused", lambda: text("state-pill") == "Paused")
         paused_at = layer()
+        shot("paused")
         time.sleep(1.5)
         if layer() != paused_at or text("state-pill") != "Paused":
             raise Failed(f"the print went on while paused: layer {paused_at} then {layer()}")
@@ -267,7 +276,7 @@ def main():
         driver.switch_to.alert.accept()
         wait_until("cancelled", lambda: text("state-pill") == "Operational" and "cancelled" in text("progress-label"),
                    timeout=60)
-        if layer() >= 30:
+        if layer() >= RING_LAYERS:
             raise Failed("the print completed instead of being cancelled")
         if "cancelled at layer" not in text("events"):
             raise Failed(f"no cancel event in the log: {text('events')[:300]}")
@@ -384,8 +393,9 @@ def main():
                 raise Failed(f"{id} is enabled while the server is lost")
         shot("lost")
         # Started again on the same port: found, its events shown from its first, its
-        # interrupted job offered.
-        server, url = start_server(f"127.0.0.1:{port}")
+        # interrupted job offered. Its printer's clock runs at a twentieth of real time, for
+        # the estimate below.
+        server, url = start_server(f"127.0.0.1:{port}", time_scale="0.05")
         wait_until("the server found again", lambda: not find("lost-card").is_displayed() and
                    text("state-pill") == "Operational", timeout=60)
         wait_until("the interrupted job offered", lambda: find("interrupted-card").is_displayed())
@@ -402,6 +412,26 @@ def main():
         wait_until("the interrupted job dropped", lambda: not find("interrupted-card").is_displayed())
         if [n for n in os.listdir(os.path.join(runtime, "mahost"))]:
             raise Failed(f"discarding left {os.listdir(os.path.join(runtime, 'mahost'))}")
+
+        # The time left of a long file is estimated while it prints: the model reads 16384 of
+        # its commands a tick of the job (printer/print_eta.h), a tick every 100 ms of the
+        # printer's clock, 2 s here. Until it has read the whole file (65009 commands: four
+        # ticks after the first, 8 s or more) the page says so, its controls on; then it shows
+        # the time.
+        find("upload-file").send_keys(long_ring)
+        find("upload-print").click()
+        find("upload-button").click()
+        wait_until("printing the long ring", lambda: text("state-pill") == "Printing")
+        wait_until("the time left estimating", lambda: text("fact-left") == "estimating…")
+        for id in ["pause", "cancel", "stop", "tune-set"]:
+            if not find(id).is_enabled():
+                raise Failed(f"{id} is off while the estimate runs")
+        shot("estimating")
+        wait_until("the time left known", lambda: ":" in text("fact-left"), timeout=120)
+        # The part is left unfinished: the printer at this clock would take hours.
+        server.kill()
+        server.wait(30)
+        server = None
         result = 0
     except Failed as e:
         print(f"browser_test: {e}", file=sys.stderr)
