@@ -984,14 +984,11 @@ std::optional<Heating> PrinterSession::heating_of(const printer::JobProgress& p)
   return Heating{known ? std::optional<double>(left) : std::nullopt};
 }
 
-void PrinterSession::run_job(const JobStart& start) {
-  const bool dry_run = options_.link.dry_run;
-  const printer::PrinterProfile& machine = options_.profiles.printer;
-  const std::string path = start.recover ? start.recover->gcode_path : files_.path_of(start.name);
-  std::shared_ptr<JobFile> file;
+std::shared_ptr<JobFile> PrinterSession::read_job(const JobStart& start, const std::string& path) {
   try {
-    file = std::make_shared<JobFile>(read_job_file(path));
+    auto file = std::make_shared<JobFile>(read_job_file(path));
     if (start.recover) app::check_resumable_file(*start.recover, file->gcode);
+    return file;
   } catch (const printer::ConfigError& e) {
     {
       std::lock_guard lock(mutex_);
@@ -1001,120 +998,104 @@ void PrinterSession::run_job(const JobStart& start) {
       publish();
     }
     add_event(fmt::format("cannot print {}: {}", start.name, e.what()));
-    return;
+    return nullptr;
   }
+}
 
-  printer::JobOptions options;
-  std::string journal;
+PrinterSession::JobSetup PrinterSession::job_setup(const JobStart& start, const JobFile& file,
+                                                   const std::string& path) const {
+  const bool dry_run = options_.link.dry_run;
+  const printer::PrinterProfile& machine = options_.profiles.printer;
+  JobSetup setup;
   if (start.recover) {
-    journal = start.recover_journal;
-    options = app::resume_job_options(*start.recover, machine, pause_options(options_.link, machine),
-                                      journal, dry_run ? "" : options_.link.port,
-                                      dry_run ? 0 : options_.baud, !dry_run);
+    setup.journal = start.recover_journal;
+    setup.options = app::resume_job_options(*start.recover, machine, pause_options(options_.link, machine),
+                                            setup.journal, dry_run ? "" : options_.link.port,
+                                            dry_run ? 0 : options_.baud, !dry_run);
   } else {
-    journal = (fs::path(printer::job_directory()) /
-               (job_name(fs::path(start.name).stem().string()) + ".journal"))
-                  .string();
-    options = job_options_for(file->gcode, path, machine, options_.link, options_.baud, journal);
+    setup.journal = (fs::path(printer::job_directory()) /
+                     (job_name(fs::path(start.name).stem().string()) + ".journal"))
+                        .string();
+    setup.options = job_options_for(file.gcode, path, machine, options_.link, options_.baud, setup.journal);
   }
-  options.resume_command =
+  setup.options.resume_command =
       dry_run ? std::string("reconnect, then resume it on the mahost serve page")
               : fmt::format("reconnect and resume it on the mahost serve page, or stop mahost serve "
                             "and run {}",
-                            printer::resume_command(journal, options_.link.port));
-  if (sim_at_full_speed()) options.paused_wait = wait_real_time;
+                            printer::resume_command(setup.journal, options_.link.port));
+  if (sim_at_full_speed()) setup.options.paused_wait = wait_real_time;
+  return setup;
+}
 
+void PrinterSession::show_job(std::shared_ptr<const JobFile> file, const std::string& journal) {
+  std::lock_guard lock(mutex_);
+  job_file_ = std::move(file);
+  status_.journal = journal;
+  status_.filepos = 0;
+  status_.layer_z.reset();
+  publish();
+}
+
+void PrinterSession::job_tick(printer::Job& job, ControlSocket* control) {
+  std::vector<printer::JobRequest> requests;
+  std::vector<std::string> tunes;
   {
     std::lock_guard lock(mutex_);
-    job_file_ = file;
-    status_.journal = journal;
-    status_.filepos = 0;
-    status_.layer_z.reset();
+    requests.swap(job_requests_);
+    tunes.swap(job_tunes_);
+  }
+  for (printer::JobRequest r : requests) job.request(r);
+  for (const std::string& c : tunes) {
+    add_event(job.tune(c) ? fmt::format("tune: {}", c) : fmt::format("{} not sent: the job was ending", c));
+  }
+  take_planned_pause(job);
+  if (control != nullptr) control->serve(job);
+  publish_job(job);
+}
+
+void PrinterSession::end_job(printer::Job& job, const std::string& journal, printer::JobState state,
+                             const std::string& reason, bool printer_lost) {
+  const printer::JobProgress last = job.progress();
+  // A job that failed or was stopped left its journal: from now on it is the interrupted
+  // job, its file locked, not only once the printer is back.
+  const std::optional<InterruptedJob> left =
+      state == printer::JobState::failed || state == printer::JobState::stopped ? interrupted_job(journal)
+                                                                                : std::nullopt;
+  std::vector<std::string> unsent;  // tunes that came after the job's last look
+  {
+    std::lock_guard lock(mutex_);
+    if (left) status_.interrupted = left;
+    status_.progress = last;
+    status_.filepos = last.bytes_done;
+    status_.job_active = false;
+    status_.cancel_requested = false;
+    status_.ended = state;
+    status_.ended_reason = reason;
+    status_.job_file.clear();
+    status_.heating.reset();
+    if (printer_lost) {
+      status_.connection = Connection::error;
+      status_.error = reason;
+    }
+    job_requests_.clear();
+    unsent.swap(job_tunes_);
     publish();
   }
-  const std::string base = fs::path(journal).replace_extension().string();
-  std::optional<ControlSocket> control;
-  try {
-    control.emplace(base + ".sock");
-  } catch (const printer::ConfigError&) {
-    // `mahost ctl` cannot reach this job (a path too long for a socket); the page can.
-  }
-  printer::Job job(*protocol_, file->gcode, std::move(options));
-  job.on_event = [this](const std::string& line) { add_event(line); };
-  job.on_tick = [&](printer::Job& j) {
-    std::vector<printer::JobRequest> requests;
-    std::vector<std::string> tunes;
-    {
-      std::lock_guard lock(mutex_);
-      requests.swap(job_requests_);
-      tunes.swap(job_tunes_);
-    }
-    for (printer::JobRequest r : requests) j.request(r);
-    for (const std::string& c : tunes) {
-      add_event(j.tune(c) ? fmt::format("tune: {}", c) : fmt::format("{} not sent: the job was ending", c));
-    }
-    take_planned_pause(j);
-    if (control) control->serve(j);
-    publish_job(j);
-  };
-  add_event(start.recover ? fmt::format("resuming {} at layer {}/{}", start.name,
-                                        start.recover->layer_index + 1, file->gcode.layers.size())
-                          : fmt::format("printing {}: {} layers, {} commands", start.name,
-                                        file->gcode.layers.size(), file->gcode.size()));
-  // `printer_lost`: the job ended with the link or the printer (failed with it, or a halt):
-  // the connection is down in the same update, so no client sees the printer operational
-  // between the two and has a start or a resume taken, then dropped.
-  auto end_job = [&](printer::JobState state, const std::string& reason, bool printer_lost) {
-    const printer::JobProgress last = job.progress();
-    // A job that failed or was stopped left its journal: from now on it is the interrupted
-    // job, its file locked, not only once the printer is back.
-    const std::optional<InterruptedJob> left =
-        state == printer::JobState::failed || state == printer::JobState::stopped ? interrupted_job(journal)
-                                                                                  : std::nullopt;
-    std::vector<std::string> unsent;  // tunes that came after the job's last look
-    {
-      std::lock_guard lock(mutex_);
-      if (left) status_.interrupted = left;
-      status_.progress = last;
-      status_.filepos = last.bytes_done;
-      status_.job_active = false;
-      status_.cancel_requested = false;
-      status_.ended = state;
-      status_.ended_reason = reason;
-      status_.job_file.clear();
-      status_.heating.reset();
-      if (printer_lost) {
-        status_.connection = Connection::error;
-        status_.error = reason;
-      }
-      job_requests_.clear();
-      unsent.swap(job_tunes_);
-      publish();
-    }
-    for (const std::string& c : unsent) add_event(fmt::format("{} not sent: the job had ended", c));
-  };
-  printer::JobResult result;
-  try {
-    result = job.run();
-    install_idle_hook();
-  } catch (const printer::LinkError& e) {
-    end_job(printer::JobState::failed, e.what(), true);
-    throw;
-  } catch (const printer::PrinterError& e) {
-    end_job(printer::JobState::failed, e.what(), true);
-    throw;
-  }
-  end_job(result.state, result.reason, result.state == printer::JobState::stopped);
-  control.reset();
+  for (const std::string& c : unsent) add_event(fmt::format("{} not sent: the job had ended", c));
+}
+
+void PrinterSession::after_job(const JobStart& start, const printer::JobResult& result, const std::string& journal,
+                               const JobFile& file) {
   if (result.state == printer::JobState::completed || result.state == printer::JobState::cancelled) {
     // Nothing to resume: the journal goes (and a G-code `mahost print` sliced beside it).
+    const std::string base = fs::path(journal).replace_extension().string();
     std::vector<std::string> own{journal};
     if (start.recover && start.recover->gcode_path == base + ".gcode") own.push_back(base + ".gcode");
     remove_files(own);
   }
   add_event(result.state == printer::JobState::completed
                 ? fmt::format("completed {}: {} commands, {} layers", start.name, result.commands_done,
-                              file->gcode.layers.size())
+                              file.gcode.layers.size())
                 : fmt::format("{} {}: {}", printer::to_string(result.state), start.name, result.reason));
   write_record();
   if (result.state == printer::JobState::stopped) throw Halted{result.reason};
@@ -1129,6 +1110,42 @@ void PrinterSession::run_job(const JobStart& start) {
       publish();
     }
   }
+}
+
+void PrinterSession::run_job(const JobStart& start) {
+  const std::string path = start.recover ? start.recover->gcode_path : files_.path_of(start.name);
+  const std::shared_ptr<const JobFile> file = read_job(start, path);
+  if (!file) return;
+  JobSetup setup = job_setup(start, *file, path);
+  const std::string journal = setup.journal;
+  show_job(file, journal);
+  std::optional<ControlSocket> control;
+  try {
+    control.emplace(fs::path(journal).replace_extension(".sock").string());
+  } catch (const printer::ConfigError&) {
+    // `mahost ctl` cannot reach this job (a path too long for a socket); the page can.
+  }
+  printer::Job job(*protocol_, file->gcode, std::move(setup.options));
+  job.on_event = [this](const std::string& line) { add_event(line); };
+  job.on_tick = [&](printer::Job& j) { job_tick(j, control ? &*control : nullptr); };
+  add_event(start.recover ? fmt::format("resuming {} at layer {}/{}", start.name,
+                                        start.recover->layer_index + 1, file->gcode.layers.size())
+                          : fmt::format("printing {}: {} layers, {} commands", start.name,
+                                        file->gcode.layers.size(), file->gcode.size()));
+  printer::JobResult result;
+  try {
+    result = job.run();
+    install_idle_hook();
+  } catch (const printer::LinkError& e) {
+    end_job(job, journal, printer::JobState::failed, e.what(), true);
+    throw;
+  } catch (const printer::PrinterError& e) {
+    end_job(job, journal, printer::JobState::failed, e.what(), true);
+    throw;
+  }
+  end_job(job, journal, result.state, result.reason, result.state == printer::JobState::stopped);
+  control.reset();
+  after_job(start, result, journal, *file);
 }
 
 void PrinterSession::write_record() const {

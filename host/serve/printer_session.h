@@ -35,6 +35,10 @@
 #include "printer/profile.h"
 #include "printer/replies.h"
 
+namespace host {
+class ControlSocket;
+}
+
 namespace host::serve {
 
 enum class Connection { connecting, operational, error, closed };
@@ -227,7 +231,32 @@ class PrinterSession {
   void connect_printer(bool retrying);
   void serve_printer();
   void idle_step();
+  // A job, from its file to its end, in the steps below.
   void run_job(const JobStart& start);
+  // The job's file read and checked (a resume's against its journal); nullptr, the job ended
+  // failed and the event said, when it cannot be printed.
+  std::shared_ptr<JobFile> read_job(const JobStart& start, const std::string& path);
+  struct JobSetup {
+    printer::JobOptions options;
+    std::string journal;
+  };
+  // The job's options and journal: a new job's, or a resume's from its journal.
+  JobSetup job_setup(const JobStart& start, const JobFile& file, const std::string& path) const;
+  // The job's file and journal published (the layer drawings and filepos read them).
+  void show_job(std::shared_ptr<const JobFile> file, const std::string& journal);
+  // A tick of the job: the clients' requests and tunes handed to it, a planned pause taken,
+  // `mahost ctl` served (when `control`), the progress published.
+  void job_tick(printer::Job& job, ControlSocket* control);
+  // The job's end published; `printer_lost`: it ended with the link or the printer (failed
+  // with the link, or a halt), and the connection is down in the same update, so no client
+  // sees the printer operational between the two and has a start or a resume taken, then
+  // dropped.
+  void end_job(printer::Job& job, const std::string& journal, printer::JobState state, const std::string& reason,
+               bool printer_lost);
+  // After the end: a finished or cancelled job's journal removed, the event, the record, a
+  // halt thrown (Halted), a restart asked with the cancel queued.
+  void after_job(const JobStart& start, const printer::JobResult& result, const std::string& journal,
+                 const JobFile& file);
   void run_commands(const std::vector<std::string>& commands);
   void stop_pending_start();
   void find_interrupted();
