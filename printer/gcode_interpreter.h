@@ -8,9 +8,18 @@
 // The rules, each from Marlin 2's source (Marlin/src/...):
 //   G0/G1     an axis word moves its axis, absolute or relative by the mode; F above 0 sets the
 //             modal feedrate, F0 and below are ignored (gcode/motion/G0_G1.cpp,
-//             get_destination_from_command in gcode/gcode.cpp). G2/G3 go straight to their
-//             end point: the arc's I J R are not followed (mahost and the slicers compared here
-//             write none).
+//             get_destination_from_command in gcode/gcode.cpp).
+//   G2/G3     an arc in XY, clockwise/counter-clockwise, cut into chords as Marlin 2.1's
+//             plan_arc does with its default configuration (gcode/motion/G2_G3.cpp;
+//             Configuration_adv.h: MIN_ARC_SEGMENT_MM 0.1, MAX_ARC_SEGMENT_MM 1,
+//             MIN_CIRCLE_SEGMENTS 72, N_ARC_CORRECTION 25; no ARC_SEGMENTS_PER_SEC,
+//             ARC_P_CIRCLES or CNC_WORKSPACE_PLANES). The centre is I J from the start, or
+//             from R (a negative R the longer way round); R wins over I J. Z and E change
+//             evenly along it. The end at the start (within 1e-6 mm) is a full circle of at
+//             least 72 chords; other arcs have 1 mm chords, at least 72 per turn. Without a
+//             centre (no I J R, or all 0) nothing moves and Marlin answers "Error:G2/G3 bad
+//             parameters"; F is still taken. An arc of no angle, or of under 0.0001 mm and
+//             not rising, does not move.
 //   G90/G91   every axis absolute/relative, E included: set_relative_mode() assigns all the
 //             mode bits, also clearing what M82/M83 set (gcode/gcode.h).
 //   M82/M83   E alone absolute/relative (set_e_absolute/set_e_relative, gcode/gcode.h).
@@ -31,6 +40,8 @@
 //             M207-M209.cpp).
 //   M221 S    the flow, percent of every later extrusion (gcode/config/M221.cpp).
 // Comments: ";LAYER:<n>" (mahost, CuraEngine) starts layer n, ";TYPE:<name>" a feature.
+// Other firmware differ from Marlin in a few rules, chosen in GcodeRules (the simulated
+// printer's dialects, sim/dialect.h, pick them); the rest of the table holds for them too.
 // Units: mm, mm/min for F (as written, times 25.4 after G20), mm/s for a move's feedrate.
 #pragma once
 
@@ -39,6 +50,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "printer/gcode_line.h"
 #include "printer/motion_model.h"
@@ -54,12 +66,25 @@ struct FirmwareRetraction {
   double recover_feedrate = 8;  // mm/s
 };
 
+// Where a firmware reads G-code otherwise than Marlin; the defaults are Marlin's rules.
+struct GcodeRules {
+  // E is relative while G91 or M83 holds, either: G90/G91 leave M82/M83's choice alone
+  // (Teacup's gcode_process.c: e_relative = option_all_relative || option_e_relative;
+  // Repetier's Printer.cpp setDestinationStepsFromGCode: relativeCoordinateMode ||
+  // relativeExtruderCoordinateMode). Marlin: G90/G91 set E's mode too.
+  bool e_relative_while_g91 = false;
+  // G92 as Teacup's gcode_process.c case 92: an axis written without a value is set to 0
+  // (gcode_parse.c reads "X" as X0), and G92 with no axis sets X, Y, Z and E to 0.
+  bool g92_bare_axis_is_zero = false;
+};
+
 // What a printer holds after the commands read so far.
 struct GcodeState {
+  GcodeRules rules;
   double x = 0, y = 0, z = 0, e = 0;  // the G-code's coordinates, mm
   double feedrate = 0;                // mm/min, the last F above 0 (in mm); 0 before any
   bool relative_xyz = false;          // G91
-  bool relative_e = false;            // M83 or G91
+  bool relative_e = false;            // M83 or G91 (with e_relative_while_g91: M83 alone)
   double unit = 1;                    // mm per unit of X Y Z E F: 1 (G21), 25.4 (G20)
   double flow = 100;                  // percent, M221
   bool homed = false;                 // a G28 has run
@@ -83,13 +108,18 @@ bool lays_filament(const Motion& move);
 
 // What one command did.
 struct GcodeStep {
-  std::array<Motion, 2> motions;
+  std::array<Motion, 2> motions;  // a G0/G1's move, G10/G11's one or two
   std::size_t count = 0;       // motions used
+  std::vector<Motion> chords;  // a G2/G3's moves, in order (then count is 0)
   bool homed = false;          // a G28 ran: the position jumped after the planner drained
   bool position_set = false;   // G28 or G92: the position changed without moving
+  bool bad_arc = false;        // a G2/G3 without a centre: "Error:G2/G3 bad parameters"
   bool layer_started = false;  // a ";LAYER:" comment
   bool type_started = false;   // a ";TYPE:" comment
-  std::span<const Motion> moves() const { return {motions.data(), count}; }
+  // Every move the planner is given, in order.
+  std::span<const Motion> moves() const {
+    return chords.empty() ? std::span<const Motion>{motions.data(), count} : std::span<const Motion>{chords};
+  }
 };
 
 // The words of a G0/G1 as written; absent words keep their axis (or the modal feedrate).
@@ -100,11 +130,19 @@ struct MoveWords {
 
 // Applies one command to `state`; commands that change nothing here are ignored.
 GcodeStep interpret(GcodeState& state, const GcodeCommand& command);
+// Whether a G0-G3's E is relative in the state's modes and rules.
+bool e_is_relative(const GcodeState& state);
 // A G0/G1 of these words.
 GcodeStep interpret_move(GcodeState& state, const MoveWords& words);
 
 // Where the planner has the nozzle and filament: the coordinates with the hop and the
 // retraction.
 AxisPosition machine_position(const GcodeState& state);
+
+// The planner's limits as M201 (X Y Z E acceleration, mm/s^2), M203 (X Y Z E speed, mm/s),
+// M204 (S print and travel, P print, R retract, T travel acceleration), M205 (J junction
+// deviation, S minimum feedrate) leave them; a value of 0 or below is ignored, but M205 S0
+// is taken (gcode/config/M200-M205.cpp). nullopt for any other command.
+std::optional<MotionLimits> motion_limits_after(const MotionLimits& limits, const GcodeCommand& command);
 
 }  // namespace printer

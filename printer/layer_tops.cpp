@@ -1,6 +1,7 @@
 // The layer tops of a G-code file; see layer_tops.h.
 #include "printer/layer_tops.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstddef>
@@ -81,8 +82,10 @@ std::vector<double> layer_tops_from_gcode(std::string_view text, const std::stri
       continue;
     }
     const GcodeStep step = interpret(state, parse_gcode_line(line));
-    if (step.count == 0 || !lays_filament(step.motions[0])) continue;
-    const double z = step.motions[0].to.z;
+    const auto moves = step.moves();
+    const auto laying = std::find_if(moves.begin(), moves.end(), lays_filament);
+    if (laying == moves.end()) continue;
+    const double z = laying->to.z;
     if (!tops.empty() && std::abs(z - tops.back()) <= kSameHeight) continue;
     if (!tops.empty() && z < tops.back()) {
       throw ConfigError(fmt::format(

@@ -47,32 +47,8 @@ void PrintClock::command(const GcodeCommand& c) {
     return;
   }
   if (c.letter != 'M') return;
-  MotionLimits limits = model_.limits();
-  static constexpr char kAxes[4] = {'X', 'Y', 'Z', 'E'};
-  switch (c.code) {
-    case 109: case 190: case 400: drain(); return;
-    case 201:
-      for (int i = 0; i < 4; ++i) {
-        if (auto v = c.get(kAxes[i]); v && *v > 0) limits.max_acceleration[i] = *v;
-      }
-      break;
-    case 203:
-      for (int i = 0; i < 4; ++i) {
-        if (auto v = c.get(kAxes[i]); v && *v > 0) limits.max_speed[i] = *v;
-      }
-      break;
-    case 204:
-      if (auto v = c.get('S'); v && *v > 0) limits.print_acceleration = limits.travel_acceleration = *v;
-      if (auto v = c.get('P'); v && *v > 0) limits.print_acceleration = *v;
-      if (auto v = c.get('R'); v && *v > 0) limits.retract_acceleration = *v;
-      if (auto v = c.get('T'); v && *v > 0) limits.travel_acceleration = *v;
-      break;
-    case 205:
-      if (auto v = c.get('J'); v && *v > 0) limits.junction_deviation = *v;
-      break;
-    default: return;
-  }
-  model_.set_limits(limits);
+  if (c.code == 109 || c.code == 190 || c.code == 400) return drain();
+  if (const auto limits = motion_limits_after(model_.limits(), c)) model_.set_limits(*limits);
 }
 
 double PrintClock::elapsed() const { return model_.total_time() + dwell_; }

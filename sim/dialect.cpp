@@ -104,6 +104,13 @@ std::string firmware_report(Dialect dialect, std::string_view marlin_version) {
   return "";
 }
 
+printer::GcodeRules gcode_rules(Dialect dialect) {
+  printer::GcodeRules rules;
+  rules.e_relative_while_g91 = dialect != Dialect::marlin;
+  rules.g92_bare_axis_is_zero = dialect == Dialect::teacup;
+  return rules;
+}
+
 bool knows(Dialect dialect, const printer::GcodeCommand& c) {
   if (dialect == Dialect::marlin) return true;  // the firmware's own switch decides
   if (dialect == Dialect::teacup) {

@@ -14,6 +14,7 @@
 #include <string_view>
 #include <vector>
 
+#include "printer/gcode_interpreter.h"
 #include "printer/gcode_line.h"
 
 namespace sim {
@@ -55,6 +56,10 @@ struct DialectTraits {
   std::optional<bool> ok_after_resend;  // fixed by the dialect; unset: the Config decides
 };
 const DialectTraits& traits(Dialect dialect);
+
+// Where the firmware reads G-code otherwise than Marlin (printer/gcode_interpreter.h):
+// Teacup's E relative while G91 or M83 holds and its G92 of bare axes; Repetier's E likewise.
+printer::GcodeRules gcode_rules(Dialect dialect);
 
 // What the firmware prints after power-on or reset.
 std::vector<std::string> boot_banner(Dialect dialect, std::string_view marlin_version);

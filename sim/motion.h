@@ -1,18 +1,21 @@
-// The simulated printer's motion (sim/printer.h): where the head is in the G-code's modes,
-// the planner that times the moves (printer::MotionModel, the same model the G-code writer's
-// estimate uses), and what the moves deposit.
+// The simulated printer's motion (sim/printer.h): where the head is, read by the one G-code
+// interpreter (printer/gcode_interpreter.h, with the dialect's GcodeRules), the planner that
+// times the moves (printer::MotionModel, the same model the G-code writer's estimate uses),
+// and what the moves deposit.
 //
-// Input: G0-G3, G28, G92, G90/G91, M82/M83, M201-M205, M220/M221 as parsed commands, at sim
-// times (s). Output: when each move entered the planner (its ok is due then: a full planner
-// holds the ok until the oldest move runs out), when all moves end, the position and the
-// extruding moves in the DepositionRecord. Arcs are cut into 1 mm chords (Marlin's
-// MM_PER_ARC_SEGMENT); homing runs through the planner from where the head is.
+// Input: G0-G3, G28 (and Teacup's G161/G162), G92, G90/G91, M82/M83, G20/G21, M201-M205,
+// M220/M221 as parsed commands, at sim times (s). Output: when each move entered the planner
+// (its ok is due then: a full planner holds the ok until the oldest move runs out), when all
+// moves end, the position and the extruding moves in the DepositionRecord. Arcs are the
+// interpreter's chords (Marlin's plan_arc); homing runs through the planner from where the
+// head is.
 // Units: mm, mm/s, s.
 #pragma once
 
 #include <deque>
 #include <string>
 
+#include "printer/gcode_interpreter.h"
 #include "printer/gcode_line.h"
 #include "printer/motion_model.h"
 #include "sim/config.h"
@@ -27,22 +30,25 @@ class Motion {
     double x = 0, y = 0, z = 0, e = 0;
   };
 
-  // Powers on at 0,0,0 with Marlin's boot modes; extruding moves go to `record`.
+  // Powers on at 0,0,0 with the boot modes and the G-code rules of the config's dialect
+  // (sim/dialect.h gcode_rules); extruding moves go to `record`.
   Motion(const Config& config, DepositionRecord& record, double now);
 
-  // G0/G1, G2 (clockwise)/G3: returns when the move (the last chord) entered the planner.
-  double move(const printer::GcodeCommand& c, double now);
-  double arc(const printer::GcodeCommand& c, bool clockwise, double now);
-  // G28 (all axes, or the ones named): returns when homing ends.
+  // What a G0-G3 did: when its last move entered the planner; `bad_arc` for a G2/G3 without
+  // a centre, which does not move.
+  struct Queued {
+    double entered = 0;
+    bool bad_arc = false;
+  };
+  Queued move(const printer::GcodeCommand& c, double now);
+  // G28 (all axes, or the ones named), Teacup's G161/G162 (the ones named, or all): returns
+  // when homing ends.
   double home(const printer::GcodeCommand& c, double now);
   void set_position(const printer::GcodeCommand& c);   // G92
   void set_limits(const printer::GcodeCommand& c);     // M201, M203, M204, M205
-
-  // G90/G91 (both also set E to follow, as Marlin's do), M82/M83.
-  void absolute_positioning(bool absolute);
-  void absolute_extrusion(bool absolute);
+  // A command that changes modes only: G90/G91, M82/M83, G20/G21, M221.
+  void set_mode(const printer::GcodeCommand& c) { printer::interpret(state_, c); }
   void set_feed_percent(double percent) { feed_percent_ = percent; }  // M220
-  void set_flow_percent(double percent) { flow_percent_ = percent; }  // M221
 
   // planner.synchronize(): every queued move runs out; returns when the last one ends.
   double finish(double now);
@@ -50,8 +56,8 @@ class Motion {
   // inside a move the head stopped: the position stays where the last command put it.
   void quickstop(double now);
 
-  const Head& head() const { return head_; }
-  double feedrate() const { return feedrate_; }  // mm/s, the last F
+  Head head() const { return {state_.x, state_.y, state_.z, state_.e}; }
+  double feedrate() const { return state_.feedrate / 60.0; }  // mm/s, the last F
   int planner_free() const;
   double motion_time() const { return planner_.total_time(); }  // s of motion planned so far
   double end_time() const { return stepper_free_; }             // when the moves made final end
@@ -61,10 +67,9 @@ class Motion {
   double starved() const { return starved_; }
 
  private:
-  bool e_relative() const;
-  Head destination(const printer::GcodeCommand& c);
-  double line_to(const Head& target, double now);
+  double line(const printer::Motion& move, double now);
   double plan_move(printer::AxisPosition target, double speed, double now);
+  printer::AxisPosition planner_target() const;
 
   const Config* config_;
   DepositionRecord* record_;
@@ -73,12 +78,9 @@ class Motion {
   double stepper_free_ = 0;        // when all moves made final so far have run
   bool drained_ = true;            // the planner was emptied on purpose since the last move
   double starved_ = 0;
-  Head head_;
+  printer::GcodeState state_;      // position, modes, units, feedrate, flow
   double fed_ = 0;                 // filament actually fed (flow applied), the planner's E
-  double feedrate_ = 25;           // mm/s (Marlin boots with 1500 mm/min)
-  bool relative_ = false;
-  enum class EMode { follow, absolute, relative } e_mode_ = EMode::follow;
-  double feed_percent_ = 100, flow_percent_ = 100;
+  double feed_percent_ = 100;
 };
 
 }  // namespace sim

@@ -526,7 +526,7 @@ struct Printer::Firmware {
       // The temperatures are reached: the move G0/G1 held back (temp_wait) goes ahead.
       const printer::GcodeCommand move = *std::exchange(teacup_waiting_move, std::nullopt);
       wait = Wait::none;
-      done_at = motion.move(move, now);
+      done_at = motion.move(move, now).entered;
       if (done_at > now) {
         wait = Wait::planner;
         return;
@@ -575,7 +575,11 @@ struct Printer::Firmware {
         case 1:
         case 2:
         case 3: {
-          done_at = c.code <= 1 ? motion.move(c, now) : motion.arc(c, c.code == 2, now);
+          const Motion::Queued queued = motion.move(c, now);
+          // G2_G3.cpp: an arc without a centre is SERIAL_ERROR_MSG(STR_ERR_ARC_ARGS)
+          // (language.h). Repetier's own arc code is not rebuilt here: it stays silent.
+          if (queued.bad_arc && cfg.dialect == Dialect::marlin) emit("Error:G2/G3 bad parameters");
+          done_at = queued.entered;
           if (done_at > now) wait = Wait::planner;
           return;
         }
@@ -592,8 +596,7 @@ struct Printer::Firmware {
           wait = Wait::motion;
           report_position_after = true;
           return;
-        case 90: motion.absolute_positioning(true); return;
-        case 91: motion.absolute_positioning(false); return;
+        case 90: case 91: motion.set_mode(c); return;
         case 92:  // G92.1 and G92.9 only with CNC_COORDINATE_SYSTEMS or POWER_LOSS_RECOVERY
           if (c.subcode == 0) motion.set_position(c);
           return;
@@ -619,8 +622,7 @@ struct Printer::Firmware {
             wait = Wait::motion;
           }
           return;
-        case 82: motion.absolute_extrusion(true); return;
-        case 83: motion.absolute_extrusion(false); return;
+        case 82: case 83: motion.set_mode(c); return;
         case 104:
           if (auto s = c.get('S')) heaters.set_hotend(*s, now);
           return;
@@ -673,7 +675,7 @@ struct Printer::Firmware {
           if (auto s = c.get('S')) motion.set_feed_percent(std::max(*s, 1.0));
           return;
         case 221:
-          if (auto s = c.get('S')) motion.set_flow_percent(std::max(*s, 0.0));
+          motion.set_mode(c);
           return;
         case 400:
           done_at = motion.finish(now);
@@ -727,7 +729,8 @@ struct Printer::Firmware {
           done_at = motion.finish(now) + std::max(c.get('P').value_or(0), 0.0) / 1000.0;
           wait = Wait::motion;
           return true;
-        case 20: case 21:  // units; the sim keeps millimetres
+        case 20: case 21:  // inches/mm: gcode_parse.c reads X Y Z E, and F (254/10), in inches
+          motion.set_mode(c);
           return true;
         case 28:  // queue_wait(), then home; no position report
           done_at = motion.home(c, now);
@@ -736,14 +739,8 @@ struct Printer::Firmware {
         case 92: {  // queue_wait() first
           done_at = motion.finish(now);
           wait = Wait::motion;
-          // A seen axis takes its value, 0 when written bare (gcode_parse.c reads "X" as X0);
-          // G92 with no axis sets all four to 0.
-          printer::GcodeCommand teacup = c;
-          for (printer::GcodeWord& w : teacup.words) w.value = w.value.value_or(0);
-          if (!c.has('X') && !c.has('Y') && !c.has('Z') && !c.has('E')) {
-            teacup = printer::parse_gcode_line("G92 X0 Y0 Z0 E0");
-          }
-          motion.set_position(teacup);
+          // A bare axis is 0, no axis all four: Teacup's G92 rule (sim/dialect.cpp gcode_rules).
+          motion.set_position(c);
           return true;
         }
         case 161: case 162:
@@ -802,8 +799,12 @@ struct Printer::Firmware {
 
   // Commands.cpp processMCode, where Repetier differs from Marlin's switch.
   bool execute_repetier(const printer::GcodeCommand& c) {
-    // G20/G21: units (Commands.cpp processGCode, in every build); the sim keeps millimetres.
-    if (c.is('G', 20) || c.is('G', 21)) return true;
+    // G20/G21: units (Commands.cpp processGCode, in every build); Printer.cpp's convertToMM
+    // reads X Y Z E in inches after G20, and F times 25.4 (0.0042333 = 25.4 / 60 / 100).
+    if (c.is('G', 20) || c.is('G', 21)) {
+      motion.set_mode(c);
+      return true;
+    }
     if (c.letter != 'M') return false;
     switch (c.code) {
       case 105:

@@ -1,5 +1,6 @@
 // printer/gcode_interpreter: one test per rule, each against what Marlin 2's source does
 // (the files are named in gcode_interpreter.h).
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string_view>
@@ -60,13 +61,119 @@ TEST_CASE("f_above_zero_is_the_modal_feedrate_f0_and_below_are_ignored") {
   CHECK(s.feedrate == 3000);
 }
 
-TEST_CASE("g2_and_g3_go_straight_to_their_end_point") {
+// The greatest distance of a chord's end from the circle about (cx, cy) of radius r, mm. The
+// chords' ends drift inside the circle by theta^4 / 24 of the radius a chord (theta: the
+// chord's angle), up to 0.0006 mm on radius 10 at 72 a turn, put right every 25th.
+double off_circle(const GcodeStep& step, double cx, double cy, double r) {
+  double worst = 0;
+  for (const Motion& m : step.moves()) {
+    worst = std::max(worst, std::abs(std::hypot(m.to.x - cx, m.to.y - cy) - r));
+  }
+  return worst;
+}
+
+TEST_CASE("g2_cuts_a_half_circle_about_i_j_into_72_chords_a_turn_at_its_feedrate") {
   GcodeState s;
   const GcodeStep arc = run(s, "G2 X10 Y0 I5 J0 E1 F600");
-  REQUIRE(arc.count == 1);
-  CHECK(arc.motions[0].to.x == 10);
-  CHECK(arc.motions[0].to.e == 1);
-  CHECK(lays_filament(arc.motions[0]));
+  // 5 pi mm of arc: 15 whole 1 mm chords, fewer than MIN_CIRCLE_SEGMENTS' 36 for half a turn.
+  REQUIRE(arc.moves().size() == 36);
+  CHECK(off_circle(arc, 5, 0, 5) < 1e-3);
+  // The 25th chord ends where cos and sin put it, exactly on the circle.
+  CHECK(std::hypot(arc.moves()[24].to.x - 5, arc.moves()[24].to.y) == doctest::Approx(5).epsilon(1e-12));
+  CHECK(std::hypot(arc.moves()[23].to.x - 5, arc.moves()[23].to.y) < 5 - 1e-5);
+  CHECK(arc.moves()[17].to.x == doctest::Approx(5).epsilon(1e-3));  // clockwise from (0, 0):
+  CHECK(arc.moves()[17].to.y == doctest::Approx(5).epsilon(1e-3));  // over the top
+  for (const Motion& m : arc.moves()) {
+    CHECK(m.to.e - m.from.e == doctest::Approx(1.0 / 36));
+    CHECK(m.feedrate == 10);
+    CHECK(lays_filament(m));
+  }
+  CHECK(arc.moves().back().to.x == 10);
+  CHECK(arc.moves().back().to.y == 0);
+  CHECK(s.x == 10);
+  CHECK(s.e == 1);
+  const GcodeStep under = run(s, "G2 X0 Y0 I-5 J0");  // clockwise from (10, 0): under
+  REQUIRE(under.moves().size() == 36);
+  CHECK(under.moves()[17].to.y == doctest::Approx(-5).epsilon(1e-3));
+}
+
+TEST_CASE("an_arc_turns_the_way_its_g_says_the_long_way_round_if_need_be") {
+  GcodeState s;
+  // From (0, 0) about (5, 0) to (5, 5): clockwise a quarter turn, counter-clockwise three.
+  const GcodeStep quarter = run(s, "G2 X5 Y5 I5");
+  CHECK(quarter.moves().size() == 18);  // ceil(72 / 4)
+  s = GcodeState{};
+  const GcodeStep three = run(s, "G3 X5 Y5 I5");
+  CHECK(three.moves().size() == 54);
+  CHECK(off_circle(three, 5, 0, 5) < 1e-3);
+  CHECK(three.moves()[17].to.y == doctest::Approx(-5).epsilon(1e-3));  // under the bottom first
+}
+
+TEST_CASE("r_puts_the_centre_on_the_chords_bisector_a_negative_r_on_the_long_side") {
+  GcodeState s;
+  // From (0, 0) to (10, 0) on radius 6: the centre is sqrt(11) from the chord's middle, below
+  // it for a clockwise arc the short way (112.9 degrees: 23 chords, ceil(72 x 112.9 / 360)),
+  // above it for R-6, the long way (247.1 degrees: 50 chords).
+  const double h = std::sqrt(11.0);
+  const GcodeStep short_way = run(s, "G2 X10 Y0 R6");
+  CHECK(short_way.moves().size() == 23);
+  CHECK(off_circle(short_way, 5, -h, 6) < 1e-3);
+  CHECK(short_way.moves()[11].to.y > 2);
+  s = GcodeState{};
+  const GcodeStep long_way = run(s, "G2 X10 Y0 R-6");
+  CHECK(long_way.moves().size() == 50);
+  CHECK(off_circle(long_way, 5, h, 6) < 1e-3);
+  s = GcodeState{};
+  // R wins over I and J.
+  CHECK(off_circle(run(s, "G2 X10 Y0 R6 I3 J3"), 5, -h, 6) < 1e-3);
+}
+
+TEST_CASE("an_arc_back_to_its_start_is_a_full_circle_of_1_mm_chords_at_least_72") {
+  GcodeState s;
+  const GcodeStep small = run(s, "G2 I5");  // 31.4 mm: the minimum of 72 chords
+  CHECK(small.moves().size() == 72);
+  CHECK(off_circle(small, 5, 0, 5) < 1e-3);
+  CHECK(s.x == 0);
+  // 314.16 mm: 314 chords would be over 1 mm (MAX_ARC_SEGMENT_MM), so 315.
+  CHECK(run(s, "G3 I50").moves().size() == 315);
+  // 0.063 mm: 72 chords would be under 0.1 mm (MIN_ARC_SEGMENT_MM), and fewer than one
+  // fits: one chord, from the start to the start.
+  CHECK(run(s, "G2 I0.01").moves().size() == 1);
+}
+
+TEST_CASE("z_and_e_change_evenly_along_an_arc") {
+  GcodeState s = after("G1 Z1 E1");
+  const GcodeStep helix = run(s, "G2 X10 I5 Z2 E3");
+  REQUIRE(helix.moves().size() == 36);
+  for (const Motion& m : helix.moves()) {
+    CHECK(m.to.z - m.from.z == doctest::Approx(1.0 / 36));
+    CHECK(m.to.e - m.from.e == doctest::Approx(2.0 / 36));
+  }
+  CHECK(s.z == 2);
+}
+
+TEST_CASE("an_arc_reads_its_words_in_the_current_modes_and_units") {
+  GcodeState s = after("G1 X10\nG91");
+  run(s, "G2 X10 I5");  // relative: to X 20 about X 15
+  CHECK(s.x == 20);
+  s = after("G20");
+  const GcodeStep inches = run(s, "G2 X1 I0.5");
+  CHECK(off_circle(inches, 12.7, 0, 12.7) < 1e-3);
+  CHECK(s.x == doctest::Approx(25.4));
+}
+
+TEST_CASE("an_arc_without_a_centre_does_not_move_and_takes_its_f") {
+  GcodeState s;
+  GcodeStep none = run(s, "G2 X10 Y10 F600");
+  CHECK(none.bad_arc);
+  CHECK(none.moves().empty());
+  CHECK(s.x == 0);
+  CHECK(s.feedrate == 600);
+  none = run(s, "G3 X10 R0 I5");  // R with a value is the form used; R0 is no centre
+  CHECK(none.bad_arc);
+  CHECK(s.x == 0);
+  // An end equal to the start cannot be reached by R.
+  CHECK(run(s, "G2 X0 Y0 R5").bad_arc);
 }
 
 TEST_CASE("g90_and_g91_set_every_axis_e_included_over_m82_and_m83") {
@@ -85,6 +192,38 @@ TEST_CASE("m82_and_m83_set_e_alone") {
   CHECK_FALSE(s.relative_xyz);
   CHECK(s.x == 20);
   CHECK(s.e == 2);
+}
+
+TEST_CASE("with_teacups_rule_e_is_relative_while_g91_or_m83_holds") {
+  GcodeState s;
+  s.rules.e_relative_while_g91 = true;
+  run(s, "M83");
+  run(s, "G90");  // leaves M83's choice
+  run(s, "G1 E1");
+  run(s, "G1 E1");
+  CHECK(s.e == 2);
+  run(s, "M82");
+  run(s, "G91");  // E relative again while G91 holds, M82 or not
+  run(s, "G1 E1");
+  CHECK(s.e == 3);
+  run(s, "G90");
+  run(s, "G1 E1");
+  CHECK(s.e == 1);
+}
+
+TEST_CASE("with_teacups_rule_g92_reads_a_bare_axis_as_0_and_no_axis_as_all_four") {
+  GcodeState s;
+  s.rules.g92_bare_axis_is_zero = true;
+  run(s, "G1 X10 Y20 Z3 E5");
+  run(s, "G92 X Y7");
+  CHECK(s.x == 0);
+  CHECK(s.y == 7);
+  CHECK(s.z == 3);
+  CHECK(s.e == 5);
+  run(s, "G92");
+  CHECK(s.y == 0);
+  CHECK(s.z == 0);
+  CHECK(s.e == 0);
 }
 
 TEST_CASE("g20_reads_x_y_z_e_and_f_in_inches_until_g21") {
@@ -197,6 +336,30 @@ TEST_CASE("layer_and_type_comments_start_a_layer_and_a_feature") {
   CHECK_FALSE(run(s, ";LAYER:x").layer_started);  // no number, no layer
   CHECK(s.layer == 3);
   CHECK_FALSE(run(s, "; generated by mahost").layer_started);
+}
+
+TEST_CASE("m201_to_m205_set_the_planners_limits_and_ignore_0_and_below") {
+  const MotionLimits boot;
+  CHECK_FALSE(motion_limits_after(boot, parse_gcode_line("M106 S255")));
+  MotionLimits l = *motion_limits_after(boot, parse_gcode_line("M201 X500 Y0 E-3"));
+  CHECK(l.max_acceleration[0] == 500);
+  CHECK(l.max_acceleration[1] == boot.max_acceleration[1]);
+  CHECK(l.max_acceleration[3] == boot.max_acceleration[3]);
+  l = *motion_limits_after(l, parse_gcode_line("M203 Z5"));
+  CHECK(l.max_speed[2] == 5);
+  l = *motion_limits_after(l, parse_gcode_line("M204 S800 R2000"));
+  CHECK(l.print_acceleration == 800);
+  CHECK(l.travel_acceleration == 800);
+  CHECK(l.retract_acceleration == 2000);
+  l = *motion_limits_after(l, parse_gcode_line("M204 P600 T1200"));
+  CHECK(l.print_acceleration == 600);
+  CHECK(l.travel_acceleration == 1200);
+  l = *motion_limits_after(l, parse_gcode_line("M205 J0.02 S10"));
+  CHECK(l.junction_deviation == 0.02);
+  CHECK(l.min_feedrate == 10);
+  l = *motion_limits_after(l, parse_gcode_line("M205 J0 S0"));
+  CHECK(l.junction_deviation == 0.02);
+  CHECK(l.min_feedrate == 0);
 }
 
 }  // namespace gcode_interpreter_test

@@ -104,6 +104,23 @@ TEST_CASE("m203_caps_axis_speed") {
   CHECK(t == doctest::Approx(rest_to_rest(100, 20, 1000)).epsilon(1e-12));
 }
 
+TEST_CASE("m205_s_raises_slow_moves_to_the_minimum_feedrate") {
+  // F60 = 1 mm/s, raised to M205 S10's 10 mm/s as the simulated printer does; the estimate
+  // ignored M205 S.
+  const double t = estimate_print_time("M205 S10\nG0 X100 F60\n", plain_limits());
+  CHECK(t == doctest::Approx(rest_to_rest(100, 10, 1000)).epsilon(1e-12));
+}
+
+TEST_CASE("arcs_take_the_time_of_their_chords") {
+  // A full circle of radius 50 at 50 mm/s: 315 chords of 0.997 mm; the planner goes round
+  // near 50 mm/s, so about the 314.16 mm circumference / 50 mm/s, more than the nothing a
+  // straight line to the start took.
+  const double t = estimate_print_time("G1 X50 F3000\nG2 X50 Y0 I-50 J0\n", plain_limits());
+  const double line = rest_to_rest(50, 50, 1000);
+  CHECK(t - line > 2 * M_PI * 50 / 50);
+  CHECK(t - line < 2 * M_PI * 50 / 50 + 0.2);
+}
+
 TEST_CASE("comments_and_unknown_commands_take_no_time") {
   CHECK(estimate_print_time(";LAYER:0\nM106 S255\nM117 hello\n\n   ; indented\n", plain_limits()) == 0);
 }

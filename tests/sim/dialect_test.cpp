@@ -73,6 +73,47 @@ TEST_CASE("teacup_g92_reads_a_bare_axis_as_zero_and_no_axis_as_all_four_zero") {
   CHECK(bench.line(6, "M114") == "X:0.000,Y:0.000,Z:0.000,E:0.000,F:1500\nok\n");
 }
 
+TEST_CASE("teacup_reads_x_y_z_e_and_f_in_inches_after_g20") {
+  // gcode_process.c case 20 sets option_inches; gcode_parse.c then reads X Y Z E in inches
+  // and F times 25.4 (254/10). The sim kept millimetres.
+  Bench bench(sim::Dialect::teacup);
+  CHECK(bench.line(1, "G20") == "ok\n");
+  CHECK(bench.line(2, "G1 X1 Y0.5 F60") == "ok\n");
+  CHECK(bench.line(3, "M114") == "X:25.400,Y:12.700,Z:0.000,E:0.000,F:1524\nok\n");
+  CHECK(bench.line(4, "G21") == "ok\n");
+  CHECK(bench.line(5, "G1 X1") == "ok\n");
+  CHECK(bench.printer.position().x == 1);
+}
+
+TEST_CASE("teacup_and_repetier_keep_e_relative_while_g91_or_m83_holds") {
+  // Teacup's gcode_process.c: E is relative when option_all_relative || option_e_relative;
+  // Repetier's Printer.cpp: relativeCoordinateMode || relativeExtruderCoordinateMode. So
+  // G90 after M83 leaves E relative, where Marlin's G90 makes it absolute.
+  for (const sim::Dialect dialect : {sim::Dialect::teacup, sim::Dialect::repetier}) {
+    CAPTURE(sim::to_string(dialect));
+    Bench bench(dialect);
+    bench.line(1, "M83");
+    bench.line(2, "G90");
+    bench.line(3, "G1 X1 E1");
+    bench.line(4, "G1 X2 E1");
+    bench.send("", 5);
+    CHECK(bench.printer.position().e == 2);
+  }
+  Bench marlin(sim::Dialect::marlin);
+  marlin.send("M83\nG90\nG1 X1 E1\nG1 X2 E1\n", 5);
+  CHECK(marlin.printer.position().e == 1);
+}
+
+TEST_CASE("repetier_reads_inches_after_g20") {
+  // Commands.cpp case 20 sets unitIsInches; Printer.cpp's convertToMM then reads X Y Z E in
+  // inches. The sim kept millimetres.
+  Bench bench(sim::Dialect::repetier);
+  bench.line(1, "G20");
+  bench.line(2, "G1 X2 F60");
+  bench.send("", 5);
+  CHECK(bench.printer.position().x == doctest::Approx(50.8));
+}
+
 TEST_CASE("teacup_refuses_what_it_does_not_have_and_still_says_ok") {
   Bench bench(sim::Dialect::teacup);
   CHECK(bench.line(1, "M107") == "E: Bad M-code 107\nok\n");

@@ -2,6 +2,7 @@
 // layer finder, the deposition record, the tests' bead reader) read one program that uses
 // every rule of printer/gcode_interpreter.h, and agree on where filament went.
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -19,7 +20,7 @@ namespace {
 
 // Every rule: homing, G92 with and without axes, mm and inches, absolute and relative modes
 // (G91 taking E along, M83 alone), firmware retraction with a Z-raise, the layer and feature
-// comments, a G2 taken as its chord.
+// comments, a G2 half circle in Marlin's chords.
 const std::string kProgram =
     "M207 S2 F2400 Z0.5\n"
     "G28\n"
@@ -41,7 +42,7 @@ const std::string kProgram =
     "M83\n"
     "G1 X40 Y40 E0.5\n"     // bead 4: absolute X Y, relative E
     "G92\n"                 // changes nothing
-    "G2 X50 Y40 I5 J0 E0.5\n"  // bead 5: the chord to (50, 40)
+    "G2 X50 Y40 I5 J0 E0.5\n"  // beads 5-40: clockwise over the top to (50, 40)
     "M82\n"
     "G92 E0\n"
     "G20\n"
@@ -57,10 +58,28 @@ const std::string kProgram =
 struct Bead {
   double x0, y0, x1, y1, filament, z;
 };
-const std::vector<Bead> kBeads = {
-    {10, 10, 20, 10, 1, 0.3},   {20, 10, 20, 20, 1, 0.3},   {30, 30, 30, 40, 0.5, 0.3},
-    {30, 40, 40, 40, 0.5, 0.3}, {40, 40, 50, 40, 0.5, 0.3}, {50, 40, 60, 40, 1, 0.6},
-    {0, 50, 5, 50, 0.5, 0.6}};
+// The G2's half turn about (45, 40), radius 5: 7.85 mm, so MIN_CIRCLE_SEGMENTS' 36 chords
+// (Marlin 2.1's G2_G3.cpp), 0.5 mm of filament spread evenly.
+std::vector<Bead> half_circle() {
+  std::vector<Bead> beads;
+  constexpr int kChords = 36;
+  for (int k = 1; k <= kChords; ++k) {
+    const double a0 = std::numbers::pi * (1 - (k - 1.0) / kChords), a1 = std::numbers::pi * (1 - double(k) / kChords);
+    beads.push_back({45 + 5 * std::cos(a0), 40 + 5 * std::sin(a0), 45 + 5 * std::cos(a1),
+                     40 + 5 * std::sin(a1), 0.5 / kChords, 0.3});
+  }
+  return beads;
+}
+
+std::vector<Bead> beads() {
+  std::vector<Bead> all = {{10, 10, 20, 10, 1, 0.3}, {20, 10, 20, 20, 1, 0.3},
+                           {30, 30, 30, 40, 0.5, 0.3}, {30, 40, 40, 40, 0.5, 0.3}};
+  for (const Bead& b : half_circle()) all.push_back(b);
+  all.push_back({50, 40, 60, 40, 1, 0.6});
+  all.push_back({0, 50, 5, 50, 0.5, 0.6});
+  return all;
+}
+const std::vector<Bead> kBeads = beads();
 
 }  // namespace
 

@@ -6,8 +6,10 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "printer/print_time.h"
+#include "sim/gcode_deposition.h"
 #include "sim/printer.h"
 
 namespace printer_test {
@@ -453,15 +455,17 @@ TEST_CASE("wait_when_idle_if_configured") {
   CHECK(bench.send("G4 S3\n", 4.5) == "echo:busy: processing\nok\nwait\n");
 }
 
-TEST_CASE("g3_full_circle_is_cut_into_one_millimetre_chords_on_the_circle") {
-  // Radius 10: 20 pi = 62.83 mm of arc, so 62 chords, each ending on the circle.
+TEST_CASE("g3_full_circle_is_cut_into_chords_on_the_circle_at_least_72") {
+  // Radius 10: 20 pi = 62.83 mm of arc, 62 whole millimetres but at least
+  // MIN_CIRCLE_SEGMENTS 72 chords (Marlin 2.1's G2_G3.cpp and Configuration_adv.h), each
+  // ending on the circle but for the small-angle rotation's drift (under 0.001 mm here).
   Bench bench;
   bench.send("G92 X10 Y0 Z0.2 E0\nG3 X10 Y0 I-10 J0 E6.2 F1200\n", 30);
   const auto& moves = bench.printer.deposition().moves;
-  REQUIRE(moves.size() == 62);
+  REQUIRE(moves.size() == 72);
   double filament = 0;
   for (const auto& m : moves) {
-    CHECK(std::hypot(m.end.x, m.end.y) == doctest::Approx(10).epsilon(1e-12));
+    CHECK(std::abs(std::hypot(m.end.x, m.end.y) - 10) < 1e-3);
     filament += m.e;
   }
   CHECK(filament == doctest::Approx(6.2));
@@ -471,18 +475,53 @@ TEST_CASE("g3_full_circle_is_cut_into_one_millimetre_chords_on_the_circle") {
 }
 
 TEST_CASE("g2_with_radius_finds_the_centre_marlin_does") {
-  // Clockwise quarter from (10, 0) to (0, -10) with R10: centre (0, 0), through y < 0.
+  // Clockwise from (10, 0) to (6, -8) with R10: centre (0, 0), through y < 0; 53.13
+  // degrees, 9.27 mm, so ceil(72 x 53.13 / 360) = 11 chords.
   Bench bench;
-  bench.send("G92 X10 Y0 Z0.2 E0\nG2 X0 Y-10 R10 E1 F1200\n", 30);
+  bench.send("G92 X10 Y0 Z0.2 E0\nG2 X6 Y-8 R10 E1 F1200\n", 30);
   const auto& moves = bench.printer.deposition().moves;
-  REQUIRE(moves.size() == 15);  // 5 pi = 15.7 mm
+  REQUIRE(moves.size() == 11);
   for (const auto& m : moves) {
-    CHECK(std::hypot(m.end.x, m.end.y) == doctest::Approx(10).epsilon(1e-12));
+    CHECK(std::abs(std::hypot(m.end.x, m.end.y) - 10) < 1e-3);
     CHECK(m.end.y <= 1e-12);
     CHECK(m.end.x >= -1e-12);
   }
+  CHECK(bench.printer.position().x == 6);
+  CHECK(bench.printer.position().y == -8);
+}
+
+TEST_CASE("an_arc_without_a_centre_is_refused_with_marlins_error_and_does_not_move") {
+  // G2_G3.cpp: no R, I or J (or all 0): SERIAL_ERROR_MSG(STR_ERR_ARC_ARGS), no move. The sim
+  // went straight to the end point.
+  Bench bench;
+  CHECK(bench.send("G2 X10 Y10 E1 F600\n", 5) == "Error:G2/G3 bad parameters\nok\n");
   CHECK(bench.printer.position().x == 0);
-  CHECK(bench.printer.position().y == -10);
+  CHECK(bench.printer.position().e == 0);
+  CHECK(bench.printer.deposition().moves.empty());
+}
+
+TEST_CASE("the_simulated_printer_lays_the_beads_the_interpreter_reads") {
+  // One interpreter: the sim's moves are the deposition record's read from the same text.
+  const std::vector<std::string> lines = {"G92 X10 Y0 Z0.2 E0", "G1 X20 E1 F1200", "G2 X30 Y0 I5 E2",
+                                          "G3 X30 Y0 I-3 E3",   "G2 X40 Y10 R-10 E4", "G91",
+                                          "G1 X5 E0.5"};
+  Bench bench;
+  std::string program;
+  for (const std::string& line : lines) {
+    bench.send(line + "\n", 30);
+    program += line + "\n";
+  }
+  const auto& sim_moves = bench.printer.deposition().moves;
+  const sim::DepositionRecord read = sim::deposition_from_gcode(program);
+  REQUIRE(sim_moves.size() == read.moves.size());
+  CHECK(sim_moves.size() > 100);
+  for (std::size_t i = 0; i < read.moves.size(); ++i) {
+    CAPTURE(i);
+    CHECK(sim_moves[i].start.x == read.moves[i].start.x);
+    CHECK(sim_moves[i].end.x == read.moves[i].end.x);
+    CHECK(sim_moves[i].end.y == read.moves[i].end.y);
+    CHECK(sim_moves[i].e == read.moves[i].e);
+  }
 }
 
 TEST_CASE("bytes_at_a_baud_rate_still_arrive_after_hours_of_sim_time") {
