@@ -27,8 +27,8 @@ using nlohmann::json;
 json to_json(const PrintState& s) {
   return json{{"x", s.x}, {"y", s.y}, {"z", s.z}, {"e", s.e}, {"feedrate", s.feedrate},
               {"relative_xyz", s.relative_xyz}, {"relative_e", s.relative_e},
-              {"hotend_target", s.hotend_target}, {"bed_target", s.bed_target}, {"fan", s.fan},
-              {"filament_fed", s.filament_fed}};
+              {"units", s.unit == 1 ? "mm" : "inches"}, {"hotend_target", s.hotend_target},
+              {"bed_target", s.bed_target}, {"fan", s.fan}, {"filament_fed", s.filament_fed}};
 }
 
 PrintState state_from_json(const json& j) {
@@ -40,6 +40,7 @@ PrintState state_from_json(const json& j) {
   s.feedrate = j.at("feedrate").get<double>();
   s.relative_xyz = j.at("relative_xyz").get<bool>();
   s.relative_e = j.at("relative_e").get<bool>();
+  s.unit = j.value("units", std::string("mm")) == "inches" ? 25.4 : 1;  // G20; else G21
   s.hotend_target = j.at("hotend_target").get<double>();
   s.bed_target = j.at("bed_target").get<double>();
   s.fan = j.at("fan").get<int>();
@@ -152,6 +153,11 @@ JournalRecord read_journal(const std::string& path) {
     r.layer_index = j.at("resume").at("layer_index").get<int>();
     r.resume_command = j.at("resume").at("command").get<std::size_t>();
     r.state_at_resume = state_from_json(j.at("resume").at("printer"));
+    if (const std::string units = j.at("resume").at("printer").value("units", std::string("mm"));
+        units != "mm" && units != "inches") {
+      throw ConfigError(fmt::format(
+          "{}: the journal's units \"{}\" are neither \"mm\" nor \"inches\"", path, units));
+    }
     r.updated = j.at("updated").get<std::string>();
     r.pid = j.value("pid", 0);
     return r;

@@ -6,8 +6,8 @@
 // fsync'ed: a crash at any moment leaves either the old record or the new one, never half of
 // one. It records the G-code file and its hash (a changed file is refused on resume), the
 // layer being printed and the command it starts at (resume reprints that layer from its
-// start), and the printer state at that command: position, E, modes, feedrate, temperatures,
-// fan. Units: mm, mm/min, °C.
+// start), and the printer state at that command: position, E, modes, units (G20/G21),
+// feedrate, temperatures, fan. Units: mm, mm/min, °C.
 #pragma once
 
 #include <cstddef>

@@ -1,11 +1,14 @@
 // A job resumed from its journal (app/job.h), the one set-up `mahost resume` and `mahost
 // serve` share.
 #include <string>
+#include <vector>
 
 #include <doctest/doctest.h>
 
 #include "app/job.h"
 #include "printer/error.h"
+#include "printer/print_state.h"
+#include "support/run_command.h"
 
 namespace job_test {
 
@@ -63,6 +66,27 @@ TEST_CASE("a_resume_continues_at_the_recorded_command_from_the_state_before_it")
   CHECK(rehearsal.journal_path.empty());
   CHECK(rehearsal.first_command == 0);
   CHECK_FALSE(rehearsal.recover_from);
+}
+
+TEST_CASE("a_resume_after_g20_goes_on_in_inches") {
+  // The journal records the units with the modes: a file in inches resumed from its
+  // journal is sent G20 before its next line, and F as the file wrote it.
+  const printer::GcodeFile file = printer::parse_gcode(kProgram, "cube.gcode");
+  printer::JournalRecord record = interrupted_record(file);
+  for (const char* command : {"G20", "G90", "M83", "G1 X1 Y1 Z0.02 F60"}) {
+    printer::apply(record.state_at_resume, command);
+  }
+  const std::string path = test_support::scratch_dir("job_inches") + "/cube.journal";
+  printer::write_journal(path, record, false);
+  const printer::JournalRecord read = printer::read_journal(path);
+
+  const printer::JobOptions resumed =
+      app::resume_job_options(read, printer::PrinterProfile{}, printer::PauseOptions{}, "", "", 0, false);
+  REQUIRE(resumed.recover_from);
+  CHECK(resumed.recover_from->unit == 25.4);
+  CHECK(resumed.recover_from->x == doctest::Approx(25.4));
+  const std::vector<std::string> modes = printer::restore_modes(*resumed.recover_from);
+  CHECK(modes == std::vector<std::string>{"G90", "M83", "G20", "G1 F60"});
 }
 
 TEST_CASE("a_changed_file_is_not_resumed") {

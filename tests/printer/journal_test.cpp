@@ -23,6 +23,23 @@ std::string read_text(const std::string& path) {
   return text.str();
 }
 
+// The one-line refusal of a journal ".../ring.journal" written, then edited: `from` replaced by
+// `to`.
+std::string refusal_of_edited_journal(const std::string& test, const std::string& from,
+                                      const std::string& to) {
+  const std::string path = test_support::scratch_dir(test) + "/ring.journal";
+  write_journal(path, JournalRecord{}, false);
+  std::string text = read_text(path);
+  text.replace(text.find(from), from.size(), to);
+  std::ofstream(path) << text;
+  try {
+    read_journal(path);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
 }  // namespace
 
 TEST_CASE("journal_state_is_written_as_its_word_and_read_back_as_the_state") {
@@ -42,20 +59,15 @@ TEST_CASE("journal_state_is_written_as_its_word_and_read_back_as_the_state") {
 }
 
 TEST_CASE("journal_with_a_state_no_job_records_is_refused_naming_it") {
-  const std::string dir = test_support::scratch_dir("journal_bad_state");
-  const std::string path = dir + "/ring.journal";
-  JournalRecord record;
-  write_journal(path, record, false);
-  std::string text = read_text(path);
-  text.replace(text.find("\"printing\""), 10, "\"sleeping\"");
-  std::ofstream(path) << text;
-  std::string message;
-  try {
-    read_journal(path);
-  } catch (const ConfigError& e) {
-    message = e.what();
-  }
-  CHECK(message == path + ": the journal's state \"sleeping\" is not one a job records");
+  const std::string message =
+      refusal_of_edited_journal("journal_bad_state", "\"printing\"", "\"sleeping\"");
+  CHECK(message.ends_with("/ring.journal: the journal's state \"sleeping\" is not one a job records"));
+}
+
+TEST_CASE("journal_with_units_other_than_mm_or_inches_is_refused_naming_them") {
+  const std::string message =
+      refusal_of_edited_journal("journal_bad_units", "\"units\": \"mm\"", "\"units\": \"cubits\"");
+  CHECK(message.ends_with("/ring.journal: the journal's units \"cubits\" are neither \"mm\" nor \"inches\""));
 }
 
 TEST_CASE("resume_command_names_the_port_or_a_dry_run") {
