@@ -107,142 +107,162 @@ void PtyServer::close_master() {
   master_ = -1;
 }
 
-void PtyServer::serve(const std::atomic<bool>& stop) {
-  constexpr double kInfinity = std::numeric_limits<double>::infinity();
-  const bool max_speed = options_.time_scale <= 0;
-  const double byte_rate = options_.baud > 0 ? options_.baud / 10 : 0;  // bytes/s
+struct PtyServer::Session {
+  Session(const PtyOptions& options, double sim_now)
+      : max_speed(options.time_scale <= 0),
+        byte_rate(options.baud > 0 ? options.baud / 10 : 0),
+        in(byte_rate, burst()),
+        out(byte_rate, burst()),
+        sim_base(sim_now) {}
   // A late wake-up catches up at most 10 ms of bytes.
-  const double burst = std::max(1.0, byte_rate * 0.01);
-  ByteBudget budget_in(byte_rate, burst), budget_out(byte_rate, burst);
+  double burst() const { return std::max(1.0, byte_rate * 0.01); }
 
+  bool max_speed;
+  double byte_rate;  // bytes/s; 0: unpaced
+  ByteBudget in, out;
   bool open = false;  // a host has the port open
   // Sim clock = sim_base + (wall - wall_base) * scale while following the wall clock.
   Clock::time_point wall_base = Clock::now();
-  double sim_base = printer_.now();
+  double sim_base;
   std::string pending_out;
   char buffer[4096];
+};
 
+void PtyServer::serve(const std::atomic<bool>& stop) {
+  Session s(options_, printer_.now());
   while (!stop.load() && master_ >= 0) {
-    // 1. Is a host there? The master hangs up while no one has the slave open.
-    pollfd probe{master_, POLLIN, 0};
-    poll(&probe, 1, 0);
-    const bool hung_up = (probe.revents & POLLHUP) != 0;
-    if (hung_up && open) {
-      open = false;
-      pending_out.clear();
-      if (options_.on_session) options_.on_session(false);
-    } else if (!hung_up && !open) {
-      open = true;
-      ++opens_;
-      // Align the clocks, then reset as a board does when DTR goes up.
-      sim_base = printer_.now();
-      wall_base = Clock::now();
-      budget_in.go_idle();
-      budget_out.go_idle();
-      if (options_.reset_on_open) {
-        // Bytes left from the last session, or sent while the board resets, are lost.
-        while (read(master_, buffer, sizeof buffer) > 0) {
-        }
-        printer_.reset();
-      }
-      if (options_.on_session) options_.on_session(true);
-    }
-
-    // 2. The sim clock catches up with the wall clock (or runs ahead at full speed).
-    const double wall = seconds_since(wall_base);
-    if (max_speed) {
-      printer_.run_until(std::max(printer_.now(), sim_base + wall));
-      // Booting is the firmware's own wait: done at once, before any byte is read.
-      while (printer_.state() == PrinterState::booting && printer_.next_event_time() < kInfinity) {
-        printer_.run_until(printer_.next_event_time());
-      }
-      sim_base = printer_.now() - wall;
-    } else {
-      printer_.run_until(sim_base + wall * options_.time_scale);
-    }
-
-    // 3. Bytes from the host, no faster than the UART would bring them.
-    if (open) {
-      if (budget_in.limited() && budget_in.idle()) {
-        pollfd ready{master_, POLLIN, 0};
-        if (poll(&ready, 1, 0) > 0 && (ready.revents & POLLIN)) budget_in.demand(Clock::now());
-      }
-      budget_in.refill(Clock::now());
-      const std::size_t allowed = budget_in.allowed(sizeof buffer);
-      if (allowed > 0) {
-        const ssize_t n = read(master_, buffer, allowed);
-        if (n < static_cast<ssize_t>(allowed) && budget_in.limited()) budget_in.go_idle();
-        if (n > 0) {
-          budget_in.spend(static_cast<std::size_t>(n));
-          printer_.receive(std::string_view(buffer, static_cast<std::size_t>(n)));
-          printer_.run_until(printer_.now());
-        }
-      }
-    }
-
-    // 4. Full speed: run through everything the firmware can do without the host.
-    if (max_speed) {
-      const Clock::time_point burst = Clock::now();
-      while (!printer_.idle() && seconds_since(burst) < 0.05) {
-        const double next = printer_.next_event_time();
-        if (next == kInfinity) break;
-        printer_.run_until(next);
-        if (pending_out.size() > 65536) break;  // let the host read first
-      }
-      sim_base = printer_.now() - seconds_since(wall_base);
-    }
+    follow_host(s);
+    catch_up(s);
+    if (s.open) read_host(s);
+    if (s.max_speed) run_ahead(s);
     if (printer_.state() == PrinterState::disconnected) {
       close_master();  // the port vanishes, as a USB printer unplugged
       break;
     }
-
-    // 5. Replies to the host, paced likewise; lost while no host has the port open.
-    std::string said = printer_.take_output();
-    if (open) pending_out += said;
-    if (open && !pending_out.empty()) {
-      budget_out.demand(Clock::now());
-      budget_out.refill(Clock::now());
-      const std::size_t allowed = budget_out.allowed(pending_out.size());
-      if (allowed > 0) {
-        const ssize_t n = write(master_, pending_out.data(), allowed);
-        if (n > 0) {
-          budget_out.spend(static_cast<std::size_t>(n));
-          pending_out.erase(0, static_cast<std::size_t>(n));
-          if (pending_out.empty()) budget_out.go_idle();
-        }
-      }
-    }
-
-    // 6. Sleep until input, the next firmware event, the next byte slot, or 50 ms.
-    double wait = 0.05;
-    if (!open) wait = 0.01;  // a hung-up master polls ready at once: look again soon
-    const double next = printer_.next_event_time();
-    if (next < kInfinity) {
-      const double sim_wait = next - printer_.now();
-      wait = std::min(wait, max_speed ? (printer_.idle() ? sim_wait : 0.0)
-                                      : sim_wait / options_.time_scale);
-    }
-    if (!pending_out.empty()) wait = std::min(wait, budget_out.wait());
-    wait = std::max(wait, 0.0);
-    if (!open) {
-      usleep(static_cast<useconds_t>(wait * 1e6));
-      continue;
-    }
-    // Wake for input or room to write only when the budgets allow moving a byte; otherwise
-    // sleep until they do.
-    budget_in.refill(Clock::now());
-    budget_out.refill(Clock::now());
-    short events = 0;
-    if (budget_in.wait() > 0) {
-      wait = std::min(wait, budget_in.wait());
-    } else {
-      events |= POLLIN;
-    }
-    if (!pending_out.empty() && budget_out.wait() == 0) events |= POLLOUT;
-    pollfd fds{master_, events, 0};
-    if (wait > 0) poll(&fds, 1, static_cast<int>(std::ceil(wait * 1000)));
+    write_host(s);
+    sleep_until_due(s);
   }
   printer_.finish();
+}
+
+// The master hangs up while no one has the slave open.
+void PtyServer::follow_host(Session& s) {
+  pollfd probe{master_, POLLIN, 0};
+  poll(&probe, 1, 0);
+  const bool hung_up = (probe.revents & POLLHUP) != 0;
+  if (hung_up && s.open) {
+    s.open = false;
+    s.pending_out.clear();
+    if (options_.on_session) options_.on_session(false);
+  } else if (!hung_up && !s.open) {
+    s.open = true;
+    ++opens_;
+    // Align the clocks, then reset as a board does when DTR goes up.
+    s.sim_base = printer_.now();
+    s.wall_base = Clock::now();
+    s.in.go_idle();
+    s.out.go_idle();
+    if (options_.reset_on_open) {
+      // Bytes left from the last session, or sent while the board resets, are lost.
+      while (read(master_, s.buffer, sizeof s.buffer) > 0) {
+      }
+      printer_.reset();
+    }
+    if (options_.on_session) options_.on_session(true);
+  }
+}
+
+void PtyServer::catch_up(Session& s) {
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  const double wall = seconds_since(s.wall_base);
+  if (!s.max_speed) {
+    printer_.run_until(s.sim_base + wall * options_.time_scale);
+    return;
+  }
+  printer_.run_until(std::max(printer_.now(), s.sim_base + wall));
+  // Booting is the firmware's own wait: done at once, before any byte is read.
+  while (printer_.state() == PrinterState::booting && printer_.next_event_time() < kInfinity) {
+    printer_.run_until(printer_.next_event_time());
+  }
+  s.sim_base = printer_.now() - wall;
+}
+
+void PtyServer::read_host(Session& s) {
+  if (s.in.limited() && s.in.idle()) {
+    pollfd ready{master_, POLLIN, 0};
+    if (poll(&ready, 1, 0) > 0 && (ready.revents & POLLIN)) s.in.demand(Clock::now());
+  }
+  s.in.refill(Clock::now());
+  const std::size_t allowed = s.in.allowed(sizeof s.buffer);
+  if (allowed == 0) return;
+  const ssize_t n = read(master_, s.buffer, allowed);
+  if (n < static_cast<ssize_t>(allowed) && s.in.limited()) s.in.go_idle();
+  if (n > 0) {
+    s.in.spend(static_cast<std::size_t>(n));
+    printer_.receive(std::string_view(s.buffer, static_cast<std::size_t>(n)));
+    printer_.run_until(printer_.now());
+  }
+}
+
+void PtyServer::run_ahead(Session& s) {
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  const Clock::time_point burst = Clock::now();
+  while (!printer_.idle() && seconds_since(burst) < 0.05) {
+    const double next = printer_.next_event_time();
+    if (next == kInfinity) break;
+    printer_.run_until(next);
+    if (s.pending_out.size() > 65536) break;  // let the host read first
+  }
+  s.sim_base = printer_.now() - seconds_since(s.wall_base);
+}
+
+// Replies are lost while no host has the port open.
+void PtyServer::write_host(Session& s) {
+  std::string said = printer_.take_output();
+  if (!s.open) return;
+  s.pending_out += said;
+  if (s.pending_out.empty()) return;
+  s.out.demand(Clock::now());
+  s.out.refill(Clock::now());
+  const std::size_t allowed = s.out.allowed(s.pending_out.size());
+  if (allowed == 0) return;
+  const ssize_t n = write(master_, s.pending_out.data(), allowed);
+  if (n > 0) {
+    s.out.spend(static_cast<std::size_t>(n));
+    s.pending_out.erase(0, static_cast<std::size_t>(n));
+    if (s.pending_out.empty()) s.out.go_idle();
+  }
+}
+
+void PtyServer::sleep_until_due(Session& s) {
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  double wait = 0.05;
+  if (!s.open) wait = 0.01;  // a hung-up master polls ready at once: look again soon
+  const double next = printer_.next_event_time();
+  if (next < kInfinity) {
+    const double sim_wait = next - printer_.now();
+    wait = std::min(wait, s.max_speed ? (printer_.idle() ? sim_wait : 0.0)
+                                      : sim_wait / options_.time_scale);
+  }
+  if (!s.pending_out.empty()) wait = std::min(wait, s.out.wait());
+  wait = std::max(wait, 0.0);
+  if (!s.open) {
+    usleep(static_cast<useconds_t>(wait * 1e6));
+    return;
+  }
+  // Wake for input or room to write only when the budgets allow moving a byte; otherwise
+  // sleep until they do.
+  s.in.refill(Clock::now());
+  s.out.refill(Clock::now());
+  short events = 0;
+  if (s.in.wait() > 0) {
+    wait = std::min(wait, s.in.wait());
+  } else {
+    events |= POLLIN;
+  }
+  if (!s.pending_out.empty() && s.out.wait() == 0) events |= POLLOUT;
+  pollfd fds{master_, events, 0};
+  if (wait > 0) poll(&fds, 1, static_cast<int>(std::ceil(wait * 1000)));
 }
 
 }  // namespace sim

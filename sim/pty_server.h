@@ -54,6 +54,15 @@ class PtyServer {
   int opens() const { return opens_; }
 
  private:
+  // One serve() call's clocks, byte budgets and replies not yet written (pty_server.cpp).
+  struct Session;
+  // serve()'s steps, once a turn:
+  void follow_host(Session& s);      // a host opened the port (reset) or the last one left
+  void catch_up(Session& s);         // the sim clock to the wall clock (or ahead at full speed)
+  void read_host(Session& s);        // bytes from the host, no faster than a UART brings them
+  void run_ahead(Session& s);        // full speed: what the firmware does without the host
+  void write_host(Session& s);       // replies to the host, paced likewise
+  void sleep_until_due(Session& s);  // until input, a firmware event, a byte slot or 50 ms
   void close_master();
 
   Printer printer_;
