@@ -26,13 +26,12 @@ void add_motion(GcodeStep& step, const AxisPosition& from, const AxisPosition& t
   step.motions[step.count++] = {from, to, feedrate};
 }
 
-// G28: the named axes, or X, Y and Z when none or all three are named, to 0.
+// G28: the axes it homes to 0.
 void home(GcodeState& s, const GcodeCommand& c, GcodeStep& step) {
-  const bool x = c.has('X'), y = c.has('Y'), z = c.has('Z');
-  const bool all = x == y && x == z;
-  if (all || x) s.x = 0;
-  if (all || y) s.y = 0;
-  if (all || z) s.z = 0;
+  const auto [x, y, z] = homed_axes(c);
+  if (x) s.x = 0;
+  if (y) s.y = 0;
+  if (z) s.z = 0;
   s.homed = true;
   step.homed = step.position_set = true;
 }
@@ -283,6 +282,20 @@ std::optional<MotionLimits> motion_limits_after(const MotionLimits& limits, cons
     if (const auto v = c.get('S'); v && *v >= 0) after.min_feedrate = *v;
   }
   return after;
+}
+
+std::optional<double> dwell_seconds(const GcodeCommand& c) {
+  if (!c.is('G', 4)) return std::nullopt;
+  double seconds = 0;
+  if (const auto p = c.get('P')) seconds = *p / 1000.0;
+  if (const auto s = c.get('S')) seconds = *s;
+  return std::max(seconds, 0.0);
+}
+
+std::array<bool, 3> homed_axes(const GcodeCommand& c) {
+  const bool x = c.has('X'), y = c.has('Y'), z = c.has('Z');
+  const bool all = x == y && x == z;  // G28.cpp: home_all = homeX == homeY && homeX == homeZ
+  return {all || x, all || y, all || z};
 }
 
 }  // namespace printer

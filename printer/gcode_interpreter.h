@@ -139,6 +139,14 @@ GcodeStep interpret_move(GcodeState& state, const MoveWords& words);
 // retraction.
 AxisPosition machine_position(const GcodeState& state);
 
+// The axes a G28 homes, X Y Z: those named, or all three when none or all are named
+// (gcode/calibrate/G28.cpp).
+std::array<bool, 3> homed_axes(const GcodeCommand& g28);
+
+// G4's dwell: P milliseconds or S seconds, S over P (gcode/motion/G4.cpp), 0 for none or
+// below 0; nullopt for any other command. The firmware first drains the planner.
+std::optional<double> dwell_seconds(const GcodeCommand& command);
+
 // The planner's limits as M201 (X Y Z E acceleration, mm/s^2), M203 (X Y Z E speed, mm/s),
 // M204 (S print and travel, P print, R retract, T travel acceleration), M205 (J junction
 // deviation, S minimum feedrate) leave them; a value of 0 or below is ignored, but M205 S0

@@ -40,10 +40,9 @@ void PrintClock::linear_move(const MoveWords& words) { run(interpret_move(state_
 
 void PrintClock::command(const GcodeCommand& c) {
   run(interpret(state_, c));
-  if (c.letter == 'G' && c.code == 4) {
+  if (const auto dwell = dwell_seconds(c)) {
     drain();
-    if (auto p = c.get('P')) dwell_ += *p / 1000.0;
-    if (auto s = c.get('S')) dwell_ += *s;
+    dwell_ += *dwell;
     return;
   }
   if (c.letter != 'M') return;

@@ -1,6 +1,7 @@
 #include "sim/motion.h"
 
 #include <algorithm>
+#include <array>
 #include <optional>
 
 namespace sim {
@@ -84,14 +85,16 @@ Motion::Queued Motion::move(const printer::GcodeCommand& c, double now) {
 
 double Motion::home(const printer::GcodeCommand& c, double now) {
   finish(now);
-  const bool all = !c.has('X') && !c.has('Y') && !c.has('Z');
+  // G28's axes, or those Teacup's G161/G162 name (gcode_process.c).
+  const std::array<bool, 3> axes =
+      c.is('G', 28) ? printer::homed_axes(c) : std::array<bool, 3>{c.has('X'), c.has('Y'), c.has('Z')};
   printer::AxisPosition at = planner_target();
   planner_.set_position(at);
   double seconds = 0;
   printer::GcodeCommand homed = printer::parse_gcode_line("G28");
   for (int axis = 0; axis < 3; ++axis) {
     const char name = "XYZ"[axis];
-    if (!all && !c.has(name)) continue;
+    if (!axes[axis]) continue;
     homed.words.push_back({name, std::nullopt});
     double* coordinate = axis == 0 ? &at.x : axis == 1 ? &at.y : &at.z;
     const double speed = config_->homing_feedrate[axis];
@@ -104,7 +107,7 @@ double Motion::home(const printer::GcodeCommand& c, double now) {
     seconds += planner_.push(at, speed / (axis == 2 ? 4 : 2));
     seconds += planner_.flush();
   }
-  printer::interpret(state_, homed);  // the homed axes at 0
+  if (!homed.words.empty()) printer::interpret(state_, homed);  // the homed axes at 0
   stepper_free_ = std::max(stepper_free_, now) + seconds;
   return stepper_free_;
 }

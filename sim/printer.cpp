@@ -583,14 +583,10 @@ struct Printer::Firmware {
           if (done_at > now) wait = Wait::planner;
           return;
         }
-        case 4: {
-          double dwell = 0;
-          if (auto p = c.get('P')) dwell = *p / 1000.0;
-          if (auto s = c.get('S')) dwell = *s;
-          done_at = motion.finish(now) + std::max(dwell, 0.0);
+        case 4:
+          done_at = motion.finish(now) + *printer::dwell_seconds(c);
           wait = Wait::motion;
           return;
-        }
         case 28:
           done_at = motion.home(c, now);
           wait = Wait::motion;

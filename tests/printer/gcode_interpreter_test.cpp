@@ -362,4 +362,13 @@ TEST_CASE("m201_to_m205_set_the_planners_limits_and_ignore_0_and_below") {
   CHECK(l.min_feedrate == 0);
 }
 
+TEST_CASE("g4_dwells_p_milliseconds_or_s_seconds_s_over_p") {
+  CHECK(dwell_seconds(parse_gcode_line("G4 P250")) == 0.25);
+  CHECK(dwell_seconds(parse_gcode_line("G4 S3")) == 3);
+  CHECK(dwell_seconds(parse_gcode_line("G4 P250 S3")) == 3);
+  CHECK(dwell_seconds(parse_gcode_line("G4")) == 0);
+  CHECK(dwell_seconds(parse_gcode_line("G4 S-1")) == 0);
+  CHECK_FALSE(dwell_seconds(parse_gcode_line("M400")));
+}
+
 }  // namespace gcode_interpreter_test

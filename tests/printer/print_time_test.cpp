@@ -92,6 +92,11 @@ TEST_CASE("dwell_adds_its_time") {
   CHECK(estimate_print_time("G4 P500\nG4 S2\n", plain_limits()) == doctest::Approx(2.5));
 }
 
+TEST_CASE("a_dwell_of_p_and_s_waits_s_as_marlin_and_the_simulator_do") {
+  // G4.cpp: S replaces P. The estimate waited both (3.5 s).
+  CHECK(estimate_print_time("G4 P1500 S2\n", plain_limits()) == doctest::Approx(2));
+}
+
 TEST_CASE("m204_changes_acceleration_for_later_moves") {
   const double t = estimate_print_time("M204 T500\nG0 X100 F3000\n", plain_limits());
   CHECK(t == doctest::Approx(rest_to_rest(100, 50, 500)).epsilon(1e-12));

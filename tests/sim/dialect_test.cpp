@@ -104,6 +104,21 @@ TEST_CASE("teacup_and_repetier_keep_e_relative_while_g91_or_m83_holds") {
   CHECK(marlin.printer.position().e == 1);
 }
 
+TEST_CASE("teacup_g161_homes_only_the_axes_it_names") {
+  // gcode_process.c case 161: home_x_negative() if seen_X, and so on; no axis, no homing.
+  // The sim homed all three for a bare G161.
+  Bench bench(sim::Dialect::teacup);
+  bench.line(1, "G1 X10 Y10 Z5");
+  bench.line(2, "G161 X");
+  bench.send("", 30);
+  CHECK(bench.printer.position().x == 0);
+  CHECK(bench.printer.position().y == 10);
+  bench.line(3, "G161");
+  bench.send("", 30);
+  CHECK(bench.printer.position().y == 10);
+  CHECK(bench.printer.position().z == 5);
+}
+
 TEST_CASE("repetier_reads_inches_after_g20") {
   // Commands.cpp case 20 sets unitIsInches; Printer.cpp's convertToMM then reads X Y Z E in
   // inches. The sim kept millimetres.
