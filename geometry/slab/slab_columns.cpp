@@ -35,6 +35,14 @@ AreaMoments moments_by_clipper(const std::vector<Vec2>& convex, Vec2 origin,
 constexpr double kProbe = 1e-13;
 constexpr double kClearance = 1e-12;
 
+// Two corners of a facet's projection closer than this are one, mm: far below anything a
+// volume feels (a facet of that width over a bed holds under 1e-10 mm³), far above the
+// rounding of a clipped corner at bed coordinates (1e-14).
+constexpr double kSameCorner = 1e-12;
+bool same_corner(const Vec3& a, const Vec3& b) {
+  return std::abs(a.x - b.x) <= kSameCorner && std::abs(a.y - b.y) <= kSameCorner;
+}
+
 struct Crossing {
   double position;  // edge index + parameter along the polygon's edge
   bool entry;       // the region's boundary enters the polygon here
@@ -268,6 +276,7 @@ SlabColumns slab_columns(const Slab& slab, const Region& lower_section) {
   columns.lower_area = area(lower_section);
   const double t = slab.z_hi - slab.z_lo;
   double volume = t * columns.lower_area;
+  std::vector<Vec3> corners;
   for (const auto& facet : slab.facets) {
     if (facet.size() < 3) continue;
     // Newell's normal: exact for planar polygons, robust to the clip's near-repeated points.
@@ -285,9 +294,19 @@ SlabColumns slab_columns(const Slab& slab, const Region& lower_section) {
     ColumnFacet column;
     column.sign = normal.z > 0 ? -1 : 1;
     column.outline.reserve(facet.size());
-    for (const Vec3& v : facet) column.outline.push_back({v.x, v.y});
+    // Corners that meet in projection (within kSameCorner) are one: an edge of a few ulps,
+    // left by clipping a face at a plane its corner lies a rounding error off (a sphere's
+    // equator at a layer's bottom), has no direction to speak of, which the exact integrals
+    // over the facet's intersection with a region (moments_of_intersection) need.
+    corners.clear();
+    for (const Vec3& v : facet) {
+      if (corners.empty() || !same_corner(corners.back(), v)) corners.push_back(v);
+    }
+    while (corners.size() > 1 && same_corner(corners.front(), corners.back())) corners.pop_back();
+    if (corners.size() < 3) continue;
+    for (const Vec3& v : corners) column.outline.push_back({v.x, v.y});
     if (column.sign > 0) std::reverse(column.outline.begin(), column.outline.end());
-    const Vec3 first = facet[column.sign > 0 ? facet.size() - 1 : 0];
+    const Vec3 first = corners[column.sign > 0 ? corners.size() - 1 : 0];
     // z_f(x, y) = first.z - (n.x (x - x0) + n.y (y - y0)) / n.z, so w = z_hi - z_f has:
     column.w0 = slab.z_hi - first.z;
     column.wx = normal.x / normal.z;

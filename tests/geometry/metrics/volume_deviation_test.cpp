@@ -19,6 +19,7 @@
 #include "geometry/slab/slab.h"
 #include "geometry/slab/slab_columns.h"
 #include "geometry/metrics/volume_deviation.h"
+#include "geometry/metrics/volume_limit.h"
 #include "support/solids.h"
 
 namespace volume_deviation_test {
@@ -282,6 +283,21 @@ TEST_CASE("deviation_handles_regions_on_facet_edges_and_corners") {
   CHECK(deviation_of(stack, top, Region{}) == doctest::Approx(0.3 * 60).epsilon(1e-9));
   CHECK(deviation_of(stack, top, square(5, 3, 2)) ==
         doctest::Approx(0.3 * 60 - 0.3 * 16 + 0.1 * 16).epsilon(1e-9));
+}
+
+TEST_CASE("a_layer_on_a_sphere_s_equator_has_mid_at_the_volume_limit") {
+  // The sphere's equator ring (at 10 + 10 cos(pi / 2)) and the layer's bottom (25 steps of
+  // 0.4 mm) are both 10 mm but for an ulp, so clipping its faces leaves corners an ulp apart. The layer's slab has no fold
+  // (its band leans inward all round), so mid's section is the region of least ΔV and its ΔV
+  // the volume limit (volume_limit.h), computed by another path. The ulp-long edges put mid's
+  // ΔV 7.6% above it (0.17647 against 0.16404 mm³).
+  const solids::Solid sphere = solids::sphere(10, 48, 24, {0, 0, 10});
+  const LayerStack stack(sphere.mesh, geometry::uniform_layers(20, 0.4));
+  const std::size_t layer = 25;
+  REQUIRE(stack.layers()[layer].z_lo == doctest::Approx(10).epsilon(1e-15));
+  const geometry::SlabColumns columns = geometry::slab_columns(geometry::slab_of(stack, layer), stack.lower(layer));
+  CHECK(geometry::volume_deviation(columns, stack.mid(layer)) ==
+        doctest::Approx(geometry::volume_limit(columns)).epsilon(1e-8));
 }
 
 }  // namespace volume_deviation_test
