@@ -300,6 +300,32 @@ HeightGrid height_grid(double top, const AllowedThicknesses& allowed,
   return g;
 }
 
+// The flat levels a plan can land, at the heights that land them (with a printer's fixed
+// steps, a height they reach from the first layer within kSameHeight of the level: a binary
+// STL's rounding), and those off every height the steps reach (the knob's ledge at 15.62 mm,
+// between 15.60 and 15.65 at 0.3 + k x 0.05), which some layer holds inside whatever the plan.
+struct FlatTargets {
+  std::vector<double> landed, off_grid;
+};
+FlatTargets flat_targets(std::span<const double> flats, const AllowedThicknesses& allowed) {
+  FlatTargets targets;
+  for (double z : flats) {
+    double target = z;
+    if (reach_unit(allowed) > 0) {
+      const long long unit = nanometres(reach_unit(allowed));
+      const long long first = nanometres(std::max(0.0, allowed.first));
+      const long long k = std::llround(static_cast<double>(nanometres(z) - first) / static_cast<double>(unit));
+      target = static_cast<double>(first + std::max(0LL, k) * unit) * 1e-6;
+    }
+    if (std::abs(target - z) <= kSameHeight) {
+      targets.landed.push_back(z);
+    } else {
+      targets.off_grid.push_back(z);
+    }
+  }
+  return targets;
+}
+
 // What a search asks of its layers: each within `tolerance` or counted over it (PathCost),
 // and none at all above `most` (a budget's plan keeps the max D of the least tolerance's).
 struct Limits {
@@ -307,57 +333,77 @@ struct Limits {
   double most = INFINITY;
 };
 
-// A path's cost in the tolerance's objective, compared in this order: flat levels crossed,
-// layers thicker than the thinnest yet over the tolerance (the only way to land a flat level
-// or the top the thinnest layers miss: on a slope too shallow for the tolerance between two
-// flat levels 0.5 mm apart, 0.15 mm layers cannot land both), the height of the thinnest
-// layers over it (not their count: more of them, thinner, are no worse, and a budget can
-// spend layers there), layers, the volume swept (swept_volume.h); among paths equal in those,
-// the fewest slabs not yet settled (so that the search keeps to what it knows instead of
-// wandering among paths equally good by their bounds).
+// A path's cost in the tolerance's objective, compared in this order: flat levels crossed
+// (of those an allowed layer lands); over the layers holding a flat level no allowed layer
+// lands (every plan has one per such level) and past the tolerance, their height, then their
+// largest D past it, then the sum of those (Alexa et al.'s min-max objective for the layers
+// the flat levels force over the tolerance: for the knob's ledge at 15.62 mm, a 0.15 mm layer
+// cut below it, its walls 4.545 mm inside the dome's rim, errs less than one cut above it,
+// its walls 4.560 mm outside the grip's top; thin first, since a thicker one, though its D
+// may be a little less, puts more height over the tolerance); layers thicker than the thinnest yet over the tolerance (the only way to
+// land a flat level or the top the thinnest layers miss: on a slope too shallow for the
+// tolerance between two flat levels 0.5 mm apart, 0.15 mm layers cannot land both), the
+// height of the thinnest layers over it (not their count: more of them, thinner, are no
+// worse, and a budget can spend layers there), layers, the volume swept (swept_volume.h);
+// among paths equal in those, the fewest slabs not yet settled (so that the search keeps to
+// what it knows instead of wandering among paths equally good by their bounds). Heights and
+// D in whole nanometres: sums of thicknesses taken at different heights (0.45 - 0.3 and
+// 1.25 - 1.1) differ in their last bits, which must not decide before the swept volume does.
 struct PathCost {
-  std::uint32_t flats = 0, landing = 0;
-  double landing_thickness = 0;  // of those layers, mm: the thinnest that land
-  double unmet = 0;  // height of the thinnest layers over it, mm
+  std::uint32_t flats = 0;
+  long long forced_height = 0, forced_most = 0, forced_sum = 0;  // nm
+  std::uint32_t landing = 0;
+  long long landing_thickness = 0;  // of those layers, nm: the thinnest that land
+  long long unmet = 0;  // height of the thinnest layers over it, nm
   std::uint32_t layers = 0;
   double swept = 0;
   std::uint32_t unsettled = 0;
   bool operator<(const PathCost& other) const {
-    return std::tie(flats, landing, landing_thickness, unmet, layers, swept, unsettled) <
-           std::tie(other.flats, other.landing, other.landing_thickness, other.unmet, other.layers,
-                    other.swept, other.unsettled);
+    return std::tie(flats, forced_height, forced_most, forced_sum, landing, landing_thickness, unmet, layers,
+                    swept, unsettled) <
+           std::tie(other.flats, other.forced_height, other.forced_most, other.forced_sum, other.landing,
+                    other.landing_thickness, other.unmet, other.layers, other.swept, other.unsettled);
   }
   // Equal but for the count of layers, the slabs not yet settled, and rounding in the sum of
   // swept volumes (a part's volume times 1e-9).
   bool same_error(const PathCost& other) const {
-    return std::tie(flats, landing, landing_thickness, unmet) ==
-               std::tie(other.flats, other.landing, other.landing_thickness, other.unmet) &&
+    return std::tie(flats, forced_height, forced_most, forced_sum, landing, landing_thickness, unmet) ==
+               std::tie(other.flats, other.forced_height, other.forced_most, other.forced_sum, other.landing,
+                        other.landing_thickness, other.unmet) &&
            std::abs(swept - other.swept) <= 1e-9 * std::max({1.0, swept, other.swept});
   }
   // The cost of a path with edge e of `planner` added.
   template <class Planner>
   PathCost through(const Planner& planner, std::uint32_t e, Limits limits) const {
     PathCost c = *this;
-    const bool over = !planner.may_meet(e, limits.tolerance);
     c.flats += planner.crossed_flats(e);
-    if (over && !planner.thinnest(e)) c.landing += 1, c.landing_thickness += planner.thickness(e);
-    if (over && planner.thinnest(e)) c.unmet += planner.thickness(e);
+    const long long thickness = nanometres(planner.thickness(e));
+    if (planner.forced(e)) {
+      // Measured exactly from the start (LazyPlanner::measure_forced).
+      const long long past = nanometres(std::max(0.0, planner.exact(e) - limits.tolerance));
+      if (past > 0) c.forced_height += thickness;
+      c.forced_most = std::max(c.forced_most, past);
+      c.forced_sum += past;
+    }
+    const bool over = !planner.forced(e) && !planner.may_meet(e, limits.tolerance);
+    if (over && !planner.thinnest(e)) c.landing += 1, c.landing_thickness += thickness;
+    if (over && planner.thinnest(e)) c.unmet += thickness;
     c.layers += 1;
     c.swept += planner.swept(e);
     c.unsettled += planner.settled(e, limits) ? 0 : 1;
     return c;
   }
 };
-const PathCost kUnreached{std::numeric_limits<std::uint32_t>::max(), 0, 0, 0, 0, 0, 0};
+const PathCost kUnreached{std::numeric_limits<std::uint32_t>::max(), 0, 0, 0, 0, 0, 0, 0, 0, 0};
 constexpr std::uint32_t kNoEdge = std::numeric_limits<std::uint32_t>::max();
 
 class LazyPlanner {
  public:
   LazyPlanner(const LayerStack& stack, double top, const AllowedThicknesses& allowed,
-              std::span<const double> flats, const AdaptiveOptions& options,
+              const FlatTargets& flats, const AdaptiveOptions& options,
               const PlanProgress& progress)
       : options_(options), progress_(progress),
-        grid_(height_grid(top, allowed, flats, options.grid)), meter_(stack, options.error),
+        grid_(height_grid(top, allowed, flats.landed, options.grid)), meter_(stack, options.error),
         max_thickness_(allowed.thickest()), thinnest_thickness_(allowed.thinnest()),
         fixed_first_(allowed.first > 0) {
     const std::size_t edges = grid_.edge_to.size();
@@ -370,18 +416,30 @@ class LazyPlanner {
     tbb::parallel_for(std::size_t{0}, grid_.z.size(), [&](std::size_t i) { below[i] = swept.integral_below(grid_.z[i]); });
     swept_.resize(edges);
     crossed_.resize(edges);
+    forced_.resize(edges);
     refused_.assign(edges, 0);
     tbb::parallel_for(std::size_t{0}, edges, [&](std::size_t e) {
       const double a = grid_.z[grid_.edge_from[e]], b = grid_.z[grid_.edge_to[e]];
       const double middle = swept.integral_below(0.5 * (a + b));
       swept_[e] = std::max(0.0, below[grid_.edge_from[e]] + below[grid_.edge_to[e]] - 2 * middle);
-      crossed_[e] = static_cast<std::uint32_t>(crossed(flats, a, b));
+      crossed_[e] = static_cast<std::uint32_t>(crossed(flats.landed, a, b));
+      forced_[e] = crossed(flats.off_grid, a, b) > 0;
       refused_[e] = overhangs && !grid_.edge_thinnest[e] && (*overhangs)(a, b) > thick.min_area;
     });
     lower_.assign(edges, 0);
     exact_.assign(edges, NAN);
     proven_.assign(edges, NAN);
     counted_.assign(edges, 0);
+  }
+
+  // The candidates holding a flat level no allowed layer lands, measured exactly (a few dozen
+  // per level): a path's cost takes their D past the tolerance, not only whether it is past.
+  void measure_forced(double tolerance) {
+    std::vector<std::uint32_t> edges;
+    for (std::uint32_t e = 0; e < forced_.size(); ++e) {
+      if (forced_[e]) edges.push_back(e);
+    }
+    measure(edges, tolerance, 0, false, true);
   }
 
   // Every candidate measured exactly: the search then needs one round.
@@ -507,6 +565,7 @@ class LazyPlanner {
   double swept(std::uint32_t e) const { return swept_[e]; }
   std::size_t missed(std::uint32_t e) const { return missed_.count(e) ? missed_.at(e) : 0; }
   std::uint32_t crossed_flats(std::uint32_t e) const { return crossed_[e]; }
+  bool forced(std::uint32_t e) const { return forced_[e]; }
   double z(std::uint32_t node) const { return grid_.z[node]; }
   std::uint32_t from(std::uint32_t e) const { return grid_.edge_from[e]; }
   std::uint32_t to(std::uint32_t e) const { return grid_.edge_to[e]; }
@@ -743,32 +802,12 @@ class LazyPlanner {
   std::vector<double> proven_;  // a tolerance the slab is shown within, unmeasured (NaN: none)
   std::unordered_map<std::uint32_t, std::size_t> missed_;  // features the best trial misses
   std::vector<std::uint32_t> crossed_;
+  std::vector<char> forced_;   // holds a flat level no allowed layer lands
   std::vector<char> refused_;  // thick_overhangs: not a layer of any path
   std::vector<char> counted_;  // measured at least once (measured())
   std::size_t measured_ = 0, rounds_ = 0;
   std::size_t batch_ = 2 * std::max(1u, std::thread::hardware_concurrency());
 };
-
-// Where each flat level should land: itself, or with a printer's fixed steps the nearest
-// height they reach from the first layer (8.03 mm on 8.05 at 0.3 + k x 0.05); itself where
-// that height is within kSameHeight of it (a binary STL's rounding).
-std::vector<double> flat_targets(std::span<const double> flats, const AllowedThicknesses& allowed) {
-  std::vector<double> targets;
-  for (double z : flats) {
-    double target = z;
-    if (reach_unit(allowed) > 0) {
-      const long long unit = nanometres(reach_unit(allowed));
-      const long long first = nanometres(std::max(0.0, allowed.first));
-      const long long k = std::llround(static_cast<double>(nanometres(z) - first) / static_cast<double>(unit));
-      target = static_cast<double>(first + std::max(0LL, k) * unit) * 1e-6;
-      if (std::abs(target - z) <= kSameHeight) target = z;
-    }
-    targets.push_back(target);
-  }
-  std::sort(targets.begin(), targets.end());
-  targets.erase(std::unique(targets.begin(), targets.end()), targets.end());
-  return targets;
-}
 
 // The least angle from horizontal of the model's sloped surface inside [z_lo, z_hi], degrees
 // (90: none but vertical).
@@ -796,10 +835,11 @@ AdaptivePlan adaptive_plan(const LayerStack& stack, double part_height,
     return plan;
   }
   const std::vector<double> flats = flat_heights(flat_levels, part_height);
-  const std::vector<double> targets = flat_targets(flats, allowed);
+  const FlatTargets targets = flat_targets(flats, allowed);
   LazyPlanner planner(stack, part_height, allowed, targets, options, progress);
   plan.candidates = planner.candidates();
   plan.refused_for_overhangs = planner.refused();
+  planner.measure_forced(options.tolerance);
   if (options.measure_all) planner.measure_all(options.max_layers > 0 || options.fits ? 0 : options.tolerance);
 
   double tolerance = std::max(0.0, options.tolerance);

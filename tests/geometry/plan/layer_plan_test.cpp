@@ -11,9 +11,13 @@
 #include <cmath>
 #include <functional>
 #include <numbers>
+#include <string>
 #include <vector>
 
 #include "geometry/analysis/layer_analysis.h"
+#include "geometry/mesh/placement.h"
+#include "geometry/mesh/repair.h"
+#include "geometry/mesh/stl_io.h"
 #include "geometry/metrics/layer_metrics.h"
 #include "geometry/plan/flat_levels.h"
 #include "geometry/plan/layer_plan.h"
@@ -350,6 +354,28 @@ TEST_CASE("adaptive_plan_spends_a_layer_budget_where_more_layers_take_off_nothin
     CHECK(plan.layers.back().z_hi == 10.0);
     for (std::size_t i = 1; i < plan.layers.size(); ++i) CHECK(plan.distance[i] <= 1e-9);
   }
+}
+
+TEST_CASE("adaptive_plan_of_the_bunny_spends_a_budget_of_331_layers") {
+  // 50 mm tall on the UP Plus 2: 49.7 mm above the first layer holds at most 331 layers of
+  // 0.15 mm and more, and 331 sweep less volume than 330. Plans of 330 and 331 layers put
+  // thinnest layers over the cap at different heights, whose thicknesses (0.45 - 0.3, 31.4 -
+  // 31.25) add up to the same height but for their last bits; those bits must not decide
+  // before the volume does.
+  geometry::Placement placement;
+  placement.units_to_mm = 1000;
+  placement.up = geometry::Axis::y;
+  placement.height = 50;
+  const geometry::Mesh bunny = geometry::place(
+      geometry::repair(geometry::read_stl(std::string(MAHOST_DATA_DIR) + "/bunny.stl")), placement);
+  const double top = geometry::bounding_box(bunny).max.z;
+  const geometry::LayerStack stack(bunny, {});
+  AdaptiveOptions options;
+  options.max_layers = 331;
+  const AdaptivePlan plan = geometry::adaptive_plan(stack, top, kUpPlus2, geometry::flat_levels(bunny), options);
+  check_thicknesses(plan.layers, kUpPlus2);
+  CHECK(plan.layers.size() == 331);
+  CHECK(plan.layers.back().z_hi == doctest::Approx(top).epsilon(1e-9));
 }
 
 TEST_CASE("adaptive_plan_with_any_budget_finds_the_least_tolerance_it_accepts") {

@@ -7,7 +7,8 @@
 //   - every flat level and the top land on boundaries, where the thinnest layers alone would
 //     miss them, and the last layer ends at most the printer's step above a pointed top;
 //   - every layer above the first is within the tolerance, or the thinnest, or lands a level;
-//   - the top layer of a flat-topped sphere cap is within the tolerance.
+//   - the top layer of a flat-topped sphere cap is within the tolerance;
+//   - the layer holding a flat level no allowed layer lands has the least D any plan gives it.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -153,6 +154,54 @@ TEST_CASE("every_layer_above_the_first_is_within_the_tolerance_or_the_thinnest_o
   // One thicker layer below each level the 0.15 mm layers miss, none below the others.
   for (std::size_t k = 0; k < kStackFlats.size(); ++k) CHECK(landing[k] <= 1);
   CHECK(landing[0] + landing[1] + landing[2] >= 1);
+}
+
+TEST_CASE("the_layer_holding_a_ledge_off_the_reachable_heights_errs_least") {
+  // A cone narrowing 1 mm per mm from radius 8 at the bed to 2.98 at a ledge at 5.02 mm (on no
+  // height the UP Plus 2 reaches: 0.3 + k 0.05), under a cylinder of radius 9 overhanging it to
+  // a flat top at 8 mm. Some layer [a, b], a <= 5.00 and b >= 5.05, holds the ledge, thinnest
+  // (0.15 mm: no more height over the tolerance than needed). Cut by mid below the ledge, at
+  // m, the cylinder's corners stand 9 - (8 - m) = 1 + m off the walls: [4.90, 5.05], D 5.975.
+  // Cut above it ([4.95, 5.10] or [5.00, 5.15]), the cone's top ring is (9 - 2.98) cos(pi /
+  // 48) = 6.007 inside the cylinder's walls. The cone's slope costs a thinnest layer 0.075, so
+  // nothing else comes near: the plan's largest D above the first layer is the ledge's least,
+  // at every tolerance and under a layer budget.
+  const std::vector<Vec2> profile{{0, 0}, {8, 0}, {2.98, 5.02}, {9, 5.02}, {9, 8}, {0, 8}};
+  const solids::Solid part = solids::revolve(profile, kSides);
+  const std::vector<Vec2> outer(profile.begin() + 1, profile.end() - 1);
+  REQUIRE(mid_distance(outer, 4.9, 5.05) == doctest::Approx(5.975).epsilon(1e-12));
+  const double above = 6.02 * std::cos(std::numbers::pi / kSides);
+  REQUIRE(mid_distance(outer, 4.95, 5.1) == doctest::Approx(above).epsilon(1e-12));
+  REQUIRE(mid_distance(outer, 5.0, 5.15) == doctest::Approx(above).epsilon(1e-12));
+  const geometry::LayerStack stack(part.mesh, {});
+  const auto check = [&](const AdaptivePlan& plan) {
+    REQUIRE(plan.layers.size() > 1);
+    CHECK(plan.layers.back().z_hi == 8.0);
+    double most = 0;
+    std::size_t holding = 0;
+    for (std::size_t i = 1; i < plan.layers.size(); ++i) {
+      most = std::max(most, plan.distance[i]);
+      if (plan.layers[i].z_lo < 5.02 && plan.layers[i].z_hi > 5.02) holding = i;
+    }
+    CHECK(most == doctest::Approx(5.975).epsilon(2e-3 / 5.975));
+    REQUIRE(holding > 0);
+    CHECK(plan.layers[holding].z_lo == doctest::Approx(4.9));
+    CHECK(plan.layers[holding].z_hi == doctest::Approx(5.05));
+    // Said over the tolerance for the level; under a budget, within the cap it makes.
+    if (plan.cap == 0) CHECK(plan.why[holding] == OverTolerance::flat_level);
+  };
+  for (double tolerance : {0.08, 0.1, 0.3}) {
+    CAPTURE(tolerance);
+    check(plan_for(part.mesh, tolerance));
+  }
+  for (std::size_t budget : {30, 45, 60}) {
+    CAPTURE(budget);
+    AdaptiveOptions options;
+    options.max_layers = budget;
+    const AdaptivePlan plan = geometry::adaptive_plan(stack, 8.0, kUpPlus2, geometry::flat_levels(part.mesh), options);
+    CHECK(plan.layers.size() <= budget);
+    check(plan);
+  }
 }
 
 TEST_CASE("the_last_layer_ends_at_most_a_step_above_a_pointed_top") {
