@@ -15,8 +15,10 @@
 // first within it (its distance error D, slab_error.h: the D `mahost analyze` reports for that
 // layer and contour) or, where no allowed thickness meets it, the thinnest; among such plans,
 // in this order: the fewest flat levels crossed (each lands on a boundary wherever an allowed
-// layer reaches it), the fewest layers over the tolerance, the fewest layers, and the least
-// total error, the volume the layers' sections leave off the surface (swept_volume.h: the
+// layer reaches it), the layers holding a flat level no allowed layer reaches over the
+// tolerance by the least height, then by the least D (Alexa et al.'s min-max objective for
+// the layers a flat level forces over), the fewest layers over the tolerance, the fewest
+// layers, and the least total error, the volume the layers' sections leave off the surface (swept_volume.h: the
 // volume deviation of the mid contour, exact where the surface is one sheet over each point of
 // a layer). A plan ends at the lowest height the layers reach at or above the part's top (with
 // a printer of any thickness, at the top): never more than the printer's step above it.
