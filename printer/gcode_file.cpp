@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -80,32 +81,33 @@ std::string content_hash(std::string_view bytes) {
 
 namespace {
 
-// parse_gcode's work on text whose first line is line `first_line` + 1 of the file; no hash.
-GcodeFile parse_lines(std::string_view text, const std::string& name, GcodeReading reading,
-                      std::size_t first_line) {
-  GcodeFile file;
-  file.path = name;
+// The lines of `text` checked as parse_gcode checks a file, the first being line `line_number`
+// + 1 of the file (line_number is left at the last line's): each command, trimmed and without
+// its comment, goes to on_command(command, end) with the byte after its line (from the start
+// of `text`); layer marks and lines left out are added to `file`, whose size() on_command
+// keeps counting. `awaiting_z`: a ;LAYER: mark is waiting for its ;Z:.
+template <typename OnCommand>
+void scan_lines(std::string_view text, const std::string& name, GcodeReading reading, std::size_t& line_number,
+                bool& awaiting_z, GcodeFile& file, OnCommand&& on_command) {
   const char* const start = text.data();
-  std::size_t line_number = first_line;
-  bool awaiting_z = false;
-  while (!text.empty()) {
+  const char* const stop = start + text.size();
+  // The first NUL byte, looked for once: the line that holds it is refused when reached, after
+  // the lines before it are checked, as the whole file's first bad line.
+  const auto* nul = text.empty() ? nullptr : static_cast<const char*>(std::memchr(start, '\0', text.size()));
+  for (const char* at = start; at < stop;) {
     ++line_number;
-    const std::size_t end = text.find('\n');
-    std::string_view raw = text.substr(0, end);
-    text.remove_prefix(end == std::string_view::npos ? text.size() : end + 1);
-    if (raw.find('\0') != std::string_view::npos) {
+    const auto* newline = static_cast<const char*>(std::memchr(at, '\n', static_cast<std::size_t>(stop - at)));
+    const char* const next = newline != nullptr ? newline + 1 : stop;
+    const std::string_view raw(at, static_cast<std::size_t>((newline != nullptr ? newline : stop) - at));
+    at = next;
+    if (nul != nullptr && nul < next) {
       throw ConfigError(fmt::format("{}: line {} contains NUL bytes: this is not a G-code text file",
                                     name, line_number));
     }
-    std::string_view comment;
     std::string_view command = raw;
-    if (const auto semicolon = raw.find(';'); semicolon != std::string_view::npos) {
-      comment = trim(raw.substr(semicolon + 1));
-      command = raw.substr(0, semicolon);
-    }
-    command = trim(command);
-    const std::uint64_t line_end = static_cast<std::uint64_t>(text.data() - start);
-    if (!comment.empty()) {
+    if (const auto* semicolon = static_cast<const char*>(std::memchr(raw.data(), ';', raw.size()))) {
+      command = raw.substr(0, static_cast<std::size_t>(semicolon - raw.data()));
+      const std::string_view comment = trim(raw.substr(command.size() + 1));
       if (const auto layer = number_after(comment, "LAYER:")) {
         file.layers.push_back({static_cast<int>(*layer), file.size(), std::nullopt});
         awaiting_z = true;
@@ -114,6 +116,7 @@ GcodeFile parse_lines(std::string_view text, const std::string& name, GcodeReadi
         awaiting_z = false;
       }
     }
+    command = trim(command);
     if (command.empty()) continue;
     if (const std::optional<std::string> problem = gcode_problem(command)) {
       if (reading.skip_invalid) {
@@ -133,9 +136,76 @@ GcodeFile parse_lines(std::string_view text, const std::string& name, GcodeReadi
           "number and checksum: shorten it",
           name, line_number, command.size(), kLongestCommand));
     }
-    file.add_command(command, line_end);
+    on_command(command, static_cast<std::uint64_t>(next - start));
   }
+}
+
+// parse_gcode's work on text whose first line is line `first_line` + 1 of the file; no hash.
+GcodeFile parse_lines(std::string_view text, const std::string& name, GcodeReading reading,
+                      std::size_t first_line) {
+  GcodeFile file;
+  file.path = name;
+  bool awaiting_z = false;
+  scan_lines(text, name, reading, first_line, awaiting_z, file,
+             [&](std::string_view command, std::uint64_t end) { file.add_command(command, end); });
   return file;
+}
+
+// Where a piece that is not the file's last ends in `text`: before its last ;LAYER: mark (so
+// the ;Z: that follows a mark is read with it, in the next piece), else after its last whole
+// line; 0 when it holds no line end.
+std::size_t piece_cut(std::string_view text) {
+  std::size_t last_line_end = 0;
+  for (std::size_t end = text.size(); end > 0;) {
+    const auto* newline = static_cast<const char*>(::memrchr(text.data(), '\n', end));
+    if (newline == nullptr) break;
+    const std::size_t after = static_cast<std::size_t>(newline - text.data()) + 1;
+    if (last_line_end == 0) last_line_end = after;
+    if (text.substr(after).starts_with(";LAYER:")) return after;
+    end = after - 1;
+  }
+  return last_line_end;
+}
+
+// Reads the file at `path` in pieces of whole lines, kGcodePiece bytes or so (see piece_cut;
+// the last piece ends with the file), and hands each to on_text(text, offset in the file).
+// Throws ConfigError naming the file (`name`) when it cannot be read or holds a line longer
+// than kLongestLine.
+template <typename OnText>
+void read_pieces(const std::string& path, const std::string& name, OnText&& on_text) {
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) {
+    throw ConfigError(fmt::format("{}: is a directory, not a G-code file", name));
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ConfigError(fmt::format("{}: cannot open the G-code file: check the path", name));
+  // The lines after the last piece stay at the buffer's front, read on after.
+  std::vector<char> buffer(kGcodePiece);
+  std::size_t held = 0;
+  std::uint64_t offset = 0;  // of the buffer's front in the file
+  std::size_t lines_before = 0;
+  for (bool at_end = false; !at_end;) {
+    if (held == buffer.size()) {  // no line end in all that was read
+      if (buffer.size() >= kLongestLine) {
+        throw ConfigError(fmt::format("{}: line {} is longer than {} MiB: this is not a G-code text file",
+                                      name, lines_before + 1, kLongestLine >> 20));
+      }
+      buffer.resize(buffer.size() * 2);
+    }
+    in.read(buffer.data() + held, static_cast<std::streamsize>(buffer.size() - held));
+    const auto got = static_cast<std::size_t>(in.gcount());
+    if (in.bad()) throw ConfigError(fmt::format("{}: cannot read the G-code file", name));
+    at_end = got < buffer.size() - held;
+    held += got;
+    const std::string_view text(buffer.data(), held);
+    const std::size_t cut = at_end ? held : piece_cut(text);
+    if (cut == 0) continue;
+    on_text(text.substr(0, cut), offset);
+    lines_before += static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(cut), '\n'));
+    std::memmove(buffer.data(), buffer.data() + cut, held - cut);
+    held -= cut;
+    offset += cut;
+  }
 }
 
 }  // namespace
@@ -148,59 +218,16 @@ GcodeFile parse_gcode(std::string_view text, const std::string& name, GcodeReadi
 
 std::string for_each_gcode_piece(const std::string& path, const std::string& name, GcodeReading reading,
                                  const std::function<void(const GcodePiece&)>& on_piece) {
-  std::error_code error;
-  if (std::filesystem::is_directory(path, error)) {
-    throw ConfigError(fmt::format("{}: is a directory, not a G-code file", name));
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ConfigError(fmt::format("{}: cannot open the G-code file: check the path", name));
   ContentHasher hash;
-  std::string text;  // read and not yet parsed: the lines after the last piece
-  std::vector<char> buffer(kGcodePiece);
-  std::uint64_t offset = 0;  // of `text` in the file
   std::size_t lines_before = 0;
-  bool at_end = false;
-  while (!at_end) {
-    in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
-    const auto got = static_cast<std::size_t>(in.gcount());
-    if (in.bad()) throw ConfigError(fmt::format("{}: cannot read the G-code file", name));
-    at_end = got < buffer.size();
-    hash.add(std::string_view(buffer.data(), got));
-    text.append(buffer.data(), got);
-    // A piece ends before its last ;LAYER: mark (so the ;Z: that follows a mark is read with
-    // it, in the next piece), else after its last whole line; at the end, with the file.
-    std::size_t cut = text.size();
-    if (!at_end) {
-      const std::size_t mark = text.rfind("\n;LAYER:");
-      cut = mark != std::string::npos ? mark + 1 : text.rfind('\n') + 1;
-      if (cut == 0) {  // no line end yet in all that was read
-        if (text.size() < kLongestLine) continue;
-        throw ConfigError(fmt::format("{}: line {} is longer than {} MiB: this is not a G-code text file",
-                                      name, lines_before + 1, kLongestLine >> 20));
-      }
-    }
-    const std::string_view piece_text(text.data(), cut);
-    const GcodeFile piece = parse_lines(piece_text, name, reading, lines_before);
-    on_piece(GcodePiece{piece, piece_text, offset});
-    lines_before += static_cast<std::size_t>(std::count(piece_text.begin(), piece_text.end(), '\n'));
-    offset += cut;
-    text.erase(0, cut);
-  }
+  read_pieces(path, name, [&](std::string_view text, std::uint64_t offset) {
+    hash.add(text);
+    const GcodeFile piece = parse_lines(text, name, reading, lines_before);
+    on_piece(GcodePiece{piece, text, offset});
+    lines_before += static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
+  });
   return hash.text();
 }
-
-namespace {
-
-std::uint64_t commands_hash(const GcodeFile& held, std::size_t from, std::size_t to) {
-  ContentHasher hash;
-  for (std::size_t i = from; i < to; ++i) {
-    hash.add(held.command(i));
-    hash.add("\n");
-  }
-  return hash.value();
-}
-
-}  // namespace
 
 GcodeFile read_gcode_file(const std::string& path, GcodeReading reading, std::size_t block_size,
                           const std::function<void(const GcodePiece&)>& on_piece) {
@@ -208,42 +235,42 @@ GcodeFile read_gcode_file(const std::string& path, GcodeReading reading, std::si
   file.path = path;
   file.reading_ = reading;
   file.block_size_ = std::max<std::size_t>(block_size, 1);
-  std::uint64_t block_begin = 0;  // where the block being read starts in the file
-  ContentHasher block_hash;
-  std::size_t in_block = 0;       // its commands so far
-  // A block read on into the next piece is kept with the commands so far, and replaced.
-  const auto close_block = [&](std::uint64_t end) {
-    const GcodeFile::Block block{block_begin, end, block_hash.value()};
-    if (!file.blocks_.empty() && file.blocks_.back().begin == block_begin) {
-      file.blocks_.back() = block;
-    } else {
-      file.blocks_.push_back(block);
-    }
-  };
-  file.hash = for_each_gcode_piece(path, path, reading, [&](const GcodePiece& piece) {
-    const GcodeFile& held = piece.gcode;
-    for (GcodeLayer layer : held.layers) {
-      layer.first_command += file.count_;
-      file.layers.push_back(layer);
-    }
-    for (std::size_t i = 0; i < held.size(); ++i) {
-      block_hash.add(held.command(i));
-      block_hash.add("\n");
-      if (++in_block < file.block_size_) continue;
-      const std::uint64_t end = piece.offset + held.command_end(i);
-      close_block(end);
-      block_begin = end;
-      block_hash = ContentHasher();
+  // One pass: the file's hash runs through its bytes in order, and a block keeps the hash where
+  // it begins and where it ends (GcodeReader hashes the block's bytes again from the first
+  // and compares with the second).
+  ContentHasher hash;
+  std::uint64_t hashed_to = 0;  // bytes of the file hashed so far
+  std::size_t in_block = 0;     // commands of the block being read, so far
+  std::uint64_t block_begin = 0, block_begin_hash = hash.value();
+  std::uint64_t last_end = 0, last_end_hash = 0;  // the last command's line end, and the hash there
+  std::size_t line_number = 0;
+  bool awaiting_z = false;
+  read_pieces(path, path, [&](std::string_view text, std::uint64_t offset) {
+    const auto hash_to = [&](std::uint64_t to) {
+      hash.add(text.substr(static_cast<std::size_t>(hashed_to - offset), static_cast<std::size_t>(to - hashed_to)));
+      hashed_to = to;
+    };
+    const std::size_t lines_before = line_number;
+    const std::size_t commands_before = file.size();
+    scan_lines(text, path, reading, line_number, awaiting_z, file, [&](std::string_view, std::uint64_t end) {
+      ++file.count_;
+      last_end = offset + end;
+      if (++in_block < file.block_size_) return;
+      hash_to(last_end);
+      file.blocks_.push_back({block_begin, last_end, block_begin_hash, hash.value()});
+      block_begin = last_end;
+      block_begin_hash = hash.value();
       in_block = 0;
+    });
+    if (in_block > 0 && file.size() > commands_before) {  // the last block may end in this piece
+      hash_to(last_end);
+      last_end_hash = hash.value();
     }
-    if (in_block > 0 && held.size() > 0) close_block(piece.offset + held.command_end(held.size() - 1));
-    file.count_ += held.size();
-    file.skipped_lines += held.skipped_lines;
-    for (const std::size_t line : held.skipped_line_numbers) {
-      if (file.skipped_line_numbers.size() < kSkippedLinesNamed) file.skipped_line_numbers.push_back(line);
-    }
-    if (on_piece) on_piece(piece);
+    hash_to(offset + text.size());
+    if (on_piece) on_piece(GcodePiece{parse_lines(text, path, reading, lines_before), text, offset});
   });
+  if (in_block > 0) file.blocks_.push_back({block_begin, last_end, block_begin_hash, last_end_hash});
+  file.hash = hash.text();
   if (file.size() == 0) {
     throw ConfigError(fmt::format("{}: the file has no G-code commands", path));
   }
@@ -273,12 +300,15 @@ void GcodeReader::load(std::size_t block) {
   };
   if (in_.bad()) throw ConfigError(fmt::format("{}: cannot read the G-code file any more", file_.path));
   if (got != text.size()) throw changed();
+  ContentHasher hash(b.hash_at_begin);
+  hash.add(text);
+  if (hash.value() != b.hash_at_end) throw changed();
   try {
     block_ = parse_lines(text, file_.path, file_.reading(), 0);
   } catch (const ConfigError&) {
-    throw changed();  // the check read the block without a refusal
+    throw changed();  // the check read these bytes without a refusal: only a hash collision
   }
-  if (block_.size() != count || commands_hash(block_, 0, count) != b.commands_hash) {
+  if (block_.size() != count) {
     block_ = GcodeFile();
     throw changed();
   }

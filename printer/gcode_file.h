@@ -8,8 +8,8 @@
 // file changed before a resume.
 //
 // A file read from disk (read_gcode_file) is an index, not its commands: one checking pass
-// keeps where each block of kGcodeBlock commands lies in the file and a hash of the block's
-// commands, and a GcodeReader loads one block at a time, so a job's memory does not grow with
+// keeps where each block of kGcodeBlock commands lies in the file and the file's hash at the
+// block's ends, and a GcodeReader loads one block at a time, so a job's memory does not grow with
 // the file. A file parsed from text (parse_gcode) holds its commands.
 #pragma once
 
@@ -74,11 +74,12 @@ class GcodeFile {
   void add_command(std::string_view command, std::uint64_t end);
 
   // A block of a file on disk: commands [index * block_size, ...), the bytes [begin, end) of
-  // the file (from the line after the block before to its last command's line end), and a
-  // hash of its commands as sent, to notice a file changed under a job.
+  // the file (from the line after the block before to its last command's line end), and the
+  // file's hash (ContentHasher::value) as it ran through the file, at begin and at end: its
+  // bytes read again hash from the one to the other unless the file changed under a job.
   struct Block {
     std::uint64_t begin = 0, end = 0;
-    std::uint64_t commands_hash = 0;
+    std::uint64_t hash_at_begin = 0, hash_at_end = 0;
   };
   const std::vector<Block>& blocks() const { return blocks_; }
   std::size_t block_size() const { return block_size_; }
@@ -169,6 +170,10 @@ std::string content_hash(std::string_view bytes);
 // piece in order; text() is content_hash of them all.
 class ContentHasher {
  public:
+  ContentHasher() = default;
+  // Goes on from `value`, another hasher's value() after some bytes: adding the bytes that
+  // followed them gives the value that hasher had after those.
+  explicit ContentHasher(std::uint64_t value) : hash_(value) {}
   void add(std::string_view bytes);
   std::string text() const;
   std::uint64_t value() const { return hash_; }

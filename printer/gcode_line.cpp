@@ -93,7 +93,7 @@ namespace {
 
 bool is_letter(char c) { return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z'); }
 bool is_digit(char c) { return c >= '0' && c <= '9'; }
-char upper(char c) { return static_cast<char>(std::toupper(static_cast<unsigned char>(c))); }
+char upper(char c) { return c >= 'a' && c <= 'z' ? static_cast<char>(c - 'a' + 'A') : c; }
 
 // A G-code number at the front of `s` ("10", "-0.5", ".2", "+3", "1e-3"); its length, 0 if none.
 std::size_t number_length(std::string_view s) {
@@ -119,6 +119,19 @@ std::size_t number_length(std::string_view s) {
   return n;
 }
 
+// Whether a G-code number (number_length's) is past a 32-bit float's range (3.4e38). One
+// without an exponent and of at most 38 digits before its point is not, read or not: the
+// checking pass reads millions of numbers, and parsing each is most of its time.
+bool past_float_range(std::string_view number) {
+  const std::size_t sign = number.front() == '-' || number.front() == '+' ? 1 : 0;
+  const std::size_t digits = std::min(number.find('.'), number.size()) - sign;
+  if (digits <= 38 && number.find_first_of("eE") == std::string_view::npos) return false;
+  double value = 0;
+  const std::size_t from = number.front() == '+' ? 1 : 0;  // from_chars reads '-' only
+  const auto [end, error] = std::from_chars(number.data() + from, number.data() + number.size(), value);
+  return error == std::errc::result_out_of_range || std::abs(value) > std::numeric_limits<float>::max();
+}
+
 bool text_command(char letter, int code) {
   if (letter != 'M') return false;
   switch (code) {
@@ -134,11 +147,13 @@ bool text_command(char letter, int code) {
 bool takes_text(const GcodeCommand& command) { return text_command(command.letter, command.code); }
 
 std::optional<std::string> gcode_problem(std::string_view command) {
+  bool star = false;
   for (char c : command) {
     const auto u = static_cast<unsigned char>(c);
     if (u >= 0x7f || (u < 0x20 && c != '\t')) return std::string("it holds bytes that are not text");
+    star |= c == '*';
   }
-  if (command.find('*') != std::string_view::npos) return std::string("checksums are for the host to add");
+  if (star) return std::string("checksums are for the host to add");
   if (command.empty() || !is_letter(command.front())) {
     return std::string("it does not start with a command word (G, M or T and a number)");
   }
@@ -185,12 +200,7 @@ std::optional<std::string> gcode_problem(std::string_view command) {
       const std::size_t length = number_length(command.substr(i));
       // Firmware keeps numbers in 32-bit floats: a value past their range (X1e999) would
       // be infinite there, a move to nowhere or a heater set to anything.
-      const std::size_t sign = length > 0 && command[i] == '+' ? 1 : 0;
-      double value = 0;
-      const auto [end, error] =
-          std::from_chars(command.data() + i + sign, command.data() + i + length, value);
-      if (length > 0 && (error == std::errc::result_out_of_range ||
-                         std::abs(value) > std::numeric_limits<float>::max())) {
+      if (length > 0 && past_float_range(command.substr(i, length))) {
         return fmt::format("{} is too large for a printer's numbers",
                            command.substr(i - 1, length + 1));
       }

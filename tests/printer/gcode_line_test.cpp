@@ -105,6 +105,12 @@ TEST_CASE("gcode_problem_names_what_is_wrong") {
   CHECK(printer::gcode_problem("G1 X1e999 Y5") == "X1e999 is too large for a printer's numbers");
   CHECK(printer::gcode_problem("M104 S-4e38") == "S-4e38 is too large for a printer's numbers");
   CHECK_FALSE(printer::gcode_problem("G1 X3e38 E+1e-300"));
+  // Without an exponent: 38 digits before the point stay below 3.4e38 whatever they are, 39 may not.
+  const std::string nines38(38, '9'), nines39(39, '9');
+  CHECK_FALSE(printer::gcode_problem("G1 X-" + nines38 + ".9 Y+" + nines38));
+  CHECK_FALSE(printer::gcode_problem("G1 X" + std::string(39, '1') + ".5"));  // 1.1e38
+  CHECK(printer::gcode_problem("G1 X" + nines39) == "X" + nines39 + " is too large for a printer's numbers");
+  CHECK(printer::gcode_problem("G1 E-" + nines39 + ".5") == "E-" + nines39 + ".5 is too large for a printer's numbers");
 }
 
 }  // namespace gcode_line_test
