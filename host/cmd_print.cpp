@@ -28,6 +28,7 @@
 #include "app/model.h"
 #include "app/slice.h"
 #include "app/stage_options.h"
+#include "host/check_while_connecting.h"
 #include "host/commands.h"
 #include "host/control_socket.h"
 #include "host/job_setup.h"
@@ -98,15 +99,17 @@ std::string count_text(long n, const char* one, const char* many) {
 // printed, from the interrupted layer on.
 void print_summary(const printer::JobResult& result, const printer::GcodeFile& file,
                    const OpenLink& link, const printer::LineProtocol& protocol,
-                   double estimated_seconds, bool resumed, const printer::Profiles* sliced_for,
+                   std::optional<double> estimated_seconds, bool resumed, const printer::Profiles* sliced_for,
                    std::chrono::steady_clock::duration wall) {
   const auto& stats = protocol.stats();
   const double elapsed = std::chrono::duration<double>(result.elapsed).count();
   const double paused = std::chrono::duration<double>(result.paused).count();
   const std::string paused_note =
       result.pauses > 0 ? fmt::format(" ({} paused, not counted)", printer::format_duration(paused)) : "";
-  const std::string estimate = fmt::format("estimated {}{}", printer::format_duration(estimated_seconds),
-                                           resumed ? " for the layers resumed" : "");
+  const std::string estimate =
+      estimated_seconds ? fmt::format("estimated {}{}", printer::format_duration(*estimated_seconds),
+                                      resumed ? " for the layers resumed" : "")
+                        : "no estimate: the job ended before the model read the file";
   std::string where;
   std::string time;
   if (link.sim != nullptr) {
@@ -198,13 +201,17 @@ printer::JobResult run_job(printer::LineProtocol& protocol, const printer::Gcode
   } catch (const std::runtime_error&) {
     // A failed job says what the link went through too: often the reason is there.
     ui.finish();
-    print_summary(job.result(), file, link, protocol, job.estimated_seconds(), resumed, sliced_for,
+    print_summary(job.result(), file, link, protocol, job.estimate_known(), resumed, sliced_for,
                   std::chrono::steady_clock::now() - wall_start);
     std::fflush(stdout);
     throw;
   }
   ui.finish();
-  print_summary(result, file, link, protocol, job.estimated_seconds(), resumed, sliced_for,
+  // A job that ended early says the estimate only if the model got that far (a cancel a minute
+  // into a long file would spend seconds modelling the rest).
+  const std::optional<double> estimate =
+      result.state == printer::JobState::completed ? job.estimated_seconds() : job.estimate_known();
+  print_summary(result, file, link, protocol, estimate, resumed, sliced_for,
                 std::chrono::steady_clock::now() - wall_start);
   return result;
 }
@@ -267,18 +274,23 @@ void run_print(const PrintOptions& options) {
     // loads the file, so the print's memory does not stack on the slicer's.
     ::malloc_trim(0);
   }
-  const printer::GcodeFile file = read_job_gcode(gcode_path, options.link);
+  const int baud = options.link.baud > 0 ? options.link.baud : profiles.printer.baud;
+  OpenLink link;
+  std::optional<printer::LineProtocol> connected;
+  const printer::GcodeFile file = check_while_connecting(
+      [&] { return read_job_gcode(gcode_path, options.link); },
+      [&] {
+        link = open_link(options.link, profiles.printer, baud);
+        if (link.sim != nullptr) link.check = app::support_check_options(profiles);
+        connect(connected.emplace(*link.link, protocol_options(options.link, profiles.printer)), link);
+      });
+  printer::LineProtocol& protocol = *connected;
   for (int layer : options.pause_at) {
     if (static_cast<std::size_t>(layer) > file.layers.size()) {
       throw printer::ConfigError(fmt::format("--pause-at-layer {}: {} has {} layers", layer,
                                              stl ? options.input : gcode_path, file.layers.size()));
     }
   }
-  const int baud = options.link.baud > 0 ? options.link.baud : profiles.printer.baud;
-  OpenLink link = open_link(options.link, profiles.printer, baud);
-  if (link.sim != nullptr) link.check = app::support_check_options(profiles);
-  printer::LineProtocol protocol(*link.link, protocol_options(options.link, profiles.printer));
-  connect(protocol, link);
   if (options.link.window > 1 && !protocol.advanced_ok()) {
     fmt::print(stderr,
                "note: the firmware does not report its buffer space (ADVANCED_OK): --window {} "
@@ -335,17 +347,25 @@ void run_resume(const ResumeOptions& options) {
     throw printer::ConfigError(fmt::format(
         "{}: the job is still running (process {}); steer it with mahost ctl", journal, record.pid));
   }
-  const printer::GcodeFile file = read_job_gcode(record.gcode_path, options.link);
-  app::check_resumable_file(record, file);
   // The printer profile the job was sliced and timed for: its motion limits time the rest.
   const printer::PrinterProfile machine = app::resume_profile(
       record, [](const std::string& line) { fmt::print(stderr, "note: {}\n", line); });
   const int baud = options.link.baud > 0   ? options.link.baud
                    : record.baud > 0       ? record.baud
                                            : machine.baud;
-  OpenLink link = open_link(options.link, machine, baud);
-  printer::LineProtocol protocol(*link.link, protocol_options(options.link, machine));
-  connect(protocol, link);
+  OpenLink link;
+  std::optional<printer::LineProtocol> connected;
+  const printer::GcodeFile file = check_while_connecting(
+      [&] {
+        printer::GcodeFile read = read_job_gcode(record.gcode_path, options.link);
+        app::check_resumable_file(record, read);
+        return read;
+      },
+      [&] {
+        link = open_link(options.link, machine, baud);
+        connect(connected.emplace(*link.link, protocol_options(options.link, machine)), link);
+      });
+  printer::LineProtocol& protocol = *connected;
 
   const bool dry_run = options.link.dry_run;
   const std::string base = fs::path(journal).replace_extension().string();

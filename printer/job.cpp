@@ -501,6 +501,11 @@ double Job::estimated_seconds() {
   return eta_.total().value_or(0.0) - eta_.at_first_command().value_or(0.0);
 }
 
+std::optional<double> Job::estimate_known() const {
+  if (!eta_.total() || !eta_.at_first_command()) return std::nullopt;
+  return *eta_.total() - *eta_.at_first_command();
+}
+
 JobResult Job::result() const {
   JobResult result;
   result.state = job_state_;

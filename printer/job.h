@@ -104,6 +104,9 @@ class Job {
   // resume's first command on), s: the print-time estimate to hold its motion against. Models
   // what the job has not yet (a job that ended early).
   double estimated_seconds();
+  // estimated_seconds() once the model has read the file, without modelling the rest: a job
+  // cancelled early in a long file need not spend seconds on it. Unset before.
+  std::optional<double> estimate_known() const;
   // Commands of the file this job holds in memory (the block it sends from and the model's):
   // a few blocks, however long the file.
   std::size_t commands_held() const { return reader_.commands_held() + eta_.commands_held(); }

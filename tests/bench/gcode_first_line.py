@@ -2,7 +2,9 @@
 """Time to a G-code file's first line, and the host's peak memory, for a small and a large file.
 
 Each host prints FILE to a pseudo-terminal whose other end is a stand-in firmware here that
-answers every line with `ok` at once (no pacing, no banner): the time from starting the host
+answers every line with `ok` at once (no pacing; no banner, as a board on native USB that does
+not reset when its port opens; with boot_s > 0, a board that does: it loses what it is sent for
+boot_s seconds from the host's start, then says `start`): the time from starting the host
 to the arrival of the file's first command (after the host's own handshake lines), and the
 host's peak resident memory (VmHWM) once it has streamed for `stream_s` seconds more. The
 hosts are `mahost print FILE --port PTY` and Printrun's `printcore PTY FILE`, alternated,
@@ -10,7 +12,7 @@ hosts are `mahost print FILE --port PTY` and Printrun's `printcore PTY FILE`, al
 until then (what a loaded machine does not change). The small file's figures are each host's
 fixed costs (start-up, connect); the large file's, over them, are what the file's size costs.
 
-  tests/bench/gcode_first_line.py MAHOST[,MAHOST...] SMALL.gcode LARGE.gcode [rounds=3] [stream_s=2]
+  tests/bench/gcode_first_line.py MAHOST[,MAHOST...] SMALL.gcode LARGE.gcode [rounds=3] [stream_s=2] [boot_s=0]
 
 Several mahost binaries (a build and the one before it), comma-separated, each run in turn
 with printcore.
@@ -79,7 +81,7 @@ def cpu_s(pid):
         return None
 
 
-def run(argv_of_port, gcode, stream_s, limit_s=600):
+def run(argv_of_port, gcode, stream_s, boot_s=0, limit_s=600):
     """(seconds to the file's first command or None, peak KiB, CPU seconds to the first command)"""
     master, slave = os.openpty()
     tty.setraw(slave)
@@ -89,7 +91,12 @@ def run(argv_of_port, gcode, stream_s, limit_s=600):
     host = subprocess.Popen(argv_of_port(port), stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
                             stderr=subprocess.DEVNULL)
     first, pending, peak, cpu = None, b"", -1, None
+    booted = boot_s <= 0
     while time.monotonic() - start < limit_s:
+        if not booted and time.monotonic() - start >= boot_s:
+            booted = True
+            pending = b""
+            os.write(master, b"start\necho: stand-in booted\n")
         if first is not None and time.monotonic() - first_at >= stream_s:
             break
         ready, _, _ = select.select([master], [], [], 0.05)
@@ -103,6 +110,8 @@ def run(argv_of_port, gcode, stream_s, limit_s=600):
         except OSError:
             break
         *lines, pending = pending.split(b"\n")
+        if not booted:
+            continue  # a board in its bootloader: what it is sent is lost
         for raw in lines:
             text = raw.decode("ascii", "replace").strip()
             # N<n> <command>*<checksum>, or the command alone
@@ -135,6 +144,7 @@ def main():
     mahost, small, large = sys.argv[1:4]
     rounds = int(sys.argv[4]) if len(sys.argv) > 4 else 3
     stream_s = float(sys.argv[5]) if len(sys.argv) > 5 else 2
+    boot_s = float(sys.argv[6]) if len(sys.argv) > 6 else 0
     binaries = mahost.split(",")
     hosts = {}
     for binary in binaries:
@@ -145,9 +155,10 @@ def main():
     for _ in range(rounds):
         for f in (small, large):
             for h, argv in hosts.items():
-                results[(h, f)].append(run(argv(f), f, stream_s))
+                results[(h, f)].append(run(argv(f), f, stream_s, boot_s))
     print(f"{rounds} rounds, alternated; medians; the small file {os.path.getsize(small)} bytes, the large "
-          f"{os.path.getsize(large) / 1e6:.1f} MB")
+          f"{os.path.getsize(large) / 1e6:.1f} MB; "
+          + (f"a board that boots {boot_s:g} s" if boot_s > 0 else "a board without a banner"))
     for h in hosts:
         for f in (small, large):
             firsts = [r[0] for r in results[(h, f)] if r[0] is not None]

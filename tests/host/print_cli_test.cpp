@@ -300,7 +300,7 @@ TEST_CASE("files_that_are_not_gcode_are_refused_before_anything_is_sent") {
     CHECK(r.exit_code == 2);
     CHECK(r.err.starts_with("mahost: " + file + ": line 1 is not G-code ("));
     CHECK(count_lines(r.err) == 1);
-    CHECK(r.out.empty());  // refused before the link was opened
+    CHECK(r.out.empty());  // refused before the job began
   }
   // A valid file with one bad line: refused by that line's number, or left out with --force.
   std::string program = test_support::ring_program(3, 10);
