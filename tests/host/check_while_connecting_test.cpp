@@ -43,10 +43,10 @@ TEST_CASE("the_file_is_checked_while_the_printer_connects") {
   CHECK(connect_saw_check);
 }
 
-// A printer that cannot be reached: opening the port fails.
+// A printer that cannot be reached: every use of the port fails.
 struct MissingPort : printer::Link {
   void write(std::string_view) override { throw printer::LinkError("/dev/ttyUSB9: no such port"); }
-  std::string read(std::chrono::milliseconds) override { return {}; }
+  std::string read(std::chrono::milliseconds) override { throw printer::LinkError("/dev/ttyUSB9: no such port"); }
   std::chrono::nanoseconds now() const override { return {}; }
   std::string name() const override { return "/dev/ttyUSB9"; }
 };
