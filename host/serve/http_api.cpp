@@ -569,6 +569,86 @@ HttpApi::HttpApi(PrinterSession& session, FileStore& files, std::string api_key,
                  std::string version)
     : session_(session), files_(files), api_key_(std::move(api_key)), limits_(limits), version_(std::move(version)) {}
 
+namespace {
+
+// One of the page's files by its path; 404 for any other.
+void serve_web_asset(const Request& req, Response& res) {
+  const WebAsset* asset = find_web_asset(req.path == "/index.html" ? "/" : req.path);
+  if (asset == nullptr) {
+    send_error(res, 404, "not found");
+    return;
+  }
+  res.set_content(std::string(asset->body), std::string(asset->content_type).c_str());
+  res.set_header("Cache-Control", "no-cache");
+}
+
+// A refusal's JSON body where the server has none yet (a route not found, a request that
+// could not be read or timed out).
+httplib::Server::HandlerResponse fill_error_body(const Request&, Response& res) {
+  if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
+  if (HttpServer::head_timed_out()) {
+    send_error(res, 408, HttpServer::head_timeout_message());
+    return httplib::Server::HandlerResponse::Handled;
+  }
+  const char* text = res.status == 404   ? "not found"
+                     : res.status == 400 ? "the request could not be read as HTTP"
+                     : res.status == 413 ? "request too large"
+                     : res.status == 405 ? "method not allowed"
+                                         : "the request could not be served";
+  send_error(res, res.status, text);
+  return httplib::Server::HandlerResponse::Handled;
+}
+
+// An exception out of a handler: logged with the request, a 500 to the client.
+void report_internal_error(const Request& req, Response& res, std::exception_ptr ep) {
+  std::string what = "unknown";
+  try {
+    if (ep) std::rethrow_exception(ep);
+  } catch (const std::exception& e) {
+    what = e.what();
+  } catch (...) {
+  }
+  std::fprintf(stderr, "%s internal error on %s %s: %s\n", local_time().c_str(), req.method.c_str(),
+               req.path.c_str(), what.c_str());
+  send_error(res, 500, "internal error (logged by the server)");
+}
+
+// The headers every response carries: no framing, no sniffing, no referrer; no caching of
+// what needs the key, a content policy for the page.
+void set_response_headers(const Request& req, Response& res) {
+  HttpServer::close_if_unread(req, res);
+  res.set_header("X-Content-Type-Options", "nosniff");
+  res.set_header("Referrer-Policy", "no-referrer");
+  res.set_header("X-Frame-Options", "DENY");
+  if (needs_key(req.path)) {
+    res.set_header("Cache-Control", "no-store");
+  } else {
+    res.set_header("Content-Security-Policy",
+                   "default-src 'self'; script-src 'self'; style-src 'self'; img-src 'self' data:; "
+                   "connect-src 'self'; frame-ancestors 'none'; base-uri 'none'; form-action 'none'");
+  }
+}
+
+// One line on stderr per request worth logging, with the error a refusal gave.
+void log_request(const Request& req, const Response& res) {
+  // Refusals always, changes always, reads that went well never (clients poll).
+  if (res.status < 400 && (req.method == "GET" || req.method == "HEAD")) return;
+  std::string error;
+  if (res.status >= 400) {
+    const json body = json::parse(res.body, nullptr, false);
+    if (body.is_object() && body.contains("error") && body["error"].is_string()) {
+      error = ": " + body["error"].get<std::string>();
+    }
+  }
+  std::fprintf(stderr, "%s %s %s %s -> %d%s\n", local_time().c_str(),
+               req.remote_addr.empty() ? "-" : req.remote_addr.c_str(),
+               req.method.empty() ? "(unreadable request)" : req.method.c_str(),
+               req.path.substr(0, 200).c_str(), res.status, error.c_str());
+  std::fflush(stderr);
+}
+
+}  // namespace
+
 void HttpApi::install(HttpServer& server) {
   server.always_served = [](const Request& req) {
     return std::any_of(std::begin(kRoutes), std::end(kRoutes), [&](const Route& route) {
@@ -598,15 +678,7 @@ void HttpApi::install(HttpServer& server) {
                 }
               });
   // The page: static files, no key needed to load them.
-  server.Get("/(|index.html|app.js|style.css)", [](const Request& req, Response& res) {
-    const WebAsset* asset = find_web_asset(req.path == "/index.html" ? "/" : req.path);
-    if (asset == nullptr) {
-      send_error(res, 404, "not found");
-      return;
-    }
-    res.set_content(std::string(asset->body), std::string(asset->content_type).c_str());
-    res.set_header("Cache-Control", "no-cache");
-  });
+  server.Get("/(|index.html|app.js|style.css)", serve_web_asset);
 
   server.set_pre_routing_handler([this](const Request& req, Response& res) {
     return admit(req, res, api_key_, limits_) != 0 ? httplib::Server::HandlerResponse::Handled
@@ -617,61 +689,10 @@ void HttpApi::install(HttpServer& server) {
     const int refused = admit(req, res, api_key_, limits_);
     return refused != 0 ? refused : 100;
   });
-  server.set_error_handler(httplib::Server::HandlerWithResponse([](const Request&, Response& res) {
-    if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
-    if (HttpServer::head_timed_out()) {
-      send_error(res, 408, HttpServer::head_timeout_message());
-      return httplib::Server::HandlerResponse::Handled;
-    }
-    const char* text = res.status == 404   ? "not found"
-                       : res.status == 400 ? "the request could not be read as HTTP"
-                       : res.status == 413 ? "request too large"
-                       : res.status == 405 ? "method not allowed"
-                                           : "the request could not be served";
-    send_error(res, res.status, text);
-    return httplib::Server::HandlerResponse::Handled;
-  }));
-  server.set_exception_handler([](const Request& req, Response& res, std::exception_ptr ep) {
-    std::string what = "unknown";
-    try {
-      if (ep) std::rethrow_exception(ep);
-    } catch (const std::exception& e) {
-      what = e.what();
-    } catch (...) {
-    }
-    std::fprintf(stderr, "%s internal error on %s %s: %s\n", local_time().c_str(), req.method.c_str(),
-                 req.path.c_str(), what.c_str());
-    send_error(res, 500, "internal error (logged by the server)");
-  });
-  server.set_post_routing_handler([](const Request& req, Response& res) {
-    HttpServer::close_if_unread(req, res);
-    res.set_header("X-Content-Type-Options", "nosniff");
-    res.set_header("Referrer-Policy", "no-referrer");
-    res.set_header("X-Frame-Options", "DENY");
-    if (needs_key(req.path)) {
-      res.set_header("Cache-Control", "no-store");
-    } else {
-      res.set_header("Content-Security-Policy",
-                     "default-src 'self'; script-src 'self'; style-src 'self'; img-src 'self' data:; "
-                     "connect-src 'self'; frame-ancestors 'none'; base-uri 'none'; form-action 'none'");
-    }
-  });
-  server.set_logger([](const Request& req, const Response& res) {
-    // Refusals always, changes always, reads that went well never (clients poll).
-    if (res.status < 400 && (req.method == "GET" || req.method == "HEAD")) return;
-    std::string error;
-    if (res.status >= 400) {
-      const json body = json::parse(res.body, nullptr, false);
-      if (body.is_object() && body.contains("error") && body["error"].is_string()) {
-        error = ": " + body["error"].get<std::string>();
-      }
-    }
-    std::fprintf(stderr, "%s %s %s %s -> %d%s\n", local_time().c_str(),
-                 req.remote_addr.empty() ? "-" : req.remote_addr.c_str(),
-                 req.method.empty() ? "(unreadable request)" : req.method.c_str(),
-                 req.path.substr(0, 200).c_str(), res.status, error.c_str());
-    std::fflush(stderr);
-  });
+  server.set_error_handler(httplib::Server::HandlerWithResponse(fill_error_body));
+  server.set_exception_handler(report_internal_error);
+  server.set_post_routing_handler(set_response_headers);
+  server.set_logger(log_request);
 }
 
 // ---- OctoPrint: server, settings, user -----------------------------------------------------
