@@ -39,18 +39,7 @@ source tests/bench/cura_definitions.sh  # (the script runs from the repo root)
 model=$work/bunny50.stl
 "$mahost" info data/bunny.stl --up y --units m --height 50 --export "$model" >/dev/null 2>&1
 
-# Runs a command $repeat times under /usr/bin/time; leaves the figures "wall_s user_s sys_s
-# peak_kib" of the run with the median wall time in $work/time (CPU time, user + system over
-# all threads, is what a busy machine does not inflate).
-timed() {
-  : >"$work/times"
-  for ((run = 0; run < repeat; run++)); do
-    /usr/bin/time -f "%e %U %S %M" -o "$work/time" "$@" >"$work/log" 2>&1 || {
-      echo "compare_slicers: failed: $*" >&2; tail -5 "$work/log" >&2; exit 1; }
-    cat "$work/time" >>"$work/times"
-  done
-  sort -n "$work/times" | sed -n "$(((repeat + 1) / 2))p" >"$work/time"
-}
+source tests/bench/timed.sh
 
 # Net filament (mm) of a program: E travelled forward, across G92 resets, either E mode.
 filament_of() {
@@ -96,62 +85,12 @@ for layer in 0.15 0.2; do
   # PrusaSlicer 2.5.
   cfg=$work/prusa.ini
   cat >"$cfg" <<EOF
-bed_shape = 0x0,140x0,140x140,0x140
-max_print_height = 135
-nozzle_diameter = 0.4
-filament_diameter = 1.75
 layer_height = $layer
-first_layer_height = 0.3
-extrusion_width = 0.45
-first_layer_extrusion_width = 0.5
-perimeters = 2
-fill_density = 20%
-fill_pattern = grid
-top_solid_layers = 3
-bottom_solid_layers = 3
-skirts = 1
-skirt_distance = 3
-brim_width = 0
-support_material = 0
-external_perimeter_speed = 25
-perimeter_speed = 40
-small_perimeter_speed = 25
-infill_speed = 50
-solid_infill_speed = 40
-top_solid_infill_speed = 30
-gap_fill_speed = 25
 bridge_speed = 30
-travel_speed = 120
-first_layer_speed = 15
-retract_length = 1
-retract_speed = 30
-deretract_speed = 25
-retract_before_travel = 2
-gcode_flavor = marlin2
-machine_limits_usage = time_estimate_only
-machine_max_acceleration_extruding = 800
-machine_max_acceleration_travel = 1500
-machine_max_acceleration_retracting = 2000
-machine_max_acceleration_x = 1500
-machine_max_acceleration_y = 1500
-machine_max_acceleration_z = 100
-machine_max_acceleration_e = 3000
-machine_max_feedrate_x = 200
-machine_max_feedrate_y = 200
-machine_max_feedrate_z = 10
-machine_max_feedrate_e = 40
-temperature = 245
-first_layer_temperature = 250
-bed_temperature = 100
-first_layer_bed_temperature = 105
-filament_density = 1.04
-cooling = 0
-fan_always_on = 0
-start_gcode = G28
-end_gcode = M84
+support_material = 0
 EOF
   out=$work/prusa-$layer.gcode
-  timed prusa-slicer --export-gcode --load "$cfg" --center 70,70 -o "$out" "$model"
+  timed prusa-slicer --export-gcode --load tests/bench/prusa_up_plus_2.ini --load "$cfg" --center 70,70 -o "$out" "$model"
   prusa_time=$(grep -m1 '^; estimated printing time (normal mode)' "$out" | sed 's/.*= //' |
     awk '{ s = 0; for (i = 1; i <= NF; i++) { v = $i + 0; u = substr($i, length($i));
            s += (u == "d") ? v * 86400 : (u == "h") ? v * 3600 : (u == "m") ? v * 60 : v } print s }')

@@ -73,15 +73,7 @@ for file in ${EXTRA:-}; do
   models+=("$m")
 done
 
-timed() {
-  : >"$work/times"
-  for ((run = 0; run < repeat; run++)); do
-    /usr/bin/time -f "%e %U %S %M" -o "$work/time" "$@" >"$work/log" 2>&1 || {
-      echo "compare_supports: failed: $*" >&2; tail -5 "$work/log" >&2; exit 1; }
-    cat "$work/time" >>"$work/times"
-  done
-  sort -n "$work/times" | sed -n "$(((repeat + 1) / 2))p" >"$work/time"
-}
+source tests/bench/timed.sh
 
 rows=()
 row() {  # model slicer seconds gcode
@@ -99,22 +91,9 @@ row() {  # model slicer seconds gcode
 }
 
 cat >"$work/prusa.ini" <<'EOF'
-bed_shape = 0x0,140x0,140x140,0x140
-max_print_height = 135
-nozzle_diameter = 0.4
-filament_diameter = 1.75
 layer_height = 0.2
-first_layer_height = 0.3
-extrusion_width = 0.45
-first_layer_extrusion_width = 0.5
-perimeters = 2
-fill_density = 20%
-fill_pattern = grid
-top_solid_layers = 3
-bottom_solid_layers = 3
-skirts = 1
-skirt_distance = 3
-brim_width = 0
+bridge_speed = 20
+raft_layers = 0
 support_material = 1
 support_material_auto = 1
 support_material_threshold = 40
@@ -132,43 +111,6 @@ support_material_interface_spacing = 0.102
 support_material_extrusion_width = 0.45
 support_material_speed = 50
 support_material_interface_speed = 40
-raft_layers = 0
-external_perimeter_speed = 25
-perimeter_speed = 40
-small_perimeter_speed = 25
-infill_speed = 50
-solid_infill_speed = 40
-top_solid_infill_speed = 30
-gap_fill_speed = 25
-bridge_speed = 20
-travel_speed = 120
-first_layer_speed = 15
-retract_length = 1
-retract_speed = 30
-deretract_speed = 25
-retract_before_travel = 2
-gcode_flavor = marlin2
-machine_limits_usage = time_estimate_only
-machine_max_acceleration_extruding = 800
-machine_max_acceleration_travel = 1500
-machine_max_acceleration_retracting = 2000
-machine_max_acceleration_x = 1500
-machine_max_acceleration_y = 1500
-machine_max_acceleration_z = 100
-machine_max_acceleration_e = 3000
-machine_max_feedrate_x = 200
-machine_max_feedrate_y = 200
-machine_max_feedrate_z = 10
-machine_max_feedrate_e = 40
-temperature = 245
-first_layer_temperature = 250
-bed_temperature = 100
-first_layer_bed_temperature = 105
-filament_density = 1.04
-cooling = 0
-fan_always_on = 0
-start_gcode = G28
-end_gcode = M84
 EOF
 
 for m in "${models[@]}"; do
@@ -230,7 +172,7 @@ for m in "${models[@]}"; do
   row "$m" "CuraEngine 4.13" "$(grep '^;TIME_ELAPSED:' "$out" | tail -1 | cut -d: -f2)" "$out"
 
   out=$work/prusa-$m.gcode
-  timed prusa-slicer --export-gcode --load "$work/prusa.ini" --center 70,70 -o "$out" "$model"
+  timed prusa-slicer --export-gcode --load tests/bench/prusa_up_plus_2.ini --load "$work/prusa.ini" --center 70,70 -o "$out" "$model"
   prusa_time=$(grep -m1 '^; estimated printing time (normal mode)' "$out" | sed 's/.*= //' |
     awk '{ s = 0; for (i = 1; i <= NF; i++) { v = $i + 0; u = substr($i, length($i));
            s += (u == "d") ? v * 86400 : (u == "h") ? v * 3600 : (u == "m") ? v * 60 : v } print s }')
