@@ -146,6 +146,20 @@ std::string start_refusal(const Status& s) {
   return {};
 }
 
+namespace {
+
+// A job is about to start on FILE: the page shows it running from nothing done, with no
+// cancel asked and no earlier end.
+void mark_job_starting(Status& s, const std::string& file) {
+  s.job_active = true;
+  s.job_file = file;
+  s.cancel_requested = false;
+  s.ended.reset();
+  s.progress.reset();
+}
+
+}  // namespace
+
 PrinterSession::PrinterSession(Options options, FileStore& files)
     : options_(std::move(options)), files_(files) {
   status_.instance = random_hex(8);
@@ -270,11 +284,7 @@ Outcome PrinterSession::select_found(const StoredFile& file, bool print) {
   if (!print) return {};
   if (const std::string refused = start_refusal(status_); !refused.empty()) return {409, refused};
   pending_start_ = JobStart{file.name, std::nullopt, {}};
-  status_.job_active = true;
-  status_.job_file = file.name;
-  status_.cancel_requested = false;
-  status_.ended.reset();
-  status_.progress.reset();
+  mark_job_starting(status_, file.name);
   publish();
   work_.notify_all();
   return {};
@@ -497,12 +507,8 @@ Outcome PrinterSession::resume_interrupted() {
     file.date = info.st_mtim.tv_sec;
   }
   status_.selected = file;
-  status_.job_file = status_.interrupted->name;
+  mark_job_starting(status_, status_.interrupted->name);
   status_.interrupted.reset();
-  status_.job_active = true;
-  status_.cancel_requested = false;
-  status_.ended.reset();
-  status_.progress.reset();
   publish();
   work_.notify_all();
   return {};
@@ -1104,9 +1110,7 @@ void PrinterSession::after_job(const JobStart& start, const printer::JobResult& 
     restart_after_cancel_ = false;
     if (result.state == printer::JobState::cancelled && !shutting_down_) {
       pending_start_ = JobStart{start.name, std::nullopt, {}};
-      status_.job_active = true;
-      status_.job_file = start.name;
-      status_.ended.reset();
+      mark_job_starting(status_, start.name);
       publish();
     }
   }
