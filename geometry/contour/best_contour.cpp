@@ -46,8 +46,9 @@ Region with_features(const ContourInput& input, const LayerReference& reference,
   return patched;
 }
 
-// Indices of the candidates, in best_candidates' order; the +features ones follow.
-constexpr std::size_t kMid = 0, kOptimal = 1, kMa = 2;
+// Indices of the candidates, in best_candidates' order; the +features ones follow, mid's first
+// where mid misses a feature.
+constexpr std::size_t kMid = 0, kOptimal = 1, kMa = 2, kMidFeatures = 3;
 
 // A layer's candidates as best makes them: mid's section (cut once: ma's contour takes it
 // where it needs the middle section, and optimal-height's search often ends at that very
@@ -141,6 +142,210 @@ const SlabColumns& columns_of(const ContourInput& input, const LayerReference& r
   return *built;
 }
 
+// mid's section on a prism, unmeasured: its D is 0 (so is optimal-height's, whose search
+// could only end at a section equal to it); ma is not made.
+BestChoice prism_choice(const ContourInput& input) {
+  BestChoice choice{};
+  choice.result = mid_strategy(input);
+  choice.chosen = "mid";
+  choice.candidate_distance[kMid] = choice.candidate_distance[kOptimal] = 0;  // optimal-height's: mid's
+  choice.candidate_distance[kMa] = kNotMeasured;
+  return choice;
+}
+
+constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
+constexpr std::size_t kNotMade = std::numeric_limits<std::size_t>::max();
+
+// A candidate as best_choice weighs it: made or not yet, its D and ΔV once measured.
+struct Contender : BestCandidate {
+  bool made = true;
+  double distance = kNotMeasured;
+  double deviation = -1;  // ΔV, once a tie needs it
+  std::size_t same_as = kNone;  // a candidate measured before with this very region
+  std::optional<BoundaryGrid> walls;  // the region's boundary, for D and ΔV
+  std::size_t missed_count() const { return made ? missed.size() : kNotMade; }
+  const BoundaryGrid& grid() {
+    if (!walls) walls.emplace(result.region);
+    return *walls;
+  }
+};
+
+// One layer's contest (best_contour.h): the candidates, which of them are measured, the fewest
+// features missed and the least D so far.
+//
+// Fewest missed features first: only those candidates are measured. Then the least D, ma
+// first (it wins most layers, so its D refutes the others early): a candidate is measured
+// only until its D is known to be more than a tie above the least so far. A candidate whose
+// region is one already measured (optimal-height's search often ends at mid's height: 142
+// of a sphere's 150 layers) takes that one's D: exact if it was, else a lower bound above a
+// threshold at least this one's.
+class Contest {
+ public:
+  Contest(const ContourInput& input, const LayerReference& reference)
+      : input_(input), reference_(reference), maker_(input, reference) {
+    made_ = maker_.first();
+    take_made();
+    candidates_[kOptimal].made = false;
+    distance_options_.reverse = false;
+    // mid's D known (the layer plan's): taken as measured, first, so that ma is measured only
+    // until it is seen to lose by more than a tie. The same choice as measuring it: the least
+    // D and the candidates within a tie of it do not depend on the order.
+    mid_known_ = !std::isnan(input.mid_distance);
+    if (mid_known_) candidates_[kMid].distance = input.mid_distance;
+  }
+
+  // Measures the made candidates of fewest missed features not measured yet, in `order`
+  // (indices past the candidates skipped).
+  void measure(const std::vector<std::size_t>& order) {
+    settle_fewest();
+    for (std::size_t k : order) {
+      if (k >= candidates_.size()) continue;
+      if (candidates_[k].missed_count() != fewest_ || was_measured(k)) continue;
+      measure_one(k);
+    }
+  }
+
+  // optimal-height minimises ΔV, not D: it is searched only where a section is within a tie
+  // of the least D (mid or mid+features, whose height it is free to leave), or where no
+  // section misses as few features as ma (a height that catches the tip may); the header
+  // says what that leaves out.
+  bool optimal_in_the_running() const {
+    const bool section_of_fewest =
+        candidates_[kMid].missed_count() == fewest_ ||
+        (candidates_.size() > kMidFeatures && candidates_[kMidFeatures].missed_count() == fewest_);
+    return contends(kMid) || contends(kMidFeatures) || !section_of_fewest;
+  }
+
+  // optimal-height and optimal-height+features made, in their places.
+  void add_optimal() {
+    maker_.add_optimal(made_, columns());
+    candidates_[kOptimal].made = true;
+    static_cast<BestCandidate&>(candidates_[kOptimal]) = std::move(made_[kOptimal]);
+    take_made();
+  }
+
+  // The winner: of those within a tie of the least D, the least ΔV.
+  BestChoice choose() {
+    BestChoice choice{};
+    for (std::size_t k = 0; k < 3; ++k) {
+      const Contender& c = candidates_[k];
+      choice.candidate_distance[k] =
+          c.missed_count() == fewest_ && was_measured(k) ? c.distance : kNotMeasured;
+    }
+    const std::size_t best = least_deviation_of_the_tied();
+    choice.chosen = candidates_[best].name;
+    choice.distance = candidates_[best].distance;
+    choice.missed_features = candidates_[best].missed.size();
+    choice.result = std::move(candidates_[best].result);
+    return choice;
+  }
+
+ private:
+  // Moves the candidates the maker made since the last call into the contest.
+  void take_made() {
+    for (std::size_t k = candidates_.size(); k < made_.size(); ++k) {
+      candidates_.emplace_back();
+      static_cast<BestCandidate&>(candidates_.back()) = std::move(made_[k]);
+    }
+  }
+
+  bool was_measured(std::size_t k) const {
+    return std::find(measured_.begin(), measured_.end(), k) != measured_.end();
+  }
+
+  // The fewest features any made candidate misses, and the least D of those measured that
+  // miss no more; mid's known D counts as measured.
+  void settle_fewest() {
+    for (const Contender& c : candidates_) fewest_ = std::min(fewest_, c.missed_count());
+    least_ = std::numeric_limits<double>::infinity();
+    for (std::size_t m : measured_) {
+      if (candidates_[m].missed_count() == fewest_) least_ = std::min(least_, candidates_[m].distance);
+    }
+    if (mid_known_ && candidates_[kMid].missed_count() == fewest_ && !was_measured(kMid)) {
+      measured_.insert(measured_.begin(), kMid);
+      least_ = std::min(least_, candidates_[kMid].distance);
+    }
+  }
+
+  // Candidate k's D, measured only until it is more than a tie above the least so far, or
+  // taken from a candidate measured before with the same region.
+  void measure_one(std::size_t k) {
+    Contender& c = candidates_[k];
+    const auto same = std::find_if(measured_.begin(), measured_.end(), [&](std::size_t m) {
+      return candidates_[m].result.region.loops == c.result.region.loops;
+    });
+    if (same != measured_.end()) {
+      c.distance = candidates_[*same].distance;
+      c.same_as = *same;
+    } else {
+      distance_options_.stop_above = least_ + kDistanceTie;
+      c.distance = distance_error(reference_.surface, c.grid(), c.missed, distance_options_).forward;
+    }
+    measured_.push_back(k);
+    least_ = std::min(least_, c.distance);
+  }
+
+  bool contends(std::size_t k) const {
+    return k < candidates_.size() && candidates_[k].missed_count() == fewest_ &&
+           candidates_[k].distance <= least_ + kDistanceTie;
+  }
+
+  // Of those within a tie of the least D, the least ΔV, in the order ma, mid, optimal-height,
+  // the +features ones (equal ΔV goes to the first).
+  std::size_t least_deviation_of_the_tied() {
+    std::vector<std::size_t> order{kMa, kMid, kOptimal}, tied;
+    for (std::size_t k = kMidFeatures; k < candidates_.size(); ++k) order.push_back(k);
+    for (std::size_t k : order) {
+      if (contends(k)) tied.push_back(k);
+    }
+    std::size_t best = tied.front();
+    for (std::size_t k : tied) {
+      if (k != best && volume_of(k) < volume_of(best)) best = k;
+    }
+    return best;
+  }
+
+  std::size_t root(std::size_t k) const {
+    return candidates_[k].same_as == kNone ? k : candidates_[k].same_as;
+  }
+
+  // ΔV only where a tie needs it: a section's as the search figured it, where it ran, else
+  // the metric's; a region measured under two names has one figure.
+  double volume_of(std::size_t k) {
+    const std::size_t r = root(k);
+    Contender& c = candidates_[r];
+    if (c.deviation >= 0) return c.deviation;
+    for (std::size_t m : measured_) {
+      if (root(m) == r && !std::isnan(maker_.section_deviation(m))) {
+        c.deviation = maker_.section_deviation(m);
+        return c.deviation;
+      }
+    }
+    c.deviation = volume_deviation(columns(), c.result.region, c.grid());
+    return c.deviation;
+  }
+
+  // The slab's columns only for optimal-height's search or a ΔV: a layer ma wins by more than
+  // a tie needs neither.
+  const SlabColumns& columns() {
+    if (!columns_) columns_ = &columns_of(input_, reference_, built_columns_);
+    return *columns_;
+  }
+
+  const ContourInput& input_;
+  const LayerReference& reference_;
+  CandidateMaker maker_;
+  std::vector<BestCandidate> made_;  // what the maker made, moved into candidates_
+  std::vector<Contender> candidates_;
+  std::vector<std::size_t> measured_;
+  std::size_t fewest_ = kNotMade;
+  double least_ = std::numeric_limits<double>::infinity();
+  bool mid_known_ = false;
+  DistanceOptions distance_options_;
+  std::optional<SlabColumns> built_columns_;
+  const SlabColumns* columns_ = nullptr;
+};
+
 }  // namespace
 
 std::vector<BestCandidate> best_candidates(const ContourInput& input) {
@@ -162,161 +367,17 @@ BestChoice best_choice(const ContourInput& input) {
   // ΔV 0, every island touched), which no candidate can beat.
   std::optional<Slab> slab;
   if (!input.reference) slab = slab_of(input.stack, input.layer);
-  if (is_prism(input.reference ? input.reference->slab : *slab)) {
-    BestChoice choice{};
-    choice.result = mid_strategy(input);
-    choice.chosen = "mid";
-    choice.candidate_distance[kMid] = choice.candidate_distance[kOptimal] = 0;  // optimal-height's: mid's
-    choice.candidate_distance[kMa] = kNotMeasured;
-    return choice;
-  }
+  if (is_prism(input.reference ? input.reference->slab : *slab)) return prism_choice(input);
   std::optional<LayerReference> own;
   if (!input.reference) own = own_reference(input, std::move(*slab));
   const LayerReference& reference = own ? *own : *input.reference;
-  // The slab's columns only for optimal-height's search or a ΔV: a layer ma wins by more than
-  // a tie needs neither.
-  std::optional<SlabColumns> built;
-  const SlabColumns* columns_built = nullptr;
-  const auto columns = [&]() -> const SlabColumns& {
-    if (!columns_built) columns_built = &columns_of(input, reference, built);
-    return *columns_built;
-  };
-
-  constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
-  constexpr std::size_t kNotMade = std::numeric_limits<std::size_t>::max();
-  struct Candidate : BestCandidate {
-    bool made = true;
-    double distance = kNotMeasured;
-    double deviation = -1;  // ΔV, once a tie needs it
-    std::size_t same_as = kNone;  // a candidate measured before with this very region
-    std::optional<BoundaryGrid> walls;  // the region's boundary, for D and ΔV
-    std::size_t missed_count() const { return made ? missed.size() : kNotMade; }
-    const BoundaryGrid& grid() {
-      if (!walls) walls.emplace(result.region);
-      return *walls;
-    }
-  };
-  CandidateMaker maker(input, reference);
-  std::vector<Candidate> candidates;
-  const auto take = [&](std::vector<BestCandidate>& made) {
-    for (std::size_t k = candidates.size(); k < made.size(); ++k) {
-      candidates.emplace_back();
-      static_cast<BestCandidate&>(candidates.back()) = std::move(made[k]);
-    }
-  };
-  std::vector<BestCandidate> made = maker.first();
-  take(made);
-  candidates[kOptimal].made = false;
-  DistanceOptions distance_options;
-  distance_options.reverse = false;
-
-  // Fewest missed features first: only those candidates are measured. Then the least D, ma
-  // first (it wins most layers, so its D refutes the others early): a candidate is measured
-  // only until its D is known to be more than a tie above the least so far. A candidate whose
-  // region is one already measured (optimal-height's search often ends at mid's height: 142
-  // of a sphere's 150 layers) takes that one's D: exact if it was, else a lower bound above a
-  // threshold at least this one's.
-  std::size_t fewest = kNotMade;
-  double least = std::numeric_limits<double>::infinity();
-  std::vector<std::size_t> measured;
-  // mid's D known (the layer plan's): taken as measured, first, so that ma is measured only
-  // until it is seen to lose by more than a tie. The same choice as measuring it: the least D
-  // and the candidates within a tie of it do not depend on the order.
-  const bool mid_known = !std::isnan(input.mid_distance);
-  if (mid_known) candidates[kMid].distance = input.mid_distance;
-  // Measures the made candidates of fewest missed features not measured yet, in `order`
-  // (indices past the candidates skipped).
-  const auto measure = [&](const std::vector<std::size_t>& order) {
-    for (const Candidate& c : candidates) fewest = std::min(fewest, c.missed_count());
-    least = std::numeric_limits<double>::infinity();
-    for (std::size_t m : measured) {
-      if (candidates[m].missed_count() == fewest) least = std::min(least, candidates[m].distance);
-    }
-    if (mid_known && candidates[kMid].missed_count() == fewest &&
-        std::find(measured.begin(), measured.end(), kMid) == measured.end()) {
-      measured.insert(measured.begin(), kMid);
-      least = std::min(least, candidates[kMid].distance);
-    }
-    for (std::size_t k : order) {
-      if (k >= candidates.size()) continue;
-      Candidate& c = candidates[k];
-      if (c.missed_count() != fewest) continue;
-      if (std::find(measured.begin(), measured.end(), k) != measured.end()) continue;
-      const auto same = std::find_if(measured.begin(), measured.end(), [&](std::size_t m) {
-        return candidates[m].result.region.loops == c.result.region.loops;
-      });
-      if (same != measured.end()) {
-        c.distance = candidates[*same].distance;
-        c.same_as = *same;
-      } else {
-        distance_options.stop_above = least + kDistanceTie;
-        c.distance = distance_error(reference.surface, c.grid(), c.missed, distance_options).forward;
-      }
-      measured.push_back(k);
-      least = std::min(least, c.distance);
-    }
-  };
-  measure({kMa, kMid, 3});
-  // optimal-height minimises ΔV, not D: it is searched only where a section is within a tie
-  // of the least D (mid or mid+features, whose height it is free to leave), or where no
-  // section misses as few features as ma (a height that catches the tip may); the header
-  // says what that leaves out.
-  const auto section_contends = [&](std::size_t k) {
-    return k < candidates.size() && candidates[k].missed_count() == fewest &&
-           candidates[k].distance <= least + kDistanceTie;
-  };
-  const bool section_of_fewest = (candidates[kMid].missed_count() == fewest) ||
-                                 (candidates.size() > 3 && candidates[3].missed_count() == fewest);
-  if (section_contends(kMid) || section_contends(3) || !section_of_fewest) {
-    maker.add_optimal(made, columns());
-    candidates[kOptimal].made = true;
-    static_cast<BestCandidate&>(candidates[kOptimal]) = std::move(made[kOptimal]);
-    take(made);
-    measure({kOptimal, 3, 4});
+  Contest contest(input, reference);
+  contest.measure({kMa, kMid, kMidFeatures});
+  if (contest.optimal_in_the_running()) {
+    contest.add_optimal();
+    contest.measure({kOptimal, 3, 4});  // then the +features ones, where made
   }
-  BestChoice choice{};
-  for (std::size_t k = 0; k < 3; ++k) {
-    const Candidate& c = candidates[k];
-    choice.candidate_distance[k] =
-        c.missed_count() == fewest && std::find(measured.begin(), measured.end(), k) != measured.end()
-            ? c.distance
-            : kNotMeasured;
-  }
-
-  // ΔV only where a tie needs it: a section's as the search figured it, where it ran, else
-  // the metric's; a region measured under two names has one figure.
-  const auto root = [&](std::size_t k) {
-    return candidates[k].same_as == kNone ? k : candidates[k].same_as;
-  };
-  const auto volume_of = [&](std::size_t k) {
-    const std::size_t r = root(k);
-    Candidate& c = candidates[r];
-    if (c.deviation >= 0) return c.deviation;
-    for (std::size_t m : measured) {
-      if (root(m) == r && !std::isnan(maker.section_deviation(m))) {
-        c.deviation = maker.section_deviation(m);
-        return c.deviation;
-      }
-    }
-    c.deviation = volume_deviation(columns(), c.result.region, c.grid());
-    return c.deviation;
-  };
-  // Of those within a tie of the least D, the least ΔV, in the order ma, mid, optimal-height,
-  // the +features ones (equal ΔV goes to the first).
-  std::vector<std::size_t> order{kMa, kMid, kOptimal}, tied;
-  for (std::size_t k = 3; k < candidates.size(); ++k) order.push_back(k);
-  for (std::size_t k : order) {
-    if (candidates[k].missed_count() == fewest && candidates[k].distance <= least + kDistanceTie) tied.push_back(k);
-  }
-  std::size_t best = tied.front();
-  for (std::size_t k : tied) {
-    if (k != best && volume_of(k) < volume_of(best)) best = k;
-  }
-  choice.chosen = candidates[best].name;
-  choice.distance = candidates[best].distance;
-  choice.missed_features = candidates[best].missed.size();
-  choice.result = std::move(candidates[best].result);
-  return choice;
+  return contest.choose();
 }
 
 ContourResult best_strategy(const ContourInput& input) { return best_choice(input).result; }

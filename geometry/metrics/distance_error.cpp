@@ -223,28 +223,29 @@ struct ForwardScratch {
   std::vector<std::uint32_t> order, near;
 };
 
-double forward_distance(const SlabSurface& surface, const BoundaryGrid& walls,
-                        std::span<const BoundaryPair> missed, double tolerance,
-                        double stop_above, double settle) {
-  if (surface.triangles.empty()) return 0;
-  thread_local ForwardScratch scratch;
+// Which walls each triangle is measured to: `walls`, or for one whose centre lies inside a
+// missed island the island's outline (`outlines`, see the header).
+void choose_walls(const SlabSurface& surface, const BoundaryGrid& walls,
+                  const BoundaryGrid& outlines, std::vector<const BoundaryGrid*>& grid_of) {
   const std::size_t count = surface.triangles.size();
-  // Surface inside a missed island is measured to the island's outline (see the header).
-  Region outlines;
-  for (const BoundaryPair& island : missed) outlines.loops.push_back(island.outer);
-  const BoundaryGrid outline_grid(outlines);
-  std::vector<const BoundaryGrid*>& grid_of = scratch.grid_of;
   grid_of.assign(count, &walls);
-  if (!outline_grid.empty()) {
-    for (std::size_t i = 0; i < count; ++i) {
-      const auto& p = surface.triangles[i];
-      const Vec2 centre = (1.0 / 3) * (p[0] + p[1] + p[2]);
-      if (outline_grid.winding_number(centre) != 0) grid_of[i] = &outline_grid;
-    }
+  if (outlines.empty()) return;
+  for (std::size_t i = 0; i < count; ++i) {
+    const auto& p = surface.triangles[i];
+    const Vec2 centre = (1.0 / 3) * (p[0] + p[1] + p[2]);
+    if (outlines.winding_number(centre) != 0) grid_of[i] = &outlines;
   }
+}
+
+// Every triangle's corners' nearest walls into scratch.corner (a point shared by triangles
+// measured to `walls` looked up once), raising `best` to the farthest; stops as soon as
+// `best` passes stop_above.
+void measure_corners(const SlabSurface& surface, const BoundaryGrid& walls,
+                     ForwardScratch& scratch, double stop_above, double& best) {
+  const std::size_t count = surface.triangles.size();
+  const std::vector<const BoundaryGrid*>& grid_of = scratch.grid_of;
   std::vector<std::array<Nearest, 3>>& corner = scratch.corner;
   if (corner.size() < count) corner.resize(count);
-  double best = 0;
   const bool indexed = surface.corners.size() == count;
   std::vector<Nearest>& at_point = scratch.at_point;
   std::vector<std::uint32_t>& found = scratch.found;
@@ -271,38 +272,64 @@ double forward_distance(const SlabSurface& surface, const BoundaryGrid& walls,
         corner[i][k] = grid_of[i]->nearest(surface.triangles[i][k]);
       }
       best = std::max(best, corner[i][k].distance);
-      if (best > stop_above) return best;
+      if (best > stop_above) return;
     }
   }
-  // Most promising first, so the bound prunes the rest: by the farthest corner, taken once
-  // per triangle rather than at every comparison of the sort.
+}
+
+// The triangles that have walls, most promising first into scratch.order, so the bound prunes
+// the rest: by the farthest corner, taken once per triangle rather than at every comparison
+// of the sort.
+void order_by_farthest_corner(std::size_t count, ForwardScratch& scratch) {
+  const std::vector<std::array<Nearest, 3>>& corner = scratch.corner;
   std::vector<double>& top = scratch.top;
   if (top.size() < count) top.resize(count);
   std::vector<std::uint32_t>& order = scratch.order;
   order.clear();
   for (std::uint32_t i = 0; i < count; ++i) {
-    if (grid_of[i]->empty()) continue;
+    if (scratch.grid_of[i]->empty()) continue;
     top[i] = std::max({corner[i][0].distance, corner[i][1].distance, corner[i][2].distance});
     order.push_back(i);
   }
   std::sort(order.begin(), order.end(),
             [&](std::uint32_t a, std::uint32_t b) { return top[a] > top[b]; });
-  std::vector<std::uint32_t>& near = scratch.near;
-  for (std::uint32_t i : order) {
-    const auto& p = surface.triangles[i];
-    // A vertical facet, or a flat face's edge, projects to a segment: search it as one, since
-    // splitting a flat triangle in four only copies the segment.
-    const double twice_area = std::abs(cross(p[1] - p[0], p[2] - p[0]));
-    const double l01 = length(p[0], p[1]), l12 = length(p[1], p[2]), l20 = length(p[2], p[0]);
-    const double longest = std::max({l01, l12, l20});
-    if (twice_area <= 1e-9 * longest * longest) {
-      const int a = l01 >= l12 && l01 >= l20 ? 0 : l12 >= l20 ? 1 : 2, b = (a + 1) % 3;
-      search_segment(p[a], p[b], corner[i][a], corner[i][b], *grid_of[i], tolerance, settle, best,
-                     near);
-      if (best > stop_above) return best;
-      continue;
-    }
-    search_triangle(p, corner[i], *grid_of[i], tolerance, settle, best, near);
+}
+
+// Surface triangle i searched, raising `best`. A vertical facet, or a flat face's edge,
+// projects to a segment: searched as one, since splitting a flat triangle in four only copies
+// the segment.
+void search_surface_triangle(const SlabSurface& surface, std::uint32_t i, ForwardScratch& scratch,
+                             double tolerance, double settle, double& best) {
+  const auto& p = surface.triangles[i];
+  const std::array<Nearest, 3>& corner = scratch.corner[i];
+  const BoundaryGrid& grid = *scratch.grid_of[i];
+  const double twice_area = std::abs(cross(p[1] - p[0], p[2] - p[0]));
+  const double l01 = length(p[0], p[1]), l12 = length(p[1], p[2]), l20 = length(p[2], p[0]);
+  const double longest = std::max({l01, l12, l20});
+  if (twice_area <= 1e-9 * longest * longest) {
+    const int a = l01 >= l12 && l01 >= l20 ? 0 : l12 >= l20 ? 1 : 2, b = (a + 1) % 3;
+    search_segment(p[a], p[b], corner[a], corner[b], grid, tolerance, settle, best, scratch.near);
+    return;
+  }
+  search_triangle(p, corner, grid, tolerance, settle, best, scratch.near);
+}
+
+double forward_distance(const SlabSurface& surface, const BoundaryGrid& walls,
+                        std::span<const BoundaryPair> missed, double tolerance,
+                        double stop_above, double settle) {
+  if (surface.triangles.empty()) return 0;
+  thread_local ForwardScratch scratch;
+  // Surface inside a missed island is measured to the island's outline (see the header).
+  Region outlines;
+  for (const BoundaryPair& island : missed) outlines.loops.push_back(island.outer);
+  const BoundaryGrid outline_grid(outlines);
+  choose_walls(surface, walls, outline_grid, scratch.grid_of);
+  double best = 0;
+  measure_corners(surface, walls, scratch, stop_above, best);
+  if (best > stop_above) return best;
+  order_by_farthest_corner(surface.triangles.size(), scratch);
+  for (std::uint32_t i : scratch.order) {
+    search_surface_triangle(surface, i, scratch, tolerance, settle, best);
     if (best > stop_above) return best;
   }
   return best;

@@ -259,91 +259,115 @@ ClipperLib::Paths chain_boundary(const std::vector<Edge>& edges) {
   return paths;
 }
 
-// Edge-on facets as few polylines: each facet's projection reduced to its longest chord
-// (the segment it lies on), duplicates dropped (a wall's two triangles give the same one),
-// and segments joined end to end where exactly two meet. Offsetting a wall loop as one
-// closed line gives a clean ring; offsetting its hundreds of segments one by one gives the
-// same set through thousands of overlapping rectangles.
-void chain_segments(const ClipperLib::Paths& edge_on, ClipperLib::Paths& open,
-                    ClipperLib::Paths& closed) {
-  const auto before = [](IntPoint a, IntPoint b) { return a.X < b.X || (a.X == b.X && a.Y < b.Y); };
-  std::vector<std::pair<IntPoint, IntPoint>> segments;
+using Chord = std::pair<IntPoint, IntPoint>;  // first before second
+
+// Each edge-on facet's projection reduced to its longest chord (the segment it lies on),
+// sorted, duplicates dropped (a wall's two triangles give the same one).
+std::vector<Chord> longest_chords(const ClipperLib::Paths& edge_on) {
+  std::vector<Chord> chords;
   for (const ClipperLib::Path& path : edge_on) {
-    std::pair<IntPoint, IntPoint> longest{path[0], path[0]};
+    Chord longest{path[0], path[0]};
     double best = -1;
     for (std::size_t i = 0; i < path.size(); ++i) {
       for (std::size_t j = i + 1; j < path.size(); ++j) {
         const double dx = double(path[j].X - path[i].X), dy = double(path[j].Y - path[i].Y);
         if (dx * dx + dy * dy > best) {
           best = dx * dx + dy * dy;
-          longest = before(path[i], path[j]) ? std::pair{path[i], path[j]} : std::pair{path[j], path[i]};
+          longest = before(path[i], path[j]) ? Chord{path[i], path[j]} : Chord{path[j], path[i]};
         }
       }
     }
-    segments.push_back(longest);
+    chords.push_back(longest);
   }
-  const auto pair_before = [&](const auto& a, const auto& b) {
+  std::sort(chords.begin(), chords.end(), [](const Chord& a, const Chord& b) {
     return before(a.first, b.first) || (a.first == b.first && before(a.second, b.second));
-  };
-  std::sort(segments.begin(), segments.end(), pair_before);
-  segments.erase(std::unique(segments.begin(), segments.end()), segments.end());
-  std::vector<IntPoint> ends;
-  for (const auto& [a, b] : segments) {
-    ends.push_back(a);
-    ends.push_back(b);
+  });
+  chords.erase(std::unique(chords.begin(), chords.end()), chords.end());
+  return chords;
+}
+
+// The chords as a graph: their distinct ends (sorted) and the chords that touch each; a chord
+// that is a point touches none. walk() follows unused chords from an end.
+class ChordGraph {
+ public:
+  explicit ChordGraph(std::vector<Chord> chords)
+      : chords_(std::move(chords)), used_(chords_.size(), 0) {
+    for (const auto& [a, b] : chords_) {
+      ends_.push_back(a);
+      ends_.push_back(b);
+    }
+    std::sort(ends_.begin(), ends_.end(), before);
+    ends_.erase(std::unique(ends_.begin(), ends_.end()), ends_.end());
+    touching_.resize(ends_.size());
+    for (std::size_t k = 0; k < chords_.size(); ++k) {
+      if (chords_[k].first == chords_[k].second) continue;  // a point: kept as a path of its own
+      touching_[index(chords_[k].first)].push_back(k);
+      touching_[index(chords_[k].second)].push_back(k);
+    }
   }
-  std::sort(ends.begin(), ends.end(), before);
-  ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
-  const auto index = [&](IntPoint p) {
-    return static_cast<std::size_t>(std::lower_bound(ends.begin(), ends.end(), p, before) - ends.begin());
-  };
-  std::vector<std::vector<std::size_t>> touching(ends.size());
-  for (std::size_t k = 0; k < segments.size(); ++k) {
-    if (segments[k].first == segments[k].second) continue;  // a point: kept below as a path
-    touching[index(segments[k].first)].push_back(k);
-    touching[index(segments[k].second)].push_back(k);
+
+  std::size_t end_count() const { return ends_.size(); }
+  // Whether two chords meet at end c (a polyline passes through it).
+  bool passes_through(std::size_t c) const { return touching_[c].size() == 2; }
+  bool has_unused(std::size_t c) const {
+    return std::any_of(touching_[c].begin(), touching_[c].end(), [&](std::size_t k) { return !used_[k]; });
   }
-  std::vector<char> used(segments.size(), 0);
-  const auto walk = [&](std::size_t from, bool& is_closed) {
-    ClipperLib::Path path{ends[from]};
+  const std::vector<Chord>& chords() const { return chords_; }
+
+  // The polyline of unused chords from end `from`, on through every end where exactly two
+  // meet, marking them used; is_closed where it came back to `from`.
+  ClipperLib::Path walk(std::size_t from, bool& is_closed) {
+    ClipperLib::Path path{ends_[from]};
     std::size_t at = from;
     is_closed = false;
     for (;;) {
-      std::size_t next = segments.size();
-      for (std::size_t k : touching[at]) {
-        if (!used[k]) {
-          next = k;
-          break;
-        }
-      }
-      if (next == segments.size()) break;
-      used[next] = 1;
-      at = index(segments[next].first == ends[at] ? segments[next].second : segments[next].first);
+      const auto next = std::find_if(touching_[at].begin(), touching_[at].end(),
+                                     [&](std::size_t k) { return !used_[k]; });
+      if (next == touching_[at].end()) break;
+      const Chord& chord = chords_[*next];
+      used_[*next] = 1;
+      at = index(chord.first == ends_[at] ? chord.second : chord.first);
       if (at == from) {
         is_closed = true;
         break;
       }
-      path.push_back(ends[at]);
-      if (touching[at].size() != 2) break;
+      path.push_back(ends_[at]);
+      if (!passes_through(at)) break;
     }
     return path;
-  };
+  }
+
+ private:
+  std::size_t index(IntPoint p) const {
+    return static_cast<std::size_t>(std::lower_bound(ends_.begin(), ends_.end(), p, before) - ends_.begin());
+  }
+
+  std::vector<Chord> chords_;
+  std::vector<IntPoint> ends_;
+  std::vector<std::vector<std::size_t>> touching_;
+  std::vector<char> used_;
+};
+
+// Edge-on facets as few polylines: each facet's longest chord, joined end to end where
+// exactly two meet. Offsetting a wall loop as one closed line gives a clean ring; offsetting
+// its hundreds of segments one by one gives the same set through thousands of overlapping
+// rectangles.
+void chain_segments(const ClipperLib::Paths& edge_on, ClipperLib::Paths& open,
+                    ClipperLib::Paths& closed) {
+  ChordGraph graph(longest_chords(edge_on));
   // Paths start where they end or branch; what is left after that are closed loops.
   for (int pass = 0; pass < 2; ++pass) {
-    for (std::size_t c = 0; c < ends.size(); ++c) {
-      if (pass == 0 && touching[c].size() == 2) continue;
-      for (;;) {
-        bool any = false;
-        for (std::size_t k : touching[c]) any = any || !used[k];
-        if (!any) break;
+    for (std::size_t c = 0; c < graph.end_count(); ++c) {
+      if (pass == 0 && graph.passes_through(c)) continue;
+      while (graph.has_unused(c)) {
         bool is_closed = false;
-        ClipperLib::Path path = walk(c, is_closed);
+        ClipperLib::Path path = graph.walk(c, is_closed);
         (is_closed && path.size() >= 3 ? closed : open).push_back(std::move(path));
       }
     }
   }
-  for (std::size_t k = 0; k < segments.size(); ++k) {
-    if (segments[k].first == segments[k].second) open.push_back({segments[k].first});
+  for (const Chord& chord : graph.chords()) {
+    if (chord.first == chord.second) open.push_back({chord.first});
   }
 }
 
