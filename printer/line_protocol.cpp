@@ -401,6 +401,7 @@ void LineProtocol::handle(const Reply& reply) {
       break;
     case ReplyKind::start:
       restart_seen_ = true;
+      ++starts_seen_;
       if (connected_) {
         throw FirmwareStopped(fmt::format(
             "{}: the printer restarted during the job (it sent 'start'), so its position and "
@@ -936,38 +937,56 @@ std::optional<ReportedPosition> LineProtocol::query_position() {
   return position_;
 }
 
+void LineProtocol::write_connect_line() {
+  const std::string framed = frame_line(0, "M110 N0") + "\n";
+  link_.write(framed);
+  stats_.bytes_written += static_cast<long>(framed.size());
+}
+
 void LineProtocol::connect(milliseconds boot_wait) {
   connected_ = false;
   const nanoseconds start = link_.now();
-  // A board resets when its port opens; Marlin prints `start` and its settings, then listens.
+  // A board that resets as its port opens (DTR: Arduino-style boards) says `start` once booted,
+  // Marlin its settings after, then listens; one that does not (native USB) says nothing and
+  // is listening already. So M110 N0 goes out at once, as a probe: an ok to it with no `start`
+  // before is a board that is up, and the wait for a banner ends there. A board in its
+  // bootloader loses the probe; its `start` comes, then silence once the banner is over, and
+  // the M110 exchange below follows. The probe goes once within boot_wait (printcore and
+  // OctoPrint also say their first hello at once): an ATmega2560's stk500v2 bootloader stays in
+  // itself while bytes keep arriving, and starts the firmware only after F_CPU/2 polls with
+  // none (recchar_timeout in stk500boot.c).
+  const long starts_before = starts_seen_;
+  connect_ok_ = false;
+  connect_rejected_ = false;
+  expect_trailing_ok_ = false;
+  write_connect_line();
   while (link_.now() - start < nanoseconds(boot_wait)) {
     const auto left = std::chrono::duration_cast<milliseconds>(nanoseconds(boot_wait) - (link_.now() - start));
-    const bool had_start = restart_seen_;
+    const bool had_start = starts_seen_ > starts_before;
     const std::string bytes = link_.read(std::clamp(left, milliseconds(1), milliseconds(300)));
     if (bytes.empty() && had_start) break;  // the banner is over
     partial_ += bytes;
     handle_buffered();
+    if (starts_seen_ == starts_before && (connect_ok_ || connect_rejected_)) break;  // the probe's answer
   }
+  // Answered without a banner: the probe reset the count. After a banner (Teacup's ends with an
+  // ok of its own, mendel.c) or a refusal, the exchange below does.
+  bool reset = connect_ok_ && starts_seen_ == starts_before;
 
   // M110 N0 resets the firmware's count whatever it was; retried when noise corrupts it.
-  bool reset = false;
   for (int attempt = 0; attempt < kConnectTries && !reset; ++attempt) {
-    connect_ok_ = false;
-    connect_rejected_ = false;
-    expect_trailing_ok_ = false;
-    const std::string framed = frame_line(0, "M110 N0") + "\n";
-    link_.write(framed);
-    stats_.bytes_written += static_cast<long>(framed.size());
-    const nanoseconds deadline = link_.now() + nanoseconds(options_.probe_after);
-    while (!connect_ok_ && !connect_rejected_ && link_.now() < deadline) read_once(options_.tick);
     if (connect_rejected_) {
       // Swallow the ok that may follow the resend request before trying again.
       const nanoseconds grace = link_.now() + nanoseconds(options_.resend_ok_grace);
       while (expect_trailing_ok_ && link_.now() < grace) read_once(options_.tick);
-      expect_trailing_ok_ = false;
-      continue;
     }
-    reset = connect_ok_;
+    connect_ok_ = false;
+    connect_rejected_ = false;
+    expect_trailing_ok_ = false;
+    write_connect_line();
+    const nanoseconds deadline = link_.now() + nanoseconds(options_.probe_after);
+    while (!connect_ok_ && !connect_rejected_ && link_.now() < deadline) read_once(options_.tick);
+    reset = connect_ok_ && !connect_rejected_;
   }
   if (reset) {
     // An ok that was not M110's (Teacup's banner ends with one, mendel.c) must not be taken for

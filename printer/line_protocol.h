@@ -147,9 +147,11 @@ class LineProtocol {
  public:
   explicit LineProtocol(Link& link, ProtocolOptions options = {});
 
-  // Starts numbering: waits up to `boot_wait` for the firmware's `start` (a board resets when its
-  // port opens) or for silence, then sends `M110 N0` until it is accepted and `M115` to learn
-  // the firmware. Throws LinkError when the printer does not answer.
+  // Starts numbering with `M110 N0`, sent at once as a probe: a board that answers it without
+  // a `start` is up. Otherwise waits up to `boot_wait` for the firmware's `start` (a board
+  // resets when its port opens) and the silence after its banner, then sends `M110 N0` until
+  // it is accepted. Then `M115` to learn the firmware. Throws LinkError when the printer does
+  // not answer.
   void connect(std::chrono::milliseconds boot_wait = std::chrono::milliseconds(2500));
 
   // Sends one command (without line number, checksum or comment). Returns once it is written;
@@ -254,6 +256,7 @@ class LineProtocol {
                   std::optional<std::chrono::nanoseconds> deadline = std::nullopt);
   void wait_until_or(std::chrono::milliseconds timeout);
   void read_once(std::chrono::milliseconds timeout);
+  void write_connect_line();  // N0 M110 N0, unrecorded
   bool handle_buffered();
   void handle(const Reply& reply);
   void accept_through(long number, bool own_ok = false);
@@ -298,6 +301,7 @@ class LineProtocol {
   std::chrono::nanoseconds hold_until_{0};      // replay waits until then for a trailing ok
   std::chrono::nanoseconds last_wait_call_{0};
   bool restart_seen_ = false;
+  long starts_seen_ = 0;       // `start` lines read
   std::chrono::nanoseconds last_write_{0};      // a numbered line written
   std::chrono::nanoseconds last_answer_{0};     // an ok, resend, error or keepalive read
   std::chrono::nanoseconds next_probe_at_{0};

@@ -45,7 +45,7 @@ void stream(LineProtocol& protocol, const std::vector<std::string>& commands) {
 }  // namespace
 
 TEST_CASE("every_line_is_numbered_with_its_checksum") {
-  ScriptedFirmware firmware;
+  ScriptedFirmware firmware(false);  // no banner: the first M110 is answered (banners: below)
   LineProtocol protocol(firmware);
   stream(protocol, {"G28", "G1 X10 Y5 E0.3"});
   REQUIRE(firmware.received.size() == 4);
@@ -326,6 +326,42 @@ TEST_CASE("query_position_reads_m114") {
   CHECK(position->e == 5.0);
 }
 
+TEST_CASE("a_printer_without_a_banner_is_connected_by_the_first_probe_not_after_the_boot_wait") {
+  // A board that does not reset as its port opens (native USB) says nothing until asked.
+  ScriptedFirmware firmware(false);
+  LineProtocol protocol(firmware);
+  const auto start = firmware.now();
+  protocol.connect(std::chrono::milliseconds(3000));
+  CHECK(firmware.now() - start < std::chrono::milliseconds(1000));  // the simulated clock
+  REQUIRE(firmware.received.size() == 2);  // one M110, answered, then M115
+  CHECK(firmware.received[0] == printer::frame_line(0, "M110 N0"));
+  CHECK(firmware.received[1] == printer::frame_line(1, "M115"));
+  protocol.send("G1 X1");
+  protocol.send("G1 X2");
+  protocol.wait_acknowledged();
+  CHECK(firmware.executed == std::vector<std::string>{"M110 N0", "M115", "G1 X1", "G1 X2"});
+  CHECK(protocol.stats().resend_requests == 0);
+}
+
+TEST_CASE("a_board_that_boots_as_its_port_opens_is_connected_after_its_banner") {
+  // The probe answered along with the banner (Teacup's ends with an ok of its own) is not taken
+  // for the end of the boot: the banner's silence is waited for, then M110 again.
+  for (const bool teacup_ok : {false, true}) {
+    CAPTURE(teacup_ok);
+    ScriptedFirmware firmware(true, teacup_ok);
+    LineProtocol protocol(firmware);
+    protocol.connect(std::chrono::milliseconds(3000));
+    REQUIRE(firmware.received.size() == 3);
+    CHECK(firmware.received[0] == printer::frame_line(0, "M110 N0"));
+    CHECK(firmware.received[1] == printer::frame_line(0, "M110 N0"));
+    CHECK(firmware.received[2] == printer::frame_line(1, "M115"));
+    protocol.send("G1 X1");
+    protocol.wait_acknowledged();
+    CHECK(firmware.executed.back() == "G1 X1");
+    CHECK(protocol.stats().resend_requests == 0);
+  }
+}
+
 TEST_CASE("unanswered_connect_names_the_port") {
   ScriptedFirmware firmware(false);
   firmware.mute = true;
@@ -521,7 +557,7 @@ TEST_CASE("temperature_requests_use_m155_where_the_firmware_reports_by_itself") 
   CHECK_FALSE(protocol.request_temperatures());  // no Cap:AUTOREPORT_TEMP: an M105
   protocol.send("G1 X1");
   protocol.wait_acknowledged();
-  CHECK(firmware.executed == std::vector<std::string>{"M110 N0", "M115", "M105", "G1 X1"});
+  CHECK(firmware.executed == std::vector<std::string>{"M110 N0", "M110 N0", "M115", "M105", "G1 X1"});
   CHECK(protocol.temperatures_at());
 }
 
@@ -538,7 +574,9 @@ TEST_CASE("with_marlins_keepalive_a_lost_ok_is_probed_after_the_interval_and_a_h
   const auto before = firmware.now();
   for (const std::string& c : moves(6)) protocol.send(c);
   protocol.wait_acknowledged();
-  CHECK(firmware.executed[2] == "M113 S1");
+  const auto m115 = std::find(firmware.executed.begin(), firmware.executed.end(), "M115");
+  REQUIRE(m115 + 1 < firmware.executed.end());
+  CHECK(*(m115 + 1) == "M113 S1");
   CHECK(protocol.stats().probes == 1);
   CHECK(firmware.now() - before < 5s + 1500ms + ProtocolOptions{}.tick + 100ms);
 }

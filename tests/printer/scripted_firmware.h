@@ -61,9 +61,11 @@ class ScriptedFirmware : public printer::Link {
   long max_ahead = 0;                  // most numbered lines received beyond the last ok read
   long last_n = 0;
 
-  // `start_banner`: print `start` when the link opens, as a board that resets does.
-  explicit ScriptedFirmware(bool start_banner = true) {
+  // `start_banner`: print `start` when the link opens, as a board that resets does;
+  // `banner_ok`: and an ok after it, as Teacup does (mendel.c).
+  explicit ScriptedFirmware(bool start_banner = true, bool banner_ok = false) {
     if (start_banner) emit(now_, "start");
+    if (start_banner && banner_ok) emit(now_, "ok");
   }
 
   void write(std::string_view bytes) override {
