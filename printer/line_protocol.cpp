@@ -330,7 +330,7 @@ void LineProtocol::handle(const Reply& reply) {
   // this request has no ok.
   if (expect_trailing_ok_ && reply.kind != ReplyKind::ok) {
     expect_trailing_ok_ = false;
-    ++trailing_ok_missed_;
+    if (connected_) ++trailing_ok_missed_;
   }
   // "T:" then "ok" answer an M105 only when they come one after the other.
   if (reply.kind != ReplyKind::ok && reply.kind != ReplyKind::temperature) m105_answer_next_ = false;
@@ -572,9 +572,10 @@ void LineProtocol::mirror_accepted(long number, bool own_ok) {
 
 void LineProtocol::handle_ok(const Reply& reply) {
   if (!connected_) {
+    // The M110 exchange's oks teach nothing about the ok after a resend request: an ok there
+    // may be a repeated M110's (the print's resends teach it).
     if (expect_trailing_ok_) {
       expect_trailing_ok_ = false;
-      ++trailing_ok_seen_;
       return;
     }
     connect_ok_ = true;
@@ -637,7 +638,7 @@ void LineProtocol::handle_resend(long wanted) {
     hold_until_ = now + options_.resend_ok_grace;
   }
   if (!connected_) {
-    connect_rejected_ = true;
+    connect_rejected_ = connect_resend_ = true;
     return;
   }
   if (stale_left_ > 0 && wanted == last_resend_) {
@@ -957,7 +958,7 @@ void LineProtocol::connect(milliseconds boot_wait) {
   // none (recchar_timeout in stk500boot.c).
   const long starts_before = starts_seen_;
   connect_ok_ = false;
-  connect_rejected_ = false;
+  connect_rejected_ = connect_resend_ = false;
   expect_trailing_ok_ = false;
   write_connect_line();
   while (link_.now() - start < nanoseconds(boot_wait)) {
@@ -976,12 +977,14 @@ void LineProtocol::connect(milliseconds boot_wait) {
   // M110 N0 resets the firmware's count whatever it was; retried when noise corrupts it.
   for (int attempt = 0; attempt < kConnectTries && !reset; ++attempt) {
     if (connect_rejected_) {
-      // Swallow the ok that may follow the resend request before trying again.
+      // The refusal is "Error:...", then "Resend: n", then on some firmwares an ok (Marlin's
+      // queue.cpp gcode_line_error, flush_and_request_resend; Teacup's and Repetier's have no
+      // Error line): the next M110 goes once it is all in, or its ok passes for the refusal's.
       const nanoseconds grace = link_.now() + nanoseconds(options_.resend_ok_grace);
-      while (expect_trailing_ok_ && link_.now() < grace) read_once(options_.tick);
+      while ((!connect_resend_ || expect_trailing_ok_) && link_.now() < grace) read_once(options_.tick);
     }
     connect_ok_ = false;
-    connect_rejected_ = false;
+    connect_rejected_ = connect_resend_ = false;
     expect_trailing_ok_ = false;
     write_connect_line();
     const nanoseconds deadline = link_.now() + nanoseconds(options_.probe_after);

@@ -298,6 +298,7 @@ class LineProtocol {
   int queue_free_ = -1;        // last ADVANCED_OK B, -1 before any
   bool connected_ = false;
   bool connect_ok_ = false, connect_rejected_ = false;
+  bool connect_resend_ = false;  // the refusal's resend request came (it follows its Error line)
   std::chrono::nanoseconds hold_until_{0};      // replay waits until then for a trailing ok
   std::chrono::nanoseconds last_wait_call_{0};
   bool restart_seen_ = false;

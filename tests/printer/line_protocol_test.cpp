@@ -88,6 +88,29 @@ TEST_CASE("resend_without_ok_is_learned_and_loses_nothing") {
   CHECK(protocol.stats().probes == 0);
 }
 
+TEST_CASE("a_rejected_m110_at_connect_does_not_teach_an_ok_after_resend_the_firmware_never_sends") {
+  // Marlin 2.0.9 refuses a line with "Error:..., Last Line: n" then "Resend: n+1" and no ok
+  // (Marlin/src/gcode/queue.cpp, gcode_line_error and flush_and_request_resend). On the wire
+  // the two lines come one after the other: were the next M110 written between them, its ok
+  // would follow the resend request and pass for an ok after it, and every later resend
+  // would swallow the resent line's own ok (each a lost ok, probed for).
+  for (const bool banner : {true, false}) {
+    CAPTURE(banner);
+    ScriptedFirmware firmware(banner);
+    firmware.ok_after_resend = false;
+    firmware.byte_time = std::chrono::microseconds(87);  // 115200 baud
+    // With a banner the probe is answered with it and the M110 after the banner is refused;
+    // without, the probe itself.
+    firmware.corrupt_writes = {banner ? 1U : 0U};
+    firmware.corrupt = {5, 9, 13};
+    LineProtocol protocol(firmware);
+    stream(protocol, moves(20));
+    CHECK(job_part(firmware) == moves(20));
+    CHECK(protocol.stats().lines_resent == 3);
+    CHECK(protocol.stats().probes == 0);
+  }
+}
+
 TEST_CASE("lost_ok_is_recovered_by_an_m105_probe") {
   ScriptedFirmware firmware;
   firmware.drop_ok = {7, 30};

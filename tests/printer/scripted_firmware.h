@@ -39,9 +39,13 @@ class ScriptedFirmware : public printer::Link {
   std::set<std::string> refuse;         // command words it does not know ("M190")
   std::chrono::milliseconds chatter{0};  // a temperature line this often, whatever happens
   bool wait_when_idle = false;          // "wait" 1 s after it ran out of work
+  // Time each reply byte takes on the wire (87 us at 115200 baud): a reply line leaves once the
+  // one before it is out, so the lines of one answer come in separate reads. 0: all at once.
+  std::chrono::nanoseconds byte_time{0};
 
   // Faults, by line number (first reception of that line only, except where said).
   std::set<long> corrupt;        // seen with a bad checksum
+  std::set<std::size_t> corrupt_writes;  // by place in `received` (0: the host's first line)
   std::set<long> lose;           // never arrives (no reply at all)
   std::set<long> drop_ok;        // accepted, its ok lost
   std::set<long> duplicate_ok;   // accepted, ok sent twice
@@ -115,8 +119,9 @@ class ScriptedFirmware : public printer::Link {
   };
 
   void emit(std::chrono::nanoseconds at, std::string text, long ok_for = 0) {
-    // Replies leave in order: never before one already queued.
+    // Replies leave in order: never before one already queued, and each after its bytes.
     if (!output_.empty() && output_.back().at > at) at = output_.back().at;
+    at += static_cast<long>(text.size() + 1) * byte_time;
     output_.push_back({at, std::move(text), ok_for});
   }
 
@@ -156,7 +161,7 @@ class ScriptedFirmware : public printer::Link {
       max_ahead = std::max(max_ahead, n - delivered_ok_);
       const bool first = seen_.insert(n).second;
       if (first && lose.count(n)) return;
-      if (reject_always.count(n) || (first && corrupt.count(n))) {
+      if (reject_always.count(n) || (first && corrupt.count(n)) || corrupt_writes.count(received.size() - 1)) {
         reject(at, "checksum mismatch");
         return;
       }
