@@ -60,6 +60,78 @@ double block_time(const Block& b, double exit_sqr) {
   return (vp - v0) / a + (vp - v1) / a;
 }
 
+// The nominal speed: the feedrate (at least min_feedrate), then every axis held to its own
+// maximum; no feedrate is as fast as the axes go.
+double nominal_speed(const MotionLimits& lim, const std::array<double, 4>& delta, double length,
+                     double feedrate) {
+  double speed = (feedrate > 0 && std::isfinite(feedrate))
+                     ? feedrate
+                     : std::numeric_limits<double>::infinity();
+  speed = std::max(speed, lim.min_feedrate);
+  for (int axis = 0; axis < 4; ++axis) {
+    const double share = std::abs(delta[axis]) / length;  // axis speed per unit of nominal
+    if (share > 0 && lim.max_speed[axis] > 0) speed = std::min(speed, lim.max_speed[axis] / share);
+  }
+  if (!std::isfinite(speed)) speed = lim.max_speed[0] > 0 ? lim.max_speed[0] : 1.0;
+  return speed;
+}
+
+// The acceleration a move asks for: retracting (E alone), printing or travelling.
+double move_acceleration(const MotionLimits& lim, bool extruder_only, bool extrudes) {
+  return extruder_only ? lim.retract_acceleration
+         : extrudes    ? lim.print_acceleration
+                       : lim.travel_acceleration;
+}
+
+// `acceleration` along `direction` (of length `norm`), scaled down so that no axis exceeds
+// its own maximum.
+double held_to_axes(double acceleration, const std::array<double, 4>& direction, double norm,
+                    const std::array<double, 4>& max_acceleration) {
+  for (int axis = 0; axis < 4; ++axis) {
+    const double share = std::abs(direction[axis]) / norm;
+    if (share > 0 && max_acceleration[axis] > 0 && acceleration * share > max_acceleration[axis]) {
+      acceleration = max_acceleration[axis] / share;
+    }
+  }
+  return acceleration;
+}
+
+// Direction over all four axes (Marlin normalises XYZE when the move extrudes).
+std::array<double, 4> unit_direction(const std::array<double, 4>& delta, double norm) {
+  std::array<double, 4> unit{};
+  for (int axis = 0; axis < 4; ++axis) unit[axis] = delta[axis] / norm;
+  return unit;
+}
+
+// The square of the speed through the junction from a move along `previous` into one along
+// `unit` of `length` mm asking for `acceleration`: junction deviation, and the arc a short
+// segment approximates (see the top of this file); not yet held to the two moves' nominal speeds.
+double junction_speed_sqr(const MotionLimits& lim, const std::array<double, 4>& previous,
+                          const std::array<double, 4>& unit, double acceleration, double length) {
+  double cos_theta = 0;
+  for (int axis = 0; axis < 4; ++axis) cos_theta -= previous[axis] * unit[axis];
+  if (cos_theta > 0.999999) return 0;  // full reversal
+  cos_theta = std::max(cos_theta, -0.999999);
+  // The acceleration available along the change of direction.
+  std::array<double, 4> turn{};
+  double turn_norm = 0;
+  for (int axis = 0; axis < 4; ++axis) {
+    turn[axis] = unit[axis] - previous[axis];
+    turn_norm += turn[axis] * turn[axis];
+  }
+  turn_norm = std::sqrt(turn_norm);
+  const double junction_acceleration =
+      turn_norm > 0 ? held_to_axes(acceleration, turn, turn_norm, lim.max_acceleration) : acceleration;
+  const double sin_half = std::sqrt(0.5 * (1.0 - cos_theta));
+  double junction_sqr = junction_acceleration * lim.junction_deviation * sin_half / (1.0 - sin_half);
+  if (length < 1.0 && cos_theta < -0.7071067812) {
+    // A short segment of a curve: no faster than the arc it approximates allows.
+    const double angle = std::acos(std::clamp(-cos_theta, -1.0, 1.0));
+    if (angle > 0) junction_sqr = std::min(junction_sqr, length * junction_acceleration / angle);
+  }
+  return junction_sqr;
+}
+
 }  // namespace
 
 struct MotionModel::Planner {
@@ -121,73 +193,20 @@ double MotionModel::push(AxisPosition target, double feedrate) {
   const double length = extruder_only ? e : xyz;
   if (!(length > 0) || !std::isfinite(length)) return 0;  // nothing moves: no block
 
-  // Nominal speed: the feedrate, then every axis held to its own maximum.
-  double speed = (feedrate > 0 && std::isfinite(feedrate))
-                     ? feedrate
-                     : std::numeric_limits<double>::infinity();
-  speed = std::max(speed, lim.min_feedrate);
-  for (int axis = 0; axis < 4; ++axis) {
-    const double share = std::abs(delta[axis]) / length;  // axis speed per unit of nominal
-    if (share > 0 && lim.max_speed[axis] > 0) speed = std::min(speed, lim.max_speed[axis] / share);
-  }
-  if (!std::isfinite(speed)) speed = lim.max_speed[0] > 0 ? lim.max_speed[0] : 1.0;
-
-  double acceleration = extruder_only ? lim.retract_acceleration
-                        : e > 0       ? lim.print_acceleration
-                                      : lim.travel_acceleration;
-  for (int axis = 0; axis < 4; ++axis) {
-    const double share = std::abs(delta[axis]) / length;
-    if (share > 0 && lim.max_acceleration[axis] > 0 && acceleration * share > lim.max_acceleration[axis]) {
-      acceleration = lim.max_acceleration[axis] / share;
-    }
-  }
-
+  const double acceleration = held_to_axes(move_acceleration(lim, extruder_only, e > 0), delta, length,
+                                           lim.max_acceleration);
   Block block;
   block.length = length;
   block.acceleration = acceleration;
+  const double speed = nominal_speed(lim, delta, length, feedrate);
   block.nominal_sqr = speed * speed;
 
-  // Direction over all four axes (Marlin normalises XYZE when the move extrudes).
-  const double norm = std::sqrt(xyz * xyz + e * e);
-  std::array<double, 4> unit{};
-  for (int axis = 0; axis < 4; ++axis) unit[axis] = delta[axis] / norm;
-
-  double junction_sqr = 0;  // after a dry buffer the move starts from rest
-  if (p.has_previous) {
-    double cos_theta = 0;
-    for (int axis = 0; axis < 4; ++axis) cos_theta -= p.previous_unit[axis] * unit[axis];
-    if (cos_theta > 0.999999) {
-      junction_sqr = 0;  // full reversal
-    } else {
-      cos_theta = std::max(cos_theta, -0.999999);
-      // The acceleration available along the change of direction.
-      std::array<double, 4> turn{};
-      double turn_norm = 0;
-      for (int axis = 0; axis < 4; ++axis) {
-        turn[axis] = unit[axis] - p.previous_unit[axis];
-        turn_norm += turn[axis] * turn[axis];
-      }
-      turn_norm = std::sqrt(turn_norm);
-      double junction_acceleration = acceleration;
-      if (turn_norm > 0) {
-        for (int axis = 0; axis < 4; ++axis) {
-          const double share = std::abs(turn[axis]) / turn_norm;
-          if (share > 0 && lim.max_acceleration[axis] > 0 &&
-              junction_acceleration * share > lim.max_acceleration[axis]) {
-            junction_acceleration = lim.max_acceleration[axis] / share;
-          }
-        }
-      }
-      const double sin_half = std::sqrt(0.5 * (1.0 - cos_theta));
-      junction_sqr = junction_acceleration * lim.junction_deviation * sin_half / (1.0 - sin_half);
-      if (length < 1.0 && cos_theta < -0.7071067812) {
-        // A short segment of a curve: no faster than the arc it approximates allows.
-        const double angle = std::acos(std::clamp(-cos_theta, -1.0, 1.0));
-        if (angle > 0) junction_sqr = std::min(junction_sqr, length * junction_acceleration / angle);
-      }
-    }
-    junction_sqr = std::min({junction_sqr, block.nominal_sqr, p.previous_nominal_sqr});
-  }
+  const std::array<double, 4> unit = unit_direction(delta, std::sqrt(xyz * xyz + e * e));
+  // After a dry buffer the move starts from rest.
+  const double junction_sqr =
+      p.has_previous ? std::min({junction_speed_sqr(lim, p.previous_unit, unit, acceleration, length),
+                                 block.nominal_sqr, p.previous_nominal_sqr})
+                     : 0.0;
   block.max_entry_sqr = junction_sqr;
   block.entry_sqr = p.open.empty() ? 0.0 : junction_sqr;  // replan() settles it
 
