@@ -381,97 +381,16 @@ std::string Job::resume_hint() const {
 JobResult Job::run() {
   start_ = protocol_.link().now();
   protocol_.on_wait = [this] { tick(); };
-  JobResult result;
   // A firmware that keeps alive every second lets a lost ok be noticed in a second and a half.
   protocol_.use_keepalive(std::chrono::seconds(1));
   try {
-    try {
-      if (options_.recover_from) {
-        const int layer = file_.layer_index_of(done_);
-        write_journal_now(JobState::printing, layer, done_, state_);
-        // Where Z is comes from the printer itself, not from whether it said `start`.
-        const std::optional<ReportedPosition> at = protocol_.query_position();
-        const bool z_lost = z_forgotten(at, state_);
-        event(fmt::format(
-            "resuming at layer {}/{}: heating, lifting, homing X and Y{}", layer + 1, file_.layers.size(),
-            !z_lost ? fmt::format(" (the printer kept Z: it reports {:.2f})", at->z)
-            : at    ? fmt::format(", setting Z from the journal (the printer reports Z {:.2f}, the "
-                                  "journal {:.2f})",
-                                  at->z, state_.z)
-                    : ", setting Z from the journal (the printer does not report its position)"));
-        recover_print(protocol_, state_, z_lost, options_.pause);
-      } else {
-        write_journal_now(JobState::printing, file_.layer_index_of(done_), done_, state_);
-      }
-      if (done_ > 0) bytes_done_ = reader_.command_end(done_ - 1);
-      for (std::size_t i = done_; i < file_.size(); ++i) {
-        if (const int layer = file_.layer_starting_at(i); layer >= 0) start_layer(layer, i);
-        tick();
-        if (cancel_requested_) break;
-        send_tunes();
-        const std::string_view command = reader_.command(i);
-        protocol_.send(command);
-        apply(state_, command);
-        done_ = i + 1;
-        bytes_done_ = reader_.command_end(i);
-        done_at_ = printing_time(protocol_.link().now());
-        eta_.command_done(done_, std::chrono::duration<double>(done_at_).count());
-      }
-    } catch (const CancelNow&) {
-    }
-    if (cancel_requested_) {
-      const std::string trouble = cancel_here();
-      job_state_ = JobState::cancelled;
-      result.reason = fmt::format("cancelled at layer {}/{}{}", layer_ + 1, file_.layers.size(), trouble);
-      const int layer = std::max(layer_, 0);
-      write_journal_now(JobState::cancelled, layer_ < 0 ? -1 : layer,
-                        layer_ < 0 ? 0 : file_.layers[static_cast<std::size_t>(layer)].first_command,
-                        layer_ < 0 ? PrintState{} : layer_state_[static_cast<std::size_t>(layer)],
-                        result.reason);
-    } else {
-      // Tunes taken while the last command was being sent go after it.
-      send_tunes();
-      tunes_closed_ = true;
-      protocol_.wait_acknowledged();
-      job_state_ = JobState::completed;
-      write_journal_now(JobState::completed, -1, file_.size(), state_);
-    }
+    reason_ = print_to_the_end();
   } catch (const StopNow&) {
-    job_state_ = JobState::stopped;
-    // Marlin answers M112 with "Printer halted"; wait a moment for it, to say so.
-    protocol_.on_wait = nullptr;
-    bool confirmed = false;
-    try {
-      protocol_.poll(std::chrono::milliseconds(2000));
-    } catch (const PrinterError&) {
-      confirmed = true;
-    } catch (const LinkError&) {
-    }
-    result.reason = fmt::format(
-        "emergency stop (M112) at layer {}/{}: {}; reset it (power or M999) before the next job",
-        layer_ + 1, file_.layers.size(),
-        confirmed ? "the printer halted" : "the printer did not confirm the halt within 2 s");
-    journal_interrupted(JobState::stopped, result.reason);
+    reason_ = halt_after_m112();
   } catch (const CommandRefused& e) {
-    // The firmware cannot print this file as written: nothing to resume, the file is to be
-    // sliced again. The heaters it did set go off.
-    const std::string where =
-        state_.filament_fed <= 0 && !options_.recover_from ? "before anything was extruded"
-        : layer_ >= 0 ? fmt::format("at layer {}/{}, the part printed so far left on the bed", layer_ + 1,
-                                    file_.layers.size())
-                      : fmt::format("before the first layer, after {:.1f} mm of filament", state_.filament_fed);
-    const std::string safe = fail(CommandRefused(e.refusal, where, e.advice).what());
-    throw CommandRefused(e.refusal, where, e.advice + safe);
+    refuse_the_file(e);
   } catch (const FirmwareStopped& e) {
-    // kill() or a reset turned the heaters off; the firmware reads nothing more.
-    protocol_.on_wait = nullptr;
-    if (!stop_sent_) {
-      job_state_ = JobState::failed;
-      journal_interrupted(JobState::failed, e.what());
-      throw PrinterError(std::string(e.what()) + resume_hint());
-    }
-    job_state_ = JobState::stopped;
-    result.reason = "emergency stop (M112): the printer is halted";
+    reason_ = firmware_stopped(e);
   } catch (const PrinterError& e) {
     const std::string safe = fail(e.what());
     throw PrinterError(std::string(e.what()) + safe + resume_hint());
@@ -488,8 +407,119 @@ JobResult Job::run() {
     throw ConfigError(std::string(e.what()) + safe + resume_hint());
   }
   protocol_.on_wait = nullptr;
-  reason_ = result.reason;
-  return this->result();
+  return result();
+}
+
+std::string Job::print_to_the_end() {
+  try {
+    if (options_.recover_from) {
+      recover();
+    } else {
+      write_journal_now(JobState::printing, file_.layer_index_of(done_), done_, state_);
+    }
+    send_the_file();
+  } catch (const CancelNow&) {
+  }
+  if (cancel_requested_) return end_cancelled();
+  end_completed();
+  return "";
+}
+
+void Job::recover() {
+  const int layer = file_.layer_index_of(done_);
+  write_journal_now(JobState::printing, layer, done_, state_);
+  // Where Z is comes from the printer itself, not from whether it said `start`.
+  const std::optional<ReportedPosition> at = protocol_.query_position();
+  const bool z_lost = z_forgotten(at, state_);
+  event(fmt::format(
+      "resuming at layer {}/{}: heating, lifting, homing X and Y{}", layer + 1, file_.layers.size(),
+      !z_lost ? fmt::format(" (the printer kept Z: it reports {:.2f})", at->z)
+      : at    ? fmt::format(", setting Z from the journal (the printer reports Z {:.2f}, the "
+                            "journal {:.2f})",
+                            at->z, state_.z)
+              : ", setting Z from the journal (the printer does not report its position)"));
+  recover_print(protocol_, state_, z_lost, options_.pause);
+}
+
+void Job::send_the_file() {
+  if (done_ > 0) bytes_done_ = reader_.command_end(done_ - 1);
+  for (std::size_t i = done_; i < file_.size(); ++i) {
+    if (const int layer = file_.layer_starting_at(i); layer >= 0) start_layer(layer, i);
+    tick();
+    if (cancel_requested_) break;
+    send_tunes();
+    const std::string_view command = reader_.command(i);
+    protocol_.send(command);
+    apply(state_, command);
+    done_ = i + 1;
+    bytes_done_ = reader_.command_end(i);
+    done_at_ = printing_time(protocol_.link().now());
+    eta_.command_done(done_, std::chrono::duration<double>(done_at_).count());
+  }
+}
+
+std::string Job::end_cancelled() {
+  const std::string trouble = cancel_here();
+  job_state_ = JobState::cancelled;
+  const std::string reason =
+      fmt::format("cancelled at layer {}/{}{}", layer_ + 1, file_.layers.size(), trouble);
+  const int layer = std::max(layer_, 0);
+  write_journal_now(JobState::cancelled, layer_ < 0 ? -1 : layer,
+                    layer_ < 0 ? 0 : file_.layers[static_cast<std::size_t>(layer)].first_command,
+                    layer_ < 0 ? PrintState{} : layer_state_[static_cast<std::size_t>(layer)], reason);
+  return reason;
+}
+
+void Job::end_completed() {
+  // Tunes taken while the last command was being sent go after it.
+  send_tunes();
+  tunes_closed_ = true;
+  protocol_.wait_acknowledged();
+  job_state_ = JobState::completed;
+  write_journal_now(JobState::completed, -1, file_.size(), state_);
+}
+
+std::string Job::halt_after_m112() {
+  job_state_ = JobState::stopped;
+  // Marlin answers M112 with "Printer halted"; wait a moment for it, to say so.
+  protocol_.on_wait = nullptr;
+  bool confirmed = false;
+  try {
+    protocol_.poll(std::chrono::milliseconds(2000));
+  } catch (const PrinterError&) {
+    confirmed = true;
+  } catch (const LinkError&) {
+  }
+  const std::string reason = fmt::format(
+      "emergency stop (M112) at layer {}/{}: {}; reset it (power or M999) before the next job",
+      layer_ + 1, file_.layers.size(),
+      confirmed ? "the printer halted" : "the printer did not confirm the halt within 2 s");
+  journal_interrupted(JobState::stopped, reason);
+  return reason;
+}
+
+void Job::refuse_the_file(const CommandRefused& e) {
+  // The firmware cannot print this file as written: nothing to resume, the file is to be
+  // sliced again. The heaters it did set go off.
+  const std::string where =
+      state_.filament_fed <= 0 && !options_.recover_from ? "before anything was extruded"
+      : layer_ >= 0 ? fmt::format("at layer {}/{}, the part printed so far left on the bed", layer_ + 1,
+                                  file_.layers.size())
+                    : fmt::format("before the first layer, after {:.1f} mm of filament", state_.filament_fed);
+  const std::string safe = fail(CommandRefused(e.refusal, where, e.advice).what());
+  throw CommandRefused(e.refusal, where, e.advice + safe);
+}
+
+std::string Job::firmware_stopped(const FirmwareStopped& e) {
+  // kill() or a reset turned the heaters off; the firmware reads nothing more.
+  protocol_.on_wait = nullptr;
+  if (!stop_sent_) {
+    job_state_ = JobState::failed;
+    journal_interrupted(JobState::failed, e.what());
+    throw PrinterError(std::string(e.what()) + resume_hint());
+  }
+  job_state_ = JobState::stopped;
+  return "emergency stop (M112): the printer is halted";
 }
 
 double Job::estimated_seconds() {

@@ -132,6 +132,16 @@ class Job {
   struct StopNow {};
   struct CancelNow {};      // leave whatever the job waits for: the user cancelled
   struct CancelOverdue {};  // the cancel took longer than its bound
+  // The steps of run(): the recovery or the first journal, the file's commands, and how the
+  // job ended; each end returns the result's reason or throws what run() says.
+  std::string print_to_the_end();
+  void recover();
+  void send_the_file();
+  std::string end_cancelled();
+  void end_completed();
+  std::string halt_after_m112();
+  [[noreturn]] void refuse_the_file(const CommandRefused& e);
+  std::string firmware_stopped(const FirmwareStopped& e);
   void tick(bool force = false);
   // Sends the tunes asked for since the last call; `also` (a pause's saved state) follows them.
   void send_tunes(PrintState* also = nullptr);
