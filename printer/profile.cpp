@@ -226,6 +226,70 @@ bool parse_double(std::string_view text, double& out) {
   return end == s.c_str() + s.size();
 }
 
+// A whole number, all of `text`.
+std::optional<long long> whole_number(std::string_view text) {
+  long long i = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), i);
+  if (text.empty() || ec != std::errc() || end != text.data() + text.size()) return std::nullopt;
+  return i;
+}
+
+// A placeholder's value typed on the command line: a number if it reads as one, else the text.
+MacroVariable constant_from_text(std::string_view text) {
+  double x = 0;
+  if (const std::optional<long long> i = whole_number(text)) return macro_scalar(*i);
+  if (parse_double(text, x)) return macro_scalar(x);
+  return macro_scalar(std::string(text));
+}
+
+// "\n" typed on a command line means a line break in G-code.
+std::string with_line_breaks(std::string_view text) {
+  std::string s;
+  for (std::size_t at = 0; at < text.size(); ++at) {
+    if (text.substr(at, 2) == "\\n") {
+      s += '\n';
+      ++at;
+    } else {
+      s += text[at];
+    }
+  }
+  return s;
+}
+
+// "a,b,c" or "[a,b,c]" (`text` trimmed), each a number; nothing when one is not. Empty text
+// is an empty list.
+std::optional<std::vector<double>> numbers_from_text(std::string_view text) {
+  if (!text.empty() && text.front() == '[' && text.back() == ']') text = text.substr(1, text.size() - 2);
+  std::vector<double> numbers;
+  while (!text.empty()) {
+    const std::size_t comma = text.find(',');
+    double x = 0;
+    if (!parse_double(trim(text.substr(0, comma)), x)) return std::nullopt;
+    numbers.push_back(x);
+    if (comma == std::string_view::npos) break;
+    text.remove_prefix(comma + 1);
+  }
+  return numbers;
+}
+
+// "x0,y0,z0,x1,y1,z1;x0,..." (each box may be in brackets); an empty value or "none" is no
+// boxes; nothing when a box is not six numbers.
+std::optional<std::vector<SupportBoxMm>> boxes_from_text(std::string_view text) {
+  if (text == "none") text = {};
+  std::vector<SupportBoxMm> boxes;
+  while (!text.empty()) {
+    const std::size_t semicolon = text.find(';');
+    const std::optional<std::vector<double>> numbers = numbers_from_text(trim(text.substr(0, semicolon)));
+    if (!numbers || numbers->size() != 6) return std::nullopt;
+    SupportBoxMm b{};
+    std::copy(numbers->begin(), numbers->end(), b.begin());
+    boxes.push_back(b);
+    if (semicolon == std::string_view::npos) break;
+    text.remove_prefix(semicolon + 1);
+  }
+  return boxes;
+}
+
 // Converts a --set value typed on the command line to the rule's kind.
 template <class Target>
 Value value_from_text(const Rule<Target>& rule, std::string_view text, const std::string& where) {
@@ -239,8 +303,9 @@ Value value_from_text(const Rule<Target>& rule, std::string_view text, const std
       if (!parse_double(text, v.number)) throw wrong();
       break;
     case Kind::integer: {
-      const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v.integer);
-      if (ec != std::errc() || end != text.data() + text.size() || text.empty()) throw wrong();
+      const std::optional<long long> i = whole_number(text);
+      if (!i) throw wrong();
+      v.integer = *i;
       break;
     }
     case Kind::boolean:
@@ -248,66 +313,18 @@ Value value_from_text(const Rule<Target>& rule, std::string_view text, const std
       else if (text == "false") v.flag = false;
       else throw wrong();
       break;
-    case Kind::constant: {
-      // A number if it reads as one, else the text.
-      double x = 0;
-      long long i = 0;
-      const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), i);
-      if (!text.empty() && ec == std::errc() && end == text.data() + text.size()) {
-        v.constant = macro_scalar(i);
-      } else if (parse_double(text, x)) {
-        v.constant = macro_scalar(x);
-      } else {
-        v.constant = macro_scalar(std::string(text));
-      }
-      break;
-    }
-    case Kind::text: {
-      // "\n" typed on a command line means a line break in G-code.
-      std::string s(text);
-      for (std::size_t at = s.find("\\n"); at != std::string::npos; at = s.find("\\n", at + 1)) {
-        s.replace(at, 2, "\n");
-      }
-      v.text = s;
-      break;
-    }
+    case Kind::constant: v.constant = constant_from_text(text); break;
+    case Kind::text: v.text = with_line_breaks(text); break;
     case Kind::number_list: {
-      if (!text.empty() && text.front() == '[' && text.back() == ']') {
-        text = text.substr(1, text.size() - 2);
-      }
-      while (!text.empty()) {
-        const std::size_t comma = text.find(',');
-        double x = 0;
-        if (!parse_double(trim(text.substr(0, comma)), x)) throw wrong();
-        v.list.push_back(x);
-        if (comma == std::string_view::npos) break;
-        text.remove_prefix(comma + 1);
-      }
-      if (v.list.empty()) throw wrong();
+      std::optional<std::vector<double>> numbers = numbers_from_text(text);
+      if (!numbers || numbers->empty()) throw wrong();
+      v.list = std::move(*numbers);
       break;
     }
     case Kind::box_list: {
-      // "x0,y0,z0,x1,y1,z1;x0,..."; an empty value (or "none") is no boxes.
-      if (text == "none") text = {};
-      while (!text.empty()) {
-        const std::size_t semicolon = text.find(';');
-        std::string_view box = trim(text.substr(0, semicolon));
-        if (!box.empty() && box.front() == '[' && box.back() == ']') box = box.substr(1, box.size() - 2);
-        SupportBoxMm b{};
-        std::size_t count = 0;
-        while (!box.empty()) {
-          const std::size_t comma = box.find(',');
-          double x = 0;
-          if (count == 6 || !parse_double(trim(box.substr(0, comma)), x)) throw wrong();
-          b[count++] = x;
-          if (comma == std::string_view::npos) break;
-          box.remove_prefix(comma + 1);
-        }
-        if (count != 6) throw wrong();
-        v.boxes.push_back(b);
-        if (semicolon == std::string_view::npos) break;
-        text.remove_prefix(semicolon + 1);
-      }
+      std::optional<std::vector<SupportBoxMm>> boxes = boxes_from_text(text);
+      if (!boxes) throw wrong();
+      v.boxes = std::move(*boxes);
       break;
     }
   }
