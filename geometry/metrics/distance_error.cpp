@@ -101,6 +101,10 @@ double segment_bound(const BoundaryGrid& grid, const std::array<Vec2, N>& corner
   double bound = std::numeric_limits<double>::infinity();  // squared until the end
   for (std::size_t i = 0; i < N; ++i) {
     if (nearest[i].segment == Nearest::npos) continue;
+    // A segment nearest to two corners (most pieces deep in a search) is taken once.
+    bool seen = false;
+    for (std::size_t j = 0; j < i; ++j) seen = seen || nearest[j].segment == nearest[i].segment;
+    if (seen) continue;
     const Segment2& s = grid.segments()[nearest[i].segment];
     double far = 0;
     for (const Vec2& c : corners) far = std::max(far, squared_distance_to_segment(c, s.a, s.b));
@@ -147,12 +151,16 @@ void search_triangle(const std::array<Vec2, 3>& corners, const std::array<Neares
   if (near.empty()) return;
   thread_local std::vector<Piece> stack;  // kept from call to call: one per piece of surface
   stack.assign(1, first);
+  // The first piece popped is the whole triangle, whose bound was found above done() just
+  // now (nothing has raised `best` since): it is split without working the bound out again.
+  bool whole = true;
   while (!stack.empty()) {
     const Piece piece = stack.back();
     stack.pop_back();
     const double low = std::max({piece.n[0].distance, piece.n[1].distance, piece.n[2].distance});
     best = std::max(best, low);
-    if (upper_bound(piece, low) <= done()) continue;
+    if (!whole && upper_bound(piece, low) <= done()) continue;
+    whole = false;
     const Vec2 m01 = 0.5 * (piece.p[0] + piece.p[1]), m12 = 0.5 * (piece.p[1] + piece.p[2]),
                m20 = 0.5 * (piece.p[2] + piece.p[0]);
     const Nearest n01 = nearest_of(m01, grid, near), n12 = nearest_of(m12, grid, near),
@@ -196,12 +204,14 @@ void search_segment(Vec2 a, Vec2 b, const Nearest& at_a, const Nearest& at_b,
   if (near.empty()) return;
   thread_local std::vector<Piece> stack;  // kept from call to call: one per piece of surface
   stack.assign(1, first);
+  bool whole = true;  // the first piece: the whole segment, split without its bound again
   while (!stack.empty()) {
     const Piece piece = stack.back();
     stack.pop_back();
     const double low = std::max(piece.na.distance, piece.nb.distance);
     best = std::max(best, low);
-    if (upper_bound(piece, low) <= done()) continue;
+    if (!whole && upper_bound(piece, low) <= done()) continue;
+    whole = false;
     const Vec2 m = 0.5 * (piece.a + piece.b);
     const Nearest nm = nearest_of(m, grid, near);
     best = std::max(best, nm.distance);
