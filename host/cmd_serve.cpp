@@ -109,7 +109,8 @@ std::string default_files_folder() {
   throw printer::ConfigError("neither XDG_DATA_HOME nor HOME is set: give the files folder with --files DIR");
 }
 
-void run_serve(const ServeOptions& options) {
+// The options that need no file, no port and no profile, checked first; the address to listen on.
+ListenAddress check_serve_options(const ServeOptions& options) {
   check_link_choice(options.link, "serve");
   if (options.time_scale_given && !options.link.dry_run) {
     throw printer::ConfigError("--time-scale: only a --dry-run printer's clock can be sped up");
@@ -117,18 +118,19 @@ void run_serve(const ServeOptions& options) {
   if (!(options.max_upload_mib > 0)) throw printer::ConfigError("--max-upload: give a size in MiB above 0");
   const ListenAddress address = parse_listen(options.listen);
   if (!options.link.dry_run) printer::check_serial_port(options.link.port);
+  return address;
+}
 
+printer::Profiles serve_profiles(const ServeOptions& options) {
   printer::ProfileRequest request;
   request.printer = options.printer;
   request.material = options.material;
   request.config_dir = app::profile_search_path();
   request.overrides = options.overrides;
-  const printer::Profiles profiles = printer::load_profiles(request);
+  return printer::load_profiles(request);
+}
 
-  const serve::ApiKey key = serve::load_api_key();
-  serve::FileStore files(options.files.empty() ? default_files_folder() : options.files,
-                         profiles.printer.motion, profiles.printer.filament_diameter);
-
+serve::PrinterSession::Options session_options_for(const ServeOptions& options, const printer::Profiles& profiles) {
   serve::PrinterSession::Options session_options;
   session_options.link = options.link;
   session_options.link.time_scale = parse_time_scale(options.time_scale);
@@ -136,9 +138,13 @@ void run_serve(const ServeOptions& options) {
   session_options.baud = options.link.baud > 0 ? options.link.baud : profiles.printer.baud;
   session_options.record_path = options.record;
   session_options.printed_stl_path = options.printed_stl;
+  return session_options;
+}
 
-  // Signals go to the watcher thread below, not to whichever thread the kernel picks: blocked
-  // here, before any thread starts, so every thread inherits the mask.
+// SIGINT and SIGTERM go to the watcher thread (watch_signals), not to whichever thread the
+// kernel picks: blocked before any thread starts, so every thread inherits the mask. Returns
+// the set blocked.
+sigset_t block_stop_signals() {
   sigset_t signals;
   sigemptyset(&signals);
   sigaddset(&signals, SIGINT);
@@ -146,13 +152,10 @@ void run_serve(const ServeOptions& options) {
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
   signal(SIGHUP, SIG_IGN);  // a print outlives the terminal that started it
   signal(SIGPIPE, SIG_IGN);
+  return signals;
+}
 
-  serve::PrinterSession session(session_options, files);
-  serve::ServeLimits limits;
-  limits.max_upload = static_cast<std::uint64_t>(options.max_upload_mib * 1048576.0);
-  serve::HttpApi api(session, files, key.value, limits, MAHOST_VERSION);
-
-  serve::HttpServer server(serve::ConnectionLimits{});
+void configure_server(serve::HttpServer& server, const serve::ServeLimits& limits) {
   server.set_keep_alive_max_count(1000);
   // What the Keep-Alive header tells clients: the idle time after which the server closes.
   server.set_keep_alive_timeout(std::chrono::duration_cast<std::chrono::seconds>(server.limits().idle).count());
@@ -160,11 +163,14 @@ void run_serve(const ServeOptions& options) {
   // httplib writes a response's head and body apart: without this the body of a kept-alive
   // connection waits for the client's delayed ack (40 ms on Linux).
   server.set_tcp_nodelay(true);
-  api.install(server);
-  // httplib's default lets a second server share the port (SO_REUSEPORT), splitting the
-  // requests between two printers: only SO_REUSEADDR here, so a port in use is an error. And a
-  // listening queue deeper than its 5, so a burst of new connections is not dropped (a client
-  // whose SYN is dropped waits a second before it tries again).
+}
+
+// Binds the address and listens; the port bound (the one asked for, or the free one found for
+// port 0). httplib's default lets a second server share the port (SO_REUSEPORT), splitting the
+// requests between two printers: only SO_REUSEADDR here, so a port in use is an error. And a
+// listening queue deeper than its 5, so a burst of new connections is not dropped (a client
+// whose SYN is dropped waits a second before it tries again).
+int bind_address(serve::HttpServer& server, const ListenAddress& address, const std::string& listen_text) {
   int listening = -1;
   server.set_socket_options([&listening](int sock) {
     int yes = 1;
@@ -178,14 +184,24 @@ void run_serve(const ServeOptions& options) {
     throw printer::ConfigError(fmt::format(
         "--listen {}: cannot listen there (another program on the port, or not an address of "
         "this machine); pick another with --listen HOST:PORT",
-        options.listen));
+        listen_text));
   }
-  // The address is printed once the printer answered (or failed to): a client that reads it
-  // finds the printer operational, or says why not.
+  return port;
+}
+
+// Starts the session and waits until the printer answered (or failed to), so a client that
+// reads the address finds the printer operational, or says why not.
+void connect_printer(serve::PrinterSession& session) {
   session.start();
   for (auto status = session.status(); status.connection == serve::Connection::connecting;) {
     status = session.wait_for_change(status.version, std::chrono::milliseconds(1000));
   }
+}
+
+// The key's origin and a warning for an address other machines reach, on stderr; the URL to
+// open on stdout.
+void announce(const ServeOptions& options, const ListenAddress& address, int port, const serve::ApiKey& key,
+              const serve::FileStore& files) {
   const std::string shown_host = address.host.find(':') != std::string::npos ? "[" + address.host + "]" : address.host;
   if (key.created) {
     fmt::print(stderr, "API key: {} (made now, kept in {}; give it to the page and the slicers)\n", key.value,
@@ -204,23 +220,50 @@ void run_serve(const ServeOptions& options) {
   fmt::print("mahost serve: http://{}:{}/ ({}, files in {})\n", shown_host, port,
              options.link.dry_run ? "the simulated printer" : options.link.port, files.folder());
   std::fflush(stdout);
-  std::thread watcher([&] {
-    int received = 0;
-    while (!session.finished()) {
-      timespec wait{0, 200'000'000};
-      siginfo_t info{};
-      if (sigtimedwait(&signals, &info, &wait) > 0) {
-        ++received;
-        const bool printing = session.status().job_active;
-        if (received == 1 && printing) {
-          fmt::print(stderr, "mahost serve: cancelling the print, then exiting (again: stop at once, M112)\n");
-        }
-        session.shut_down(received > 1);
+}
+
+// The watcher thread's body: the first signal cancels a running print and shuts down, a second
+// one stops the printer at once; once the session has finished, the API and the server stop.
+void watch_signals(const sigset_t& signals, serve::PrinterSession& session, serve::HttpApi& api,
+                   serve::HttpServer& server) {
+  int received = 0;
+  while (!session.finished()) {
+    timespec wait{0, 200'000'000};
+    siginfo_t info{};
+    if (sigtimedwait(&signals, &info, &wait) > 0) {
+      ++received;
+      const bool printing = session.status().job_active;
+      if (received == 1 && printing) {
+        fmt::print(stderr, "mahost serve: cancelling the print, then exiting (again: stop at once, M112)\n");
       }
+      session.shut_down(received > 1);
     }
-    api.close();
-    server.stop();
-  });
+  }
+  api.close();
+  server.stop();
+}
+
+void run_serve(const ServeOptions& options) {
+  const ListenAddress address = check_serve_options(options);
+  const printer::Profiles profiles = serve_profiles(options);
+  const serve::ApiKey key = serve::load_api_key();
+  serve::FileStore files(options.files.empty() ? default_files_folder() : options.files,
+                         profiles.printer.motion, profiles.printer.filament_diameter);
+  const serve::PrinterSession::Options session_options = session_options_for(options, profiles);
+  const sigset_t signals = block_stop_signals();
+
+  serve::PrinterSession session(session_options, files);
+  serve::ServeLimits limits;
+  limits.max_upload = static_cast<std::uint64_t>(options.max_upload_mib * 1048576.0);
+  serve::HttpApi api(session, files, key.value, limits, MAHOST_VERSION);
+  serve::HttpServer server(serve::ConnectionLimits{});
+  configure_server(server, limits);
+  api.install(server);
+  const int port = bind_address(server, address, options.listen);
+  connect_printer(session);
+  announce(options, address, port, key, files);
+
+  std::thread watcher([&] { watch_signals(signals, session, api, server); });
   server.listen_after_bind();
   // listen returns when stopped (or when its socket failed): make sure the session ends too.
   session.shut_down(false);
