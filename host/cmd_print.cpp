@@ -216,12 +216,13 @@ printer::JobResult run_job(printer::LineProtocol& protocol, const printer::Gcode
   return result;
 }
 
-void run_print(const PrintOptions& options) {
+// The flags checked against each other and the input before anything is read or sliced; a
+// port that is not there is news before minutes of slicing, not after.
+void check_print_options(const PrintOptions& options, bool stl) {
   check_link_choice(options.link, "print");
   for (int layer : options.pause_at) {
     if (layer < 1) throw printer::ConfigError(fmt::format("--pause-at-layer {}: layers count from 1", layer));
   }
-  const bool stl = app::is_model_name(options.input);
   if (!stl && !options.model_options_given.empty()) {
     throw printer::ConfigError(fmt::format(
         "{}: {} is G-code, already sliced; slice options other than --printer and --set apply "
@@ -233,46 +234,98 @@ void run_print(const PrintOptions& options) {
         "-o: {} is G-code, already sliced; -o names where to keep the G-code sliced from an STL",
         options.input));
   }
-  // A port that is not there is news before minutes of slicing, not after.
   if (!options.link.dry_run) printer::check_serial_port(options.link.port);
+}
+
+// Where a job keeps its journal, and the name its socket and sliced G-code share (the
+// journal's path without its extension).
+struct JobPaths {
+  bool named_journal = false;  // --journal given: kept
+  std::string journal;
+  std::string base;
+};
+
+JobPaths job_paths(const PrintOptions& options) {
+  JobPaths paths;
+  paths.named_journal = !options.journal.empty();
+  const std::string name = job_name(fs::path(options.input).stem().string());
+  paths.journal = fs::absolute(paths.named_journal ? fs::path(options.journal)
+                                                   : fs::path(printer::job_directory()) / (name + ".journal"))
+                      .string();
+  paths.base = fs::path(paths.journal).replace_extension().string();
+  return paths;
+}
+
+// The model sliced to gcode_path, its summary and plan on stdout. Ctrl-C while slicing stops
+// at the next layer, and the job's files go with it.
+app::SliceResult slice_for_print(const PrintOptions& options, const std::string& gcode_path, bool shown_path) {
+  app::SliceOptions slice = options.slice;
+  slice.model.path = options.input;
+  install_print_signals();
+  app::SliceEvents events = terminal_slice_events(slice.contour);
+  events.cancelled = [] { return interrupt_count() > 0; };
+  std::optional<app::SliceResult> sliced;
+  try {
+    sliced = app::slice(slice, gcode_path, events);
+  } catch (const app::SliceCancelled&) {
+    throw CommandExit{kExitInterrupted, "interrupted while slicing; nothing was printed"};
+  }
+  fmt::print("sliced {}{}: {}\n", options.input, shown_path ? " to " + gcode_path : "",
+             app::slice_summary_text(*sliced));
+  if (const std::string plan = app::slice_plan_text(*sliced); !plan.empty()) fmt::print("{}\n", plan);
+  std::fflush(stdout);
+  // The slicer's meshes and toolpaths are freed; hand their pages back before the job
+  // loads the file, so the print's memory does not stack on the slicer's.
+  ::malloc_trim(0);
+  return std::move(*sliced);
+}
+
+// Every --pause-at-layer within the file's layers.
+void check_pause_layers(const PrintOptions& options, const printer::GcodeFile& file, const std::string& shown_name) {
+  for (int layer : options.pause_at) {
+    if (static_cast<std::size_t>(layer) > file.layers.size()) {
+      throw printer::ConfigError(
+          fmt::format("--pause-at-layer {}: {} has {} layers", layer, shown_name, file.layers.size()));
+    }
+  }
+}
+
+// The command that resumes the job, set in its options, and the journal's line for the
+// terminal: a print's resumes on its port, a kept dry run's as a dry run, and an unkept dry
+// run's journal goes with it.
+std::string set_resume_command(printer::JobOptions& job_options, const PrintOptions& options,
+                               const std::string& journal, bool keep) {
+  if (!options.link.dry_run) {
+    job_options.resume_command = printer::resume_command(journal, options.link.port);
+    return fmt::format("journal: {} (if the print is interrupted: {})", journal, *job_options.resume_command);
+  }
+  if (keep) {
+    job_options.resume_command = printer::resume_command(journal, "");
+    return fmt::format("journal: {} (kept; if the dry run is interrupted: {})", journal,
+                       *job_options.resume_command);
+  }
+  job_options.resume_command = "";
+  return fmt::format("journal: {} (a dry run's: removed when it ends; --keep keeps it)", journal);
+}
+
+void run_print(const PrintOptions& options) {
+  const bool stl = app::is_model_name(options.input);
+  check_print_options(options, stl);
   // The printer the job is for: an STL is sliced for it, and its motion limits time the job
   // (and are what a dry run simulates).
   const printer::Profiles profiles = app::load_slice_profiles(options.slice);
-
-  const std::string stem = fs::path(options.input).stem().string();
-  const std::string name = job_name(stem);
-  const bool named_journal = !options.journal.empty();
-  const std::string journal = fs::absolute(
-      named_journal ? fs::path(options.journal) : fs::path(printer::job_directory()) / (name + ".journal")).string();
-  const std::string base = fs::path(journal).replace_extension().string();
+  const JobPaths paths = job_paths(options);
+  const bool dry_run = options.link.dry_run;
+  const bool keep = options.keep || paths.named_journal;
 
   JobFiles own;
-  if (!named_journal) own.add(journal);
+  if (!paths.named_journal) own.add(paths.journal);
   std::string gcode_path = options.input;
   std::optional<app::SliceResult> sliced;
   if (stl) {
-    gcode_path = !options.output.empty() ? options.output : base + ".gcode";
-    if (options.output.empty() && !named_journal) own.add(gcode_path);
-    app::SliceOptions slice = options.slice;
-    slice.model.path = options.input;
-    // Ctrl-C while slicing stops at the next layer, and the job's files go with it.
-    install_print_signals();
-    app::SliceEvents events = terminal_slice_events(slice.contour);
-    events.cancelled = [] { return interrupt_count() > 0; };
-    try {
-      sliced = app::slice(slice, gcode_path, events);
-    } catch (const app::SliceCancelled&) {
-      throw CommandExit{kExitInterrupted, "interrupted while slicing; nothing was printed"};
-    }
-    fmt::print("sliced {}{}: {}\n", options.input,
-               options.output.empty() && !named_journal && !options.keep ? ""
-                                                                          : " to " + gcode_path,
-               app::slice_summary_text(*sliced));
-    if (const std::string plan = app::slice_plan_text(*sliced); !plan.empty()) fmt::print("{}\n", plan);
-    std::fflush(stdout);
-    // The slicer's meshes and toolpaths are freed; hand their pages back before the job
-    // loads the file, so the print's memory does not stack on the slicer's.
-    ::malloc_trim(0);
+    gcode_path = !options.output.empty() ? options.output : paths.base + ".gcode";
+    if (options.output.empty() && !paths.named_journal) own.add(gcode_path);
+    sliced = slice_for_print(options, gcode_path, !options.output.empty() || keep);
   }
   const int baud = options.link.baud > 0 ? options.link.baud : profiles.printer.baud;
   OpenLink link;
@@ -284,41 +337,21 @@ void run_print(const PrintOptions& options) {
         if (link.sim != nullptr) link.check = app::support_check_options(profiles);
         connect(connected.emplace(*link.link, protocol_options(options.link, profiles.printer)), link);
       });
-  printer::LineProtocol& protocol = *connected;
-  for (int layer : options.pause_at) {
-    if (static_cast<std::size_t>(layer) > file.layers.size()) {
-      throw printer::ConfigError(fmt::format("--pause-at-layer {}: {} has {} layers", layer,
-                                             stl ? options.input : gcode_path, file.layers.size()));
-    }
-  }
-  if (options.link.window > 1 && !protocol.advanced_ok()) {
+  check_pause_layers(options, file, stl ? options.input : gcode_path);
+  if (options.link.window > 1 && !connected->advanced_ok()) {
     fmt::print(stderr,
                "note: the firmware does not report its buffer space (ADVANCED_OK): --window {} "
                "falls back to one line at a time\n",
                options.link.window);
   }
 
-  const bool dry_run = options.link.dry_run;
-  const bool keep = options.keep || named_journal;
   printer::JobOptions job_options =
-      job_options_for(file, gcode_path, profiles.printer, options.link, baud, journal);
+      job_options_for(file, gcode_path, profiles.printer, options.link, baud, paths.journal);
   job_options.pause_at_layers = options.pause_at;
-  std::string note;
-  if (!dry_run) {
-    job_options.resume_command = printer::resume_command(journal, options.link.port);
-    note = fmt::format("journal: {} (if the print is interrupted: {})", journal, *job_options.resume_command);
-  } else if (keep) {
-    job_options.resume_command = printer::resume_command(journal, "");
-    note = fmt::format("journal: {} (kept; if the dry run is interrupted: {})", journal,
-                       *job_options.resume_command);
-  } else {
-    job_options.resume_command = "";
-    note = fmt::format("journal: {} (a dry run's: removed when it ends; --keep keeps it)", journal);
-  }
-
+  const std::string note = set_resume_command(job_options, options, paths.journal, keep);
   printer::JobResult result;
   try {
-    result = run_job(protocol, file, link, std::move(job_options), base + ".sock", note,
+    result = run_job(*connected, file, link, std::move(job_options), paths.base + ".sock", note,
                      sliced ? &sliced->profiles : nullptr);
   } catch (...) {
     // A print that failed keeps its journal and G-code for `mahost resume`.
