@@ -93,15 +93,16 @@ std::string count_text(long n, const char* one, const char* many) {
   return fmt::format("{} {}", n, n == 1 ? one : many);
 }
 
-// What the job did, on stdout: outcome, time, filament, what the link went through. The print
-// time is what the print took, pauses not counted (what the same print takes unpaused);
-// how long it stood paused is said beside it. A resume's estimate is that of the part it
-// printed, from the interrupted layer on.
-void print_summary(const printer::JobResult& result, const printer::GcodeFile& file,
-                   const OpenLink& link, const printer::LineProtocol& protocol,
-                   std::optional<double> estimated_seconds, bool resumed, const printer::Profiles* sliced_for,
-                   std::chrono::steady_clock::duration wall) {
-  const auto& stats = protocol.stats();
+// "print time ... (estimated ...)" and where the job ran. The print time is what the print
+// took, pauses not counted (what the same print takes unpaused); how long it stood paused is
+// said beside it. On the simulated printer it runs to the end of the planned moves.
+struct TimeAndPlace {
+  std::string where;
+  std::string time;
+};
+
+TimeAndPlace time_and_place(const printer::JobResult& result, const OpenLink& link,
+                            std::optional<double> estimated_seconds, bool resumed) {
   const double elapsed = std::chrono::duration<double>(result.elapsed).count();
   const double paused = std::chrono::duration<double>(result.paused).count();
   const std::string paused_note =
@@ -110,34 +111,37 @@ void print_summary(const printer::JobResult& result, const printer::GcodeFile& f
       estimated_seconds ? fmt::format("estimated {}{}", printer::format_duration(*estimated_seconds),
                                       resumed ? " for the layers resumed" : "")
                         : "no estimate: the job ended before the model read the file";
-  std::string where;
-  std::string time;
-  if (link.sim != nullptr) {
-    sim::Printer& printer = link.sim->printer();
-    const double job_start = std::chrono::duration<double>(link.link->now()).count() - elapsed;
-    printer.finish();  // the moves still in the planner run out
-    const double seconds = std::max(elapsed, printer.motion_end_time() - job_start) - paused;
-    where = "dry run on the simulated printer";
-    time = fmt::format("print time {} on the simulated printer's clock{}: {} of motion ({}), "
-                       "the rest heating and waiting",
-                       printer::format_duration(seconds), paused_note, printer::format_duration(printer.motion_time()),
-                       estimate);
-  } else {
-    where = fmt::format("on {}", link.link->name());
-    time = fmt::format("print time {}{} ({} of motion; heating not counted)",
-                       printer::format_duration(elapsed - paused), paused_note, estimate);
+  if (link.sim == nullptr) {
+    return {fmt::format("on {}", link.link->name()),
+            fmt::format("print time {}{} ({} of motion; heating not counted)",
+                        printer::format_duration(elapsed - paused), paused_note, estimate)};
   }
-  std::string filament = fmt::format("filament {:.2f} m", result.filament_mm / 1000.0);
+  sim::Printer& printer = link.sim->printer();
+  const double job_start = std::chrono::duration<double>(link.link->now()).count() - elapsed;
+  printer.finish();  // the moves still in the planner run out
+  const double seconds = std::max(elapsed, printer.motion_end_time() - job_start) - paused;
+  return {"dry run on the simulated printer",
+          fmt::format("print time {} on the simulated printer's clock{}: {} of motion ({}), "
+                      "the rest heating and waiting",
+                      printer::format_duration(seconds), paused_note,
+                      printer::format_duration(printer.motion_time()), estimate)};
+}
+
+// "filament 4.85 m", with its weight when the job was sliced here (the material is known).
+std::string filament_text(double filament_mm, const printer::Profiles* sliced_for) {
+  std::string filament = fmt::format("filament {:.2f} m", filament_mm / 1000.0);
   if (sliced_for != nullptr) {
     filament += fmt::format(" ({:.1f} g {})",
-                            printer::filament_weight(result.filament_mm,
-                                                     sliced_for->printer.filament_diameter,
+                            printer::filament_weight(filament_mm, sliced_for->printer.filament_diameter,
                                                      sliced_for->material.density),
                             sliced_for->material.name);
   }
-  fmt::print("{}: {}, {} of {} commands, {} layers\n", printer::to_string(result.state), where,
-             result.commands_done, file.size(), file.layers.size());
-  fmt::print("{}; {}\n", time, filament);
+  return filament;
+}
+
+// What the link went through, and the firmware that answered with what it refused.
+void print_link_summary(const printer::JobResult& result, const printer::LineProtocol& protocol) {
+  const auto& stats = protocol.stats();
   fmt::print("link: {} lines sent, {} resent after {} resend requests ({} stale ignored), {} "
              "timeouts probed, {} duplicate oks, {} firmware errors, {}; longest "
              "silence {:.1f} s; {}\n",
@@ -153,25 +157,42 @@ void print_summary(const printer::JobResult& result, const printer::GcodeFile& f
              firmware.name.empty() ? "did not name itself in reply to M115" : firmware.name,
              protocol.dialect().name.empty() ? "unknown" : protocol.dialect().name,
              refused.empty() ? "" : "; refused: " + refused);
-  if (link.sim != nullptr) {
-    const sim::Printer& printer = link.sim->printer();
-    // A resumed print starts on layers its record does not have: nothing to check it over.
-    if (link.check && !resumed) {
-      const sim::SupportCheck check = sim::check_unsupported_extrusion(printer.deposition(), *link.check);
-      fmt::print("{}\n", sim::unsupported_summary(check, *link.check));
-      if (!check.stretches.empty()) {
-        const sim::UnsupportedStretch& s = check.stretches.front();
-        fmt::print("  the first at layer {} (Z {:.2f}): {:.1f} mm from X{:.2f} Y{:.2f}{}\n", s.layer,
-                   s.z, s.length, s.from.x, s.from.y,
-                   s.anchored ? ", held at both ends but longer than a bridge may be" : "");
-      }
+}
+
+// A dry run's own lines: the deposit checked for unsupported extrusion, the faults injected,
+// the wall time.
+void print_dry_run_summary(const OpenLink& link, bool resumed, std::chrono::steady_clock::duration wall) {
+  const sim::Printer& printer = link.sim->printer();
+  // A resumed print starts on layers its record does not have: nothing to check it over.
+  if (link.check && !resumed) {
+    const sim::SupportCheck check = sim::check_unsupported_extrusion(printer.deposition(), *link.check);
+    fmt::print("{}\n", sim::unsupported_summary(check, *link.check));
+    if (!check.stretches.empty()) {
+      const sim::UnsupportedStretch& s = check.stretches.front();
+      fmt::print("  the first at layer {} (Z {:.2f}): {:.1f} mm from X{:.2f} Y{:.2f}{}\n", s.layer,
+                 s.z, s.length, s.from.x, s.from.y,
+                 s.anchored ? ", held at both ends but longer than a bridge may be" : "");
     }
-    if (printer.config().faults.any()) {
-      fmt::print("simulated faults: {} injected ({})\n", printer.counters().faults_injected,
-                 sim::to_string(printer.config().faults));
-    }
-    fmt::print("wall time: {:.1f} s\n", std::chrono::duration<double>(wall).count());
   }
+  if (printer.config().faults.any()) {
+    fmt::print("simulated faults: {} injected ({})\n", printer.counters().faults_injected,
+               sim::to_string(printer.config().faults));
+  }
+  fmt::print("wall time: {:.1f} s\n", std::chrono::duration<double>(wall).count());
+}
+
+// What the job did, on stdout: outcome, time, filament, what the link went through. A
+// resume's estimate is that of the part it printed, from the interrupted layer on.
+void print_summary(const printer::JobResult& result, const printer::GcodeFile& file,
+                   const OpenLink& link, const printer::LineProtocol& protocol,
+                   std::optional<double> estimated_seconds, bool resumed, const printer::Profiles* sliced_for,
+                   std::chrono::steady_clock::duration wall) {
+  const TimeAndPlace ran = time_and_place(result, link, estimated_seconds, resumed);
+  fmt::print("{}: {}, {} of {} commands, {} layers\n", printer::to_string(result.state), ran.where,
+             result.commands_done, file.size(), file.layers.size());
+  fmt::print("{}; {}\n", ran.time, filament_text(result.filament_mm, sliced_for));
+  print_link_summary(result, protocol);
+  if (link.sim != nullptr) print_dry_run_summary(link, resumed, wall);
 }
 
 printer::JobResult run_job(printer::LineProtocol& protocol, const printer::GcodeFile& file,
