@@ -156,99 +156,128 @@ std::string over_tolerance_runs(const geometry::AdaptivePlan& plan) {
   return text;
 }
 
+// The layers' thicknesses, "0.15-0.4": the range leaves out the first layer (its own
+// thickness) unless it is the only one.
+std::string layer_thicknesses(const std::vector<geometry::Layer>& layers) {
+  double thinnest = 0, thickest = 0;
+  const std::size_t from = layers.size() > 1 ? 1 : 0;
+  for (std::size_t i = from; i < layers.size(); ++i) {
+    const double t = layers[i].thickness();
+    thinnest = i == from ? t : std::min(thinnest, t);
+    thickest = i == from ? t : std::max(thickest, t);
+  }
+  return thickness_range(thinnest, thickest);
+}
+
+// "adaptive: 211 layers of 0.1-0.4 mm for D within 0.4 mm (best's D, ...; planned in ...)".
+std::string adaptive_headline(const LayerChoice& choice) {
+  const geometry::AdaptivePlan& plan = choice.plan;
+  // Whose D: the printed contour's, or for best mid's, which best's is not above on a
+  // layer where mid leaves nothing out (best_contour.h).
+  const std::string whose =
+      choice.planned_by == choice.printed
+          ? fmt::format("{}'s D", choice.printed)
+          : fmt::format("{}'s D, planned by {}'s, which {}'s does not exceed", choice.printed,
+                        choice.planned_by, choice.printed);
+  // With a budget met, the least total error was found within a cap (layer_plan.h): the
+  // layers are said against it, and the least tolerance the budget allows beside it.
+  const bool capped = plan.cap > 0;
+  return fmt::format("adaptive: {} layer{} of {} mm for {}D within {:.3g} mm ({}; planned in "
+                     "{:.1f} s: {} of {} candidate layers measured)",
+                     choice.layers.size(), choice.layers.size() == 1 ? "" : "s",
+                     layer_thicknesses(choice.layers), capped ? "the least total error with " : "",
+                     capped ? plan.cap : plan.tolerance, whose, choice.seconds, plan.measured,
+                     plan.candidates);
+}
+
+// What the budget (--max-time or --max-layers) made of the plan: the least tolerance it
+// allows, or that no plan fits it.
+std::string budget_outcome(const LayerChoice& choice) {
+  const geometry::AdaptivePlan& plan = choice.plan;
+  const std::string budget =
+      choice.budget_seconds > 0
+          ? fmt::format("whose print fits --max-time {} (estimated {})",
+                        printer::format_duration(choice.budget_seconds),
+                        printer::format_duration(choice.estimated_seconds))
+          : fmt::format("within --max-layers {}", choice.max_layers);
+  std::string text;
+  if (plan.cap > 0) {
+    text += fmt::format("; the least tolerance {} is {:.3g} mm", budget, plan.tolerance);
+    if (plan.cap > plan.tolerance) {
+      text += fmt::format(": layers up to {:.3g} mm (that plan's P95h D) where they take off "
+                          "more volume", plan.cap);
+    }
+    text += fmt::format(", none over that plan's largest D, {:.3g} mm", plan.ceiling);
+    if (plan.split > 0) {
+      text += fmt::format("; {} layer{} split in two to use the layers left (no volume to take "
+                          "off there; each no worse, the mean D lower)",
+                          plan.split, plan.split == 1 ? "" : "s");
+    }
+  } else if (choice.budget_seconds > 0) {
+    text += choice.estimated_seconds <= choice.budget_seconds
+                ? fmt::format(", the least tolerance {}", budget)
+                : fmt::format("; no plan fits --max-time {}: the thickest layers take {}",
+                              printer::format_duration(choice.budget_seconds),
+                              printer::format_duration(choice.estimated_seconds));
+  }
+  if (choice.max_layers > 0 && choice.layers.size() > choice.max_layers) {
+    text += fmt::format("; no plan has at most --max-layers {}: the thickest layers the "
+                        "printer allows make {}",
+                        choice.max_layers, choice.layers.size());
+  }
+  return text;
+}
+
+// The layers the plan could not keep within the tolerance: those above the first, then the
+// first layer, then the candidates refused for overhangs.
+std::string layers_over_tolerance(const LayerChoice& choice) {
+  const geometry::AdaptivePlan& plan = choice.plan;
+  std::string text;
+  if (plan.unmet > 0) {
+    double worst = 0;
+    for (std::size_t i = 1; i < plan.layers.size(); ++i) {
+      if (!plan.met[i]) worst = std::max(worst, plan.distance[i]);
+    }
+    text += fmt::format("; {} layer{} over it (up to {:.3g} mm), the thinnest the printer has "
+                        "({:g} mm) unless said: {}",
+                        plan.unmet, plan.unmet == 1 ? "" : "s", worst,
+                        std::round(choice.thinnest_allowed * 1e6) / 1e6, over_tolerance_runs(plan));
+  }
+  if (!plan.why.empty() && plan.why.front() == geometry::OverTolerance::first_layer) {
+    text += fmt::format("; the first layer, the printer's {:g} mm, has D {:.3g} mm",
+                        std::round(plan.layers.front().thickness() * 1e6) / 1e6,
+                        plan.distance.front());
+  }
+  if (plan.refused_for_overhangs > 0) {
+    text += fmt::format("; with supports on, {} candidate layer{} refused as too thick for the "
+                        "slopes under {} (each would step out past half a bead, and need support "
+                        "a thinner one does not)",
+                        plan.refused_for_overhangs, plan.refused_for_overhangs == 1 ? "" : "s",
+                        plan.refused_for_overhangs == 1 ? "it" : "them");
+  }
+  return text;
+}
+
+// "flat levels between the heights the layers can reach: 6.285 on 6.300, ... mm", or "".
+std::string missed_flats(const std::vector<geometry::FlatPlacement>& flats) {
+  std::vector<std::string> missed;
+  for (const geometry::FlatPlacement& flat : flats) {
+    if (!flat.on_boundary()) missed.push_back(fmt::format("{:.3f} on {:.3f}", flat.z, flat.boundary));
+  }
+  if (missed.empty()) return "";
+  std::string text = fmt::format("flat level{} between the heights the layers can reach: ",
+                                 missed.size() == 1 ? "" : "s");
+  for (std::size_t k = 0; k < missed.size(); ++k) text += (k ? ", " : "") + missed[k];
+  return text + " mm";
+}
+
 }  // namespace
 
 std::string describe_choice(const LayerChoice& choice) {
   std::string text;
-  // The range leaves out the first layer (its own thickness) unless it is the only one.
-  double thinnest = 0, thickest = 0;
-  const std::size_t from = choice.layers.size() > 1 ? 1 : 0;
-  for (std::size_t i = from; i < choice.layers.size(); ++i) {
-    const double t = choice.layers[i].thickness();
-    thinnest = i == from ? t : std::min(thinnest, t);
-    thickest = i == from ? t : std::max(thickest, t);
-  }
-  if (choice.adaptive) {
-    const geometry::AdaptivePlan& plan = choice.plan;
-    // Whose D: the printed contour's, or for best mid's, which best's is not above on a
-    // layer where mid leaves nothing out (best_contour.h).
-    const std::string whose =
-        choice.planned_by == choice.printed
-            ? fmt::format("{}'s D", choice.printed)
-            : fmt::format("{}'s D, planned by {}'s, which {}'s does not exceed", choice.printed,
-                          choice.planned_by, choice.printed);
-    // With a budget met, the least total error was found within a cap (layer_plan.h): the
-    // layers are said against it, and the least tolerance the budget allows beside it.
-    const bool capped = plan.cap > 0;
-    text = fmt::format("adaptive: {} layer{} of {} mm for {}D within {:.3g} mm ({}; planned in "
-                       "{:.1f} s: {} of {} candidate layers measured)",
-                       choice.layers.size(), choice.layers.size() == 1 ? "" : "s",
-                       thickness_range(thinnest, thickest), capped ? "the least total error with " : "",
-                       capped ? plan.cap : plan.tolerance, whose, choice.seconds, plan.measured,
-                       plan.candidates);
-    const std::string budget =
-        choice.budget_seconds > 0
-            ? fmt::format("whose print fits --max-time {} (estimated {})",
-                          printer::format_duration(choice.budget_seconds),
-                          printer::format_duration(choice.estimated_seconds))
-            : fmt::format("within --max-layers {}", choice.max_layers);
-    if (capped) {
-      text += fmt::format("; the least tolerance {} is {:.3g} mm", budget, plan.tolerance);
-      if (plan.cap > plan.tolerance) {
-        text += fmt::format(": layers up to {:.3g} mm (that plan's P95h D) where they take off "
-                            "more volume", plan.cap);
-      }
-      text += fmt::format(", none over that plan's largest D, {:.3g} mm", plan.ceiling);
-      if (plan.split > 0) {
-        text += fmt::format("; {} layer{} split in two to use the layers left (no volume to take "
-                            "off there; each no worse, the mean D lower)",
-                            plan.split, plan.split == 1 ? "" : "s");
-      }
-    } else if (choice.budget_seconds > 0) {
-      text += choice.estimated_seconds <= choice.budget_seconds
-                  ? fmt::format(", the least tolerance {}", budget)
-                  : fmt::format("; no plan fits --max-time {}: the thickest layers take {}",
-                                printer::format_duration(choice.budget_seconds),
-                                printer::format_duration(choice.estimated_seconds));
-    }
-    if (choice.max_layers > 0 && choice.layers.size() > choice.max_layers) {
-      text += fmt::format("; no plan has at most --max-layers {}: the thickest layers the "
-                          "printer allows make {}",
-                          choice.max_layers, choice.layers.size());
-    }
-    if (plan.unmet > 0) {
-      double worst = 0;
-      for (std::size_t i = 1; i < plan.layers.size(); ++i) {
-        if (!plan.met[i]) worst = std::max(worst, plan.distance[i]);
-      }
-      text += fmt::format("; {} layer{} over it (up to {:.3g} mm), the thinnest the printer has "
-                          "({:g} mm) unless said: {}",
-                          plan.unmet, plan.unmet == 1 ? "" : "s", worst,
-                          std::round(choice.thinnest_allowed * 1e6) / 1e6, over_tolerance_runs(plan));
-    }
-    if (!plan.why.empty() && plan.why.front() == geometry::OverTolerance::first_layer) {
-      text += fmt::format("; the first layer, the printer's {:g} mm, has D {:.3g} mm",
-                          std::round(plan.layers.front().thickness() * 1e6) / 1e6,
-                          plan.distance.front());
-    }
-    if (plan.refused_for_overhangs > 0) {
-      text += fmt::format("; with supports on, {} candidate layer{} refused as too thick for the "
-                          "slopes under {} (each would step out past half a bead, and need support "
-                          "a thinner one does not)",
-                          plan.refused_for_overhangs, plan.refused_for_overhangs == 1 ? "" : "s",
-                          plan.refused_for_overhangs == 1 ? "it" : "them");
-    }
-  }
-  std::vector<std::string> missed;
-  for (const geometry::FlatPlacement& flat : choice.flats) {
-    if (!flat.on_boundary()) missed.push_back(fmt::format("{:.3f} on {:.3f}", flat.z, flat.boundary));
-  }
-  if (!missed.empty()) {
-    text += fmt::format("{}flat level{} between the heights the layers can reach: ",
-                        text.empty() ? "" : "; ", missed.size() == 1 ? "" : "s");
-    for (std::size_t k = 0; k < missed.size(); ++k) text += (k ? ", " : "") + missed[k];
-    text += " mm";
-  }
+  if (choice.adaptive) text = adaptive_headline(choice) + budget_outcome(choice) + layers_over_tolerance(choice);
+  const std::string flats = missed_flats(choice.flats);
+  if (!flats.empty()) text += (text.empty() ? "" : "; ") + flats;
   return text;
 }
 
