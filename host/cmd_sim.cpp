@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -80,20 +81,13 @@ std::string_view state_text(sim::PrinterState state) {
   return "running";
 }
 
-void run_sim(const SimOptions& options) {
+// The simulated printer's firmware and, with --printer, the profile's motion and filament, so
+// the sim's clock matches the estimate the slicer wrote.
+sim::Config sim_config(const SimOptions& options, const printer::PrinterProfile* profile) {
   sim::Config config;
-  // The unsupported-extrusion check: a 10 mm bridge, a 0.2 mm contact gap, or the profile's.
-  sim::SupportCheckOptions check;
-  check.contact_gap = 0.2;
-  if (!options.printer_profile.empty()) {
-    // The profile's limits, so the sim's clock matches the estimate the slicer wrote.
-    const std::string dir = app::profile_search_path();
-    const printer::PrinterProfile profile = printer::load_printer_profile(options.printer_profile, dir);
-    config.motion = profile.motion;
-    config.filament_diameter = profile.filament_diameter;
-    check.filament_diameter = profile.filament_diameter;
-    check.contact_gap = std::max(profile.support.top_contact_distance, profile.support.bottom_contact_distance);
-    check.bridge_length = printer::load_material_profile(profile.default_material, dir).bridge_length;
+  if (profile != nullptr) {
+    config.motion = profile->motion;
+    config.filament_diameter = profile->filament_diameter;
   }
   config.faults = sim::parse_fault_spec(options.faults);
   config.dialect = *sim::parse_dialect(options.dialect);
@@ -106,6 +100,23 @@ void run_sim(const SimOptions& options) {
   config.boot_time = options.boot_time;
   config.teacup_require_linenumber = options.require_linenumber;
   config.repetier_ack_with_linenumber = !options.no_ack_line_number;
+  return config;
+}
+
+// The unsupported-extrusion check of the summary: a 10 mm bridge, a 0.2 mm contact gap, or the
+// profile's.
+sim::SupportCheckOptions support_check(const printer::PrinterProfile* profile, const std::string& dir) {
+  sim::SupportCheckOptions check;
+  check.contact_gap = 0.2;
+  if (profile != nullptr) {
+    check.filament_diameter = profile->filament_diameter;
+    check.contact_gap = std::max(profile->support.top_contact_distance, profile->support.bottom_contact_distance);
+    check.bridge_length = printer::load_material_profile(profile->default_material, dir).bridge_length;
+  }
+  return check;
+}
+
+sim::PtyOptions pty_options(const SimOptions& options) {
   sim::PtyOptions pty;
   pty.time_scale = parse_time_scale(options.time_scale);
   pty.baud = options.baud;
@@ -117,26 +128,23 @@ void run_sim(const SimOptions& options) {
                               : "host closed the port");
     std::fflush(stdout);
   };
+  return pty;
+}
 
-  check_writable(options.record_path, "record");
-  check_writable(options.stl_path, "printed part");
-  sim::PtyServer server(config, pty);
-  // Handlers first: whoever reads the port may signal at once.
+// SIGINT and SIGTERM end the serving (request_stop).
+void install_stop_handlers() {
   struct sigaction action {};
   action.sa_handler = request_stop;
   sigemptyset(&action.sa_mask);
   action.sa_flags = 0;  // no SA_RESTART: a signal ends the wait at once
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
-  fmt::print("{}\n", server.path());
-  std::fflush(stdout);
+}
 
-  server.serve(stop_requested);
-
+// What the session did, on stdout, a line per subject.
+void print_sim_summary(const sim::PtyServer& server, const SimOptions& options, const sim::Config& config,
+                       const sim::SupportCheckOptions& check) {
   const sim::Printer& printer = server.printer();
-  if (!options.record_path.empty()) sim::write_record_json(printer, options.record_path);
-  if (!options.stl_path.empty()) sim::write_printed_stl(printer, options.stl_path);
-
   const sim::Counters& n = printer.counters();
   // A disconnect's reason says so itself; a halt's says why.
   std::string state(state_text(printer.state()));
@@ -156,6 +164,29 @@ void run_sim(const SimOptions& options) {
              sim::unsupported_summary(sim::check_unsupported_extrusion(printer.deposition(), check), check));
   if (!options.record_path.empty()) fmt::print("record      {}\n", options.record_path);
   if (!options.stl_path.empty()) fmt::print("printed     {}\n", options.stl_path);
+}
+
+void run_sim(const SimOptions& options) {
+  const std::string dir = app::profile_search_path();
+  std::optional<printer::PrinterProfile> profile;
+  if (!options.printer_profile.empty()) profile = printer::load_printer_profile(options.printer_profile, dir);
+  const printer::PrinterProfile* machine = profile ? &*profile : nullptr;
+  const sim::SupportCheckOptions check = support_check(machine, dir);
+  const sim::Config config = sim_config(options, machine);
+  const sim::PtyOptions pty = pty_options(options);
+  check_writable(options.record_path, "record");
+  check_writable(options.stl_path, "printed part");
+
+  sim::PtyServer server(config, pty);
+  // Handlers first: whoever reads the port may signal at once.
+  install_stop_handlers();
+  fmt::print("{}\n", server.path());
+  std::fflush(stdout);
+  server.serve(stop_requested);
+
+  if (!options.record_path.empty()) sim::write_record_json(server.printer(), options.record_path);
+  if (!options.stl_path.empty()) sim::write_printed_stl(server.printer(), options.stl_path);
+  print_sim_summary(server, options, config, check);
 }
 
 }  // namespace
