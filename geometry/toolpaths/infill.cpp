@@ -234,6 +234,125 @@ std::vector<Vec2> cut_on_line_below(const ClipperLib::Path& loop,
   return turned;
 }
 
+// The sparse lines of the layer below, as sparse_infill lays them: per set, its frame and
+// spacing (lines through the origin).
+std::vector<std::pair<ScanFrame, double>> sparse_lines_below(double width, double density,
+                                                             InfillPattern pattern, double angle,
+                                                             std::size_t layer_index) {
+  const double spacing = width * 100 / density;
+  if (pattern == InfillPattern::grid) {
+    return {{ScanFrame(angle), 2 * spacing}, {ScanFrame(angle + 90), 2 * spacing}};
+  }
+  return {{ScanFrame(angle + ((layer_index + 1) % 2 ? 90 : 0)), spacing}};
+}
+
+// The core's loops, closed, clipped to the area as open paths. A loop cut by the area's edge
+// comes back cut at its first vertex too; the two pieces that meet there are one (an end there
+// would hang between the lines below).
+clipper::Paths edges_in_area(const Region& core_above, const clipper::Paths& area) {
+  clipper::Paths edges = to_clipper(core_above);
+  for (auto& loop : edges) {
+    if (!loop.empty()) loop.push_back(loop.front());
+  }
+  return clipper::clip_open_joined(edges, area);
+}
+
+// A step of a piece of the edge, at most a quarter bead long.
+struct EdgeStep {
+  Vec2 from, to;
+  bool vertex;  // `to` is a vertex of the piece
+  bool inside;  // runs inside the area shrunk by half a bead (not along the area's edge)
+};
+
+std::vector<EdgeStep> quarter_bead_steps(const ClipperLib::Path& piece,
+                                         const clipper::Paths& shrunk, double width) {
+  std::vector<EdgeStep> steps;
+  for (std::size_t k = 1; k < piece.size(); ++k) {
+    const Vec2 a = from_clipper(piece[k - 1]), b = from_clipper(piece[k]);
+    const int cuts = std::max(1, static_cast<int>(std::ceil(length(b - a) / (width / 4))));
+    for (int c = 0; c < cuts; ++c) {
+      const Vec2 from = a + (static_cast<double>(c) / cuts) * (b - a);
+      const Vec2 to = a + (static_cast<double>(c + 1) / cuts) * (b - a);
+      steps.push_back({from, to, c + 1 == cuts,
+                       clipper::point_in_region(shrunk, to_clipper(0.5 * (from + to)))});
+    }
+  }
+  return steps;
+}
+
+// Arc distance of each step to the nearest step inside, along the piece (round a loop, both
+// ways round).
+std::vector<double> distance_to_inside(const std::vector<EdgeStep>& steps, bool loop) {
+  const std::size_t m = steps.size();
+  std::vector<double> reach(m, std::numeric_limits<double>::infinity());
+  double run = std::numeric_limits<double>::infinity();
+  const auto step_on = [&](std::size_t k) {
+    const EdgeStep& step = steps[k % m];
+    run = step.inside ? 0 : run + length(step.to - step.from);
+    reach[k % m] = std::min(reach[k % m], run);
+  };
+  const std::size_t rounds = loop ? 2 : 1;
+  for (std::size_t k = 0; k < rounds * m; ++k) step_on(k);
+  run = std::numeric_limits<double>::infinity();
+  for (std::size_t k = rounds * m; k-- > 0;) step_on(k);
+  return reach;
+}
+
+// A line of the edge, kept if it is at least a bead long.
+void add_edge_line(std::vector<Vec2> points, double width, std::vector<ExtrusionPath>& result) {
+  if (points.size() >= 2 && polyline_length(points) >= width) {
+    result.push_back({PathRole::sparse_infill, std::move(points), width});
+  }
+}
+
+// The runs of steps kept (`kept`, per step); round a loop, from a step left out (`from`), so
+// that no run is cut where the loop closes. A run with less than two beads of it inside the shrunk
+// area mostly follows the area's edge beside the wall, where nothing of the skin above ends on
+// it and the layer below's wall may not reach under it: left out.
+void add_kept_runs(const std::vector<EdgeStep>& steps, const std::vector<char>& kept,
+                   std::size_t from, double width, std::vector<ExtrusionPath>& result) {
+  const std::size_t m = steps.size();
+  std::vector<Vec2> points;
+  double inner = 0;
+  for (std::size_t j = 0; j < m; ++j) {
+    const std::size_t k = (from + j) % m;
+    if (!kept[k]) {
+      if (inner >= 2 * width) add_edge_line(std::move(points), width, result);
+      points.clear();
+      inner = 0;
+      continue;
+    }
+    if (steps[k].inside) inner += length(steps[k].to - steps[k].from);
+    if (points.empty()) points.push_back(steps[k].from);
+    const bool last = j + 1 == m || !kept[(k + 1) % m];
+    if (steps[k].vertex || last) points.push_back(steps[k].to);
+  }
+  if (inner >= 2 * width) add_edge_line(std::move(points), width, result);
+}
+
+// The lines along one piece of the edge. A step along the area's edge is kept within `follow`
+// of a step inside, so that an end rests on what the layer below has there; the rest of the
+// edge's run along the area's edge is left out (it would double the wall there).
+void add_piece_lines(const ClipperLib::Path& piece, const clipper::Paths& shrunk,
+                     const std::vector<std::pair<ScanFrame, double>>& below, double follow,
+                     double width, std::size_t layer_index, std::vector<ExtrusionPath>& result) {
+  const std::vector<EdgeStep> steps = quarter_bead_steps(piece, shrunk, width);
+  const std::size_t m = steps.size();
+  const bool loop = piece.front() == piece.back();
+  const std::vector<double> reach = distance_to_inside(steps, loop);
+  std::vector<char> kept(m);
+  for (std::size_t k = 0; k < m; ++k) kept[k] = !(reach[k] > follow + 1e-9);
+  std::size_t first_out = 0;
+  while (first_out < m && kept[first_out]) ++first_out;
+  if (loop && first_out == m) {
+    // A whole loop: cut open where it crosses a line below, so that it starts and ends on
+    // one, and end half a bead before it (the round ends meet).
+    add_edge_line(cut_on_line_below(piece, below, width, layer_index), width, result);
+    return;
+  }
+  add_kept_runs(steps, kept, loop ? first_out : 0, width, result);
+}
+
 }  // namespace
 
 std::vector<ExtrusionPath> skin_edge_lines(const Region& sparse, const Region& core_above,
@@ -244,175 +363,92 @@ std::vector<ExtrusionPath> skin_edge_lines(const Region& sparse, const Region& c
   const clipper::Paths area = to_clipper(sparse);
   const clipper::Paths shrunk = clipper::offset(area, -width / 2);
   if (shrunk.empty()) return {};
-  clipper::Paths edges = to_clipper(core_above);
-  for (auto& loop : edges) {
-    if (!loop.empty()) loop.push_back(loop.front());
-  }
-  // A loop cut by the area's edge comes back cut at its first vertex too; the two pieces that
-  // meet there are one (an end there would hang between the lines below).
-  const clipper::Paths pieces = clipper::clip_open_joined(edges, area);
-  // The sparse lines of the layer below, as sparse_infill lays them: per set, its angle and
-  // spacing (lines through the origin).
-  const double spacing = width * 100 / density;
-  std::vector<std::pair<ScanFrame, double>> below;
-  if (pattern == InfillPattern::grid) {
-    below = {{ScanFrame(angle), 2 * spacing}, {ScanFrame(angle + 90), 2 * spacing}};
-  } else {
-    below = {{ScanFrame(angle + ((layer_index + 1) % 2 ? 90 : 0)), spacing}};
-  }
-
+  const clipper::Paths pieces = edges_in_area(core_above, area);
+  const auto below = sparse_lines_below(width, density, pattern, angle, layer_index);
   // Where the edge meets the sparse area's edge it follows it on for a spacing of the lines
   // below, far enough to meet one of them (they end along the area's edge).
   const double follow = below.front().second;
   std::vector<ExtrusionPath> result;
-  auto emit = [&](std::vector<Vec2> points) {
-    if (points.size() >= 2 && polyline_length(points) >= width) {
-      result.push_back({PathRole::sparse_infill, std::move(points), width});
-    }
-  };
   for (const auto& piece : pieces) {
-    if (piece.size() < 2) continue;
-    // The piece in steps of at most a quarter bead, each marked by whether it runs inside the
-    // area shrunk by half a bead (not along the area's edge). A step along the edge is kept
-    // within `follow` of a step inside, so that an end rests on what the layer below has
-    // there; the rest of the edge's run along the area's edge is left out (it would double
-    // the wall there).
-    struct Step {
-      Vec2 from, to;
-      bool vertex;  // `to` is a vertex of the piece
-      bool inside;
-    };
-    std::vector<Step> steps;
-    for (std::size_t k = 1; k < piece.size(); ++k) {
-      const Vec2 a = from_clipper(piece[k - 1]), b = from_clipper(piece[k]);
-      const int cuts = std::max(1, static_cast<int>(std::ceil(length(b - a) / (width / 4))));
-      for (int c = 0; c < cuts; ++c) {
-        const Vec2 from = a + (static_cast<double>(c) / cuts) * (b - a);
-        const Vec2 to = a + (static_cast<double>(c + 1) / cuts) * (b - a);
-        steps.push_back({from, to, c + 1 == cuts,
-                         clipper::point_in_region(shrunk, to_clipper(0.5 * (from + to)))});
-      }
-    }
-    const std::size_t m = steps.size();
-    const bool loop = piece.front() == piece.back();
-    // Arc distance of each step to the nearest step inside, along the piece (round a loop,
-    // both ways round).
-    std::vector<double> reach(m, std::numeric_limits<double>::infinity());
-    const std::size_t rounds = loop ? 2 : 1;
-    double run = std::numeric_limits<double>::infinity();
-    for (std::size_t k = 0; k < rounds * m; ++k) {
-      const Step& step = steps[k % m];
-      run = step.inside ? 0 : run + length(step.to - step.from);
-      reach[k % m] = std::min(reach[k % m], run);
-    }
-    run = std::numeric_limits<double>::infinity();
-    for (std::size_t k = rounds * m; k-- > 0;) {
-      const Step& step = steps[k % m];
-      run = step.inside ? 0 : run + length(step.to - step.from);
-      reach[k % m] = std::min(reach[k % m], run);
-    }
-    const auto left_out = [&](std::size_t k) { return reach[k] > follow + 1e-9; };
-    std::size_t first_out = 0;
-    while (first_out < m && !left_out(first_out)) ++first_out;
-    if (loop && first_out == m) {
-      // A whole loop: cut open where it crosses a line below, so that it starts and ends on
-      // one, and end half a bead before it (the round ends meet).
-      emit(cut_on_line_below(piece, below, width, layer_index));
-      continue;
-    }
-    // The runs of steps kept; round a loop, from a step left out, so that no run is cut where
-    // the loop closes. A run with less than two beads of it inside the shrunk area mostly
-    // follows the area's edge beside the wall, where nothing of the skin above ends on it
-    // and the layer below's wall may not reach under it: left out.
-    const std::size_t from = loop ? first_out : 0;
-    std::vector<Vec2> points;
-    double inner = 0;
-    for (std::size_t j = 0; j < m; ++j) {
-      const std::size_t k = (from + j) % m;
-      if (left_out(k)) {
-        if (inner >= 2 * width) emit(std::move(points));
-        points.clear();
-        inner = 0;
-        continue;
-      }
-      if (steps[k].inside) inner += length(steps[k].to - steps[k].from);
-      if (points.empty()) points.push_back(steps[k].from);
-      const bool last = j + 1 == m || left_out((k + 1) % m);
-      if (steps[k].vertex || last) points.push_back(steps[k].to);
-    }
-    if (inner >= 2 * width) emit(std::move(points));
+    if (piece.size() >= 2) add_piece_lines(piece, shrunk, below, follow, width, layer_index, result);
   }
   return result;
 }
 
-std::vector<ExtrusionPath> solid_infill(const Region& area, double width, double angle,
-                                        std::size_t layer_index, PathRole role,
-                                        InfillLines lines) {
-  return solid_infill(std::vector<SolidPiece>{{area, role}}, width, angle, layer_index, lines);
+namespace {
+
+// The union of the pieces' areas.
+clipper::Paths united(const std::vector<clipper::Paths>& piece_paths) {
+  if (piece_paths.size() == 1) return clipper::union_nonzero(piece_paths[0]);
+  clipper::Paths all;
+  for (const clipper::Paths& paths : piece_paths) all.insert(all.end(), paths.begin(), paths.end());
+  return clipper::union_nonzero(all);
 }
 
-std::vector<ExtrusionPath> solid_infill(const std::vector<SolidPiece>& pieces, double width,
-                                        double angle, std::size_t layer_index,
-                                        InfillLines lines) {
-  if (!(width > 0) || pieces.empty()) return {};
-  std::vector<clipper::Paths> piece_paths;
-  clipper::Paths all;
-  for (const SolidPiece& piece : pieces) {
-    piece_paths.push_back(to_clipper(piece.area));
-    all.insert(all.end(), piece_paths.back().begin(), piece_paths.back().end());
-  }
-  const clipper::Paths united =
-      clipper::union_nonzero(pieces.size() == 1 ? piece_paths[0] : all);
-  // An island nowhere 1.5 beads wide (the ring of skin a receding top leaves inside its
-  // walls) is laid along its centre line, round a ring in one path: lines across it would be
-  // dashes a bead or two long, each held by nothing where the layer below is sparse, where
-  // one path along it crosses the lines below and bridges between them.
+// The islands of `area` at least 1.5 beads wide somewhere (whole), and the others (narrow).
+std::pair<clipper::Paths, clipper::Paths> split_narrow(const clipper::Paths& area, double width) {
   clipper::Paths whole, narrow;
-  for (clipper::Paths& island : clipper::islands(united)) {
+  for (clipper::Paths& island : clipper::islands(area)) {
     clipper::Paths& into = clipper::offset(island, -kNarrowStrip * width).empty() ? narrow : whole;
     into.insert(into.end(), island.begin(), island.end());
   }
-  std::vector<ExtrusionPath> result;
-  if (!narrow.empty()) {
-    const Region narrow_area = from_clipper(narrow);
-    for (ExtrusionPath& strip : thin_walls(narrow_area, width / 4, 2 * kNarrowStrip * width,
-                                           std::numeric_limits<double>::infinity(), &narrow_area)) {
-      strip.role = role_at(strip.points[strip.points.size() / 2], pieces, piece_paths);
-      result.push_back(std::move(strip));
-    }
+  return {std::move(whole), std::move(narrow)};
+}
+
+// Narrow islands laid along their centre lines, each line with the role of the piece at its
+// middle.
+void add_narrow_strips(const clipper::Paths& narrow, double width,
+                       const std::vector<SolidPiece>& pieces,
+                       const std::vector<clipper::Paths>& piece_paths,
+                       std::vector<ExtrusionPath>& result) {
+  if (narrow.empty()) return;
+  const Region narrow_area = from_clipper(narrow);
+  for (ExtrusionPath& strip : thin_walls(narrow_area, width / 4, 2 * kNarrowStrip * width,
+                                         std::numeric_limits<double>::infinity(), &narrow_area)) {
+    strip.role = role_at(strip.points[strip.points.size() / 2], pieces, piece_paths);
+    result.push_back(std::move(strip));
   }
-  if (whole.empty()) return result;
+}
+
+// Lines across `whole` at the layer's angle, as many as fit its extent across them a bead
+// apart, spaced evenly; the beads as wide as they are apart.
+struct SolidLines {
+  std::vector<ExtrusionPath> across;
+  double bead = 0;  // mm
+};
+
+// None when `whole` has no loop to lay lines in.
+std::optional<SolidLines> solid_lines(const clipper::Paths& whole, double width, double angle,
+                                      std::size_t layer_index, PathRole role,
+                                      InfillLines lines) {
   const double layer_angle = angle + (layer_index % 2 ? 90 : 0);
   const ScanFrame frame(layer_angle);
   const Rotated r = rotate(from_clipper(whole), frame);
-  if (r.empty()) return {};
+  if (r.empty()) return std::nullopt;
   const double extent = r.y_max - r.y_min;
   const double count = std::max(1.0, std::round(extent / width));
   const double spacing = extent > 0 ? extent / count : width;
   // Beads as wide as the lines are apart tile the area; a single line in a strip narrower
   // than a bead is a thin wall's business, kept to a printable width.
   const double bead = std::clamp(spacing, width / 4, 1.5 * width);
-  const PathRole first_role = pieces.front().role;
-
-  std::vector<ExtrusionPath> across;
   if (lines == InfillLines::separate) {
-    across = lines_across(frame, r.y_min + spacing / 2, spacing, r, first_role, bead);
-  } else {
-    // Centre lines run half a bead inside; a micrometre less, so that the first and last
-    // lines, which lie exactly on the shrunk area's extremes, are not lost to rounding.
-    const Region centres = from_clipper(clipper::offset(whole, -(bead / 2 - kGraze)));
-    const Region fill = from_clipper(whole);
-    across = zigzag(centres, ScanLines{layer_angle, spacing, r.y_min + spacing / 2},
-                    kSolidConnector * spacing, &fill, first_role, bead);
+    return SolidLines{lines_across(frame, r.y_min + spacing / 2, spacing, r, role, bead), bead};
   }
-  if (pieces.size() > 1) across = split_by_piece(across, pieces, piece_paths);
+  // Centre lines run half a bead inside; a micrometre less, so that the first and last
+  // lines, which lie exactly on the shrunk area's extremes, are not lost to rounding.
+  const Region centres = from_clipper(clipper::offset(whole, -(bead / 2 - kGraze)));
+  const Region fill = from_clipper(whole);
+  return SolidLines{zigzag(centres, ScanLines{layer_angle, spacing, r.y_min + spacing / 2},
+                           kSolidConnector * spacing, &fill, role, bead),
+                    bead};
+}
 
-  // What the lines leave bare, up to a bead wide, gets centre lines of its own width. (The
-  // beads are taken with square ends and corners: as much as round ones but for specks.)
+// What the lines leave bare of `whole`, up to a bead wide. (The beads are taken with square
+// ends and corners: as much as round ones but for specks.)
+clipper::Paths left_bare(const clipper::Paths& whole, const std::vector<ExtrusionPath>& across,
+                         double bead, double width) {
   clipper::Paths centre_lines;
   for (const ExtrusionPath& line : across) centre_lines.push_back(to_clipper(line.points));
-  result.insert(result.end(), std::make_move_iterator(across.begin()),
-                std::make_move_iterator(across.end()));
   const clipper::Paths covered =
       clipper::library_offset(centre_lines, bead / 2 + kCoverTolerance, ClipperLib::jtSquare,
                               ClipperLib::etOpenSquare, kArc);
@@ -427,6 +463,15 @@ std::vector<ExtrusionPath> solid_infill(const std::vector<SolidPiece>& pieces, d
   drop_specks();
   bare = clipper::opening(bare, width / 8);
   drop_specks();  // the opening cuts a bare edge into the notches along it
+  return bare;
+}
+
+// Centre lines of their own width along what the lines left bare, each with the role of the
+// piece at its middle.
+void add_gap_lines(const clipper::Paths& bare, const clipper::Paths& whole, double width,
+                   const std::vector<SolidPiece>& pieces,
+                   const std::vector<clipper::Paths>& piece_paths,
+                   std::vector<ExtrusionPath>& result) {
   const Region fill_area = from_clipper(whole);
   for (ExtrusionPath& gap : thin_walls(from_clipper(bare), width / 4, width,
                                        std::numeric_limits<double>::infinity(), &fill_area)) {
@@ -436,6 +481,38 @@ std::vector<ExtrusionPath> solid_infill(const std::vector<SolidPiece>& pieces, d
     if (gap.role == PathRole::solid_infill && polyline_length(gap.points) < width) continue;
     result.push_back(std::move(gap));
   }
+}
+
+}  // namespace
+
+std::vector<ExtrusionPath> solid_infill(const Region& area, double width, double angle,
+                                        std::size_t layer_index, PathRole role,
+                                        InfillLines lines) {
+  return solid_infill(std::vector<SolidPiece>{{area, role}}, width, angle, layer_index, lines);
+}
+
+std::vector<ExtrusionPath> solid_infill(const std::vector<SolidPiece>& pieces, double width,
+                                        double angle, std::size_t layer_index,
+                                        InfillLines lines) {
+  if (!(width > 0) || pieces.empty()) return {};
+  std::vector<clipper::Paths> piece_paths;
+  for (const SolidPiece& piece : pieces) piece_paths.push_back(to_clipper(piece.area));
+  // An island nowhere 1.5 beads wide (the ring of skin a receding top leaves inside its
+  // walls) is laid along its centre line, round a ring in one path: lines across it would be
+  // dashes a bead or two long, each held by nothing where the layer below is sparse, where
+  // one path along it crosses the lines below and bridges between them.
+  const auto [whole, narrow] = split_narrow(united(piece_paths), width);
+  std::vector<ExtrusionPath> result;
+  add_narrow_strips(narrow, width, pieces, piece_paths, result);
+  if (whole.empty()) return result;
+  std::optional<SolidLines> solid =
+      solid_lines(whole, width, angle, layer_index, pieces.front().role, lines);
+  if (!solid) return {};
+  if (pieces.size() > 1) solid->across = split_by_piece(solid->across, pieces, piece_paths);
+  const clipper::Paths bare = left_bare(whole, solid->across, solid->bead, width);
+  result.insert(result.end(), std::make_move_iterator(solid->across.begin()),
+                std::make_move_iterator(solid->across.end()));
+  add_gap_lines(bare, whole, width, pieces, piece_paths, result);
   return result;
 }
 
