@@ -317,83 +317,87 @@ double support_volume_estimate(const Mesh& mesh, double overhang_angle, const Su
   return column_volume(mesh, Matrix3d::Identity(), std::sin(angle), cost);
 }
 
-OrientResult orient_for_least_support(const Mesh& mesh, const OrientOptions& options) {
-  OrientResult result;
-  if (mesh.faces.empty()) return result;
-  const Facets f = facets_of(mesh);
-  const double sin_angle = std::sin(std::clamp(options.overhang_angle, 0.0, 89.0) * std::numbers::pi / 180);
-  // Reach of the part along a direction: min and max of the vertices' projections.
-  auto extent = [&](const Vector3d& u) {
-    double lo = 1e300, hi = -1e300;
-    for (const Vec3& p : mesh.vertices) {
-      const double d = u.dot(to_eigen(p));
-      lo = std::min(lo, d);
-      hi = std::max(hi, d);
-    }
-    return std::pair{lo, hi};
-  };
-  auto resting = [&](const Vector3d& down, double area) {
-    RestingOrientation r;
-    r.down = from_eigen(down);
-    r.face_area = area;
-    r.rotation = from_eigen(
-        Eigen::Quaterniond::FromTwoVectors(down, Vector3d(0, 0, -1)).toRotationMatrix());
-    const auto [lo, hi] = extent(down);
-    r.height = hi - lo;
-    r.support_volume = volume_resting_on(f, down, hi, sin_angle, options.cost);
-    return r;
-  };
-  result.input = resting(Vector3d(0, 0, -1), 0);
-  result.input.rotation = Rotation{};
-  result.chosen = result.input;
+namespace {
 
-  const Box3 box = bounding_box(mesh);
-  const double diagonal = std::sqrt(dot(box.max - box.min, box.max - box.min));
-  if (!(diagonal > 0)) return result;
-  const std::vector<HullFace> faces = hull_faces(mesh);
-  result.hull_faces = faces.size();
+// Reach of the part along a direction: min and max of the vertices' projections.
+std::pair<double, double> extent(const Mesh& mesh, const Vector3d& u) {
+  double lo = 1e300, hi = -1e300;
+  for (const Vec3& p : mesh.vertices) {
+    const double d = u.dot(to_eigen(p));
+    lo = std::min(lo, d);
+    hi = std::max(hi, d);
+  }
+  return std::pair{lo, hi};
+}
+
+// The part resting on the plane with outward normal `down` (unit), a face of `area` on it;
+// its support volume by the facets' quick estimate.
+RestingOrientation resting_on(const Mesh& mesh, const Facets& f, const Vector3d& down,
+                              double area, double sin_angle, const SupportCost& cost) {
+  RestingOrientation r;
+  r.down = from_eigen(down);
+  r.face_area = area;
+  r.rotation = from_eigen(
+      Eigen::Quaterniond::FromTwoVectors(down, Vector3d(0, 0, -1)).toRotationMatrix());
+  const auto [lo, hi] = extent(mesh, down);
+  r.height = hi - lo;
+  r.support_volume = volume_resting_on(f, down, hi, sin_angle, cost);
+  return r;
+}
+
+// The hull faces the part stands on: its centre of mass, dropped along the normal onto the
+// face, lies at least `margin` (mm) inside it, in the face's plane.
+std::vector<RestingOrientation> stable_orientations(const Mesh& mesh, const Facets& f,
+                                                    const std::vector<HullFace>& faces,
+                                                    double margin, double sin_angle,
+                                                    const SupportCost& cost) {
   const Vector3d centre = centre_of_mass(mesh);
   std::vector<RestingOrientation> stable;
   for (const HullFace& face : faces) {
-    // The centre of mass, dropped along the normal onto the face, in the face's plane.
     const Vector3d n = face.normal;
     const Vector3d e1 = n.unitOrthogonal(), e2 = n.cross(e1);
     std::vector<Eigen::Vector2d> corners;
     corners.reserve(face.corners.size());
     for (const Vector3d& c : face.corners) corners.emplace_back(c.dot(e1), c.dot(e2));
-    if (!inside_hull(std::move(corners), {centre.dot(e1), centre.dot(e2)}, kStableMargin * diagonal)) {
-      continue;
-    }
-    stable.push_back(resting(n, face.area));
+    if (!inside_hull(std::move(corners), {centre.dot(e1), centre.dot(e2)}, margin)) continue;
+    stable.push_back(resting_on(mesh, f, n, face.area, sin_angle, cost));
   }
-  result.stable_faces = stable.size();
-  if (stable.empty()) return result;
-  // The quick estimate (each steep facet's height over the bed) ranks them; the columns,
-  // which stop on the part below, measure the best few.
+  return stable;
+}
+
+// A face within a degree of the orientation as given (a flat base whose hull face leans a
+// little, on a few points of its rim) keeps the part as given, so that the base stays flat
+// on the bed: it competes with what is then printed, the input's support and height.
+bool as_given(const RestingOrientation& r) {
+  return r.down.z < -std::cos(kCoplanarDegrees * std::numbers::pi / 180);
+}
+
+// The quick estimate (each steep facet's height over the bed) ranks the orientations; the
+// columns, which stop on the part below, measure the best few.
+void measure_best_few(std::vector<RestingOrientation>& stable, const Mesh& mesh,
+                      const RestingOrientation& input, double sin_angle,
+                      const SupportCost& cost) {
   std::sort(stable.begin(), stable.end(), [](const RestingOrientation& a, const RestingOrientation& b) {
     return a.support_volume < b.support_volume;
   });
   if (stable.size() > kMeasured) stable.resize(kMeasured);
-  result.input.support_volume = column_volume(mesh, Matrix3d::Identity(), sin_angle, options.cost);
-  // A face within a degree of the orientation as given (a flat base whose hull face leans a
-  // little, on a few points of its rim) keeps the part as given, so that the base stays flat
-  // on the bed: it competes with what is then printed, the input's support and height.
-  auto as_given = [](const RestingOrientation& r) {
-    return r.down.z < -std::cos(kCoplanarDegrees * std::numbers::pi / 180);
-  };
   for (RestingOrientation& r : stable) {
     if (as_given(r)) {
       r.rotation = Rotation{};
-      r.support_volume = result.input.support_volume;
-      r.height = result.input.height;
+      r.support_volume = input.support_volume;
+      r.height = input.height;
     } else {
-      r.support_volume = column_volume(mesh, to_eigen(r.rotation), sin_angle, options.cost);
+      r.support_volume = column_volume(mesh, to_eigen(r.rotation), sin_angle, cost);
     }
   }
+}
+
+// Of the orientations within a tie of the least support, the lowest; among equals, the
+// orientation as given, else the largest face.
+const RestingOrientation& least_support(const std::vector<RestingOrientation>& stable) {
   double least = stable.front().support_volume;
   for (const RestingOrientation& r : stable) least = std::min(least, r.support_volume);
   const double tie = std::max(kVolumeTie, kVolumeTieShare * least);
-  // Among equals, the orientation as given, else the largest face.
   const RestingOrientation* best = nullptr;
   for (const RestingOrientation& r : stable) {
     if (r.support_volume > least + tie) continue;
@@ -404,12 +408,38 @@ OrientResult orient_for_least_support(const Mesh& mesh, const OrientOptions& opt
       best = &r;
     }
   }
-  result.chosen = *best;
+  return *best;
+}
+
+}  // namespace
+
+OrientResult orient_for_least_support(const Mesh& mesh, const OrientOptions& options) {
+  OrientResult result;
+  if (mesh.faces.empty()) return result;
+  const Facets f = facets_of(mesh);
+  const double sin_angle = std::sin(std::clamp(options.overhang_angle, 0.0, 89.0) * std::numbers::pi / 180);
+  result.input = resting_on(mesh, f, Vector3d(0, 0, -1), 0, sin_angle, options.cost);
+  result.input.rotation = Rotation{};
+  result.chosen = result.input;
+
+  const Box3 box = bounding_box(mesh);
+  const double diagonal = std::sqrt(dot(box.max - box.min, box.max - box.min));
+  if (!(diagonal > 0)) return result;
+  const std::vector<HullFace> faces = hull_faces(mesh);
+  result.hull_faces = faces.size();
+  std::vector<RestingOrientation> stable =
+      stable_orientations(mesh, f, faces, kStableMargin * diagonal, sin_angle, options.cost);
+  result.stable_faces = stable.size();
+  if (stable.empty()) return result;
+  result.input.support_volume = column_volume(mesh, Matrix3d::Identity(), sin_angle, options.cost);
+  measure_best_few(stable, mesh, result.input, sin_angle, options.cost);
+  const RestingOrientation& best = least_support(stable);
+  result.chosen = best;
   // The estimate is rough between faces of like support (see the header), so a part that
   // needs support as given is turned only when a face needs clearly less.
   const double margin = 1 + std::max(options.turn_margin, 0.0);
   if (result.input.support_volume > kVolumeTie &&
-      result.input.support_volume <= best->support_volume * margin) {
+      result.input.support_volume <= best.support_volume * margin) {
     result.chosen = result.input;
   }
   return result;
