@@ -47,6 +47,9 @@ struct Segment {
   Node start, end;
 };
 
+// Segments by their start node: a segment's number, or the first of those from the node.
+using Starts = NumberTable<Node, NodeHash>;
+
 // Segments that have zero width in the limit from above cancel: one of zero length (a face
 // touching the plane at one vertex), and a pair u -> v, v -> u (the two sides of a slit, as
 // where a notch's tip or a ring of vertices touches the plane from above).
@@ -96,7 +99,6 @@ void finish_loop(Loop& loop, Region& region) {
 // in the order of those nodes. None if a node starts two segments, or ends one that no segment
 // starts or that another ends (a non-manifold or open mesh): then the general way.
 std::optional<Region> closed_loops(const Mesh& mesh, const std::vector<Segment>& segments, double z) {
-  using Starts = NumberTable<Node, NodeHash>;
   Starts starts(segments.size());
   const auto start_of = [&](std::uint32_t i) { return segments[i].start; };
   for (std::uint32_t i = 0; i < segments.size(); ++i) {
@@ -142,10 +144,10 @@ std::optional<Region> closed_loops(const Mesh& mesh, const std::vector<Segment>&
   return region;
 }
 
-}  // namespace
-
-Region plane_section(const Mesh& mesh, std::span<const std::uint32_t> faces, double z) {
-  std::vector<Segment> segments;
+// Each face the plane crosses gives one segment; whether an end of one lies at a vertex on
+// the plane.
+bool crossing_segments(const Mesh& mesh, std::span<const std::uint32_t> faces, double z,
+                       std::vector<Segment>& segments) {
   segments.reserve(faces.size());
   bool on_plane = false;
   for (std::uint32_t f : faces) {
@@ -164,6 +166,93 @@ Region plane_section(const Mesh& mesh, std::span<const std::uint32_t> faces, dou
     segments.push_back(segment);
     on_plane |= is_vertex(segment.start) || is_vertex(segment.end);
   }
+  return on_plane;
+}
+
+// A segment's start node by its number, for the table of starts.
+struct StartOf {
+  const std::vector<Segment>* segments;
+  Node operator()(std::uint32_t i) const { return (*segments)[i].start; }
+};
+
+// Sorts the segments by their start; returns where the segments from each node begin, by the
+// node.
+Starts sort_by_start(std::vector<Segment>& segments) {
+  std::sort(segments.begin(), segments.end(),
+            [](const Segment& a, const Segment& b) { return a.start < b.start; });
+  Starts starts(segments.size());
+  for (std::size_t i = 0; i < segments.size(); ++i) {
+    if (i == 0 || segments[i].start != segments[i - 1].start) {
+      starts.find_or_insert(segments[i].start, static_cast<std::uint32_t>(i), StartOf{&segments});
+    }
+  }
+  return starts;
+}
+
+// The first unused segment from `node` (segments sorted by start), or segments.size(). An
+// edge starts one segment; a vertex on the plane (or a non-manifold edge) may start several,
+// and any unused one continues a valid loop.
+std::size_t unused_from(const std::vector<Segment>& segments, const Starts& starts, Node node,
+                        const std::vector<char>& used) {
+  const std::uint32_t start = starts.find(node, StartOf{&segments});
+  std::size_t i = start == Starts::kNone ? segments.size() : start;
+  while (i < segments.size() && segments[i].start == node && used[i]) ++i;
+  return i < segments.size() && segments[i].start == node ? i : segments.size();
+}
+
+// The loop from segment `first` on through unused segments, marked used as they are taken,
+// until it closes or ends at an open edge.
+void walk_loop(const Mesh& mesh, const std::vector<Segment>& segments, const Starts& starts,
+               std::size_t first, double z, std::vector<char>& used, Region& region) {
+  Loop loop;
+  std::size_t current = first;
+  used[current] = 1;
+  loop.push_back(crossing_point(mesh, segments[current].start, z));
+  for (;;) {
+    const Node wanted = segments[current].end;
+    if (wanted == segments[first].start) break;  // closed
+    current = unused_from(segments, starts, wanted, used);
+    if (current == segments.size()) {
+      loop.push_back(crossing_point(mesh, wanted, z));  // open chain: ends at an open edge
+      break;
+    }
+    used[current] = 1;
+    loop.push_back(crossing_point(mesh, segments[current].start, z));
+  }
+  finish_loop(loop, region);
+}
+
+// The general way, for vertices on the plane and open or non-manifold meshes: open chains
+// first, from the nodes where more segments leave than arrive, so that none is picked up in
+// its middle; what is left are closed loops.
+Region chained_loops(const Mesh& mesh, std::vector<Segment>& segments, double z) {
+  const Starts starts = sort_by_start(segments);
+  std::vector<Node> ends(segments.size());
+  for (std::size_t i = 0; i < segments.size(); ++i) ends[i] = segments[i].end;
+  std::sort(ends.begin(), ends.end());
+  std::vector<char> used(segments.size(), 0);
+  Region region;
+  for (std::size_t i = 0; i < segments.size();) {
+    std::size_t j = i;
+    while (j < segments.size() && segments[j].start == segments[i].start) ++j;
+    const auto [in_lo, in_hi] = std::equal_range(ends.begin(), ends.end(), segments[i].start);
+    std::ptrdiff_t surplus = static_cast<std::ptrdiff_t>(j - i) - (in_hi - in_lo);
+    for (std::size_t k = i; k < j && surplus > 0; ++k) {
+      if (!used[k]) walk_loop(mesh, segments, starts, k, z, used, region), --surplus;
+    }
+    i = j;
+  }
+  for (std::size_t i = 0; i < segments.size(); ++i) {
+    if (!used[i]) walk_loop(mesh, segments, starts, i, z, used, region);
+  }
+  return region;
+}
+
+}  // namespace
+
+Region plane_section(const Mesh& mesh, std::span<const std::uint32_t> faces, double z) {
+  std::vector<Segment> segments;
+  const bool on_plane = crossing_segments(mesh, faces, z, segments);
   // Zero width needs a vertex exactly on the plane (in a manifold mesh two faces share at
   // most one edge), so a plane that meets none, the usual case, skips the search for it.
   if (on_plane) cancel_zero_width(segments);
@@ -171,63 +260,7 @@ Region plane_section(const Mesh& mesh, std::span<const std::uint32_t> faces, dou
   if (!on_plane) {
     if (std::optional<Region> loops = closed_loops(mesh, segments, z)) return std::move(*loops);
   }
-
-  std::sort(segments.begin(), segments.end(),
-            [](const Segment& a, const Segment& b) { return a.start < b.start; });
-  std::vector<Node> ends(segments.size());
-  for (std::size_t i = 0; i < segments.size(); ++i) ends[i] = segments[i].end;
-  std::sort(ends.begin(), ends.end());
-
-  // Where the segments from each node begin, by the node.
-  using Starts = NumberTable<Node, NodeHash>;
-  Starts starts(segments.size());
-  const auto start_of = [&](std::uint32_t i) { return segments[i].start; };
-  for (std::size_t i = 0; i < segments.size(); ++i) {
-    if (i == 0 || segments[i].start != segments[i - 1].start) {
-      starts.find_or_insert(segments[i].start, static_cast<std::uint32_t>(i), start_of);
-    }
-  }
-  std::vector<char> used(segments.size(), 0);
-  Region region;
-  const auto walk = [&](std::size_t first) {
-    Loop loop;
-    std::size_t current = first;
-    used[current] = 1;
-    loop.push_back(crossing_point(mesh, segments[current].start, z));
-    for (;;) {
-      const Node wanted = segments[current].end;
-      if (wanted == segments[first].start) break;  // closed
-      const std::uint32_t start = starts.find(wanted, start_of);
-      auto it = start == Starts::kNone ? segments.end() : segments.begin() + start;
-      // An edge starts one segment; a vertex on the plane (or a non-manifold edge) may start
-      // several, and any unused one continues a valid loop.
-      while (it != segments.end() && it->start == wanted && used[it - segments.begin()]) ++it;
-      if (it == segments.end() || it->start != wanted) {
-        loop.push_back(crossing_point(mesh, wanted, z));  // open chain: ends at an open edge
-        break;
-      }
-      current = static_cast<std::size_t>(it - segments.begin());
-      used[current] = 1;
-      loop.push_back(crossing_point(mesh, it->start, z));
-    }
-    finish_loop(loop, region);
-  };
-  // Open chains first, from the nodes where more segments leave than arrive, so that none is
-  // picked up in its middle; what is left are closed loops.
-  for (std::size_t i = 0; i < segments.size();) {
-    std::size_t j = i;
-    while (j < segments.size() && segments[j].start == segments[i].start) ++j;
-    const auto [in_lo, in_hi] = std::equal_range(ends.begin(), ends.end(), segments[i].start);
-    std::ptrdiff_t surplus = static_cast<std::ptrdiff_t>(j - i) - (in_hi - in_lo);
-    for (std::size_t k = i; k < j && surplus > 0; ++k) {
-      if (!used[k]) walk(k), --surplus;
-    }
-    i = j;
-  }
-  for (std::size_t i = 0; i < segments.size(); ++i) {
-    if (!used[i]) walk(i);
-  }
-  return region;
+  return chained_loops(mesh, segments, z);
 }
 
 }  // namespace geometry
