@@ -179,6 +179,74 @@ bool names_agree(std::string_view solid_name, std::string_view end_name) {
          word_prefix(end_name, solid_name);
 }
 
+// After "endsolid": its name checked against the solid's (`solid_name` of `solid_line`), then
+// true at the end of the file, else the next solid's "solid" line read into solid_name and
+// solid_line.
+bool end_of_solid(AsciiCursor& in, std::string_view& solid_name, std::size_t& solid_line) {
+  const std::string_view end_name = in.rest_of_line();
+  if (!names_agree(solid_name, end_name)) {
+    in.fail_here(fmt::format("'endsolid {}' does not match 'solid {}' of line {}",
+                             std::string(end_name).substr(0, 60),
+                             std::string(solid_name).substr(0, 60), solid_line));
+  }
+  if (in.at_end()) return true;
+  // Some exporters write several solids into one file: read them all.
+  const std::string_view next = in.token();
+  if (!iequals(next, "solid")) {
+    in.fail_here(fmt::format("expected end of file or 'solid' after 'endsolid', found {}",
+                             quoted(next)));
+  }
+  solid_name = in.rest_of_line();
+  solid_line = in.line();
+  return false;
+}
+
+// The three "vertex" lines of facet `index` and its "endloop".
+Triangle facet_corners(AsciiCursor& in, std::size_t index, const std::string& context) {
+  Triangle tri;
+  for (int corner = 0; corner < 3; ++corner) {
+    const std::string_view v = in.token();
+    if (iequals(v, "endloop")) {
+      in.fail_here(fmt::format("facet {} has only {} vertices; an STL facet has 3", index,
+                               corner));
+    }
+    if (!iequals(v, "vertex")) {
+      if (v.empty()) in.fail_here(fmt::format("file ends inside {}: truncated", context));
+      in.fail_here(fmt::format("expected 'vertex' in {}, found {}", context, quoted(v)));
+    }
+    tri.v[corner].x = in.number("'vertex'", context);
+    tri.v[corner].y = in.number("'vertex'", context);
+    tri.v[corner].z = in.number("'vertex'", context);
+  }
+  const std::string_view close = in.token();
+  if (iequals(close, "vertex")) {
+    in.fail_here(fmt::format("facet {} has more than 3 vertices; an STL facet is a triangle",
+                             index));
+  }
+  if (!iequals(close, "endloop")) {
+    if (close.empty()) in.fail_here(fmt::format("file ends inside {}: truncated", context));
+    in.fail_here(fmt::format("expected 'endloop' in {}, found {}", context, quoted(close)));
+  }
+  return tri;
+}
+
+// Facet `index` after its "facet" keyword, to its "endfacet": its corners, checked finite, and
+// the normal the file stores for it (`stored`).
+Triangle read_facet(AsciiCursor& in, std::size_t index, std::string_view name, Vec3& stored) {
+  const std::size_t facet_line = in.line();
+  const std::string context = fmt::format("facet {}", index);
+  in.expect("normal", context);
+  stored.x = in.number("'facet normal'", context);
+  stored.y = in.number("'facet normal'", context);
+  stored.z = in.number("'facet normal'", context);
+  in.expect("outer", context);
+  in.expect("loop", context);
+  const Triangle tri = facet_corners(in, index, context);
+  in.expect("endfacet", context);
+  require_finite(name, tri, index, fmt::format(" (line {})", facet_line));
+  return tri;
+}
+
 std::vector<Triangle> read_ascii(std::string_view text, std::string_view name,
                                  const StlReadOptions& options) {
   AsciiCursor in(text, name);
@@ -198,62 +266,14 @@ std::vector<Triangle> read_ascii(std::string_view text, std::string_view name,
                                solid_line));
     }
     if (iequals(t, "endsolid")) {
-      const std::string_view end_name = in.rest_of_line();
-      if (!names_agree(solid_name, end_name)) {
-        in.fail_here(fmt::format("'endsolid {}' does not match 'solid {}' of line {}",
-                                 std::string(end_name).substr(0, 60),
-                                 std::string(solid_name).substr(0, 60), solid_line));
-      }
-      if (in.at_end()) break;
-      // Some exporters write several solids into one file: read them all.
-      const std::string_view next = in.token();
-      if (!iequals(next, "solid")) {
-        in.fail_here(fmt::format("expected end of file or 'solid' after 'endsolid', found {}",
-                                 quoted(next)));
-      }
-      solid_name = in.rest_of_line();
-      solid_line = in.line();
+      if (end_of_solid(in, solid_name, solid_line)) break;
       continue;
     }
     if (!iequals(t, "facet")) {
       in.fail_here(fmt::format("expected 'facet' or 'endsolid', found {}", quoted(t)));
     }
-    const std::size_t index = facets.size() + 1;
-    const std::size_t facet_line = in.line();
-    const std::string context = fmt::format("facet {}", index);
-    in.expect("normal", context);
     Vec3 stored;
-    stored.x = in.number("'facet normal'", context);
-    stored.y = in.number("'facet normal'", context);
-    stored.z = in.number("'facet normal'", context);
-    in.expect("outer", context);
-    in.expect("loop", context);
-    Triangle tri;
-    for (int corner = 0; corner < 3; ++corner) {
-      const std::string_view v = in.token();
-      if (iequals(v, "endloop")) {
-        in.fail_here(fmt::format("facet {} has only {} vertices; an STL facet has 3", index,
-                                 corner));
-      }
-      if (!iequals(v, "vertex")) {
-        if (v.empty()) in.fail_here(fmt::format("file ends inside {}: truncated", context));
-        in.fail_here(fmt::format("expected 'vertex' in {}, found {}", context, quoted(v)));
-      }
-      tri.v[corner].x = in.number("'vertex'", context);
-      tri.v[corner].y = in.number("'vertex'", context);
-      tri.v[corner].z = in.number("'vertex'", context);
-    }
-    const std::string_view close = in.token();
-    if (iequals(close, "vertex")) {
-      in.fail_here(fmt::format("facet {} has more than 3 vertices; an STL facet is a triangle",
-                               index));
-    }
-    if (!iequals(close, "endloop")) {
-      if (close.empty()) in.fail_here(fmt::format("file ends inside {}: truncated", context));
-      in.fail_here(fmt::format("expected 'endloop' in {}, found {}", context, quoted(close)));
-    }
-    in.expect("endfacet", context);
-    require_finite(name, tri, index, fmt::format(" (line {})", facet_line));
+    const Triangle tri = read_facet(in, facets.size() + 1, name, stored);
     if (options.stored_normals) options.stored_normals->push_back(stored);
     facets.push_back(tri);
   }
