@@ -159,6 +159,110 @@ int winding(const Path& loop, const ClipperLib::IntPoint& p) {
   return w;
 }
 
+// A grid of square cells over `box`, about one edge per cell for `edges` edges.
+struct EdgeGrid {
+  EdgeGrid(const ClipperLib::IntRect& b, std::size_t edges) : box(b) {
+    const double w = double(box.right - box.left) + 1, h = double(box.bottom - box.top) + 1;
+    cell = std::max(std::sqrt(w * h / double(edges)), 1.0);
+    columns = static_cast<std::int64_t>(w / cell) + 1;
+  }
+  std::int64_t column(ClipperLib::cInt x) const {
+    return static_cast<std::int64_t>(double(x - box.left) / cell);
+  }
+  std::int64_t row(ClipperLib::cInt y) const {
+    return static_cast<std::int64_t>(double(y - box.top) / cell);
+  }
+
+  ClipperLib::IntRect box;
+  double cell = 1;
+  std::int64_t columns = 1;
+};
+
+// An edge (from vertex `edge` of loop `loop`) in a cell of the grid.
+struct GridEntry {
+  std::int64_t cell;
+  std::uint32_t loop, edge;
+};
+
+// Every edge of the loops in each cell its bounding box covers, sorted by cell; false if an
+// edge covers more than 64 cells (a long edge: left to the union).
+bool grid_entries(const Paths& loops, const EdgeGrid& grid, std::size_t edges,
+                  std::vector<GridEntry>& entries) {
+  entries.reserve(2 * edges);
+  for (std::uint32_t l = 0; l < loops.size(); ++l) {
+    const Path& loop = loops[l];
+    for (std::uint32_t i = 0; i < loop.size(); ++i) {
+      const auto& a = loop[i];
+      const auto& b = loop[(i + 1) % loop.size()];
+      const auto c0 = grid.column(std::min(a.X, b.X)), c1 = grid.column(std::max(a.X, b.X));
+      const auto r0 = grid.row(std::min(a.Y, b.Y)), r1 = grid.row(std::max(a.Y, b.Y));
+      if ((c1 - c0 + 1) * (r1 - r0 + 1) > 64) return false;
+      for (auto r = r0; r <= r1; ++r) {
+        for (auto c = c0; c <= c1; ++c) entries.push_back({r * grid.columns + c, l, i});
+      }
+    }
+  }
+  std::sort(entries.begin(), entries.end(),
+            [](const GridEntry& x, const GridEntry& y) { return x.cell < y.cell; });
+  return true;
+}
+
+// Whether edge [a, b] (edge f of its loop) and the edge `other` meet other than as
+// neighbours at their common end.
+bool edges_meet(const Paths& loops, std::uint32_t loop, std::uint32_t f,
+                const ClipperLib::IntPoint& a, const ClipperLib::IntPoint& b,
+                const GridEntry& other) {
+  const Path& q = loops[other.loop];
+  const std::uint32_t e = other.edge, n = static_cast<std::uint32_t>(q.size());
+  const auto& c = q[e];
+  const auto& d = q[(e + 1) % n];
+  if (other.loop == loop && ((f + 1) % n == e || (e + 1) % n == f)) {
+    // Neighbours share an end; they meet elsewhere only folding back along a line: in line,
+    // the shared end not between the other two.
+    const bool f_first = (f + 1) % n == e;
+    const auto& from = f_first ? a : c;
+    const auto& shared = f_first ? b : d;
+    const auto& to = f_first ? d : b;
+    return side(from, shared, to) == 0 && !within(from, to, shared);
+  }
+  return meet(a, b, c, d);
+}
+
+// Whether two edges sharing a cell (entries sorted by cell) meet.
+bool any_edges_meet(const Paths& loops, const std::vector<GridEntry>& entries) {
+  for (std::size_t first = 0; first < entries.size();) {
+    std::size_t last = first;
+    while (last < entries.size() && entries[last].cell == entries[first].cell) ++last;
+    for (std::size_t i = first; i < last; ++i) {
+      const Path& p = loops[entries[i].loop];
+      const auto& a = p[entries[i].edge];
+      const auto& b = p[(entries[i].edge + 1) % p.size()];
+      for (std::size_t k = i + 1; k < last; ++k) {
+        if (edges_meet(loops, entries[i].loop, entries[i].edge, a, b, entries[k])) return true;
+      }
+    }
+    first = last;
+  }
+  return false;
+}
+
+// Whether the others wind 0 times round each outer loop's first point and once round each
+// hole's (`boxes`: the loops' bounding boxes).
+bool windings_agree(const Paths& loops, const std::vector<char>& outer,
+                    const std::vector<ClipperLib::IntRect>& boxes) {
+  for (std::size_t l = 0; l < loops.size(); ++l) {
+    const ClipperLib::IntPoint& p = loops[l][0];
+    int w = 0;
+    for (std::size_t m = 0; m < loops.size(); ++m) {
+      const ClipperLib::IntRect& b = boxes[m];
+      if (m == l || p.X < b.left || p.X > b.right || p.Y < b.top || p.Y > b.bottom) continue;
+      w += winding(loops[m], p);
+    }
+    if (w != (outer[l] ? 0 : 1)) return false;
+  }
+  return true;
+}
+
 // Whether loops (no repeated points, at least 3 each) are a region as they stand: no two
 // edges meet but neighbours at their common end, each loop runs the way `outer` says (CCW
 // for an outer loop), and outer loops lie where the others wind 0 times, holes where they
@@ -176,73 +280,10 @@ bool already_a_region(const Paths& loops, const std::vector<char>& outer) {
     add_to_box(box, boxes.back());
     edges += loop.size();
   }
-  const double w = double(box.right - box.left) + 1, h = double(box.bottom - box.top) + 1;
-  const double cell = std::max(std::sqrt(w * h / double(edges)), 1.0);
-  const auto columns = static_cast<std::int64_t>(w / cell) + 1;
-  auto column = [&](ClipperLib::cInt x) {
-    return static_cast<std::int64_t>(double(x - box.left) / cell);
-  };
-  auto row = [&](ClipperLib::cInt y) { return static_cast<std::int64_t>(double(y - box.top) / cell); };
-  struct Entry {
-    std::int64_t cell;
-    std::uint32_t loop, edge;
-  };
-  std::vector<Entry> entries;
-  entries.reserve(2 * edges);
-  for (std::uint32_t l = 0; l < loops.size(); ++l) {
-    const Path& loop = loops[l];
-    for (std::uint32_t i = 0; i < loop.size(); ++i) {
-      const auto& a = loop[i];
-      const auto& b = loop[(i + 1) % loop.size()];
-      const auto c0 = column(std::min(a.X, b.X)), c1 = column(std::max(a.X, b.X));
-      const auto r0 = row(std::min(a.Y, b.Y)), r1 = row(std::max(a.Y, b.Y));
-      if ((c1 - c0 + 1) * (r1 - r0 + 1) > 64) return false;  // a long edge: left to the union
-      for (auto r = r0; r <= r1; ++r) {
-        for (auto c = c0; c <= c1; ++c) entries.push_back({r * columns + c, l, i});
-      }
-    }
-  }
-  std::sort(entries.begin(), entries.end(),
-            [](const Entry& x, const Entry& y) { return x.cell < y.cell; });
-  for (std::size_t first = 0; first < entries.size();) {
-    std::size_t last = first;
-    while (last < entries.size() && entries[last].cell == entries[first].cell) ++last;
-    for (std::size_t i = first; i < last; ++i) {
-      const Path& p = loops[entries[i].loop];
-      const auto& a = p[entries[i].edge];
-      const auto& b = p[(entries[i].edge + 1) % p.size()];
-      for (std::size_t k = i + 1; k < last; ++k) {
-        const Path& q = loops[entries[k].loop];
-        const std::uint32_t e = entries[k].edge, n = static_cast<std::uint32_t>(q.size());
-        const auto& c = q[e];
-        const auto& d = q[(e + 1) % n];
-        const std::uint32_t f = entries[i].edge;
-        if (entries[k].loop == entries[i].loop && ((f + 1) % n == e || (e + 1) % n == f)) {
-          // Neighbours share an end; they meet elsewhere only folding back along a line:
-          // in line, the shared end not between the other two.
-          const bool f_first = (f + 1) % n == e;
-          const auto& from = f_first ? a : c;
-          const auto& shared = f_first ? b : d;
-          const auto& to = f_first ? d : b;
-          if (side(from, shared, to) == 0 && !within(from, to, shared)) return false;
-          continue;
-        }
-        if (meet(a, b, c, d)) return false;
-      }
-    }
-    first = last;
-  }
-  for (std::size_t l = 0; l < loops.size(); ++l) {
-    const ClipperLib::IntPoint& p = loops[l][0];
-    int w = 0;
-    for (std::size_t m = 0; m < loops.size(); ++m) {
-      const ClipperLib::IntRect& b = boxes[m];
-      if (m == l || p.X < b.left || p.X > b.right || p.Y < b.top || p.Y > b.bottom) continue;
-      w += winding(loops[m], p);
-    }
-    if (w != (outer[l] ? 0 : 1)) return false;
-  }
-  return true;
+  std::vector<GridEntry> entries;
+  if (!grid_entries(loops, EdgeGrid(box, edges), edges, entries)) return false;
+  if (any_edges_meet(loops, entries)) return false;
+  return windings_agree(loops, outer, boxes);
 }
 
 }  // namespace
