@@ -99,6 +99,73 @@ struct Island {
   std::vector<std::vector<ExtrusionPath>> groups;
 };
 
+// The bridges' pieces of the infill area, each reaching into the anchors, taken out of the
+// skins (and of sparse infill over the air), with the angle it is laid at.
+std::vector<std::pair<Region, double>> take_bridges(const std::vector<Bridge>& bridges,
+                                                    const clipper::Paths& area, double width,
+                                                    Skins& skins) {
+  std::vector<std::pair<Region, double>> pieces;
+  clipper::Paths taken;
+  for (const Bridge& bridge : bridges) {
+    clipper::Paths piece =
+        clipper::intersection(clipper::offset(to_clipper(bridge.area), kBridgeAnchor * width), area);
+    if (!taken.empty()) piece = clipper::difference(piece, taken);
+    if (clipper::area_mm2(piece) < kNoBridge) continue;
+    taken.insert(taken.end(), piece.begin(), piece.end());
+    pieces.emplace_back(from_clipper(piece), bridge.angle);
+  }
+  if (!taken.empty()) {
+    for (Region* skin : {&skins.bottom, &skins.top, &skins.solid, &skins.sparse}) {
+      if (!skin->loops.empty()) skin->loops = from_clipper(clipper::difference(to_clipper(*skin), taken)).loops;
+    }
+  }
+  return pieces;
+}
+
+// The skins' solid lines, one group per role (bottom, top, solid, and sparse at 100%): one
+// set of lines for all solid pieces, so that they meet edge to edge. Takes the skins' areas.
+void add_solid_groups(Skins& skins, std::size_t layer, double share, const ToolpathOptions& o,
+                      Island& result) {
+  std::vector<SolidPiece> solid;
+  for (auto [piece, role] : {std::pair{&skins.bottom, PathRole::bottom_skin},
+                             std::pair{&skins.top, PathRole::top_skin},
+                             std::pair{&skins.solid, PathRole::solid_infill},
+                             std::pair{&skins.sparse, PathRole::sparse_infill}}) {
+    if (role == PathRole::sparse_infill && o.infill_density < 100) continue;
+    if (!piece->loops.empty()) solid.push_back({std::move(*piece), role});
+  }
+  std::vector<ExtrusionPath> solid_paths =
+      solid_infill(solid, share, o.infill_angle, layer, o.infill_lines);
+  for (PathRole role : {PathRole::bottom_skin, PathRole::top_skin, PathRole::solid_infill,
+                        PathRole::sparse_infill}) {
+    std::vector<ExtrusionPath> group;
+    for (ExtrusionPath& path : solid_paths) {
+      if (path.role == role) group.push_back(std::move(path));
+    }
+    result.groups.push_back(std::move(group));
+  }
+}
+
+// Sparse infill's lines in `sparse`, spaced as for shares `sparse_share` wide, with the lines
+// along the edge of the core above; laid as the layer's own bead (`share`).
+std::vector<ExtrusionPath> sparse_lines(const Region& sparse, std::size_t layer, double share,
+                                        double sparse_share, const ToolpathOptions& o,
+                                        const Region* core_above) {
+  std::vector<ExtrusionPath> lines = sparse_infill(sparse, sparse_share, o.infill_density,
+                                                   o.infill_pattern, o.infill_angle, layer,
+                                                   o.infill_lines);
+  if (core_above) {
+    for (ExtrusionPath& edge : skin_edge_lines(sparse, *core_above, sparse_share, o.infill_density,
+                                               o.infill_pattern, o.infill_angle, layer)) {
+      lines.push_back(std::move(edge));
+    }
+  }
+  for (ExtrusionPath& path : lines) {
+    if (path.width == sparse_share) path.width = share;
+  }
+  return lines;
+}
+
 // The paths of an island laid out by shares `share` wide (see plan_island), its sparse
 // infill's lines spaced as for shares `sparse_share` wide; the infill overlap is a fraction of
 // the bead's width.
@@ -120,63 +187,16 @@ Island plan_shares(const clipper::Paths& island, std::size_t layer, double share
   area = o.perimeters > 0 ? clipper::offset(area, o.infill_overlap * width)
                           : clipper::union_nonzero(area);
   Skins skins = split_skins(from_clipper(area), core, below, above, share);
-  // Bridges take their piece out of the skins (and of sparse infill over the air), reaching
-  // into the anchors; each is laid at its own angle.
-  std::vector<std::pair<Region, double>> bridge_pieces;
   if (bridges && !bridges->empty()) {
-    clipper::Paths taken;
-    for (const Bridge& bridge : *bridges) {
-      clipper::Paths piece =
-          clipper::intersection(clipper::offset(to_clipper(bridge.area), kBridgeAnchor * width), area);
-      if (!taken.empty()) piece = clipper::difference(piece, taken);
-      if (clipper::area_mm2(piece) < kNoBridge) continue;
-      taken.insert(taken.end(), piece.begin(), piece.end());
-      bridge_pieces.emplace_back(from_clipper(piece), bridge.angle);
-    }
-    if (!taken.empty()) {
-      for (Region* skin : {&skins.bottom, &skins.top, &skins.solid, &skins.sparse}) {
-        if (!skin->loops.empty()) skin->loops = from_clipper(clipper::difference(to_clipper(*skin), taken)).loops;
-      }
+    for (const auto& [piece, bridge_angle] : take_bridges(*bridges, area, width, skins)) {
+      // Layer index 0: the lines run at the bridge's angle itself.
+      result.groups.push_back(solid_infill(piece, share, bridge_angle, 0, PathRole::bridge,
+                                           o.infill_lines));
     }
   }
-  for (const auto& [piece, bridge_angle] : bridge_pieces) {
-    // Layer index 0: the lines run at the bridge's angle itself.
-    result.groups.push_back(solid_infill(piece, share, bridge_angle, 0, PathRole::bridge,
-                                         o.infill_lines));
-  }
-  const double angle = o.infill_angle;
-  // One set of solid lines for all solid pieces, so that they meet edge to edge; infill at
-  // 100% is solid too.
-  std::vector<SolidPiece> solid;
-  for (auto [piece, role] : {std::pair{&skins.bottom, PathRole::bottom_skin},
-                             std::pair{&skins.top, PathRole::top_skin},
-                             std::pair{&skins.solid, PathRole::solid_infill},
-                             std::pair{&skins.sparse, PathRole::sparse_infill}}) {
-    if (role == PathRole::sparse_infill && o.infill_density < 100) continue;
-    if (!piece->loops.empty()) solid.push_back({std::move(*piece), role});
-  }
-  std::vector<ExtrusionPath> solid_paths = solid_infill(solid, share, angle, layer, o.infill_lines);
-  for (PathRole role : {PathRole::bottom_skin, PathRole::top_skin, PathRole::solid_infill,
-                        PathRole::sparse_infill}) {
-    std::vector<ExtrusionPath> group;
-    for (ExtrusionPath& path : solid_paths) {
-      if (path.role == role) group.push_back(std::move(path));
-    }
-    result.groups.push_back(std::move(group));
-  }
+  add_solid_groups(skins, layer, share, o, result);
   if (o.infill_density < 100) {
-    std::vector<ExtrusionPath> sparse = sparse_infill(skins.sparse, sparse_share, o.infill_density,
-                                                      o.infill_pattern, angle, layer, o.infill_lines);
-    if (core_above) {
-      for (ExtrusionPath& edge : skin_edge_lines(skins.sparse, *core_above, sparse_share, o.infill_density,
-                                                 o.infill_pattern, angle, layer)) {
-        sparse.push_back(std::move(edge));
-      }
-    }
-    for (ExtrusionPath& path : sparse) {
-      if (path.width == sparse_share) path.width = share;  // the layer's own bead
-    }
-    result.groups.push_back(std::move(sparse));
+    result.groups.push_back(sparse_lines(skins.sparse, layer, share, sparse_share, o, core_above));
   }
   std::erase_if(result.groups, [](const auto& group) { return group.empty(); });
   return result;
