@@ -101,6 +101,109 @@ bool AllowedThicknesses::allows(double t) const {
 // ---------------------------------------------------------------------------------------------
 // Uniform
 
+namespace {
+
+// One segment of a uniform plan between two boundaries it must reach: the landed height (the
+// level, or with fixed steps the nearest height they reach) and what each of its layers adds
+// to the plan's thickness, mm.
+struct Segment {
+  double z;
+  std::vector<double> extra;  // mm, per layer of the segment
+};
+
+// With fixed steps (`step` > 0): `count` layers of `thickness` from `bottom`, a step at a time
+// thicker or thinner (one per layer from the top of the segment down, again while steps are
+// left) until they reach the height the steps reach nearest to `level` (8.03 mm on 8.05);
+// nothing if the allowed thicknesses cannot.
+std::optional<Segment> stepped_segment(double bottom, double level, std::size_t count, double thickness,
+                                       const AllowedThicknesses& allowed, double step) {
+  const double gap = level - bottom;
+  Segment found{level, std::vector<double>(count, 0)};
+  const double steps = (gap - static_cast<double>(count) * thickness) / step;
+  long units = std::lround(steps);
+  const double reached = bottom + static_cast<double>(count) * thickness + static_cast<double>(units) * step;
+  if (std::abs(reached - level) > kSameHeight) found.z = reached;
+  // How many steps a layer may grow or shrink and stay allowed.
+  long room_up = 0, room_down = 0;
+  while (allowed.allows(thickness + static_cast<double>(room_up + 1) * step)) ++room_up;
+  while (allowed.allows(thickness - static_cast<double>(room_down + 1) * step)) ++room_down;
+  std::vector<long> taken(count, 0);
+  for (long pass = 0; units != 0 && pass <= std::max(room_up, room_down); ++pass) {
+    for (std::size_t k = count; k-- > 0 && units != 0;) {
+      if (units > 0 && taken[k] < room_up) ++taken[k], --units;
+      if (units < 0 && -taken[k] < room_down) --taken[k], ++units;
+    }
+  }
+  if (units != 0) return std::nullopt;
+  for (std::size_t k = 0; k < count; ++k) found.extra[k] = static_cast<double>(taken[k]) * step;
+  return found;
+}
+
+// With any thickness in a range: `count` layers of `thickness` from `bottom` made to end at
+// `level`; thinner, every layer a little, none far from the rest; thicker, the difference on
+// the top layers, as few as stay within range. Nothing if the range cannot do it.
+std::optional<Segment> continuous_segment(double bottom, double level, std::size_t count, double thickness,
+                                          const AllowedThicknesses& allowed) {
+  Segment found{level, std::vector<double>(count, 0)};
+  double left = (level - bottom) - static_cast<double>(count) * thickness;
+  if (left < 0) {
+    const double each = left / static_cast<double>(count);
+    if (thickness + each < allowed.thinnest() - kSameHeight) return std::nullopt;
+    std::fill(found.extra.begin(), found.extra.end(), each);
+    return found;
+  }
+  for (std::size_t k = count; k-- > 0 && std::abs(left) > kSameHeight;) {
+    const double room = left > 0 ? allowed.thickest() - thickness : allowed.thinnest() - thickness;
+    found.extra[k] = left > 0 ? std::min(left, room) : std::max(left, room);
+    left -= found.extra[k];
+  }
+  if (std::abs(left) > kSameHeight) return std::nullopt;
+  return found;
+}
+
+// Fills [bottom, level] with about `count` layers of about `thickness` (enough that none must
+// be thicker than allowed, few enough that none is thinner); `step` the spacing of the heights
+// the thicknesses reach (0: any in the range).
+std::optional<Segment> fill_segment(double bottom, double level, std::size_t count, double thickness,
+                                    const AllowedThicknesses& allowed, double step) {
+  const double gap = level - bottom;
+  while (gap / static_cast<double>(count) > allowed.thickest() + kSameHeight) ++count;
+  while (count > 1 && gap / static_cast<double>(count) < allowed.thinnest() - kSameHeight) --count;
+  return step > 0 ? stepped_segment(bottom, level, count, thickness, allowed, step)
+                  : continuous_segment(bottom, level, count, thickness, allowed);
+}
+
+// The segment landing `level` from `bottom`: as many layers as the grid's nearest to the level
+// asks for; half way, one more, thinner ones (they follow a slope closer and keep an overhang
+// within its reach, for a layer's time), not fewer thicker ones. If the thicknesses cannot do
+// that, the other way.
+std::optional<Segment> landing_segment(double bottom, double level, double thickness,
+                                       const AllowedThicknesses& allowed, double step) {
+  const double needed = (level - bottom) / thickness;
+  const std::size_t most = static_cast<std::size_t>(std::max(1.0, std::ceil(needed - 1e-6)));
+  const std::size_t fewest = static_cast<std::size_t>(std::max(1.0, std::floor(needed + 1e-6)));
+  const bool thinner = needed - std::floor(needed + 1e-6) >= 0.5 - 1e-6;
+  std::optional<Segment> found = fill_segment(bottom, level, thinner ? most : fewest, thickness, allowed, step);
+  if (!found && fewest != most) found = fill_segment(bottom, level, thinner ? fewest : most, thickness, allowed, step);
+  return found;
+}
+
+// The segment's layers after `layers`, from `bottom`; each boundary from the segment's bottom,
+// not accumulated, as uniform_layers does.
+void append_segment(std::vector<Layer>& layers, double bottom, double thickness, const Segment& segment) {
+  double z_lo = bottom;
+  double offset = 0;
+  const std::size_t count = segment.extra.size();
+  for (std::size_t k = 0; k < count; ++k) {
+    offset += segment.extra[k];
+    const double z_hi = k + 1 == count ? segment.z : bottom + static_cast<double>(k + 1) * thickness + offset;
+    layers.push_back({z_lo, z_hi});
+    z_lo = z_hi;
+  }
+}
+
+}  // namespace
+
 UniformPlan uniform_plan(double part_height, double thickness, const AllowedThicknesses& allowed,
                          std::span<const FlatLevel> flat_levels) {
   UniformPlan plan;
@@ -116,81 +219,11 @@ UniformPlan uniform_plan(double part_height, double thickness, const AllowedThic
   // plain grid puts it.
   std::vector<Layer> layers{plan.layers.front()};
   double bottom = first;
-  // Fills [bottom, level] with `count` layers of about `thickness`: the landed height (the
-  // level, or with fixed steps the nearest height they reach) and what each layer adds to
-  // `thickness`; nothing if the allowed thicknesses cannot do it.
-  struct Segment {
-    double z;
-    std::vector<double> extra;  // mm, per layer of the segment
-  };
-  const auto segment = [&](double bottom, double level, std::size_t count) -> std::optional<Segment> {
-    const double gap = level - bottom;
-    // Enough layers that none must be thicker than allowed, few enough that none is thinner.
-    while (gap / static_cast<double>(count) > allowed.thickest() + kSameHeight) ++count;
-    while (count > 1 && gap / static_cast<double>(count) < allowed.thinnest() - kSameHeight) --count;
-    Segment found{level, std::vector<double>(count, 0)};
-    if (step > 0) {
-      // A level between two reachable heights lands on the nearer one (8.03 mm on 8.05).
-      const double steps = (gap - static_cast<double>(count) * thickness) / step;
-      long units = std::lround(steps);
-      const double reached = bottom + static_cast<double>(count) * thickness +
-                             static_cast<double>(units) * step;
-      if (std::abs(reached - level) > kSameHeight) found.z = reached;
-      // How many steps a layer may grow or shrink and stay allowed.
-      long room_up = 0, room_down = 0;
-      while (allowed.allows(thickness + static_cast<double>(room_up + 1) * step)) ++room_up;
-      while (allowed.allows(thickness - static_cast<double>(room_down + 1) * step)) ++room_down;
-      // One step per layer from the top of the segment down, again while steps are left.
-      std::vector<long> taken(count, 0);
-      for (long pass = 0; units != 0 && pass <= std::max(room_up, room_down); ++pass) {
-        for (std::size_t k = count; k-- > 0 && units != 0;) {
-          if (units > 0 && taken[k] < room_up) ++taken[k], --units;
-          if (units < 0 && -taken[k] < room_down) --taken[k], ++units;
-        }
-      }
-      if (units != 0) return std::nullopt;
-      for (std::size_t k = 0; k < count; ++k) found.extra[k] = static_cast<double>(taken[k]) * step;
-    } else if (double left = gap - static_cast<double>(count) * thickness; left < 0) {
-      // Any thickness, thinner: every layer of the segment a little, none far from the rest.
-      const double each = left / static_cast<double>(count);
-      if (thickness + each < allowed.thinnest() - kSameHeight) return std::nullopt;
-      std::fill(found.extra.begin(), found.extra.end(), each);
-    } else {
-      // Any thickness, thicker: the difference on the top layers, as few as stay within range.
-      for (std::size_t k = count; k-- > 0 && std::abs(left) > kSameHeight;) {
-        const double room =
-            left > 0 ? allowed.thickest() - thickness : allowed.thinnest() - thickness;
-        found.extra[k] = left > 0 ? std::min(left, room) : std::max(left, room);
-        left -= found.extra[k];
-      }
-      if (std::abs(left) > kSameHeight) return std::nullopt;
-    }
-    return found;
-  };
   for (double level : flats) {
-    const double gap = level - bottom;
-    if (gap < allowed.thinnest() - kSameHeight) continue;  // too close to the one before
-    // As many layers as the grid's nearest to the level asks for; half way, one more, thinner
-    // ones (they follow a slope closer and keep an overhang within its reach, for a layer's
-    // time), not fewer thicker ones. If the thicknesses cannot do that, the other way.
-    const double needed = gap / thickness;
-    const std::size_t most = static_cast<std::size_t>(std::max(1.0, std::ceil(needed - 1e-6)));
-    const std::size_t fewest = static_cast<std::size_t>(std::max(1.0, std::floor(needed + 1e-6)));
-    const bool thinner = needed - std::floor(needed + 1e-6) >= 0.5 - 1e-6;
-    std::optional<Segment> found = segment(bottom, level, thinner ? most : fewest);
-    if (!found && fewest != most) found = segment(bottom, level, thinner ? fewest : most);
+    if (level - bottom < allowed.thinnest() - kSameHeight) continue;  // too close to the one before
+    const std::optional<Segment> found = landing_segment(bottom, level, thickness, allowed, step);
     if (!found) continue;  // left where the plain grid puts it
-    double z_lo = bottom;
-    double offset = 0;
-    const std::size_t count = found->extra.size();
-    for (std::size_t k = 0; k < count; ++k) {
-      offset += found->extra[k];
-      // From the segment's bottom, not accumulated, as uniform_layers does.
-      const double z_hi =
-          k + 1 == count ? found->z : bottom + static_cast<double>(k + 1) * thickness + offset;
-      layers.push_back({z_lo, z_hi});
-      z_lo = z_hi;
-    }
+    append_segment(layers, bottom, thickness, *found);
     bottom = found->z;
   }
   if (bottom == first) {
@@ -825,87 +858,69 @@ double least_lean(const LayerStack& stack, double z_lo, double z_hi) {
   return least;
 }
 
-}  // namespace
+// A path's layers, bottom up.
+std::vector<Layer> layers_of(const LazyPlanner& planner, const std::vector<std::uint32_t>& path) {
+  std::vector<Layer> layers;
+  for (std::uint32_t e : path) layers.push_back({planner.z(planner.from(e)), planner.z(planner.to(e))});
+  return layers;
+}
 
-AdaptivePlan adaptive_plan(const LayerStack& stack, double part_height,
-                           const AllowedThicknesses& allowed, std::span<const FlatLevel> flat_levels,
-                           const AdaptiveOptions& options, const PlanProgress& progress) {
-  AdaptivePlan plan;
-  if (!(part_height > 0) || !(allowed.thinnest() > 0) || !(allowed.thickest() >= allowed.thinnest())) {
-    return plan;
-  }
-  const std::vector<double> flats = flat_heights(flat_levels, part_height);
-  const FlatTargets targets = flat_targets(flats, allowed);
-  LazyPlanner planner(stack, part_height, allowed, targets, options, progress);
-  plan.candidates = planner.candidates();
-  plan.refused_for_overhangs = planner.refused();
-  planner.measure_forced(options.tolerance);
-  if (options.measure_all) planner.measure_all(options.max_layers > 0 || options.fits ? 0 : options.tolerance);
-
-  double tolerance = std::max(0.0, options.tolerance);
-  std::vector<std::uint32_t> path;
-  const auto layers_of = [&](const std::vector<std::uint32_t>& edges) {
-    std::vector<Layer> layers;
-    for (std::uint32_t e : edges) layers.push_back({planner.z(planner.from(e)), planner.z(planner.to(e))});
-    return layers;
+// A budget's plan (max_layers, or `fits`): the least tolerance whose plan the budget accepts,
+// by bisection between 0 and the largest D of the plan of the thickest layers (which every
+// tolerance above it gives); for `fits`, whose every trial costs what it costs (an estimate of
+// the print), on a log scale from a micrometre and to within 2%. A budget even that plan
+// breaks gets that plan. Returns the path and the tolerance reached; the cap, ceiling and
+// split layers into `plan`.
+std::pair<std::vector<std::uint32_t>, double> budget_path(LazyPlanner& planner, const AdaptiveOptions& options,
+                                                          AdaptivePlan& plan) {
+  const bool by_count = options.max_layers > 0;
+  const auto accepts = [&](const std::vector<std::uint32_t>& edges) {
+    return by_count ? edges.size() <= options.max_layers : options.fits(layers_of(planner, edges));
   };
-  if (options.max_layers == 0 && !options.fits) {
-    path = planner.plan(tolerance, true);
-  } else {
-    // The least tolerance whose plan the budget accepts, by bisection between 0 and the
-    // largest D of the plan of the thickest layers (which every tolerance above it gives);
-    // for `fits`, whose every trial costs what it costs (an estimate of the print), on a log
-    // scale from a micrometre and to within 2%. A budget even that plan breaks gets that plan.
-    const bool by_count = options.max_layers > 0;
-    const auto accepts = [&](const std::vector<std::uint32_t>& edges) {
-      return by_count ? edges.size() <= options.max_layers : options.fits(layers_of(edges));
-    };
-    path = planner.plan(INFINITY, false);
-    planner.measure_exactly(path, INFINITY);
-    // (Its thinnest layers, the fixed first one among them, are on it whatever the tolerance.)
-    double hi = 0;
-    for (std::uint32_t e : path) {
-      if (!planner.thinnest(e)) hi = std::max(hi, planner.exact(e));
-    }
-    hi += 1e-3;
-    double lo = by_count ? 0 : std::min(1e-3, hi / 2);
-    const auto open = [&] { return by_count ? hi - lo > 1e-3 * std::max(1.0, hi) * 0.5 : hi > 1.02 * lo; };
-    if (accepts(path)) {
-      while (open()) {
-        const double mid = by_count ? 0.5 * (lo + hi) : std::sqrt(lo * hi);
-        std::vector<std::uint32_t> tried = planner.plan(mid, false, false);
-        if (accepts(tried)) {
-          hi = mid;
-          path = std::move(tried);
-        } else {
-          lo = mid;
-        }
-      }
-      // Then the least swept volume within the budget (all of a layer budget, or as many layers
-      // as the plan that fits a time budget), with no layer above the first over that plan's
-      // largest D and every one over its by-height 95th percentile of D counted first: the
-      // layers go where they take off the most volume, P95h D and max D no worse than the
-      // least tolerance's.
-      planner.measure_exactly(path, hi);
-      const Limits limits = planner.budget_limits(path, hi);
-      std::vector<std::uint32_t> least =
-          planner.plan_within(by_count ? options.max_layers : path.size(), limits);
-      planner.measure_exactly(least, hi);
-      if (!least.empty() && (by_count || accepts(least))) {
-        path = std::move(least);
-        plan.cap = limits.tolerance, plan.ceiling = limits.most;
-        if (by_count) plan.split = planner.spend(path, options.max_layers, limits);
-      }
-    }
-    tolerance = hi;
+  std::vector<std::uint32_t> path = planner.plan(INFINITY, false);
+  planner.measure_exactly(path, INFINITY);
+  // (Its thinnest layers, the fixed first one among them, are on it whatever the tolerance.)
+  double hi = 0;
+  for (std::uint32_t e : path) {
+    if (!planner.thinnest(e)) hi = std::max(hi, planner.exact(e));
   }
-  plan.tolerance = tolerance;
+  hi += 1e-3;
+  if (!accepts(path)) return {std::move(path), hi};
+  double lo = by_count ? 0 : std::min(1e-3, hi / 2);
+  const auto open = [&] { return by_count ? hi - lo > 1e-3 * std::max(1.0, hi) * 0.5 : hi > 1.02 * lo; };
+  while (open()) {
+    const double mid = by_count ? 0.5 * (lo + hi) : std::sqrt(lo * hi);
+    std::vector<std::uint32_t> tried = planner.plan(mid, false, false);
+    if (accepts(tried)) {
+      hi = mid;
+      path = std::move(tried);
+    } else {
+      lo = mid;
+    }
+  }
+  // Then the least swept volume within the budget (all of a layer budget, or as many layers
+  // as the plan that fits a time budget), with no layer above the first over that plan's
+  // largest D and every one over its by-height 95th percentile of D counted first: the
+  // layers go where they take off the most volume, P95h D and max D no worse than the
+  // least tolerance's.
+  planner.measure_exactly(path, hi);
+  const Limits limits = planner.budget_limits(path, hi);
+  std::vector<std::uint32_t> least = planner.plan_within(by_count ? options.max_layers : path.size(), limits);
+  planner.measure_exactly(least, hi);
+  if (!least.empty() && (by_count || accepts(least))) {
+    path = std::move(least);
+    plan.cap = limits.tolerance, plan.ceiling = limits.most;
+    if (by_count) plan.split = planner.spend(path, options.max_layers, limits);
+  }
+  return {std::move(path), hi};
+}
 
-  planner.measure_exactly(path, tolerance);
-  plan.layers = layers_of(path);
-  // Each layer is judged against the tolerance, or with a budget whose least error was found
-  // within a cap, against that: a layer the cap allows is there by choice, not over anything.
-  const double judged = plan.cap > 0 ? plan.cap : tolerance;
+// Each layer of `path` into `plan`: its D and swept volume, and whether it is within the
+// tolerance (with a budget whose least error was found within a cap, that cap: a layer the
+// cap allows is there by choice, not over anything) and if not, why.
+void judge_layers(const LayerStack& stack, const AllowedThicknesses& allowed, std::span<const double> flats,
+                  const LazyPlanner& planner, const std::vector<std::uint32_t>& path, AdaptivePlan& plan) {
+  const double judged = plan.cap > 0 ? plan.cap : plan.tolerance;
   for (std::size_t i = 0; i < path.size(); ++i) {
     const std::uint32_t e = path[i];
     const double d = planner.exact(e);
@@ -928,6 +943,35 @@ AdaptivePlan adaptive_plan(const LayerStack& stack, double part_height,
     plan.why.push_back(why);
     plan.lean.push_back(lean);
   }
+}
+
+}  // namespace
+
+AdaptivePlan adaptive_plan(const LayerStack& stack, double part_height,
+                           const AllowedThicknesses& allowed, std::span<const FlatLevel> flat_levels,
+                           const AdaptiveOptions& options, const PlanProgress& progress) {
+  AdaptivePlan plan;
+  if (!(part_height > 0) || !(allowed.thinnest() > 0) || !(allowed.thickest() >= allowed.thinnest())) {
+    return plan;
+  }
+  const std::vector<double> flats = flat_heights(flat_levels, part_height);
+  const FlatTargets targets = flat_targets(flats, allowed);
+  LazyPlanner planner(stack, part_height, allowed, targets, options, progress);
+  plan.candidates = planner.candidates();
+  plan.refused_for_overhangs = planner.refused();
+  planner.measure_forced(options.tolerance);
+  if (options.measure_all) planner.measure_all(options.max_layers > 0 || options.fits ? 0 : options.tolerance);
+
+  std::vector<std::uint32_t> path;
+  if (options.max_layers == 0 && !options.fits) {
+    plan.tolerance = std::max(0.0, options.tolerance);
+    path = planner.plan(plan.tolerance, true);
+  } else {
+    std::tie(path, plan.tolerance) = budget_path(planner, options, plan);
+  }
+  planner.measure_exactly(path, plan.tolerance);
+  plan.layers = layers_of(planner, path);
+  judge_layers(stack, allowed, flats, planner, path, plan);
   plan.flats = placements(flats, plan.layers);
   plan.measured = planner.measured();
   plan.rounds = planner.rounds();

@@ -162,86 +162,122 @@ bool SlabMeter::every_piece_crosses(std::span<const std::uint32_t> faces, double
   return true;
 }
 
+// What the strategies may use of one slab (contour_input.h): the faces through it, the slab
+// and its surface cut out of the mesh, the footprint's islands, each the first time it is
+// needed; no columns (optimal-height builds its own).
+struct SlabMeter::Cut {
+  const LayerStack& stack;
+  double z_lo, z_hi;
+  const DistanceOptions& distance;
+  const LayerStack view;  // the slab as the one layer of a stack, for a strategy's input
+  LayerReference reference;
+  std::vector<std::uint32_t> face_list;
+  bool have_faces = false, have_slab = false, have_surface = false, have_islands = false;
+
+  Cut(const LayerStack& stack, double z_lo, double z_hi, const DistanceOptions& distance)
+      : stack(stack), z_lo(z_lo), z_hi(z_hi), distance(distance), view(stack, {Layer{z_lo, z_hi}}) {
+    reference.layer = {z_lo, z_hi};
+  }
+  const std::vector<std::uint32_t>& faces() {
+    if (!have_faces) face_list = stack.faces_between(z_lo, z_hi), have_faces = true;
+    return face_list;
+  }
+  void need_slab() {
+    if (!have_slab) reference.slab = slab_of(stack.mesh(), faces(), z_lo, z_hi), have_slab = true;
+  }
+  const SlabSurface& surface() {
+    need_slab();
+    if (!have_surface) reference.surface = slab_surface(reference.slab, distance), have_surface = true;
+    return reference.surface;
+  }
+  const std::vector<BoundaryPair>& islands() {
+    need_slab();
+    if (!have_islands) reference.islands = slab_islands(reference.slab), have_islands = true;
+    return reference.islands;
+  }
+};
+
+namespace {
+
+// The metric's options for one measurement: stopping past `refute_above` (> 0), and with
+// `settle`, once D is seen within `enough` by the metric's tolerance at least (so that a
+// settled D is within it).
+DistanceOptions trial_distance(DistanceOptions distance, double enough, double refute_above, bool settle) {
+  distance.reverse = false;
+  if (refute_above > 0) distance.stop_above = refute_above;
+  if (settle && enough > 0) distance.settle_below = enough - distance.tolerance;
+  return distance;
+}
+
+}  // namespace
+
+bool SlabMeter::section_meets_every_piece(Cut& cut, const ContourStrategy& strategy) const {
+  return strategy.cuts_at != nullptr && !cut.have_islands &&
+         (spans_every_piece(cut.z_lo, cut.z_hi) ||
+          every_piece_crosses(cut.faces(), cut.z_lo, cut.z_hi, strategy.cuts_at(cut.reference.layer)));
+}
+
+void SlabMeter::measure_to_walls(Cut& cut, const BoundaryGrid& walls, SlabTrial& trial) const {
+  // Every surface point counts to the walls; the sections on the slab's two planes, where a
+  // section's walls stand farthest from the surface, first: one point past `enough` refuses
+  // the slab without the rest of the surface.
+  const DistanceOptions& distance = cut.distance;
+  double end_farthest = 0;
+  if (std::isfinite(distance.stop_above)) {
+    // A section is the limit from above: at a flat face on the top plane (a step's top)
+    // the slab's own surface there is the limit from below, a hair lower.
+    const bool flat_top = std::binary_search(flat_heights_.begin(), flat_heights_.end(), cut.z_hi);
+    const auto bottom = section(cut.z_lo), top = section(flat_top ? cut.z_hi - kBelow : cut.z_hi);
+    const Region* ends[] = {bottom.get(), top.get()};
+    end_farthest = first_beyond(ends, walls, distance.stop_above);
+  }
+  if (end_farthest > distance.stop_above) {
+    trial.distance = end_farthest;
+    return;
+  }
+  const DistanceError measured = distance_error(cut.surface(), walls, {}, distance);
+  trial.distance = measured.forward;
+  trial.settled = measured.settled;
+}
+
+void SlabMeter::measure_with_islands(Cut& cut, const BoundaryGrid& walls, SlabTrial& trial) const {
+  cut.surface();
+  const std::vector<BoundaryPair> missed = missed_features(cut.islands(), trial.region);
+  trial.missed = missed.size();
+  const DistanceError measured = distance_error(cut.surface(), walls, missed, cut.distance);
+  trial.distance = measured.forward;
+  trial.settled = measured.settled;
+}
+
+SlabTrial SlabMeter::trial(Cut& cut, const ContourStrategy& strategy) const {
+  SlabTrial trial;
+  trial.strategy = &strategy;
+  if (strategy.cuts_at != nullptr) {
+    trial.region = *section(strategy.cuts_at(cut.reference.layer));
+  } else {
+    cut.islands(), cut.surface();
+    trial.region = strategy.contour({cut.view, 0, options_.contour, &cut.reference}).region;
+  }
+  const BoundaryGrid walls(trial.region);
+  if (section_meets_every_piece(cut, strategy)) {
+    measure_to_walls(cut, walls, trial);
+  } else {
+    measure_with_islands(cut, walls, trial);
+  }
+  trial.bounded = trial.distance > cut.distance.stop_above;
+  return trial;
+}
+
 SlabError SlabMeter::operator()(double z_lo, double z_hi,
                                 std::span<const ContourStrategy* const> strategies, double enough,
                                 double refute_above, bool settle) const {
   SlabError error;
   error.z_lo = z_lo;
   error.z_hi = z_hi;
-  const LayerStack view(stack_, {Layer{z_lo, z_hi}});
-  std::vector<std::uint32_t> faces;
-  bool have_faces = false;
-  const auto need_faces = [&]() -> const std::vector<std::uint32_t>& {
-    if (!have_faces) faces = stack_.faces_between(z_lo, z_hi), have_faces = true;
-    return faces;
-  };
-  DistanceOptions distance = options_.distance;
-  distance.reverse = false;
-  if (refute_above > 0) distance.stop_above = refute_above;
-  // Within `enough` by the metric's tolerance at least, so that a settled D is within it.
-  if (settle && enough > 0) distance.settle_below = enough - distance.tolerance;
-  // What the strategies may use (contour_input.h): the slab and its surface, cut out of the
-  // mesh the first time one is needed; the footprint's islands the first time one needs them;
-  // no columns (optimal-height builds its own).
-  LayerReference reference;
-  reference.layer = {z_lo, z_hi};
-  bool have_slab = false, have_surface = false, have_islands = false;
-  const auto need_slab = [&] {
-    if (!have_slab) reference.slab = slab_of(stack_.mesh(), need_faces(), z_lo, z_hi), have_slab = true;
-  };
-  const auto need_surface = [&] {
-    need_slab();
-    if (!have_surface) reference.surface = slab_surface(reference.slab, distance), have_surface = true;
-  };
-  const auto need_islands = [&]() -> const std::vector<BoundaryPair>& {
-    need_slab();
-    if (!have_islands) reference.islands = slab_islands(reference.slab), have_islands = true;
-    return reference.islands;
-  };
+  const DistanceOptions distance = trial_distance(options_.distance, enough, refute_above, settle);
+  Cut cut(stack_, z_lo, z_hi, distance);
   for (const ContourStrategy* strategy : strategies) {
-    SlabTrial trial;
-    trial.strategy = strategy;
-    const bool section = strategy->cuts_at != nullptr;
-    if (section) {
-      trial.region = *this->section(strategy->cuts_at(reference.layer));
-    } else {
-      need_islands(), need_surface();
-      trial.region = strategy->contour({view, 0, options_.contour, &reference}).region;
-    }
-    const BoundaryGrid walls(trial.region);
-    if (section && !have_islands &&
-        (spans_every_piece(z_lo, z_hi) ||
-         every_piece_crosses(need_faces(), z_lo, z_hi, strategy->cuts_at(reference.layer)))) {
-      // Every surface point then counts to the walls; the sections on the slab's two planes,
-      // where a section's walls stand farthest from the surface, first: one point past
-      // `enough` refuses the slab without the rest of the surface.
-      double end_farthest = 0;
-      if (std::isfinite(distance.stop_above)) {
-        // A section is the limit from above: at a flat face on the top plane (a step's top)
-        // the slab's own surface there is the limit from below, a hair lower.
-        const bool flat_top = std::binary_search(flat_heights_.begin(), flat_heights_.end(), z_hi);
-        const auto bottom = this->section(z_lo), top = this->section(flat_top ? z_hi - kBelow : z_hi);
-        const Region* ends[] = {bottom.get(), top.get()};
-        end_farthest = first_beyond(ends, walls, distance.stop_above);
-      }
-      if (end_farthest > distance.stop_above) {
-        trial.distance = end_farthest;
-      } else {
-        need_surface();
-        const DistanceError measured = distance_error(reference.surface, walls, {}, distance);
-        trial.distance = measured.forward;
-        trial.settled = measured.settled;
-      }
-    } else {
-      need_surface();
-      const std::vector<BoundaryPair> missed = missed_features(need_islands(), trial.region);
-      trial.missed = missed.size();
-      const DistanceError measured = distance_error(reference.surface, walls, missed, distance);
-      trial.distance = measured.forward;
-      trial.settled = measured.settled;
-    }
-    trial.bounded = trial.distance > distance.stop_above;
-    error.trials.push_back(std::move(trial));
+    error.trials.push_back(trial(cut, *strategy));
     const std::size_t last = error.trials.size() - 1;
     if (error.trials[last].distance < error.trials[error.best].distance - 1e-3) error.best = last;
     if (enough > 0 && error.trials[last].distance <= enough) break;

@@ -41,6 +41,8 @@
 
 namespace geometry {
 
+class BoundaryGrid;  // geometry/core/boundary_grid.h
+
 struct SlabTrial {
   const ContourStrategy* strategy = nullptr;
   double distance = 0;   // D, mm
@@ -92,6 +94,18 @@ class SlabMeter {
 
   // The model's section at height z, cut the first time it is asked for.
   std::shared_ptr<const Region> section(double z) const;
+
+  // One slab's faces, slab, surface and islands, each cut the first time it is needed.
+  struct Cut;
+  // One strategy's trial on the slab: its region, and its D measured to the region's walls.
+  SlabTrial trial(Cut& cut, const ContourStrategy& strategy) const;
+  // Is the strategy a section that touches every island of the slab's footprint holding
+  // surface (so no island is missed, and D is measured to the walls alone)?
+  bool section_meets_every_piece(Cut& cut, const ContourStrategy& strategy) const;
+  // D to the walls: the sections on the slab's planes first, then the whole surface.
+  void measure_to_walls(Cut& cut, const BoundaryGrid& walls, SlabTrial& trial) const;
+  // D with the footprint's islands the region misses measured to their outlines.
+  void measure_with_islands(Cut& cut, const BoundaryGrid& walls, SlabTrial& trial) const;
 
   const LayerStack& stack_;
   SlabErrorOptions options_;
