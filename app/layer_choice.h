@@ -60,7 +60,8 @@ struct LayerChoice {
   double thinnest_allowed = 0;                    // the printer's thinnest layer, mm
   double seconds = 0;                             // wall time of the planning
   double budget_seconds = 0;                      // --max-time, s (0: none)
-  double estimated_seconds = 0;                   // with a budget: the plan's estimate, s
+  double estimated_seconds = 0;                   // with a budget: the plan's estimate, s (after
+                                                  // app::slice, its G-code's own)
   std::size_t max_layers = 0;                     // --max-layers (0: none)
   std::vector<std::string> notes;                 // --boundaries: the tops left out (BoundaryLayers)
 };

@@ -116,6 +116,50 @@ TEST_CASE("layer_tops_left_out_are_said_in_the_result") {
   CHECK(result.layers.back().z_hi == doctest::Approx(10.2));
 }
 
+// The G-code's own estimate in its header (";PRINT_TIME_S:5035.140"), s; -1 if none.
+double header_seconds(const std::string& gcode) {
+  const std::string text = read_file(gcode);
+  const std::size_t at = text.find(";PRINT_TIME_S:");
+  return at == std::string::npos ? -1 : std::stod(text.substr(at + 14));
+}
+
+TEST_CASE("a_print_time_budget_holds_for_the_gcodes_own_estimate") {
+  // A 96-gon frustum widening upward from radius 4 to 16 over 30 mm (its wall 22 degrees from
+  // vertical: no support), printed by mid's sections as the plan is estimated. Its D depends
+  // only on a layer's thickness, so a plan is about uniform at the thickest layer within the
+  // tolerance. The plan estimates each candidate from a sample of its layers, those between
+  // printing the paths of the sampled one below, narrower than their own: for uniform 0.25 mm
+  // layers about 2% short of their program. A budget 1% under that program is kept by the
+  // file's own estimate (its header's, what `print --dry-run` says; the plan line says that
+  // one too), by thicker layers, not by a plan whose sample fits and whose program does not.
+  const std::string dir = test_support::scratch_dir("app_slice_time_budget");
+  const std::string stl = dir + "/frustum.stl", gcode = dir + "/frustum.gcode";
+  geometry::write_stl_binary(stl, solids::frustum(4, 16, 30, 96).mesh);
+  app::SliceOptions options;
+  options.model.path = stl;
+  options.contour = "mid";
+  options.support.placement = "none";
+  options.support.raft = false;
+  options.layer = 0.25;
+  const double uniform = app::slice(options, gcode).summary.print_seconds;
+  options.layer = 0.4;
+  const double thickest = app::slice(options, gcode).summary.print_seconds;
+  options.layer.reset();
+  const double budget = std::round(0.99 * uniform);
+  REQUIRE(thickest < budget);
+  options.adaptive.max_seconds = budget;
+  const app::SliceResult result = app::slice(options, gcode);
+  const std::string said = result.warnings.empty() ? "" : result.warnings.front();
+  CAPTURE(uniform);
+  CAPTURE(budget);
+  CAPTURE(said);
+  CHECK(result.summary.print_seconds <= budget);
+  CHECK(header_seconds(gcode) <= budget);
+  CHECK(header_seconds(gcode) == doctest::Approx(result.summary.print_seconds).epsilon(1e-6));
+  CHECK(result.choice.estimated_seconds == result.summary.print_seconds);
+  CHECK(result.summary.print_seconds >= thickest);
+}
+
 TEST_CASE("a_cancelled_slice_stops_and_leaves_no_file") {
   const std::string dir = test_support::scratch_dir("app_slice_cancel");
   app::SliceOptions options;
