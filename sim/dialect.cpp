@@ -204,8 +204,11 @@ std::string position_reply(Dialect dialect, HeadPosition p, double feedrate, con
     case Dialect::teacup:  // gcode_process.c M114: "X:%lq,Y:%lq,Z:%lq,E:%lq,F:%lu"
       return fmt::format("X:{:.3f},Y:{:.3f},Z:{:.3f},E:{:.3f},F:{:.0f}", p.x, p.y, p.z, p.e,
                          feedrate * 60);
-    case Dialect::repetier:  // Commands.cpp printCurrentPosition
-      return fmt::format("X:{:.2f} Y:{:.2f} Z:{:.3f} E:{:.4f}", p.x, p.y, p.z, p.e);
+    case Dialect::repetier: {  // Commands.cpp printCurrentPosition: times 0.03937 after G20
+      const double unit = p.inches ? 0.03937 : 1;
+      return fmt::format("X:{:.2f} Y:{:.2f} Z:{:.3f} E:{:.4f}", p.x * unit, p.y * unit, p.z * unit,
+                         p.e * unit);
+    }
   }
   return "";
 }

@@ -75,6 +75,7 @@ std::string unknown_reply(Dialect dialect, std::string_view text, const printer:
 // M114's answer; `feedrate` mm/s, `steps` X Y Z steps per mm for Marlin's Count.
 struct HeadPosition {
   double x = 0, y = 0, z = 0, e = 0;
+  bool inches = false;  // after G20: Repetier reports in inches (Commands.cpp printCurrentPosition)
 };
 std::string position_reply(Dialect dialect, HeadPosition p, double feedrate,
                            const double (&steps)[3]);

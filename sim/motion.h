@@ -58,6 +58,7 @@ class Motion {
 
   Head head() const { return {state_.x, state_.y, state_.z, state_.e}; }
   double feedrate() const { return state_.feedrate / 60.0; }  // mm/s, the last F
+  bool inches() const { return state_.unit != 1; }            // G20 in effect
   int planner_free() const;
   double motion_time() const { return planner_.total_time(); }  // s of motion planned so far
   double end_time() const { return stepper_free_; }             // when the moves made final end

@@ -548,7 +548,7 @@ struct Printer::Firmware {
   std::string position_reply() const {
     const Motion::Head& h = motion.head();
     const double steps[3] = {cfg.steps_per_mm[0], cfg.steps_per_mm[1], cfg.steps_per_mm[2]};
-    return sim::position_reply(cfg.dialect, {h.x, h.y, h.z, h.e}, motion.feedrate(), steps);
+    return sim::position_reply(cfg.dialect, {h.x, h.y, h.z, h.e, motion.inches()}, motion.feedrate(), steps);
   }
 
   void unknown(const QueuedCommand& command, const printer::GcodeCommand& c) {

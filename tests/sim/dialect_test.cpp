@@ -129,6 +129,16 @@ TEST_CASE("repetier_reads_inches_after_g20") {
   CHECK(bench.printer.position().x == doctest::Approx(50.8));
 }
 
+TEST_CASE("repetier_reports_m114_in_inches_after_g20") {
+  // Commands.cpp printCurrentPosition: each coordinate times 0.03937 while unitIsInches.
+  Bench bench(sim::Dialect::repetier);
+  bench.line(1, "G20");
+  bench.line(2, "G1 X2 Y1 Z0.5 F60");
+  CHECK(bench.line(3, "M114").find("X:2.00 Y:1.00 Z:0.500 E:0.0000") != std::string::npos);
+  bench.line(4, "G21");
+  CHECK(bench.line(5, "M114").find("X:50.80 Y:25.40 Z:12.700 E:0.0000") != std::string::npos);
+}
+
 TEST_CASE("teacup_refuses_what_it_does_not_have_and_still_says_ok") {
   Bench bench(sim::Dialect::teacup);
   CHECK(bench.line(1, "M107") == "E: Bad M-code 107\nok\n");
