@@ -429,7 +429,7 @@ void Job::recover() {
   const int layer = file_.layer_index_of(done_);
   write_journal_now(JobState::printing, layer, done_, state_);
   // Where Z is comes from the printer itself, not from whether it said `start`.
-  const std::optional<ReportedPosition> at = protocol_.query_position();
+  const std::optional<ReportedPosition> at = position_in_mm(protocol_, state_);
   const bool z_lost = z_forgotten(at, state_);
   event(fmt::format(
       "resuming at layer {}/{}: heating, lifting, homing X and Y{}", layer + 1, file_.layers.size(),

@@ -23,6 +23,14 @@ void send_all(LineProtocol& protocol, const std::vector<std::string>& commands) 
 
 std::string mm(double value) { return fmt::format("{:.5f}", value); }
 
+// Whether the printer reads the file's inches (G20). The host's own moves are written in mm
+// (PrintState holds mm), so in an inch file they go between G21 and G20: Marlin reads G20/G21
+// only built with INCH_MODE_SUPPORT and takes G21 as a no-op without it (Marlin/src/gcode/
+// gcode.cpp, units/G20_G21.cpp); Teacup (gcode_parse.c) and Repetier (Commands.cpp, Printer.cpp
+// convertToMM) read both. Repetier also reports M114 in inches after G20 (Commands.cpp
+// printCurrentPosition), so a position is asked for after G21 too.
+bool in_inches(const PrintState& s) { return s.unit != 1; }
+
 // `lift` above z, stopping at the build height when it is known, never below z.
 double lifted(double z, double lift, double max_z) {
   return max_z > 0 ? std::max(z, std::min(z + lift, max_z)) : z + lift;
@@ -76,10 +84,15 @@ std::vector<std::string> reheat_commands(Firmware firmware, const PrintState& st
   return commands;
 }
 
+std::optional<ReportedPosition> position_in_mm(LineProtocol& protocol, const PrintState& state) {
+  if (in_inches(state)) protocol.send("G21");
+  return protocol.query_position();
+}
+
 PausePoint pause_print(LineProtocol& protocol, const PrintState& state, const PauseOptions& options) {
   PausePoint point;
   point.state = state;
-  if (const auto reported = protocol.query_position()) {
+  if (const auto reported = position_in_mm(protocol, state)) {
     point.reported = true;
     point.state.x = resolve(state.x, reported->x);
     point.state.y = resolve(state.y, reported->y);
@@ -88,7 +101,10 @@ PausePoint pause_print(LineProtocol& protocol, const PrintState& state, const Pa
   }
   point.stopped_at = protocol.link().now();
   point.lifted_z = lifted(point.state.z, options.lift, options.max_z);
-  send_all(protocol, leave_part(point.lifted_z, options));
+  std::vector<std::string> commands = leave_part(point.lifted_z, options);
+  // Waiting in the file's units, which the job's tunes are written in.
+  if (in_inches(state)) commands.push_back("G20");
+  send_all(protocol, commands);
   protocol.wait_acknowledged();
   return point;
 }
@@ -98,6 +114,7 @@ void resume_print(LineProtocol& protocol, const PausePoint& point, const PauseOp
   protocol.send("M105");
   protocol.wait_acknowledged();
   send_all(protocol, reheat_commands(protocol.firmware().firmware, s, protocol.temperatures(), options.reheat_margin));
+  if (in_inches(s)) protocol.send("G21");  // restore_modes ends the return with G20
   send_all(protocol, return_to_part(s, options));
 }
 
@@ -112,6 +129,9 @@ void recover_print(LineProtocol& protocol, const PrintState& s, bool z_lost, con
   // Heat while lifting and homing; wait only once the nozzle is off the part.
   if (s.bed_target > 0) commands.push_back(fmt::format("M140 S{}", s.bed_target));
   if (s.hotend_target > 0) commands.push_back(fmt::format("M104 S{}", s.hotend_target));
+  // A printer that kept the file's inches reads the lift and return in mm; one that reset
+  // reads mm anyway. restore_modes ends the return with G20.
+  if (in_inches(s)) commands.push_back("G21");
   // A printer that lost Z: Z did not move (its motors hold or were off), so the journal's Z is
   // where the nozzle is, to within the layer that was being printed.
   if (z_lost) commands.push_back(fmt::format("G92 Z{}", mm(s.z)));
@@ -133,6 +153,8 @@ void cancel_print(LineProtocol& protocol, const PrintState& state, const PauseOp
   protocol.wait_acknowledged();
   std::vector<std::string> commands{"M104 S0", "M140 S0",
                                     protocol.dialect().has_m107 ? "M107" : "M106 S0"};
+  // The job is over: the printer is left in mm, its units at power-on.
+  if (in_inches(state)) commands.push_back("G21");
   for (std::string& c : leave_part(lifted(state.z, kCancelLift, options.max_z), options)) {
     commands.push_back(std::move(c));
   }

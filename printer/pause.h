@@ -11,6 +11,8 @@
 // cancel_print: the safe end of a cancelled job once the lines in flight are done: heaters and
 // fan off, retract, lift 10 mm (to the build height at most), park, motors off.
 //
+// In a file in inches (G20) the moves above are sent between G21 and G20 (pause.cpp in_inches);
+// a cancel leaves the printer in mm.
 // Positions come from the G-code stream (exact to the file's decimals) when M114 agrees with
 // them to 0.01 mm (Marlin prints M114 to two decimals), and from M114 otherwise.
 // Units: mm, mm/min, °C.
@@ -58,6 +60,9 @@ void recover_print(LineProtocol& protocol, const PrintState& at_resume, bool z_l
 // a Z that was reset to 0 prints in the air. Whether the board reset is not read from its
 // `start` banner, which a late flush of the port can throw away.
 bool z_forgotten(const std::optional<ReportedPosition>& reported, const PrintState& journal);
+// Where the printer is (LineProtocol::query_position), in mm: after G21 when `state` is in
+// inches (Repetier reports M114 in the current units). The printer is left in mm.
+std::optional<ReportedPosition> position_in_mm(LineProtocol& protocol, const PrintState& state);
 void cancel_print(LineProtocol& protocol, const PrintState& state, const PauseOptions& options);
 
 // The heating commands resume sends: M190/M109 when the last report is `reheat_margin` or

@@ -2,9 +2,12 @@
 // with faults, pauses, cancels and stops (DESIGN.md §4).
 #include "printer/job.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <optional>
+#include <sstream>
 
 #include <doctest/doctest.h>
 #include <fmt/core.h>
@@ -14,6 +17,7 @@
 #include "printer/scripted_firmware.h"
 #include "printer/split_link.h"
 #include "printer/test_program.h"
+#include "sim/dialect.h"
 #include "sim/faults.h"
 #include "sim/sim_link.h"
 #include "support/run_command.h"
@@ -79,6 +83,96 @@ bool same_moves(const sim::DepositionRecord& a, const sim::DepositionRecord& b) 
     }
   }
   return true;
+}
+
+// The ring program as each firmware takes it: Teacup heats with M116 (no M109 or M190) and
+// has no M107.
+std::string ring_program_for(sim::Dialect dialect, int layers, int segments) {
+  std::string text = test_support::ring_program(layers, segments);
+  if (dialect == sim::Dialect::teacup) {
+    text.replace(text.find("M190 S60\nM109 S210\n"), 19, "M116\n");
+    text.replace(text.find("M107\n"), 5, "M106 S0\n");
+  }
+  return text;
+}
+
+// `text` written in inches: G20 first, every X Y Z E and F divided by 25.4, to a millionth of
+// an inch (25 nm; Marlin reads lines of 82 characters at most).
+std::string in_inches(const std::string& text) {
+  std::string out = "G20\n";
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);) {
+    const std::size_t comment = line.find(';');
+    std::istringstream words(line.substr(0, comment));
+    std::string written;
+    for (std::string word; words >> word;) {
+      if (word.size() > 1 && std::string_view("XYZEF").find(word[0]) != std::string_view::npos) {
+        word = fmt::format("{}{:.6f}", word[0], std::stod(word.substr(1)) / 25.4);
+      }
+      written += (written.empty() ? "" : " ") + word;
+    }
+    if (comment != std::string::npos) written += (written.empty() ? "" : " ") + line.substr(comment);
+    out += written + "\n";
+  }
+  return out;
+}
+
+// The ring program in inches for `dialect`, and that dialect's simulated printer.
+GcodeFile inch_ring(sim::Dialect dialect, int layers, int segments) {
+  return parse_gcode(in_inches(ring_program_for(dialect, layers, segments)), "ring.gcode");
+}
+sim::Config speaking(sim::Dialect dialect) {
+  sim::Config config;
+  config.dialect = dialect;
+  return config;
+}
+
+// A host that dies 0.3 s into layer 10 (the job abandoned from its tick: no heaters off, no
+// journal of the failure) printing `file` on `link`'s printer; then the printer is reset or
+// not, and the moves it had queued run out. The journal the host left.
+JournalRecord host_dies_in_layer_10(sim::SimLink& link, const GcodeFile& file, const std::string& journal_path,
+                                    bool reset) {
+  struct HostDied {};
+  JobOptions options;
+  options.journal_path = journal_path;
+  {
+    LineProtocol protocol(link);
+    protocol.connect();
+    Job job(protocol, file, options);
+    int ticks = 0;  // 100 ms of link time each: 0.3 s into a layer of about 4 s
+    job.on_tick = [&ticks](Job& j) {
+      if (j.progress().layer == 10 && ++ticks == 3) throw HostDied{};
+    };
+    CHECK_THROWS_AS(job.run(), HostDied);
+  }
+  if (reset) link.printer().reset();
+  link.printer().run_until(link.printer().now() + 5);
+  return read_journal(journal_path);
+}
+
+// A second host's job, resuming from `journal`.
+JobOptions resume_from(const JournalRecord& journal) {
+  JobOptions resume;
+  resume.first_command = journal.resume_command;
+  resume.recover_from = journal.state_at_resume;
+  return resume;
+}
+
+// The farthest X and Y and the highest Z the commands `executed[from..]` sent the nozzle to,
+// from `state`, read by the interpreter the simulated printer moves by, mm.
+printer::AxisPosition farthest_reached(const std::vector<std::string>& executed, std::size_t from,
+                                       printer::GcodeState state) {
+  const double none = -std::numeric_limits<double>::infinity();
+  printer::AxisPosition far{none, none, none, none};
+  for (std::size_t i = from; i < executed.size(); ++i) {
+    const printer::GcodeStep step = printer::interpret(state, parse_gcode_line(executed[i]));
+    for (const printer::Motion& move : step.moves()) {
+      far.x = std::max(far.x, move.to.x);
+      far.y = std::max(far.y, move.to.y);
+      far.z = std::max(far.z, move.to.z);
+    }
+  }
+  return far;
 }
 
 }  // namespace
@@ -158,6 +252,86 @@ TEST_CASE("resume_restores_z_and_e_after_a_pause_in_relative_e_mode") {
   CHECK(same_moves(paused.deposition, plain.deposition));
 }
 
+TEST_CASE("a_pause_in_an_inch_file_lifts_parks_and_returns_in_millimetres") {
+  // The host's own moves are in mm; the printer reads the file's G20 until told G21. The
+  // pause's lift and park and the resume's return go between G21 and G20, and the pause asks
+  // Repetier where it is after G21 (it reports M114 in inches after G20).
+  for (const sim::Dialect dialect : {sim::Dialect::teacup, sim::Dialect::repetier}) {
+    CAPTURE(sim::to_string(dialect));
+    const GcodeFile file = inch_ring(dialect, 12, 40);
+    const sim::Config config = speaking(dialect);
+    const Printed plain = print(file, config);
+    sim::SimLink link(config);
+    LineProtocol protocol(link);
+    protocol.connect();
+    JobOptions options;
+    options.pause_at_layers = {5, 9};
+    Job job(protocol, file, options);
+    std::vector<sim::Printer::Position> parked;  // at the first tick of each pause
+    std::vector<std::string> events;
+    job.on_event = [&](const std::string& e) { events.push_back(e); };
+    JobState before = JobState::printing;
+    job.on_tick = [&](Job& j) {
+      const JobState now = j.progress().state;
+      if (now == JobState::paused && before != JobState::paused) {
+        parked.push_back(link.printer().position());
+        j.request(JobRequest::resume);
+      }
+      before = now;
+    };
+    CHECK(job.run().state == JobState::completed);
+    CHECK(protocol.refused().empty());
+    link.printer().finish();
+    // Paused before layer 5 at layer 4's Z (0.8 mm) and before layer 9 at 1.6 mm: parked at
+    // X5 Y5 (PauseOptions), 5 mm higher.
+    REQUIRE(parked.size() == 2);
+    const double paused_at[] = {0.8, 1.6};
+    for (std::size_t i = 0; i < 2; ++i) {
+      CHECK(parked[i].x == doctest::Approx(5));
+      CHECK(parked[i].y == doctest::Approx(5));
+      CHECK(parked[i].z == doctest::Approx(paused_at[i] + 5));
+    }
+    CHECK(std::count_if(events.begin(), events.end(), [](const std::string& e) {
+            return e.find(" Z0.80; nozzle parked at Z5.80") != std::string::npos;
+          }) == 1);
+    CHECK(same_moves(link.printer().deposition(), plain.deposition));
+    // Nowhere higher than the end G-code's lift 10 mm above the top layer, nor farther out
+    // than the ring (X and Y at most 125 mm).
+    printer::GcodeState power_on;
+    power_on.rules = sim::gcode_rules(dialect);
+    const printer::AxisPosition far = farthest_reached(link.printer().executed_commands(), 0, power_on);
+    CHECK(far.z <= 12 * 0.2 + 10 + 1e-3);
+    CHECK(far.x <= 125 + 1e-3);
+    CHECK(far.y <= 125 + 1e-3);
+  }
+}
+
+TEST_CASE("a_cancel_in_an_inch_file_lifts_and_parks_in_millimetres_and_leaves_them") {
+  for (const sim::Dialect dialect : {sim::Dialect::teacup, sim::Dialect::repetier}) {
+    CAPTURE(sim::to_string(dialect));
+    const GcodeFile file = inch_ring(dialect, 30, 60);
+    const sim::Config config = speaking(dialect);
+    sim::SimLink link(config);
+    LineProtocol protocol(link);
+    protocol.connect();
+    Job job(protocol, file, {});
+    job.on_tick = [](Job& j) {
+      if (j.progress().layer == 10) j.request(JobRequest::cancel);
+    };
+    CHECK(job.run().state == JobState::cancelled);
+    const sim::Printer::Position at = link.printer().position();
+    CHECK(at.x == doctest::Approx(5));
+    CHECK(at.y == doctest::Approx(5));
+    CHECK(at.z > 1.8 + 9.99);  // layer 10 at 1.8 or 2.0 mm, lifted 10 mm
+    CHECK(at.z < 2.0 + 10.01);
+    // Left in mm, the units a printer powers on in, for whatever file comes next.
+    const std::vector<std::string>& executed = link.printer().executed_commands();
+    const auto last_g21 = std::find(executed.rbegin(), executed.rend(), "G21");
+    CHECK(last_g21 != executed.rend());
+    CHECK(std::find(executed.rbegin(), last_g21, "G20") == last_g21);
+  }
+}
+
 TEST_CASE("cancel_ends_with_heaters_off_lifted_and_motors_off") {
   const GcodeFile file = parse_gcode(test_support::ring_program(30, 60), "ring.gcode");
   sim::SimLink link{sim::Config{}};
@@ -226,12 +400,7 @@ TEST_CASE("disconnect_then_resume_reprints_only_the_interrupted_layer") {
   for (const sim::Dialect dialect : {sim::Dialect::marlin, sim::Dialect::teacup, sim::Dialect::repetier}) {
     CAPTURE(sim::to_string(dialect));
     const std::string dir = test_support::scratch_dir(fmt::format("disconnect_resume_{}", sim::to_string(dialect)));
-    std::string text = test_support::ring_program(30, 60);
-    if (dialect == sim::Dialect::teacup) {
-      text.replace(text.find("M190 S60\nM109 S210\n"), 19, "M116\n");
-      text.replace(text.find("M107\n"), 5, "M106 S0\n");
-    }
-    const GcodeFile file = parse_gcode(text, "ring.gcode");
+    const GcodeFile file = parse_gcode(ring_program_for(dialect, 30, 60), "ring.gcode");
     sim::Config config;
     config.dialect = dialect;
     const Printed clean = print(file, config);
@@ -298,32 +467,15 @@ TEST_CASE("a_resume_asks_the_printer_where_z_is_and_sets_it_only_where_it_was_lo
   const std::string dir = test_support::scratch_dir("resume_asks_for_z");
   const GcodeFile file = parse_gcode(test_support::ring_program(20, 40), "ring.gcode");
   const Printed clean = print(file, sim::Config{});
-  struct HostDied {};
   for (const bool reset : {false, true}) {
     CAPTURE(reset);
     sim::SimLink link{sim::Config{}};
-    JobOptions options;
-    options.journal_path = dir + fmt::format("/job{}.journal", reset);
-    {
-      LineProtocol protocol(link);
-      protocol.connect();
-      Job job(protocol, file, options);
-      int ticks = 0;  // 100 ms of link time each: 0.3 s into a layer of about 4 s
-      job.on_tick = [&ticks](Job& j) {
-        if (j.progress().layer == 10 && ++ticks == 3) throw HostDied{};
-      };
-      CHECK_THROWS_AS(job.run(), HostDied);
-    }
-    const JournalRecord journal = read_journal(options.journal_path);
+    const JournalRecord journal =
+        host_dies_in_layer_10(link, file, dir + fmt::format("/job{}.journal", reset), reset);
     REQUIRE(journal.layer_index == 9);
-    if (reset) link.printer().reset();
-    link.printer().run_until(link.printer().now() + 5);  // the moves queued run out
     LineProtocol protocol(link);
     protocol.connect();
-    JobOptions resume;
-    resume.first_command = journal.resume_command;
-    resume.recover_from = journal.state_at_resume;
-    Job job(protocol, file, resume);
+    Job job(protocol, file, resume_from(journal));
     std::vector<std::string> events;
     job.on_event = [&](const std::string& e) { events.push_back(e); };
     CHECK(job.run().state == JobState::completed);
@@ -340,6 +492,56 @@ TEST_CASE("a_resume_asks_the_printer_where_z_is_and_sets_it_only_where_it_was_lo
     const double top = clean.deposition.moves.back().z;
     CHECK(moves.back().z == doctest::Approx(top));
     for (const sim::DepositedMove& m : moves) CHECK(m.z <= top + 1e-9);
+  }
+}
+
+TEST_CASE("a_resume_of_an_inch_file_lifts_and_returns_in_millimetres_on_a_printer_that_kept_g20_or_reset") {
+  // The host dies mid-layer; a second host resumes from the journal, whose units are inches.
+  // A printer that was not reset still reads inches, one that was reads mm: both are sent G21
+  // before the position query (Repetier reports M114 in inches after G20), the lift and the
+  // return, and G20 before the file goes on.
+  const std::string dir = test_support::scratch_dir("resume_in_inches");
+  for (const sim::Dialect dialect : {sim::Dialect::teacup, sim::Dialect::repetier}) {
+    const GcodeFile file = inch_ring(dialect, 20, 40);
+    const sim::Config config = speaking(dialect);
+    const Printed clean = print(file, config);
+    for (const bool reset : {false, true}) {
+      CAPTURE(sim::to_string(dialect));
+      CAPTURE(reset);
+      sim::SimLink link(config);
+      const JournalRecord journal = host_dies_in_layer_10(
+          link, file, dir + fmt::format("/{}{}.journal", sim::to_string(dialect), reset), reset);
+      REQUIRE(journal.state_at_resume.unit == 25.4);
+      const std::size_t resumed_from = link.printer().executed_commands().size();
+      printer::GcodeState before;  // the printer's state as the second host finds it
+      before.rules = sim::gcode_rules(dialect);
+      const sim::Printer::Position at = link.printer().position();
+      before.x = at.x;
+      before.y = at.y;
+      before.z = at.z;
+      before.e = at.e;
+      before.unit = reset ? 1 : 25.4;
+      LineProtocol protocol(link);
+      protocol.connect();
+      Job job(protocol, file, resume_from(journal));
+      CHECK(job.run().state == JobState::completed);
+      CHECK(protocol.refused().empty());
+      link.printer().finish();
+      const std::vector<std::string>& executed = link.printer().executed_commands();
+      const auto recovery = executed.begin() + static_cast<std::ptrdiff_t>(resumed_from);
+      const bool set_z = std::find_if(recovery, executed.end(), [](const std::string& c) {
+                           return c.starts_with("G92 Z");
+                         }) != executed.end();
+      CHECK(set_z == reset);
+      const double top = clean.deposition.moves.back().z;
+      const printer::AxisPosition far = farthest_reached(executed, resumed_from, before);
+      CHECK(far.z <= top + 10 + 1e-3);  // the end G-code's lift
+      CHECK(far.x <= 125 + 1e-3);
+      CHECK(far.y <= 125 + 1e-3);
+      const auto& moves = link.printer().deposition().moves;
+      CHECK(moves.back().z == doctest::Approx(top));
+      for (const sim::DepositedMove& m : moves) CHECK(m.z <= top + 1e-9);
+    }
   }
 }
 
