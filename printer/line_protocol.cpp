@@ -324,16 +324,62 @@ void LineProtocol::handle_received() {
 
 void LineProtocol::handle(const Reply& reply) {
   if (on_reply) on_reply(reply);
-  const bool readable = reply.kind != ReplyKind::other || is_readable(reply.text);
-  if (!readable) stats_.unreadable_lines++;
+  if (reply.kind == ReplyKind::other && !is_readable(reply.text)) stats_.unreadable_lines++;
+  end_pairings(reply.kind);
+  note_reports(reply);
+  note_firmware(reply);
+  switch (reply.kind) {
+    case ReplyKind::ok:
+      handle_ok(reply);
+      break;
+    case ReplyKind::resend:
+      handle_resend(*reply.line_number);
+      break;
+    case ReplyKind::skip:
+      handle_skip(reply);
+      break;
+    case ReplyKind::error:
+      handle_error(reply);
+      break;
+    case ReplyKind::fatal:
+      throw FirmwareStopped(fmt::format("{}: the printer stopped: {}", link_.name(), reply.text));
+    case ReplyKind::busy:
+      handle_busy(reply);
+      break;
+    case ReplyKind::wait:
+      if (connected_ && lines_in_flight() > 0) idle_reported_ = true;
+      break;
+    case ReplyKind::start:
+      handle_start();
+      break;
+    case ReplyKind::temperature:
+      if (reply.heating_wait) {
+        last_keepalive_ = link_.now();
+        answered();  // M109/M190 report while they wait: a keepalive
+      } else {
+        handle_temperature_line(reply);
+      }
+      break;
+    case ReplyKind::echo:
+      if (reply.unknown_command && connected_) handle_refusal(reply.text, std::nullopt);
+      break;
+    default:
+      break;
+  }
+}
+
+void LineProtocol::end_pairings(ReplyKind kind) {
   // Marlin prints a resend request and its ok back to back: anything else in between means
   // this request has no ok.
-  if (expect_trailing_ok_ && reply.kind != ReplyKind::ok) {
+  if (expect_trailing_ok_ && kind != ReplyKind::ok) {
     expect_trailing_ok_ = false;
     if (connected_) ++trailing_ok_missed_;
   }
   // "T:" then "ok" answer an M105 only when they come one after the other.
-  if (reply.kind != ReplyKind::ok && reply.kind != ReplyKind::temperature) m105_answer_next_ = false;
+  if (kind != ReplyKind::ok && kind != ReplyKind::temperature) m105_answer_next_ = false;
+}
+
+void LineProtocol::note_reports(const Reply& reply) {
   if (reply.temperatures) {
     Temperatures merged = temperatures_.value_or(Temperatures{});
     if (reply.temperatures->hotend) merged.hotend = reply.temperatures->hotend;
@@ -347,6 +393,9 @@ void LineProtocol::handle(const Reply& reply) {
     position_ = reply.position;
     ++position_reports_;
   }
+}
+
+void LineProtocol::note_firmware(const Reply& reply) {
   if (!connected_ && (reply.text.starts_with("echo:Marlin") || reply.text.starts_with("Marlin "))) {
     banner_said_marlin_ = true;
   }
@@ -357,79 +406,56 @@ void LineProtocol::handle(const Reply& reply) {
     }
     firmware_.name = std::string(name);
   }
-  switch (reply.kind) {
-    case ReplyKind::ok:
-      handle_ok(reply);
-      break;
-    case ReplyKind::resend:
-      handle_resend(*reply.line_number);
-      break;
-    case ReplyKind::skip:
-      // Repetier does not run a line it already has and says "skip N", then "ok"
-      // (gcode.cpp checkAndPushCommand): the answer to the unanswered line sent again. It says
-      // the same of a line sent before a resend request it is waiting on.
-      ++swallow_oks_;
-      last_answer_ = link_.now();
-      if (connected_ && reply.line_number && *reply.line_number == probe_line_ && probe_line_ <= sent_) {
-        accept_through(*reply.line_number);
-      }
-      break;
-    case ReplyKind::error:
-      // The refusal a skipped-number probe asked for is not the firmware's trouble.
-      if (own_errors_expected_ > 0 && reply.text.find("Line Number") != std::string::npos) {
-        --own_errors_expected_;
-      } else {
-        ++stats_.recoverable_errors;
-      }
-      if (!connected_) connect_rejected_ = true;
-      last_answer_ = link_.now();
-      if (connected_ && reply.text.starts_with("E:")) handle_refusal(reply.text, std::nullopt);
-      break;
-    case ReplyKind::fatal:
-      throw FirmwareStopped(fmt::format("{}: the printer stopped: {}", link_.name(), reply.text));
-    case ReplyKind::busy:
-      // Teacup says "Waiting for target temp" while M116's flag is set, whatever runs: a sign of
-      // life only for the G0/G1 that waits, not for a lost ok of another line.
-      if (reply.text == "Waiting for target temp" && !heat_wait_in_flight()) break;
-      ++stats_.busy_reports;
-      if (keepalive_) keepalive_seen_ = true;
-      last_keepalive_ = link_.now();
-      answered();
-      break;
-    case ReplyKind::wait:
-      if (connected_ && lines_in_flight() > 0) idle_reported_ = true;
-      break;
-    case ReplyKind::start:
-      restart_seen_ = true;
-      ++starts_seen_;
-      if (connected_) {
-        throw FirmwareStopped(fmt::format(
-            "{}: the printer restarted during the job (it sent 'start'), so its position and "
-            "heaters were reset",
-            link_.name()));
-      }
-      break;
-    case ReplyKind::temperature:
-      if (reply.heating_wait) {
-        last_keepalive_ = link_.now();
-        answered();  // M109/M190 report while they wait: a keepalive
-      } else {
-        handle_temperature_line(reply);
-      }
-      break;
-    case ReplyKind::echo:
-      if (reply.unknown_command && connected_) handle_refusal(reply.text, std::nullopt);
-      break;
-    case ReplyKind::other:
-      // "Cap:NAME:1" (Marlin's M115.cpp, Repetier's Commands.cpp), "cap:..." (Teacup's M115).
-      if (reply.text.size() > 4 && (reply.text.starts_with("Cap:") || reply.text.starts_with("cap:"))) {
-        const std::string_view cap = std::string_view(reply.text).substr(4);
-        if (cap == "EMERGENCY_PARSER:1") firmware_.emergency_parser = true;
-        if (cap == "AUTOREPORT_TEMP:1") firmware_.autoreport_temperature = true;
-      }
-      break;
-    default:
-      break;
+  // "Cap:NAME:1" (Marlin's M115.cpp, Repetier's Commands.cpp), "cap:..." (Teacup's M115).
+  if (reply.kind == ReplyKind::other && reply.text.size() > 4 &&
+      (reply.text.starts_with("Cap:") || reply.text.starts_with("cap:"))) {
+    const std::string_view cap = std::string_view(reply.text).substr(4);
+    if (cap == "EMERGENCY_PARSER:1") firmware_.emergency_parser = true;
+    if (cap == "AUTOREPORT_TEMP:1") firmware_.autoreport_temperature = true;
+  }
+}
+
+void LineProtocol::handle_skip(const Reply& reply) {
+  // Repetier does not run a line it already has and says "skip N", then "ok"
+  // (gcode.cpp checkAndPushCommand): the answer to the unanswered line sent again. It says
+  // the same of a line sent before a resend request it is waiting on.
+  ++swallow_oks_;
+  last_answer_ = link_.now();
+  if (connected_ && reply.line_number && *reply.line_number == probe_line_ && probe_line_ <= sent_) {
+    accept_through(*reply.line_number);
+  }
+}
+
+void LineProtocol::handle_error(const Reply& reply) {
+  // The refusal a skipped-number probe asked for is not the firmware's trouble.
+  if (own_errors_expected_ > 0 && reply.text.find("Line Number") != std::string::npos) {
+    --own_errors_expected_;
+  } else {
+    ++stats_.recoverable_errors;
+  }
+  if (!connected_) connect_rejected_ = true;
+  last_answer_ = link_.now();
+  if (connected_ && reply.text.starts_with("E:")) handle_refusal(reply.text, std::nullopt);
+}
+
+void LineProtocol::handle_busy(const Reply& reply) {
+  // Teacup says "Waiting for target temp" while M116's flag is set, whatever runs: a sign of
+  // life only for the G0/G1 that waits, not for a lost ok of another line.
+  if (reply.text == "Waiting for target temp" && !heat_wait_in_flight()) return;
+  ++stats_.busy_reports;
+  if (keepalive_) keepalive_seen_ = true;
+  last_keepalive_ = link_.now();
+  answered();
+}
+
+void LineProtocol::handle_start() {
+  restart_seen_ = true;
+  ++starts_seen_;
+  if (connected_) {
+    throw FirmwareStopped(fmt::format(
+        "{}: the printer restarted during the job (it sent 'start'), so its position and "
+        "heaters were reset",
+        link_.name()));
   }
 }
 
@@ -946,16 +972,39 @@ void LineProtocol::write_connect_line() {
 
 void LineProtocol::connect(milliseconds boot_wait) {
   connected_ = false;
-  const nanoseconds start = link_.now();
+  // Answered without a banner: the probe reset the count. After a banner (Teacup's ends with an
+  // ok of its own, mendel.c) or a refusal, the exchange of M110s does.
+  if (!probe_until_booted(boot_wait) && !exchange_m110()) {
+    throw LinkError(fmt::format(
+        "{}: the printer does not answer (no 'ok' to M110 in {} tries{}); check that it is on, "
+        "that --baud matches its firmware (115200 or 250000) and that no other program uses "
+        "the port",
+        link_.name(), kConnectTries,
+        stats_.unreadable_lines > 0
+            ? fmt::format(", {} unreadable reply lines: likely the wrong --baud", stats_.unreadable_lines)
+            : std::string()));
+  }
+  // An ok that was not M110's (Teacup's banner ends with one, mendel.c) must not be taken for
+  // M115's: what comes in a short quiet after is swallowed.
+  const nanoseconds quiet = link_.now() + nanoseconds(options_.resend_ok_grace);
+  while (link_.now() < quiet) {
+    read_once(std::chrono::duration_cast<milliseconds>(quiet - link_.now()) + milliseconds(1));
+  }
+  start_numbering();
+  identify_firmware();
+}
+
+bool LineProtocol::probe_until_booted(milliseconds boot_wait) {
   // A board that resets as its port opens (DTR: Arduino-style boards) says `start` once booted,
   // Marlin its settings after, then listens; one that does not (native USB) says nothing and
   // is listening already. So M110 N0 goes out at once, as a probe: an ok to it with no `start`
   // before is a board that is up, and the wait for a banner ends there. A board in its
   // bootloader loses the probe; its `start` comes, then silence once the banner is over, and
-  // the M110 exchange below follows. The probe goes once within boot_wait (printcore and
-  // OctoPrint also say their first hello at once): an ATmega2560's stk500v2 bootloader stays in
-  // itself while bytes keep arriving, and starts the firmware only after F_CPU/2 polls with
-  // none (recchar_timeout in stk500boot.c).
+  // the M110 exchange follows. The probe goes once within boot_wait (printcore and OctoPrint
+  // also say their first hello at once): an ATmega2560's stk500v2 bootloader stays in itself
+  // while bytes keep arriving, and starts the firmware only after F_CPU/2 polls with none
+  // (recchar_timeout in stk500boot.c).
+  const nanoseconds start = link_.now();
   const long starts_before = starts_seen_;
   connect_ok_ = false;
   connect_rejected_ = connect_resend_ = false;
@@ -970,12 +1019,12 @@ void LineProtocol::connect(milliseconds boot_wait) {
     handle_buffered();
     if (starts_seen_ == starts_before && (connect_ok_ || connect_rejected_)) break;  // the probe's answer
   }
-  // Answered without a banner: the probe reset the count. After a banner (Teacup's ends with an
-  // ok of its own, mendel.c) or a refusal, the exchange below does.
-  bool reset = connect_ok_ && starts_seen_ == starts_before;
+  return connect_ok_ && starts_seen_ == starts_before;
+}
 
+bool LineProtocol::exchange_m110() {
   // M110 N0 resets the firmware's count whatever it was; retried when noise corrupts it.
-  for (int attempt = 0; attempt < kConnectTries && !reset; ++attempt) {
+  for (int attempt = 0; attempt < kConnectTries; ++attempt) {
     if (connect_rejected_) {
       // The refusal is "Error:...", then "Resend: n", then on some firmwares an ok (Marlin's
       // queue.cpp gcode_line_error, flush_and_request_resend; Teacup's and Repetier's have no
@@ -989,26 +1038,12 @@ void LineProtocol::connect(milliseconds boot_wait) {
     write_connect_line();
     const nanoseconds deadline = link_.now() + nanoseconds(options_.probe_after);
     while (!connect_ok_ && !connect_rejected_ && link_.now() < deadline) read_once(options_.tick);
-    reset = connect_ok_ && !connect_rejected_;
+    if (connect_ok_ && !connect_rejected_) return true;
   }
-  if (reset) {
-    // An ok that was not M110's (Teacup's banner ends with one, mendel.c) must not be taken for
-    // M115's: what comes in a short quiet after is swallowed.
-    const nanoseconds quiet = link_.now() + nanoseconds(options_.resend_ok_grace);
-    while (link_.now() < quiet) {
-      read_once(std::chrono::duration_cast<milliseconds>(quiet - link_.now()) + milliseconds(1));
-    }
-  }
-  if (!reset) {
-    throw LinkError(fmt::format(
-        "{}: the printer does not answer (no 'ok' to M110 in {} tries{}); check that it is on, "
-        "that --baud matches its firmware (115200 or 250000) and that no other program uses "
-        "the port",
-        link_.name(), kConnectTries,
-        stats_.unreadable_lines > 0
-            ? fmt::format(", {} unreadable reply lines: likely the wrong --baud", stats_.unreadable_lines)
-            : std::string()));
-  }
+  return false;
+}
+
+void LineProtocol::start_numbering() {
   history_.clear();
   assigned_ = sent_ = accepted_ = highest_written_ = 0;
   commands_sent_ = commands_accepted_ = 0;
@@ -1029,6 +1064,9 @@ void LineProtocol::connect(milliseconds boot_wait) {
   mirror_ = PlannerMirror(dialect_of(Firmware::unknown).planner_depth);
   connected_ = true;
   last_write_ = last_answer_ = link_.now();
+}
+
+void LineProtocol::identify_firmware() {
   firmware_ = FirmwareInfo{};
   send("M115");
   wait_acknowledged();

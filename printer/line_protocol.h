@@ -257,8 +257,20 @@ class LineProtocol {
   void wait_until_or(std::chrono::milliseconds timeout);
   void read_once(std::chrono::milliseconds timeout);
   void write_connect_line();  // N0 M110 N0, unrecorded
+  // connect's steps: true when the first M110 was answered by a board without a banner.
+  bool probe_until_booted(std::chrono::milliseconds boot_wait);
+  bool exchange_m110();        // M110 N0 until accepted; false when never
+  void start_numbering();      // line 1 next, nothing in flight
+  void identify_firmware();    // M115, and what its dialect fixes
   bool handle_buffered();
   void handle(const Reply& reply);
+  void end_pairings(ReplyKind kind);  // a resend request and its ok, "T:" and M105's ok
+  void note_reports(const Reply& reply);   // temperatures, position
+  void note_firmware(const Reply& reply);  // its name, the banner, capabilities
+  void handle_skip(const Reply& reply);
+  void handle_error(const Reply& reply);
+  void handle_busy(const Reply& reply);
+  void handle_start();
   void accept_through(long number, bool own_ok = false);
   void mirror_accepted(long number, bool own_ok);
   void set_accepted(long number);

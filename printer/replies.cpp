@@ -130,6 +130,108 @@ std::optional<long> read_resend_line(std::string_view rest) {
   return take_long(rest);
 }
 
+// What an ok line carries after the "ok": Teacup's refusal or position, temperatures, the
+// line number of Repetier's "ok 12" or of ADVANCED_OK's "ok N12 P15 B3" with its buffer space.
+void read_ok(std::string_view rest, Reply& reply) {
+  if (is_teacup_error(rest)) {
+    reply.refusal = std::string(rest);
+    return;
+  }
+  if (rest.starts_with("X:") || rest.starts_with("C:")) {
+    reply.position = read_position(rest);
+    if (reply.position) return;
+  }
+  reply.temperatures = read_temperatures(rest);
+  // Repetier's ACK_WITH_LINENUMBER: "ok 12" (gcode.cpp checkAndPushCommand, Com::tOkSpace).
+  std::string_view digits = rest;
+  const auto value = take_long(digits);
+  if (value && (digits.empty() || is_blank(digits.front()))) {
+    reply.line_number = *value;
+    return;
+  }
+  // ADVANCED_OK words have no colon: "N12 P15 B3". "B:60" is the bed.
+  while (!rest.empty()) {
+    while (!rest.empty() && is_blank(rest.front())) rest.remove_prefix(1);
+    std::size_t end = 0;
+    while (end < rest.size() && !is_blank(rest[end])) ++end;
+    std::string_view word = rest.substr(0, end);
+    rest.remove_prefix(end);
+    if (word.size() < 2 || word.find(':') != std::string_view::npos) continue;
+    std::string_view number = word.substr(1);
+    const auto n = take_long(number);
+    if (!n || !number.empty()) continue;
+    switch (word.front()) {
+      case 'N': reply.line_number = *n; break;
+      case 'P': reply.planner_free = static_cast<int>(*n); break;
+      case 'B': reply.queue_free = static_cast<int>(*n); break;
+      default: break;
+    }
+  }
+}
+
+bool is_ok(std::string_view line) {
+  return starts_with_nocase(line, "ok") && (line.size() == 2 || is_blank(line[2]) || line[2] == ':');
+}
+
+// "Resend: 12", "Resend:N12", "rs N12 Expected checksum 67" (without a number: `other`) and
+// Repetier's "skip 14"; false for any other line.
+bool read_request(std::string_view line, Reply& reply) {
+  const bool rs = starts_with_nocase(line, "rs") && line.size() > 2 && (is_blank(line[2]) || line[2] == ':');
+  if (rs || starts_with_nocase(line, "resend")) {
+    reply.line_number = read_resend_line(line.substr(rs ? 2 : 6));
+    reply.kind = reply.line_number ? ReplyKind::resend : ReplyKind::other;
+    return true;
+  }
+  if (starts_with_nocase(line, "skip ") || starts_with_nocase(line, "skip:")) {
+    reply.kind = ReplyKind::skip;
+    std::string_view rest = trim(line.substr(5));
+    reply.line_number = take_long(rest);
+    return true;
+  }
+  return false;
+}
+
+// The replies told by their first words alone, in the order they are tried: a line that is
+// none of them is a report (position, temperatures) or `other`. "Error:" lines whose text is
+// fatal are `fatal`: is_fatal_error.
+struct WordRule {
+  ReplyKind kind;
+  bool (*matches)(std::string_view line);
+};
+
+constexpr std::array<WordRule, 7> kWordRules{{
+    {ReplyKind::fatal, [](std::string_view l) { return starts_with_nocase(l, "fatal:") || l.starts_with("!!"); }},
+    {ReplyKind::error, [](std::string_view l) { return starts_with_nocase(l, "error") || is_teacup_error(l); }},
+    {ReplyKind::echo, [](std::string_view l) { return starts_with_nocase(l, "unknown command"); }},
+    // Teacup's clock.c says "Waiting for target temp" each second while M116 waits (its only
+    // keepalive).
+    {ReplyKind::busy,
+     [](std::string_view l) {
+       const std::string_view body = starts_with_nocase(l, "echo:") ? trim(l.substr(5)) : l;
+       return starts_with_nocase(body, "busy:") || l == "Waiting for target temp";
+     }},
+    {ReplyKind::wait, [](std::string_view l) { return l == "wait"; }},
+    {ReplyKind::start, [](std::string_view l) { return starts_with_nocase(l, "start") && l.size() == 5; }},  // Teacup: "Start"
+    {ReplyKind::echo, [](std::string_view l) { return starts_with_nocase(l, "echo:"); }},
+}};
+
+// Lines of figures without an ok: M114's position, M155's and M109's temperatures.
+void read_report(std::string_view line, Reply& reply) {
+  if (line.starts_with("X:") || line.starts_with("C:")) {
+    if ((reply.position = read_position(line))) {
+      reply.kind = ReplyKind::position;
+      return;
+    }
+  }
+  if (find_word(line, "T:") != std::string_view::npos ||
+      find_word(line, "T0:") != std::string_view::npos || line.starts_with("B:")) {
+    if ((reply.temperatures = read_temperatures(line))) {
+      reply.kind = ReplyKind::temperature;
+      reply.heating_wait = find_word(line, "W:") != std::string_view::npos;
+    }
+  }
+}
+
 }  // namespace
 
 bool is_fatal_error(std::string_view error_text) {
@@ -147,114 +249,19 @@ Reply classify_reply(std::string_view raw) {
   Reply reply;
   const std::string_view line = trim(raw);
   reply.text = std::string(line);
-
-  if (starts_with_nocase(line, "ok") && (line.size() == 2 || is_blank(line[2]) || line[2] == ':')) {
+  if (is_ok(line)) {
     reply.kind = ReplyKind::ok;
-    std::string_view rest = trim(line.substr(2));
-    if (is_teacup_error(rest)) {
-      reply.refusal = std::string(rest);
-      return reply;
-    }
-    if (rest.starts_with("X:") || rest.starts_with("C:")) {
-      reply.position = read_position(rest);
-      if (reply.position) return reply;
-    }
-    reply.temperatures = read_temperatures(rest);
-    // Repetier's ACK_WITH_LINENUMBER: "ok 12" (gcode.cpp checkAndPushCommand, Com::tOkSpace).
-    {
-      std::string_view digits = rest;
-      const auto value = take_long(digits);
-      if (value && (digits.empty() || is_blank(digits.front()))) {
-        reply.line_number = *value;
-        return reply;
-      }
-    }
-    // ADVANCED_OK words have no colon: "N12 P15 B3". "B:60" is the bed.
-    while (!rest.empty()) {
-      while (!rest.empty() && is_blank(rest.front())) rest.remove_prefix(1);
-      std::size_t end = 0;
-      while (end < rest.size() && !is_blank(rest[end])) ++end;
-      std::string_view word = rest.substr(0, end);
-      rest.remove_prefix(end);
-      if (word.size() < 2 || word.find(':') != std::string_view::npos) continue;
-      std::string_view digits = word.substr(1);
-      const auto value = take_long(digits);
-      if (!value || !digits.empty()) continue;
-      switch (word.front()) {
-        case 'N': reply.line_number = *value; break;
-        case 'P': reply.planner_free = static_cast<int>(*value); break;
-        case 'B': reply.queue_free = static_cast<int>(*value); break;
-        default: break;
-      }
-    }
+    read_ok(trim(line.substr(2)), reply);
     return reply;
   }
-  if (starts_with_nocase(line, "resend")) {
-    reply.kind = ReplyKind::resend;
-    reply.line_number = read_resend_line(line.substr(6));
-    if (!reply.line_number) reply.kind = ReplyKind::other;
+  if (read_request(line, reply)) return reply;
+  for (const WordRule& rule : kWordRules) {
+    if (!rule.matches(line)) continue;
+    reply.kind = rule.kind == ReplyKind::error && is_fatal_error(line) ? ReplyKind::fatal : rule.kind;
+    reply.unknown_command = rule.kind == ReplyKind::echo && contains_nocase(line, "unknown command");
     return reply;
   }
-  if (starts_with_nocase(line, "rs") && (line.size() > 2 && (is_blank(line[2]) || line[2] == ':'))) {
-    reply.kind = ReplyKind::resend;
-    reply.line_number = read_resend_line(line.substr(2));
-    if (!reply.line_number) reply.kind = ReplyKind::other;
-    return reply;
-  }
-  if (starts_with_nocase(line, "skip ") || starts_with_nocase(line, "skip:")) {
-    reply.kind = ReplyKind::skip;
-    std::string_view rest = trim(line.substr(5));
-    reply.line_number = take_long(rest);
-    return reply;
-  }
-  if (starts_with_nocase(line, "fatal:") || line.starts_with("!!")) {
-    reply.kind = ReplyKind::fatal;
-    return reply;
-  }
-  if (starts_with_nocase(line, "error") || is_teacup_error(line)) {
-    reply.kind = is_fatal_error(line) ? ReplyKind::fatal : ReplyKind::error;
-    return reply;
-  }
-  if (starts_with_nocase(line, "unknown command")) {
-    reply.kind = ReplyKind::echo;
-    reply.unknown_command = true;
-    return reply;
-  }
-  std::string_view body = line;
-  if (starts_with_nocase(body, "echo:")) body = trim(body.substr(5));
-  // Teacup's clock.c says this each second while M116 waits (its only keepalive).
-  if (starts_with_nocase(body, "busy:") || line == "Waiting for target temp") {
-    reply.kind = ReplyKind::busy;
-    return reply;
-  }
-  if (line == "wait") {
-    reply.kind = ReplyKind::wait;
-    return reply;
-  }
-  if (starts_with_nocase(line, "start") && line.size() == 5) {  // Teacup says "Start"
-    reply.kind = ReplyKind::start;
-    return reply;
-  }
-  if (starts_with_nocase(line, "echo:")) {
-    reply.kind = ReplyKind::echo;
-    reply.unknown_command = contains_nocase(line, "unknown command");
-    return reply;
-  }
-  if (line.starts_with("X:") || line.starts_with("C:")) {
-    if ((reply.position = read_position(line))) {
-      reply.kind = ReplyKind::position;
-      return reply;
-    }
-  }
-  if (find_word(line, "T:") != std::string_view::npos ||
-      find_word(line, "T0:") != std::string_view::npos || line.starts_with("B:")) {
-    if ((reply.temperatures = read_temperatures(line))) {
-      reply.kind = ReplyKind::temperature;
-      reply.heating_wait = find_word(line, "W:") != std::string_view::npos;
-      return reply;
-    }
-  }
-  reply.kind = ReplyKind::other;
+  read_report(line, reply);
   return reply;
 }
 
