@@ -592,6 +592,7 @@ struct Printer::Firmware {
           wait = Wait::motion;
           report_position_after = true;
           return;
+        case 21: return;  // gcode.cpp, built without INCH_MODE_SUPPORT: "case 21: NOOP; // No error on unknown G21"
         case 90: case 91: motion.set_mode(c); return;
         case 92:  // G92.1 and G92.9 only with CNC_COORDINATE_SYSTEMS or POWER_LOSS_RECOVERY
           if (c.subcode == 0) motion.set_position(c);

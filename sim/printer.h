@@ -33,8 +33,9 @@
 // Marlin's do), G92, M0/M1 (until M108 or S/P), M17/M18/M84, M82/M83, M104/M109, M140/M190,
 // M105, M106/M107, M108, M110, M112, M113, M114, M115, M155, M201/M203/M204/M205 (the motion
 // model's limits), M220/M221, M400, M410, M999, T0; M73, M75-M77, M111, M117, M300 are
-// accepted and do nothing here. Anything else is an unknown command (G20/G21 too, as in
-// Marlin's stock configuration without INCH_MODE_SUPPORT; Teacup and Repetier take them).
+// accepted and do nothing here, and so is G21 (Marlin's stock configuration, without
+// INCH_MODE_SUPPORT, has only millimetres and takes G21 without a word: gcode.cpp). Anything
+// else is an unknown command, G20 too (Teacup and Repetier take G20 and G21).
 // Not modelled: software endstops (moves are not clamped to a bed), where inside a move
 // M410 stops the head (the sim keeps the commanded position), PID overshoot (heaters follow
 // sim/heater.h's closed form), the planner running dry when a host feeds it too slowly (moves

@@ -822,9 +822,8 @@ TEST_CASE("bunny_prints_exactly_once_in_every_dialect_through_lost_oks_and_corru
     // has handed everything over.
     sim.run_until(sim.now() + 600);
     CHECK(job_part(sim.executed_commands()) == commands);  // each exactly once, in order
-    // Sliced for the firmware, nothing in it is refused (Marlin's stock build has no G21, the
-    // profile's start G-code asks for it all the same).
-    if (build.dialect != "marlin") CHECK(protocol.refused().empty());
+    // Sliced for the firmware, nothing in it is refused.
+    CHECK(protocol.refused().empty());
 
     const std::vector<double>& waits = sim.lost_ok_waits();
     const double lines = static_cast<double>(sim.counters().lines);

@@ -152,8 +152,19 @@ TEST_CASE("over_long_line_is_cut_at_max_cmd_size") {
 TEST_CASE("unknown_command_echo_then_ok") {
   Bench bench;
   CHECK(bench.send("M9999 X1\n") == "echo:Unknown command: \"M9999 X1\"\nok\n");
-  CHECK(bench.send("G21\n") == "echo:Unknown command: \"G21\"\nok\n");
+  CHECK(bench.send("G20\n") == "echo:Unknown command: \"G20\"\nok\n");
   CHECK(bench.printer.counters().unknown_commands == 2);
+}
+
+// Marlin/src/gcode/gcode.cpp, process_parsed_command, built without INCH_MODE_SUPPORT (the
+// stock configuration): "case 21: NOOP; break; // No error on unknown G21", while G20 falls to
+// unknown_command_warning().
+TEST_CASE("g21_is_taken_without_a_word_and_g20_is_unknown_without_inch_mode") {
+  Bench bench;
+  CHECK(bench.send("G21\n") == "ok\n");
+  CHECK(bench.printer.counters().unknown_commands == 0);
+  CHECK(bench.send("G20\n") == "echo:Unknown command: \"G20\"\nok\n");
+  CHECK(bench.printer.counters().unknown_commands == 1);
 }
 
 TEST_CASE("second_extruder_is_invalid") {
