@@ -865,6 +865,49 @@ std::vector<Layer> layers_of(const LazyPlanner& planner, const std::vector<std::
   return layers;
 }
 
+// The least swept volume within `limits` in at most `count` layers that `accepts` takes, for
+// a budget `accepts` judges by the plan (a print time): in as many layers as the least
+// tolerance's plan, else in fewer (that plan fits, another of as many layers need not: its
+// thin layers sit elsewhere, where the part may be wider). The counts tried go down 1, 2, 4,
+// ... layers, then are bisected between the last refused and the first taken, so a plan a
+// layer or two over costs a trial or two. Each plan is measured exactly at `tolerance`. Empty
+// if none is taken before the fewest layers `limits` allow.
+template <typename Accepts>
+std::vector<std::uint32_t> least_that_fits(LazyPlanner& planner, std::size_t count, Limits limits,
+                                           double tolerance, const Accepts& accepts) {
+  const auto least_in = [&](std::size_t n) {
+    std::vector<std::uint32_t> least = planner.plan_within(n, limits);
+    if (least.size() > n) least.clear();  // below the fewest layers within the limits
+    if (!least.empty()) planner.measure_exactly(least, tolerance);
+    return least;
+  };
+  std::vector<std::uint32_t> taken = least_in(count);
+  if (taken.empty() || accepts(taken)) return taken;
+  std::size_t refused = count, step = 1;
+  taken.clear();
+  std::size_t taken_count = 0;
+  while (taken.empty() && step < refused) {
+    const std::size_t n = refused - step;
+    std::vector<std::uint32_t> least = least_in(n);
+    if (least.empty()) return {};
+    if (accepts(least)) {
+      taken = std::move(least), taken_count = n;
+    } else {
+      refused = n, step *= 2;
+    }
+  }
+  while (!taken.empty() && refused - taken_count > 1) {
+    const std::size_t n = taken_count + (refused - taken_count) / 2;
+    std::vector<std::uint32_t> least = least_in(n);
+    if (!least.empty() && accepts(least)) {
+      taken = std::move(least), taken_count = n;
+    } else {
+      refused = n;
+    }
+  }
+  return taken;
+}
+
 // A budget's plan (max_layers, or `fits`): the least tolerance whose plan the budget accepts,
 // by bisection between 0 and the largest D of the plan of the thickest layers (which every
 // tolerance above it gives); for `fits`, whose every trial costs what it costs (an estimate of
@@ -899,15 +942,16 @@ std::pair<std::vector<std::uint32_t>, double> budget_path(LazyPlanner& planner, 
     }
   }
   // Then the least swept volume within the budget (all of a layer budget, or as many layers
-  // as the plan that fits a time budget), with no layer above the first over that plan's
+  // as the plan that fits a time budget, fewer where as many do not fit), with no layer above the first over that plan's
   // largest D and every one over its by-height 95th percentile of D counted first: the
   // layers go where they take off the most volume, P95h D and max D no worse than the
   // least tolerance's.
   planner.measure_exactly(path, hi);
   const Limits limits = planner.budget_limits(path, hi);
-  std::vector<std::uint32_t> least = planner.plan_within(by_count ? options.max_layers : path.size(), limits);
-  planner.measure_exactly(least, hi);
-  if (!least.empty() && (by_count || accepts(least))) {
+  std::vector<std::uint32_t> least = by_count ? planner.plan_within(options.max_layers, limits)
+                                              : least_that_fits(planner, path.size(), limits, hi, accepts);
+  if (by_count) planner.measure_exactly(least, hi);
+  if (!least.empty()) {
     path = std::move(least);
     plan.cap = limits.tolerance, plan.ceiling = limits.most;
     if (by_count) plan.split = planner.spend(path, options.max_layers, limits);

@@ -24,7 +24,8 @@
 // a printer of any thickness, at the top): never more than the printer's step above it.
 // With a budget, max_layers, or `fits` (a print-time budget, say): the least tolerance whose
 // plan the budget accepts (to within 2% for `fits`), then the least total error in as many
-// layers (a dynamic program over heights and layers used) with none over that plan's largest
+// layers (a dynamic program over heights and layers used; for `fits`, in the most layers up to
+// as many whose least-error plan it accepts) with none over that plan's largest
 // D, and the layers over its by-height 95th percentile of D (or the tolerance, if higher)
 // fewest first: Alexa, Hildebrand and Lefebvre's min-max objective ("Optimal Discrete
 // Slicing", ACM TOG 2017) for the tolerance, and their min-sum for the error, under it. A layer

@@ -398,6 +398,44 @@ TEST_CASE("adaptive_plan_with_any_budget_finds_the_least_tolerance_it_accepts") 
   CHECK(thickest.layers.size() <= 1 + 50 + 1);  // 19.7 mm of 0.4 mm layers
 }
 
+TEST_CASE("adaptive_plan_within_any_print_time_is_the_least_total_error_that_fits") {
+  // A ball of radius 8 under a print-time-like budget: a layer takes 1 s plus 0.05 s per mm^2
+  // of its section at mid height (pi (64 - (z - 8)^2)), so thin layers cost more where the
+  // ball is wide, and the least-swept plan in as many layers as the least tolerance's plan
+  // (it puts its thin layers elsewhere) may take longer than that plan. For every budget
+  // between the thickest and the thinnest plans' times the result is still the least total
+  // error (found within the cap: cap > 0) of the plans that fit, with fewer layers where as
+  // many do not fit: the objective does not depend on where the budget falls.
+  const solids::Solid ball = solids::sphere(8, 48, 24, {0, 0, 8});
+  const geometry::LayerStack stack(ball.mesh, {});
+  const auto flats = geometry::flat_levels(ball.mesh);
+  const auto seconds = [](const std::vector<Layer>& layers) {
+    double total = 0;
+    for (const Layer& l : layers) {
+      const double r = 0.5 * (l.z_lo + l.z_hi) - 8;
+      total += 1 + 0.05 * std::numbers::pi * std::max(0.0, 64 - r * r);
+    }
+    return total;
+  };
+  AdaptiveOptions thinnest;
+  thinnest.tolerance = 0;
+  AdaptiveOptions thickest;
+  thickest.tolerance = 10;
+  const double most = seconds(geometry::adaptive_plan(stack, 16, kUpPlus2, flats, thinnest).layers);
+  const double least = seconds(geometry::adaptive_plan(stack, 16, kUpPlus2, flats, thickest).layers);
+  REQUIRE(least < most);
+  for (int k = 1; k < 12; ++k) {
+    const double budget = least + (most - least) * k / 12.0;
+    CAPTURE(budget);
+    AdaptiveOptions options;
+    options.fits = [&](const std::vector<Layer>& layers) { return seconds(layers) <= budget; };
+    const AdaptivePlan plan = geometry::adaptive_plan(stack, 16, kUpPlus2, flats, options);
+    check_thicknesses(plan.layers, kUpPlus2);
+    CHECK(seconds(plan.layers) <= budget);
+    CHECK(plan.cap > 0);
+  }
+}
+
 TEST_CASE("adaptive_plan_distance_is_what_analyze_measures") {
   const solids::Solid ball = solids::sphere(8, 48, 24, {0, 0, 8});
   const AdaptivePlan plan = plan_for(ball.mesh, 0.15, kUpPlus2,
