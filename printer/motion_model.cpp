@@ -19,11 +19,15 @@
 // reached). The oldest open move's entry is fixed (it continues the move before it); it
 // becomes final, with its exit speed as currently planned, when more than `lookahead` moves
 // are open. Its time is the trapezoid (or triangle) from entry to exit through nominal.
+// A move's reverse-pass entry depends only on the moves from it to the newest, so a push
+// changes them from the newest back only until one comes out as it was (as Marlin's
+// recalculate stops where a block's entry is already at its maximum), and the forward pass
+// only from there on: the same numbers as re-planning every open move, in a few steps.
 #include "printer/motion_model.h"
 
 #include <algorithm>
 #include <cmath>
-#include <deque>
+#include <vector>
 #include <limits>
 
 namespace printer {
@@ -35,6 +39,7 @@ struct Block {
   double acceleration = 0;  // mm/s^2
   double nominal_sqr = 0;   // (mm/s)^2
   double max_entry_sqr = 0;
+  double reverse_sqr = 0;   // the entry the reverse pass allows (not for the oldest open block)
   double entry_sqr = 0;     // as planned; fixed for the oldest open block
 };
 
@@ -138,7 +143,10 @@ struct MotionModel::Planner {
   MotionLimits limits;
   std::size_t lookahead = 16;
   AxisPosition position;
-  std::deque<Block> open;
+  // The open blocks, oldest first: a ring of lookahead + 1 (a push adds one before the oldest
+  // leaves), `count` of them from `head`.
+  std::vector<Block> ring;
+  std::size_t head = 0, count = 0;
   double total = 0;
 
   // The last move that still shapes the next junction.
@@ -146,25 +154,41 @@ struct MotionModel::Planner {
   std::array<double, 4> previous_unit{};
   double previous_nominal_sqr = 0;
 
-  void replan() {
-    if (open.size() < 2) return;
-    double next_entry = 0;  // the newest move ends at rest
-    for (std::size_t i = open.size() - 1; i >= 1; --i) {
-      Block& b = open[i];
-      b.entry_sqr = std::min(b.max_entry_sqr, next_entry + 2 * b.acceleration * b.length);
-      next_entry = b.entry_sqr;
+  Block& open(std::size_t i) {
+    const std::size_t at = head + i;
+    return ring[at < ring.size() ? at : at - ring.size()];
+  }
+  const Block& open(std::size_t i) const { return const_cast<Planner*>(this)->open(i); }
+
+  // Re-plans after `block` joins the open blocks as the newest, ending at rest.
+  void add(const Block& block) {
+    open(count++) = block;
+    if (count < 2) return;
+    const std::size_t last = count - 1;
+    Block& newest = open(last);
+    newest.reverse_sqr = std::min(newest.max_entry_sqr, 2 * newest.acceleration * newest.length);
+    // Reverse pass, back to the first block it leaves as it was.
+    std::size_t changed = last;
+    for (std::size_t i = last - 1; i >= 1; --i) {
+      Block& b = open(i);
+      const double entry = std::min(b.max_entry_sqr, open(i + 1).reverse_sqr + 2 * b.acceleration * b.length);
+      if (entry == b.reverse_sqr) break;
+      b.reverse_sqr = entry;
+      changed = i;
     }
-    for (std::size_t i = 0; i + 1 < open.size(); ++i) {
-      const Block& b = open[i];
-      Block& next = open[i + 1];
-      next.entry_sqr = std::min(next.entry_sqr, b.entry_sqr + 2 * b.acceleration * b.length);
+    // Forward pass from there: before it, the entries follow from blocks as they were.
+    for (std::size_t i = changed; i <= last; ++i) {
+      const Block& b = open(i - 1);
+      Block& next = open(i);
+      next.entry_sqr = std::min(next.reverse_sqr, b.entry_sqr + 2 * b.acceleration * b.length);
     }
   }
 
   double finalize_oldest() {
-    const double exit_sqr = open.size() > 1 ? open[1].entry_sqr : 0.0;
-    const double seconds = block_time(open.front(), exit_sqr);
-    open.pop_front();
+    const double exit_sqr = count > 1 ? open(1).entry_sqr : 0.0;
+    const double seconds = block_time(open(0), exit_sqr);
+    head = head + 1 < ring.size() ? head + 1 : 0;
+    --count;
     total += seconds;
     return seconds;
   }
@@ -174,6 +198,7 @@ MotionModel::MotionModel(MotionLimits limits, std::size_t lookahead)
     : planner_(std::make_unique<Planner>()) {
   planner_->limits = limits;
   planner_->lookahead = std::max<std::size_t>(lookahead, 1);
+  planner_->ring.resize(planner_->lookahead + 1);
 }
 
 MotionModel::~MotionModel() = default;
@@ -208,24 +233,23 @@ double MotionModel::push(AxisPosition target, double feedrate) {
                                  block.nominal_sqr, p.previous_nominal_sqr})
                      : 0.0;
   block.max_entry_sqr = junction_sqr;
-  block.entry_sqr = p.open.empty() ? 0.0 : junction_sqr;  // replan() settles it
+  block.entry_sqr = 0.0;  // the first open block starts from rest; add() plans the others
 
   p.has_previous = true;
   p.previous_unit = unit;
   p.previous_nominal_sqr = block.nominal_sqr;
 
-  p.open.push_back(block);
-  p.replan();
+  p.add(block);
   double seconds = 0;
-  while (p.open.size() > p.lookahead) seconds += p.finalize_oldest();
+  while (p.count > p.lookahead) seconds += p.finalize_oldest();
   return seconds;
 }
 
 double MotionModel::flush() {
   Planner& p = *planner_;
-  p.replan();
+  // Every push planned the open blocks already, and the oldest leaving changes none of them.
   double seconds = 0;
-  while (!p.open.empty()) seconds += p.finalize_oldest();
+  while (p.count > 0) seconds += p.finalize_oldest();
   p.has_previous = false;  // the buffer ran dry: the next move starts from rest
   return seconds;
 }
@@ -235,14 +259,14 @@ AxisPosition MotionModel::position() const { return planner_->position; }
 double MotionModel::total_time() const { return planner_->total; }
 
 double MotionModel::pending_time() const {
-  const std::deque<Block>& open = planner_->open;
+  const Planner& p = *planner_;
   double seconds = 0;
-  for (std::size_t i = 0; i < open.size(); ++i) {
-    seconds += block_time(open[i], i + 1 < open.size() ? open[i + 1].entry_sqr : 0.0);
+  for (std::size_t i = 0; i < p.count; ++i) {
+    seconds += block_time(p.open(i), i + 1 < p.count ? p.open(i + 1).entry_sqr : 0.0);
   }
   return seconds;
 }
-std::size_t MotionModel::pending() const { return planner_->open.size(); }
+std::size_t MotionModel::pending() const { return planner_->count; }
 const MotionLimits& MotionModel::limits() const { return planner_->limits; }
 void MotionModel::set_limits(const MotionLimits& limits) { planner_->limits = limits; }
 
