@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <utility>
 #include <vector>
 
@@ -18,6 +17,7 @@
 
 #include "geometry/core/error.h"
 #include "geometry/core/number_table.h"
+#include "geometry/mesh/corner_key.h"
 
 namespace geometry {
 namespace {
@@ -28,36 +28,12 @@ using Point = Kernel::Point_3;
 using SurfaceMesh = CGAL::Surface_mesh<Point>;
 using Polygon = std::array<std::size_t, 3>;
 
-// Exact coordinates as a hash key; -0.0 and 0.0 are the same corner.
-struct CornerKey {
-  std::uint64_t x, y, z;
-  bool operator==(const CornerKey&) const = default;
-};
-
-struct CornerHash {
-  std::size_t operator()(const CornerKey& k) const {
-    std::uint64_t h = k.x * 0x9E3779B97F4A7C15ull;
-    h ^= (k.y + 0x632BE59BD9B4E019ull + (h << 6) + (h >> 2));
-    h ^= (k.z + 0x85157AF5ull + (h << 6) + (h >> 2));
-    return static_cast<std::size_t>(h ^ (h >> 29));
-  }
-};
-
 struct EdgeHash {
   std::size_t operator()(std::uint64_t k) const {
     const std::uint64_t h = k * 0x9E3779B97F4A7C15ull;
     return static_cast<std::size_t>(h ^ (h >> 32));
   }
 };
-
-std::uint64_t bits(double value) {
-  if (value == 0) value = 0;  // folds -0.0 into +0.0
-  std::uint64_t out;
-  std::memcpy(&out, &value, sizeof out);
-  return out;
-}
-
-CornerKey corner_key(const Vec3& v) { return {bits(v.x), bits(v.y), bits(v.z)}; }
 
 // A facet's corners in increasing order: the same for every copy of the facet.
 CornerKey facet_key(const Polygon& p) {

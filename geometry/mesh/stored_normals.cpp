@@ -3,10 +3,11 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
 #include <cstdint>
-#include <unordered_map>
+
+#include "geometry/core/number_table.h"
+#include "geometry/mesh/corner_key.h"
 
 namespace geometry {
 namespace {
@@ -18,29 +19,21 @@ constexpr double kAgreement = -1e-3;
 // Needles and caps: twice the area below this share of the longest edge squared.
 constexpr double kDegenerateRatio = 1e-5;
 
-// A facet's three corners in a fixed order, whichever corner its vertex order starts at and
-// whichever way it turns: the key the file's facet and the repaired face share.
-using CornerKey = std::array<double, 9>;
+// A facet by the places of its corners (numbers of places, below), in increasing order:
+// whichever corner its vertex order starts at and whichever way it turns, the key the file's
+// facet and the repaired face share.
+using PlaceKey = std::array<std::uint32_t, 3>;
 
-CornerKey corner_key(Vec3 a, Vec3 b, Vec3 c) {
-  std::array<Vec3, 3> corners{a, b, c};
-  std::sort(corners.begin(), corners.end(), [](const Vec3& p, const Vec3& q) {
-    if (p.x != q.x) return p.x < q.x;
-    if (p.y != q.y) return p.y < q.y;
-    return p.z < q.z;
-  });
-  return {corners[0].x, corners[0].y, corners[0].z, corners[1].x, corners[1].y,
-          corners[1].z, corners[2].x, corners[2].y, corners[2].z};
+PlaceKey place_key(std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+  if (a > b) std::swap(a, b);
+  if (b > c) std::swap(b, c);
+  if (a > b) std::swap(a, b);
+  return {a, b, c};
 }
 
-struct CornerKeyHash {
-  std::size_t operator()(const CornerKey& key) const {
-    std::uint64_t h = 1469598103934665603ull;
-    for (const double v : key) {
-      h ^= std::bit_cast<std::uint64_t>(v == 0 ? 0.0 : v);  // -0 and +0 alike
-      h *= 1099511628211ull;
-    }
-    return static_cast<std::size_t>(h ^ (h >> 29));
+struct PlaceKeyHash {
+  std::size_t operator()(const PlaceKey& k) const {
+    return CornerHash{}(CornerKey{k[0], k[1], k[2]});
   }
 };
 
@@ -56,12 +49,23 @@ StoredNormals compare_stored_normals(const std::vector<Triangle>& facets,
   StoredNormals result;
   const std::size_t count = std::min(facets.size(), normals.size());
   result.facets = count;
-  std::unordered_map<CornerKey, Vec3, CornerKeyHash> outward;
-  outward.reserve(repaired.faces.size());
-  for (const auto& f : repaired.faces) {
-    const Vec3 a = repaired.vertices[f[0]], b = repaired.vertices[f[1]], c = repaired.vertices[f[2]];
-    outward.emplace(corner_key(a, b, c), cross(b - a, c - a));
+  // The places the repaired mesh's corners lie at, each numbered by its first vertex there
+  // (a vertex split apart by the repair lies where its other copy does).
+  const std::vector<Vec3>& vertices = repaired.vertices;
+  const auto key_of_vertex = [&](std::uint32_t v) { return corner_key(vertices[v]); };
+  NumberTable<CornerKey, CornerHash> places(vertices.size());
+  std::vector<std::uint32_t> place(vertices.size());
+  for (std::uint32_t v = 0; v < vertices.size(); ++v) {
+    place[v] = places.find_or_insert(corner_key(vertices[v]), v, key_of_vertex);
   }
+  // The repaired faces by their corners' places, the first face of each.
+  const auto key_of_face = [&](std::uint32_t f) {
+    const auto& face = repaired.faces[f];
+    return place_key(place[face[0]], place[face[1]], place[face[2]]);
+  };
+  NumberTable<PlaceKey, PlaceKeyHash> faces(repaired.faces.size());
+  for (std::uint32_t f = 0; f < repaired.faces.size(); ++f) faces.find_or_insert(key_of_face(f), f, key_of_face);
+
   for (std::size_t i = 0; i < count; ++i) {
     const Vec3& stored = normals[i];
     if (!has_direction(stored)) {
@@ -73,9 +77,18 @@ StoredNormals compare_stored_normals(const std::vector<Triangle>& facets,
     const double longest = std::max({dot(ab, ab), dot(ac, ac), dot(bc, bc)});
     const Vec3 winding = cross(ab, ac);
     if (!(std::sqrt(dot(winding, winding)) > kDegenerateRatio * longest)) continue;
-    const auto found = outward.find(corner_key(t.v[0], t.v[1], t.v[2]));
-    if (found == outward.end()) continue;
-    const Vec3& n = found->second;
+    std::array<std::uint32_t, 3> at{};
+    bool placed = true;
+    for (int k = 0; k < 3 && placed; ++k) {
+      at[k] = places.find(corner_key(t.v[k]), key_of_vertex);
+      placed = at[k] != decltype(places)::kNone;
+    }
+    if (!placed) continue;
+    const std::uint32_t found = faces.find(place_key(at[0], at[1], at[2]), key_of_face);
+    if (found == decltype(faces)::kNone) continue;
+    const auto& face = repaired.faces[found];
+    const Vec3 a = vertices[face[0]], b = vertices[face[1]], c = vertices[face[2]];
+    const Vec3 n = cross(b - a, c - a);
     ++result.compared;
     const double cosine = dot(stored, n) / (std::sqrt(dot(stored, stored)) * std::sqrt(dot(n, n)));
     if (cosine < kAgreement) ++result.disagreeing;

@@ -66,6 +66,23 @@ TEST_CASE("normals_are_compared_with_the_repaired_orientation") {
   }
 }
 
+TEST_CASE("facets_at_a_vertex_the_repair_split_are_compared") {
+  // Two cubes touching at one corner: the repair splits that vertex in two, each copy at the
+  // same place, and the facets of both cubes there are found by where their corners lie.
+  const Mesh pair = solids::combine(solids::box({0, 0, 0}, {10, 10, 10}),
+                                    solids::box({10, 10, 10}, {20, 20, 20})).mesh;
+  const std::vector<Triangle> facets = facets_of(pair);
+  std::vector<Vec3> normals;
+  for (const Triangle& t : facets) normals.push_back(outward(t));
+  normals[0] = -1.0 * normals[0];
+  RepairReport report;
+  const Mesh repaired = repair(facets, &report);
+  REQUIRE(report.non_manifold_vertices_split == 1);
+  const StoredNormals n = compare_stored_normals(facets, normals, repaired);
+  CHECK(n.compared == 24);
+  CHECK(n.disagreeing == 1);
+}
+
 TEST_CASE("empty_input_gives_zeros") {
   const StoredNormals n = compare_stored_normals({}, {}, Mesh{});
   CHECK(n.facets == 0);
