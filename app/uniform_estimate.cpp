@@ -31,14 +31,18 @@ constexpr double kSampleTolerance = 0.025;
 
 // How a layer came into the sample (ToolpathOptions::planned takes any non-zero as planned).
 constexpr char kRegular = 1;  // one pair in so many, alike the sampled layer below
-constexpr char kChanged = 2;  // unlike the sampled layer of its parity below it
+constexpr char kChanged = 2;  // unlike the sampled layer of its parity below it (supports,
+                              // skins near a change of area, the bed, the top)
+constexpr char kGrown = 3;    // only its part's area unlike that layer's
 
 // Which layer's paths each layer prints in estimated_seconds (itself where it is sampled),
-// and in `options.planned` the layers to plan: one pair in `pairs` and the unlike ones.
+// and in `options.planned` the layers to plan: one pair in `pairs` and the unlike ones; each
+// layer's area (its part's and its support's, mm^2) into `areas`.
 std::vector<std::size_t> estimate_sources(const std::vector<geometry::Region>& regions,
                                           const std::vector<geometry::Layer>& layers,
                                           const geometry::SupportPlan& supports,
-                                          geometry::ToolpathOptions& options, std::size_t pairs) {
+                                          geometry::ToolpathOptions& options, std::size_t pairs,
+                                          std::vector<double>& areas) {
   const std::size_t n = regions.size();
   std::vector<double> part(n), support(n, 0);
   std::vector<char> special(n, 0);
@@ -75,15 +79,16 @@ std::vector<std::size_t> estimate_sources(const std::vector<geometry::Region>& r
   std::size_t last[2] = {0, 0};  // the last layer planned of each parity
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t from = last[i % 2];
-    const bool changed = special[i] || special[from] ||
-                         unlike(part[i], part[from]) ||
-                         unlike(support[i], support[from]);
-    if (i < 2 || (i / 2) % pairs == 0 || changed) {
-      options.planned[i] = changed ? kChanged : kRegular;
+    const bool changed = special[i] || special[from] || unlike(support[i], support[from]);
+    const bool grown = unlike(part[i], part[from]);
+    if (i < 2 || (i / 2) % pairs == 0 || changed || grown) {
+      options.planned[i] = changed ? kChanged : grown ? kGrown : kRegular;
       last[i % 2] = i;
     }
     source[i] = last[i % 2];
   }
+  areas.resize(n);
+  for (std::size_t i = 0; i < n; ++i) areas[i] = part[i] + support[i];
   return source;
 }
 
@@ -92,7 +97,8 @@ std::vector<std::size_t> estimate_sources(const std::vector<geometry::Region>& r
 struct SampledPaths {
   std::vector<geometry::LayerToolpaths> toolpaths;
   std::vector<std::size_t> source;
-  std::vector<char> planned;  // per part layer: 0, kRegular or kChanged
+  std::vector<char> planned;  // per part layer: 0, kRegular, kChanged or kGrown
+  std::vector<double> areas;  // per part layer: its part's and its support's area, mm^2
   std::size_t raft = 0;
 };
 SampledPaths sampled_paths(const geometry::LayerStack& index, const std::vector<geometry::Layer>& layers,
@@ -108,7 +114,7 @@ SampledPaths sampled_paths(const geometry::LayerStack& index, const std::vector<
       regions, layers, support_options(profiles), raft_options(profiles.printer));
   geometry::ToolpathOptions options = toolpath_options(profiles.printer);
   SampledPaths sample;
-  sample.source = estimate_sources(regions, layers, supports, options, pairs);
+  sample.source = estimate_sources(regions, layers, supports, options, pairs, sample.areas);
   sample.planned = options.planned;
   sample.toolpaths = geometry::plan_toolpaths(regions, layers, options, supports);
   sample.raft = sample.toolpaths.size() - n;  // the part's layers follow the raft's
@@ -120,12 +126,38 @@ SampledPaths sampled_paths(const geometry::LayerStack& index, const std::vector<
 double estimated_seconds(const geometry::LayerStack& index, const std::vector<geometry::Layer>& layers,
                          const printer::Profiles& profiles) {
   SampledPaths sample = sampled_paths(index, layers, profiles, kEstimatePairs);
-  for (std::size_t i = 0; i < layers.size(); ++i) {
+  const std::size_t n = layers.size();
+  for (std::size_t i = 0; i < n; ++i) {
     if (sample.source[i] != i) {
       sample.toolpaths[sample.raft + i].paths = sample.toolpaths[sample.raft + sample.source[i]].paths;
     }
   }
-  return printer::time_gcode(sample.toolpaths, profiles).print_seconds;
+  const printer::GcodeSummary summary = printer::time_gcode(sample.toolpaths, profiles);
+  if (summary.layer_starts.size() != sample.toolpaths.size()) return summary.print_seconds;
+  const std::vector<double>& area = sample.areas;
+  const auto layer_time = [&](std::size_t i) { return summary.layer_seconds(sample.raft + i); };
+  // The next sampled layer of each layer's parity above it, unless sampled for a change of
+  // what it prints other than its part's area (n: none).
+  std::vector<std::size_t> above(n, n);
+  std::size_t next[2] = {n, n};
+  for (std::size_t i = n; i-- > 0;) {
+    above[i] = next[i % 2];
+    if (sample.source[i] == i) next[i % 2] = sample.planned[i] == kChanged ? n : i;
+  }
+  double seconds = summary.print_seconds;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t lo = sample.source[i], hi = above[i];
+    if (lo == i || !(area[lo] > 0) || !(area[i] > 0)) continue;
+    // Its time per mm^2 (of its part and support) as the sampled layers' of its parity on
+    // either side, interpolated by height in layers: the copied paths' time, scaled.
+    double scale = area[i] / area[lo];
+    if (hi != n && area[hi] > 0 && layer_time(lo) > 0) {
+      const double w = static_cast<double>(i - lo) / static_cast<double>(hi - lo);
+      scale *= (1 - w) + w * (layer_time(hi) / area[hi]) / (layer_time(lo) / area[lo]);
+    }
+    seconds += (scale - 1) * layer_time(i);
+  }
+  return seconds;
 }
 
 LayerSample sample_layers(const geometry::LayerStack& index, const std::vector<geometry::Layer>& layers,
@@ -137,7 +169,7 @@ LayerSample sample_layers(const geometry::LayerStack& index, const std::vector<g
   timed_layers.seconds.assign(layers.size(), -1);
   timed_layers.changed.assign(layers.size(), 0);
   for (std::size_t i = 0; i < layers.size() && i < sample.planned.size(); ++i) {
-    timed_layers.changed[i] = sample.planned[i] == kChanged;
+    timed_layers.changed[i] = sample.planned[i] == kChanged || sample.planned[i] == kGrown;
   }
   const std::vector<double>& starts = summary.layer_starts;
   if (starts.size() != sample.toolpaths.size()) return timed_layers;

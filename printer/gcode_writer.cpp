@@ -664,29 +664,34 @@ std::string format_duration(double seconds) {
 
 GcodeSummary write_gcode(std::ostream& out, const std::vector<LayerToolpaths>& layers,
                          const Profiles& profiles, const GcodeOptions& options,
-                         const LayersWritten& on_layer) {
+                         const LayersWritten& on_layer, const GcodeSummary* timed) {
   const Vec2 offset{bed_centre_x(profiles.printer), bed_centre_y(profiles.printer)};
   check_build_volume(layers, profiles.printer, offset);
 
-  // The two runs side by side: the clock's and the text's.
-  ClockSink clock(profiles.printer.motion);
-  Emitter timing(profiles, options, offset, clock);
+  // The two runs side by side: the clock's (unless it ran already) and the text's.
   TextSink body;
   body.reserve(layers);
   if (!dialect_of(profiles.printer.firmware).has_m73) body.without_progress_lines();
   Emitter writing(profiles, options, offset, body);
   writing.on_layer(on_layer);
-  double seconds = 0;
-  tbb::parallel_invoke([&] { timing.program(layers); seconds = clock.finish(); },
-                       [&] { writing.program(layers); });
+  GcodeSummary summary;
+  if (timed) {
+    writing.program(layers);
+    summary = *timed;
+  } else {
+    ClockSink clock(profiles.printer.motion);
+    Emitter timing(profiles, options, offset, clock);
+    double seconds = 0;
+    tbb::parallel_invoke([&] { timing.program(layers); seconds = clock.finish(); },
+                         [&] { writing.program(layers); });
+    summary = clock_summary(layers.size(), seconds, timing, clock, profiles);
+  }
 
   TextSink header;
-  write_header(header, layers, profiles, options, seconds, timing.filament());
-
-  GcodeSummary summary = clock_summary(layers.size(), seconds, timing, clock, profiles);
+  write_header(header, layers, profiles, options, summary.print_seconds, summary.filament_mm);
   summary.lines = header.lines() + body.lines();
-  summary.bytes = header.write(out, seconds, {});
-  summary.bytes += body.write(out, seconds, clock.layer_times());
+  summary.bytes = header.write(out, summary.print_seconds, {});
+  summary.bytes += body.write(out, summary.print_seconds, summary.layer_starts);
   return summary;
 }
 
@@ -703,7 +708,7 @@ GcodeSummary time_gcode(const std::vector<LayerToolpaths>& layers, const Profile
 
 GcodeSummary write_gcode_file(const std::string& path, const std::vector<LayerToolpaths>& layers,
                               const Profiles& profiles, const GcodeOptions& options,
-                              const LayersWritten& on_layer) {
+                              const LayersWritten& on_layer, const GcodeSummary* timed) {
   // Written beside the target and renamed at the end: a refused or failed slice never leaves
   // a truncated program where a printer could pick it up, nor clobbers the previous one.
   const std::string partial = path + ".part";
@@ -714,7 +719,7 @@ GcodeSummary write_gcode_file(const std::string& path, const std::vector<LayerTo
   }
   GcodeSummary summary;
   try {
-    summary = write_gcode(out, layers, profiles, options, on_layer);
+    summary = write_gcode(out, layers, profiles, options, on_layer, timed);
     out.close();
     if (!out) {
       throw ConfigError(fmt::format("writing '{}' failed (disk full?): {}", path,

@@ -58,9 +58,11 @@ struct GcodeSummary {
 // Called after each layer is written with the count written so far.
 using LayersWritten = std::function<void(std::size_t done)>;
 
+// `timed`: time_gcode's summary of these layers, profiles and options, where the program was
+// timed already (the clock does not run again; the text is the same).
 GcodeSummary write_gcode(std::ostream& out, const std::vector<geometry::LayerToolpaths>& layers,
                          const Profiles& profiles, const GcodeOptions& options = {},
-                         const LayersWritten& on_layer = {});
+                         const LayersWritten& on_layer = {}, const GcodeSummary* timed = nullptr);
 
 // The same summary without the text (bytes and lines 0): the program run through the clock
 // alone, for estimates of layer stacks that are not written.
@@ -71,7 +73,7 @@ GcodeSummary time_gcode(const std::vector<geometry::LayerToolpaths>& layers,
 GcodeSummary write_gcode_file(const std::string& path,
                               const std::vector<geometry::LayerToolpaths>& layers,
                               const Profiles& profiles, const GcodeOptions& options = {},
-                              const LayersWritten& on_layer = {});
+                              const LayersWritten& on_layer = {}, const GcodeSummary* timed = nullptr);
 
 // "1 h 23 min 45 s", "12 min 5 s", "40 s".
 std::string format_duration(double seconds);
