@@ -56,11 +56,13 @@ ClipperLib::IntPoint moved(const ClipperLib::IntPoint& p, double dx, double dy) 
 // what that union makes of the loop, without the crossing and two points per vertex it
 // costs the union to find out. (A curved edge of n vertices has n such crossings, on the
 // inner side of every offset.) Returns whether it went back through a vertex anywhere.
-bool raw_offset(const Path& loop, const Joins& j, Path& out) {
+// `normal` and `length` are room for the edges' normals and lengths, the caller's to reuse.
+bool raw_offset(const Path& loop, const Joins& j, Path& out, std::vector<Normal>& normal,
+                std::vector<double>& length) {
   const std::size_t n = loop.size();
   // Each edge's length and unit normal on its right (outward on a CCW loop).
-  std::vector<Normal> normal(n);
-  std::vector<double> length(n);
+  normal.resize(n);
+  length.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const auto& a = loop[i];
     const auto& b = loop[i + 1 < n ? i + 1 : 0];
@@ -97,8 +99,8 @@ bool raw_offset(const Path& loop, const Joins& j, Path& out) {
       }
       continue;
     }
-    const double angle = std::atan2(sin_turn, cos_turn);
     if (j.type == ClipperLib::jtRound) {
+      const double angle = std::atan2(sin_turn, cos_turn);
       const int steps = std::max(static_cast<int>(std::llround(j.steps_per_radian *
                                                                std::abs(angle))), 1);
       double x = a.x, y = a.y;
@@ -112,7 +114,7 @@ bool raw_offset(const Path& loop, const Joins& j, Path& out) {
     } else if (j.type == ClipperLib::jtMiter && r >= j.miter_min) {
       out.push_back(moved(p, (a.x + b.x) * delta / r, (a.y + b.y) * delta / r));
     } else {  // square: cut across at delta from the vertex
-      const double t = std::tan(angle / 4);
+      const double t = std::tan(std::atan2(sin_turn, cos_turn) / 4);
       out.push_back(moved(p, delta * (a.x - a.y * t), delta * (a.y + a.x * t)));
       out.push_back(moved(p, delta * (b.x + b.y * t), delta * (b.y - b.x * t)));
     }
@@ -299,8 +301,15 @@ Paths offset(const Paths& region, double delta, ClipperLib::JoinType join, doubl
   // would make nothing; a speck of a hole outside it, turned inside out by growing, would
   // add its own speck.
   const double units = delta * kClipperScale;
-  Paths loops;
+  // The loops kept: the region's own, or where one repeats a point, a copy without (reserved,
+  // so that pointers into it hold); and whether each is an outer loop (its area is the
+  // same with or without the repeats: a repeated point adds an edge of no area).
+  std::vector<const Path*> loops;
+  std::vector<char> outer;
+  Paths cleaned;
   loops.reserve(region.size());
+  outer.reserve(region.size());
+  cleaned.reserve(region.size());
   for (const Path& path : region) {
     const double area = ClipperLib::Area(path);
     if (std::abs(area) < kNoArea) continue;
@@ -308,31 +317,39 @@ Paths offset(const Paths& region, double delta, ClipperLib::JoinType join, doubl
       const ClipperLib::IntRect b = bounding_box(path);
       if (double(std::min(b.right - b.left, b.bottom - b.top)) <= 2 * std::abs(units)) continue;
     }
-    Path loop;
-    loop.reserve(path.size());
-    for (const auto& p : path) {
-      if (loop.empty() || !(p == loop.back())) loop.push_back(p);
+    const bool repeats = path.size() > 1 && (path.front() == path.back() ||
+                                             std::adjacent_find(path.begin(), path.end()) != path.end());
+    const Path* loop = &path;
+    if (repeats) {
+      Path& clean = cleaned.emplace_back();
+      clean.reserve(path.size());
+      for (const auto& p : path) {
+        if (clean.empty() || !(p == clean.back())) clean.push_back(p);
+      }
+      while (clean.size() > 1 && clean.front() == clean.back()) clean.pop_back();
+      loop = &clean;
     }
-    while (loop.size() > 1 && loop.front() == loop.back()) loop.pop_back();
-    if (loop.size() >= 3) loops.push_back(std::move(loop));
+    if (loop->size() < 3) continue;
+    loops.push_back(loop);
+    outer.push_back(area > 0);
   }
   if (loops.empty()) return {};
   ClipperLib::Clipper engine;
   if (units == 0) {
-    engine.AddPaths(loops, ClipperLib::ptSubject, true);
+    for (const Path* loop : loops) engine.AddPath(*loop, ClipperLib::ptSubject, true);
   } else {
     // Where no loop went back through a vertex, the raw loops are often the offset as they
     // stand (a region with no narrow part the offset closes): checked, that costs a
     // fraction of the union.
     const Joins joins = joins_for(join, units, miter_limit);
     Paths raw(loops.size());
-    std::vector<char> outer(loops.size());
+    std::vector<Normal> normal;
+    std::vector<double> length;
     bool back = false;
     for (std::size_t l = 0; l < loops.size(); ++l) {
-      outer[l] = ClipperLib::Area(loops[l]) > 0;
       Path& out = raw[l];
-      out.reserve(2 * loops[l].size());
-      back = raw_offset(loops[l], joins, out) || back;
+      out.reserve(2 * loops[l]->size());
+      back = raw_offset(*loops[l], joins, out, normal, length) || back;
       out.erase(std::unique(out.begin(), out.end()), out.end());
       while (out.size() > 1 && out.front() == out.back()) out.pop_back();
       back = back || out.size() < 3;
