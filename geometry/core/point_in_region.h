@@ -3,6 +3,9 @@
 // Empty region or loop: outside.
 #pragma once
 
+#include <cstdint>
+#include <vector>
+
 #include "geometry/core/clipper.h"
 #include "geometry/core/polygon.h"
 
@@ -19,6 +22,29 @@ namespace clipper {
 
 // The same for paths: non-zero winding of their loops round p, a point on a path inside.
 bool point_in_region(const Paths& region, const IntPoint& p);
+
+// point_in_region for many points of one region: its edges sorted once into horizontal
+// bands, so that a point meets only the edges that reach its height. The same answer for
+// every point: an edge wholly above or below p changes nothing in ClipperLib::PointInPolygon,
+// and what the others do (p on one, or the loop's crossings toggled) does not depend on
+// their order. Holds a copy of the edges; an empty region contains nothing.
+class PointsInRegion {
+ public:
+  explicit PointsInRegion(const Paths& region);
+  bool contains(const IntPoint& p) const;
+
+ private:
+  struct Edge {
+    IntPoint from, to;
+    std::uint32_t loop;
+  };
+  std::vector<Edge> edges_;                // by band, and in each band by loop
+  std::vector<std::uint32_t> band_start_;  // band b's edges: [band_start_[b], band_start_[b + 1])
+  std::vector<int> winding_;               // each loop's winding round a point inside it
+  ClipperLib::cInt y_low_ = 0, y_span_ = 1;  // the loops' lowest y, and the height they span + 1
+
+  std::size_t band(ClipperLib::cInt y) const;
+};
 
 }  // namespace clipper
 

@@ -265,7 +265,7 @@ struct EdgeStep {
 };
 
 std::vector<EdgeStep> quarter_bead_steps(const ClipperLib::Path& piece,
-                                         const clipper::Paths& shrunk, double width) {
+                                         const clipper::PointsInRegion& shrunk, double width) {
   std::vector<EdgeStep> steps;
   for (std::size_t k = 1; k < piece.size(); ++k) {
     const Vec2 a = from_clipper(piece[k - 1]), b = from_clipper(piece[k]);
@@ -273,8 +273,7 @@ std::vector<EdgeStep> quarter_bead_steps(const ClipperLib::Path& piece,
     for (int c = 0; c < cuts; ++c) {
       const Vec2 from = a + (static_cast<double>(c) / cuts) * (b - a);
       const Vec2 to = a + (static_cast<double>(c + 1) / cuts) * (b - a);
-      steps.push_back({from, to, c + 1 == cuts,
-                       clipper::point_in_region(shrunk, to_clipper(0.5 * (from + to)))});
+      steps.push_back({from, to, c + 1 == cuts, shrunk.contains(to_clipper(0.5 * (from + to)))});
     }
   }
   return steps;
@@ -333,7 +332,7 @@ void add_kept_runs(const std::vector<EdgeStep>& steps, const std::vector<char>& 
 // The lines along one piece of the edge. A step along the area's edge is kept within `follow`
 // of a step inside, so that an end rests on what the layer below has there; the rest of the
 // edge's run along the area's edge is left out (it would double the wall there).
-void add_piece_lines(const ClipperLib::Path& piece, const clipper::Paths& shrunk,
+void add_piece_lines(const ClipperLib::Path& piece, const clipper::PointsInRegion& shrunk,
                      const std::vector<std::pair<ScanFrame, double>>& below, double follow,
                      double width, std::size_t layer_index, std::vector<ExtrusionPath>& result) {
   const std::vector<EdgeStep> steps = quarter_bead_steps(piece, shrunk, width);
@@ -363,6 +362,7 @@ std::vector<ExtrusionPath> skin_edge_lines(const Region& sparse, const Region& c
   const clipper::Paths area = to_clipper(sparse);
   const clipper::Paths shrunk = clipper::offset(area, -width / 2);
   if (shrunk.empty()) return {};
+  const clipper::PointsInRegion inside_shrunk(shrunk);
   const clipper::Paths pieces = edges_in_area(core_above, area);
   const auto below = sparse_lines_below(width, density, pattern, angle, layer_index);
   // Where the edge meets the sparse area's edge it follows it on for a spacing of the lines
@@ -370,7 +370,7 @@ std::vector<ExtrusionPath> skin_edge_lines(const Region& sparse, const Region& c
   const double follow = below.front().second;
   std::vector<ExtrusionPath> result;
   for (const auto& piece : pieces) {
-    if (piece.size() >= 2) add_piece_lines(piece, shrunk, below, follow, width, layer_index, result);
+    if (piece.size() >= 2) add_piece_lines(piece, inside_shrunk, below, follow, width, layer_index, result);
   }
   return result;
 }
