@@ -20,6 +20,9 @@
 # Usage: tests/bench/plan_vs_peers.sh [BUILD_DIR]          (default build; absolute or in the
 #                                                          repository; mahost built)
 #        MODELS="bunny pawn" tests/bench/plan_vs_peers.sh   a subset
+#        CONTOURS="best mid": mahost's layers judged with each contour (analyze --boundaries
+#                   its G-code --contour C), a row each; slice prints with the first (default
+#                   best), the others say how much of a row is the plan's and the contour's
 #        KEEP=DIR: keep every G-code, layered part and judge's JSON and CSV there
 #        PEERS=DIR: take the peers' G-code and judged JSON and CSV from an earlier run's KEEP
 #                   folder where it has them for the same placed model (byte for byte), instead
@@ -41,6 +44,7 @@ models=${MODELS:-bunny pawn star tiers gear cap bottle knob}
 cura_thresholds=${CURA_THRESHOLDS:-0.05 0.1 0.2 0.3}
 slic3r_qualities=${SLIC3R_QUALITIES:-25 50 75 90}
 uniform=${UNIFORM:-0.15 0.2 0.25 0.3}
+judged_contours=${CONTOURS:-best}
 
 work=${KEEP:-$(mktemp -d)}
 mkdir -p "$work"
@@ -64,15 +68,29 @@ compare() {
     "${judge[@]}" "$placed" --layers "$peer" --mid ${excl:+--exclude-z $excl} \
       --json "$work/$tag-peer.json" --csv "$work/$tag-peer.csv" >/dev/null
   fi
-  "$mahost" slice "$placed" --max-layers "$n" --contour best --support none --no-raft \
+  "$mahost" slice "$placed" --max-layers "$n" --contour "${judged_contours%% *}" --support none --no-raft \
     -o "$ours" >"$work/$tag-mahost.log" 2>&1 ||
     { echo "plan_vs_peers: mahost slice failed for $name:" >&2; tail -3 "$work/$tag-mahost.log" >&2; exit 1; }
-  "$mahost" analyze "$placed" --boundaries "$ours" --contours best --contour best \
-    --export-layers "$part" >"$work/$tag-analyze.log" 2>&1 ||
-    { echo "plan_vs_peers: mahost analyze failed for $name:" >&2; tail -3 "$work/$tag-analyze.log" >&2; exit 1; }
-  "${judge[@]}" "$placed" --layers "$ours" --part "$part" ${excl:+--exclude-z $excl} \
-    --json "$work/$tag-mahost.json" --csv "$work/$tag-mahost.csv" >/dev/null
-  rows+=("$(/usr/bin/python3 - "$work/$tag-peer.json" "$work/$tag-mahost.json" "$name" "$work/$tag-peer.csv" <<'PY'
+  local contour label json
+  for contour in $judged_contours; do
+    # The first contour is the one slice printed; the others judge the same layers.
+    label=$name json=$work/$tag-mahost.json part=$work/$tag-mahost-layers.stl
+    if [[ $contour != "${judged_contours%% *}" ]]; then
+      label="  same layers, $contour" json=$work/$tag-mahost-$contour.json
+      part=$work/$tag-mahost-$contour-layers.stl
+    fi
+    "$mahost" analyze "$placed" --boundaries "$ours" --contours "$contour" --contour "$contour" \
+      --export-layers "$part" >"$work/$tag-analyze.log" 2>&1 ||
+      { echo "plan_vs_peers: mahost analyze failed for $name:" >&2; tail -3 "$work/$tag-analyze.log" >&2; exit 1; }
+    "${judge[@]}" "$placed" --layers "$ours" --part "$part" ${excl:+--exclude-z $excl} \
+      --json "$json" --csv "${json%.json}.csv" >/dev/null
+    row "$work/$tag-peer.json" "$json" "$label" "$work/$tag-peer.csv"
+  done
+}
+
+# row PEER.json OURS.json NAME PEER.csv: one row of the table.
+row() {
+  rows+=("$(/usr/bin/python3 - "$@" <<'PY'
 import csv, json, sys
 peer, ours, name = json.load(open(sys.argv[1])), json.load(open(sys.argv[2])), sys.argv[3]
 # The peer's layers above the first that the UP Plus 2 cannot print: under 0.15 or over 0.4
