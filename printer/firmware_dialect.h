@@ -97,7 +97,9 @@ struct FirmwareDialect {
   std::string_view display;   // for messages: "Marlin"
   OkMeans ok_means = OkMeans::executed;
   TemperatureReply temperatures = TemperatureReply::on_ok_or_before;
-  std::optional<bool> ok_after_resend;  // unset: learnt from the first resends
+  // An ok right after a resend request: where the engine's learning starts
+  // (printer/line_protocol.h); unset: not known.
+  std::optional<bool> ok_after_resend;
   bool checks_line_numbers = true;  // false: a line sent twice runs twice
   LostOkProbe probe = LostOkProbe::next_m105;
   bool has_m400 = true;       // else G4 P0 waits for the moves

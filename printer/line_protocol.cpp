@@ -34,6 +34,11 @@ constexpr int kConnectTries = 5;
 constexpr std::size_t kRefusedKept = 20;
 // How late a keepalive may be before the firmware counts as idle (serial and USB latency).
 constexpr nanoseconds kKeepaliveMargin = std::chrono::milliseconds(500);
+// The ok after a resend request (see the header): evidence for it counts +1, against it -1,
+// within +-kTrailingOkCap, so that a model once contradicted is unlearnt within a few
+// requests however long it held; a dialect's own answer starts the count at +-kTrailingOkPrior.
+constexpr int kTrailingOkCap = 8;
+constexpr int kTrailingOkPrior = 2;
 // Lines in flight with ADVANCED_OK when the user gave no window: Marlin's BUFSIZE is 4.
 constexpr std::size_t kAutoWindow = 4;
 // Bytes of an answer on the wire, for when an ok is due ("ok N1234 P15 B3" and its line end).
@@ -261,13 +266,9 @@ void LineProtocol::wait_until_or(milliseconds timeout) {
 void LineProtocol::wait_until(const std::function<bool()>& done, std::optional<nanoseconds> deadline) {
   while (true) {
     const nanoseconds now = link_.now();
-    if (expect_trailing_ok_ && trailing_ok_seen_ == 0 && now >= hold_until_) {
-      // No ok followed the resend request in time: this firmware does not send one.
-      expect_trailing_ok_ = false;
-      ++trailing_ok_missed_;
-    }
-    const bool holding = expect_trailing_ok_ && trailing_ok_seen_ == 0;
-    while (!holding && pending_replay() && lines_in_flight() < allowed_in_flight()) {
+    // No ok followed the resend request in time: this firmware sent none.
+    if (holding_ && now >= hold_until_) settle_request(false);
+    while (!holding_ && pending_replay() && lines_in_flight() < allowed_in_flight()) {
       transmit(sent_ + 1);
     }
     if (done()) return;
@@ -276,7 +277,7 @@ void LineProtocol::wait_until(const std::function<bool()>& done, std::optional<n
       // Awake when the oldest line's ok becomes overdue, not a tick later.
       wait = std::min(wait, std::chrono::duration_cast<milliseconds>(*probe_at - now) + milliseconds(1));
     }
-    if (holding) {
+    if (holding_) {
       wait = std::min(wait, std::chrono::duration_cast<milliseconds>(hold_until_ - now) + milliseconds(1));
     }
     if (deadline) {
@@ -369,12 +370,9 @@ void LineProtocol::handle(const Reply& reply) {
 }
 
 void LineProtocol::end_pairings(ReplyKind kind) {
-  // Marlin prints a resend request and its ok back to back: anything else in between means
+  // A firmware prints a resend request and its ok back to back: anything else first means
   // this request has no ok.
-  if (expect_trailing_ok_ && kind != ReplyKind::ok) {
-    expect_trailing_ok_ = false;
-    if (connected_) ++trailing_ok_missed_;
-  }
+  if (request_open_ && kind != ReplyKind::ok) settle_request(false);
   // "T:" then "ok" answer an M105 only when they come one after the other.
   if (kind != ReplyKind::ok && kind != ReplyKind::temperature) m105_answer_next_ = false;
 }
@@ -600,8 +598,8 @@ void LineProtocol::handle_ok(const Reply& reply) {
   if (!connected_) {
     // The M110 exchange's oks teach nothing about the ok after a resend request: an ok there
     // may be a repeated M110's (the print's resends teach it).
-    if (expect_trailing_ok_) {
-      expect_trailing_ok_ = false;
+    if (request_open_) {
+      request_open_ = holding_ = false;
       return;
     }
     connect_ok_ = true;
@@ -612,10 +610,21 @@ void LineProtocol::handle_ok(const Reply& reply) {
     return;
   }
   const bool accepts_new = reply.line_number && *reply.line_number > accepted_;
-  if (expect_trailing_ok_ && !accepts_new) {
-    expect_trailing_ok_ = false;
-    ++trailing_ok_seen_;
-    return;
+  if (request_open_) {
+    // The request's own ok is a bare "ok" (ADVANCED_OK's fields at most) and comes right after
+    // it; an ok read before any line was written since cannot answer the replay: it is the
+    // request's, or a line's the request already counted as accepted. Either way it accepts
+    // nothing more. One read after a line was written may be that line's: it teaches nothing.
+    const bool bare = !accepts_new && !reply.temperatures && !reply.refusal;
+    if (bare && line_writes() == writes_at_request_) {
+      settle_request(true);
+      return;
+    }
+    if (bare) {
+      request_open_ = holding_ = false;
+    } else {
+      settle_request(false);
+    }
   }
   // Teacup's ok carries its refusal: "ok E: Bad M-code 190" answers the oldest line, which is
   // accepted (and run, to no effect) all the same.
@@ -658,16 +667,16 @@ void LineProtocol::handle_ok(const Reply& reply) {
 }
 
 void LineProtocol::handle_resend(long wanted) {
-  const nanoseconds now = link_.now();
-  if (trailing_ok_seen_ > 0 || trailing_ok_missed_ < 3) {
-    expect_trailing_ok_ = true;
-    hold_until_ = now + options_.resend_ok_grace;
-  }
+  // The ok right after this request teaches whether the firmware sends one only where it can
+  // be nothing else: no line before `wanted` still owes its own ok (a move still queued, an ok
+  // lost), and the replay of `wanted` not yet written since the request that started it.
+  const bool stale = wanted == last_resend_ && stale_left_ > 0;
+  open_request(wanted - 1 <= accepted_ && !(stale && resent_since_request_));
   if (!connected_) {
     connect_rejected_ = connect_resend_ = true;
     return;
   }
-  if (stale_left_ > 0 && wanted == last_resend_) {
+  if (stale) {
     --stale_left_;
     ++stats_.stale_resends;
     return;
@@ -731,6 +740,25 @@ void LineProtocol::handle_resend(long wanted) {
   if (probe_line_ >= wanted) probe_line_ = -1;  // the probe is resent with the rest
   idle_reported_ = false;
   answered();
+}
+
+long LineProtocol::line_writes() const { return stats_.lines_sent + stats_.lines_resent; }
+
+void LineProtocol::open_request(bool teaches) {
+  request_open_ = true;
+  request_teaches_ = teaches;
+  writes_at_request_ = line_writes();
+  // The replay waits for the request's ok where one is expected or not yet known (it comes at
+  // once where it comes): so the replay's own ok is never taken for it.
+  holding_ = connected_ && trailing_ok_score_ >= 0;
+  hold_until_ = link_.now() + options_.resend_ok_grace;
+}
+
+void LineProtocol::settle_request(bool ok_followed) {
+  if (connected_ && (!ok_followed || request_teaches_)) {
+    trailing_ok_score_ = std::clamp(trailing_ok_score_ + (ok_followed ? 1 : -1), -kTrailingOkCap, kTrailingOkCap);
+  }
+  request_open_ = holding_ = false;
 }
 
 void LineProtocol::check_silence() {
@@ -934,7 +962,7 @@ void LineProtocol::abandon_unacknowledged() {
   stale_left_ = 0;
   last_resend_ = -1;
   same_resend_count_ = 0;
-  expect_trailing_ok_ = false;
+  request_open_ = holding_ = false;
   probe_line_ = -1;
   m105_answer_next_ = false;
   transmit(number);
@@ -1008,7 +1036,7 @@ bool LineProtocol::probe_until_booted(milliseconds boot_wait) {
   const long starts_before = starts_seen_;
   connect_ok_ = false;
   connect_rejected_ = connect_resend_ = false;
-  expect_trailing_ok_ = false;
+  request_open_ = holding_ = false;
   write_connect_line();
   while (link_.now() - start < nanoseconds(boot_wait)) {
     const auto left = std::chrono::duration_cast<milliseconds>(nanoseconds(boot_wait) - (link_.now() - start));
@@ -1030,11 +1058,11 @@ bool LineProtocol::exchange_m110() {
       // queue.cpp gcode_line_error, flush_and_request_resend; Teacup's and Repetier's have no
       // Error line): the next M110 goes once it is all in, or its ok passes for the refusal's.
       const nanoseconds grace = link_.now() + nanoseconds(options_.resend_ok_grace);
-      while ((!connect_resend_ || expect_trailing_ok_) && link_.now() < grace) read_once(options_.tick);
+      while ((!connect_resend_ || request_open_) && link_.now() < grace) read_once(options_.tick);
     }
     connect_ok_ = false;
     connect_rejected_ = connect_resend_ = false;
-    expect_trailing_ok_ = false;
+    request_open_ = holding_ = false;
     write_connect_line();
     const nanoseconds deadline = link_.now() + nanoseconds(options_.probe_after);
     while (!connect_ok_ && !connect_rejected_ && link_.now() < deadline) read_once(options_.tick);
@@ -1060,6 +1088,7 @@ void LineProtocol::start_numbering() {
   teacup_heat_pending_ = false;
   stale_answers_ = 0;
   probes_before_.clear();
+  request_open_ = holding_ = false;
   clock_ = PrintClock(options_.motion);
   mirror_ = PlannerMirror(dialect_of(Firmware::unknown).planner_depth);
   connected_ = true;
@@ -1078,9 +1107,9 @@ void LineProtocol::identify_firmware() {
     firmware_.firmware = banner_said_marlin_ ? Firmware::marlin : options_.assumed_firmware;
   }
   mirror_.set_depth(dialect().planner_depth);
-  if (const auto known = dialect().ok_after_resend) {
-    trailing_ok_seen_ = *known ? 1 : 0;
-    trailing_ok_missed_ = *known ? 0 : 3;
+  // Where learning starts: the dialect's answer, unless this engine has learnt already.
+  if (const auto known = dialect().ok_after_resend; known && trailing_ok_score_ == 0) {
+    trailing_ok_score_ = *known ? kTrailingOkPrior : -kTrailingOkPrior;
   }
 }
 

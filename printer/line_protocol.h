@@ -18,9 +18,26 @@
 // - Resends: `Resend: m` / "rs N<m>" means the firmware accepted everything before m and
 //   nothing from m on: replay from m. Lines already in flight when the first request came are
 //   rejected too and each draws its own request for m; those are stale and ignored (replaying
-//   again would loop). An `ok` right after a resend request belongs to the request (Marlin 2.1,
-//   Teacup and Repetier send it, Marlin 2.0.9 did not; the dialect says, or the engine learns
-//   it within the first few resends). Repetier's "skip N" is followed by an ok of its own too.
+//   again would loop). Repetier's "skip N" is followed by an ok of its own too.
+// - The ok after a resend request. Some firmwares print an `ok` right after the request, back
+//   to back, as the request's own; which do is a matter of version:
+//   Marlin 1.1.x: yes, unless the command at its queue's read slot came without an ok (an SD
+//     print's): Marlin_main.cpp flush_and_request_resend ends with ok_to_send() (and so
+//     Marlin/src/gcode/queue.cpp in early 2.0.x);
+//   Marlin 2.0.9.x: no, queue.cpp flush_and_request_resend ends with the request;
+//   Marlin 2.1.x: always, queue.cpp flush_and_request_resend ends with SERIAL_ECHOLNPGM(STR_OK);
+//   Repetier: always, gcode.cpp GCode::requestResend prints "Resend:<n>" then "ok";
+//   Teacup: its master, once the refused line has ended (mendel.c: the main loop sets
+//     ack_waiting on every line end gcode_parse_char reports, refused or not); older ones
+//     print "ok" only for a line they run (gcode_parse.c).
+//   So the engine learns it, and keeps learning: an ok read right after a request, before any
+//   line was written since and with no line before the one asked for still owing its own ok,
+//   counts for; anything else first, or nothing within resend_ok_grace, counts against. An ok
+//   that may be a line's (the line before, late; the replay's) counts for nothing. The count
+//   saturates, so one misread ok is outvoted and a model the firmware contradicts is unlearnt
+//   within a few requests; a dialect's answer (printer/firmware_dialect.h) is where it starts.
+//   While the ok is expected or not known, the replay waits for it (it comes at once where it
+//   comes, else resend_ok_grace): the replay's own ok is never taken for the request's.
 // - Errors: `Error:` lines the firmware recovers from are counted; `Printer halted`, thermal
 //   runaway, "!!" and "fatal:" throw PrinterError with the firmware's words; a `start`
 //   mid-session (the board reset) throws PrinterError. A refused command ("echo:Unknown
@@ -276,6 +293,10 @@ class LineProtocol {
   void set_accepted(long number);
   void handle_ok(const Reply& reply);
   void handle_resend(long wanted);
+  // The reply after a resend request: whether it was the request's own ok, as evidence.
+  void open_request(bool teaches);
+  void settle_request(bool ok_followed);
+  long line_writes() const;  // numbered lines written so far, first time or again
   void handle_temperature_line(const Reply& reply);
   void handle_refusal(std::string_view text, std::optional<long> line_number);
   void answered();
@@ -304,14 +325,19 @@ class LineProtocol {
   long last_resend_ = -1;      // line of the last replay
   int same_resend_count_ = 0;
   bool resent_since_request_ = false;  // the line last asked for was written since
-  bool expect_trailing_ok_ = false;
-  int trailing_ok_seen_ = 0, trailing_ok_missed_ = 0;
+  // The ok after a resend request (see above): evidence for it minus evidence against; > 0 the
+  // firmware sends one, < 0 it does not, 0 not known.
+  int trailing_ok_score_ = 0;
+  bool request_open_ = false;     // a resend request was read, the reply after it not yet
+  bool request_teaches_ = false;  // ... and an ok right after it can only be its own
+  bool holding_ = false;          // the replay waits for the request's ok until hold_until_
+  long writes_at_request_ = 0;    // line_writes() when the request was read
   bool advanced_ok_ = false;
   int queue_free_ = -1;        // last ADVANCED_OK B, -1 before any
   bool connected_ = false;
   bool connect_ok_ = false, connect_rejected_ = false;
   bool connect_resend_ = false;  // the refusal's resend request came (it follows its Error line)
-  std::chrono::nanoseconds hold_until_{0};      // replay waits until then for a trailing ok
+  std::chrono::nanoseconds hold_until_{0};
   std::chrono::nanoseconds last_wait_call_{0};
   bool restart_seen_ = false;
   long starts_seen_ = 0;       // `start` lines read

@@ -38,6 +38,9 @@ class FaultInjector {
   double reply_delay() const { return armed_ ? spec_.delay : 0.0; }
 
   // The faults at an accepted line (counted from 1 since power-on) or a time.
+  bool ok_late_at(std::uint64_t line) const {
+    return spec_.late_ok_at_line && line == *spec_.late_ok_at_line;
+  }
   bool halts_at(std::uint64_t line) const { return spec_.halt_at_line && line == *spec_.halt_at_line; }
   bool fails_heater_at(std::uint64_t line) const {
     return spec_.runaway_at_line && line == *spec_.runaway_at_line;

@@ -17,7 +17,7 @@ using base::trim;
 
 constexpr std::string_view kKeys =
     "corrupt, drop-ok, drop-blocking-ok, dup-ok, resend, delay, disconnect-at-line, "
-    "disconnect-at-time, halt-at-line, freeze-at-line, runaway-at-line, from-line, seed";
+    "disconnect-at-time, late-ok-at-line, halt-at-line, freeze-at-line, runaway-at-line, from-line, seed";
 
 [[noreturn]] void bad(std::string_view key, std::string_view value, std::string_view what) {
   throw printer::ConfigError(
@@ -74,7 +74,7 @@ std::string seconds_text(double s) {
 
 bool FaultSpec::any() const {
   return corrupt > 0 || drop_ok > 0 || drop_blocking_ok > 0 || dup_ok > 0 || resend > 0 || delay > 0 ||
-         disconnect_at_line || disconnect_at_time || halt_at_line || freeze_at_line || runaway_at_line;
+         disconnect_at_line || disconnect_at_time || late_ok_at_line || halt_at_line || freeze_at_line || runaway_at_line;
 }
 
 FaultSpec parse_fault_spec(std::string_view spec) {
@@ -107,6 +107,8 @@ FaultSpec parse_fault_spec(std::string_view spec) {
       faults.disconnect_at_line = count(key, value, 1);
     } else if (key == "disconnect-at-time") {
       faults.disconnect_at_time = duration(key, value);
+    } else if (key == "late-ok-at-line") {
+      faults.late_ok_at_line = count(key, value, 1);
     } else if (key == "halt-at-line") {
       faults.halt_at_line = count(key, value, 1);
     } else if (key == "freeze-at-line") {
@@ -139,6 +141,7 @@ std::string to_string(const FaultSpec& f) {
   if (f.delay > 0) add("delay=" + seconds_text(f.delay));
   if (f.disconnect_at_line) add(fmt::format("disconnect-at-line={}", *f.disconnect_at_line));
   if (f.disconnect_at_time) add("disconnect-at-time=" + seconds_text(*f.disconnect_at_time));
+  if (f.late_ok_at_line) add(fmt::format("late-ok-at-line={}", *f.late_ok_at_line));
   if (f.halt_at_line) add(fmt::format("halt-at-line={}", *f.halt_at_line));
   if (f.freeze_at_line) add(fmt::format("freeze-at-line={}", *f.freeze_at_line));
   if (f.runaway_at_line) add(fmt::format("runaway-at-line={}", *f.runaway_at_line));

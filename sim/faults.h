@@ -21,6 +21,10 @@
 //   end (G4, G28, M0/M1, M109, M190, M116, M400) are not sent: the worst time to lose one,
 //   since silence is expected while they run.
 // - dup-ok=p: an `ok` is sent twice.
+// - late-ok-at-line=N: the ok of line N is held back until the firmware's next resend
+//   request, and sent right after it (after its own ok, where the firmware sends one): an ok
+//   that comes late, after the request, for a line before the one asked for. Its place in
+//   the stream is the worst for a host that learns from the ok after a request.
 // - resend=p: a numbered line that arrived intact is answered as if its checksum were wrong
 //   (Error:checksum mismatch, Resend) and not executed: the host must send it again.
 // - delay=T: every reply leaves T later than it would (order kept).
@@ -52,6 +56,7 @@ struct FaultSpec {
   double drop_ok = 0;
   std::uint64_t drop_blocking_ok = 0;
   double dup_ok = 0;
+  std::optional<std::uint64_t> late_ok_at_line;
   double resend = 0;
   double delay = 0;  // s
   std::optional<std::uint64_t> disconnect_at_line;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <string>
 #include <utility>
 
 #include <fmt/core.h>
@@ -98,6 +100,7 @@ struct Printer::Firmware {
   double idle_since = -1;
   bool ok_lost = false;
   bool frozen = false;  // fault freeze-at-line: nothing read, nothing said, until a reset
+  std::optional<std::string> late_ok;  // fault late-ok-at-line: held until the next request
   std::vector<double> lost_ok_waits;
 
   explicit Firmware(Config config)
@@ -129,6 +132,7 @@ struct Printer::Firmware {
     teacup_waiting_move.reset();
     faults.power_on();
     frozen = false;
+    late_ok.reset();
     queue.clear();
     executing = false;
     wait = Wait::none;
@@ -180,6 +184,11 @@ struct Printer::Firmware {
       ok += fmt::format(" P{} B{}", motion.planner_free(), queue.free());
     } else if (cfg.dialect == Dialect::repetier && cfg.repetier_ack_with_linenumber) {
       ok += fmt::format(" {}", command.line_number.value_or(last_n));
+    }
+    if (faults.ok_late_at(command.index)) {  // fault late-ok-at-line: after the next request
+      ++counters.faults_injected;
+      late_ok = ok;
+      return;
     }
     const bool twice = faults.duplicate_ok();
     emit(ok);
@@ -309,6 +318,12 @@ struct Printer::Firmware {
     receiver.discard_buffered();
     emit(fmt::format("Resend: {}", last_n + 1));
     if (cfg.ok_after_resend) emit("ok");
+    release_late_ok();
+  }
+
+  // The ok held back by late-ok-at-line, once a resend request has gone.
+  void release_late_ok() {
+    if (late_ok) emit(*std::exchange(late_ok, std::nullopt));
   }
 
   // gcode_parse.c gcode_parse_char at the line end: without REQUIRE_LINENUMBER the number is
@@ -339,6 +354,7 @@ struct Printer::Firmware {
     ++counters.resends;
     emit(std::move(request));
     emit("ok");
+    release_late_ok();
   }
 
   // gcode.cpp readFromSerial / parseAscii / checkAndPushCommand: a wrong checksum asks for the
@@ -405,6 +421,7 @@ struct Printer::Firmware {
     emit("");
     emit(fmt::format("Resend:{}", last_n + 1));
     emit("ok");
+    release_late_ok();
     last_input = now;
   }
 

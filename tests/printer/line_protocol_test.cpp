@@ -1,4 +1,5 @@
-// The protocol engine against a scripted firmware, one reply case at a time (DESIGN.md §4).
+// The protocol engine against a scripted firmware, one reply case at a time, and against the
+// simulated printer where a fault needs the firmware's own timing (DESIGN.md §4).
 #include "printer/line_protocol.h"
 
 #include <doctest/doctest.h>
@@ -7,6 +8,8 @@
 #include "printer/error.h"
 #include "printer/gcode_line.h"
 #include "printer/scripted_firmware.h"
+#include "sim/faults.h"
+#include "sim/sim_link.h"
 
 namespace line_protocol_test {
 
@@ -108,6 +111,37 @@ TEST_CASE("a_rejected_m110_at_connect_does_not_teach_an_ok_after_resend_the_firm
     CHECK(job_part(firmware) == moves(20));
     CHECK(protocol.stats().lines_resent == 3);
     CHECK(protocol.stats().probes == 0);
+  }
+}
+
+TEST_CASE("an_ok_that_comes_late_after_a_resend_request_teaches_nothing_and_costs_no_probe_per_resend") {
+  // The move's ok at line 20 comes only after the resend request the host's probe for it
+  // draws (sim/faults.h late-ok-at-line): on Marlin 2.0.9, which sends no ok after "Resend:",
+  // it looks like one. Taken for one, every later request would swallow the resent line's
+  // own ok, each then a lost ok probed for. The faults from line 100 on: a corrupted line now
+  // and then, each answered by a request.
+  for (const bool ok_after_resend : {false, true}) {
+    CAPTURE(ok_after_resend);
+    sim::Config config;
+    config.ok_after_resend = ok_after_resend;
+    config.faults = sim::parse_fault_spec("late-ok-at-line=20,corrupt=0.002,from-line=100,seed=5");
+    sim::SimLink link(config);
+    LineProtocol protocol(link);
+    protocol.connect();
+    const std::vector<std::string> commands = moves(3000);
+    for (const std::string& c : commands) protocol.send(c);
+    protocol.wait_acknowledged();
+    link.printer().finish();
+    std::vector<std::string> executed;
+    for (const std::string& c : link.printer().executed_commands()) {
+      if (c.starts_with("G1")) executed.push_back(c);
+    }
+    CHECK(executed == commands);
+    const printer::ProtocolStats& stats = protocol.stats();
+    MESSAGE("resend requests " << stats.resend_requests << ", probes " << stats.probes);
+    CHECK(stats.resend_requests >= 20);
+    // The one probe for the late ok; a request's own ok is never taken for another line's.
+    CHECK(stats.probes == 1);
   }
 }
 

@@ -1,6 +1,7 @@
 // Fault specs (sim/faults.h): what parses, what is refused and how, and what each fault does
 // to the literal byte stream, reproducibly from its seed.
 #include <doctest/doctest.h>
+#include <fmt/core.h>
 
 #include <cmath>
 #include <string>
@@ -77,7 +78,8 @@ bool stream(sim::Printer& printer, const std::vector<std::string>& commands) {
 TEST_CASE("fault_spec_parses_every_key") {
   const sim::FaultSpec f = sim::parse_fault_spec(
       "corrupt=0.01, drop-ok=0.02,dup-ok=0.005,resend=0.03,delay=50ms,disconnect-at-line=5000,"
-      "disconnect-at-time=2min,halt-at-line=300,freeze-at-line=7,runaway-at-line=200,from-line=0,seed=42");
+      "disconnect-at-time=2min,late-ok-at-line=20,halt-at-line=300,freeze-at-line=7,runaway-at-line=200,"
+      "from-line=0,seed=42");
   CHECK(f.corrupt == 0.01);
   CHECK(f.drop_ok == 0.02);
   CHECK(f.dup_ok == 0.005);
@@ -85,6 +87,7 @@ TEST_CASE("fault_spec_parses_every_key") {
   CHECK(f.delay == doctest::Approx(0.05));
   CHECK(f.disconnect_at_line == 5000u);
   CHECK(f.disconnect_at_time == doctest::Approx(120));
+  CHECK(f.late_ok_at_line == 20u);
   CHECK(f.halt_at_line == 300u);
   CHECK(f.freeze_at_line == 7u);
   CHECK(f.runaway_at_line == 200u);
@@ -92,7 +95,8 @@ TEST_CASE("fault_spec_parses_every_key") {
   CHECK(f.seed == 42u);
   CHECK(sim::to_string(f) ==
         "corrupt=0.01,drop-ok=0.02,dup-ok=0.005,resend=0.03,delay=50ms,disconnect-at-line=5000,"
-        "disconnect-at-time=120s,halt-at-line=300,freeze-at-line=7,runaway-at-line=200,from-line=0,seed=42");
+        "disconnect-at-time=120s,late-ok-at-line=20,halt-at-line=300,freeze-at-line=7,runaway-at-line=200,"
+        "from-line=0,seed=42");
   CHECK_FALSE(sim::parse_fault_spec("").any());
   CHECK(sim::to_string(sim::parse_fault_spec("")).empty());
 }
@@ -107,7 +111,7 @@ TEST_CASE("bad_fault_spec_names_the_key_and_what_is_allowed") {
   CHECK(message_of("corrupt") ==
         "fault spec 'corrupt': write key=value, e.g. corrupt=0.01 (keys: corrupt, drop-ok, "
         "drop-blocking-ok, dup-ok, resend, delay, disconnect-at-line, disconnect-at-time, "
-        "halt-at-line, freeze-at-line, runaway-at-line, from-line, seed)");
+        "late-ok-at-line, halt-at-line, freeze-at-line, runaway-at-line, from-line, seed)");
   CHECK(message_of("explode=1").starts_with("fault spec: unknown fault 'explode' (known: corrupt,"));
 }
 
@@ -130,6 +134,24 @@ TEST_CASE("resend_fault_refuses_an_intact_line") {
   CHECK(send(printer, "N1 M105*38\n") == "Error:checksum mismatch, Last Line: 0\nResend: 1\nok\n");
   CHECK(printer.executed_commands().empty());
   CHECK(send(printer, "M105\n").starts_with("ok T:"));  // unnumbered lines are not checked
+}
+
+TEST_CASE("late_ok_at_line_sends_the_ok_right_after_the_next_resend_request") {
+  for (const bool ok_after_resend : {true, false}) {
+    CAPTURE(ok_after_resend);
+    sim::Config config;
+    config.ok_after_resend = ok_after_resend;
+    config.faults = sim::parse_fault_spec("late-ok-at-line=1");
+    sim::Printer printer(config);
+    printer.run_until(0.5);
+    printer.take_output();
+    CHECK(send(printer, "G92 X1\n").empty());  // line 1: its ok held
+    CHECK(send(printer, "G92 X2\n") == "ok\n");
+    CHECK(send(printer, printer::frame_line(5, "M105") + "\n") ==
+          fmt::format("Error:Line Number is not Last Line Number+1, Last Line: 0\nResend: 1\n{}ok\n",
+                      ok_after_resend ? "ok\n" : ""));
+    CHECK(printer.executed_commands() == std::vector<std::string>{"G92 X1", "G92 X2"});
+  }
 }
 
 TEST_CASE("delay_fault_delays_every_reply") {
