@@ -9,6 +9,8 @@
 
 #include <cerrno>
 #include <charconv>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -119,18 +121,26 @@ fs::path scratch_base() {
   return fs::temp_directory_path() / fmt::format("mahost-test-{}-{:05x}", getuid(), checkout);
 }
 
-constexpr std::string_view kKeptPrefix = "failed-";
+// A failed test's folder and a dead process's are kept for a day under these names.
+constexpr std::string_view kFailedPrefix = "failed-";
+constexpr std::string_view kDiedPrefix = "died-";
 constexpr auto kKeptFor = std::chrono::hours(24);
+// In a process's folder once its main has returned: it did not die.
+constexpr std::string_view kEndedMark = ".ended";
 
-// This process's folder, made once: the folders of processes that have exited are removed
-// first, save a failed test's (kept_after_failure) for a day.
+bool starts_with(std::string_view s, std::string_view prefix) { return s.substr(0, prefix.size()) == prefix; }
+
+// This process's folder, made once. The folders of processes gone are cleared first: one
+// whose main returned is removed; one without that mark died (a signal, an abort, a hang
+// killed by ctest's timeout) and is kept for a day as died-PID, evidence the process could
+// not report itself; failed-PID folders are kept for a day too.
 const fs::path& process_scratch() {
   static const fs::path mine = [] {
     const fs::path base = scratch_base();
     std::error_code ignored;
     for (const auto& entry : fs::directory_iterator(base, ignored)) {
       const std::string name = entry.path().filename().string();
-      if (name.rfind(kKeptPrefix, 0) == 0) {
+      if (starts_with(name, kFailedPrefix) || starts_with(name, kDiedPrefix)) {
         const auto written = fs::last_write_time(entry.path(), ignored);
         if (!ignored && fs::file_time_type::clock::now() - written < kKeptFor) continue;
         fs::remove_all(entry.path(), ignored);
@@ -139,8 +149,14 @@ const fs::path& process_scratch() {
       pid_t pid = 0;
       const auto [end, error] = std::from_chars(name.data(), name.data() + name.size(), pid);
       const bool a_process_folder = error == std::errc{} && end == name.data() + name.size();
+      if (a_process_folder && !(kill(pid, 0) != 0 && errno == ESRCH)) continue;  // alive
+      if (a_process_folder && !fs::exists(entry.path() / kEndedMark, ignored)) {
+        std::error_code moved;
+        fs::rename(entry.path(), base / fmt::format("{}{}", kDiedPrefix, name), moved);
+        if (!moved) continue;
+      }
       // Anything else here is no live process's folder and goes too.
-      if (!a_process_folder || (kill(pid, 0) != 0 && errno == ESRCH)) fs::remove_all(entry.path(), ignored);
+      fs::remove_all(entry.path(), ignored);
     }
     return base / std::to_string(getpid());
   }();
@@ -148,6 +164,9 @@ const fs::path& process_scratch() {
 }
 
 bool made_scratch = false;
+// What a dying process says on stderr, made before it may be needed: a signal handler may
+// only write() it.
+char died_notice[512] = "";
 
 // The last `lines` lines of a text file.
 std::string tail_of(const fs::path& path, std::size_t lines) {
@@ -166,10 +185,32 @@ std::string tail_of(const fs::path& path, std::size_t lines) {
 
 std::string scratch_dir(const std::string& test_name) {
   const fs::path dir = process_scratch() / test_name;
-  made_scratch = true;
+  if (!made_scratch) {
+    made_scratch = true;
+    const fs::path died = process_scratch().parent_path() / fmt::format("{}{}", kDiedPrefix, getpid());
+    // Said at once, for a process that dies without a word (ctest's timeout kills it): its
+    // output up to then is all there is.
+    std::fputs(fmt::format("mahost tests: this process's files are in {} (kept as {} if it dies)\n",
+                           process_scratch().string(), died.string())
+                   .c_str(),
+               stderr);
+    fmt::format_to_n(died_notice, sizeof died_notice - 1,
+                     "mahost tests: the test process died; its files are kept for a day in {}\n", died.string());
+  }
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir.string();
+}
+
+void mark_scratch_ended() {
+  if (!made_scratch) return;
+  std::ofstream(process_scratch() / kEndedMark).put('\n');
+}
+
+void say_scratch_kept_after_death() {
+  if (died_notice[0] == '\0') return;
+  const ssize_t ignored = ::write(2, died_notice, std::strlen(died_notice));
+  (void)ignored;
 }
 
 std::string keep_scratch_after_failure() {
@@ -182,7 +223,7 @@ std::string keep_scratch_after_failure() {
       said += fmt::format("---- the end of {} ----\n{}", entry.path().string(), tail_of(entry.path(), 80));
     }
   }
-  const fs::path kept = mine.parent_path() / fmt::format("{}{}", kKeptPrefix, mine.filename().string());
+  const fs::path kept = mine.parent_path() / fmt::format("{}{}", kFailedPrefix, mine.filename().string());
   fs::rename(mine, kept, error);
   said += error ? fmt::format("the test's files: {} (removed by the next run)\n", mine.string())
                 : fmt::format("the test's files are kept for a day in {}\n", kept.string());

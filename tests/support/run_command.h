@@ -29,5 +29,12 @@ std::string scratch_dir(const std::string& test_name);
 // a simulated printer's), and the folder kept for a day where they say; "" when the process
 // made none. The tests' main calls it when a test fails.
 std::string keep_scratch_after_failure();
+// After the tests ran to their end, failed or not: the process did not die, and the next
+// process's clean-up removes its folders (a folder without this mark, its process gone, is
+// kept for a day as died-PID).
+void mark_scratch_ended();
+// For a signal handler (async-signal-safe): says on stderr where the dying process's files
+// are kept; nothing when it made none.
+void say_scratch_kept_after_death();
 
 }  // namespace test_support
