@@ -156,6 +156,10 @@ BestChoice prism_choice(const ContourInput& input) {
 constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
 constexpr std::size_t kNotMade = std::numeric_limits<std::size_t>::max();
 
+// How many of the surface points farthest from the first candidate's walls the others are
+// measured at first (on the bunny at 0.15 mm, 8 to 64 save alike).
+constexpr std::size_t kFarthestPoints = 16;
+
 // A candidate as best_choice weighs it: made or not yet, its D and ΔV once measured.
 struct Contender : BestCandidate {
   bool made = true;
@@ -279,7 +283,11 @@ class Contest {
       c.same_as = *same;
     } else {
       distance_options_.stop_above = least_ + kDistanceTie;
-      c.distance = distance_error(reference_.surface, c.grid(), c.missed, distance_options_).forward;
+      distance_options_.first_points = farthest_;
+      distance_options_.farthest_count = farthest_.empty() ? kFarthestPoints : 0;
+      DistanceError measured = distance_error(reference_.surface, c.grid(), c.missed, distance_options_);
+      c.distance = measured.forward;
+      if (farthest_.empty()) farthest_ = std::move(measured.farthest);
     }
     measured_.push_back(k);
     least_ = std::min(least_, c.distance);
@@ -342,6 +350,9 @@ class Contest {
   double least_ = std::numeric_limits<double>::infinity();
   bool mid_known_ = false;
   DistanceOptions distance_options_;
+  // The surface points farthest from the first walls measured in full: the next candidates'
+  // corners are measured there first (DistanceOptions::first_points).
+  std::vector<std::uint32_t> farthest_;
   std::optional<SlabColumns> built_columns_;
   const SlabColumns* columns_ = nullptr;
 };

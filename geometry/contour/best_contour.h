@@ -31,7 +31,8 @@
 // D 0 and ΔV 0; best takes it unmeasured: 75 of the mush's 135 layers at 0.2 mm, where the
 // contours then take a third of the time). Elsewhere the candidates and their measurements, ma first: a candidate is
 // measured only until its D is more than a tie above the least so far (distance_error's
-// stop_above), and one that misses more features than another is not measured, nor one whose region
+// stop_above; its corners first at the surface points farthest from the first candidate
+// measured in full, where a loser is mostly far too), and one that misses more features than another is not measured, nor one whose region
 // is one measured already (it takes that one's D and ΔV: optimal-height often ends at mid's
 // height). Where the caller knows mid's D (ContourInput::mid_distance: the layer plan measured it
 // on every layer it planned by mid) mid is not measured again, and ma is measured only until it

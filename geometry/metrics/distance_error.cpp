@@ -249,9 +249,11 @@ void choose_walls(const SlabSurface& surface, const BoundaryGrid& walls,
 
 // Every triangle's corners' nearest walls into scratch.corner (a point shared by triangles
 // measured to `walls` looked up once), raising `best` to the farthest; stops as soon as
-// `best` passes stop_above.
+// `best` passes stop_above. The points `first` go first where every triangle is measured to
+// `walls` (`all_to_walls`): each is then some triangle's corner.
 void measure_corners(const SlabSurface& surface, const BoundaryGrid& walls,
-                     ForwardScratch& scratch, double stop_above, double& best) {
+                     ForwardScratch& scratch, double stop_above, bool all_to_walls,
+                     std::span<const std::uint32_t> first, double& best) {
   const std::size_t count = surface.triangles.size();
   const std::vector<const BoundaryGrid*>& grid_of = scratch.grid_of;
   std::vector<std::array<Nearest, 3>>& corner = scratch.corner;
@@ -268,6 +270,15 @@ void measure_corners(const SlabSurface& surface, const BoundaryGrid& walls,
     scratch.epoch = 1;
   }
   const std::uint32_t epoch = scratch.epoch;
+  if (indexed && all_to_walls) {
+    for (const std::uint32_t p : first) {
+      if (p >= surface.points.size() || found[p] == epoch) continue;
+      at_point[p] = walls.nearest(surface.points[p]);
+      found[p] = epoch;
+      best = std::max(best, at_point[p].distance);
+      if (best > stop_above) return;
+    }
+  }
   for (std::size_t i = 0; i < count; ++i) {
     if (grid_of[i]->empty()) continue;
     for (int k = 0; k < 3; ++k) {
@@ -324,19 +335,41 @@ void search_surface_triangle(const SlabSurface& surface, std::uint32_t i, Forwar
   search_triangle(p, corner, grid, tolerance, settle, best, scratch.near);
 }
 
+// Up to `count` surface points farthest from the walls, farthest first, once every corner is
+// measured to `walls` (scratch.at_point).
+std::vector<std::uint32_t> farthest_points(const SlabSurface& surface, const ForwardScratch& scratch,
+                                           std::size_t count) {
+  if (surface.corners.size() != surface.triangles.size()) return {};
+  std::vector<std::uint32_t> points(surface.points.size());
+  for (std::uint32_t p = 0; p < points.size(); ++p) points[p] = p;
+  count = std::min(count, points.size());
+  const auto farther = [&](std::uint32_t a, std::uint32_t b) {
+    return scratch.at_point[a].distance > scratch.at_point[b].distance;
+  };
+  std::partial_sort(points.begin(), points.begin() + count, points.end(), farther);
+  points.resize(count);
+  return points;
+}
+
 double forward_distance(const SlabSurface& surface, const BoundaryGrid& walls,
                         std::span<const BoundaryPair> missed, double tolerance,
-                        double stop_above, double settle) {
+                        const DistanceOptions& options, std::vector<std::uint32_t>& farthest) {
   if (surface.triangles.empty()) return 0;
+  const double stop_above = options.stop_above;
+  const double settle = std::max(options.settle_below, 0.0);
   thread_local ForwardScratch scratch;
   // Surface inside a missed island is measured to the island's outline (see the header).
   Region outlines;
   for (const BoundaryPair& island : missed) outlines.loops.push_back(island.outer);
   const BoundaryGrid outline_grid(outlines);
   choose_walls(surface, walls, outline_grid, scratch.grid_of);
+  const bool all_to_walls = outline_grid.empty() && !walls.empty();
   double best = 0;
-  measure_corners(surface, walls, scratch, stop_above, best);
+  measure_corners(surface, walls, scratch, stop_above, all_to_walls, options.first_points, best);
   if (best > stop_above) return best;
+  if (all_to_walls && options.farthest_count > 0) {
+    farthest = farthest_points(surface, scratch, options.farthest_count);
+  }
   order_by_farthest_corner(surface.triangles.size(), scratch);
   for (std::uint32_t i : scratch.order) {
     search_surface_triangle(surface, i, scratch, tolerance, settle, best);
@@ -466,7 +499,7 @@ DistanceError distance_error(const SlabSurface& surface, const BoundaryGrid& wal
   DistanceError error;
   const double tolerance = std::max(options.tolerance, 1e-9);
   const double settle = std::max(options.settle_below, 0.0);
-  error.forward = forward_distance(surface, walls, missed, tolerance, options.stop_above, settle);
+  error.forward = forward_distance(surface, walls, missed, tolerance, options, error.farthest);
   // Every piece left was within the larger of D + tolerance and `settle`: exact where D
   // reached it, else only below it.
   error.settled = error.forward + tolerance < settle && !(error.forward > options.stop_above);

@@ -66,6 +66,14 @@ struct DistanceOptions {
   // like the layer plan's, whether D is within a tolerance, where the exact figure of a slab
   // well within it is not wanted. Default: never, the exact D.
   double settle_below = 0;
+  // Surface points (indices into SlabSurface::points) whose corners are measured first, so
+  // that with stop_above a region that loses is refuted on its first few points rather than
+  // after most of them: the points farthest from another region's walls
+  // (DistanceError::farthest), where this one's are mostly farthest too. The same D (or,
+  // refuted, a lower bound above stop_above) in any order.
+  std::span<const std::uint32_t> first_points = {};
+  // How many of the points farthest from the walls to report in DistanceError::farthest.
+  std::size_t farthest_count = 0;
 };
 
 struct DistanceError {
@@ -73,6 +81,10 @@ struct DistanceError {
   // Forward D proven at most DistanceOptions::settle_below, not measured exactly: `forward`
   // is then a lower bound (and so is hausdorff).
   bool settled = false;
+  // Up to DistanceOptions::farthest_count surface points (indices into SlabSurface::points)
+  // farthest from the walls, farthest first, where every corner was measured (none where
+  // the search stopped above stop_above, or where surface is measured to a missed island).
+  std::vector<std::uint32_t> farthest;
 };
 
 // What the distances are measured against, prepared once per slab and reused for every region.

@@ -92,6 +92,42 @@ TEST_CASE("settling_below_a_bound_proves_the_cone_within_it_and_measures_it_exac
   CHECK(std::abs(above.forward - d) <= kTolerance + kRounding);
 }
 
+TEST_CASE("points_measured_first_refute_a_farther_region_and_leave_an_exact_distance_alone") {
+  // On the cone's layer lower's D is about twice mid's (above). With the points farthest
+  // from mid's walls measured first, lower is still refuted against mid's D, by a lower
+  // bound of its own; measuring mid again with lower's farthest first gives the same D to
+  // the bit.
+  const int n = 48;
+  const double r = 10, h = 15;
+  const solids::Solid cone = solids::cone(r, h, n);
+  const LayerStack stack(cone.mesh, geometry::uniform_layers(h, 0.25));
+  const geometry::Slab slab = geometry::slab_of(stack, 20);
+  geometry::DistanceOptions options;
+  options.tolerance = kTolerance;
+  options.reverse = false;
+  const geometry::SlabSurface surface = geometry::slab_surface(slab, options);
+  const geometry::BoundaryGrid mid_walls(stack.mid(20)), lower_walls(stack.lower(20));
+  options.farthest_count = 8;
+  const DistanceError mid = geometry::distance_error(surface, mid_walls, {}, options);
+  const DistanceError lower = geometry::distance_error(surface, lower_walls, {}, options);
+  REQUIRE(mid.farthest.size() == 8);
+  for (std::size_t k = 0; k < mid.farthest.size(); ++k) {
+    const double d = mid_walls.nearest(surface.points[mid.farthest[k]]).distance;
+    CHECK(d <= mid.forward + kRounding);
+    if (k > 0) CHECK(d <= mid_walls.nearest(surface.points[mid.farthest[k - 1]]).distance);
+  }
+  options.farthest_count = 0;
+  options.first_points = lower.farthest;
+  const DistanceError mid_again = geometry::distance_error(surface, mid_walls, {}, options);
+  CHECK(mid_again.forward == mid.forward);
+  options.first_points = mid.farthest;
+  options.stop_above = mid.forward + 1e-3;
+  const DistanceError refuted = geometry::distance_error(surface, lower_walls, {}, options);
+  CHECK(refuted.forward > options.stop_above);
+  CHECK(refuted.forward <= lower.forward);
+  CHECK(refuted.farthest.empty());
+}
+
 TEST_CASE("cylinder_distance_of_its_section_is_zero") {
   const solids::Solid cylinder = solids::cylinder(6, 8, 40);
   const LayerStack stack(cylinder.mesh, geometry::uniform_layers(8, 0.2));
