@@ -324,8 +324,10 @@ class Contest {
     Contender& c = candidates_[r];
     if (c.deviation >= 0) return c.deviation;
     for (std::size_t m : measured_) {
-      if (root(m) == r && !std::isnan(maker_.section_deviation(m))) {
-        c.deviation = maker_.section_deviation(m);
+      if (root(m) != r) continue;
+      const double searched = maker_.section_deviation(m);  // mid's is evaluated: once
+      if (!std::isnan(searched)) {
+        c.deviation = searched;
         return c.deviation;
       }
     }
