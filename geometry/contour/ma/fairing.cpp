@@ -10,6 +10,16 @@ namespace geometry::ma {
 
 namespace {
 
+// squared_distance_to_segment(x, a, b) bit for bit, without its division where the foot of
+// the perpendicular falls beyond an end (t clamped to 0 or 1): most edges a walk looks at.
+inline double clamped_distance2(Vec2 x, Vec2 a, Vec2 b) {
+  const Vec2 ab = b - a, ap = x - a;
+  const double length2 = dot(ab, ab), along = dot(ap, ab);
+  if (!(length2 > 0) || along <= 0) return dot(ap, ap);
+  const Vec2 d = along >= length2 ? ap - ab : ap - (along / length2) * ab;
+  return dot(d, d);
+}
+
 // Distance from x to the loop, searched from edge `segment` along the loop while it gets no
 // worse; `segment` is updated to the nearest edge found, as the hint for the next query.
 // (Called a few million times per model: the walk wraps round without a division.)
@@ -17,7 +27,7 @@ double distance_near(const Loop& loop, std::uint32_t& segment, Vec2 x) {
   const std::size_t n = loop.size();
   if (n == 0) return std::numeric_limits<double>::infinity();
   const auto at = [&](std::size_t j) {
-    return squared_distance_to_segment(x, loop[j], loop[j + 1 == n ? 0 : j + 1]);
+    return clamped_distance2(x, loop[j], loop[j + 1 == n ? 0 : j + 1]);
   };
   double best = at(segment);
   std::size_t j = segment;
