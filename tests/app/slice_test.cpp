@@ -125,6 +125,18 @@ double header_seconds(const std::string& gcode) {
   return at == std::string::npos ? -1 : std::stod(text.substr(at + 14));
 }
 
+// Slicing `stl` as a print-time budget's estimate times it: mid's sections, no support, no
+// raft, uniform 0.25 mm layers.
+app::SliceOptions printed_as_estimated(const std::string& stl) {
+  app::SliceOptions options;
+  options.model.path = stl;
+  options.contour = "mid";
+  options.support.placement = "none";
+  options.support.raft = false;
+  options.layer = 0.25;
+  return options;
+}
+
 TEST_CASE("a_print_time_budget_holds_for_the_gcodes_own_estimate") {
   // A 96-gon frustum widening upward from radius 4 to 16 over 30 mm (its wall 22 degrees from
   // vertical: no support), printed by mid's sections as the plan is estimated. Its D depends
@@ -138,12 +150,7 @@ TEST_CASE("a_print_time_budget_holds_for_the_gcodes_own_estimate") {
   const std::string dir = test_support::scratch_dir("app_slice_time_budget");
   const std::string stl = dir + "/frustum.stl", gcode = dir + "/frustum.gcode";
   geometry::write_stl_binary(stl, solids::frustum(4, 16, 30, 96).mesh);
-  app::SliceOptions options;
-  options.model.path = stl;
-  options.contour = "mid";
-  options.support.placement = "none";
-  options.support.raft = false;
-  options.layer = 0.25;
+  app::SliceOptions options = printed_as_estimated(stl);
   const double uniform = app::slice(options, gcode).summary.print_seconds;
   options.layer = 0.4;
   const double thickest = app::slice(options, gcode).summary.print_seconds;
@@ -180,13 +187,7 @@ TEST_CASE("a_plans_print_time_estimate_follows_a_part_that_widens_or_narrows") {
     const std::string stl = dir + "/frustum.stl";
     const solids::Solid frustum = solids::frustum(bottom, top, 30, 96);
     geometry::write_stl_binary(stl, frustum.mesh);
-    app::SliceOptions options;
-    options.model.path = stl;
-    options.contour = "mid";
-    options.support.placement = "none";
-    options.support.raft = false;
-    options.layer = 0.25;
-    const app::SliceResult result = app::slice(options, dir + "/frustum.gcode");
+    const app::SliceResult result = app::slice(printed_as_estimated(stl), dir + "/frustum.gcode");
     const geometry::LayerStack index(frustum.mesh, {});
     const double estimate = app::estimated_seconds(index, result.layers, result.profiles);
     CAPTURE(estimate);
