@@ -1,5 +1,7 @@
 #include "geometry/contour/ma/axis.h"
 
+#include <algorithm>
+
 namespace geometry::ma {
 
 std::vector<char> vertex_labels(const SampleTriangulation& triangulation,
@@ -70,6 +72,10 @@ std::vector<Loop> axis_loops(const SampleTriangulation& triangulation,
     Loop loop = axis_loop(chain, fairing);
     if (loop.size() >= 3) contour.push_back(std::move(loop));
   }
+  // In the order of their first vertices, not of the faces (disjoint loops: distinct points).
+  std::sort(contour.begin(), contour.end(), [](const Loop& a, const Loop& b) {
+    return a[0].x < b[0].x || (a[0].x == b[0].x && a[0].y < b[0].y);
+  });
   return contour;
 }
 

@@ -49,7 +49,10 @@ inline int exit_edge(const SampleTriangulation::Face& face, const std::vector<ch
 // The contour's loops: every closed chain of mixed faces, each crossing placed by fairing.h
 // (or at the Delaunay edge's middle without fairing), faired and simplified; chains of fewer
 // than three crossings and loops left with fewer than three vertices are dropped. `loops` are
-// the pair's loops (loops_of order), which the samples index. Solid on each loop's left.
+// the pair's loops (loops_of order), which the samples index. Solid on each loop's left. Each
+// loop starts at its least vertex (by x, then y) and the loops are in the order of those
+// vertices: the result depends on the triangulation's faces, not on the order they are listed
+// in (which follows CGAL's insertion order).
 std::vector<Loop> axis_loops(const SampleTriangulation& triangulation,
                              const std::vector<char>& labels, std::span<const Sample> samples,
                              const std::vector<const Loop*>& loops, bool fairing);

@@ -66,7 +66,8 @@ Vec2 equidistant_on(AxisQuery& query, const Sample& solid, const Sample& empty);
 
 // One closed loop of the contour from its crossings, in order, the solid on the left of each
 // step: with fairing, resampled on the axis between them and simplified; without, the
-// crossings themselves.
+// crossings themselves. It starts at its least vertex (by x, then y), whichever crossing the
+// chain starts at: the same loop from any rotation of the chain.
 Loop axis_loop(const std::vector<ContourVertex>& chain, bool fairing);
 
 }  // namespace geometry::ma
