@@ -4,6 +4,7 @@
 #include <poll.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -22,6 +23,23 @@
 extern char** environ;
 
 namespace test_support {
+
+int spawn_tied(const std::vector<char*>& argv, const std::vector<char*>& envp, int stdout_fd,
+               const std::string& stderr_path) {
+  const pid_t parent = getpid();
+  // Everything the child does before execve is async-signal-safe (the test process has threads).
+  const pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error("fork failed");
+  if (pid == 0) {
+    if (prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || getppid() != parent) _exit(127);
+    const int in = open("/dev/null", O_RDONLY | O_CLOEXEC);
+    const int err = open(stderr_path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0600);
+    if (in < 0 || err < 0 || dup2(in, 0) < 0 || dup2(stdout_fd, 1) < 0 || dup2(err, 2) < 0) _exit(127);
+    execve(argv[0], argv.data(), envp.data());
+    _exit(127);
+  }
+  return pid;
+}
 
 CommandResult run_command(const std::vector<std::string>& argv, const std::string& input,
                           std::chrono::seconds timeout) {

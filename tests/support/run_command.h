@@ -22,6 +22,15 @@ CommandResult run_command(const std::vector<std::string>& argv, const std::strin
 CommandResult run_mahost(const std::vector<std::string>& args, const std::string& input = {},
                          std::chrono::seconds timeout = std::chrono::seconds(300));
 
+// Starts `argv` (argv[0] a path) with `envp` as a process that dies with the thread calling
+// this (Linux's parent-death signal, SIGKILL), so that a server or simulated printer a test
+// started does not outlive a test process killed before its destructors ran. Its stdin is
+// /dev/null, its stdout `stdout_fd`, its stderr appended to `stderr_path`. Returns its pid;
+// throws when it cannot be started. Call it from the thread that stays for the child's life
+// (the test's own).
+int spawn_tied(const std::vector<char*>& argv, const std::vector<char*>& envp, int stdout_fd,
+               const std::string& stderr_path);
+
 // Path of a fresh, empty scratch directory for one test (removed by the next run's cleanup).
 std::string scratch_dir(const std::string& test_name);
 

@@ -8,7 +8,6 @@
 #include <netinet/in.h>
 #include <poll.h>
 #include <signal.h>
-#include <spawn.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -82,12 +81,7 @@ class Serve {
   Serve(const ServeDirs& dirs, std::vector<std::string> args, bool with_key = true) : dirs_(dirs) {
     int out[2];
     REQUIRE(pipe2(out, O_CLOEXEC) == 0);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-    posix_spawn_file_actions_adddup2(&actions, out[1], 1);
     log_ = dirs.root + "/serve.log";
-    posix_spawn_file_actions_addopen(&actions, 2, log_.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0600);
     // A port given (a simulated printer on a pseudo-terminal): that printer, not the dry run's.
     std::vector<std::string> argv{MAHOST_BINARY, "serve", "--files", dirs.files};
     if (std::find(args.begin(), args.end(), "--port") == args.end()) {
@@ -107,8 +101,7 @@ class Serve {
     raw_argv.push_back(nullptr);
     for (std::string& e : env) raw_env.push_back(e.data());
     raw_env.push_back(nullptr);
-    REQUIRE(posix_spawn(&pid_, MAHOST_BINARY, &actions, nullptr, raw_argv.data(), raw_env.data()) == 0);
-    posix_spawn_file_actions_destroy(&actions);
+    pid_ = test_support::spawn_tied(raw_argv, raw_env, out[1], log_);
     close(out[1]);
     out_ = out[0];
     const std::string line = first_line(60s);
@@ -219,17 +212,13 @@ class SimPrinter {
   SimPrinter(std::vector<std::string> args, const std::string& log) {
     int out[2];
     REQUIRE(pipe2(out, O_CLOEXEC) == 0);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-    posix_spawn_file_actions_adddup2(&actions, out[1], 1);
-    posix_spawn_file_actions_addopen(&actions, 2, log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0600);
     args.insert(args.begin(), {MAHOST_BINARY, "sim"});
-    std::vector<char*> argv;
+    std::vector<char*> argv, env;
     for (std::string& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
-    REQUIRE(posix_spawn(&pid_, MAHOST_BINARY, &actions, nullptr, argv.data(), environ) == 0);
-    posix_spawn_file_actions_destroy(&actions);
+    for (char** e = environ; *e; ++e) env.push_back(*e);
+    env.push_back(nullptr);
+    pid_ = test_support::spawn_tied(argv, env, out[1], log);
     close(out[1]);
     out_ = out[0];
     // The first line is the port; what follows (a line per host opening it) is read and dropped.
