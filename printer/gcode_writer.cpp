@@ -1,8 +1,11 @@
-// The G-code writer (see gcode_writer.h). The program is generated twice by the same code, at
-// the same time on two threads: once into a PrintClock, to learn the print time and each
-// layer's start time, and once into text held in memory, into which the header and the M73
-// progress lines, which need those times, are put when both are done. Both runs see the same
-// rounded numbers, so the estimate is exactly what re-reading the text gives.
+// The G-code writer (see gcode_writer.h). The program is generated once, by one run of the
+// emitter whose every command goes both to a PrintClock, to learn the print time and each
+// layer's start time, and to text held in memory, into which the header and the M73 progress
+// lines, which need those times, are put at the end. The clock reads the very numbers the
+// text says, so the estimate is exactly what re-reading the text gives. Not taken: two runs of
+// the emitter side by side on two threads, one per sink, which end sooner on the wall clock
+// but place and simplify every path twice: 70 M more instructions on the bunny's mid slice
+// at 0.15 mm (1.3% of the slice, callgrind).
 #include "printer/gcode_writer.h"
 
 #include <algorithm>
@@ -17,7 +20,6 @@
 
 #include <fmt/core.h>
 #include <fmt/format.h>
-#include <tbb/parallel_invoke.h>
 
 #include "printer/bead_model.h"
 #include "printer/error.h"
@@ -39,7 +41,7 @@ double mm(double v) { return round_to(v, 1e-3); }
 double filament_mm(double v) { return round_to(v, 1e-5); }
 double per_minute(double mm_per_s) { return std::max(1.0, std::round(mm_per_s * 60)); }
 
-// Where the generated program goes: the clock (first run) or the text (second run).
+// Where the generated program goes: the clock, the text, or both (TeeSink).
 class Sink {
  public:
   virtual ~Sink() = default;
@@ -89,8 +91,8 @@ class ClockSink final : public Sink {
 };
 
 // The program's text, held in memory: each layer's M73 progress line needs the print time
-// up to that layer and in all, which the clock run, going on beside this one, learns only at
-// its end. The places for them are kept, and write() puts them in.
+// up to that layer and in all, which the clock fed the same commands learns only at the
+// program's end. The places for them are kept, and write() puts them in.
 class TextSink final : public Sink {
  public:
   void command(std::string_view line) override { write_line(line); }
@@ -237,6 +239,32 @@ class TextSink final : public Sink {
   std::vector<std::size_t> progress_at_;  // where each layer's M73 line goes
   bool progress_lines_ = true;
   std::size_t lines_ = 0;
+};
+
+// Both: each command to the clock, then to the text.
+class TeeSink final : public Sink {
+ public:
+  TeeSink(Sink& first, Sink& second) : first_(first), second_(second) {}
+  void command(std::string_view line) override {
+    first_.command(line);
+    second_.command(line);
+  }
+  void comment(std::string_view text) override {
+    first_.comment(text);
+    second_.comment(text);
+  }
+  void move(int g, const MoveWords& words) override {
+    first_.move(g, words);
+    second_.move(g, words);
+  }
+  void layer_start(std::size_t layer, double z, double height) override {
+    first_.layer_start(layer, z, height);
+    second_.layer_start(layer, z, height);
+  }
+
+ private:
+  Sink& first_;
+  Sink& second_;
 };
 
 double feature_speed(const FeatureSpeeds& s, PathRole role) {
@@ -668,23 +696,24 @@ GcodeSummary write_gcode(std::ostream& out, const std::vector<LayerToolpaths>& l
   const Vec2 offset{bed_centre_x(profiles.printer), bed_centre_y(profiles.printer)};
   check_build_volume(layers, profiles.printer, offset);
 
-  // The two runs side by side: the clock's (unless it ran already) and the text's.
+  // One run: into the text alone where the clock ran already, else into both.
   TextSink body;
   body.reserve(layers);
   if (!dialect_of(profiles.printer.firmware).has_m73) body.without_progress_lines();
-  Emitter writing(profiles, options, offset, body);
-  writing.on_layer(on_layer);
   GcodeSummary summary;
   if (timed) {
+    Emitter writing(profiles, options, offset, body);
+    writing.on_layer(on_layer);
     writing.program(layers);
     summary = *timed;
   } else {
     ClockSink clock(profiles.printer.motion);
-    Emitter timing(profiles, options, offset, clock);
-    double seconds = 0;
-    tbb::parallel_invoke([&] { timing.program(layers); seconds = clock.finish(); },
-                         [&] { writing.program(layers); });
-    summary = clock_summary(layers.size(), seconds, timing, clock, profiles);
+    TeeSink both(clock, body);
+    Emitter writing(profiles, options, offset, both);
+    writing.on_layer(on_layer);
+    writing.program(layers);
+    const double seconds = clock.finish();
+    summary = clock_summary(layers.size(), seconds, writing, clock, profiles);
   }
 
   TextSink header;
