@@ -52,15 +52,14 @@ void insert_samples(std::span<const Sample> samples, Delaunay& triangulation,
   using SortTraits = CGAL::Spatial_sort_traits_adapter_2<
       Kernel, CGAL::Pointer_property_map<Kernel::Point_2>::const_type>;
   const std::vector<Kernel::Point_2>& sorted_points = points;
-  CGAL::spatial_sort(order.begin(), order.end(), SortTraits(CGAL::make_property_map(sorted_points)));
+  CGAL::spatial_sort(order.begin(), order.end(), SortTraits(CGAL::make_property_map(sorted_points)),
+                     CGAL::Hilbert_sort_middle_policy());
   vertex_of.assign(samples.size(), Vertex());
   PlainDelaunay plain;
   Face hint;
   for (std::size_t i : order) {
     const Vertex v = plain.insert(points[i], hint);
-    if (v->info().sample == SampleTriangulation::kNoSample) {
-      v->info().sample = static_cast<std::uint32_t>(i);
-    }
+    if (i < v->info().sample) v->info().sample = static_cast<std::uint32_t>(i);
     vertex_of[i] = v;
     hint = v->face();
   }

@@ -34,7 +34,7 @@ struct SampleTriangulation {
     bool infinite = false;                     // one corner is the infinite vertex
     bool is_constrained(int k) const { return (constrained >> k) & 1; }
   };
-  // Per vertex: the sample it is (the first inserted of samples at one point), or kNoSample
+  // Per vertex: the sample it is (the least numbered of samples at one point), or kNoSample
   // for the infinite vertex and for points CGAL made where two constraints cross.
   std::vector<std::uint32_t> sample_of;
   std::vector<Vec2> point;  // per vertex, mm (the infinite vertex: 0, 0)
