@@ -17,6 +17,7 @@
 // Zero-thickness or out-of-range layer: h = z_lo, the section there, no search.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <vector>
 
@@ -38,11 +39,21 @@ namespace geometry {
 //   ∫ over C(h) of occ = ∫ over C(z_lo) of occ + t sum_f s_f area(f_h ∩ C(z_lo))
 //                      + sum_f ∫ over f_h of w_f + sum over overlapping f != g of s_f s_g ∫ over f_h ∩ g of w_g,
 // and ΔV(h) = vol(S_i) + t area C(h) - 2 ∫ over C(h) of occ. Facets wholly below h add
-// constants, those wholly above nothing; only the few that h cuts are clipped, with their fold
-// partners (SlabColumns::overlapping). The same value as
-// volume_deviation(columns, cross_section(h)) to floating point (that one rounds the section to
-// 1 nm and its intersection with C(z_lo) to 1 pm), for h in [z_lo, z_hi); at h = z_hi the
-// section from above belongs to the next slab and has to be built.
+// constants (sums over prefixes of the facets by z_max), those wholly above nothing. A facet
+// that h cuts, wholly inside or outside C(z_lo) and of no fold, adds t s_f (1 - 2 [f in C(z_lo)])
+// area(f_h) - 2 ∫ over f_h of w_f: between two of its corners' heights area(f_h) is quadratic
+// in h and the integral cubic (its derivative is (z_hi - h) times area's), so the constructor
+// turns each such facet into a polynomial per piece (one to three clips of it a piece) and
+// operator() only sums the pieces h lies in. The facets of a fold or that C(z_lo) crosses (a
+// few per layer) are clipped at every h, with their fold partners (SlabColumns::overlapping).
+// The same value as volume_deviation(columns, cross_section(h)) to floating point (that one
+// rounds the section to 1 nm and its intersection with C(z_lo) to 1 pm), for h in
+// [z_lo, z_hi); at h = z_hi the section from above belongs to the next slab and has to be
+// built. The pieces agree with clipping every cut facet at h (the way taken before them) to
+// ~1e-11 relative on the bunny's layers.
+// Cost: the constructor clips each facet once per corner and once per piece besides its
+// moments in C(z_lo); operator() sums the pieces that hold h and clips the few facets left. The
+// figures measured and the way not taken are in optimal_height.cpp.
 // Input: the slab's columns, mm. Output of operator(): mm^3, >= 0.
 class SectionDeviation {
  public:
@@ -53,8 +64,16 @@ class SectionDeviation {
 
  private:
   struct Facet;
+  // A facet's share of ΔV for h in [z0, z1): q0 + q1 d + q2 d^2 + q3 d^3, d = h - z0.
+  struct Piece {
+    double z0 = 0, z1 = 0;
+    std::array<double, 4> q{};
+  };
+  void add_pieces(const Facet& facet);
   std::vector<Facet> facets_;
-  std::vector<int> by_top_, by_bottom_;  // facets by z_max, by z_min
+  std::vector<int> by_top_;     // facets by z_max
+  std::vector<int> by_bottom_;  // the clipped ones (folds, crossing C(z_lo)) by z_min
+  std::vector<Piece> pieces_;   // the others' pieces, by z0
   std::vector<double> prefix_area_, prefix_occupied_;  // sums over by_top_'s prefixes
   BoundaryGrid lower_grid_;
   const Region* lower_;
