@@ -700,21 +700,12 @@ GcodeSummary write_gcode(std::ostream& out, const std::vector<LayerToolpaths>& l
   TextSink body;
   body.reserve(layers);
   if (!dialect_of(profiles.printer.firmware).has_m73) body.without_progress_lines();
-  GcodeSummary summary;
-  if (timed) {
-    Emitter writing(profiles, options, offset, body);
-    writing.on_layer(on_layer);
-    writing.program(layers);
-    summary = *timed;
-  } else {
-    ClockSink clock(profiles.printer.motion);
-    TeeSink both(clock, body);
-    Emitter writing(profiles, options, offset, both);
-    writing.on_layer(on_layer);
-    writing.program(layers);
-    const double seconds = clock.finish();
-    summary = clock_summary(layers.size(), seconds, writing, clock, profiles);
-  }
+  ClockSink clock(profiles.printer.motion);
+  TeeSink both(clock, body);
+  Emitter writing(profiles, options, offset, timed ? static_cast<Sink&>(body) : both);
+  writing.on_layer(on_layer);
+  writing.program(layers);
+  GcodeSummary summary = timed ? *timed : clock_summary(layers.size(), clock.finish(), writing, clock, profiles);
 
   TextSink header;
   write_header(header, layers, profiles, options, summary.print_seconds, summary.filament_mm);

@@ -49,8 +49,8 @@ namespace geometry {
 // The same value as volume_deviation(columns, cross_section(h)) to floating point (that one
 // rounds the section to 1 nm and its intersection with C(z_lo) to 1 pm), for h in
 // [z_lo, z_hi); at h = z_hi the section from above belongs to the next slab and has to be
-// built. The pieces agree with clipping every cut facet at h (the way taken before them) to
-// ~1e-11 relative on the bunny's layers.
+// built. The pieces agree with clipping every cut facet at h to ~1e-11 relative on the
+// bunny's layers.
 // Cost: the constructor clips each facet once per corner and once per piece besides its
 // moments in C(z_lo); operator() sums the pieces that hold h and clips the few facets left. The
 // figures measured and the way not taken are in optimal_height.cpp.

@@ -73,9 +73,7 @@ std::vector<Loop> axis_loops(const SampleTriangulation& triangulation,
     if (loop.size() >= 3) contour.push_back(std::move(loop));
   }
   // In the order of their first vertices, not of the faces (disjoint loops: distinct points).
-  std::sort(contour.begin(), contour.end(), [](const Loop& a, const Loop& b) {
-    return a[0].x < b[0].x || (a[0].x == b[0].x && a[0].y < b[0].y);
-  });
+  std::sort(contour.begin(), contour.end(), [](const Loop& a, const Loop& b) { return before(a[0], b[0]); });
   return contour;
 }
 

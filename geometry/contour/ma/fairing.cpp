@@ -201,10 +201,7 @@ Loop axis_loop(const std::vector<ContourVertex>& chain, bool fairing) {
   // Fairing between two crossings depends on those two alone, so this is one cyclic sequence
   // whichever crossing the chain began at; started at its least vertex it is one list, and
   // simplification (which splits the loop at its vertex 0) one result.
-  const auto least = std::min_element(loop.begin(), loop.end(), [](Vec2 a, Vec2 b) {
-    return a.x < b.x || (a.x == b.x && a.y < b.y);
-  });
-  std::rotate(loop.begin(), least, loop.end());
+  std::rotate(loop.begin(), std::min_element(loop.begin(), loop.end(), before), loop.end());
   if (fairing) loop = simplified(loop, kSimplifyTolerance);
   return loop;
 }

@@ -64,6 +64,9 @@ struct ContourVertex {
 // the edge (1% to 99% along it), so two loops never share a point at a sample.
 Vec2 equidistant_on(AxisQuery& query, const Sample& solid, const Sample& empty);
 
+// Whether a comes before b by x, then y: where an axis loop starts and how loops are ordered.
+inline bool before(Vec2 a, Vec2 b) { return a.x < b.x || (a.x == b.x && a.y < b.y); }
+
 // One closed loop of the contour from its crossings, in order, the solid on the left of each
 // step: with fairing, resampled on the axis between them and simplified; without, the
 // crossings themselves. It starts at its least vertex (by x, then y), whichever crossing the
