@@ -27,16 +27,42 @@ namespace test_support {
 int spawn_tied(const std::vector<char*>& argv, const std::vector<char*>& envp, int stdout_fd,
                const std::string& stderr_path) {
   const pid_t parent = getpid();
+  // The child reports why it could not start (an errno) on this pipe; execve closes it, so the
+  // parent reads nothing when the program started.
+  int report[2];
+  if (pipe2(report, O_CLOEXEC) != 0) throw std::runtime_error("pipe failed");
   // Everything the child does before execve is async-signal-safe (the test process has threads).
   const pid_t pid = fork();
-  if (pid < 0) throw std::runtime_error("fork failed");
+  if (pid < 0) {
+    close(report[0]);
+    close(report[1]);
+    throw std::runtime_error("fork failed");
+  }
   if (pid == 0) {
-    if (prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || getppid() != parent) _exit(127);
+    close(report[0]);
+    const auto fail = [&](int error) {
+      [[maybe_unused]] const ssize_t n = write(report[1], &error, sizeof error);
+      _exit(127);
+    };
+    if (prctl(PR_SET_PDEATHSIG, SIGKILL) != 0) fail(errno);
+    if (getppid() != parent) fail(ESRCH);
     const int in = open("/dev/null", O_RDONLY | O_CLOEXEC);
     const int err = open(stderr_path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0600);
-    if (in < 0 || err < 0 || dup2(in, 0) < 0 || dup2(stdout_fd, 1) < 0 || dup2(err, 2) < 0) _exit(127);
+    if (in < 0 || err < 0 || dup2(in, 0) < 0 || dup2(stdout_fd, 1) < 0 || dup2(err, 2) < 0) {
+      fail(errno);
+    }
     execve(argv[0], argv.data(), envp.data());
-    _exit(127);
+    fail(errno);
+  }
+  close(report[1]);
+  int error = 0;
+  ssize_t n;
+  do n = read(report[0], &error, sizeof error);
+  while (n < 0 && errno == EINTR);
+  close(report[0]);
+  if (n > 0) {
+    waitpid(pid, nullptr, 0);
+    throw std::runtime_error(fmt::format("cannot start {}: {}", argv[0], std::strerror(error)));
   }
   return pid;
 }
