@@ -20,9 +20,7 @@ LayerReference layer_reference(const LayerStack& stack, std::size_t layer, Slab 
   if (layer >= stack.size()) return reference;
   reference.layer = stack.layers()[layer];
   reference.slab = std::move(slab);
-  Footprint footprint = slab_footprint_with_islands(reference.slab);
-  reference.footprint = std::move(footprint.region);
-  reference.islands = std::move(footprint.islands);
+  reference.islands = slab_islands(reference.slab);
   if (options.volumes) {
     reference.volumes = true;
     reference.columns = slab_columns(reference.slab, stack.lower(layer));

@@ -6,6 +6,8 @@
 #include <numbers>
 
 #include "geometry/metrics/layer_metrics.h"
+#include "geometry/slab/boundary_pair.h"
+#include "geometry/slab/slab.h"
 #include "support/solids.h"
 
 namespace layer_metrics_test {
@@ -77,6 +79,28 @@ TEST_CASE("layer_metrics_of_a_missing_layer_are_zero") {
   CHECK(m.volume_limit == 0);
   CHECK(m.distance == 0);
   CHECK(m.missed_features == 0);
+}
+
+TEST_CASE("layer_reference_keeps_the_boundary_pairs_of_the_slab_footprint") {
+  // A torus lying flat, cut above its middle, beside a cone cut through its flank: the slab's
+  // footprint is three annuli (each a pair with one hole), the torus's outer and inner flanks
+  // and the cone's; the islands the reference keeps are boundary_pairs of the footprint, loop
+  // for loop.
+  const solids::Solid both =
+      solids::combine(solids::torus(6, 2, 32, 16), solids::cone(4, 8, 24, {20, 0, -2}));
+  const geometry::LayerStack stack(both.mesh, geometry::uniform_layers(4, 0.3));
+  for (const std::size_t i : {std::size_t{2}, std::size_t{5}}) {
+    const geometry::LayerReference reference = geometry::layer_reference(stack, i);
+    const std::vector<geometry::BoundaryPair> expected =
+        geometry::boundary_pairs(geometry::slab_footprint(geometry::slab_of(stack, i)));
+    REQUIRE(expected.size() == 3);
+    REQUIRE(reference.islands.size() == expected.size());
+    for (std::size_t k = 0; k < expected.size(); ++k) {
+      CHECK(expected[k].inner.size() == 1);
+      CHECK(reference.islands[k].outer == expected[k].outer);
+      CHECK(reference.islands[k].inner == expected[k].inner);
+    }
+  }
 }
 
 }  // namespace layer_metrics_test
