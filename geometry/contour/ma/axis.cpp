@@ -54,6 +54,7 @@ std::vector<Loop> axis_loops(const SampleTriangulation& triangulation,
   std::vector<Loop> contour;
   std::vector<char> visited(triangulation.faces.size(), 0);
   std::vector<ContourVertex> chain;  // one loop's, before fairing
+  chain.reserve(samples.size());     // about one crossing per sample
   ContourVertex crossing;
   for (std::uint32_t start = 0; start < triangulation.faces.size(); ++start) {
     if (visited[start] || exit_edge(triangulation.faces[start], labels) < 0) continue;
