@@ -22,11 +22,9 @@
 #include "geometry/contour/best_contour.h"
 #include "geometry/contour/contour_strategy.h"
 #include "geometry/contour/ma_contour.h"
-#include "geometry/mesh/placement.h"
-#include "geometry/mesh/repair.h"
-#include "geometry/mesh/stl_io.h"
 #include "geometry/slicing/layer_stack.h"
 #include "bench/bench_main.h"
+#include "bench/bench_model.h"
 
 using namespace geometry;
 
@@ -57,13 +55,7 @@ static int run_bench(int argc, char** argv) {
       path = arg;
     }
   }
-  Placement placement;
-  if (path.find("bunny") != std::string::npos) {
-    placement.units_to_mm = 1000;
-    placement.up = Axis::y;
-    placement.height = 50;
-  }
-  const Mesh mesh = place(repair(read_stl(path)), placement);
+  const Mesh mesh = bench::load_model(path);
   const Box3 box = bounding_box(mesh);
   const LayerStack stack(mesh, uniform_layers(box.max.z - box.min.z, thickness, first));
   std::printf("model %s: %zu faces, %.2f mm tall, %zu layers of %.3f mm\n", path.c_str(),
