@@ -30,16 +30,22 @@ using ClipperLib::IntPoint;
 
 // A polygon of at most kMaxCorners corners, on the stack: a convex polygon of n corners cut
 // by two planes has at most n + 2, so a mesh face (a triangle) and anything up to ten corners
-// is clipped without allocating, and slab_of cuts every face of the model (one allocation per
-// facet, not four). Larger polygons take a std::vector through the same code.
+// is clipped without allocating, and slab_of cuts every face of the model into its one array
+// of corners (SlabFacets). Larger polygons take a std::vector through the same code.
 constexpr std::size_t kMaxCorners = 12;
 struct SmallPolygon {
   std::array<Vec3, kMaxCorners> at;
   std::size_t count = 0;
   void clear() { count = 0; }
   void push_back(Vec3 p) { at[count++] = p; }
+  void pop_back() { --count; }
+  bool empty() const { return count == 0; }
   std::size_t size() const { return count; }
   const Vec3* data() const { return at.data(); }
+  const Vec3* begin() const { return at.data(); }
+  const Vec3* end() const { return at.data() + count; }
+  const Vec3& front() const { return at[0]; }
+  const Vec3& back() const { return at[count - 1]; }
 };
 
 // Keeps the part of a convex polygon on the side where side * (z - plane) >= 0.
@@ -64,43 +70,49 @@ void clip_half(std::span<const Vec3> in, double plane, double side, Corners& out
 
 bool same_point(Vec3 a, Vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
 
-// `above` and `inside` are scratch space, so that a caller clipping many faces makes them once.
-template <class Corners>
-std::vector<Vec3> clip_with(std::span<const Vec3> polygon, double z_lo, double z_hi,
-                            Corners& above, Corners& inside) {
+// The piece of `polygon` in the slab into `merged`; false (and `merged` of no use) if fewer
+// than 3 points remain or the piece lies in the plane z_lo or z_hi. `above` and `inside` are
+// scratch space, so that a caller clipping many faces makes them once.
+template <class Corners, class Merged>
+bool clip_into(std::span<const Vec3> polygon, double z_lo, double z_hi, Corners& above,
+               Corners& inside, Merged& merged) {
   clip_half(polygon, z_lo, 1.0, above);
   clip_half(std::span<const Vec3>(above.data(), above.size()), z_hi, -1.0, inside);
   // Repeated points merged, the first and last too.
-  std::vector<Vec3> merged;
-  merged.reserve(inside.size());
+  merged.clear();
   for (std::size_t i = 0; i < inside.size(); ++i) {
     const Vec3 p = inside.data()[i];
     if (merged.empty() || !same_point(p, merged.back())) merged.push_back(p);
   }
   while (merged.size() > 1 && same_point(merged.front(), merged.back())) merged.pop_back();
-  if (merged.size() < 3) return {};
+  if (merged.size() < 3) return false;
   const bool on_lo = std::all_of(merged.begin(), merged.end(), [&](Vec3 p) { return p.z == z_lo; });
   const bool on_hi = std::all_of(merged.begin(), merged.end(), [&](Vec3 p) { return p.z == z_hi; });
-  if (on_lo || on_hi) return {};
-  return merged;
+  return !(on_lo || on_hi);
 }
 
 }  // namespace
 
 std::vector<Vec3> clip_to_slab(std::span<const Vec3> polygon, double z_lo, double z_hi) {
+  std::vector<Vec3> merged;
+  bool kept;
   if (polygon.size() + 2 <= kMaxCorners) {
     SmallPolygon above, inside;
-    return clip_with(polygon, z_lo, z_hi, above, inside);
+    kept = clip_into(polygon, z_lo, z_hi, above, inside, merged);
+  } else {
+    std::vector<Vec3> above, inside;
+    kept = clip_into(polygon, z_lo, z_hi, above, inside, merged);
   }
-  std::vector<Vec3> above, inside;
-  return clip_with(polygon, z_lo, z_hi, above, inside);
+  if (!kept) return {};
+  return merged;
 }
 
 Slab slab_of(const Mesh& mesh, std::span<const std::uint32_t> faces, double z_lo, double z_hi) {
   Slab slab{z_lo, z_hi, {}};
   if (!(z_lo < z_hi)) return slab;
-  slab.facets.reserve(faces.size());
-  SmallPolygon above, inside;  // a triangle's pieces
+  // Most pieces of a triangle are triangles or quadrilaterals.
+  slab.facets.reserve(faces.size(), 4 * faces.size());
+  SmallPolygon above, inside, piece;  // a triangle's pieces
   for (std::uint32_t f : faces) {
     if (f >= mesh.faces.size()) continue;
     const auto& face = mesh.faces[f];
@@ -113,8 +125,9 @@ Slab slab_of(const Mesh& mesh, std::span<const std::uint32_t> faces, double z_lo
     const double lo = std::min({corners[0].z, corners[1].z, corners[2].z});
     const double hi = std::max({corners[0].z, corners[1].z, corners[2].z});
     if (hi < z_lo || lo > z_hi) continue;
-    std::vector<Vec3> piece = clip_with(std::span<const Vec3>(corners), z_lo, z_hi, above, inside);
-    if (!piece.empty()) slab.facets.push_back(std::move(piece));
+    if (clip_into(std::span<const Vec3>(corners), z_lo, z_hi, above, inside, piece)) {
+      slab.facets.push_back(std::span<const Vec3>(piece.data(), piece.size()));
+    }
   }
   return slab;
 }

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <span>
 #include <vector>
 
 #include "geometry/slicing/layer_stack.h"
@@ -18,7 +19,7 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-double area3(const std::vector<Vec3>& polygon) {
+double area3(std::span<const Vec3> polygon) {
   Vec3 twice{};
   for (std::size_t i = 1; i + 1 < polygon.size(); ++i) {
     twice = twice + cross(polygon[i] - polygon[0], polygon[i + 1] - polygon[0]);
@@ -192,8 +193,9 @@ TEST_CASE("facets_touching_at_a_point_merge_into_one_island") {
 
 TEST_CASE("footprint_is_the_same_whichever_way_facets_face") {
   // A facet seen from below (its normal points down) covers the same ground as from above.
-  Slab up{0, 1, {{{0, 0, 0.2}, {4, 0, 0.4}, {0, 3, 0.8}}}};
-  Slab down{0, 1, {{{0, 0, 0.2}, {0, 3, 0.8}, {4, 0, 0.4}}}};
+  Slab up{0, 1, {}}, down{0, 1, {}};
+  up.facets.push_back({{0, 0, 0.2}, {4, 0, 0.4}, {0, 3, 0.8}});
+  down.facets.push_back({{0, 0, 0.2}, {0, 3, 0.8}, {4, 0, 0.4}});
   const double a_up = area(slab_footprint(up)), a_down = area(slab_footprint(down));
   CHECK(a_up == doctest::Approx(a_down));
   CHECK(a_up == doctest::Approx(6).epsilon(1e-2));
