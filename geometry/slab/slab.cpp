@@ -550,12 +550,6 @@ Region slab_footprint(const Slab& slab, double margin) {
   return from_clipper(tree);
 }
 
-Footprint slab_footprint_with_islands(const Slab& slab, double margin) {
-  ClipperLib::PolyTree tree;
-  footprint_tree(slab, margin, tree);
-  return {from_clipper(tree), boundary_pairs(tree)};
-}
-
 std::vector<BoundaryPair> slab_islands(const Slab& slab, double margin) {
   ClipperLib::PolyTree tree;
   footprint_tree(slab, margin, tree);

@@ -120,14 +120,6 @@ std::vector<Vec3> clip_to_slab(std::span<const Vec3> polygon, double z_lo, doubl
 
 Region slab_footprint(const Slab& slab, double margin = kFootprintMargin);
 
-// The footprint and its islands (boundary_pair.h) from one union: what
-// boundary_pairs(slab_footprint(slab, margin)) gives, without normalising the footprint twice.
-struct Footprint {
-  Region region;
-  std::vector<BoundaryPair> islands;
-};
-Footprint slab_footprint_with_islands(const Slab& slab, double margin = kFootprintMargin);
-
 // Only the islands: boundary_pairs(slab_footprint(slab, margin)) from Clipper's nesting of the
 // offset, without the Region and without the second union boundary_pairs(Region) runs.
 std::vector<BoundaryPair> slab_islands(const Slab& slab, double margin = kFootprintMargin);

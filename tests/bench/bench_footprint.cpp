@@ -1,12 +1,13 @@
-// Benchmark: the slab footprint and its islands (slab.h) over every layer of the Stanford bunny.
+// Benchmark: the slab footprint's islands (slab.h's slab_islands, what layer_reference builds)
+// over every layer of the Stanford bunny.
 //
 // Usage: bench_footprint [STL] [--layer T] [--first F] [--repeat N] [--dump FILE]
 // Default: data/bunny.stl placed as in the paper (Y up, metres, 50 mm tall), 0.15 mm layers
 // over a 0.3 mm first layer, as `mahost slice --layer 0.15` lays them.
-// Prints the CPU time of the slabs and of their footprints with islands
-// (slab_footprint_with_islands), one thread, N times over (default 1), and the loops' count.
-// --dump: every layer's footprint and islands to FILE (text, full precision), to compare two
-// builds with cmp: a change meant to leave the footprint alone leaves the file byte for byte.
+// Prints the CPU time of the slabs and of their footprints' islands, one thread, N times over
+// (default 1), and the loops' count.
+// --dump: every layer's islands to FILE (text, full precision), to compare two builds with
+// cmp: a change meant to leave the footprint alone leaves the file byte for byte.
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
@@ -61,24 +62,25 @@ static int run_bench(int argc, char** argv) {
   std::vector<Slab> slabs(stack.size());
   for (std::size_t i = 0; i < stack.size(); ++i) slabs[i] = slab_of(stack, i);
   const double slab_cpu = cpu_seconds() - start;
-  std::vector<Footprint> footprints(stack.size());
+  std::vector<std::vector<BoundaryPair>> islands(stack.size());
   start = cpu_seconds();
   for (int r = 0; r < repeat; ++r) {
-    for (std::size_t i = 0; i < stack.size(); ++i) footprints[i] = slab_footprint_with_islands(slabs[i]);
+    for (std::size_t i = 0; i < stack.size(); ++i) islands[i] = slab_islands(slabs[i]);
   }
   const double footprint_cpu = (cpu_seconds() - start) / repeat;
-  std::size_t loops = 0, islands = 0;
-  for (const Footprint& f : footprints) loops += f.region.loops.size(), islands += f.islands.size();
-  std::printf("one thread, CPU: slabs %.3f s, footprints with islands %.3f s (%.2f ms a layer); "
+  std::size_t loops = 0, count = 0;
+  for (const std::vector<BoundaryPair>& layer : islands) {
+    count += layer.size();
+    for (const BoundaryPair& pair : layer) loops += 1 + pair.inner.size();
+  }
+  std::printf("one thread, CPU: slabs %.3f s, footprints' islands %.3f s (%.2f ms a layer); "
               "%zu loops, %zu islands\n",
-              slab_cpu, footprint_cpu, 1e3 * footprint_cpu / stack.size(), loops, islands);
+              slab_cpu, footprint_cpu, 1e3 * footprint_cpu / stack.size(), loops, count);
   if (!dump.empty()) {
     std::ofstream out(dump);
     out.precision(17);
     for (std::size_t i = 0; i < stack.size(); ++i) {
-      out << i << " footprint\n";
-      for (const Loop& loop : footprints[i].region.loops) write_loop(out, loop);
-      for (const BoundaryPair& pair : footprints[i].islands) {
+      for (const BoundaryPair& pair : islands[i]) {
         out << i << " island\n";
         write_loop(out, pair.outer);
         for (const Loop& hole : pair.inner) write_loop(out, hole);
