@@ -136,6 +136,15 @@ Region united_contour(const IslandContours& parts) {
   return from_clipper(clipper::union_positive_tree(parts.paths, united));
 }
 
+// max(level, the distance from p to the walls), the distance asked only where no wall is
+// nearer to p than level already (any_within says so sharply when it says true): most points
+// are, and any_within stops at the first wall it finds, where nearest_distance searches every
+// cell round p. Bit for bit the max of the distances: on the bunny the four maxima below ask
+// nearest_distance about 140 000 times without the test.
+double farther_of(const BoundaryGrid& walls, Vec2 p, double level) {
+  return walls.any_within(p, level) ? level : std::max(level, walls.nearest_distance(p));
+}
+
 // Θ of §3.4 for one island: the largest distance of a contributing sample to the walls, needed
 // only up to `farthest` (the farthest pocket sample: most pockets are a sharp corner's few
 // samples). Visited a sixteenth at a time, spread along the loops, so that where some sample
@@ -148,7 +157,7 @@ double contributing_level(const std::vector<Vec2>& contributing, const BoundaryG
   constexpr std::size_t kStride = 16;
   for (std::size_t first = 0; first < kStride && level <= farthest; ++first) {
     for (std::size_t i = first; i < count && level <= farthest; i += kStride) {
-      level = std::max(level, walls.nearest_distance(contributing[i]));
+      level = farther_of(walls, contributing[i], level);
     }
   }
   return level;
@@ -171,7 +180,7 @@ std::size_t refine_pockets(const std::vector<IslandAxis>& axes, const Region& co
     worst.assign(pockets.size(), 0);
     double farthest = 0;
     for (std::size_t k = 0; k < pockets.size(); ++k) {
-      for (Vec2 p : pockets[k].non_contributing) worst[k] = std::max(worst[k], walls.nearest_distance(p));
+      for (Vec2 p : pockets[k].non_contributing) worst[k] = farther_of(walls, p, worst[k]);
       farthest = std::max(farthest, worst[k]);
     }
     const double level = contributing_level(axis.pockets.contributing, walls, farthest);
@@ -181,8 +190,8 @@ std::size_t refine_pockets(const std::vector<IslandAxis>& axes, const Region& co
       if (!middle_walls) middle_walls.emplace(middle);
       double now = 0, with_middle = 0;
       for (Vec2 p : pocket.corners) {
-        now = std::max(now, walls.nearest_distance(p));
-        with_middle = std::max(with_middle, middle_walls->nearest_distance(p));
+        now = farther_of(walls, p, now);
+        with_middle = farther_of(*middle_walls, p, with_middle);
       }
       if (with_middle >= now - kRefineTolerance) continue;
       zone.insert(zone.end(), pocket.triangles.begin(), pocket.triangles.end());
