@@ -73,15 +73,28 @@ bool same_point(Vec3 a, Vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z;
 // The piece of `polygon` in the slab into `merged`; false (and `merged` of no use) if fewer
 // than 3 points remain or the piece lies in the plane z_lo or z_hi. `above` and `inside` are
 // scratch space, so that a caller clipping many faces makes them once.
+// A plane the polygon lies wholly on the kept side of (every corner at or above z_lo, or every
+// one at or below z_hi) keeps every corner and adds none: that half is not clipped.
 template <class Corners, class Merged>
 bool clip_into(std::span<const Vec3> polygon, double z_lo, double z_hi, Corners& above,
                Corners& inside, Merged& merged) {
-  clip_half(polygon, z_lo, 1.0, above);
-  clip_half(std::span<const Vec3>(above.data(), above.size()), z_hi, -1.0, inside);
+  bool above_lo = true, below_hi = true;  // false for a corner whose z is not a number
+  for (const Vec3& p : polygon) {
+    above_lo = above_lo && p.z >= z_lo;
+    below_hi = below_hi && p.z <= z_hi;
+  }
+  std::span<const Vec3> kept = polygon;
+  if (!above_lo) {
+    clip_half(kept, z_lo, 1.0, above);
+    kept = std::span<const Vec3>(above.data(), above.size());
+  }
+  if (!below_hi) {
+    clip_half(kept, z_hi, -1.0, inside);
+    kept = std::span<const Vec3>(inside.data(), inside.size());
+  }
   // Repeated points merged, the first and last too.
   merged.clear();
-  for (std::size_t i = 0; i < inside.size(); ++i) {
-    const Vec3 p = inside.data()[i];
+  for (const Vec3& p : kept) {
     if (merged.empty() || !same_point(p, merged.back())) merged.push_back(p);
   }
   while (merged.size() > 1 && same_point(merged.front(), merged.back())) merged.pop_back();
@@ -183,12 +196,6 @@ std::uint64_t hash_of(std::initializer_list<cInt> values) {
 struct PointHash {
   std::size_t operator()(const IntPoint& p) const { return hash_of({p.X, p.Y}); }
 };
-using Ends = std::pair<IntPoint, IntPoint>;
-struct EndsHash {
-  std::size_t operator()(const Ends& e) const {
-    return hash_of({e.first.X, e.first.Y, e.second.X, e.second.Y});
-  }
-};
 
 // The edges summed by their ends: each distinct segment once, with the net number of times
 // it is walked from lo to hi (most segments are shared by two facets walking it opposite
@@ -196,15 +203,26 @@ struct EndsHash {
 std::vector<Edge> net_edges(const std::vector<Edge>& edges) {
   std::vector<Edge> summed;
   summed.reserve(edges.size());
-  NumberTable<Ends, EndsHash> index(edges.size());
-  const auto ends_of = [&](std::uint32_t n) { return Ends{summed[n].lo, summed[n].hi}; };
+  // Open addressing on the edges' ends, the slots numbers into `summed` (NumberTable's
+  // layout, its probe written out: the key compared in place, not copied out as a pair).
+  std::size_t capacity = 16;
+  while (capacity < 2 * edges.size()) capacity *= 2;
+  const std::size_t mask = capacity - 1;
+  constexpr std::uint32_t kNone = UINT32_MAX;
+  std::vector<std::uint32_t> slots(capacity, kNone);
   for (const Edge& e : edges) {
-    const auto number = static_cast<std::uint32_t>(summed.size());
-    const std::uint32_t same = index.find_or_insert(Ends{e.lo, e.hi}, number, ends_of);
-    if (same == number) {
-      summed.push_back(e);
-    } else {
-      summed[same].direction += e.direction;
+    for (std::size_t i = hash_of({e.lo.X, e.lo.Y, e.hi.X, e.hi.Y}) & mask;; i = (i + 1) & mask) {
+      const std::uint32_t slot = slots[i];
+      if (slot == kNone) {
+        slots[i] = static_cast<std::uint32_t>(summed.size());
+        summed.push_back(e);
+        break;
+      }
+      Edge& same = summed[slot];
+      if (same.lo == e.lo && same.hi == e.hi) {
+        same.direction += e.direction;
+        break;
+      }
     }
   }
   summed.erase(std::remove_if(summed.begin(), summed.end(), [](const Edge& e) { return e.direction == 0; }),
@@ -487,26 +505,31 @@ void footprint_tree(const Slab& slab, double margin, ClipperLib::PolyTree& tree)
   ClipperLib::Paths edge_on;
   ClipperLib::Path projected;
   for (const auto& facet : slab.facets) {
+    // The corners on the grid (to_clipper, inline), repeats merged, the first and last too.
     projected.clear();
     for (const Vec3& v : facet) {
-      const IntPoint p = to_clipper(Vec2{v.x, v.y});
+      const IntPoint p{rounded_units(v.x * kClipperScale), rounded_units(v.y * kClipperScale)};
       if (projected.empty() || !(p == projected.back())) projected.push_back(p);
     }
     while (projected.size() > 1 && projected.front() == projected.back()) projected.pop_back();
     // Edge-on: thinner than 10 nm across, which rounding to whole nanometres can leave of a
-    // vertical face; as a polygon such a sliver would vanish in the union.
-    double longest2 = 0;
-    for (std::size_t i = 0, n = projected.size(); i < n; ++i) {
-      const IntPoint a = projected[i], b = projected[i + 1 == n ? 0 : i + 1];
+    // vertical face; as a polygon such a sliver would vanish in the union. Twice the area as
+    // -2 ClipperLib::Area(projected) sums it, term for term (no area below 3 corners), and the
+    // longest side, in one pass.
+    const std::size_t n = projected.size();
+    double longest2 = 0, sum = 0;
+    for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
+      const IntPoint a = projected[j], b = projected[i];
       const double dx = double(b.X - a.X), dy = double(b.Y - a.Y);
       longest2 = std::max(longest2, dx * dx + dy * dy);
+      sum += (double(a.X) + double(b.X)) * (double(a.Y) - double(b.Y));
     }
-    const double twice_area = 2 * ClipperLib::Area(projected);
+    const double twice_area = n < 3 ? 0.0 : -sum;
     const bool thin = seen_edge_on(twice_area, longest2, kEdgeOnWidth * kClipperScale);
-    if (projected.size() >= 3 && !thin) {
+    if (n >= 3 && !thin) {
       if (twice_area < 0) std::reverse(projected.begin(), projected.end());
       add_edges(projected, edges);
-    } else if (!projected.empty()) {
+    } else if (n > 0) {
       edge_on.push_back(projected);
     }
   }
