@@ -21,7 +21,7 @@ namespace {
 // the point fairing puts there, with the loops of the edge's ends and of the two corners
 // opposite it as where the axis is measured from.
 bool axis_crossing(const SampleTriangulation& triangulation, const std::vector<char>& labels,
-                   std::span<const Sample> samples, const std::vector<const Loop*>& loops,
+                   std::span<const Sample> samples, const std::vector<LoopEdges>& loops,
                    std::uint32_t f, int out, bool fairing, ContourVertex& crossing) {
   const SampleTriangulation::Face& face = triangulation.faces[f];
   const std::uint32_t u = face.vertex[cw(out)], v = face.vertex[ccw(out)];
@@ -32,15 +32,15 @@ bool axis_crossing(const SampleTriangulation& triangulation, const std::vector<c
   const Sample& s = u_solid ? su : sv;
   const Sample& e = u_solid ? sv : su;
   AxisQuery query;
-  query.add(true, loops[s.loop], s.segment);
-  query.add(false, loops[e.loop], e.segment);
+  query.add(true, &loops[s.loop], s.segment);
+  query.add(false, &loops[e.loop], e.segment);
   const std::uint32_t across = face.neighbour[out];
   const std::uint32_t beyond =
       triangulation.faces[across].vertex[triangulation.index_in(across, f)];
   for (std::uint32_t w : {face.vertex[out], beyond}) {
     if (!triangulation.known(w)) continue;
     const Sample& sw = samples[triangulation.sample_of[w]];
-    query.add(labels[w], loops[sw.loop], sw.segment);
+    query.add(labels[w], &loops[sw.loop], sw.segment);
   }
   crossing = {fairing ? equidistant_on(query, s, e) : 0.5 * (s.at + e.at), query};
   return true;
@@ -52,6 +52,9 @@ std::vector<Loop> axis_loops(const SampleTriangulation& triangulation,
                              const std::vector<char>& labels, std::span<const Sample> samples,
                              const std::vector<const Loop*>& loops, bool fairing) {
   std::vector<Loop> contour;
+  std::vector<LoopEdges> edges;  // what the crossings' queries walk
+  edges.reserve(loops.size());
+  for (const Loop* loop : loops) edges.emplace_back(*loop);
   std::vector<char> visited(triangulation.faces.size(), 0);
   std::vector<ContourVertex> chain;  // one loop's, before fairing
   chain.reserve(samples.size());     // about one crossing per sample
@@ -64,7 +67,7 @@ std::vector<Loop> axis_loops(const SampleTriangulation& triangulation,
       visited[f] = 1;
       const int out = exit_edge(triangulation.faces[f], labels);
       if (out < 0) break;  // never: the loop condition checked it (said for GCC's -Warray-bounds)
-      if (axis_crossing(triangulation, labels, samples, loops, f, out, fairing, crossing)) {
+      if (axis_crossing(triangulation, labels, samples, edges, f, out, fairing, crossing)) {
         chain.push_back(crossing);
       }
       f = triangulation.faces[f].neighbour[out];

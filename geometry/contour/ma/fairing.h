@@ -26,18 +26,31 @@ inline constexpr int kFairingDepth = 6;
 // How far, mm, simplifying the faired contour may move it: a quarter of the fairing tolerance.
 inline constexpr double kSimplifyTolerance = 0.25 * kFairingTolerance;
 
+// A boundary loop as fairing's distance walks read it: per edge j (vertex j to the next, the
+// last back to the first) its start, b - a and squared length, computed once per island where
+// a walk would recompute them at every edge it visits (each edge is visited a dozen times).
+struct LoopEdges {
+  struct Edge {
+    Vec2 a, ab;
+    double length2;
+  };
+  const Loop* loop = nullptr;
+  std::vector<Edge> edges;
+  explicit LoopEdges(const Loop& loop);
+};
+
 // Where the medial axis is looked for: the loops of the samples round one Delaunay edge (its
 // two ends and the two opposite corners), with each one's nearest edge so far. Where three
 // loops meet (islands merging in the slab) the nearest solid loop need not be the edge's own.
 struct AxisQuery {
   struct Near {
-    const Loop* loop;
+    const LoopEdges* loop;
     std::uint32_t segment;
   };
   std::array<Near, 3> solid_side{}, empty_side{};
   int solid_count = 0, empty_count = 0;
 
-  void add(bool solid, const Loop* loop, std::uint32_t segment) {
+  void add(bool solid, const LoopEdges* loop, std::uint32_t segment) {
     auto& side = solid ? solid_side : empty_side;
     int& count = solid ? solid_count : empty_count;
     for (int k = 0; k < count; ++k) {
