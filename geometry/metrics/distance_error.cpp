@@ -95,22 +95,47 @@ double feet_bound(const std::array<Vec2, N>& corners, const std::array<Vec2, F>&
 // nearest segments of the largest corner distance to it bounds the piece's maximum: tight
 // where the wall is smooth and the piece spans several of its segments (the feet bound is
 // then loose by the piece's extent along the wall).
+// Returns min(cap, that bound), exactly; or, as soon as one segment brings it to `enough` or
+// below, that segment's figure (the caller only asks whether the bound is within `enough`:
+// pass -infinity for the exact figure). A segment is dropped as soon as a corner is as far
+// from it as from a segment taken already, or farther than cap; a corner whose own nearest
+// segment it is (its least distance to any) is measured only where it may be the farthest.
+// The same figure as measuring every corner to every segment, for a third fewer distances
+// (the bunny's best slice at 0.15 mm).
 template <std::size_t N>
 double segment_bound(const BoundaryGrid& grid, const std::array<Vec2, N>& corners,
-                     const std::array<Nearest, N>& nearest) {
-  double bound = std::numeric_limits<double>::infinity();  // squared until the end
+                     const std::array<Nearest, N>& nearest, double cap, double enough) {
+  // Squared, and a little above cap's square: a corner this far from a segment is farther
+  // than cap, rounding included (as below, a relative 1e-9 is far above the rounding of a
+  // square or a root).
+  const double cap2 = cap * cap * (1 + 1e-9);
+  double bound = std::numeric_limits<double>::infinity();  // squared
   for (std::size_t i = 0; i < N; ++i) {
-    if (nearest[i].segment == Nearest::npos) continue;
+    const std::uint32_t id = nearest[i].segment;
+    if (id == Nearest::npos) continue;
     // A segment nearest to two corners (most pieces deep in a search) is taken once.
     bool seen = false;
-    for (std::size_t j = 0; j < i; ++j) seen = seen || nearest[j].segment == nearest[i].segment;
+    for (std::size_t j = 0; j < i; ++j) seen = seen || nearest[j].segment == id;
     if (seen) continue;
-    const Segment2& s = grid.segments()[nearest[i].segment];
+    const Segment2& s = grid.segments()[id];
+    const double limit = std::min(bound, cap2);
     double far = 0;
-    for (const Vec2& c : corners) far = std::max(far, squared_distance_to_segment(c, s.a, s.b));
-    bound = std::min(bound, far);
+    for (std::size_t c = 0; c < N && far < limit; ++c) {
+      if (nearest[c].segment != id) far = std::max(far, squared_distance_to_segment(corners[c], s.a, s.b));
+    }
+    if (!(far < limit)) continue;
+    // The corners nearest to s: their distance to it is known, up to rounding.
+    for (std::size_t c = i; c < N; ++c) {
+      const double own = nearest[c].distance;
+      if (nearest[c].segment == id && !(far > own * own * (1 + 1e-9))) {
+        far = std::max(far, squared_distance_to_segment(corners[c], s.a, s.b));
+      }
+    }
+    if (!(far < limit)) continue;
+    bound = far;
+    if (std::sqrt(bound) <= enough) return std::min(cap, std::sqrt(bound));
   }
-  return std::sqrt(bound);
+  return bound < cap2 ? std::min(cap, std::sqrt(bound)) : cap;
 }
 
 // max over the triangle of the distance to the nearest wall, raising `best` (see the header).
@@ -133,7 +158,7 @@ void search_triangle(const std::array<Vec2, 3>& corners, const std::array<Neares
       return low;
     const double lipschitz = low + longest(piece.p) * kInvSqrt3;
     if (lipschitz <= done()) return lipschitz;
-    const double by_segment = std::min(lipschitz, segment_bound(grid, piece.p, piece.n));
+    const double by_segment = segment_bound(grid, piece.p, piece.n, lipschitz, done());
     if (by_segment <= done()) return by_segment;
     return std::min(by_segment,
                     feet_bound(piece.p, std::array<Vec2, 3>{piece.n[0].foot, piece.n[1].foot,
@@ -187,8 +212,8 @@ void search_segment(Vec2 a, Vec2 b, const Nearest& at_a, const Nearest& at_b,
     const double lipschitz = low + length(piece.a, piece.b) / 2;
     if (lipschitz <= done()) return lipschitz;
     const double by_segment =
-        std::min(lipschitz, segment_bound(grid, std::array<Vec2, 2>{piece.a, piece.b},
-                                          std::array<Nearest, 2>{piece.na, piece.nb}));
+        segment_bound(grid, std::array<Vec2, 2>{piece.a, piece.b},
+                      std::array<Nearest, 2>{piece.na, piece.nb}, lipschitz, done());
     if (by_segment <= done()) return by_segment;
     return std::min(by_segment, feet_bound(std::array<Vec2, 2>{piece.a, piece.b},
                                            std::array<Vec2, 2>{piece.na.foot, piece.nb.foot}));

@@ -5,7 +5,8 @@
 // over a 0.3 mm first layer, as `mahost slice --layer 0.15` lays them.
 // Prints the CPU time of best's contours, one thread, and of ma's alone for comparison, how
 // often each candidate was chosen, and (unless --quick) the TBB-parallel wall time.
-// --layers: one line per layer (chosen candidate, its D, the candidates' D).
+// --layers: one line per layer (chosen candidate, its D, the candidates' D), the D's to 17
+// digits: a change meant to leave every candidate's D alone leaves these lines byte for byte.
 // --dump: every layer's chosen region to FILE (text, full precision), to compare two builds
 // with cmp: a change meant to leave best's choice alone leaves the file byte for byte.
 #include <tbb/parallel_for.h>
@@ -80,7 +81,7 @@ static int run_bench(int argc, char** argv) {
   if (layers) {
     for (std::size_t i = 0; i < stack.size(); ++i) {
       const BestChoice& c = choices[i];
-      std::printf("%zu %.3f %s D %.6f missed %zu  mid %.6f opt %.6f ma %.6f\n", i,
+      std::printf("%zu %.3f %s D %.17g missed %zu  mid %.17g opt %.17g ma %.17g\n", i,
                   stack.layers()[i].z_lo, std::string(c.chosen).c_str(), c.distance,
                   c.missed_features, c.candidate_distance[0], c.candidate_distance[1],
                   c.candidate_distance[2]);
