@@ -14,6 +14,19 @@ constexpr double kInvSqrt3 = 0.57735026918962576;
 
 double length(Vec2 a, Vec2 b) { return length(b - a); }
 
+// How the forward search takes a surface triangle (SlabSurface::shapes), with the very
+// arithmetic of search_surface_triangle, search_triangle and search_segment.
+SurfaceShape shape_of(const std::array<Vec2, 3>& p) {
+  const double twice_area = std::abs(cross(p[1] - p[0], p[2] - p[0]));
+  const double l01 = length(p[0], p[1]), l12 = length(p[1], p[2]), l20 = length(p[2], p[0]);
+  const double longest = std::max({l01, l12, l20});
+  if (twice_area <= 1e-9 * longest * longest) {
+    const int a = l01 >= l12 && l01 >= l20 ? 0 : l12 >= l20 ? 1 : 2;
+    return {(a == 0 ? l01 : a == 1 ? l12 : l20) / 2, a};
+  }
+  return {longest * kInvSqrt3, -1};
+}
+
 using Nearest = BoundaryGrid::Nearest;
 
 // The nearby walls of one piece of surface: every segment whose box meets [lo, hi].
@@ -250,13 +263,23 @@ void search_segment(Vec2 a, Vec2 b, const Nearest& at_a, const Nearest& at_b,
 // allocating and clearing them anew cost a twentieth of the measurement).
 struct ForwardScratch {
   std::vector<const BoundaryGrid*> grid_of;
+  // Each triangle's corners' nearest walls, where they are not read from at_point (by_point).
   std::vector<std::array<Nearest, 3>> corner;
   std::vector<Nearest> at_point;
   std::vector<std::uint32_t> found;  // == epoch: at_point holds that point's nearest wall
   std::uint32_t epoch = 0;
+  bool by_point = false;  // every triangle measured to `walls`, its corners at_point[corners]
   std::vector<double> top;
   std::vector<std::uint32_t> order, near;
+  std::vector<SurfaceShape> shapes;  // for a surface given without them
 };
+
+std::array<Nearest, 3> corners_of(const SlabSurface& surface, const ForwardScratch& scratch,
+                                  std::uint32_t i) {
+  if (!scratch.by_point) return scratch.corner[i];
+  const auto& c = surface.corners[i];
+  return {scratch.at_point[c[0]], scratch.at_point[c[1]], scratch.at_point[c[2]]};
+}
 
 // Which walls each triangle is measured to: `walls`, or for one whose centre lies inside a
 // missed island the island's outline (`outlines`, see the header).
@@ -282,7 +305,6 @@ void measure_corners(const SlabSurface& surface, const BoundaryGrid& walls,
   const std::size_t count = surface.triangles.size();
   const std::vector<const BoundaryGrid*>& grid_of = scratch.grid_of;
   std::vector<std::array<Nearest, 3>>& corner = scratch.corner;
-  if (corner.size() < count) corner.resize(count);
   const bool indexed = surface.corners.size() == count;
   std::vector<Nearest>& at_point = scratch.at_point;
   std::vector<std::uint32_t>& found = scratch.found;
@@ -295,7 +317,8 @@ void measure_corners(const SlabSurface& surface, const BoundaryGrid& walls,
     scratch.epoch = 1;
   }
   const std::uint32_t epoch = scratch.epoch;
-  if (indexed && all_to_walls) {
+  scratch.by_point = indexed && all_to_walls;
+  if (scratch.by_point) {
     for (const std::uint32_t p : first) {
       if (p >= surface.points.size() || found[p] == epoch) continue;
       at_point[p] = walls.nearest(surface.points[p]);
@@ -303,7 +326,20 @@ void measure_corners(const SlabSurface& surface, const BoundaryGrid& walls,
       best = std::max(best, at_point[p].distance);
       if (best > stop_above) return;
     }
+    // Every point is a corner, numbered as the triangles' corners first name it
+    // (slab_surface): in this order the first point farther than stop_above is the one the
+    // triangles' corners meet first.
+    for (std::uint32_t p = 0; p < surface.points.size(); ++p) {
+      if (found[p] != epoch) {
+        at_point[p] = walls.nearest(surface.points[p]);
+        found[p] = epoch;
+      }
+      best = std::max(best, at_point[p].distance);
+      if (best > stop_above) return;
+    }
+    return;
   }
+  if (corner.size() < count) corner.resize(count);
   for (std::size_t i = 0; i < count; ++i) {
     if (grid_of[i]->empty()) continue;
     for (int k = 0; k < 3; ++k) {
@@ -326,16 +362,26 @@ void measure_corners(const SlabSurface& surface, const BoundaryGrid& walls,
 // The triangles that have walls, most promising first into scratch.order, so the bound prunes
 // the rest: by the farthest corner, taken once per triangle rather than at every comparison
 // of the sort.
-void order_by_farthest_corner(std::size_t count, ForwardScratch& scratch) {
-  const std::vector<std::array<Nearest, 3>>& corner = scratch.corner;
+void order_by_farthest_corner(const SlabSurface& surface, ForwardScratch& scratch) {
+  const std::size_t count = surface.triangles.size();
   std::vector<double>& top = scratch.top;
   if (top.size() < count) top.resize(count);
   std::vector<std::uint32_t>& order = scratch.order;
   order.clear();
-  for (std::uint32_t i = 0; i < count; ++i) {
-    if (scratch.grid_of[i]->empty()) continue;
-    top[i] = std::max({corner[i][0].distance, corner[i][1].distance, corner[i][2].distance});
-    order.push_back(i);
+  if (scratch.by_point) {
+    const std::vector<Nearest>& at = scratch.at_point;
+    for (std::uint32_t i = 0; i < count; ++i) {
+      const auto& c = surface.corners[i];
+      top[i] = std::max({at[c[0]].distance, at[c[1]].distance, at[c[2]].distance});
+      order.push_back(i);
+    }
+  } else {
+    const std::vector<std::array<Nearest, 3>>& corner = scratch.corner;
+    for (std::uint32_t i = 0; i < count; ++i) {
+      if (scratch.grid_of[i]->empty()) continue;
+      top[i] = std::max({corner[i][0].distance, corner[i][1].distance, corner[i][2].distance});
+      order.push_back(i);
+    }
   }
   std::sort(order.begin(), order.end(),
             [&](std::uint32_t a, std::uint32_t b) { return top[a] > top[b]; });
@@ -344,16 +390,13 @@ void order_by_farthest_corner(std::size_t count, ForwardScratch& scratch) {
 // Surface triangle i searched, raising `best`. A vertical facet, or a flat face's edge,
 // projects to a segment: searched as one, since splitting a flat triangle in four only copies
 // the segment.
-void search_surface_triangle(const SlabSurface& surface, std::uint32_t i, ForwardScratch& scratch,
-                             double tolerance, double settle, double& best) {
+void search_surface_triangle(const SlabSurface& surface, std::uint32_t i, int side,
+                             ForwardScratch& scratch, const BoundaryGrid& grid, double tolerance,
+                             double settle, double& best) {
   const auto& p = surface.triangles[i];
-  const std::array<Nearest, 3>& corner = scratch.corner[i];
-  const BoundaryGrid& grid = *scratch.grid_of[i];
-  const double twice_area = std::abs(cross(p[1] - p[0], p[2] - p[0]));
-  const double l01 = length(p[0], p[1]), l12 = length(p[1], p[2]), l20 = length(p[2], p[0]);
-  const double longest = std::max({l01, l12, l20});
-  if (twice_area <= 1e-9 * longest * longest) {
-    const int a = l01 >= l12 && l01 >= l20 ? 0 : l12 >= l20 ? 1 : 2, b = (a + 1) % 3;
+  const std::array<Nearest, 3> corner = corners_of(surface, scratch, i);
+  if (side >= 0) {
+    const int a = side, b = (a + 1) % 3;
     search_segment(p[a], p[b], corner[a], corner[b], grid, tolerance, settle, best, scratch.near);
     return;
   }
@@ -395,9 +438,24 @@ double forward_distance(const SlabSurface& surface, const BoundaryGrid& walls,
   if (all_to_walls && options.farthest_count > 0) {
     farthest = farthest_points(surface, scratch, options.farthest_count);
   }
-  order_by_farthest_corner(surface.triangles.size(), scratch);
+  order_by_farthest_corner(surface, scratch);
+  std::span<const SurfaceShape> shapes = surface.shapes;
+  if (shapes.size() != surface.triangles.size()) {
+    scratch.shapes.clear();
+    for (const auto& t : surface.triangles) scratch.shapes.push_back(shape_of(t));
+    shapes = scratch.shapes;
+  }
+  double most_slack = 0;
+  for (const SurfaceShape& shape : shapes) most_slack = std::max(most_slack, shape.slack);
+  // best is already the farthest corner's distance, so a triangle whose farthest corner and
+  // slack stay within done() is left as its search would leave it at once, raising nothing;
+  // past the first triangle whose corner is that near with any triangle's slack, all are.
   for (std::uint32_t i : scratch.order) {
-    search_surface_triangle(surface, i, scratch, tolerance, settle, best);
+    const double done = std::max(best + tolerance, settle);
+    if (scratch.top[i] + most_slack <= done) break;
+    if (scratch.top[i] + shapes[i].slack <= done) continue;
+    search_surface_triangle(surface, i, shapes[i].side, scratch,
+                            scratch.by_point ? walls : *scratch.grid_of[i], tolerance, settle, best);
     if (best > stop_above) return best;
   }
   return best;
@@ -483,6 +541,8 @@ SlabSurface slab_surface(const Slab& slab, const DistanceOptions& options) {
     if (j - i == 1) surface.triangles.push_back({flat_edges[i].a, flat_edges[i].b, flat_edges[i].b});
     i = j;
   }
+  surface.shapes.reserve(surface.triangles.size());
+  for (const auto& t : surface.triangles) surface.shapes.push_back(shape_of(t));
   // Index the corners: equal points get one number, found through a hash table of their
   // coordinates (open addressing, at most half full).
   std::size_t slots = 16;

@@ -91,6 +91,15 @@ struct DistanceError {
   std::vector<std::uint32_t> farthest;
 };
 
+// How the forward search takes a surface triangle: `side` -1 for a triangle, else k for one of
+// no area, searched as its longest side from corner k to the next; `slack`, how far the
+// distance inside it can rise above its farthest corner's by the bound of the distance being
+// 1-Lipschitz: the longest side / sqrt(3) (a triangle), half the side (a side).
+struct SurfaceShape {
+  double slack;
+  int side;
+};
+
 // What the distances are measured against, prepared once per slab and reused for every region.
 struct SlabSurface {
   double z_lo = 0, z_hi = 0;
@@ -101,6 +110,8 @@ struct SlabSurface {
   // indices into it: the nearest wall is searched once per point.
   std::vector<Vec2> points;
   std::vector<std::array<std::uint32_t, 3>> corners;
+  // Each triangle's shape, shared by every region measured (worked out per call where absent).
+  std::vector<SurfaceShape> shapes;
   // ∂C(z) at each measured height, as segments (empty heights left out).
   std::vector<BoundaryGrid> levels;
 };
