@@ -29,26 +29,36 @@ SurfaceShape shape_of(const std::array<Vec2, 3>& p) {
 
 using Nearest = BoundaryGrid::Nearest;
 
-// The nearby walls of one piece of surface: every segment whose box meets [lo, hi].
-void walls_near(const BoundaryGrid& grid, Vec2 lo, Vec2 hi, std::vector<std::uint32_t>& near) {
+// The nearby walls of one piece of surface: every segment whose box meets [lo, hi], its ends
+// copied beside its index so that the nearest-wall loops read them in a row.
+struct NearWall {
+  Vec2 a, b;
+  std::uint32_t id;
+};
+using NearWalls = std::vector<NearWall>;
+
+void walls_near(const BoundaryGrid& grid, Vec2 lo, Vec2 hi, NearWalls& near) {
   near.clear();
-  grid.for_each_near(lo, hi, [&](std::uint32_t id) { near.push_back(id); });
+  grid.for_each_near(lo, hi, [&](std::uint32_t id) {
+    const Segment2& s = grid.segments()[id];
+    near.push_back({s.a, s.b, id});
+  });
 }
 
-Nearest nearest_of(Vec2 p, const BoundaryGrid& grid, const std::vector<std::uint32_t>& near) {
+Nearest nearest_of(Vec2 p, const NearWalls& near) {
   Nearest found{std::numeric_limits<double>::infinity(), Nearest::npos, p};
-  for (std::uint32_t id : near) {
-    const Segment2& s = grid.segments()[id];
-    const double d2 = squared_distance_to_segment(p, s.a, s.b);
+  const NearWall* nearest = nullptr;
+  for (const NearWall& wall : near) {
+    const double d2 = squared_distance_to_segment(p, wall.a, wall.b);
     if (d2 < found.distance) {
       found.distance = d2;
-      found.segment = id;
+      nearest = &wall;
     }
   }
-  if (found.segment != Nearest::npos) {
+  if (nearest) {
     found.distance = std::sqrt(found.distance);
-    const Segment2& s = grid.segments()[found.segment];
-    found.foot = foot_on_segment(p, s.a, s.b);
+    found.segment = nearest->id;
+    found.foot = foot_on_segment(p, nearest->a, nearest->b);
   }
   return found;
 }
@@ -156,7 +166,7 @@ double segment_bound(const BoundaryGrid& grid, const std::array<Vec2, N>& corner
 // distance is convex on the piece (distance to one segment), so its maximum is a corner's.
 void search_triangle(const std::array<Vec2, 3>& corners, const std::array<Nearest, 3>& at,
                      const BoundaryGrid& grid, double tolerance, double settle, double& best,
-                     std::vector<std::uint32_t>& near) {
+                     NearWalls& near) {
   // A piece whose distance stays within this is done with.
   const auto done = [&] { return std::max(best + tolerance, settle); };
   struct Piece {
@@ -201,8 +211,8 @@ void search_triangle(const std::array<Vec2, 3>& corners, const std::array<Neares
     whole = false;
     const Vec2 m01 = 0.5 * (piece.p[0] + piece.p[1]), m12 = 0.5 * (piece.p[1] + piece.p[2]),
                m20 = 0.5 * (piece.p[2] + piece.p[0]);
-    const Nearest n01 = nearest_of(m01, grid, near), n12 = nearest_of(m12, grid, near),
-                  n20 = nearest_of(m20, grid, near);
+    const Nearest n01 = nearest_of(m01, near), n12 = nearest_of(m12, near),
+                  n20 = nearest_of(m20, near);
     best = std::max({best, n01.distance, n12.distance, n20.distance});
     stack.push_back({{piece.p[0], m01, m20}, {piece.n[0], n01, n20}});
     stack.push_back({{m01, piece.p[1], m12}, {n01, piece.n[1], n12}});
@@ -214,7 +224,7 @@ void search_triangle(const std::array<Vec2, 3>& corners, const std::array<Neares
 // max over the segment [a, b] of the distance to the nearest segment of `grid`, raising `best`.
 void search_segment(Vec2 a, Vec2 b, const Nearest& at_a, const Nearest& at_b,
                     const BoundaryGrid& grid, double tolerance, double settle, double& best,
-                    std::vector<std::uint32_t>& near) {
+                    NearWalls& near) {
   const auto done = [&] { return std::max(best + tolerance, settle); };
   struct Piece {
     Vec2 a, b;
@@ -251,7 +261,7 @@ void search_segment(Vec2 a, Vec2 b, const Nearest& at_a, const Nearest& at_b,
     if (!whole && upper_bound(piece, low) <= done()) continue;
     whole = false;
     const Vec2 m = 0.5 * (piece.a + piece.b);
-    const Nearest nm = nearest_of(m, grid, near);
+    const Nearest nm = nearest_of(m, near);
     best = std::max(best, nm.distance);
     stack.push_back({piece.a, m, piece.na, nm});
     stack.push_back({m, piece.b, nm, piece.nb});
@@ -270,7 +280,8 @@ struct ForwardScratch {
   std::uint32_t epoch = 0;
   bool by_point = false;  // every triangle measured to `walls`, its corners at_point[corners]
   std::vector<double> top;
-  std::vector<std::uint32_t> order, near;
+  std::vector<std::uint32_t> order;
+  NearWalls near;
   std::vector<SurfaceShape> shapes;  // for a surface given without them
 };
 
@@ -463,7 +474,7 @@ double forward_distance(const SlabSurface& surface, const BoundaryGrid& walls,
 
 double reverse_distance(const SlabSurface& surface, const BoundaryGrid& walls, double tolerance) {
   double best = 0;
-  std::vector<std::uint32_t> near;
+  NearWalls near;
   const auto& segments = walls.segments();
   std::vector<std::array<Nearest, 2>> ends(segments.size());
   for (const BoundaryGrid& level : surface.levels) {
