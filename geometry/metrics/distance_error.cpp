@@ -372,7 +372,12 @@ void measure_corners(const SlabSurface& surface, const BoundaryGrid& walls,
 
 // The triangles that have walls, most promising first into scratch.order, so the bound prunes
 // the rest: by the farthest corner, taken once per triangle rather than at every comparison
-// of the sort.
+// of the sort. Not done: leaving out of the sort the triangles the search skips anyway (a
+// farthest corner and slack within the farthest corner's distance + tolerance), sorted by
+// corner then index so that the order of the rest stays one: equal farthest corners (a
+// shared corner) then go in another order than this sort's, and a region refuted early
+// (stop_above) reports another first distance past the threshold (bunny at 0.15 mm, layer
+// 60: mid 0.312 for 0.340 mm), though no choice changes.
 void order_by_farthest_corner(const SlabSurface& surface, ForwardScratch& scratch) {
   const std::size_t count = surface.triangles.size();
   std::vector<double>& top = scratch.top;
