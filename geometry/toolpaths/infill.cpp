@@ -360,10 +360,13 @@ std::vector<ExtrusionPath> skin_edge_lines(const Region& sparse, const Region& c
   density = std::min(density, 100.0);
   if (!(density > 0) || !(width > 0) || sparse.loops.empty() || core_above.loops.empty()) return {};
   const clipper::Paths area = to_clipper(sparse);
+  // The pieces first: where none of the edge lies in the area (a third of the bunny's
+  // islands), there is no line to lay and no shrunk area to find.
+  const clipper::Paths pieces = edges_in_area(core_above, area);
+  if (pieces.empty()) return {};
   const clipper::Paths shrunk = clipper::offset(area, -width / 2);
   if (shrunk.empty()) return {};
   const clipper::PointsInRegion inside_shrunk(shrunk);
-  const clipper::Paths pieces = edges_in_area(core_above, area);
   const auto below = sparse_lines_below(width, density, pattern, angle, layer_index);
   // Where the edge meets the sparse area's edge it follows it on for a spacing of the lines
   // below, far enough to meet one of them (they end along the area's edge).
