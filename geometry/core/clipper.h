@@ -108,14 +108,15 @@ std::vector<Paths> islands(const Paths& region);
 Paths offset(const Paths& region, double delta, ClipperLib::JoinType join = ClipperLib::jtMiter,
              double miter_limit = 3.0);
 
-// Clipper's union with the positive rule of one loop that runs CCW and crosses itself
-// only in small folds, such as an offset's raw loop where it went back through a vertex:
-// into `out`, point for point and from the same start as union_positive({loop}) gives it,
-// without the sweep where the folds allow; returns false, and leaves `out` unspecified, where
-// they do not (then union_positive is the answer). Cost: a grid of the edges to find the
-// crossings, about a fifth of Clipper's union of the loop. Taken by 1,833 of the 3,777
-// single-loop offsets of the bunny's mid slice at 0.15 mm that Clipper's union settled, each
-// the very loop Clipper makes.
+// Clipper's union with the positive rule of one loop that runs CCW and crosses itself in
+// folds, such as an offset's raw loop where it went back through vertices (folds that may
+// nest and share edges): into `out`, point for point and from the same start as
+// union_positive({loop}) gives it, without the sweep where the union is one loop without
+// holes and the crossings lie where the sweep finds them; returns false, and leaves `out`
+// unspecified, where not (then union_positive is the answer). Cost: a grid of the edges to
+// find the crossings, about a fifth of Clipper's union of the loop. Of the 3,687 single-loop
+// offsets of the bunny's mid slice at 0.15 mm that the raw loops did not settle, the traced
+// boundary alone takes 3,129, each the very loop Clipper makes (cutting folds alone: 1,833).
 bool union_of_folded_loop(const Path& loop, Path& out);
 
 // Shrink then grow by radius mm: removes every part narrower than 2 * radius.
