@@ -204,15 +204,10 @@ std::string budget_outcome(const LayerChoice& choice) {
   if (plan.cap > 0) {
     text += fmt::format("; the least tolerance {} is {:.3g} mm", budget, plan.tolerance);
     if (plan.cap > plan.tolerance) {
-      text += fmt::format(": layers up to {:.3g} mm (that plan's P95h D) where they take off "
-                          "more volume", plan.cap);
+      text += fmt::format(": layers up to {:.3g} mm (that plan's P95h D less its thinnest layers "
+                          "above it) where they take off more volume", plan.cap);
     }
     text += fmt::format(", none over that plan's largest D, {:.3g} mm", plan.ceiling);
-    if (plan.split > 0) {
-      text += fmt::format("; {} layer{} split in two to use the layers left (no volume to take "
-                          "off there; each no worse, the mean D lower)",
-                          plan.split, plan.split == 1 ? "" : "s");
-    }
   } else if (choice.budget_seconds > 0) {
     text += choice.estimated_seconds <= choice.budget_seconds
                 ? fmt::format(", the least tolerance {}", budget)

@@ -4,7 +4,9 @@
 // plan measures it) and its swept volume taken (swept_volume.h), and the best by the plan's
 // order (layer_plan.h: flat levels crossed, thicker layers over the tolerance and their
 // thickness, the height of thinnest ones over it, layers, swept volume) or, under a layer
-// budget, by the same without the count, must cost what the plan found costs. The lazy search
+// budget, by the flat levels and the thicker layers over the cap, the lowest end, the most
+// layers, the height of the thinnest over the cap, their D past it times their thickness and
+// the swept volume, must cost what the plan found costs. The lazy search
 // measures a fraction of the candidates; this checks that what it leaves unmeasured could not
 // have won.
 #include <doctest/doctest.h>
@@ -44,16 +46,23 @@ solids::Solid part() {
 struct Cost {
   int flats = 0, landing = 0;
   double landing_thickness = 0;
-  double unmet = 0;  // height, mm
+  double unmet = 0;   // height, mm
+  double excess = 0;  // of those layers, D past the tolerance times thickness, mm^2
   int layers = 0;
   double swept = 0;
-  // Swept volumes summed in another order differ in the last bits: equal within 1e-9 mm^3.
+  int end = 0;  // units
+  // Swept volumes summed in another order differ in the last bits: equal within 1e-9 mm^3;
+  // the plan sums excesses in whole nm x mm (1e-6 mm^2): equal within 1e-5 mm^2. Under a budget
+  // (count_layers false) the lower end and the more layers come before the thinnest layers over
+  // the cap, and their excess before the swept volume; else the fewer layers after the
+  // thinnest layers over the tolerance, and the excess is not compared.
   bool operator<(const Cost& o) const {
-    const auto key = [](const Cost& c, bool with_layers) {
-      return std::make_tuple(c.flats, c.landing, std::round(c.landing_thickness * 1e6),
-                             std::round(c.unmet * 1e6), with_layers ? c.layers : 0);
+    const auto key = [](const Cost& c, bool budget) {
+      return std::make_tuple(c.flats, c.landing, std::round(c.landing_thickness * 1e6), budget ? c.end : 0,
+                             budget ? -c.layers : 0, std::round(c.unmet * 1e6), budget ? 0 : c.layers);
     };
-    if (key(*this, count_layers) != key(o, count_layers)) return key(*this, count_layers) < key(o, count_layers);
+    if (key(*this, !count_layers) != key(o, !count_layers)) return key(*this, !count_layers) < key(o, !count_layers);
+    if (!count_layers && std::abs(excess - o.excess) > 1e-5) return excess < o.excess;
     return swept < o.swept - 1e-9;
   }
   bool count_layers = true;
@@ -70,9 +79,13 @@ class BruteForce {
     const bool thinnest = a == 0 || b - a == 3;
     c.flats += slab.flats;
     if (slab.distance > tolerance && !thinnest) ++c.landing, c.landing_thickness += height(b) - height(a);
-    if (slab.distance > tolerance && thinnest) c.unmet += height(b) - height(a);
+    if (slab.distance > tolerance && thinnest) {
+      c.unmet += height(b) - height(a);
+      c.excess += (slab.distance - tolerance) * (height(b) - height(a));
+    }
     ++c.layers;
     c.swept += slab.swept;
+    c.end = b;
   }
 
   Cost cost_of(const std::vector<Layer>& layers, double tolerance, bool count_layers) {
@@ -172,11 +185,13 @@ TEST_CASE("the_plan_within_a_layer_budget_is_the_least_swept_of_every_sequence_t
     REQUIRE(plan.layers.size() <= budget);
     REQUIRE(plan.cap >= plan.tolerance);
     REQUIRE(plan.ceiling >= plan.cap);
-    // No sequence of as many layers, none over the ceiling, sweeps less (those over the cap
-    // fewest first).
+    // No sequence of at most as many layers, none over the ceiling, is better (by the order
+    // above: the lowest end and the most layers before the thinnest layers over the cap).
     const Cost found = brute.cost_of(plan.layers, plan.cap, false);
     const Cost least = brute.best(plan.cap, budget, false, plan.ceiling);
     CHECK_FALSE(least < found);
+    CHECK(found.end == least.end);
+    CHECK(found.layers == least.layers);
     CHECK(found.swept == doctest::Approx(least.swept).epsilon(1e-9));
     // Layers are said against the cap the least error was found within, not the tolerance.
     for (std::size_t i = 1; i < plan.layers.size(); ++i) {

@@ -19,6 +19,7 @@
 #include "geometry/analysis/layer_analysis.h"
 #include "geometry/plan/flat_levels.h"
 #include "geometry/plan/layer_plan.h"
+#include "geometry/plan/swept_volume.h"
 #include "geometry/slicing/layer_stack.h"
 #include "support/solids.h"
 
@@ -201,6 +202,87 @@ TEST_CASE("the_layer_holding_a_ledge_off_the_reachable_heights_errs_least") {
     const AdaptivePlan plan = geometry::adaptive_plan(stack, 8.0, kUpPlus2, geometry::flat_levels(part.mesh), options);
     CHECK(plan.layers.size() <= budget);
     check(plan);
+  }
+}
+
+TEST_CASE("a_budget_caps_its_layers_at_the_95th_percentile_of_those_a_thinner_layer_could_help") {
+  // Vertical walls (D = 0 at any thickness) with two slopes that lean in between them: 12 mm
+  // over 0.6 mm at 5 mm (run per mm of height s = 20) and 2.4 mm over 0.6 mm at 10 mm (s = 4).
+  // Every corner is on the UP Plus 2's grid, so at any tolerance under 0.3 mm the least
+  // tolerance's plan lands them: its layers on the slopes are the thinnest, 0.15 mm, of D
+  // = 0.15 s / 2 at their lower corners, 1.5 and 0.3 mm; every other layer has D = 0.
+  // 60 layers hold that plan at any tolerance (1 + 12 + 4 + 11 + 4 + 25 = 57 of 0.4 mm and
+  // less), so the least tolerance is all but 0. Of the 20 mm above the first layer, the layers
+  // of D 1.5 are 0.6 mm: the thinnest over the percentile, over it in every plan, they are
+  // left out of it; of the other 19.4 mm, 0.6 (3.1%) have D 0.3 and the rest 0, so the cap is
+  // the least tolerance (the whole plan's percentile, both slopes counted, would be 0.3: 1.2 mm
+  // is 6% of 20).
+  const std::vector<Vec2> profile{{0, 0},   {25, 0},      {25, 5},     {13, 5.6},
+                                  {13, 10}, {10.6, 10.6}, {10.6, 20.3}, {0, 20.3}};
+  const std::vector<Vec2> outer(profile.begin() + 1, profile.end() - 1);
+  const solids::Solid part = solids::revolve(profile, kSides);
+  const geometry::LayerStack stack(part.mesh, {});
+  AdaptiveOptions options;
+  options.max_layers = 60;
+  const AdaptivePlan plan =
+      geometry::adaptive_plan(stack, 20.3, kUpPlus2, geometry::flat_levels(part.mesh), options);
+  REQUIRE(plan.layers.size() <= 60);
+  CHECK(plan.tolerance < 0.01);
+  CHECK(plan.cap == plan.tolerance);
+  CHECK(plan.ceiling == doctest::Approx(1.5).epsilon(2e-3 / 1.5));
+  for (double z : {5.0, 5.6, 10.0, 10.6, 20.3}) CHECK_MESSAGE(has_boundary(plan.layers, z), "corner at " << z);
+  for (std::size_t i = 1; i < plan.layers.size(); ++i) {
+    const Layer& l = plan.layers[i];
+    CAPTURE(l.z_lo);
+    CHECK(plan.distance[i] == doctest::Approx(mid_distance(outer, l.z_lo, l.z_hi)).epsilon(1e-3).scale(1));
+    const bool sloped = (l.z_lo >= 5.0 - 1e-9 && l.z_hi <= 5.6 + 1e-9) || (l.z_lo >= 10.0 - 1e-9 && l.z_hi <= 10.6 + 1e-9);
+    CHECK(sloped == (plan.distance[i] > plan.cap));
+  }
+}
+
+TEST_CASE("of_the_layers_a_budget_leaves_over_its_cap_the_plan_takes_those_least_far_over") {
+  // Vertical walls (D = 0 at any thickness) with two slopes leaning in between them: r 4 to 3
+  // over [1.05, 1.13] mm and r 3 to 0.5 over [3.00, 3.15]. One 0.15 mm layer holds each slope
+  // (two would put more height over the cap): [3.00, 3.15] for the second, D = 3 - 1.75 =
+  // 1.25; [1.00, 1.15] or [1.05, 1.20] for the first, cut at r 3.6875 and 3.0625, so D =
+  // 0.6875 cos(pi / 48) (the wall of r 3 above) and 0.9375 (the wall of r 4 below). Of the 3.7
+  // mm above the first layer, 0.15 (4.1%) is the first slope's and the rest D = 0 but the
+  // second's 0.15: the cap is the least tolerance, all but 0 (the second slope's layer, over the
+  // percentile, is left out of it), the ceiling 1.25, so both slopes' layers are over the cap,
+  // as high each way. The layer of D 0.9375 sweeps less volume; the one of D 0.686 is taken,
+  // the least far over the cap, in every budget under the most layers 3.7 mm holds, all
+  // spent (in 25, of 0.15 mm but for one 0.25 or two 0.2, [1.00, 1.15] cannot go with [3.00,
+  // 3.15], and the most layers come first).
+  const std::vector<Vec2> profile{{0, 0}, {4, 0}, {4, 1.05}, {3, 1.13}, {3, 3.0}, {0.5, 3.15}, {0.5, 4.0}, {0, 4.0}};
+  const std::vector<Vec2> outer(profile.begin() + 1, profile.end() - 1);
+  const double near = 0.6875 * std::cos(std::numbers::pi / kSides);
+  REQUIRE(mid_distance(outer, 1.0, 1.15) == doctest::Approx(near).epsilon(1e-12));
+  REQUIRE(mid_distance(outer, 1.05, 1.2) == doctest::Approx(0.9375).epsilon(1e-12));
+  REQUIRE(mid_distance(outer, 3.0, 3.15) == doctest::Approx(1.25).epsilon(1e-12));
+  const solids::Solid part = solids::revolve(profile, kSides);
+  const geometry::SweptVolume swept(part.mesh);
+  REQUIRE(swept(1.05, 1.2) < swept(1.0, 1.15));
+  const geometry::LayerStack stack(part.mesh, {});
+  for (std::size_t budget : {16, 20, 24}) {
+    CAPTURE(budget);
+    AdaptiveOptions options;
+    options.max_layers = budget;
+    const AdaptivePlan plan =
+        geometry::adaptive_plan(stack, 4.0, kUpPlus2, geometry::flat_levels(part.mesh), options);
+    REQUIRE(plan.layers.size() == budget);
+    CHECK(plan.tolerance < 0.01);
+    CHECK(plan.cap == plan.tolerance);
+    CHECK(plan.ceiling == doctest::Approx(1.25).epsilon(2e-3 / 1.25));
+    std::vector<std::size_t> over;
+    for (std::size_t i = 1; i < plan.layers.size(); ++i) {
+      if (plan.distance[i] > plan.cap) over.push_back(i);
+    }
+    REQUIRE(over.size() == 2);
+    CHECK(plan.layers[over[0]].z_lo == doctest::Approx(1.0));
+    CHECK(plan.layers[over[0]].z_hi == doctest::Approx(1.15));
+    CHECK(plan.distance[over[0]] == doctest::Approx(near).epsilon(2e-3 / near));
+    CHECK(plan.layers[over[1]].z_lo == doctest::Approx(3.0));
+    CHECK(plan.layers[over[1]].z_hi == doctest::Approx(3.15));
   }
 }
 
