@@ -448,6 +448,26 @@ EdgeCrossing crossing_on(std::uint32_t edge, std::uint32_t crossing, const Clipp
   return {edge, crossing, num, den, from_right};
 }
 
+// `loop` rotated to start where Clipper's union starts a lone loop: at the point after its
+// least y. False (and `loop` as it was) where two points share the least y, which Clipper
+// settles by an order this does not reproduce.
+bool started_as_clipper_starts(Path& loop) {
+  const std::size_t m = loop.size();
+  std::size_t low = 0;
+  bool tie = false;
+  for (std::size_t k = 1; k < m; ++k) {
+    if (loop[k].Y < loop[low].Y) {
+      low = k;
+      tie = false;
+    } else if (loop[k].Y == loop[low].Y) {
+      tie = true;
+    }
+  }
+  if (tie) return false;
+  std::rotate(loop.begin(), loop.begin() + static_cast<std::ptrdiff_t>((low + 1) % m), loop.end());
+  return true;
+}
+
 // The loop with its folds cut off. Each crossing of edges i < j cuts off the piece between
 // them (the ends of i and j past the crossing, and edges i + 1 to j - 1), which must be
 // simple (no crossing shares an edge with another or lies within another's piece, and the
@@ -502,19 +522,7 @@ bool cut_folds(const Path& raw, const std::vector<std::pair<std::uint32_t, std::
       if (a == b || b == c || side(a, b, c) == 0) return false;
     }
   }
-  std::size_t low = 0;
-  bool tie = false;
-  for (std::size_t k = 1; k < m; ++k) {
-    if (out[k].Y < out[low].Y) {
-      low = k;
-      tie = false;
-    } else if (out[k].Y == out[low].Y) {
-      tie = true;
-    }
-  }
-  if (tie) return false;
-  std::rotate(out.begin(), out.begin() + static_cast<std::ptrdiff_t>((low + 1) % m), out.end());
-  return true;
+  return started_as_clipper_starts(out);
 }
 
 
@@ -664,19 +672,7 @@ bool traced_boundary(const Path& raw,
     const auto& c = out[v + 1 < m ? v + 1 : 0];
     if (a == b || b == c || side(a, b, c) == 0) return false;
   }
-  std::size_t low = 0;
-  bool tie = false;
-  for (std::size_t k = 1; k < m; ++k) {
-    if (out[k].Y < out[low].Y) {
-      low = k;
-      tie = false;
-    } else if (out[k].Y == out[low].Y) {
-      tie = true;
-    }
-  }
-  if (tie) return false;
-  std::rotate(out.begin(), out.begin() + static_cast<std::ptrdiff_t>((low + 1) % m), out.end());
-  return true;
+  return started_as_clipper_starts(out);
 }
 
 }  // namespace

@@ -271,6 +271,22 @@ TEST_CASE("search_finds_the_maximum_where_each_facet_spans_several_wall_segments
   }
 }
 
+// The forward distance (to kTolerance) from a surface of the slab z 0 to 1, seen from
+// above as these triangles, to the walls of the square [0, 10]^2, where the distance is
+// min(x, 10 - x, y, 10 - y).
+DistanceError forward_to_square_walls(const std::vector<std::array<geometry::Vec2, 3>>& triangles) {
+  const geometry::Loop square{{0, 0}, {10, 0}, {10, 10}, {0, 10}};
+  const geometry::BoundaryGrid walls(Region{{square}});
+  geometry::SlabSurface surface;
+  surface.z_lo = 0;
+  surface.z_hi = 1;
+  surface.triangles = triangles;
+  geometry::DistanceOptions options;
+  options.tolerance = kTolerance;
+  options.reverse = false;
+  return geometry::distance_error(surface, walls, {}, options);
+}
+
 TEST_CASE("a_square_s_largest_distance_is_found_inside_a_facet_over_its_centre") {
   // The walls of the square [0, 10]^2 and, seen from above, a surface of 7 x 7 cells of two
   // triangles each over it: the distance to the walls, min(x, 10 - x, y, 10 - y), is 5 at the
@@ -278,23 +294,16 @@ TEST_CASE("a_square_s_largest_distance_is_found_inside_a_facet_over_its_centre")
   // distance from the centre elsewhere. On every triangle the distance is the least of the
   // affine distances to the four sides: a search that settles the triangles far from the
   // centre must still find the centre's 5 to within the tolerance.
-  const geometry::Loop square{{0, 0}, {10, 0}, {10, 10}, {0, 10}};
-  const geometry::BoundaryGrid walls(Region{{square}});
-  geometry::SlabSurface surface;
-  surface.z_lo = 0;
-  surface.z_hi = 1;
   constexpr int kCells = 7;
   const auto at = [](int i, int j) { return geometry::Vec2{10.0 * i / kCells, 10.0 * j / kCells}; };
+  std::vector<std::array<geometry::Vec2, 3>> triangles;
   for (int i = 0; i < kCells; ++i) {
     for (int j = 0; j < kCells; ++j) {
-      surface.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
-      surface.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+      triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
     }
   }
-  geometry::DistanceOptions options;
-  options.tolerance = kTolerance;
-  options.reverse = false;
-  const DistanceError d = geometry::distance_error(surface, walls, {}, options);
+  const DistanceError d = forward_to_square_walls(triangles);
   CHECK(d.forward <= 5 + kRounding);
   CHECK(d.forward >= 5 - kTolerance - kRounding);
   // Any of the triangles' corners is at most 10/7 * 3 = 4.29 from the walls.
@@ -308,17 +317,8 @@ TEST_CASE("a_facet_whose_corners_are_nearer_than_another_s_is_still_searched_ins
   // 3 to 4 from the walls but 5 at the centre, 0.075 above what the first found: a bound of
   // the second triangle below that (unsound: the true maximum is 5) would leave its inside
   // unsearched.
-  const geometry::Loop square{{0, 0}, {10, 0}, {10, 10}, {0, 10}};
-  const geometry::BoundaryGrid walls(Region{{square}});
-  geometry::SlabSurface surface;
-  surface.z_lo = 0;
-  surface.z_hi = 1;
-  surface.triangles.push_back({geometry::Vec2{4.9, 4.9}, {4.95, 4.9}, {4.9, 4.95}});
-  surface.triangles.push_back({geometry::Vec2{4, 4}, {7, 4.5}, {4.5, 7}});
-  geometry::DistanceOptions options;
-  options.tolerance = kTolerance;
-  options.reverse = false;
-  const DistanceError d = geometry::distance_error(surface, walls, {}, options);
+  const DistanceError d = forward_to_square_walls(
+      {{geometry::Vec2{4.9, 4.9}, {4.95, 4.9}, {4.9, 4.95}}, {geometry::Vec2{4, 4}, {7, 4.5}, {4.5, 7}}});
   CHECK(d.forward <= 5 + kRounding);
   CHECK(d.forward >= 5 - kTolerance - kRounding);
 }
