@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <numbers>
+#include <optional>
 
 namespace geometry::clipper {
 
@@ -448,14 +449,11 @@ EdgeCrossing crossing_on(std::uint32_t edge, std::uint32_t crossing, const Clipp
   return {edge, crossing, num, den, from_right};
 }
 
-// `loop` rotated to start where Clipper's union starts a lone loop: at the point after its
-// least y. False (and `loop` as it was) where two points share the least y, which Clipper
-// settles by an order this does not reproduce.
-bool started_as_clipper_starts(Path& loop) {
-  const std::size_t m = loop.size();
+// The point of a (non-empty) loop's least y, if no other point shares that y.
+std::optional<std::size_t> lone_least_y(const Path& loop) {
   std::size_t low = 0;
   bool tie = false;
-  for (std::size_t k = 1; k < m; ++k) {
+  for (std::size_t k = 1; k < loop.size(); ++k) {
     if (loop[k].Y < loop[low].Y) {
       low = k;
       tie = false;
@@ -463,8 +461,17 @@ bool started_as_clipper_starts(Path& loop) {
       tie = true;
     }
   }
-  if (tie) return false;
-  std::rotate(loop.begin(), loop.begin() + static_cast<std::ptrdiff_t>((low + 1) % m), loop.end());
+  if (tie) return std::nullopt;
+  return low;
+}
+
+// `loop` rotated to start where Clipper's union starts a lone loop: at the point after its
+// least y. False (and `loop` as it was) where two points share the least y, which Clipper
+// settles by an order this does not reproduce.
+bool started_as_clipper_starts(Path& loop) {
+  const std::optional<std::size_t> low = lone_least_y(loop);
+  if (!low) return false;
+  std::rotate(loop.begin(), loop.begin() + static_cast<std::ptrdiff_t>((*low + 1) % loop.size()), loop.end());
   return true;
 }
 
@@ -608,13 +615,9 @@ bool traced_boundary(const Path& raw,
     if (!swept_as_crossing(raw[i], end_of(i), raw[j], end_of(j), *above, *(above - 1))) return false;
   }
   // The right side's winding of each piece: piece p of edge e is number first[e] + e + p.
-  std::size_t lowest = 0;
-  for (std::size_t v = 1; v < n; ++v) {
-    if (raw[v].Y < raw[lowest].Y) lowest = v;
-  }
-  for (std::size_t v = 0; v < n; ++v) {
-    if (v != lowest && raw[v].Y == raw[lowest].Y) return false;
-  }
+  const std::optional<std::size_t> least = lone_least_y(raw);
+  if (!least) return false;
+  const std::size_t lowest = *least;
   std::vector<int> winding(on.size() + n);
   const int outside = side(raw[lowest > 0 ? lowest - 1 : n - 1], raw[lowest], end_of(lowest)) > 0 ? 0 : -1;
   int w = outside;
