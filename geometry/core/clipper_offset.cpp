@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <numbers>
 #include <optional>
+#include <span>
 
 namespace geometry::clipper {
 
@@ -138,15 +139,9 @@ bool within(const ClipperLib::IntPoint& a, const ClipperLib::IntPoint& b,
          c.Y <= std::max(a.Y, b.Y);
 }
 
-// Whether the segments [a, b] and [c, d] have a point in common.
-bool meet(const ClipperLib::IntPoint& a, const ClipperLib::IntPoint& b,
-          const ClipperLib::IntPoint& c, const ClipperLib::IntPoint& d) {
-  // Apart along x or y, they have no point in common: two comparisons of most pairs a grid
-  // cell holds instead of the four exact sides.
-  if (std::max(a.X, b.X) < std::min(c.X, d.X) || std::max(c.X, d.X) < std::min(a.X, b.X) ||
-      std::max(a.Y, b.Y) < std::min(c.Y, d.Y) || std::max(c.Y, d.Y) < std::min(a.Y, b.Y)) {
-    return false;
-  }
+// Whether the segments [a, b] and [c, d], whose bounding boxes meet, have a point in common.
+bool meet_within_boxes(const ClipperLib::IntPoint& a, const ClipperLib::IntPoint& b,
+                       const ClipperLib::IntPoint& c, const ClipperLib::IntPoint& d) {
   const int s1 = side(a, b, c), s2 = side(a, b, d), s3 = side(c, d, a), s4 = side(c, d, b);
   if (s1 * s2 < 0 && s3 * s4 < 0) return true;
   return (s1 == 0 && within(a, b, c)) || (s2 == 0 && within(a, b, d)) ||
@@ -187,79 +182,115 @@ struct EdgeGrid {
   std::int64_t columns = 1;
 };
 
-// An edge (from vertex `edge` of loop `loop`) in a cell of the grid.
-struct GridEntry {
-  std::int64_t cell;
+// An edge (from vertex `edge` of loop `loop`) with its bounding box and the columns and rows
+// of the cells that cover it.
+struct GridEdge {
+  ClipperLib::cInt left, right, top, bottom;
   std::uint32_t loop, edge;
+  std::uint32_t c0, c1, r0, r1;
 };
 
-// Every edge of the loops in each cell its bounding box covers, sorted by cell (a counting
-// sort: the cells are about as many as the edges); false if an edge covers more than 64 cells
-// (a long edge: left to the union).
-bool grid_entries(const Paths& loops, const EdgeGrid& grid, std::size_t edges,
-                  std::vector<GridEntry>& entries) {
-  std::vector<GridEntry> unsorted;
-  unsorted.reserve(2 * edges);
+// The loops' edges on a grid: each cell c holds the edges whose bounding boxes cover it,
+// edges[index[start[c]]] to edges[index[start[c + 1] - 1]], in the loops' order.
+struct EdgeCells {
+  explicit EdgeCells(const EdgeGrid& g) : grid(g) {}
+  EdgeGrid grid;
+  std::vector<GridEdge> edges;
+  std::vector<std::uint32_t> start, index;
+};
+
+// The loops' edges (`count` of them) in the cells their bounding boxes cover (a counting sort:
+// the cells are about as many as the edges); false if an edge covers more than 64 cells (a
+// long edge: left to the union).
+bool fill_cells(std::span<const Path> loops, std::size_t count, EdgeCells& cells) {
+  const EdgeGrid& grid = cells.grid;
+  const auto rows = static_cast<std::size_t>(grid.row(grid.box.bottom) + 1);
+  const std::size_t cell_count = rows * static_cast<std::size_t>(grid.columns);
+  cells.edges.reserve(count);
+  cells.start.assign(cell_count + 1, 0);
   for (std::uint32_t l = 0; l < loops.size(); ++l) {
     const Path& loop = loops[l];
-    for (std::uint32_t i = 0; i < loop.size(); ++i) {
+    const auto n = static_cast<std::uint32_t>(loop.size());
+    for (std::uint32_t i = 0; i < n; ++i) {
       const auto& a = loop[i];
-      const auto& b = loop[(i + 1) % loop.size()];
-      const auto c0 = grid.column(std::min(a.X, b.X)), c1 = grid.column(std::max(a.X, b.X));
-      const auto r0 = grid.row(std::min(a.Y, b.Y)), r1 = grid.row(std::max(a.Y, b.Y));
+      const auto& b = loop[i + 1 < n ? i + 1 : 0];
+      const ClipperLib::cInt left = std::min(a.X, b.X), right = std::max(a.X, b.X);
+      const ClipperLib::cInt top = std::min(a.Y, b.Y), bottom = std::max(a.Y, b.Y);
+      const auto c0 = grid.column(left), c1 = grid.column(right);
+      const auto r0 = grid.row(top), r1 = grid.row(bottom);
       if ((c1 - c0 + 1) * (r1 - r0 + 1) > 64) return false;
       for (auto r = r0; r <= r1; ++r) {
-        for (auto c = c0; c <= c1; ++c) unsorted.push_back({r * grid.columns + c, l, i});
+        for (auto c = c0; c <= c1; ++c) ++cells.start[static_cast<std::size_t>(r * grid.columns + c)];
+      }
+      cells.edges.push_back({left, right, top, bottom, l, i, static_cast<std::uint32_t>(c0),
+                             static_cast<std::uint32_t>(c1), static_cast<std::uint32_t>(r0),
+                             static_cast<std::uint32_t>(r1)});
+    }
+  }
+  // start[c]: where cell c ends, then, placing the edges from the last down each just before
+  // the last placed in its cell, where it begins: every cell's edges in the loops' order.
+  for (std::size_t c = 1; c <= cell_count; ++c) cells.start[c] += cells.start[c - 1];
+  cells.index.resize(cells.start[cell_count]);
+  for (std::size_t k = cells.edges.size(); k-- > 0;) {
+    const GridEdge& edge = cells.edges[k];
+    for (std::size_t r = edge.r0; r <= edge.r1; ++r) {
+      for (std::size_t c = edge.c0; c <= edge.c1; ++c) {
+        cells.index[--cells.start[r * static_cast<std::size_t>(grid.columns) + c]] =
+            static_cast<std::uint32_t>(k);
       }
     }
   }
-  const auto cells = static_cast<std::size_t>(grid.row(grid.box.bottom) + 1) *
-                     static_cast<std::size_t>(grid.columns);
-  std::vector<std::uint32_t> start(cells + 1, 0);
-  for (const GridEntry& entry : unsorted) ++start[static_cast<std::size_t>(entry.cell) + 1];
-  for (std::size_t c = 0; c < cells; ++c) start[c + 1] += start[c];
-  entries.resize(unsorted.size());
-  for (const GridEntry& entry : unsorted) entries[start[static_cast<std::size_t>(entry.cell)]++] = entry;
   return true;
 }
 
-// Whether edge [a, b] (edge f of its loop) and the edge `other` meet other than as
-// neighbours at their common end.
-bool edges_meet(const Paths& loops, std::uint32_t loop, std::uint32_t f,
-                const ClipperLib::IntPoint& a, const ClipperLib::IntPoint& b,
-                const GridEntry& other) {
-  const Path& q = loops[other.loop];
-  const std::uint32_t e = other.edge, n = static_cast<std::uint32_t>(q.size());
-  const auto& c = q[e];
-  const auto& d = q[(e + 1) % n];
-  if (other.loop == loop && ((f + 1) % n == e || (e + 1) % n == f)) {
-    // Neighbours share an end; they meet elsewhere only folding back along a line: in line,
-    // the shared end not between the other two.
-    const bool f_first = (f + 1) % n == e;
-    const auto& from = f_first ? a : c;
-    const auto& shared = f_first ? b : d;
-    const auto& to = f_first ? d : b;
-    return side(from, shared, to) == 0 && !within(from, to, shared);
-  }
-  return meet(a, b, c, d);
-}
-
-// Whether two edges sharing a cell (entries sorted by cell) meet.
-bool any_edges_meet(const Paths& loops, const std::vector<GridEntry>& entries) {
-  for (std::size_t first = 0; first < entries.size();) {
-    std::size_t last = first;
-    while (last < entries.size() && entries[last].cell == entries[first].cell) ++last;
-    for (std::size_t i = first; i < last; ++i) {
-      const Path& p = loops[entries[i].loop];
-      const auto& a = p[entries[i].edge];
-      const auto& b = p[(entries[i].edge + 1) % p.size()];
-      for (std::size_t k = i + 1; k < last; ++k) {
-        if (edges_meet(loops, entries[i].loop, entries[i].edge, a, b, entries[k])) return true;
+// Calls visit(p, q) for every two edges whose bounding boxes meet, p before q in the loops'
+// order, once each (in the cell of the corner of least x and y of the boxes' overlap), until
+// it returns true; returns whether it did.
+template <class Visit>
+bool any_pair_near(const EdgeCells& cells, Visit&& visit) {
+  const auto columns = static_cast<std::size_t>(cells.grid.columns);
+  const std::size_t cell_count = cells.start.size() - 1;
+  for (std::size_t c = 0; c < cell_count; ++c) {
+    const std::uint32_t first = cells.start[c], last = cells.start[c + 1];
+    if (last - first < 2) continue;
+    for (std::uint32_t i = first; i < last; ++i) {
+      const GridEdge& p = cells.edges[cells.index[i]];
+      for (std::uint32_t k = i + 1; k < last; ++k) {
+        const GridEdge& q = cells.edges[cells.index[k]];
+        if (p.right < q.left || q.right < p.left || p.bottom < q.top || q.bottom < p.top) continue;
+        // The corner's cell: columns and rows grow with x and y.
+        const std::size_t corner = std::size_t{std::max(p.r0, q.r0)} * columns + std::max(p.c0, q.c0);
+        if (corner != c) continue;
+        if (visit(p, q)) return true;
       }
     }
-    first = last;
   }
   return false;
+}
+
+// Whether two edges of the loops meet other than neighbours at their common end.
+bool any_edges_meet(const Paths& loops, const EdgeCells& cells) {
+  return any_pair_near(cells, [&](const GridEdge& p, const GridEdge& q) {
+    const Path& lp = loops[p.loop];
+    const Path& lq = loops[q.loop];
+    const std::uint32_t f = p.edge, e = q.edge;
+    const auto np = static_cast<std::uint32_t>(lp.size()), nq = static_cast<std::uint32_t>(lq.size());
+    const auto& a = lp[f];
+    const auto& b = lp[f + 1 < np ? f + 1 : 0];
+    const auto& c = lq[e];
+    const auto& d = lq[e + 1 < nq ? e + 1 : 0];
+    const bool f_first = p.loop == q.loop && (f + 1 < np ? f + 1 : 0) == e;
+    const bool e_first = p.loop == q.loop && (e + 1 < nq ? e + 1 : 0) == f;
+    if (f_first || e_first) {
+      // Neighbours share an end; they meet elsewhere only folding back along a line: in line,
+      // the shared end not between the other two.
+      const auto& from = f_first ? a : c;
+      const auto& shared = f_first ? b : d;
+      const auto& to = f_first ? d : b;
+      return side(from, shared, to) == 0 && !within(from, to, shared);
+    }
+    return meet_within_boxes(a, b, c, d);
+  });
 }
 
 // Whether the others wind 0 times round each outer loop's first point and once round each
@@ -296,9 +327,8 @@ bool already_a_region(const Paths& loops, const std::vector<char>& outer) {
     add_to_box(box, boxes.back());
     edges += loop.size();
   }
-  std::vector<GridEntry> entries;
-  if (!grid_entries(loops, EdgeGrid(box, edges), edges, entries)) return false;
-  if (any_edges_meet(loops, entries)) return false;
+  EdgeCells cells{EdgeGrid(box, edges)};
+  if (!fill_cells(loops, edges, cells) || any_edges_meet(loops, cells)) return false;
   return windings_agree(loops, outer, boxes);
 }
 
@@ -347,40 +377,31 @@ bool any_in_line(const Path& loop) {
   return false;
 }
 
-// The crossings of one loop's edges, as pairs of edge indices (first < second); false where
-// edges meet otherwise (touching, in line, or neighbours folding back) or an edge is long
-// for the grid (grid_entries).
+// The crossings of one loop's edges, as pairs of edge indices (first < second), of a loop with
+// no vertex in line with its neighbours (any_in_line: then neighbours meet only at their
+// common end); false where edges meet otherwise (touching) or an edge is long for the grid
+// (fill_cells).
 bool edge_crossings(const Path& loop, std::vector<std::pair<std::uint32_t, std::uint32_t>>& crossings) {
-  const Paths loops{loop};
-  std::vector<GridEntry> entries;
-  if (!grid_entries(loops, EdgeGrid(bounding_box(loop), loop.size()), loop.size(), entries)) {
-    return false;
-  }
   const std::uint32_t n = static_cast<std::uint32_t>(loop.size());
-  for (std::size_t first = 0; first < entries.size();) {
-    std::size_t last = first;
-    while (last < entries.size() && entries[last].cell == entries[first].cell) ++last;
-    for (std::size_t i = first; i < last; ++i) {
-      const std::uint32_t f = entries[i].edge;
-      const auto& a = loop[f];
-      const auto& b = loop[(f + 1) % n];
-      for (std::size_t k = i + 1; k < last; ++k) {
-        const std::uint32_t e = entries[k].edge;
-        if ((f + 1) % n == e || (e + 1) % n == f) {
-          if (edges_meet(loops, 0, f, a, b, entries[k])) return false;
-          continue;
-        }
-        const auto& c = loop[e];
-        const auto& d = loop[(e + 1) % n];
-        if (!meet(a, b, c, d)) continue;
-        if (side(a, b, c) * side(a, b, d) >= 0 || side(c, d, a) * side(c, d, b) >= 0) return false;
-        crossings.emplace_back(std::min(f, e), std::max(f, e));
-      }
+  EdgeCells cells{EdgeGrid(bounding_box(loop), n)};
+  if (!fill_cells({&loop, 1}, n, cells)) return false;
+  const bool touching = any_pair_near(cells, [&](const GridEdge& p, const GridEdge& q) {
+    const std::uint32_t f = p.edge, e = q.edge;  // f < e
+    if (f + 1 == e || (f == 0 && e + 1 == n)) return false;  // neighbours
+    const auto& a = loop[f];
+    const auto& b = loop[f + 1];
+    const auto& c = loop[e];
+    const auto& d = loop[e + 1 < n ? e + 1 : 0];
+    const int s1 = side(a, b, c), s2 = side(a, b, d), s3 = side(c, d, a), s4 = side(c, d, b);
+    if (s1 * s2 < 0 && s3 * s4 < 0) {
+      crossings.emplace_back(f, e);
+      return false;
     }
-    first = last;
-  }
+    return (s1 == 0 && within(a, b, c)) || (s2 == 0 && within(a, b, d)) ||
+           (s3 == 0 && within(c, d, a)) || (s4 == 0 && within(c, d, b));
+  });
+  if (touching) return false;
   std::sort(crossings.begin(), crossings.end());
-  crossings.erase(std::unique(crossings.begin(), crossings.end()), crossings.end());
   return true;
 }
 
