@@ -10,13 +10,16 @@ namespace geometry::ma {
 
 namespace {
 
-// squared_distance_to_segment(x, a, b) bit for bit (edge: a, b - a and its squared length as
-// that computes them), without its division where the foot of the perpendicular falls beyond
-// an end (t clamped to 0 or 1): most edges a walk looks at.
+// squared_distance_to_segment(x, a, b) bit for bit for finite x (edge: a, b - a and its squared
+// length as that computes them), without its division where the foot of the perpendicular
+// falls beyond an end (t clamped to 0 or 1): most edges a walk looks at. An edge of no length
+// has ab = 0 (LoopEdges), so `along` is 0 and x's distance is to a, as
+// squared_distance_to_segment's t = 0 gives, without a test of its own.
 inline double clamped_distance2(Vec2 x, const LoopEdges::Edge& edge) {
   const Vec2 ap = x - edge.a;
-  const double length2 = edge.length2, along = dot(ap, edge.ab);
-  if (!(length2 > 0) || along <= 0) return dot(ap, ap);
+  const double along = dot(ap, edge.ab);
+  if (along <= 0) return dot(ap, ap);
+  const double length2 = edge.length2;
   const Vec2 d = along >= length2 ? ap - edge.ab : ap - (along / length2) * edge.ab;
   return dot(d, d);
 }
@@ -25,31 +28,37 @@ inline double clamped_distance2(Vec2 x, const LoopEdges::Edge& edge) {
 // worse; `segment` is updated to the nearest edge found, as the hint for the next query.
 // (Called a few million times per model.)
 double distance_near(const LoopEdges& loop, std::uint32_t& segment, Vec2 x) {
-  const std::size_t n = loop.edges.size();
-  if (n == 0) return std::numeric_limits<double>::infinity();
-  const LoopEdges::Edge* edge = loop.edges.data();
-  const std::size_t last = n - 1;
-  std::size_t j = segment;
-  double best = clamped_distance2(x, edge[j]);
-  for (std::size_t step = 1; step < n; ++step) {  // forwards
-    j = j == last ? 0 : j + 1;
-    const double d = clamped_distance2(x, edge[j]);
+  using Edge = LoopEdges::Edge;
+  const Edge* const first = loop.edges.data();
+  const Edge* const end = first + loop.edges.size();
+  if (first == end) return std::numeric_limits<double>::infinity();
+  // Each walk stops at the first edge farther than the best so far, or back at its start
+  // edge (the whole loop seen: n - 1 steps).
+  const Edge* const start = first + segment;
+  const Edge* nearest_edge = start;
+  double best = clamped_distance2(x, *start);
+  for (const Edge* e = start;;) {  // forwards
+    if (++e == end) e = first;
+    if (e == start) break;
+    const double d = clamped_distance2(x, *e);
     if (d > best) break;
     if (d < best) {
       best = d;
-      segment = static_cast<std::uint32_t>(j);
+      nearest_edge = e;
     }
   }
-  j = segment;
-  for (std::size_t step = 1; step < n; ++step) {  // backwards
-    j = j == 0 ? last : j - 1;
-    const double d = clamped_distance2(x, edge[j]);
+  const Edge* const back_start = nearest_edge;
+  for (const Edge* e = back_start;;) {  // backwards
+    if (e == first) e = end;
+    if (--e == back_start) break;
+    const double d = clamped_distance2(x, *e);
     if (d > best) break;
     if (d < best) {
       best = d;
-      segment = static_cast<std::uint32_t>(j);
+      nearest_edge = e;
     }
   }
+  segment = static_cast<std::uint32_t>(nearest_edge - first);
   return std::sqrt(best);
 }
 
@@ -170,7 +179,8 @@ LoopEdges::LoopEdges(const Loop& loop) : loop(&loop) {
   edges.resize(n);
   for (std::size_t j = 0; j < n; ++j) {
     const Vec2 a = loop[j], ab = loop[j + 1 == n ? 0 : j + 1] - a;
-    edges[j] = {a, ab, dot(ab, ab)};
+    const double length2 = dot(ab, ab);
+    edges[j] = length2 > 0 ? LoopEdges::Edge{a, ab, length2} : LoopEdges::Edge{a, Vec2{}, 0.0};
   }
 }
 

@@ -29,6 +29,7 @@ inline constexpr double kSimplifyTolerance = 0.25 * kFairingTolerance;
 // A boundary loop as fairing's distance walks read it: per edge j (vertex j to the next, the
 // last back to the first) its start, b - a and squared length, computed once per island where
 // a walk would recompute them at every edge it visits (each edge is visited a dozen times).
+// An edge whose squared length is not positive (a repeated vertex) has ab = 0 and length 0.
 struct LoopEdges {
   struct Edge {
     Vec2 a, ab;
