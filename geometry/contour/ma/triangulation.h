@@ -13,8 +13,9 @@
 // outside the convex hull) included; each face's vertices run counter-clockwise and its
 // neighbour k lies across the edge opposite its vertex k. Fewer than three samples, or all
 // of them on one line: no faces.
-// Cost: CGAL's insertion, about eight in-circle tests per sample; Epick's in-circle test is
-// tried first against one error bound per island (triangulation.cpp), the same signs.
+// Cost: CGAL's insertion, about eight in-circle and seven orientation tests per sample;
+// Epick's tests are tried first against one error bound per island (triangulation.cpp), the
+// same signs.
 #pragma once
 
 #include <array>
