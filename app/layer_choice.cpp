@@ -8,7 +8,9 @@
 
 #include <fmt/format.h>
 
+#include "app/stage_options.h"
 #include "geometry/plan/flat_levels.h"
+#include "geometry/toolpaths/toolpath_plan.h"
 #include "printer/gcode_writer.h"
 
 namespace app {
@@ -56,6 +58,32 @@ std::vector<const geometry::ContourStrategy*> planning_strategies(
   return {&printed};
 }
 
+namespace {
+
+// Whether a layer of the part prints anything: its contour (the printed strategy's) gives a
+// path as the toolpaths lay it (a region no bead fits in, the tip of a cone, gives none). The
+// layer alone, laid as any layer above the first: no skirt or brim, the usual bead.
+std::function<bool(const geometry::Layer&)> prints_anything(const printer::PrinterProfile& machine,
+                                                            const geometry::LayerStack& stack,
+                                                            const geometry::ContourStrategy& printed) {
+  geometry::ToolpathOptions options = toolpath_options(machine);
+  options.skirt_loops = 0;
+  options.brim_width = 0;
+  options.first_layer_width = options.extrusion_width;
+  return [options, &stack, &printed](const geometry::Layer& layer) {
+    const std::vector<geometry::Layer> layers{layer};
+    const geometry::LayerStack one(stack, layers);
+    const std::vector<geometry::Region> regions{geometry::layer_contour(one, 0, printed)};
+    if (regions.front().loops.empty()) return false;
+    for (const geometry::LayerToolpaths& paths : geometry::plan_toolpaths(regions, layers, options)) {
+      if (!paths.paths.empty()) return true;
+    }
+    return false;
+  };
+}
+
+}  // namespace
+
 LayerChoice choose_layers(const AdaptiveRequest& request, const printer::PrinterProfile& machine,
                           const geometry::LayerStack& stack, double part_height, double thickness,
                           const geometry::ContourStrategy& printed,
@@ -82,6 +110,7 @@ LayerChoice choose_layers(const AdaptiveRequest& request, const printer::Printer
       };
     }
     options.contours = planning_strategies(printed);
+    options.prints = prints_anything(machine, stack, printed);
     choice.planned_by = std::string(options.contours.front()->name);
     choice.printed = std::string(printed.name);
     choice.thinnest_allowed = allowed.thinnest();

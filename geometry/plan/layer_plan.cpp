@@ -255,8 +255,25 @@ struct HeightGrid {
   std::vector<std::uint32_t> edge_to;
   std::vector<std::uint32_t> edge_from;
   std::vector<char> edge_thinnest;        // the thinnest thickness (or the fixed first layer)
+  std::vector<char> edge_empty;           // into an end, and prints nothing (mark_empty_ends)
   std::vector<std::uint32_t> ends;
 };
+
+// Marks the layers into an end that print nothing (`prints`): a tip no bead fits in, the last
+// 0.145 mm of a 45-degree pyramid, narrower than 0.3 mm. A plan ending in one is the plan
+// below it: the layer is not printed, so it is not counted against a budget, nor kept.
+void mark_empty_ends(HeightGrid& g, const std::function<bool(const Layer&)>& prints) {
+  std::vector<char> is_end(g.z.size(), 0);
+  for (std::uint32_t end : g.ends) is_end[end] = 1;
+  std::vector<std::uint32_t> last;  // the edges into an end
+  for (std::uint32_t e = 0; e < g.edge_to.size(); ++e) {
+    if (is_end[g.edge_to[e]] && g.edge_from[e] != 0) last.push_back(e);
+  }
+  g.edge_empty.assign(g.edge_to.size(), 0);
+  tbb::parallel_for(std::size_t{0}, last.size(), [&](std::size_t k) {
+    g.edge_empty[last[k]] = !prints(Layer{g.z[g.edge_from[last[k]]], g.z[g.edge_to[last[k]]]});
+  });
+}
 
 // Every height the thicknesses reach from the first layer's top, the flat levels (`targets`,
 // on reachable heights already: flat_targets) and, for a printer of any thickness in a
@@ -264,8 +281,10 @@ struct HeightGrid {
 // the next if that is within a step of the top (a tip the thinnest layers pass rather than
 // land with a thicker one): never more than the printer's step above the part (with a range,
 // at the top).
+// With `prints`, the layers into an end that print nothing are marked (mark_empty_ends).
 HeightGrid height_grid(double top, const AllowedThicknesses& allowed,
-                       std::span<const double> targets, double grid) {
+                       std::span<const double> targets, double grid,
+                       const std::function<bool(const Layer&)>& prints = {}) {
   HeightGrid g;
   const bool stepped = reach_unit(allowed) > 0;
   const double unit = stepped ? std::max(1e-3, reach_unit(allowed)) : grid;
@@ -330,6 +349,8 @@ HeightGrid height_grid(double top, const AllowedThicknesses& allowed,
     }
   }
   g.edge_begin[n] = static_cast<std::uint32_t>(g.edge_to.size());
+  if (prints) mark_empty_ends(g, prints);
+  else g.edge_empty.assign(g.edge_to.size(), 0);
   return g;
 }
 
@@ -421,7 +442,9 @@ struct PathCost {
       c.forced_most = std::max(c.forced_most, past);
       c.forced_sum += past;
     }
-    const bool over = !planner.forced(e) && !planner.may_meet(e, limits.tolerance);
+    // (A last layer that prints nothing has no D of its own: the tip above it is left out
+    // whatever the plan.)
+    const bool over = planner.printed(e) && !planner.forced(e) && !planner.may_meet(e, limits.tolerance);
     if (over && !planner.thinnest(e)) c.landing += 1, c.landing_thickness += thickness;
     if (over && planner.thinnest(e)) {
       c.unmet += thickness;
@@ -430,7 +453,7 @@ struct PathCost {
         c.unmet_excess += nanometres(std::max(0.0, planner.known(e) - limits.tolerance)) * thickness / 1000000;
       }
     }
-    c.layers += 1;
+    c.layers += planner.printed(e);
     c.swept += planner.swept(e);
     c.unsettled += planner.settled(e, limits) ? 0 : 1;
     return c;
@@ -445,7 +468,7 @@ class LazyPlanner {
               const FlatTargets& flats, const AdaptiveOptions& options,
               const PlanProgress& progress)
       : options_(options), progress_(progress),
-        grid_(height_grid(top, allowed, flats.landed, options.grid)), meter_(stack, options.error),
+        grid_(height_grid(top, allowed, flats.landed, options.grid, options.prints)), meter_(stack, options.error),
         max_thickness_(allowed.thickest()),
         fixed_first_(allowed.first > 0) {
     const std::size_t edges = grid_.edge_to.size();
@@ -538,7 +561,7 @@ class LazyPlanner {
     std::vector<std::tuple<double, double, bool>> layers;  // (D, thickness, the thinnest)
     double most = 0;
     for (std::uint32_t e : path) {
-      if (fixed_first(e)) continue;
+      if (fixed_first(e) || !printed(e)) continue;
       layers.push_back({exact_[e], thickness(e), thinnest(e)});
       most = std::max(most, exact_[e]);
     }
@@ -569,10 +592,12 @@ class LazyPlanner {
   // layer always).
   bool usable(std::uint32_t e, Limits limits) const {
     return !refused_[e] &&
-           (fixed_first(e) || (std::isnan(exact_[e]) ? lower_[e] : exact_[e]) <= limits.most);
+           (fixed_first(e) || !printed(e) || (std::isnan(exact_[e]) ? lower_[e] : exact_[e]) <= limits.most);
   }
   bool fixed_first(std::uint32_t e) const { return fixed_first_ && grid_.edge_from[e] == 0; }
   bool thinnest(std::uint32_t e) const { return grid_.edge_thinnest[e]; }
+  // 1 for a layer that prints, 0 for a last layer that prints nothing (mark_empty_ends).
+  std::uint32_t printed(std::uint32_t e) const { return grid_.edge_empty[e] ? 0 : 1; }
   double thickness(std::uint32_t e) const { return grid_.z[grid_.edge_to[e]] - grid_.z[grid_.edge_from[e]]; }
   double exact(std::uint32_t e) const { return exact_[e]; }
   double known(std::uint32_t e) const { return std::isnan(exact_[e]) ? lower_[e] : exact_[e]; }  // or a lower bound
@@ -653,13 +678,13 @@ class LazyPlanner {
     for (std::size_t i = 0; i < n; ++i) {
       if (fewest_to[i] == kFar) continue;
       for (std::uint32_t e = grid_.edge_begin[i]; e < grid_.edge_begin[i + 1]; ++e) {
-        if (usable(e, limits)) fewest_to[grid_.edge_to[e]] = std::min(fewest_to[grid_.edge_to[e]], fewest_to[i] + 1);
+        if (usable(e, limits)) fewest_to[grid_.edge_to[e]] = std::min(fewest_to[grid_.edge_to[e]], fewest_to[i] + printed(e));
       }
     }
     for (std::uint32_t end : grid_.ends) fewest_from[end] = 0;
     for (std::size_t i = n; i-- > 0;) {
       for (std::uint32_t e = grid_.edge_begin[i]; e < grid_.edge_begin[i + 1]; ++e) {
-        if (usable(e, limits)) fewest_from[i] = std::min(fewest_from[i], fewest_from[grid_.edge_to[e]] + 1);
+        if (usable(e, limits)) fewest_from[i] = std::min(fewest_from[i], fewest_from[grid_.edge_to[e]] + printed(e));
       }
     }
     // A budget below the fewest layers: the fewest layers' optimum.
@@ -685,7 +710,7 @@ class LazyPlanner {
         if (!(cost[s] < kUnreached)) continue;
         for (std::uint32_t e = grid_.edge_begin[i]; e < grid_.edge_begin[i + 1]; ++e) {
           if (!usable(e, limits)) continue;
-          const std::ptrdiff_t t = state(grid_.edge_to[e], k + 1);
+          const std::ptrdiff_t t = state(grid_.edge_to[e], k + printed(e));
           if (t < 0) continue;
           PathCost through = cost[s].through(*this, e, limits);
           through.layers = 0;  // the budget counts them
@@ -712,10 +737,11 @@ class LazyPlanner {
       }
     }
     std::vector<std::uint32_t> path;
-    for (std::size_t i = best_end, k = best_k; best >= 0 && i != 0; --k) {
+    for (std::size_t i = best_end, k = best_k; best >= 0 && i != 0;) {
       const std::uint32_t e = via[state(i, k)];
       path.push_back(e);
       i = grid_.edge_from[e];
+      k -= printed(e);
     }
     std::reverse(path.begin(), path.end());
     return path;
@@ -813,11 +839,20 @@ double least_lean(const LayerStack& stack, double z_lo, double z_hi) {
   return least;
 }
 
-// A path's layers, bottom up.
+// A path's layers that print, bottom up (a last one printing nothing is left out).
 std::vector<Layer> layers_of(const LazyPlanner& planner, const std::vector<std::uint32_t>& path) {
   std::vector<Layer> layers;
-  for (std::uint32_t e : path) layers.push_back({planner.z(planner.from(e)), planner.z(planner.to(e))});
+  for (std::uint32_t e : path) {
+    if (planner.printed(e)) layers.push_back({planner.z(planner.from(e)), planner.z(planner.to(e))});
+  }
   return layers;
+}
+
+// How many layers of a path print.
+std::size_t printed_count(const LazyPlanner& planner, const std::vector<std::uint32_t>& path) {
+  std::size_t count = 0;
+  for (std::uint32_t e : path) count += planner.printed(e);
+  return count;
 }
 
 // The least swept volume within `limits` in at most `count` layers that `accepts` takes, for
@@ -832,7 +867,7 @@ std::vector<std::uint32_t> least_that_fits(LazyPlanner& planner, std::size_t cou
                                            double tolerance, const Accepts& accepts) {
   const auto least_in = [&](std::size_t n) {
     std::vector<std::uint32_t> least = planner.plan_within(n, limits);
-    if (least.size() > n) least.clear();  // below the fewest layers within the limits
+    if (printed_count(planner, least) > n) least.clear();  // below the fewest layers within the limits
     if (!least.empty()) planner.measure_exactly(least, tolerance);
     return least;
   };
@@ -873,7 +908,7 @@ std::pair<std::vector<std::uint32_t>, double> budget_path(LazyPlanner& planner, 
                                                           AdaptivePlan& plan) {
   const bool by_count = options.max_layers > 0;
   const auto accepts = [&](const std::vector<std::uint32_t>& edges) {
-    return by_count ? edges.size() <= options.max_layers : options.fits(layers_of(planner, edges));
+    return by_count ? printed_count(planner, edges) <= options.max_layers : options.fits(layers_of(planner, edges));
   };
   std::vector<std::uint32_t> path = planner.plan(INFINITY, false);
   planner.measure_exactly(path, INFINITY);
@@ -904,7 +939,7 @@ std::pair<std::vector<std::uint32_t>, double> budget_path(LazyPlanner& planner, 
   planner.measure_exactly(path, hi);
   const Limits limits = planner.budget_limits(path, hi);
   std::vector<std::uint32_t> least = by_count ? planner.plan_within(options.max_layers, limits)
-                                              : least_that_fits(planner, path.size(), limits, hi, accepts);
+                                              : least_that_fits(planner, printed_count(planner, path), limits, hi, accepts);
   if (by_count) planner.measure_exactly(least, hi);
   if (!least.empty()) {
     path = std::move(least);
@@ -968,6 +1003,7 @@ AdaptivePlan adaptive_plan(const LayerStack& stack, double part_height,
     std::tie(path, plan.tolerance) = budget_path(planner, options, plan);
   }
   planner.measure_exactly(path, plan.tolerance);
+  if (!path.empty() && !planner.printed(path.back())) path.pop_back();  // a tip no layer prints
   plan.layers = layers_of(planner, path);
   judge_layers(stack, allowed, flats, planner, path, plan);
   plan.flats = placements(flats, plan.layers);

@@ -21,7 +21,8 @@
 // layers, and the least total error, the volume the layers' sections leave off the surface (swept_volume.h: the
 // volume deviation of the mid contour, exact where the surface is one sheet over each point of
 // a layer). A plan ends at the lowest height the layers reach at or above the part's top (with
-// a printer of any thickness, at the top): never more than the printer's step above it.
+// a printer of any thickness, at the top): never more than the printer's step above it; a last
+// layer there that prints nothing (AdaptiveOptions::prints) is left out.
 // With a budget, max_layers, or `fits` (a print-time budget, say): the least tolerance whose
 // plan the budget accepts (to within 2% for `fits`), then the least total error in at most as
 // many layers (a dynamic program over heights and layers used; for `fits`, in the most layers
@@ -114,6 +115,14 @@ struct AdaptiveOptions {
     double bead_width = 0.45;   // mm
     double min_area = 0.2;      // mm^2
   } thick_overhangs;
+  // Set: whether a layer prints anything (app: its contour's toolpaths; asked of the layers
+  // into a plan's possible ends, a dozen or so). A last layer that prints nothing (a tip no
+  // bead fits in: the tiers' pyramid above 24.2 mm, narrower than 0.3 mm) is not counted
+  // against a budget, has no D of its own in the plan's terms, and is left out of the plan,
+  // which then ends at the top of the layer below it: the tiers in a budget of 122 layers
+  // print 122, not 121 and an empty one. Only the last layer: a tip taller than the thinnest
+  // layer could leave an empty one below it counted.
+  std::function<bool(const Layer& layer)> prints;
   double grid = 0.02;           // planning resolution when the printer's step is 0, mm
   bool measure_all = false;     // measure every candidate first (to check the lazy search)
   SlabErrorOptions error;

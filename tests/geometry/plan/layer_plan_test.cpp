@@ -354,6 +354,34 @@ TEST_CASE("adaptive_plan_spends_a_layer_budget_where_more_layers_take_off_nothin
   }
 }
 
+TEST_CASE("a_layer_budget_is_not_spent_on_a_last_layer_that_prints_nothing") {
+  // The box above, 10 mm, with nothing printed by a layer starting at or above 9.8 mm (a tip
+  // no bead fits in, as the toolpaths would find). Every plan of the most layers reaching the
+  // top, 65 (62 x 0.15 + 2 x 0.2 above the first), ends in a layer starting at 9.8 or 9.85,
+  // which prints nothing. Not counted against the budget, nor kept, such a layer leaves the
+  // budget to layers that print: 65 of them still, 63 x 0.15 to 9.75 and a 0.25 mm layer to
+  // the top; fewer if the budget is smaller, every one printing.
+  const solids::Solid prism = solids::box({-5, -5, 0}, {5, 5, 10});
+  const geometry::LayerStack stack(prism.mesh, {});
+  const auto flats = geometry::flat_levels(prism.mesh);
+  const auto prints = [](const Layer& layer) { return layer.z_lo < 9.8 - 1e-9; };
+  for (std::size_t budget : {40, 64, 500}) {
+    CAPTURE(budget);
+    AdaptiveOptions options;
+    options.max_layers = budget;
+    options.prints = prints;
+    const AdaptivePlan plan = geometry::adaptive_plan(stack, 10, kUpPlus2, flats, options);
+    check_thicknesses(plan.layers, kUpPlus2);
+    CHECK(plan.layers.size() == std::min<std::size_t>(budget, 65));
+    CHECK(plan.distance.size() == plan.layers.size());
+    for (const Layer& layer : plan.layers) CHECK(prints(layer));
+    // It ends at the top, or where a layer to the top would print nothing.
+    const double top = plan.layers.back().z_hi;
+    CHECK(top <= 10.0 + 1e-9);
+    CHECK((top == doctest::Approx(10.0) || top >= 9.8 - 1e-9));
+  }
+}
+
 TEST_CASE("adaptive_plan_of_the_bunny_spends_a_budget_of_331_layers" * test_support::release_build_only()) {
   // 50 mm tall on the UP Plus 2: 49.7 mm above the first layer holds at most 331 layers of
   // 0.15 mm and more, and 331 sweep less volume than 330. Plans of 330 and 331 layers put
