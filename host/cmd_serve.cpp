@@ -10,6 +10,8 @@
 #include <signal.h>
 #include <sys/socket.h>
 
+#include <atomic>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -224,8 +226,9 @@ void announce(const ServeOptions& options, const ListenAddress& address, int por
 
 // The watcher thread's body: the first signal cancels a running print and shuts down, a second
 // one stops the printer at once; once the session has finished, the API and the server stop.
+// `listen_returned`: set by the main thread when the server's listen has returned.
 void watch_signals(const sigset_t& signals, serve::PrinterSession& session, serve::HttpApi& api,
-                   serve::HttpServer& server) {
+                   serve::HttpServer& server, const std::atomic<bool>& listen_returned) {
   int received = 0;
   while (!session.finished()) {
     timespec wait{0, 200'000'000};
@@ -240,6 +243,12 @@ void watch_signals(const sigset_t& signals, serve::PrinterSession& session, serv
     }
   }
   api.close();
+  // httplib's stop() does nothing until listen_after_bind has begun its loop (is_running), and a
+  // signal that comes as the address is announced can end the session before the main thread
+  // gets there: the server would then listen on, and the process never exit.
+  while (!server.is_running() && !listen_returned.load()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
   server.stop();
 }
 
@@ -263,8 +272,10 @@ void run_serve(const ServeOptions& options) {
   connect_printer(session);
   announce(options, address, port, key, files);
 
-  std::thread watcher([&] { watch_signals(signals, session, api, server); });
+  std::atomic<bool> listen_returned{false};
+  std::thread watcher([&] { watch_signals(signals, session, api, server, listen_returned); });
   server.listen_after_bind();
+  listen_returned.store(true);
   // listen returns when stopped (or when its socket failed): make sure the session ends too.
   session.shut_down(false);
   watcher.join();
