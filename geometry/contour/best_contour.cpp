@@ -63,16 +63,33 @@ class CandidateMaker {
 
   // mid, an empty slot for optimal-height (no missed features counted: not made), ma, and
   // mid+features where mid misses a feature.
+  // ma's pockets' decisions index the middle section's walls (mid's, where ma's middle is
+  // mid's section) and ma's region's own: kept for measuring mid and ma (walls()).
   std::vector<BestCandidate> first() {
     std::vector<BestCandidate> candidates;
     add(candidates, "mid", {mid_section_, middle_});
     candidates.push_back({"optimal-height", {}, {}});
+    MaGrids grids;
+    grids.shared = [&](const Region& region) -> const BoundaryGrid* {
+      if (region.loops != mid_section_.loops) return nullptr;
+      if (!mid_walls_) mid_walls_.emplace(mid_section_);
+      return &*mid_walls_;
+    };
     add(candidates, "ma",
         {ma_contour(reference_.slab, reference_.islands,
-                    [&](double z) { return section_at(z); }, input_.options.ma),
+                    [&](double z) { return section_at(z); }, input_.options.ma, nullptr, &grids),
          middle_});
+    ma_walls_ = std::move(grids.walls);
     add_features(candidates, kMid, "mid+features");
     return candidates;
+  }
+
+  // The grid over candidate k's region built while making it (mid's and ma's, see first()),
+  // handed over once; else empty.
+  std::optional<BoundaryGrid> walls(std::size_t k) {
+    if (k == kMid) return std::move(mid_walls_);
+    if (k == kMa) return std::move(ma_walls_);
+    return std::nullopt;
   }
 
   // optimal-height into its slot, and optimal-height+features where it misses a feature.
@@ -123,6 +140,7 @@ class CandidateMaker {
   Region mid_section_;
   std::optional<SectionDeviation> deviation_at_;
   double optimal_deviation_ = 0;
+  std::optional<BoundaryGrid> mid_walls_, ma_walls_;
 };
 
 // best's own reference of a layer, when the caller has none: slab, footprint, islands and
@@ -189,6 +207,8 @@ class Contest {
       : input_(input), reference_(reference), maker_(input, reference) {
     made_ = maker_.first();
     take_made();
+    candidates_[kMid].walls = maker_.walls(kMid);
+    candidates_[kMa].walls = maker_.walls(kMa);
     candidates_[kOptimal].made = false;
     distance_options_.reverse = false;
     // mid's D known (the layer plan's): taken as measured, first, so that ma is measured only

@@ -38,8 +38,10 @@
 // on every layer it planned by mid) mid is not measured again, and ma is measured only until it
 // loses to it by more than a tie. mid's section is cut once, for mid, for ma where it takes the
 // middle section and for optimal-height where its search ends at the middle; each candidate's
-// walls are indexed once, for D and ΔV. About 1.75 times ma's time (tests/bench/bench_best.cpp: the
-// bunny at 0.15 mm). Not done, for they take longer (the sphere at 0.2 mm with supports,
+// walls are indexed once, for D and ΔV, and mid's and ma's once with ma's own decisions (ma
+// indexes the middle section's walls and, on a layer with pockets, its region's: MaGrids;
+// 0.1 G of the bunny's 13.4 G instructions in bench_best --quick). About 1.75 times ma's time
+// (tests/bench/bench_best.cpp: the bunny at 0.15 mm). Not done, for they take longer (the sphere at 0.2 mm with supports,
 // median of 7): measuring the candidates in the order of a cheap lower bound of D (their
 // surface corners' largest distance), 3% longer; a first pass to 10 um to refuse the far ones
 // before the exact measure, 34% longer, as ma's and mid's D are within a tie of each other on

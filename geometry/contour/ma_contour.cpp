@@ -167,11 +167,13 @@ double contributing_level(const std::vector<Vec2>& contributing, const BoundaryG
 // farther from the walls of `contour` than every contributing sample of its island (Θ), and
 // whose corners the mid section's walls bring nearer, adds its triangles to `zone`, to take
 // the mid section there. Returns how many pockets did. The mid section's grid is built only
-// if some pocket gets as far as asking it (two layers in five).
+// if some pocket gets as far as asking it (two layers in five), or taken from `grids`; the
+// grid of `contour` goes out in `grids` where no pocket refined it.
 std::size_t refine_pockets(const std::vector<IslandAxis>& axes, const Region& contour,
-                           const Region& middle, ClipperLib::Paths& zone) {
-  const BoundaryGrid walls(contour);
-  std::optional<BoundaryGrid> middle_walls;
+                           const Region& middle, ClipperLib::Paths& zone, MaGrids* grids) {
+  BoundaryGrid walls(contour);
+  std::optional<BoundaryGrid> own_middle_walls;
+  const BoundaryGrid* middle_walls = nullptr;
   std::size_t refined = 0;
   std::vector<double> worst;
   for (const IslandAxis& axis : axes) {
@@ -187,7 +189,8 @@ std::size_t refine_pockets(const std::vector<IslandAxis>& axes, const Region& co
     for (std::size_t k = 0; k < pockets.size(); ++k) {
       const ma::Pocket& pocket = pockets[k];
       if (worst[k] <= level + kRefineTolerance) continue;
-      if (!middle_walls) middle_walls.emplace(middle);
+      if (!middle_walls && grids && grids->shared) middle_walls = grids->shared(middle);
+      if (!middle_walls) middle_walls = &own_middle_walls.emplace(middle);
       double now = 0, with_middle = 0;
       for (Vec2 p : pocket.corners) {
         now = farther_of(walls, p, now);
@@ -198,6 +201,7 @@ std::size_t refine_pockets(const std::vector<IslandAxis>& axes, const Region& co
       ++refined;
     }
   }
+  if (grids && refined == 0) grids->walls = std::move(walls);
   return refined;
 }
 
@@ -223,7 +227,7 @@ Region ma_contour(const Slab& slab, const Region& footprint,
 
 Region ma_contour(const Slab& slab, std::span<const BoundaryPair> pairs,
                   const std::function<Region(double z)>& cross_section, const MaOptions& options,
-                  MaStats* stats) {
+                  MaStats* stats, MaGrids* grids) {
   if (slab.facets.empty() || !(slab.z_lo < slab.z_hi)) return {};
   if (pairs.empty()) return {};
   const Region middle = cross_section(0.5 * (slab.z_lo + slab.z_hi));
@@ -243,7 +247,7 @@ Region ma_contour(const Slab& slab, std::span<const BoundaryPair> pairs,
                                    : ma::mid_inside(basic_paths, middle_paths, feature_zone);
   if (!any_pocket) return with_features;
   ClipperLib::Paths zone = feature_zone;
-  const std::size_t refined = refine_pockets(parts.axes, with_features, middle, zone);
+  const std::size_t refined = refine_pockets(parts.axes, with_features, middle, zone, grids);
   if (stats) stats->pockets += refined;
   if (refined == 0) return with_features;
   return ma::mid_inside(basic_paths, middle_paths, clipper::union_nonzero(zone));

@@ -39,10 +39,12 @@
 
 #include <cstddef>
 #include <functional>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include "geometry/contour/contour_input.h"
+#include "geometry/core/boundary_grid.h"
 #include "geometry/slab/boundary_pair.h"
 #include "geometry/slicing/layer_stack.h"
 #include "geometry/core/polygon.h"
@@ -88,9 +90,23 @@ Region ma_contour(const Slab& slab, const Region& footprint,
                   const std::function<Region(double z)>& cross_section,
                   const MaOptions& options = {}, MaStats* stats = nullptr);
 // ... and with its boundary pairs (boundary_pairs(footprint)), as layer_metrics.h keeps them.
+// `grids`, if given: the walls' grids ma shares with a caller that indexes the same regions
+// (best measures ma's region and the middle section's: best_contour.h).
+struct MaGrids;
 Region ma_contour(const Slab& slab, std::span<const BoundaryPair> islands,
                   const std::function<Region(double z)>& cross_section,
-                  const MaOptions& options = {}, MaStats* stats = nullptr);
+                  const MaOptions& options = {}, MaStats* stats = nullptr,
+                  MaGrids* grids = nullptr);
+
+// Grids over regions (boundary_grid.h) that ma builds for its pockets' decisions (step 6) and
+// its caller builds too. In: `shared(region)`, the caller's grid over `region` (built there on
+// the first ask and kept), or null where it has none; ma asks it for the middle section's
+// walls. Out: `walls`, ma's grid over the region it returns, where it built one (a layer with
+// pockets, none of which took the middle section); else left empty.
+struct MaGrids {
+  std::function<const BoundaryGrid*(const Region& region)> shared;
+  std::optional<BoundaryGrid> walls;
+};
 
 // The strategy "ma" (contour_strategy.h): the contour from the reference's slab and islands
 // where there is one, else from the stack; options.ma; the height is the layer's middle.
