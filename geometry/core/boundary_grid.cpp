@@ -18,22 +18,37 @@ BoundaryGrid::BoundaryGrid(const Region& region) {
   std::size_t corners = 0;
   for (const Loop& loop : region.loops) corners += loop.size();
   segments_.reserve(corners);
-  std::vector<Vec2> kept;
   for (const Loop& loop : region.loops) {
     const std::size_t n = loop.size();
     if (n < 2) continue;
     // A vertex where the loop runs straight on (within a sine of 1e-12: 0.1 nm off the line
-    // on a 10 cm edge) is no corner: its two edges are one segment.
-    kept.clear();
+    // on a 10 cm edge) is no corner: its two edges are one segment. The segments join the
+    // corners kept in turn, the last back to the first.
+    const std::size_t before = segments_.size();
+    std::size_t kept = 0;
+    Vec2 first{}, last{};
+    Vec2 u = loop[0] - loop[n - 1];
     for (std::size_t i = 0; i < n; ++i) {
-      const Vec2 u = loop[i] - loop[(i + n - 1) % n], v = loop[(i + 1) % n] - loop[i];
+      const Vec2 v = loop[i + 1 == n ? 0 : i + 1] - loop[i];
       const double c = cross(u, v);  // squared, against squared lengths: no roots per vertex
       const bool straight = dot(u, v) > 0 && c * c <= 1e-24 * dot(u, u) * dot(v, v);
-      if (!straight) kept.push_back(loop[i]);
+      u = v;
+      if (straight) continue;
+      if (kept++ == 0) {
+        first = loop[i];
+      } else if (!(last == loop[i])) {
+        segments_.push_back({last, loop[i]});
+      }
+      last = loop[i];
     }
-    if (kept.size() < 2) kept.assign(loop.begin(), loop.end());
-    for (std::size_t i = 0, m = kept.size(); i < m; ++i) {
-      const Vec2 a = kept[i], b = kept[(i + 1) % m];
+    if (kept >= 2) {
+      if (!(last == first)) segments_.push_back({last, first});
+      continue;
+    }
+    // Fewer than two corners: every edge as it stands.
+    segments_.resize(before);
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec2 a = loop[i], b = loop[i + 1 == n ? 0 : i + 1];
       if (!(a == b)) segments_.push_back({a, b});
     }
   }
@@ -67,26 +82,33 @@ void BoundaryGrid::build() {
   nx_ = std::max(1, static_cast<int>(std::ceil(width / cell_)));
   ny_ = std::max(1, static_cast<int>(std::ceil(height / cell_)));
 
+  // Counting sort of the segments into their cells' blocks: counted into cell_start_[c],
+  // summed to each cell's end, then filled from the last segment down, so that each cell
+  // lists its segments in increasing order and its start is left where its end was.
   const std::size_t cells = static_cast<std::size_t>(nx_) * ny_;
-  std::vector<std::uint32_t> count(cells + 1, 0);
+  cell_start_.assign(cells + 1, 0);
   std::vector<std::array<int, 4>> spans(segments_.size());  // each segment's block of cells
   for (std::size_t id = 0; id < segments_.size(); ++id) {
     const Segment2& s = segments_[id];
     const auto [x0, y0] = cell_of({std::min(s.a.x, s.b.x), std::min(s.a.y, s.b.y)});
     const auto [x1, y1] = cell_of({std::max(s.a.x, s.b.x), std::max(s.a.y, s.b.y)});
     spans[id] = {x0, y0, x1, y1};
-    for (int y = y0; y <= y1; ++y)
-      for (int x = x0; x <= x1; ++x) ++count[static_cast<std::size_t>(y) * nx_ + x + 1];
+    for (int y = y0; y <= y1; ++y) {
+      std::uint32_t* row = &cell_start_[static_cast<std::size_t>(y) * nx_];
+      for (int x = x0; x <= x1; ++x) ++row[x];
+    }
   }
-  for (std::size_t c = 0; c < cells; ++c) count[c + 1] += count[c];
-  cell_start_ = count;
+  for (std::size_t c = 1; c < cells; ++c) cell_start_[c] += cell_start_[c - 1];
+  cell_start_[cells] = cell_start_[cells - 1];
   ids_.resize(cell_start_[cells]);
-  for (std::uint32_t id = 0; id < segments_.size(); ++id) {
+  for (std::uint32_t id = static_cast<std::uint32_t>(segments_.size()); id-- > 0;) {
     const auto [x0, y0, x1, y1] = spans[id];
-    for (int y = y0; y <= y1; ++y)
-      for (int x = x0; x <= x1; ++x) ids_[count[static_cast<std::size_t>(y) * nx_ + x]++] = id;
+    for (int y = y0; y <= y1; ++y) {
+      std::uint32_t* row = &cell_start_[static_cast<std::size_t>(y) * nx_];
+      for (int x = x0; x <= x1; ++x) ids_[--row[x]] = id;
+    }
   }
-  stamp_.assign(segments_.size(), 0);
+  // stamp_: on the first for_each_near.
 }
 
 double BoundaryGrid::nearest_distance(Vec2 p) const { return nearest(p).distance; }
