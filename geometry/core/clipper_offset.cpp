@@ -1,4 +1,5 @@
-// The toolpaths' offset (clipper.h): ClipperOffset's joins, most of its union left out.
+// The toolpaths' offset (clipper.h): ClipperOffset's joins, most of its union left out; and
+// proven_inside, on the grid of edges the offset checks its loops on.
 #include "geometry/core/clipper.h"
 
 #include <algorithm>
@@ -291,6 +292,101 @@ bool any_edges_meet(const Paths& loops, const EdgeCells& cells) {
     }
     return meet_within_boxes(a, b, c, d);
   });
+}
+
+// Whether an edge of `a` meets an edge of `b`, where both sets' edges are tested within the box
+// `within` (where their boxes overlap): on a grid over it, the edges of each cut to it, about
+// one edge per cell. Nullopt where an edge covers more than 64 cells (a long edge across it).
+std::optional<bool> sets_meet(const Paths& a, const Paths& b, const ClipperLib::IntRect& within) {
+  const auto near = [&](const ClipperLib::IntPoint& p, const ClipperLib::IntPoint& q) {
+    return std::max(p.X, q.X) >= within.left && std::min(p.X, q.X) <= within.right &&
+           std::max(p.Y, q.Y) >= within.top && std::min(p.Y, q.Y) <= within.bottom;
+  };
+  std::size_t count = 0;
+  for (const Paths* set : {&a, &b}) {
+    for (const Path& loop : *set) {
+      for (std::size_t i = 0, n = loop.size(); i < n; ++i) count += near(loop[i], loop[i + 1 < n ? i + 1 : 0]);
+    }
+  }
+  if (count == 0) return false;
+  EdgeCells cells{EdgeGrid(within, count)};
+  const EdgeGrid& grid = cells.grid;
+  const auto columns = static_cast<std::size_t>(grid.columns);
+  const auto rows = static_cast<std::size_t>(grid.row(within.bottom) + 1);
+  cells.edges.reserve(count);
+  cells.start.assign(rows * columns + 1, 0);
+  // The edges of a, then b's (loop numbers of b's past a's): in each cell a's come first.
+  const auto a_loops = static_cast<std::uint32_t>(a.size());
+  for (const Paths* set : {&a, &b}) {
+    const std::uint32_t first_loop = set == &a ? 0 : a_loops;
+    for (std::uint32_t l = 0; l < set->size(); ++l) {
+      const Path& loop = (*set)[l];
+      const auto n = static_cast<std::uint32_t>(loop.size());
+      for (std::uint32_t i = 0; i < n; ++i) {
+        const auto& p = loop[i];
+        const auto& q = loop[i + 1 < n ? i + 1 : 0];
+        if (!near(p, q)) continue;
+        const ClipperLib::cInt left = std::min(p.X, q.X), right = std::max(p.X, q.X);
+        const ClipperLib::cInt top = std::min(p.Y, q.Y), bottom = std::max(p.Y, q.Y);
+        const auto c0 = grid.column(std::max(left, within.left));
+        const auto c1 = grid.column(std::min(right, within.right));
+        const auto r0 = grid.row(std::max(top, within.top));
+        const auto r1 = grid.row(std::min(bottom, within.bottom));
+        if ((c1 - c0 + 1) * (r1 - r0 + 1) > 64) return std::nullopt;
+        for (auto r = r0; r <= r1; ++r) {
+          for (auto c = c0; c <= c1; ++c) ++cells.start[static_cast<std::size_t>(r) * columns + static_cast<std::size_t>(c)];
+        }
+        cells.edges.push_back({left, right, top, bottom, first_loop + l, i, static_cast<std::uint32_t>(c0),
+                               static_cast<std::uint32_t>(c1), static_cast<std::uint32_t>(r0),
+                               static_cast<std::uint32_t>(r1)});
+      }
+    }
+  }
+  const std::size_t cell_count = rows * columns;
+  for (std::size_t c = 1; c <= cell_count; ++c) cells.start[c] += cells.start[c - 1];
+  cells.index.resize(cells.start[cell_count]);
+  for (std::size_t k = cells.edges.size(); k-- > 0;) {
+    const GridEdge& edge = cells.edges[k];
+    for (std::size_t r = edge.r0; r <= edge.r1; ++r) {
+      for (std::size_t c = edge.c0; c <= edge.c1; ++c) {
+        cells.index[--cells.start[r * columns + c]] = static_cast<std::uint32_t>(k);
+      }
+    }
+  }
+  const auto end_of = [&](const GridEdge& e, const Path& loop) -> const ClipperLib::IntPoint& {
+    return loop[e.edge + 1 < loop.size() ? e.edge + 1 : 0];
+  };
+  for (std::size_t c = 0; c < cell_count; ++c) {
+    const std::uint32_t first = cells.start[c], last = cells.start[c + 1];
+    std::uint32_t split = first;
+    while (split < last && cells.edges[cells.index[split]].loop < a_loops) ++split;
+    for (std::uint32_t i = first; i < split; ++i) {
+      const GridEdge& p = cells.edges[cells.index[i]];
+      const Path& lp = a[p.loop];
+      for (std::uint32_t k = split; k < last; ++k) {
+        const GridEdge& q = cells.edges[cells.index[k]];
+        if (p.right < q.left || q.right < p.left || p.bottom < q.top || q.bottom < p.top) continue;
+        // Once per pair: in the cell of the corner of least x and y of the boxes' overlap.
+        if (std::size_t{std::max(p.r0, q.r0)} * columns + std::max(p.c0, q.c0) != c) continue;
+        const Path& lq = b[q.loop - a_loops];
+        if (meet_within_boxes(lp[p.edge], end_of(p, lp), lq[q.edge], end_of(q, lq))) return true;
+      }
+    }
+  }
+  return false;
+}
+
+// The non-zero winding number of the loops round p, which is on none of them (`boxes`: the
+// loops' bounding boxes).
+int winding_of(const Paths& loops, const std::vector<ClipperLib::IntRect>& boxes,
+               const ClipperLib::IntPoint& p) {
+  int w = 0;
+  for (std::size_t m = 0; m < loops.size(); ++m) {
+    const ClipperLib::IntRect& b = boxes[m];
+    if (p.X < b.left || p.X > b.right || p.Y < b.top || p.Y > b.bottom) continue;
+    w += winding(loops[m], p);
+  }
+  return w;
 }
 
 // Whether the others wind 0 times round each outer loop's first point and once round each
@@ -805,6 +901,34 @@ Paths offset(const Paths& region, double delta, ClipperLib::JoinType join, doubl
   engine.Execute(ClipperLib::ctUnion, result, ClipperLib::pftNegative, ClipperLib::pftNegative);
   if (!result.empty()) result.erase(result.begin());
   return result;
+}
+
+bool proven_inside(const Paths& inner, const Paths& outer) {
+  if (inner.empty()) return true;
+  if (outer.empty()) return false;
+  std::vector<ClipperLib::IntRect> inner_boxes, outer_boxes;
+  ClipperLib::IntRect inner_box = bounding_box(Path{}), outer_box = bounding_box(Path{});
+  for (const Path& loop : inner) add_to_box(inner_box, inner_boxes.emplace_back(bounding_box(loop)));
+  for (const Path& loop : outer) add_to_box(outer_box, outer_boxes.emplace_back(bounding_box(loop)));
+  if (!boxes_meet(inner_box, outer_box)) return false;
+  // Where the boxes overlap: elsewhere no edge of one can meet an edge of the other.
+  const ClipperLib::IntRect overlap{std::max(inner_box.left, outer_box.left),
+                                    std::max(inner_box.top, outer_box.top),
+                                    std::min(inner_box.right, outer_box.right),
+                                    std::min(inner_box.bottom, outer_box.bottom)};
+  // Where no edges meet, each loop lies on one side of the other region's boundary: every loop
+  // of `inner` inside `outer`, and no loop of `outer` inside `inner` (where a hole of outer, or
+  // a part of its boundary, would lie in inner). Tested first, as the cheaper: a point on an
+  // edge of the other may give any winding, but then edges meet, which is tested after.
+  for (const Path& loop : inner) {
+    if (!loop.empty() && winding_of(outer, outer_boxes, loop[0]) == 0) return false;
+  }
+  for (std::size_t l = 0; l < outer.size(); ++l) {
+    if (outer[l].empty() || !boxes_meet(outer_boxes[l], inner_box)) continue;
+    if (winding_of(inner, inner_boxes, outer[l][0]) != 0) return false;
+  }
+  const std::optional<bool> meet = sets_meet(inner, outer, overlap);
+  return meet && !*meet;
 }
 
 Paths opening(const Paths& region, double radius) {

@@ -175,15 +175,19 @@ Skins split_skins(const Region& area, const Region* core, const Region* below,
     return skins;
   }
   const double sliver = std::max(width, 0.0) / 4;
-  const clipper::Paths core_paths = to_clipper(*core);
-  clipper::Paths solid = clipper::opening(clipper::difference(all, core_paths), sliver);
+  // What lies outside a region: nothing where the area is proven inside it (the slivers of a
+  // unit Clipper's difference may leave there do not survive the opening), without the sweep.
+  const auto outside = [&](const clipper::Paths& paths, const Region& region) {
+    const clipper::Paths region_paths = to_clipper(region);
+    if (clipper::proven_inside(paths, region_paths)) return clipper::Paths{};
+    return clipper::opening(clipper::difference(paths, region_paths), sliver);
+  };
+  clipper::Paths solid = outside(all, *core);
   skins.sparse = from_clipper(clipper::difference(all, solid));
   if (solid.empty()) return skins;
   clipper::Paths bottom, top;
-  if (below) bottom = clipper::opening(clipper::difference(solid, to_clipper(*below)), sliver);
-  if (above) {
-    top = clipper::opening(clipper::difference(clipper::difference(solid, bottom), to_clipper(*above)), sliver);
-  }
+  if (below) bottom = outside(solid, *below);
+  if (above) top = outside(clipper::difference(solid, bottom), *above);
   skins.bottom = from_clipper(bottom);
   skins.top = from_clipper(top);
   skins.solid = from_clipper(clipper::difference(solid, clipper::union_nonzero(bottom, top)));

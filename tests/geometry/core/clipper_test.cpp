@@ -2,6 +2,7 @@
 // offsetter on clean, wavy regions.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -236,6 +237,52 @@ TEST_CASE("clip_open_joined_cuts_a_closed_line_only_where_it_crosses_the_edge") 
   const clipper::Paths whole = clipper::clip_open_joined(inside, square);
   REQUIRE(whole.size() == 1);
   CHECK(whole[0].front() == whole[0].back());
+}
+
+TEST_CASE("proven_inside_holds_where_every_point_is_inside_clear_of_the_edges") {
+  // A 20 mm square with a 2 mm square hole about (5, 5).
+  const auto square = [](double x0, double y0, double x1, double y1) {
+    return Loop{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
+  };
+  const auto hole = [&](double x0, double y0, double x1, double y1) {
+    Loop loop = square(x0, y0, x1, y1);
+    std::reverse(loop.begin(), loop.end());
+    return loop;
+  };
+  const clipper::Paths outer = geometry::to_clipper(Region{{square(-10, -10, 10, 10), hole(4, 4, 6, 6)}});
+  const auto inside = [&](const Region& inner) {
+    return clipper::proven_inside(geometry::to_clipper(inner), outer);
+  };
+  CHECK(inside(Region{}));
+  CHECK(inside(Region{{square(-6, -6, -4, -4)}}));
+  // Round the hole, the hole inside its own: every point of it still in the square.
+  CHECK(inside(Region{{square(2, 2, 8, 8), hole(3, 3, 7, 7)}}));
+  CHECK_FALSE(inside(Region{{square(9, 0, 11, 1)}}));   // across the edge
+  CHECK_FALSE(inside(Region{{square(8, 0, 10, 1)}}));   // along it
+  CHECK_FALSE(inside(Region{{square(3, 3, 7, 7)}}));    // round the hole
+  CHECK_FALSE(inside(Region{{square(4.5, 4.5, 5.5, 5.5)}}));  // in the hole
+  CHECK_FALSE(inside(Region{{square(20, 20, 21, 21)}}));      // away from it
+  CHECK_FALSE(inside(Region{{square(-6, -6, -4, -4), square(20, 20, 21, 21)}}));
+
+  // Wavy loops about (-1, 1), 0.8 r to 1.2 r from it: inside the square and clear of the hole
+  // where 1.2 r is under 5.83 mm (the hole's nearest corner, (4, 4)); round the hole or across
+  // the square's edge where 0.8 r is over 8.60 (its farthest, (6, 6)). Where proven inside,
+  // Clipper's difference is nothing.
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> size(0.5, 12), phase(0, 2 * std::numbers::pi);
+  int proven = 0;
+  for (int k = 0; k < 200; ++k) {
+    const double r = size(random), p = phase(random);
+    const Loop wavy = round_loop(-1, 1, 90, [&](double a) { return r * (1 + 0.2 * std::sin(5 * a + p)); });
+    const clipper::Paths inner{geometry::to_clipper(wavy)};
+    const bool holds = clipper::proven_inside(inner, outer);
+    proven += holds;
+    INFO("radius " << r);
+    if (1.2 * r < 5.8) CHECK(holds);
+    if (0.8 * r > 8.7) CHECK_FALSE(holds);
+    if (holds) CHECK(clipper::difference(inner, outer).empty());
+  }
+  CHECK(proven >= 20);
 }
 
 }  // namespace clipper_test
