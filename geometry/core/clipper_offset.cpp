@@ -200,6 +200,23 @@ struct EdgeCells {
   std::vector<std::uint32_t> start, index;
 };
 
+// With start[c] holding how many edges cover cell c (of `cell_count`, `columns` to a row):
+// start[c] becomes where cell c ends, then, placing the edges from the last down each just
+// before the last placed in its cell, where it begins: every cell's edges in the order of
+// `edges`.
+void place_edges(EdgeCells& cells, std::size_t columns, std::size_t cell_count) {
+  for (std::size_t c = 1; c <= cell_count; ++c) cells.start[c] += cells.start[c - 1];
+  cells.index.resize(cells.start[cell_count]);
+  for (std::size_t k = cells.edges.size(); k-- > 0;) {
+    const GridEdge& edge = cells.edges[k];
+    for (std::size_t r = edge.r0; r <= edge.r1; ++r) {
+      for (std::size_t c = edge.c0; c <= edge.c1; ++c) {
+        cells.index[--cells.start[r * columns + c]] = static_cast<std::uint32_t>(k);
+      }
+    }
+  }
+}
+
 // The loops' edges (`count` of them) in the cells their bounding boxes cover (a counting sort:
 // the cells are about as many as the edges); false if an edge covers more than 64 cells (a
 // long edge: left to the union).
@@ -228,19 +245,7 @@ bool fill_cells(std::span<const Path> loops, std::size_t count, EdgeCells& cells
                              static_cast<std::uint32_t>(r1)});
     }
   }
-  // start[c]: where cell c ends, then, placing the edges from the last down each just before
-  // the last placed in its cell, where it begins: every cell's edges in the loops' order.
-  for (std::size_t c = 1; c <= cell_count; ++c) cells.start[c] += cells.start[c - 1];
-  cells.index.resize(cells.start[cell_count]);
-  for (std::size_t k = cells.edges.size(); k-- > 0;) {
-    const GridEdge& edge = cells.edges[k];
-    for (std::size_t r = edge.r0; r <= edge.r1; ++r) {
-      for (std::size_t c = edge.c0; c <= edge.c1; ++c) {
-        cells.index[--cells.start[r * static_cast<std::size_t>(grid.columns) + c]] =
-            static_cast<std::uint32_t>(k);
-      }
-    }
-  }
+  place_edges(cells, static_cast<std::size_t>(grid.columns), cell_count);
   return true;
 }
 
@@ -343,16 +348,7 @@ std::optional<bool> sets_meet(const Paths& a, const Paths& b, const ClipperLib::
     }
   }
   const std::size_t cell_count = rows * columns;
-  for (std::size_t c = 1; c <= cell_count; ++c) cells.start[c] += cells.start[c - 1];
-  cells.index.resize(cells.start[cell_count]);
-  for (std::size_t k = cells.edges.size(); k-- > 0;) {
-    const GridEdge& edge = cells.edges[k];
-    for (std::size_t r = edge.r0; r <= edge.r1; ++r) {
-      for (std::size_t c = edge.c0; c <= edge.c1; ++c) {
-        cells.index[--cells.start[r * columns + c]] = static_cast<std::uint32_t>(k);
-      }
-    }
-  }
+  place_edges(cells, columns, cell_count);
   const auto end_of = [&](const GridEdge& e, const Path& loop) -> const ClipperLib::IntPoint& {
     return loop[e.edge + 1 < loop.size() ? e.edge + 1 : 0];
   };
