@@ -11,6 +11,7 @@ namespace geometry {
 namespace {
 
 constexpr double kInvSqrt3 = 0.57735026918962576;
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 double length(Vec2 a, Vec2 b) { return length(b - a); }
 
@@ -67,8 +68,13 @@ Nearest nearest_of(Vec2 p, const NearWalls& near) {
 // wall points) of a piece's corners. The largest value over a convex polygon of the distance
 // to the nearest of a few points is at a corner, where a bisector of two points crosses an
 // edge, or at the points' circumcentre: few candidates, an exact maximum, a sound bound.
+// Returns it exactly, or as soon as one candidate's value is above `enough`, that value (the
+// caller only asks whether the bound is within `enough`: pass -infinity for the exact figure).
+// The corners' values are never above a piece's own distances, so only the crossings and the
+// circumcentre can end it early.
 template <std::size_t N, std::size_t F>
-double feet_bound(const std::array<Vec2, N>& corners, const std::array<Vec2, F>& feet) {
+double feet_bound(const std::array<Vec2, N>& corners, const std::array<Vec2, F>& feet,
+                  double enough) {
   const Vec2 o = corners[0];
   const auto value = [&](Vec2 x) {
     double d2 = std::numeric_limits<double>::infinity();
@@ -89,6 +95,7 @@ double feet_bound(const std::array<Vec2, N>& corners, const std::array<Vec2, F>&
         const double ga = dot(n, a) - c, gb = dot(n, b) - c;
         if ((ga < 0) == (gb < 0) || ga == gb) continue;
         best = std::max(best, value(o + a + (ga / (ga - gb)) * (b - a)));
+        if (best > enough * enough && std::sqrt(best) > enough) return std::sqrt(best);
       }
     }
   }
@@ -176,7 +183,9 @@ void search_triangle(const std::array<Vec2, 3>& corners, const std::array<Neares
   const auto longest = [](const std::array<Vec2, 3>& p) {
     return std::max({length(p[0], p[1]), length(p[1], p[2]), length(p[2], p[0])});
   };
-  const auto upper_bound = [&](const Piece& piece, double low) {
+  // A bound on the piece's distance: exact where `sharp` (the whole triangle's, which sizes
+  // the box of walls searched), else only as sharp as telling whether it is within done().
+  const auto upper_bound = [&](const Piece& piece, double low, bool sharp) {
     if (piece.n[0].segment == piece.n[1].segment && piece.n[1].segment == piece.n[2].segment)
       return low;
     const double lipschitz = low + longest(piece.p) * kInvSqrt3;
@@ -185,12 +194,13 @@ void search_triangle(const std::array<Vec2, 3>& corners, const std::array<Neares
     if (by_segment <= done()) return by_segment;
     return std::min(by_segment,
                     feet_bound(piece.p, std::array<Vec2, 3>{piece.n[0].foot, piece.n[1].foot,
-                                                            piece.n[2].foot}));
+                                                            piece.n[2].foot},
+                               sharp ? -kInfinity : done()));
   };
   Piece first{corners, at};
   const double first_low = std::max({at[0].distance, at[1].distance, at[2].distance});
   best = std::max(best, first_low);
-  const double reach = upper_bound(first, first_low);
+  const double reach = upper_bound(first, first_low, true);
   if (reach <= done()) return;
   // Every point's nearest wall lies within `reach` of it, hence in this box.
   const Box2 box = bounding_box(corners);
@@ -207,7 +217,7 @@ void search_triangle(const std::array<Vec2, 3>& corners, const std::array<Neares
     stack.pop_back();
     const double low = std::max({piece.n[0].distance, piece.n[1].distance, piece.n[2].distance});
     best = std::max(best, low);
-    if (!whole && upper_bound(piece, low) <= done()) continue;
+    if (!whole && upper_bound(piece, low, false) <= done()) continue;
     whole = false;
     const Vec2 m01 = 0.5 * (piece.p[0] + piece.p[1]), m12 = 0.5 * (piece.p[1] + piece.p[2]),
                m20 = 0.5 * (piece.p[2] + piece.p[0]);
@@ -230,7 +240,8 @@ void search_segment(Vec2 a, Vec2 b, const Nearest& at_a, const Nearest& at_b,
     Vec2 a, b;
     Nearest na, nb;
   };
-  const auto upper_bound = [&](const Piece& piece, double low) {
+  // As search_triangle's: exact where `sharp` (the whole segment's), else only against done().
+  const auto upper_bound = [&](const Piece& piece, double low, bool sharp) {
     if (piece.na.segment == piece.nb.segment) return low;
     const double lipschitz = low + length(piece.a, piece.b) / 2;
     if (lipschitz <= done()) return lipschitz;
@@ -239,12 +250,13 @@ void search_segment(Vec2 a, Vec2 b, const Nearest& at_a, const Nearest& at_b,
                       std::array<Nearest, 2>{piece.na, piece.nb}, lipschitz, done());
     if (by_segment <= done()) return by_segment;
     return std::min(by_segment, feet_bound(std::array<Vec2, 2>{piece.a, piece.b},
-                                           std::array<Vec2, 2>{piece.na.foot, piece.nb.foot}));
+                                           std::array<Vec2, 2>{piece.na.foot, piece.nb.foot},
+                                           sharp ? -kInfinity : done()));
   };
   const Piece first{a, b, at_a, at_b};
   const double first_low = std::max(at_a.distance, at_b.distance);
   best = std::max(best, first_low);
-  const double reach = upper_bound(first, first_low);
+  const double reach = upper_bound(first, first_low, true);
   if (reach <= done()) return;
   const Vec2 lo{std::min(a.x, b.x) - reach, std::min(a.y, b.y) - reach};
   const Vec2 hi{std::max(a.x, b.x) + reach, std::max(a.y, b.y) + reach};
@@ -258,7 +270,7 @@ void search_segment(Vec2 a, Vec2 b, const Nearest& at_a, const Nearest& at_b,
     stack.pop_back();
     const double low = std::max(piece.na.distance, piece.nb.distance);
     best = std::max(best, low);
-    if (!whole && upper_bound(piece, low) <= done()) continue;
+    if (!whole && upper_bound(piece, low, false) <= done()) continue;
     whole = false;
     const Vec2 m = 0.5 * (piece.a + piece.b);
     const Nearest nm = nearest_of(m, near);
