@@ -271,7 +271,9 @@ double SectionDeviation::operator()(double h) const {
     if (facet.lower == 1) {
       in_lower = own.area;
     } else if (facet.lower == -1) {
-      std::vector<Vec2> loop(part.size);
+      // Reused: a vector per cut was a malloc per facet and height.
+      thread_local std::vector<Vec2> loop;
+      loop.resize(part.size);
       for (int k = 0; k < part.size; ++k) loop[k] = {part.at[k].x, part.at[k].y};
       in_lower = moments_of_intersection(loop, loop[0], lower_grid_, *lower_).area;
     }

@@ -43,6 +43,9 @@ bool same_corner(const Vec3& a, const Vec3& b) {
   return std::abs(a.x - b.x) <= kSameCorner && std::abs(a.y - b.y) <= kSameCorner;
 }
 
+// Corners a polygon's edges are kept on the stack for (a facet of a slab has at most 5).
+constexpr std::size_t kStackCorners = 16;
+
 struct Crossing {
   double position;  // edge index + parameter along the polygon's edge
   bool entry;       // the region's boundary enters the polygon here
@@ -66,18 +69,35 @@ namespace {
 // edges at that margin too, so both steps see the same configuration. Each vertex's side of
 // each line is computed by the same expression wherever it appears, so neighbouring boundary
 // segments agree on it.
-void add_boundary_inside(const std::vector<Vec2>& convex, Vec2 origin,
+void add_boundary_inside(const std::vector<Vec2>& convex, const Box2& box, Vec2 origin,
                          const BoundaryGrid& region_grid, AreaMoments& m,
                          std::vector<Crossing>& crossings) {
   const std::size_t n = convex.size();
-  const Box2 box = bounding_box(convex);
+  // Each edge's corner and direction, once per polygon rather than once per segment near it
+  // (plain doubles: Vec2's zeroing of an array it never reads cost as much as it saves). With
+  // the facets' boxes given (occupied_volume_inside), crossing_moments took 321 M instructions
+  // of the bunny's best slice at 0.15 mm (callgrind) instead of 340 M; the same values.
+  struct Edge {
+    double px, py, dx, dy;
+  };
+  Edge stack_edges[kStackCorners];
+  std::vector<Edge> heap_edges;
+  Edge* edges = stack_edges;
+  if (n > kStackCorners) {
+    heap_edges.resize(n);
+    edges = heap_edges.data();
+  }
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec2 p = convex[k], d = convex[k + 1 == n ? 0 : k + 1] - p;
+    edges[k] = {p.x, p.y, d.x, d.y};
+  }
   const auto& segments = region_grid.segments();
   region_grid.for_each_near(box.lo, box.hi, [&](std::uint32_t id) {
     const Segment2& s = segments[id];
     double t0 = 0, t1 = 1;
     int k0 = -1, k1 = -1;
     for (std::size_t k = 0; k < n; ++k) {
-      const Vec2 p = convex[k], d = convex[(k + 1) % n] - p;
+      const Vec2 p{edges[k].px, edges[k].py}, d{edges[k].dx, edges[k].dy};
       const double sa = cross(d, s.a - p), sb = cross(d, s.b - p);
       if (sa < 0 && sb < 0) return;
       if (sa >= 0 && sb >= 0) continue;
@@ -95,7 +115,7 @@ void add_boundary_inside(const std::vector<Vec2>& convex, Vec2 origin,
     const Vec2 a = s.a + t0 * ab, b = s.a + t1 * ab;
     add_edge_moments(m, a - origin, b - origin);
     const auto position = [&](int k, Vec2 x) {
-      const Vec2 p = convex[k], d = convex[(k + 1) % n] - p;
+      const Vec2 p{edges[k].px, edges[k].py}, d{edges[k].dx, edges[k].dy};
       return k + std::clamp(dot(x - p, d) / dot(d, d), 0.0, 1.0);
     };
     if (k0 >= 0) crossings.push_back({position(k0, a), true, a});
@@ -163,13 +183,13 @@ bool add_polygon_between_crossings(const std::vector<Vec2>& convex, Vec2 origin,
 
 // The moments of (convex ∩ region) by Green's theorem, or nothing where the configuration is
 // degenerate (the region's boundary through a corner of the polygon or along its edge).
-std::optional<AreaMoments> crossing_moments(const std::vector<Vec2>& convex, Vec2 origin,
-                                            const BoundaryGrid& region_grid) {
+std::optional<AreaMoments> crossing_moments(const std::vector<Vec2>& convex, const Box2& box,
+                                            Vec2 origin, const BoundaryGrid& region_grid) {
   AreaMoments m;
   // Reused: this runs for every facet and region, and a fresh vector each time was a malloc.
   thread_local std::vector<Crossing> crossings;
   crossings.clear();
-  add_boundary_inside(convex, origin, region_grid, m, crossings);
+  add_boundary_inside(convex, box, origin, region_grid, m, crossings);
   if (crossings.empty()) {
     if (!add_polygon_if_inside(convex, origin, region_grid, m)) return std::nullopt;
     return m;
@@ -180,12 +200,11 @@ std::optional<AreaMoments> crossing_moments(const std::vector<Vec2>& convex, Vec
   return m;
 }
 
-}  // namespace
-
-AreaMoments moments_of_intersection(const std::vector<Vec2>& convex, Vec2 origin,
-                                    const BoundaryGrid& region_grid, const Region& region) {
+// moments_of_intersection with the polygon's bounding_box given (a ColumnFacet's lo and hi).
+AreaMoments moments_within_box(const std::vector<Vec2>& convex, const Box2& box, Vec2 origin,
+                               const BoundaryGrid& region_grid, const Region& region) {
   if (convex.size() < 3 || region_grid.empty()) return {};
-  if (const auto m = crossing_moments(convex, origin, region_grid)) return *m;
+  if (const auto m = crossing_moments(convex, box, origin, region_grid)) return *m;
   // Degenerate: a section through the polygon's corners, the lower contour along a facet's
   // bottom edge. Moved by 0.1 pm in a generic direction the polygon meets the region
   // generically, and its moments move by less than 1e-10 mm times its perimeter (times the
@@ -194,9 +213,17 @@ AreaMoments moments_of_intersection(const std::vector<Vec2>& convex, Vec2 origin
   for (const Vec2 shift : {Vec2{7.548776662e-11, 5.698402910e-11}, Vec2{-4.301597090e-11, 9.127451e-11}}) {
     std::vector<Vec2> moved = convex;
     for (Vec2& p : moved) p = p + shift;
-    if (const auto m = crossing_moments(moved, origin, region_grid)) return *m;
+    if (const auto m = crossing_moments(moved, bounding_box(moved), origin, region_grid)) return *m;
   }
   return moments_by_clipper(convex, origin, region);
+}
+
+}  // namespace
+
+AreaMoments moments_of_intersection(const std::vector<Vec2>& convex, Vec2 origin,
+                                    const BoundaryGrid& region_grid, const Region& region) {
+  if (convex.size() < 3 || region_grid.empty()) return {};
+  return moments_within_box(convex, bounding_box(convex), origin, region_grid, region);
 }
 
 std::vector<Vec2> clip_to_half_plane(const std::vector<Vec2>& polygon, Vec2 o, double f0,
@@ -339,7 +366,8 @@ double occupied_volume_inside(const SlabColumns& columns, const Region& region,
   double volume = columns.thickness() * intersection_area(columns.lower, region);
   for (const ColumnFacet& facet : columns.facets) {
     const Vec2 origin = facet.outline[0];
-    const AreaMoments m = moments_of_intersection(facet.outline, origin, region_grid, region);
+    const AreaMoments m =
+        moments_within_box(facet.outline, {facet.lo, facet.hi}, origin, region_grid, region);
     volume += facet.sign * (facet.w0 * m.area + facet.wx * m.mx + facet.wy * m.my);
   }
   return volume;
