@@ -47,6 +47,13 @@ double distance_near(const LoopEdges& loop, std::uint32_t& segment, Vec2 x) {
       nearest_edge = e;
     }
   }
+  // Backwards only from the start edge: where the forward walk found a nearer edge, the one
+  // before it is strictly farther (it was the best so far, or the walk went on past it), so
+  // the backward walk would stop at its first step.
+  if (nearest_edge != start) {
+    segment = static_cast<std::uint32_t>(nearest_edge - first);
+    return std::sqrt(best);
+  }
   const Edge* const back_start = nearest_edge;
   for (const Edge* e = back_start;;) {  // backwards
     if (e == first) e = end;
