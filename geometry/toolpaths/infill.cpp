@@ -248,11 +248,19 @@ std::vector<std::pair<ScanFrame, double>> sparse_lines_below(double width, doubl
 
 // The core's loops, closed, clipped to the area as open paths. A loop cut by the area's edge
 // comes back cut at its first vertex too; the two pieces that meet there are one (an end there
-// would hang between the lines below).
+// would hang between the lines below). Only the loops whose boxes meet the area's are clipped:
+// the core above is the whole layer's, the area one island's, and a loop clear of its box has
+// no piece in it (left out, it costs the clip nothing: bench_toolpaths' clip_open_joined
+// 236 -> 230 M instructions, the bunny having few islands a layer).
 clipper::Paths edges_in_area(const Region& core_above, const clipper::Paths& area) {
-  clipper::Paths edges = to_clipper(core_above);
-  for (auto& loop : edges) {
-    if (!loop.empty()) loop.push_back(loop.front());
+  const ClipperLib::IntRect box = clipper::bounding_box(area);
+  clipper::Paths edges;
+  edges.reserve(core_above.loops.size());
+  for (const Loop& loop : core_above.loops) {
+    ClipperLib::Path path = to_clipper(loop);
+    if (path.empty() || !clipper::boxes_meet(clipper::bounding_box(path), box)) continue;
+    path.push_back(path.front());
+    edges.push_back(std::move(path));
   }
   return clipper::clip_open_joined(edges, area);
 }
