@@ -129,7 +129,8 @@ SectionDeviation::SectionDeviation(const SlabColumns& columns)
     facet.z_min = columns.z_hi - w_max;
     facet.z_max = columns.z_hi - w_min;
     const Integrals whole = integrals(facet.outline, facet.o, f.w0, f.wx, f.wy);
-    const AreaMoments in_lower = moments_of_intersection(f.outline, facet.o, lower_grid_, columns.lower);
+    const AreaMoments in_lower =
+        moments_of_intersection(f.outline, {f.lo, f.hi}, facet.o, lower_grid_, columns.lower);
     occupied_lower_ += f.sign * (f.w0 * in_lower.area + f.wx * in_lower.mx + f.wy * in_lower.my);
     // Inside or outside C(z_lo) to a billionth of its area (a facet with an edge on the lower
     // contour is either), else the lower contour crosses it (a fold).
@@ -272,10 +273,15 @@ double SectionDeviation::operator()(double h) const {
       in_lower = own.area;
     } else if (facet.lower == -1) {
       // Reused: a vector per cut was a malloc per facet and height.
+      // Its box taken as it is copied (bounding_box's own minima and maxima).
       thread_local std::vector<Vec2> loop;
       loop.resize(part.size);
-      for (int k = 0; k < part.size; ++k) loop[k] = {part.at[k].x, part.at[k].y};
-      in_lower = moments_of_intersection(loop, loop[0], lower_grid_, *lower_).area;
+      Box2 box;
+      for (int k = 0; k < part.size; ++k) {
+        loop[k] = {part.at[k].x, part.at[k].y};
+        box.add(loop[k]);
+      }
+      in_lower = moments_of_intersection(loop, box, loop[0], lower_grid_, *lower_).area;
     }
     occupied += t * facet.sign * in_lower + own.integral;
     for (int g : facet.partners) {

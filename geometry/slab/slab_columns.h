@@ -60,6 +60,10 @@ SlabColumns slab_columns(const Slab& slab, const Region& lower_section);
 // back to Clipper on the whole region (1 pm grid). AreaMoments: core/polygon.h.
 AreaMoments moments_of_intersection(const std::vector<Vec2>& convex, Vec2 origin,
                                     const BoundaryGrid& region_grid, const Region& region);
+// The same with the polygon's bounding_box given (a ColumnFacet's lo and hi), for callers
+// that have it: the same value.
+AreaMoments moments_of_intersection(const std::vector<Vec2>& convex, const Box2& box, Vec2 origin,
+                                    const BoundaryGrid& region_grid, const Region& region);
 
 // Integral of occ over R, mm^3: vol(S_i ∩ R x [z_lo, z_hi]).
 double occupied_volume_inside(const SlabColumns& columns, const Region& region);
