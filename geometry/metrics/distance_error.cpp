@@ -11,7 +11,6 @@ namespace geometry {
 namespace {
 
 constexpr double kInvSqrt3 = 0.57735026918962576;
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 double length(Vec2 a, Vec2 b) { return length(b - a); }
 
@@ -69,7 +68,8 @@ Nearest nearest_of(Vec2 p, const NearWalls& near) {
 // to the nearest of a few points is at a corner, where a bisector of two points crosses an
 // edge, or at the points' circumcentre: few candidates, an exact maximum, a sound bound.
 // Returns it exactly, or as soon as one candidate's value is above `enough`, that value (the
-// caller only asks whether the bound is within `enough`: pass -infinity for the exact figure).
+// caller only asks whether the bound is within `enough`, or takes the least of it and
+// `enough`: pass -infinity for the exact figure).
 // The corners' values are never above a piece's own distances, so only the crossings and the
 // circumcentre can end it early.
 template <std::size_t N, std::size_t F>
@@ -184,7 +184,9 @@ void search_triangle(const std::array<Vec2, 3>& corners, const std::array<Neares
     return std::max({length(p[0], p[1]), length(p[1], p[2]), length(p[2], p[0])});
   };
   // A bound on the piece's distance: exact where `sharp` (the whole triangle's, which sizes
-  // the box of walls searched), else only as sharp as telling whether it is within done().
+  // the box of walls searched; the feet bound is then asked only whether it is below the
+  // bound by segments, the least of the two being the figure), else only as sharp as telling
+  // whether it is within done().
   const auto upper_bound = [&](const Piece& piece, double low, bool sharp) {
     if (piece.n[0].segment == piece.n[1].segment && piece.n[1].segment == piece.n[2].segment)
       return low;
@@ -195,7 +197,7 @@ void search_triangle(const std::array<Vec2, 3>& corners, const std::array<Neares
     return std::min(by_segment,
                     feet_bound(piece.p, std::array<Vec2, 3>{piece.n[0].foot, piece.n[1].foot,
                                                             piece.n[2].foot},
-                               sharp ? -kInfinity : done()));
+                               sharp ? by_segment : done()));
   };
   Piece first{corners, at};
   const double first_low = std::max({at[0].distance, at[1].distance, at[2].distance});
@@ -240,7 +242,8 @@ void search_segment(Vec2 a, Vec2 b, const Nearest& at_a, const Nearest& at_b,
     Vec2 a, b;
     Nearest na, nb;
   };
-  // As search_triangle's: exact where `sharp` (the whole segment's), else only against done().
+  // As search_triangle's: exact where `sharp` (the whole segment's: the feet bound only against
+  // the bound by segments), else only against done().
   const auto upper_bound = [&](const Piece& piece, double low, bool sharp) {
     if (piece.na.segment == piece.nb.segment) return low;
     const double lipschitz = low + length(piece.a, piece.b) / 2;
@@ -251,7 +254,7 @@ void search_segment(Vec2 a, Vec2 b, const Nearest& at_a, const Nearest& at_b,
     if (by_segment <= done()) return by_segment;
     return std::min(by_segment, feet_bound(std::array<Vec2, 2>{piece.a, piece.b},
                                            std::array<Vec2, 2>{piece.na.foot, piece.nb.foot},
-                                           sharp ? -kInfinity : done()));
+                                           sharp ? by_segment : done()));
   };
   const Piece first{a, b, at_a, at_b};
   const double first_low = std::max(at_a.distance, at_b.distance);
