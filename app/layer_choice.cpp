@@ -220,7 +220,7 @@ std::string adaptive_headline(const LayerChoice& choice) {
 }
 
 // What the budget (--max-time or --max-layers) made of the plan: the least tolerance it
-// allows, or that no plan fits it.
+// allows (and for --max-time the layers it holds), or that no plan fits it.
 std::string budget_outcome(const LayerChoice& choice) {
   const geometry::AdaptivePlan& plan = choice.plan;
   const std::string budget =
@@ -231,7 +231,10 @@ std::string budget_outcome(const LayerChoice& choice) {
           : fmt::format("within --max-layers {}", choice.max_layers);
   std::string text;
   if (plan.cap > 0) {
-    text += fmt::format("; the least tolerance {} is {:.3g} mm", budget, plan.tolerance);
+    text += choice.budget_seconds > 0
+                ? fmt::format("; the most layers {} are {}, at the least tolerance within as many, {:.3g} mm",
+                              budget, choice.layers.size(), plan.tolerance)
+                : fmt::format("; the least tolerance {} is {:.3g} mm", budget, plan.tolerance);
     if (plan.cap > plan.tolerance) {
       text += fmt::format(": layers up to {:.3g} mm (that plan's P95h D less its thinnest layers "
                           "above it) where they take off more volume", plan.cap);

@@ -162,9 +162,9 @@ std::vector<SliceOption> make_table() {
   };
   t.push_back(other_option("--max-time", "maxTime", K::duration,
                            "with --adaptive: an estimated print time the plan must fit, as "
-                           "1h30m, 90m or 5400s: the least tolerance whose plan's estimate (mid "
-                           "sections, the profile's supports and raft) is within it, to 2%, "
-                           "planned again while the G-code's own estimate is over it "
+                           "1h30m, 90m or 5400s: the --max-layers plan of the most layers "
+                           "whose estimate (mid sections, the profile's supports and raft) is "
+                           "within it, in fewer layers while the G-code's own estimate is over it "
                            "(implies --adaptive; default: none)"));
   t.back().unit = "s";
   t.back().excludes = {"--layer", "--boundaries", "--tolerance", "--max-layers"};

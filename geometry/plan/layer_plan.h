@@ -23,10 +23,9 @@
 // a layer). A plan ends at the lowest height the layers reach at or above the part's top (with
 // a printer of any thickness, at the top): never more than the printer's step above it; a last
 // layer there that prints nothing (AdaptiveOptions::prints) is left out.
-// With a budget, max_layers, or `fits` (a print-time budget, say): the least tolerance whose
-// plan the budget accepts (to within 2% for `fits`), then the least total error in at most as
-// many layers (a dynamic program over heights and layers used; for `fits`, in the most layers
-// up to as many whose least-error plan it accepts) with none over that plan's largest D, in
+// With a budget of max_layers: the least tolerance whose plan has at most that many layers,
+// then the least total error in at most as many layers (a dynamic program over heights and
+// layers used) with none over that plan's largest D, in
 // this order, against a cap: the terms of landing (flat levels crossed, the layers a flat
 // level forces over the cap, those thicker than the thinnest over it); the lowest end (as
 // above); the most layers (the budget is the user's: the bunny in 331 layers ends at its top
@@ -100,8 +99,9 @@ UniformPlan uniform_plan(double part_height, double thickness, const AllowedThic
 struct AdaptiveOptions {
   double tolerance = 0.3;       // D within this, mm
   std::size_t max_layers = 0;   // > 0: the least tolerance with at most this many layers instead
-  // Set (and max_layers 0): the least tolerance whose plan this accepts instead. Called only
-  // from the calling thread; the search takes a plan it accepts for one with more tolerance.
+  // Set (and max_layers 0): the max_layers plan of the most layers whose plan this accepts
+  // instead (a bisection on the count: a print time nearly grows with it). Called only from
+  // the calling thread; the search takes a plan it accepts for one of fewer layers.
   std::function<bool(const std::vector<Layer>& layers)> fits;
   // The contours a layer may print; a layer meets the tolerance when one of them does (one
   // kind for a plain strategy; mid, ma and optimal-height for `best`). Cheapest first.

@@ -426,14 +426,39 @@ TEST_CASE("adaptive_plan_with_any_budget_finds_the_least_tolerance_it_accepts") 
   CHECK(thickest.layers.size() <= 1 + 50 + 1);  // 19.7 mm of 0.4 mm layers
 }
 
+TEST_CASE("adaptive_plan_within_a_budget_of_layers_by_their_plan_is_the_plan_of_that_many") {
+  // A budget judged by the plan (a print time, say) that only a count decides gets the plan
+  // --max-layers makes of that count: the cone's tolerance plans come in steps of 0.05 mm
+  // layers over its uniform slope (58, 67, 80 layers), and a budget between two steps is
+  // spent in full, not left at the step below.
+  const solids::Solid cone = solids::cone(10, 20, 64);
+  const geometry::LayerStack stack(cone.mesh, {});
+  const auto flats = geometry::flat_levels(cone.mesh);
+  for (std::size_t count : {60, 63, 70, 75}) {
+    CAPTURE(count);
+    AdaptiveOptions by_count;
+    by_count.max_layers = count;
+    const AdaptivePlan counted = geometry::adaptive_plan(stack, 20, kUpPlus2, flats, by_count);
+    AdaptiveOptions by_plan;
+    by_plan.fits = [&](const std::vector<Layer>& layers) { return layers.size() <= count; };
+    const AdaptivePlan judged = geometry::adaptive_plan(stack, 20, kUpPlus2, flats, by_plan);
+    CHECK(judged.layers.size() == count);
+    REQUIRE(judged.layers.size() == counted.layers.size());
+    for (std::size_t i = 0; i < counted.layers.size(); ++i) {
+      CHECK(judged.layers[i].z_lo == counted.layers[i].z_lo);
+      CHECK(judged.layers[i].z_hi == counted.layers[i].z_hi);
+    }
+    CHECK(judged.cap == counted.cap);
+  }
+}
+
 TEST_CASE("adaptive_plan_within_any_print_time_is_the_least_total_error_that_fits") {
   // A ball of radius 8 under a print-time-like budget: a layer takes 1 s plus 0.05 s per mm^2
   // of its section at mid height (pi (64 - (z - 8)^2)), so thin layers cost more where the
-  // ball is wide, and the least-swept plan in as many layers as the least tolerance's plan
-  // (it puts its thin layers elsewhere) may take longer than that plan. For every budget
-  // between the thickest and the thinnest plans' times the result is still the least total
-  // error (found within the cap: cap > 0) of the plans that fit, with fewer layers where as
-  // many do not fit: the objective does not depend on where the budget falls.
+  // ball is wide, and a least-swept plan (its thin layers where the volume is) takes longer
+  // than the least tolerance's plan of as many layers. For every budget between the thickest
+  // and the thinnest plans' times the result fits and is a least total error (found within
+  // the cap: cap > 0), whatever the budget.
   const solids::Solid ball = solids::sphere(8, 48, 24, {0, 0, 8});
   const geometry::LayerStack stack(ball.mesh, {});
   const auto flats = geometry::flat_levels(ball.mesh);

@@ -357,7 +357,7 @@ def main():
             raise Failed("tee2.gcode has support, or lost the adaptive layers kept on the form")
 
         # A print-time budget instead of a tolerance: a bad one is refused in one line, a
-        # good one plans the least tolerance whose print fits it.
+        # good one plans the most layers whose print fits it.
         tee3 = os.path.join(scratch, "tee3.stl")
         shutil.copy(tee, tee3)
         find("upload-file").send_keys(tee3)
