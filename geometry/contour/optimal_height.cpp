@@ -272,7 +272,7 @@ double SectionDeviation::operator()(double h) const {
     if (facet.lower == 1) {
       in_lower = own.area;
     } else if (facet.lower == -1) {
-      // Reused: a vector per cut was a malloc per facet and height.
+      // Reused: a vector per cut would be a malloc per facet and height.
       // Its box taken as it is copied (bounding_box's own minima and maxima).
       thread_local std::vector<Vec2> loop;
       loop.resize(part.size);
