@@ -919,8 +919,8 @@ std::pair<std::vector<std::uint32_t>, double> budget_path(LazyPlanner& planner, 
     taken = plan_in_count(planner, options.max_layers, thickest, hi);
   } else {
     const auto fits = [&](const std::vector<std::uint32_t>& path) { return options.fits(layers_of(planner, path)); };
-    taken = {thickest, hi, std::nullopt};
     if (!fits(thickest)) return {std::move(thickest), hi};
+    taken = {thickest, hi, std::nullopt};
     // Counts below `fitting` are taken, from `refused` up refused (or past the thinnest plan).
     std::size_t fitting = printed_count(planner, thickest);
     std::size_t refused = printed_count(planner, planner.plan(0, false, false)) + 1;
