@@ -414,7 +414,8 @@ struct PlannedProgram {
 // While the program's estimate is over the budget and the plan fitted its own (else no plan
 // does, and the thickest layers were taken), the part is planned again as --max-layers plans
 // it, in fewer layers than the first plan: as many fewer as the program's excess takes at its
-// mean time per layer (at least one), then twice as many each time, and its program timed.
+// mean time per layer (at least one), then each time the current program's excess more, or
+// twice as many if that is more, and its program timed.
 // Raising the estimates by the shortfall seen and planning again by them instead took the
 // bunny from 219 layers to 206 (1 h 17 min 53 s), and cost the whole search again. The plan
 // line then says the program's estimate; the program's summary goes to the writer in
@@ -438,8 +439,9 @@ std::optional<PlannedProgram> keep_time_budget(const SliceOptions& options, cons
   int replans = 0;
   for (; replans < kBudgetReplans && seconds > budget && fitted_its_own; ++replans) {
     if (!first) first = PlannedProgram{result.layers, *printed.timed};
+    // The excess is the current plan's, which already has `fewer` layers fewer than the first.
     const auto excess = static_cast<std::size_t>(std::ceil((seconds - budget) / seconds * result.layers.size()));
-    fewer = std::max({fewer * 2, excess, std::size_t{1}});
+    fewer = std::max({fewer * 2, fewer + excess, std::size_t{1}});
     if (fewer >= first_count) break;
     SliceOptions counted = options;
     counted.adaptive.max_seconds = 0;
