@@ -117,6 +117,14 @@ std::vector<Paths> islands(const Paths& region);
 Paths offset(const Paths& region, double delta, ClipperLib::JoinType join = ClipperLib::jtMiter,
              double miter_limit = 3.0);
 
+// offset(region, delta, join, miter_limit).empty(), without the union where a point is found
+// that the raw loops the offset is made of wind round once or more, clear of their edges (an
+// outer loop's centroid, in a part wide enough): that point lies in the offset. Elsewhere the
+// offset itself. Cost: the raw loops and a pass over their edges per point tried, a fraction
+// of the offset's where that settles it.
+bool offset_is_empty(const Paths& region, double delta, ClipperLib::JoinType join = ClipperLib::jtMiter,
+                     double miter_limit = 3.0);
+
 // Clipper's union with the positive rule of one loop that runs CCW and crosses itself in
 // folds, such as an offset's raw loop where it went back through vertices (folds that may
 // nest and share edges): into `out`, point for point and from the same start as

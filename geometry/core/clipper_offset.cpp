@@ -809,26 +809,30 @@ bool union_of_folded_loop(const Path& raw, Path& out) {
   return cut_folds(raw, crossings, out) || traced_boundary(raw, crossings, out);
 }
 
-Paths offset(const Paths& region, double delta, ClipperLib::JoinType join, double miter_limit) {
-  if (region.empty()) return {};
-  // Loops are taken as they come, outer loops positive and holes negative (ClipperOffset
-  // turns them all over when the loop with the lowest vertex runs the other way: after a
-  // simplification a speck of a hole can lie there, outside the outer loop, and the region
-  // came out inside out). Left out: loops of next to no area, and loops the offset closes
-  // (holes when growing, outer loops when shrinking) that are no more than twice the
-  // distance across, so that no disc of that radius fits in them. Inside the region they
-  // would make nothing; a speck of a hole outside it, turned inside out by growing, would
-  // add its own speck.
-  const double units = delta * kClipperScale;
-  // The loops kept: the region's own, or where one repeats a point, a copy without (reserved,
-  // so that pointers into it hold); and whether each is an outer loop (its area is the
-  // same with or without the repeats: a repeated point adds an edge of no area).
+namespace {
+
+// The loops an offset by `units` takes (see offset): the region's own, or where one repeats a
+// point, a copy without (in `cleaned`, reserved, so that pointers into it hold); and whether
+// each is an outer loop (its area is the same with or without the repeats: a repeated point
+// adds an edge of no area). Filled in place: the pointers are into `region` and `cleaned`.
+struct OffsetLoops {
   std::vector<const Path*> loops;
   std::vector<char> outer;
   Paths cleaned;
-  loops.reserve(region.size());
-  outer.reserve(region.size());
-  cleaned.reserve(region.size());
+};
+
+// Loops are taken as they come, outer loops positive and holes negative (ClipperOffset
+// turns them all over when the loop with the lowest vertex runs the other way: after a
+// simplification a speck of a hole can lie there, outside the outer loop, and the region
+// came out inside out). Left out: loops of next to no area, and loops the offset closes
+// (holes when growing, outer loops when shrinking) that are no more than twice the
+// distance across, so that no disc of that radius fits in them. Inside the region they
+// would make nothing; a speck of a hole outside it, turned inside out by growing, would
+// add its own speck.
+void take_loops(const Paths& region, double units, OffsetLoops& taken) {
+  taken.loops.reserve(region.size());
+  taken.outer.reserve(region.size());
+  taken.cleaned.reserve(region.size());
   for (const Path& path : region) {
     const double area = ClipperLib::Area(path);
     if (std::abs(area) < kNoArea) continue;
@@ -840,7 +844,7 @@ Paths offset(const Paths& region, double delta, ClipperLib::JoinType join, doubl
                                              std::adjacent_find(path.begin(), path.end()) != path.end());
     const Path* loop = &path;
     if (repeats) {
-      Path& clean = cleaned.emplace_back();
+      Path& clean = taken.cleaned.emplace_back();
       clean.reserve(path.size());
       for (const auto& p : path) {
         if (clean.empty() || !(p == clean.back())) clean.push_back(p);
@@ -849,9 +853,38 @@ Paths offset(const Paths& region, double delta, ClipperLib::JoinType join, doubl
       loop = &clean;
     }
     if (loop->size() < 3) continue;
-    loops.push_back(loop);
-    outer.push_back(area > 0);
+    taken.loops.push_back(loop);
+    taken.outer.push_back(area > 0);
   }
+}
+
+// The raw offsets of the loops (raw_offset), repeated points dropped, into `raw`; whether one
+// went back through a vertex or was left with fewer than 3 points.
+bool raw_loops(const std::vector<const Path*>& loops, const Joins& joins, Paths& raw) {
+  raw.assign(loops.size(), Path{});
+  std::vector<Normal> normal;
+  std::vector<double> length;
+  bool back = false;
+  for (std::size_t l = 0; l < loops.size(); ++l) {
+    Path& out = raw[l];
+    out.reserve(2 * loops[l]->size());
+    back = raw_offset(*loops[l], joins, out, normal, length) || back;
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    while (out.size() > 1 && out.front() == out.back()) out.pop_back();
+    back = back || out.size() < 3;
+  }
+  return back;
+}
+
+}  // namespace
+
+Paths offset(const Paths& region, double delta, ClipperLib::JoinType join, double miter_limit) {
+  if (region.empty()) return {};
+  const double units = delta * kClipperScale;
+  OffsetLoops taken;
+  take_loops(region, units, taken);
+  const std::vector<const Path*>& loops = taken.loops;
+  const std::vector<char>& outer = taken.outer;
   if (loops.empty()) return {};
   ClipperLib::Clipper engine;
   if (units == 0) {
@@ -861,18 +894,8 @@ Paths offset(const Paths& region, double delta, ClipperLib::JoinType join, doubl
     // stand (a region with no narrow part the offset closes): checked, that costs a
     // fraction of the union.
     const Joins joins = joins_for(join, units, miter_limit);
-    Paths raw(loops.size());
-    std::vector<Normal> normal;
-    std::vector<double> length;
-    bool back = false;
-    for (std::size_t l = 0; l < loops.size(); ++l) {
-      Path& out = raw[l];
-      out.reserve(2 * loops[l]->size());
-      back = raw_offset(*loops[l], joins, out, normal, length) || back;
-      out.erase(std::unique(out.begin(), out.end()), out.end());
-      while (out.size() > 1 && out.front() == out.back()) out.pop_back();
-      back = back || out.size() < 3;
-    }
+    Paths raw;
+    const bool back = raw_loops(loops, joins, raw);
     if (!back && already_a_region(raw, outer)) return raw;
     // One loop that went back through vertices: Clipper's union of it is, more often than not,
     // the loop with its folds cut off (union_of_folded_loop), found for a fraction of the cost.
@@ -897,6 +920,66 @@ Paths offset(const Paths& region, double delta, ClipperLib::JoinType join, doubl
   engine.Execute(ClipperLib::ctUnion, result, ClipperLib::pftNegative, ClipperLib::pftNegative);
   if (!result.empty()) result.erase(result.begin());
   return result;
+}
+
+namespace {
+
+// Whether p lies where the loops wind once or more, more than 4 units from every edge: in
+// their union with the positive rule wherever Clipper rounds its crossings (within a unit).
+bool wound_clear(const Paths& loops, const ClipperLib::IntPoint& p) {
+  constexpr double kClear2 = 16;  // units^2
+  const Vec2 q{double(p.X), double(p.Y)};
+  int w = 0;
+  for (const Path& loop : loops) {
+    for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
+      const auto& a = loop[i];
+      const auto& b = loop[i + 1 < n ? i + 1 : 0];
+      if (!(squared_distance_to_segment(q, {double(a.X), double(a.Y)}, {double(b.X), double(b.Y)}) > kClear2)) {
+        return false;
+      }
+    }
+    w += winding(loop, p);
+  }
+  return w >= 1;
+}
+
+// The centroid of a loop, rounded to units; none for a loop of no area.
+std::optional<ClipperLib::IntPoint> centroid(const Path& loop) {
+  const ClipperLib::IntPoint o = loop.front();
+  double a2 = 0, cx = 0, cy = 0;
+  for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
+    const double x0 = double(loop[i].X - o.X), y0 = double(loop[i].Y - o.Y);
+    const auto& b = loop[i + 1 < n ? i + 1 : 0];
+    const double x1 = double(b.X - o.X), y1 = double(b.Y - o.Y);
+    const double c = x0 * y1 - x1 * y0;
+    a2 += c;
+    cx += (x0 + x1) * c;
+    cy += (y0 + y1) * c;
+  }
+  if (!(std::abs(a2) > 0)) return std::nullopt;
+  return ClipperLib::IntPoint{o.X + rounded_units(cx / (3 * a2)), o.Y + rounded_units(cy / (3 * a2))};
+}
+
+}  // namespace
+
+bool offset_is_empty(const Paths& region, double delta, ClipperLib::JoinType join, double miter_limit) {
+  const double units = delta * kClipperScale;
+  if (region.empty()) return true;
+  if (units == 0) return offset(region, delta, join, miter_limit).empty();
+  OffsetLoops taken;
+  take_loops(region, units, taken);
+  if (taken.loops.empty()) return true;
+  // The raw loops wind once or more round a point clear of them: then the union the offset
+  // is made of (or the loops themselves, where they are it) holds that point. The points
+  // tried: each outer loop's centroid, where a part wide enough is likely to be.
+  Paths raw;
+  raw_loops(taken.loops, joins_for(join, units, miter_limit), raw);
+  for (std::size_t l = 0; l < taken.loops.size(); ++l) {
+    if (!taken.outer[l]) continue;
+    const std::optional<ClipperLib::IntPoint> p = centroid(*taken.loops[l]);
+    if (p && wound_clear(raw, *p)) return false;
+  }
+  return offset(region, delta, join, miter_limit).empty();
 }
 
 bool proven_inside(const Paths& inner, const Paths& outer) {

@@ -400,7 +400,7 @@ clipper::Paths united(const std::vector<clipper::Paths>& piece_paths) {
 std::pair<clipper::Paths, clipper::Paths> split_narrow(const clipper::Paths& area, double width) {
   clipper::Paths whole, narrow;
   for (clipper::Paths& island : clipper::islands(area)) {
-    clipper::Paths& into = clipper::offset(island, -kNarrowStrip * width).empty() ? narrow : whole;
+    clipper::Paths& into = clipper::offset_is_empty(island, -kNarrowStrip * width) ? narrow : whole;
     into.insert(into.end(), island.begin(), island.end());
   }
   return {std::move(whole), std::move(narrow)};
