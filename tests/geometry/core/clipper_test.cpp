@@ -285,4 +285,85 @@ TEST_CASE("proven_inside_holds_where_every_point_is_inside_clear_of_the_edges") 
   CHECK(proven >= 20);
 }
 
+// offset_is_empty against offset(...).empty() and the closed form, on regions a shrink empties
+// in part or whole. Each `expect` is the closed form; both functions must agree with it.
+TEST_CASE("offset_is_empty_is_whether_the_offset_is_empty") {
+  const auto rect = [](double x0, double y0, double x1, double y1) {
+    return Loop{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
+  };
+  const auto check = [](const Region& r, double d, bool expect,
+                        ClipperLib::JoinType join = ClipperLib::jtMiter) {
+    CAPTURE(d);
+    CAPTURE(int(join));
+    const clipper::Paths region = geometry::to_clipper(r);
+    CHECK(clipper::offset(region, d, join).empty() == expect);
+    CHECK(clipper::offset_is_empty(region, d, join) == expect);
+  };
+
+  SUBCASE("a square of side s shrunk by d is empty where d >= s / 2") {
+    const Region square{{rect(0, 0, 10, 10)}};
+    for (double d : {-1.0, -4.9, 1.0}) check(square, d, false);
+    for (double d : {-5.1, -6.0}) check(square, d, true);
+    CHECK(clipper::offset_is_empty({}, -1));
+    CHECK_FALSE(clipper::offset_is_empty(geometry::to_clipper(square), 0));
+  }
+
+  SUBCASE("an annulus of width w shrunk by d is empty where 2 d > w") {
+    // Outer loop of circumradius 10, hole of circumradius 5 (720-gons: the width is 5 to
+    // within 2e-4 mm). The outer loop's centroid lies in the hole.
+    Loop hole = round_loop(0, 0, 720, [](double) { return 5.0; });
+    std::reverse(hole.begin(), hole.end());
+    const Region annulus{{round_loop(0, 0, 720, [](double) { return 10.0; }), hole}};
+    for (double d : {-0.5, -2.4, 0.5}) check(annulus, d, false);
+    // The shrunk outer loop (radius 7.4) and grown hole (7.6) pass each other without
+    // crossing: between them the raw loops wind -1, nowhere once or more.
+    for (double d : {-2.6, -4.0}) check(annulus, d, true);
+  }
+
+  SUBCASE("an L of width 1 whose arms vanish but whose corner stays") {
+    // Arms 10 mm long, 1 mm wide, meeting at the origin; the reflex vertex at (1, 1). Round
+    // joins: the shrink keeps the points at d or more from the boundary; the largest disc in
+    // the corner touches both outer sides and the reflex vertex, radius sqrt2 / (1 + sqrt2) =
+    // 0.586, so the arms (half width 0.5) vanish first. The L's centroid (2.9, 2.9) is outside it.
+    const Region l{{Loop{{0, 0}, {10, 0}, {10, 1}, {1, 1}, {1, 10}, {0, 10}}}};
+    check(l, -0.45, false, ClipperLib::jtRound);
+    check(l, -0.55, false, ClipperLib::jtRound);
+    check(l, -0.6, true, ClipperLib::jtRound);
+    // Mitred, the reflex vertex is a square corner: the L of width 1 - 2 d, empty past 0.5.
+    check(l, -0.45, false);
+    check(l, -0.55, true);
+    // A 3 mm corner block with arms 1 mm wide, shrunk by 0.75 mm (split_narrow's bead
+    // fraction at 1 mm): the arms vanish, the block's 1.5 mm square stays; past 1.5 it goes.
+    const Region block{{Loop{{0, 0}, {13, 0}, {13, 1}, {3, 1}, {3, 3}, {1, 3}, {1, 13}, {0, 13}}}};
+    check(block, -0.75, false);
+    check(block, -1.6, true);
+  }
+
+  SUBCASE("two disjoint squares of which one vanishes") {
+    // The small one first, so its centroid is the first point tried. Axis-aligned, a 1 mm
+    // square is left out of the offset as narrower than 2 d; turned 45 degrees (1.5 mm side,
+    // 2.12 mm across), it is kept and its raw loop turns over (the square of side 2 d - 1.5,
+    // winding -1 at its centroid).
+    const Loop turned{{21, -1.06066}, {22.06066, 0}, {21, 1.06066}, {19.93934, 0}};
+    for (const Loop& small : {rect(20, 0, 21, 1), turned}) {
+      const Region two{{small, rect(0, 0, 10, 10)}};
+      check(two, -0.3, false);
+      check(two, -1, false);
+      check(two, -4.9, false);
+      check(two, -5.1, true);
+    }
+  }
+
+  SUBCASE("raw loops that wind, with an empty union") {
+    // A square turned 45 degrees, side 3, shrunk by 2: every edge moves past the opposite
+    // one's, and Clipper's raw loop (folded_offset) is turned over, of negative area: it
+    // winds -1 round the centre and the union with the positive rule is empty.
+    const Loop turned{{0, -2.12132}, {2.12132, 0}, {0, 2.12132}, {-2.12132, 0}};
+    const clipper::Path loop = geometry::to_clipper(Region{{turned}})[0];
+    CHECK(ClipperLib::Area(folded_offset(loop, -2 * geometry::kClipperScale)) < 0);
+    check(Region{{turned}}, -2, true);
+    check(Region{{turned}}, -1.4, false);
+  }
+}
+
 }  // namespace clipper_test
