@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdint>
@@ -35,11 +36,93 @@ using geometry::LayerToolpaths;
 using geometry::PathRole;
 using geometry::Vec2;
 
+// std::round (halves away from zero) without its library call, the same double for every
+// input: below 2^52 the truncation t is exact and so is v - t (the fraction), and t +- 1 is
+// representable; from 2^52 up every double is whole (NaN and infinities pass through too).
+// The sign is kept, as std::round keeps it: -0.3 gives -0.
+double round_half_away(double v) {
+  if (!(std::abs(v) < 0x1p52)) return v;
+  const double t = std::copysign(static_cast<double>(static_cast<std::int64_t>(v)), v);
+  const double fraction = v - t;
+  if (fraction >= 0.5) return t + 1;
+  if (fraction <= -0.5) return t - 1;
+  return t;
+}
+
 // The resolution written: what the firmware reads is what we time.
-double round_to(double v, double unit) { return std::round(v / unit) * unit; }
+double round_to(double v, double unit) { return round_half_away(v / unit) * unit; }
 double mm(double v) { return round_to(v, 1e-3); }
 double filament_mm(double v) { return round_to(v, 1e-5); }
-double per_minute(double mm_per_s) { return std::max(1.0, std::round(mm_per_s * 60)); }
+double per_minute(double mm_per_s) { return std::max(1.0, round_half_away(mm_per_s * 60)); }
+
+// Room a number takes in the text at most: put_exact's 64 characters.
+constexpr std::size_t kNumberRoom = 64;
+
+// `units` of 10^-Decimals as fixed decimals without trailing zeros ("12.5", "0", "-0.8"),
+// written at `p`; returns the end.
+template <int Decimals>
+char* put_units(char* p, std::int64_t units) {
+  constexpr std::uint64_t kUnit = [] {
+    std::uint64_t u = 1;
+    for (int i = 0; i < Decimals; ++i) u *= 10;
+    return u;
+  }();
+  std::uint64_t u = static_cast<std::uint64_t>(units);
+  if (units < 0) {
+    *p++ = '-';
+    u = 0 - u;
+  }
+  p = std::to_chars(p, p + 20, u / kUnit).ptr;
+  std::uint64_t fraction = u % kUnit;
+  if (fraction == 0) return p;
+  int digits = Decimals;
+  for (; fraction % 10 == 0; fraction /= 10) --digits;
+  *p++ = '.';
+  char* const end = p + digits;
+  for (char* q = end; q != p; fraction /= 10) *--q = static_cast<char>('0' + fraction % 10);
+  return end;
+}
+
+// `v` as fmt's "{:.<decimals>f}" writes it, truncated to kNumberRoom characters, then
+// without trailing zeros (nor a bare point) and "-0" as "0"; at `p`, returns the end.
+char* put_exact(char* p, double v, int decimals) {
+  const auto result = fmt::format_to_n(p, kNumberRoom, "{:.{}f}", v, decimals);
+  std::size_t n = std::min(result.size, kNumberRoom);
+  if (decimals > 0) {
+    while (n > 0 && p[n - 1] == '0') --n;
+    if (n > 0 && p[n - 1] == '.') --n;
+  }
+  if (n == 2 && p[0] == '-' && p[1] == '0') {
+    p[0] = '0';
+    n = 1;
+  }
+  return p + n;
+}
+
+// `v` with Decimals fixed decimals, shortest form (put_exact's text), at `p`; returns the end.
+// Every number written is already rounded to its decimals (mm(), filament_mm(),
+// per_minute()), so it is a whole count of units: written from the integer, a fraction of
+// the instructions of formatting a double. It is the same text: with r = v * 10^Decimals
+// exactly and |r| < 2^33, the product `scaled` is within half an ulp, 2^-21 < 5e-7, of r; a
+// `scaled` more than 1e-6 from a half puts r less than 0.5 from `whole`, the integer that
+// correctly rounded decimal conversion (fmt) rounds r to. Values near a half, or larger,
+// go to put_exact.
+template <int Decimals>
+char* put_number(char* p, double v) {
+  constexpr double kScale = [] {
+    double s = 1;
+    for (int i = 0; i < Decimals; ++i) s *= 10;
+    return s;
+  }();
+  const double scaled = v * kScale;
+  if (std::abs(scaled) < 0x1p33) {
+    const double whole = round_half_away(scaled);
+    if (std::abs(std::abs(scaled - whole) - 0.5) > 1e-6) {
+      return put_units<Decimals>(p, static_cast<std::int64_t>(whole));
+    }
+  }
+  return put_exact(p, v, Decimals);
+}
 
 // Where the generated program goes: the clock, the text, or both (TeeSink).
 class Sink {
@@ -100,23 +183,29 @@ class TextSink final : public Sink {
     buffer_.push_back(';');
     write_line(text);
   }
+  // The line is written in place, into room made once for the longest it can be.
   void move(int g, const MoveWords& w) override {
-    buffer_.push_back('G');
-    buffer_.push_back(g == 0 ? '0' : '1');
-    word('X', w.x, 3);
-    word('Y', w.y, 3);
-    word('Z', w.z, 3);
-    word('E', w.e, 5);
-    word('F', w.f, 0);
-    end_line();
+    constexpr std::size_t kRoom = 2 + 5 * (2 + kNumberRoom) + 1;
+    buffer_.reserve(buffer_.size() + kRoom);
+    char* p = buffer_.data() + buffer_.size();
+    *p++ = 'G';
+    *p++ = g == 0 ? '0' : '1';
+    p = word<3>(p, 'X', w.x);
+    p = word<3>(p, 'Y', w.y);
+    p = word<3>(p, 'Z', w.z);
+    p = word<5>(p, 'E', w.e);
+    p = word<0>(p, 'F', w.f);
+    *p++ = '\n';
+    buffer_.resize(static_cast<std::size_t>(p - buffer_.data()));
+    ++lines_;
   }
   void layer_start(std::size_t layer, double z, double height) override {
     fmt::format_to(std::back_inserter(buffer_), ";LAYER:{}\n;Z:", layer);
-    number(z, 3);
+    number<3>(z);
     // The layer's own thickness, as PrusaSlicer writes it: a stack may mix thicknesses.
     constexpr std::string_view kHeight = "\n;HEIGHT:";
     buffer_.append(kHeight.data(), kHeight.data() + kHeight.size());
-    number(height, 3);
+    number<3>(height);
     ++lines_;
     end_line();
     if (!progress_lines_) return;
@@ -168,67 +257,18 @@ class TextSink final : public Sink {
   }
 
  private:
-  void word(char letter, const std::optional<double>& value, int decimals) {
-    if (!value) return;
-    buffer_.push_back(' ');
-    buffer_.push_back(letter);
-    number(*value, decimals);
+  template <int Decimals>
+  static char* word(char* p, char letter, const std::optional<double>& value) {
+    if (!value) return p;
+    *p++ = ' ';
+    *p++ = letter;
+    return put_number<Decimals>(p, *value);
   }
-  // Fixed decimals without trailing zeros ("12.5", "0", "-0.8"). Every number written is
-  // already rounded to its decimals (mm(), filament_mm(), per_minute()), so it is a whole
-  // count of units: written from the integer, a tenth of the instructions of formatting a
-  // double (a third of the writer's time went there). A value near a rounding tie, which
-  // the integer could round the other way, goes to fmt's exact formatting.
-  void number(double v, int decimals) {
-    static constexpr double kScale[] = {1, 10, 100, 1e3, 1e4, 1e5, 1e6};
-    if (decimals >= 0 && decimals < 7) {
-      const double scaled = v * kScale[decimals];
-      if (std::abs(scaled) < 1e15) {
-        const double whole = std::round(scaled);
-        if (std::abs(std::abs(scaled - whole) - 0.5) > 1e-6) {
-          integer_number(static_cast<std::int64_t>(whole), decimals);
-          return;
-        }
-      }
-    }
-    exact_number(v, decimals);
-  }
-  // `units` of 10^-decimals as fixed decimals without trailing zeros.
-  void integer_number(std::int64_t units, int decimals) {
-    char text[32];
-    char* end = text + sizeof text;
-    char* p = end;
-    const bool negative = units < 0;
-    std::uint64_t u = negative ? 0 - static_cast<std::uint64_t>(units) : static_cast<std::uint64_t>(units);
-    bool digits = false;  // a fraction digit written (trailing zeros are not)
-    for (int i = 0; i < decimals; ++i, u /= 10) {
-      const char digit = static_cast<char>('0' + u % 10);
-      if (digits || digit != '0') {
-        *--p = digit;
-        digits = true;
-      }
-    }
-    if (digits) *--p = '.';
-    do {
-      *--p = static_cast<char>('0' + u % 10);
-      u /= 10;
-    } while (u > 0);
-    if (negative) *--p = '-';
-    buffer_.append(p, end);
-  }
-  void exact_number(double v, int decimals) {
-    char text[64];
-    const auto result = fmt::format_to_n(text, sizeof text, "{:.{}f}", v, decimals);
-    std::size_t n = std::min(result.size, sizeof text);
-    if (decimals > 0) {
-      while (n > 0 && text[n - 1] == '0') --n;
-      if (n > 0 && text[n - 1] == '.') --n;
-    }
-    if (n == 2 && text[0] == '-' && text[1] == '0') {
-      text[0] = '0';
-      n = 1;
-    }
-    buffer_.append(text, text + n);
+  template <int Decimals>
+  void number(double v) {
+    buffer_.reserve(buffer_.size() + kNumberRoom);
+    char* const end = put_number<Decimals>(buffer_.data() + buffer_.size(), v);
+    buffer_.resize(static_cast<std::size_t>(end - buffer_.data()));
   }
   void end_line() {
     buffer_.push_back('\n');
