@@ -233,12 +233,51 @@ std::vector<Edge> net_edges(const std::vector<Edge>& edges) {
   return summed;
 }
 
+// Whether b lies on the line through a and c (exactly, on the grid): Clipper's test for a
+// vertex its output leaves out.
+bool collinear(IntPoint a, IntPoint b, IntPoint c) {
+  return static_cast<__int128>(b.X - a.X) * (c.Y - b.Y) ==
+         static_cast<__int128>(b.Y - a.Y) * (c.X - b.X);
+}
+
+// The loop without the vertices that lie on the line through their neighbours (a spike
+// folded back on itself too), as Clipper's union leaves them out; fewer than 3 left: empty.
+void drop_collinear(ClipperLib::Path& loop) {
+  std::size_t kept = 0;
+  for (const IntPoint p : loop) {
+    while (kept >= 2 && collinear(loop[kept - 2], loop[kept - 1], p)) --kept;
+    loop[kept++] = p;
+  }
+  loop.resize(kept);
+  // Round the join of the last vertex to the first.
+  std::size_t first = 0;
+  for (bool changed = true; changed && loop.size() - first >= 3;) {
+    changed = false;
+    const std::size_t n = loop.size();
+    if (collinear(loop[n - 2], loop[n - 1], loop[first])) {
+      loop.pop_back();
+      changed = true;
+    } else if (collinear(loop[n - 1], loop[first], loop[first + 1])) {
+      ++first;
+      changed = true;
+    }
+  }
+  if (loop.size() - first < 3) {
+    loop.clear();
+    return;
+  }
+  loop.erase(loop.begin(), loop.begin() + static_cast<std::ptrdiff_t>(first));
+}
+
 // The boundary of the facets' projections taken as a 2-chain (each facet counter-clockwise,
 // weight one; `edges` are their edges, add_edges), as closed paths: a shared edge is walked
 // once each way and cancels, so only the lower and upper contours and the silhouettes remain.
-// Their non-zero fill is the union of the projections, and Clipper sees a few hundred edges
-// instead of every facet. The edges are summed by their ends (net_edges), then sorted by
-// their start to walk them.
+// Their winding number at a point is the number of facets over it: never negative, positive
+// exactly on the union of the projections; and Clipper sees a few hundred edges instead of
+// every facet. The edges are summed by their ends (net_edges), then sorted by their start to
+// walk them; a vertex on the line through its neighbours is left out, as Clipper's union
+// leaves it out (where the paths bound their fill as they stand, the same loops as that
+// union's; the margin's mitres and the medial axis see every vertex).
 ClipperLib::Paths chain_boundary(const std::vector<Edge>& edges) {
   std::vector<std::pair<IntPoint, IntPoint>> remaining;  // directed, after cancelling
   for (const Edge& e : net_edges(edges)) {
@@ -285,6 +324,7 @@ ClipperLib::Paths chain_boundary(const std::vector<Edge>& edges) {
       used[next] = 1;
       at = remaining[next].second;
     }
+    drop_collinear(path);
     if (path.size() >= 3) paths.push_back(std::move(path));
   }
   return paths;
@@ -496,10 +536,21 @@ void add_grown(const ClipperLib::Paths& loops, double delta, ClipperLib::Paths& 
 // The footprint as Clipper's nesting (the tree must be the caller's: a PolyTree cannot be
 // copied).
 void footprint_tree(const Slab& slab, double margin, ClipperLib::PolyTree& tree) {
-  // The union of the projections, then grown by the margin in one offset: the same set as
-  // growing each facet first (the Minkowski sum distributes over the union). Facets seen
-  // edge-on (vertical walls) project to segments of no area and join the offset as open
-  // paths.
+  // The union of the projections grown by the margin, in one positive union of the boundary
+  // chains grown as they stand (add_grown), without their own union first. The same set: the
+  // grown chain (each edge shifted right by the margin, joined at the vertices) is, as a
+  // 1-chain, the chain itself plus, for each edge, the rectangle it sweeps to its right, plus
+  // at each left turn the mitre's wedge, minus at each right turn add_grown cuts short the
+  // small square that lies in both neighbouring edges' rectangles: so its winding number is
+  // the chain's (>= 0, > 0 exactly on the covered set) plus the rectangles' and wedges' (>= 0),
+  // positive on the covered set and within the margin of its boundary, which runs along the
+  // chain's edges with the outside on their right; nowhere else but in a mitre of a left turn
+  // inside the covered set within twice the margin of its boundary (up to 2 margins out, where
+  // the union's own corners mitre as far). Clipper's union rounded the chains' crossings to
+  // the grid: the two sets differ by about a unit along the boundary (slab_test checks it on
+  // a cone, a sphere and stacked overhangs; analyze's D and ΔV of bunny and models agree to 5
+  // digits). Facets seen edge-on (vertical walls) project to segments of no area and join the
+  // offset as open paths.
   std::vector<Edge> edges;
   edges.reserve(3 * slab.facets.size());
   ClipperLib::Paths edge_on;
@@ -533,15 +584,15 @@ void footprint_tree(const Slab& slab, double margin, ClipperLib::PolyTree& tree)
       edge_on.push_back(projected);
     }
   }
-  const ClipperLib::Paths covered = clipper::union_nonzero(chain_boundary(edges));
+  const ClipperLib::Paths boundary = chain_boundary(edges);
   const double margin_mm = std::max(margin, 0.0);
   if (!(margin_mm > 0)) {
-    clipper::union_nonzero_tree(covered, tree);
+    clipper::union_nonzero_tree(boundary, tree);
     return;
   }
   const double delta = margin_mm * kClipperScale;
   ClipperLib::Paths grown;
-  add_grown(covered, delta, grown);
+  add_grown(boundary, delta, grown);
   if (!edge_on.empty()) {
     ClipperLib::Paths open_lines, closed_lines;
     chain_segments(edge_on, open_lines, closed_lines);

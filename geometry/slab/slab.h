@@ -20,6 +20,11 @@
 // every point just outside the footprint is at least `margin` from the surface, so which side
 // is solid can be read there (boundary_pair.h). Facets thinner than 10 nm across in
 // projection count as seen edge-on. Bunny, 334 layers at 0.15 mm: 452 islands, 449 holes.
+// Cost: one Clipper union, of the facets' boundary chains grown as they stand (slab.cpp says
+// why that is the grown union of the projections, to a unit along the boundary); bunny best
+// slice at 0.15 mm: 1.09 G instructions of 11.69 G, where the chains' own union before
+// growing them cost 0.55 G more (and gave 4% fewer footprint vertices, which the medial
+// axis spends 0.12 G on).
 // Empty slab: empty footprint. The result is a valid Region (outer loops CCW, holes CW).
 #pragma once
 

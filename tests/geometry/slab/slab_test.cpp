@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "geometry/slicing/layer_stack.h"
+#include "geometry/core/clipper.h"
 #include "geometry/core/polygon.h"
 #include "geometry/slab/slab.h"
 #include "support/solids.h"
@@ -43,6 +44,38 @@ int count_ccw(const Region& r) {
   int n = 0;
   for (const Loop& l : r.loops) n += signed_area(l) > 0;
   return n;
+}
+
+// The footprint as its definition reads, from Clipper alone: every facet's projection turned
+// counter-clockwise, their non-zero union, grown by ClipperOffset (mitred, limit 2). For
+// slabs without edge-on facets.
+ClipperLib::Paths footprint_by_definition(const Slab& slab, double margin) {
+  ClipperLib::Paths projections;
+  for (const auto& facet : slab.facets) {
+    ClipperLib::Path projected;
+    for (const Vec3& v : facet) projected.push_back(to_clipper(Vec2{v.x, v.y}));
+    if (!ClipperLib::Orientation(projected)) ClipperLib::ReversePath(projected);
+    projections.push_back(std::move(projected));
+  }
+  return clipper::library_offset(clipper::union_nonzero(projections), margin, ClipperLib::jtMiter,
+                                 ClipperLib::etClosedPolygon, 0.25 / kClipperScale);
+}
+
+// Whether slab_footprint is the footprint by definition as a set, to Clipper's rounding: the
+// two differ by at most `units` Clipper units (nm) across their boundary on average, and
+// have as many loops. Checked on each slab of the stack that holds facets.
+void check_footprint_is_its_definition(const LayerStack& stack, double units) {
+  for (std::size_t i = 0; i < stack.size(); ++i) {
+    const Slab slab = slab_of(stack, i);
+    if (slab.facets.empty()) continue;
+    CAPTURE(i);
+    const ClipperLib::Paths expected = footprint_by_definition(slab, kFootprintMargin);
+    const Region footprint = slab_footprint(slab);
+    CHECK(footprint.loops.size() == expected.size());
+    const double apart =
+        clipper::area_mm2(clipper::symmetric_difference(to_clipper(footprint), expected));
+    CHECK(apart <= perimeter(from_clipper(expected)) * units / kClipperScale);
+  }
 }
 
 }  // namespace
@@ -200,6 +233,24 @@ TEST_CASE("footprint_is_the_same_whichever_way_facets_face") {
   CHECK(a_up == doctest::Approx(a_down));
   CHECK(a_up == doctest::Approx(6).epsilon(1e-2));
   CHECK(area(slab_footprint(up, 0)) == doctest::Approx(6));
+}
+
+TEST_CASE("footprint_is_the_grown_union_of_the_projections") {
+  // Each slab's boundary chains have no area of their own where facets overlap (the sphere's
+  // slab across its equator, seen from above and below; the overhangs that stack in one slab)
+  // and the footprint grows them without taking their union first: the same set (slab.h).
+  check_footprint_is_its_definition(
+      LayerStack(solids::cone(6, 15, 40).mesh, uniform_layers(15, 0.3)), 2);
+  check_footprint_is_its_definition(
+      LayerStack(solids::sphere(5, 48, 24, {0, 0, 5}).mesh, uniform_layers(10, 0.35, 0.35)), 2);
+  // Profile (rho, z): out, in, out and in again within each 0.4 mm layer, so the slab's
+  // facets cover the ground up to three times over, some seen from above, some from below.
+  const solids::Solid overhangs = solids::revolve(
+      {{0, 0}, {4, 0.05}, {2, 0.15}, {5, 0.25}, {3, 0.35}, {6, 0.45}, {2.5, 0.55}, {5.5, 0.7},
+       {1, 0.8}, {0, 0.8}},
+      36);
+  check_footprint_is_its_definition(LayerStack(overhangs.mesh, uniform_layers(0.8, 0.4)), 2);
+  check_footprint_is_its_definition(LayerStack(overhangs.mesh, uniform_layers(0.8, 0.1)), 2);
 }
 
 TEST_CASE("empty_slab_has_an_empty_footprint") {
