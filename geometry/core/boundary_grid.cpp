@@ -85,27 +85,47 @@ void BoundaryGrid::build() {
   // Counting sort of the segments into their cells' blocks: counted into cell_start_[c],
   // summed to each cell's end, then filled from the last segment down, so that each cell
   // lists its segments in increasing order and its start is left where its end was.
+  // Most segments lie in one cell (three in four on the bunny's sections): those are
+  // counted and placed by that cell's index alone, without the loops over a block (whose
+  // set-up cost more than the one increment), the build's instructions a fifth fewer.
   const std::size_t cells = static_cast<std::size_t>(nx_) * ny_;
   cell_start_.assign(cells + 1, 0);
-  std::vector<std::array<int, 4>> spans(segments_.size());  // each segment's block of cells
+  constexpr std::uint32_t kBlock = std::numeric_limits<std::uint32_t>::max();
+  struct Span {
+    std::uint32_t cell;  // the segment's one cell, or kBlock
+    int x0, y0, x1, y1;
+  };
+  std::vector<Span> spans(segments_.size());  // each segment's cell or block of cells
+  std::uint32_t* const start = cell_start_.data();
   for (std::size_t id = 0; id < segments_.size(); ++id) {
     const Segment2& s = segments_[id];
     const auto [x0, y0] = cell_of({std::min(s.a.x, s.b.x), std::min(s.a.y, s.b.y)});
     const auto [x1, y1] = cell_of({std::max(s.a.x, s.b.x), std::max(s.a.y, s.b.y)});
-    spans[id] = {x0, y0, x1, y1};
+    if (x0 == x1 && y0 == y1) {
+      const std::uint32_t c = static_cast<std::uint32_t>(y0 * nx_ + x0);
+      spans[id].cell = c;
+      ++start[c];
+      continue;
+    }
+    spans[id] = {kBlock, x0, y0, x1, y1};
     for (int y = y0; y <= y1; ++y) {
-      std::uint32_t* row = &cell_start_[static_cast<std::size_t>(y) * nx_];
+      std::uint32_t* row = start + static_cast<std::size_t>(y) * nx_;
       for (int x = x0; x <= x1; ++x) ++row[x];
     }
   }
-  for (std::size_t c = 1; c < cells; ++c) cell_start_[c] += cell_start_[c - 1];
-  cell_start_[cells] = cell_start_[cells - 1];
-  ids_.resize(cell_start_[cells]);
+  for (std::size_t c = 1; c < cells; ++c) start[c] += start[c - 1];
+  start[cells] = start[cells - 1];
+  ids_.resize(start[cells]);
+  std::uint32_t* const ids = ids_.data();
   for (std::uint32_t id = static_cast<std::uint32_t>(segments_.size()); id-- > 0;) {
-    const auto [x0, y0, x1, y1] = spans[id];
-    for (int y = y0; y <= y1; ++y) {
-      std::uint32_t* row = &cell_start_[static_cast<std::size_t>(y) * nx_];
-      for (int x = x0; x <= x1; ++x) ids_[--row[x]] = id;
+    const Span& span = spans[id];
+    if (span.cell != kBlock) {
+      ids[--start[span.cell]] = id;
+      continue;
+    }
+    for (int y = span.y0; y <= span.y1; ++y) {
+      std::uint32_t* row = start + static_cast<std::size_t>(y) * nx_;
+      for (int x = span.x0; x <= span.x1; ++x) ids[--row[x]] = id;
     }
   }
   // stamp_: on the first for_each_near.
@@ -136,60 +156,84 @@ bool BoundaryGrid::any_within(Vec2 p, double r) const {
   return false;
 }
 
+namespace {
+
+// What BoundaryGrid::nearest reads of a grid, handed to the ring search by value.
+struct GridCells {
+  const std::uint32_t* start;  // cell_start_
+  const std::uint32_t* ids;
+  const Segment2* segments;
+  Vec2 origin;
+  double cell;
+  int nx, ny;
+};
+
+// Cell c's segments nearer to p than best2, taken in the cell's order (the first of equally
+// near ones stays).
+inline void scan_cell(const GridCells& grid, std::size_t c, Vec2 p, double& best2,
+                      std::uint32_t& segment) {
+  const std::uint32_t end = grid.start[c + 1];
+  for (std::uint32_t k = grid.start[c]; k < end; ++k) {
+    const std::uint32_t id = grid.ids[k];
+    const double d2 = distance_squared_to_segment(p, grid.segments[id]);
+    if (d2 < best2) {
+      best2 = d2;
+      segment = id;
+    }
+  }
+}
+
+// Whether the block of cells within ring r of (cx, cy) holds the nearest segment: all
+// beyond ring r is outside the block round p's (clamped) cell, at least r cells away and as
+// far as p is from the block's sides when p is inside it; or the block is the whole grid.
+inline bool settled(const GridCells& grid, Vec2 p, int cx, int cy, int r, double best2) {
+  const int x0 = cx - r, x1 = cx + r, y0 = cy - r, y1 = cy + r;
+  const double cell = grid.cell;
+  const double left = p.x - (grid.origin.x + x0 * cell), right = grid.origin.x + (x1 + 1) * cell - p.x;
+  const double below = p.y - (grid.origin.y + y0 * cell), above = grid.origin.y + (y1 + 1) * cell - p.y;
+  const double reach = std::max(r * cell, std::min({left, right, below, above}));
+  if (best2 <= reach * reach) return true;
+  return x0 <= 0 && y0 <= 0 && x1 >= grid.nx - 1 && y1 >= grid.ny - 1;
+}
+
+// The rings from ring 1 on, each clipped to the grid, in one order: its top and bottom rows
+// from left to right, then its sides from the top down. A call of its own, its arguments
+// made only where p's own cell does not settle the search (three in ten on the bunny's best
+// slice), so that the others stay short.
+__attribute__((noinline)) void scan_rings(const GridCells grid, Vec2 p, int cx, int cy,
+                                          double& best2, std::uint32_t& segment) {
+  const auto visit_cell = [&](int x, int y) {
+    if (x < 0 || y < 0 || x >= grid.nx || y >= grid.ny) return;
+    scan_cell(grid, static_cast<std::size_t>(y) * grid.nx + x, p, best2, segment);
+  };
+  for (int r = 1;; ++r) {
+    const int x0 = cx - r, x1 = cx + r, y0 = cy - r, y1 = cy + r;
+    for (int x = x0; x <= x1; ++x) {
+      visit_cell(x, y0);
+      visit_cell(x, y1);
+    }
+    for (int y = y0 + 1; y < y1; ++y) {
+      visit_cell(x0, y);
+      visit_cell(x1, y);
+    }
+    if (settled(grid, p, cx, cy, r, best2)) return;
+  }
+}
+
+}  // namespace
+
 BoundaryGrid::Nearest BoundaryGrid::nearest(Vec2 p) const {
   Nearest found{std::numeric_limits<double>::infinity(), Nearest::npos, p};
   if (segments_.empty()) return found;
   const auto [cx, cy] = cell_of(p);
+  const GridCells grid{cell_start_.data(), ids_.data(), segments_.data(), origin_, cell_, nx_, ny_};
   double best2 = std::numeric_limits<double>::infinity();
-  // Cell c's segments nearer to p than best2, taken in the cell's order (the first of equally
-  // near ones stays).
-  const auto scan_cell = [&](std::size_t c) {
-    const std::uint32_t end = cell_start_[c + 1];
-    for (std::uint32_t k = cell_start_[c]; k < end; ++k) {
-      const std::uint32_t id = ids_[k];
-      const double d2 = distance_squared_to_segment(p, segments_[id]);
-      if (d2 < best2) {
-        best2 = d2;
-        found.segment = id;
-      }
-    }
-  };
-  // Whether the block of cells within ring r of (cx, cy) holds the nearest segment: all
-  // beyond ring r is outside the block round p's (clamped) cell, at least r cells away and as
-  // far as p is from the block's sides when p is inside it; or the block is the whole grid.
-  const auto settled = [&](int r) {
-    const int x0 = cx - r, x1 = cx + r, y0 = cy - r, y1 = cy + r;
-    const double left = p.x - (origin_.x + x0 * cell_), right = origin_.x + (x1 + 1) * cell_ - p.x;
-    const double below = p.y - (origin_.y + y0 * cell_), above = origin_.y + (y1 + 1) * cell_ - p.y;
-    const double reach = std::max(r * cell_, std::min({left, right, below, above}));
-    if (best2 <= reach * reach) return true;
-    return x0 <= 0 && y0 <= 0 && x1 >= nx_ - 1 && y1 >= ny_ - 1;
-  };
-  // The rings from ring 1 on, each clipped to the grid, in one order: its top and bottom rows
-  // from left to right, then its sides from the top down. A call of its own, so that the
-  // searches p's own cell settles (seven in ten on the bunny's best slice) stay short.
-  const auto scan_rings = [&]() __attribute__((noinline)) {
-    const auto visit_cell = [&](int x, int y) {
-      if (x < 0 || y < 0 || x >= nx_ || y >= ny_) return;
-      scan_cell(static_cast<std::size_t>(y) * nx_ + x);
-    };
-    for (int r = 1;; ++r) {
-      const int x0 = cx - r, x1 = cx + r, y0 = cy - r, y1 = cy + r;
-      for (int x = x0; x <= x1; ++x) {
-        visit_cell(x, y0);
-        visit_cell(x, y1);
-      }
-      for (int y = y0 + 1; y < y1; ++y) {
-        visit_cell(x0, y);
-        visit_cell(x1, y);
-      }
-      if (settled(r)) return;
-    }
-  };
-  scan_cell(static_cast<std::size_t>(cy) * nx_ + cx);  // ring 0
-  if (!settled(0)) scan_rings();
+  std::uint32_t segment = Nearest::npos;
+  scan_cell(grid, static_cast<std::size_t>(cy) * nx_ + cx, p, best2, segment);  // ring 0
+  if (!settled(grid, p, cx, cy, 0, best2)) scan_rings(grid, p, cx, cy, best2, segment);
   found.distance = std::sqrt(best2);
-  found.foot = foot_on_segment(p, segments_[found.segment].a, segments_[found.segment].b);
+  found.segment = segment;
+  found.foot = foot_on_segment(p, segments_[segment].a, segments_[segment].b);
   return found;
 }
 

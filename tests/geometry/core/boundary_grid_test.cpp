@@ -99,4 +99,35 @@ TEST_CASE("any_within_on_a_360_gon_and_at_its_edges") {
   CHECK_FALSE(BoundaryGrid().any_within({0, 0}, 1e9));
 }
 
+TEST_CASE("winding_number_of_many_points_is_one_between_a_ring_s_circles_and_zero_elsewhere") {
+  // A disc of radius 10 with a hole of radius 4, as 360-gons: the grid's cells off the
+  // circles list no segment, and past its first queries the grid answers from them.
+  Loop outer, hole;
+  for (int k = 0; k < 360; ++k) {
+    const double a = k * std::numbers::pi / 180;
+    outer.push_back({10 * std::cos(a), 10 * std::sin(a)});
+    hole.push_back({4 * std::cos(-a), 4 * std::sin(-a)});
+  }
+  const BoundaryGrid grid(Region{{outer, hole}});
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> coordinate(-15, 15);
+  int inside = 0, outside = 0;
+  for (int i = 0; i < 5000; ++i) {
+    const Vec2 p{coordinate(random), coordinate(random)};
+    const double rho = std::hypot(p.x, p.y);
+    // Off the circles by more than the chords' sag (0.38 um on the outer one).
+    if (std::abs(rho - 10) < 1e-3 || std::abs(rho - 4) < 1e-3) continue;
+    double clearance = -1;
+    const int winding = grid.winding_number(p, &clearance);
+    const bool between = rho > 4 && rho < 10;
+    CHECK(winding == (between ? 1 : 0));
+    // A lower bound on the distance to the walls, and more than nothing off them.
+    CHECK(clearance <= std::min(std::abs(rho - 10), std::abs(rho - 4)) + 1e-3);
+    CHECK(clearance > 0);
+    (between ? inside : outside) += 1;
+  }
+  CHECK(inside > 1000);
+  CHECK(outside > 1000);
+}
+
 }  // namespace boundary_grid_test
