@@ -17,41 +17,48 @@ double distance_squared_to_segment(Vec2 p, const Segment2& s) {
 BoundaryGrid::BoundaryGrid(const Region& region) {
   std::size_t corners = 0;
   for (const Loop& loop : region.loops) corners += loop.size();
-  segments_.reserve(corners);
+  // A loop gives at most one segment per corner: they are written in place and the vector
+  // cut to them at the end (push_back's bookkeeping kept the loop's values out of registers).
+  segments_.resize(corners);
+  Segment2* const out = segments_.data();
+  std::size_t count = 0;
   for (const Loop& loop : region.loops) {
     const std::size_t n = loop.size();
     if (n < 2) continue;
+    const Vec2* const at = loop.data();
     // A vertex where the loop runs straight on (within a sine of 1e-12: 0.1 nm off the line
     // on a 10 cm edge) is no corner: its two edges are one segment. The segments join the
     // corners kept in turn, the last back to the first.
-    const std::size_t before = segments_.size();
+    const std::size_t before = count;
     std::size_t kept = 0;
     Vec2 first{}, last{};
-    Vec2 u = loop[0] - loop[n - 1];
+    Vec2 u = at[0] - at[n - 1];
     for (std::size_t i = 0; i < n; ++i) {
-      const Vec2 v = loop[i + 1 == n ? 0 : i + 1] - loop[i];
+      const Vec2 p = at[i];
+      const Vec2 v = at[i + 1 == n ? 0 : i + 1] - p;
       const double c = cross(u, v);  // squared, against squared lengths: no roots per vertex
       const bool straight = dot(u, v) > 0 && c * c <= 1e-24 * dot(u, u) * dot(v, v);
       u = v;
       if (straight) continue;
       if (kept++ == 0) {
-        first = loop[i];
-      } else if (!(last == loop[i])) {
-        segments_.push_back({last, loop[i]});
+        first = p;
+      } else if (!(last == p)) {
+        out[count++] = {last, p};
       }
-      last = loop[i];
+      last = p;
     }
     if (kept >= 2) {
-      if (!(last == first)) segments_.push_back({last, first});
+      if (!(last == first)) out[count++] = {last, first};
       continue;
     }
     // Fewer than two corners: every edge as it stands.
-    segments_.resize(before);
+    count = before;
     for (std::size_t i = 0; i < n; ++i) {
-      const Vec2 a = loop[i], b = loop[i + 1 == n ? 0 : i + 1];
-      if (!(a == b)) segments_.push_back({a, b});
+      const Vec2 a = at[i], b = at[i + 1 == n ? 0 : i + 1];
+      if (!(a == b)) out[count++] = {a, b};
     }
   }
+  segments_.resize(count);
   build();
 }
 
