@@ -63,13 +63,16 @@ Perimeters perimeters(const ClipperLib::Paths& whole, double width, int count) {
     // where the core pinched to a point, a mitre pokes out towards the edge, at most w/2
     // further than a round join would.
     clipper::Paths loops = clipper::offset(core, width / 2, ClipperLib::jtMiter, 2.0);
+    // Summed only until it reaches the least length: a sum of lengths never falls as it goes
+    // on, in floating point too, so a loop is kept exactly where its whole length would be.
+    const double least = kMinLoopLength * width;
     std::erase_if(loops, [&](const ClipperLib::Path& path) {
       double length = 0;
-      for (std::size_t i = 0; i < path.size(); ++i) {
+      for (std::size_t i = 0; i < path.size() && length < least; ++i) {
         const Vec2 d = from_clipper(path[(i + 1) % path.size()]) - from_clipper(path[i]);
         length += std::hypot(d.x, d.y);
       }
-      return length < kMinLoopLength * width;
+      return length < least;
     });
     if (loops.empty()) break;
     std::vector<ExtrusionPath> level;
