@@ -101,6 +101,14 @@ Paths clip_open_joined(const Paths& lines, const Paths& region);
 // Cost: a pass over the edges of both, and of the loops of each for one point of the other's.
 bool proven_inside(const Paths& inner, const Paths& outer);
 
+// Whether every point of the polylines `lines` (each also closed from its last point back to
+// its first) lies outside `region` (non-zero), on none of its edges: no edge of one meets an
+// edge of the other, and the region winds 0 times round each line's first point. Then
+// clip_open(lines, region) is nothing. A proof, not a test: false also where an edge crosses
+// more than 64 cells of the grid the edges are compared on. Empty lines or region: true.
+// Cost: a pass over the edges of both, and of the region's loops for each line's first point.
+bool proven_outside(const Paths& lines, const Paths& region);
+
 // Splits a region into islands: each outer loop with the holes directly inside it; an island
 // inside a hole is an island of its own. In the order Clipper's tree lists them.
 std::vector<Paths> islands(const Paths& region);

@@ -1,5 +1,5 @@
 // The toolpaths' offset (clipper.h): ClipperOffset's joins, most of its union left out; and
-// proven_inside, on the grid of edges the offset checks its loops on.
+// proven_inside and proven_outside, on the grid of edges the offset checks its loops on.
 #include "geometry/core/clipper.h"
 
 #include <algorithm>
@@ -1007,6 +1007,26 @@ bool proven_inside(const Paths& inner, const Paths& outer) {
     if (winding_of(inner, inner_boxes, outer[l][0]) != 0) return false;
   }
   const std::optional<bool> meet = sets_meet(inner, outer, overlap);
+  return meet && !*meet;
+}
+
+bool proven_outside(const Paths& lines, const Paths& region) {
+  if (lines.empty() || region.empty()) return true;
+  std::vector<ClipperLib::IntRect> region_boxes;
+  ClipperLib::IntRect lines_box = bounding_box(lines), region_box = bounding_box(Path{});
+  for (const Path& loop : region) add_to_box(region_box, region_boxes.emplace_back(bounding_box(loop)));
+  if (!boxes_meet(lines_box, region_box)) return true;
+  // Where no edges meet, each line lies on one side of the region's boundary, the side its
+  // first point is on. Tested first, as the cheaper: a point on an edge of the region may give
+  // any winding, but then edges meet, which is tested after.
+  for (const Path& line : lines) {
+    if (!line.empty() && winding_of(region, region_boxes, line[0]) != 0) return false;
+  }
+  const ClipperLib::IntRect overlap{std::max(lines_box.left, region_box.left),
+                                    std::max(lines_box.top, region_box.top),
+                                    std::min(lines_box.right, region_box.right),
+                                    std::min(lines_box.bottom, region_box.bottom)};
+  const std::optional<bool> meet = sets_meet(lines, region, overlap);
   return meet && !*meet;
 }
 

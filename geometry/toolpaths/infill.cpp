@@ -262,6 +262,9 @@ clipper::Paths edges_in_area(const Region& core_above, const clipper::Paths& are
     path.push_back(path.front());
     edges.push_back(std::move(path));
   }
+  // Loops that lie outside the area, clear of its edges (the core above round a sparse area
+  // that does not grow), have no piece in it: proven so, they cost the clip nothing.
+  if (clipper::proven_outside(edges, area)) return {};
   return clipper::clip_open_joined(edges, area);
 }
 

@@ -285,6 +285,63 @@ TEST_CASE("proven_inside_holds_where_every_point_is_inside_clear_of_the_edges") 
   CHECK(proven >= 20);
 }
 
+// A 20 mm square with a 2 mm square hole about (5, 5); lines are closed loops, as the core's
+// loops are clipped (last point = first).
+TEST_CASE("proven_outside_holds_where_every_point_of_the_lines_is_outside_clear_of_the_edges") {
+  const auto square = [](double x0, double y0, double x1, double y1) {
+    return Loop{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
+  };
+  const auto hole = [&](double x0, double y0, double x1, double y1) {
+    Loop loop = square(x0, y0, x1, y1);
+    std::reverse(loop.begin(), loop.end());
+    return loop;
+  };
+  const clipper::Paths region = geometry::to_clipper(Region{{square(-10, -10, 10, 10), hole(4, 4, 6, 6)}});
+  const auto closed = [](const Loop& loop) {
+    clipper::Path path = geometry::to_clipper(loop);
+    path.push_back(path.front());
+    return path;
+  };
+  const auto outside = [&](const clipper::Paths& lines) {
+    const bool holds = clipper::proven_outside(lines, region);
+    // Where proven, Clipper's clip of the lines is nothing.
+    if (holds) CHECK(clipper::clip_open(lines, region).empty());
+    return holds;
+  };
+  CHECK(outside({}));
+  CHECK(clipper::proven_outside({closed(square(0, 0, 1, 1))}, {}));
+  CHECK(outside({closed(square(-12, -12, 12, 12))}));           // round the square
+  CHECK(outside({closed(square(4.5, 4.5, 5.5, 5.5))}));         // in the hole
+  CHECK(outside({closed(square(20, 20, 21, 21)), closed(square(-12, -12, 12, 12))}));
+  CHECK(outside({clipper::Path{geometry::to_clipper(Vec2{-11, 0}), geometry::to_clipper(Vec2{-11, 5})}}));
+  CHECK_FALSE(outside({closed(square(-6, -6, -4, -4))}));       // inside
+  CHECK_FALSE(outside({closed(square(3, 3, 7, 7))}));           // round the hole, inside
+  CHECK_FALSE(outside({closed(square(9, 0, 11, 1))}));          // across the edge
+  CHECK_FALSE(outside({closed(square(10, 0, 11, 1))}));         // along it, outside
+  CHECK_FALSE(outside({closed(square(4, 4.5, 5, 5.5))}));       // along the hole's edge
+  CHECK_FALSE(outside({closed(square(20, 20, 21, 21)), closed(square(-1, -1, 1, 1))}));
+  // A line that leaves the square and comes back only by its closing edge.
+  CHECK_FALSE(outside({clipper::Path{geometry::to_clipper(Vec2{-11, 0}), geometry::to_clipper(Vec2{-11, 5}),
+                                     geometry::to_clipper(Vec2{0, 5})}}));
+
+  // Wavy loops about (-1, 1), 0.8 r to 1.2 r from it: round the whole square where 0.8 r is
+  // over 15.56 mm (its farthest corner, (10, -10)); inside it, or across the hole's edges
+  // (5.83 mm away at the nearest), where 1.2 r is under 9 (its nearest sides).
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> size(0.5, 30), phase(0, 2 * std::numbers::pi);
+  int proven = 0;
+  for (int k = 0; k < 200; ++k) {
+    const double r = size(random), p = phase(random);
+    const Loop wavy = round_loop(-1, 1, 90, [&](double a) { return r * (1 + 0.2 * std::sin(5 * a + p)); });
+    const bool holds = outside({closed(wavy)});
+    proven += holds;
+    INFO("radius " << r);
+    if (0.8 * r > 15.7) CHECK(holds);
+    if (1.2 * r < 9) CHECK_FALSE(holds);
+  }
+  CHECK(proven >= 20);
+}
+
 // offset_is_empty against offset(...).empty() and the closed form, on regions a shrink empties
 // in part or whole. Each `expect` is the closed form; both functions must agree with it.
 TEST_CASE("offset_is_empty_is_whether_the_offset_is_empty") {
