@@ -203,11 +203,15 @@ bool e_is_relative(const GcodeState& s) {
   return s.relative_e || (s.rules.e_relative_while_g91 && s.relative_xyz);
 }
 
-GcodeStep interpret_move(GcodeState& s, const MoveWords& words) {
+Motion move_motion(GcodeState& s, const MoveWords& words) {
   const AxisPosition from = machine_position(s);
   take_move_words(s, words);
+  return {from, machine_position(s), s.feedrate / 60.0};
+}
+
+GcodeStep interpret_move(GcodeState& s, const MoveWords& words) {
   GcodeStep step;
-  add_motion(step, from, machine_position(s), s.feedrate / 60.0);
+  step.motions[step.count++] = move_motion(s, words);
   return step;
 }
 

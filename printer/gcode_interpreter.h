@@ -134,6 +134,8 @@ GcodeStep interpret(GcodeState& state, const GcodeCommand& command);
 bool e_is_relative(const GcodeState& state);
 // A G0/G1 of these words.
 GcodeStep interpret_move(GcodeState& state, const MoveWords& words);
+// Its one motion alone, for a reader of moves only (the print clock, once per move).
+Motion move_motion(GcodeState& state, const MoveWords& words);
 
 // Where the planner has the nozzle and filament: the coordinates with the hop and the
 // retraction.

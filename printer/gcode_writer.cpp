@@ -36,17 +36,22 @@ using geometry::LayerToolpaths;
 using geometry::PathRole;
 using geometry::Vec2;
 
+// The integer nearest to `v`, halves to even, for |v| < 2^51: adding 1.5 * 2^52 leaves no
+// fraction bits, so the sum is rounded to an integer (in the default rounding mode) and the
+// difference back is exact.
+double nearest_even(double v) {
+  constexpr double kShift = 0x1.8p52;
+  return (v + kShift) - kShift;
+}
+
 // std::round (halves away from zero) without its library call, the same double for every
-// input: below 2^52 the truncation t is exact and so is v - t (the fraction), and t +- 1 is
-// representable; from 2^52 up every double is whole (NaN and infinities pass through too).
-// The sign is kept, as std::round keeps it: -0.3 gives -0.
+// input: nearest_even, whose v - r is exact, moved away from zero where it is a half, with
+// v's sign (std::round(-0.3) is -0). Beyond 2^51 (and NaN), std::round itself.
 double round_half_away(double v) {
-  if (!(std::abs(v) < 0x1p52)) return v;
-  const double t = std::copysign(static_cast<double>(static_cast<std::int64_t>(v)), v);
-  const double fraction = v - t;
-  if (fraction >= 0.5) return t + 1;
-  if (fraction <= -0.5) return t - 1;
-  return t;
+  if (!(std::abs(v) < 0x1p51)) return std::round(v);
+  double r = nearest_even(v);
+  if (std::abs(v - r) == 0.5) r = v + std::copysign(0.5, v);
+  return std::copysign(r, v);
 }
 
 // The resolution written: what the firmware reads is what we time.
@@ -57,6 +62,11 @@ double per_minute(double mm_per_s) { return std::max(1.0, round_half_away(mm_per
 
 // Room a number takes in the text at most: put_exact's 64 characters.
 constexpr std::size_t kNumberRoom = 64;
+
+constexpr char kDigitPairs[] =
+    "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
+    "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
+    "8081828384858687888990919293949596979899";
 
 // `units` of 10^-Decimals as fixed decimals without trailing zeros ("12.5", "0", "-0.8"),
 // written at `p`; returns the end.
@@ -75,12 +85,19 @@ char* put_units(char* p, std::int64_t units) {
   p = std::to_chars(p, p + 20, u / kUnit).ptr;
   std::uint64_t fraction = u % kUnit;
   if (fraction == 0) return p;
-  int digits = Decimals;
-  for (; fraction % 10 == 0; fraction /= 10) --digits;
+  // All Decimals digits, two at a time from the right, then the trailing zeros taken off
+  // (a digit is not zero, so the point stays).
   *p++ = '.';
-  char* const end = p + digits;
-  for (char* q = end; q != p; fraction /= 10) *--q = static_cast<char>('0' + fraction % 10);
-  return end;
+  char* q = p + Decimals;
+  char* const end = q;
+  for (int i = 0; i + 1 < Decimals; i += 2, fraction /= 100) {
+    q -= 2;
+    std::memcpy(q, kDigitPairs + 2 * (fraction % 100), 2);
+  }
+  if (Decimals % 2 == 1) *--q = static_cast<char>('0' + fraction);
+  char* last = end;
+  while (last[-1] == '0') --last;
+  return last;
 }
 
 // `v` as fmt's "{:.<decimals>f}" writes it, truncated to kNumberRoom characters, then
@@ -104,9 +121,9 @@ char* put_exact(char* p, double v, int decimals) {
 // per_minute()), so it is a whole count of units: written from the integer, a fraction of
 // the instructions of formatting a double. It is the same text: with r = v * 10^Decimals
 // exactly and |r| < 2^33, the product `scaled` is within half an ulp, 2^-21 < 5e-7, of r; a
-// `scaled` more than 1e-6 from a half puts r less than 0.5 from `whole`, the integer that
-// correctly rounded decimal conversion (fmt) rounds r to. Values near a half, or larger,
-// go to put_exact.
+// `scaled` more than 1e-6 from a half puts r less than 0.5 from `whole`, the integer nearest
+// to `scaled`, so `whole` is the integer that correctly rounded decimal conversion (fmt)
+// rounds r to. Values near a half, or larger, go to put_exact.
 template <int Decimals>
 char* put_number(char* p, double v) {
   constexpr double kScale = [] {
@@ -116,7 +133,7 @@ char* put_number(char* p, double v) {
   }();
   const double scaled = v * kScale;
   if (std::abs(scaled) < 0x1p33) {
-    const double whole = round_half_away(scaled);
+    const double whole = nearest_even(scaled);
     if (std::abs(std::abs(scaled - whole) - 0.5) > 1e-6) {
       return put_units<Decimals>(p, static_cast<std::int64_t>(whole));
     }

@@ -26,6 +26,7 @@
 #include "printer/motion_model.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <vector>
 #include <limits>
@@ -130,9 +131,15 @@ double junction_speed_sqr(const MotionLimits& lim, const std::array<double, 4>& 
   const double sin_half = std::sqrt(0.5 * (1.0 - cos_theta));
   double junction_sqr = junction_acceleration * lim.junction_deviation * sin_half / (1.0 - sin_half);
   if (length < 1.0 && cos_theta < -0.7071067812) {
-    // A short segment of a curve: no faster than the arc it approximates allows.
-    const double angle = std::acos(std::clamp(-cos_theta, -1.0, 1.0));
-    if (angle > 0) junction_sqr = std::min(junction_sqr, length * junction_acceleration / angle);
+    // A short segment of a curve: no faster than the arc it approximates allows. The turn
+    // is at most pi/4 here, where angle <= 1.03 * sqrt(2 * (1 - cos angle)) (1 - cos x =
+    // 2 sin^2(x/2), sin y >= 0.974 y for y <= pi/8): where the arc allows more than the
+    // junction even at 1.05 times that bound, the acos is not needed (the same minimum).
+    const double turn_bound = 1.05 * std::sqrt(2 * (1 + cos_theta));
+    if (!(length * junction_acceleration >= turn_bound * junction_sqr)) {
+      const double angle = std::acos(std::clamp(-cos_theta, -1.0, 1.0));
+      if (angle > 0) junction_sqr = std::min(junction_sqr, length * junction_acceleration / angle);
+    }
   }
   return junction_sqr;
 }
@@ -143,10 +150,12 @@ struct MotionModel::Planner {
   MotionLimits limits;
   std::size_t lookahead = 16;
   AxisPosition position;
-  // The open blocks, oldest first: a ring of lookahead + 1 (a push adds one before the oldest
-  // leaves), `count` of them from `head`.
+  // The open blocks, oldest first: a ring of at least lookahead + 1 (a push adds one before
+  // the oldest leaves), a power of two to wrap by a mask, `count` of them from `head`.
   std::vector<Block> ring;
+  std::size_t mask = 0;
   std::size_t head = 0, count = 0;
+  std::size_t blocks = 0;  // ever added
   double total = 0;
 
   // The last move that still shapes the next junction.
@@ -154,15 +163,13 @@ struct MotionModel::Planner {
   std::array<double, 4> previous_unit{};
   double previous_nominal_sqr = 0;
 
-  Block& open(std::size_t i) {
-    const std::size_t at = head + i;
-    return ring[at < ring.size() ? at : at - ring.size()];
-  }
+  Block& open(std::size_t i) { return ring[(head + i) & mask]; }
   const Block& open(std::size_t i) const { return const_cast<Planner*>(this)->open(i); }
 
   // Re-plans after `block` joins the open blocks as the newest, ending at rest.
   void add(const Block& block) {
     open(count++) = block;
+    ++blocks;
     if (count < 2) return;
     const std::size_t last = count - 1;
     Block& newest = open(last);
@@ -187,7 +194,7 @@ struct MotionModel::Planner {
   double finalize_oldest() {
     const double exit_sqr = count > 1 ? open(1).entry_sqr : 0.0;
     const double seconds = block_time(open(0), exit_sqr);
-    head = head + 1 < ring.size() ? head + 1 : 0;
+    head = (head + 1) & mask;
     --count;
     total += seconds;
     return seconds;
@@ -198,7 +205,8 @@ MotionModel::MotionModel(MotionLimits limits, std::size_t lookahead)
     : planner_(std::make_unique<Planner>()) {
   planner_->limits = limits;
   planner_->lookahead = std::max<std::size_t>(lookahead, 1);
-  planner_->ring.resize(planner_->lookahead + 1);
+  planner_->ring.resize(std::bit_ceil(planner_->lookahead + 1));
+  planner_->mask = planner_->ring.size() - 1;
 }
 
 MotionModel::~MotionModel() = default;
@@ -267,6 +275,7 @@ double MotionModel::pending_time() const {
   return seconds;
 }
 std::size_t MotionModel::pending() const { return planner_->count; }
+std::size_t MotionModel::blocks() const { return planner_->blocks; }
 const MotionLimits& MotionModel::limits() const { return planner_->limits; }
 void MotionModel::set_limits(const MotionLimits& limits) { planner_->limits = limits; }
 

@@ -54,6 +54,8 @@ class MotionModel {
   double pending_time() const;
   // Moves still open in the look-ahead window.
   std::size_t pending() const;
+  // Moves pushed so far that take time (a move of zero length does not count).
+  std::size_t blocks() const;
 
   const MotionLimits& limits() const;
   void set_limits(const MotionLimits& limits);  // M201/M203/M204 change them mid-print

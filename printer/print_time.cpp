@@ -22,21 +22,19 @@ void PrintClock::line(std::string_view text) {
 
 void PrintClock::drain() { model_.flush(); }
 
+// The model's position is always where the interpreter has the machine (every move starts
+// where the last ended, G28 and G92 set it), so its blocks are the moves that take time.
+void PrintClock::push(const Motion& move) {
+  model_.push(move.to, move.feedrate != 0 ? move.feedrate : kDefaultFeedrate);
+}
+
 void PrintClock::run(const GcodeStep& step) {
   if (step.homed) drain();
-  for (const Motion& move : step.moves()) {
-    // The same test the motion model makes for a move that takes time.
-    const double dx = move.to.x - move.from.x, dy = move.to.y - move.from.y,
-                 dz = move.to.z - move.from.z;
-    const double xyz = std::sqrt(dx * dx + dy * dy + dz * dz);
-    const double length = xyz > 0 ? xyz : std::abs(move.to.e - move.from.e);
-    if (length > 0 && std::isfinite(length)) ++moves_;
-    model_.push(move.to, move.feedrate != 0 ? move.feedrate : kDefaultFeedrate);
-  }
+  for (const Motion& move : step.moves()) push(move);
   if (step.position_set) model_.set_position(machine_position(state_));
 }
 
-void PrintClock::linear_move(const MoveWords& words) { run(interpret_move(state_, words)); }
+void PrintClock::linear_move(const MoveWords& words) { push(move_motion(state_, words)); }
 
 void PrintClock::command(const GcodeCommand& c) {
   run(interpret(state_, c));
@@ -54,7 +52,7 @@ double PrintClock::elapsed() const { return model_.total_time() + dwell_; }
 
 double PrintClock::modeled() const { return elapsed() + model_.pending_time(); }
 
-std::size_t PrintClock::moves_final() const { return moves_ - model_.pending(); }
+std::size_t PrintClock::moves_final() const { return model_.blocks() - model_.pending(); }
 
 double PrintClock::finish() {
   drain();

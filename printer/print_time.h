@@ -31,7 +31,7 @@ class PrintClock {
   // rest): elapsed() without the lag.
   double modeled() const;
   // Moves that take time: queued so far, and made final so far (their time is in elapsed()).
-  std::size_t moves_queued() const { return moves_; }
+  std::size_t moves_queued() const { return model_.blocks(); }
   std::size_t moves_final() const;
   // Drains the planner and returns the whole program's seconds so far.
   double finish();
@@ -42,10 +42,10 @@ class PrintClock {
  private:
   void drain();
   void run(const GcodeStep& step);
+  void push(const Motion& move);
   MotionModel model_;
   GcodeState state_;
   double dwell_ = 0;
-  std::size_t moves_ = 0;
 };
 
 // The estimate for a whole program's text.

@@ -155,6 +155,24 @@ TEST_CASE("short_segments_of_a_curve_are_held_to_arc_speed") {
   CHECK(model.flush() == doctest::Approx(2 * one).epsilon(1e-12));
 }
 
+TEST_CASE("a_short_segments_gentle_turn_is_held_by_junction_deviation_where_the_arc_allows_more") {
+  // Two 0.9 mm segments turning by 30 degrees, junction deviation 0.013 mm: v_j^2 = a * 0.013
+  // * s / (1 - s), s = cos 15 deg, about 368 (mm/s)^2, under the arc's a * 0.9 / (30 deg in
+  // rad), about 1719.
+  MotionModel model(plain_limits(1000));
+  const double angle = 30.0 * std::numbers::pi / 180.0;
+  model.push({0.9, 0, 0, 0}, 100);
+  model.push({0.9 + 0.9 * std::cos(angle), 0.9 * std::sin(angle), 0, 0}, 100);
+  const double s = std::cos(angle / 2);
+  const double vj_sqr = 1000 * 0.013 * s / (1 - s);
+  REQUIRE(1000 * 0.9 / angle > vj_sqr);
+  // Each segment is a triangle between rest and v_j: peak^2 = v_j^2 / 2 + a d.
+  const double peak = std::sqrt(vj_sqr / 2 + 1000 * 0.9);
+  const double one = peak / 1000 + (peak - std::sqrt(vj_sqr)) / 1000;
+  CHECK(model.flush() == doctest::Approx(2 * one).epsilon(1e-12));
+  CHECK(model.blocks() == 2);
+}
+
 TEST_CASE("full_lookahead_equals_one_long_move") {
   // Ten collinear 1 mm moves at 100 mm/s, 1000 mm/s^2, all in the window: one 10 mm triangle
   // peaking at exactly 100 mm/s, 2 * 10 / 100 = 0.2 s.
@@ -203,6 +221,7 @@ TEST_CASE("zero_length_move_takes_no_time") {
   model.set_position({3, 4, 5, 6});
   CHECK(model.push({3, 4, 5, 6}, 50) == 0);
   CHECK(model.pending() == 0);
+  CHECK(model.blocks() == 0);
   CHECK(model.flush() == 0);
   CHECK(model.total_time() == 0);
 }
