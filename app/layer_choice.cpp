@@ -110,6 +110,7 @@ LayerChoice choose_layers(const AdaptiveRequest& request, const printer::Printer
       };
     }
     options.contours = planning_strategies(printed);
+    options.printed = &printed;
     options.prints = prints_anything(machine, stack, printed);
     choice.planned_by = std::string(options.contours.front()->name);
     choice.printed = std::string(printed.name);
@@ -235,7 +236,11 @@ std::string budget_outcome(const LayerChoice& choice) {
                 ? fmt::format("; the most layers {} are {}, at the least tolerance within as many, {:.3g} mm",
                               budget, choice.layers.size(), plan.tolerance)
                 : fmt::format("; the least tolerance {} is {:.3g} mm", budget, plan.tolerance);
-    if (plan.cap > plan.tolerance) {
+    if (plan.cap_by_height) {
+      text += fmt::format(": layers up to {:.3g} mm but for the 5% of the height a by-height 95th "
+                          "percentile leaves out, at any thickness (the least such cap), where they "
+                          "take off more volume", plan.cap);
+    } else if (plan.cap > plan.tolerance) {
       text += fmt::format(": layers up to {:.3g} mm (that plan's P95h D less its thinnest layers "
                           "above it) where they take off more volume", plan.cap);
     }

@@ -8,7 +8,9 @@
 //     miss them, and the last layer ends at most the printer's step above a pointed top;
 //   - every layer above the first is within the tolerance, or the thinnest, or lands a level;
 //   - the top layer of a flat-topped sphere cap is within the tolerance;
-//   - the layer holding a flat level no allowed layer lands has the least D any plan gives it.
+//   - the layer holding a flat level no allowed layer lands has the least D any plan gives it;
+//   - a budget leaves over its cap only what its by-height 95th percentile leaves out, at the
+//     least percentile a plan reaches, where that prints no larger D.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -240,20 +242,27 @@ TEST_CASE("a_budget_caps_its_layers_at_the_95th_percentile_of_those_a_thinner_la
   }
 }
 
+namespace {
+
+// Vertical walls (D = 0 at any thickness) with two slopes leaning in between them: r 4 to 3
+// over [1.05, 1.13] mm and r 3 to 0.5 over [3.00, 3.15], then vertical to `top`.
+std::vector<Vec2> two_slopes(double top) {
+  return {{0, 0}, {4, 0}, {4, 1.05}, {3, 1.13}, {3, 3.0}, {0.5, 3.15}, {0.5, top}, {0, top}};
+}
+
+}  // namespace
+
 TEST_CASE("of_the_layers_a_budget_leaves_over_its_cap_the_plan_takes_those_least_far_over") {
-  // Vertical walls (D = 0 at any thickness) with two slopes leaning in between them: r 4 to 3
-  // over [1.05, 1.13] mm and r 3 to 0.5 over [3.00, 3.15]. One 0.15 mm layer holds each slope
-  // (two would put more height over the cap): [3.00, 3.15] for the second, D = 3 - 1.75 =
-  // 1.25; [1.00, 1.15] or [1.05, 1.20] for the first, cut at r 3.6875 and 3.0625, so D =
-  // 0.6875 cos(pi / 48) (the wall of r 3 above) and 0.9375 (the wall of r 4 below). Of the 3.7
-  // mm above the first layer, 0.15 (4.1%) is the first slope's and the rest D = 0 but the
-  // second's 0.15: the cap is the least tolerance, all but 0 (the second slope's layer, over the
-  // percentile, is left out of it), the ceiling 1.25, so both slopes' layers are over the cap,
-  // as high each way. The layer of D 0.9375 sweeps less volume; the one of D 0.686 is taken,
-  // the least far over the cap, in every budget under the most layers 3.7 mm holds, all
-  // spent (in 25, of 0.15 mm but for one 0.25 or two 0.2, [1.00, 1.15] cannot go with [3.00,
-  // 3.15], and the most layers come first).
-  const std::vector<Vec2> profile{{0, 0}, {4, 0}, {4, 1.05}, {3, 1.13}, {3, 3.0}, {0.5, 3.15}, {0.5, 4.0}, {0, 4.0}};
+  // Two slopes (two_slopes) to a top at 6.3 mm. One 0.15 mm layer holds each slope (two
+  // would put more height over the cap): [3.00, 3.15] for the second, D = 3 - 1.75 = 1.25;
+  // [1.00, 1.15] or [1.05, 1.20] for the first, cut at r 3.6875 and 3.0625, so D = 0.6875
+  // cos(pi / 48) (the wall of r 3 above) and 0.9375 (the wall of r 4 below). Of the 6.3 mm,
+  // 0.3 (4.8%) are the slopes' and the rest D = 0: the cap is the least tolerance, all but 0,
+  // the ceiling 1.25, and no plan has a lower by-height 95th percentile (0), so both slopes'
+  // layers are over the cap, as high each way. The layer of D 0.9375 sweeps less volume; the
+  // one of D 0.686 is taken, the least far over the cap, in every budget under the most layers
+  // 6 mm above the first holds (40), all spent.
+  const std::vector<Vec2> profile = two_slopes(6.3);
   const std::vector<Vec2> outer(profile.begin() + 1, profile.end() - 1);
   const double near = 0.6875 * std::cos(std::numbers::pi / kSides);
   REQUIRE(mid_distance(outer, 1.0, 1.15) == doctest::Approx(near).epsilon(1e-12));
@@ -263,12 +272,12 @@ TEST_CASE("of_the_layers_a_budget_leaves_over_its_cap_the_plan_takes_those_least
   const geometry::SweptVolume swept(part.mesh);
   REQUIRE(swept(1.05, 1.2) < swept(1.0, 1.15));
   const geometry::LayerStack stack(part.mesh, {});
-  for (std::size_t budget : {16, 20, 24}) {
+  for (std::size_t budget : {24, 28, 32}) {
     CAPTURE(budget);
     AdaptiveOptions options;
     options.max_layers = budget;
     const AdaptivePlan plan =
-        geometry::adaptive_plan(stack, 4.0, kUpPlus2, geometry::flat_levels(part.mesh), options);
+        geometry::adaptive_plan(stack, 6.3, kUpPlus2, geometry::flat_levels(part.mesh), options);
     REQUIRE(plan.layers.size() == budget);
     CHECK(plan.tolerance < 0.01);
     CHECK(plan.cap == plan.tolerance);
@@ -283,6 +292,119 @@ TEST_CASE("of_the_layers_a_budget_leaves_over_its_cap_the_plan_takes_those_least
     CHECK(plan.distance[over[0]] == doctest::Approx(near).epsilon(2e-3 / near));
     CHECK(plan.layers[over[1]].z_lo == doctest::Approx(3.0));
     CHECK(plan.layers[over[1]].z_hi == doctest::Approx(3.15));
+  }
+}
+
+TEST_CASE("a_budget_leaves_over_its_cap_the_share_of_the_height_its_95th_percentile_leaves_out") {
+  // The same slopes to a top at 4 mm: 5% of the height is 0.2 mm, so of the two slopes' 0.15
+  // mm layers only one may be over the by-height 95th percentile. The second's layer, D >=
+  // 1.25 however cut, is that one; the first slope must be held within the percentile. The
+  // least D of the layers holding it: [1.00, 1.15] 0.6875 cos(pi / 48), [1.05, 1.20] 0.9375,
+  // or a boundary inside it at 1.10 (r 3.375), with [0.95, 1.10] (or thicker below, its wall
+  // r 4) at (4 - 3.375) cos(pi / 48) = 0.625 cos(pi / 48) and [1.10, 1.25] (or thicker above,
+  // wall r 3) at 0.375: the least is 0.625 cos(pi / 48), the plan's percentile in every budget
+  // (the least tolerance's plan, both slopes' layers of 0.15 mm over its cap, 7.5% of the
+  // height, has 0.686), its largest D that plan's, 1.25, and its swept volume no more.
+  const std::vector<Vec2> profile = two_slopes(4.0);
+  const std::vector<Vec2> outer(profile.begin() + 1, profile.end() - 1);
+  const double least = 0.625 * std::cos(std::numbers::pi / kSides);
+  REQUIRE(mid_distance(outer, 0.95, 1.1) == doctest::Approx(least).epsilon(1e-12));
+  REQUIRE(mid_distance(outer, 1.1, 1.25) == doctest::Approx(0.375).epsilon(1e-12));
+  const solids::Solid part = solids::revolve(profile, kSides);
+  const geometry::LayerStack stack(part.mesh, {});
+  for (std::size_t budget : {16, 20, 24}) {
+    CAPTURE(budget);
+    AdaptiveOptions options;
+    options.max_layers = budget;
+    const AdaptivePlan plan =
+        geometry::adaptive_plan(stack, 4.0, kUpPlus2, geometry::flat_levels(part.mesh), options);
+    REQUIRE(plan.layers.size() <= budget);
+    CHECK(has_boundary(plan.layers, 1.1));
+    // The by-height 95th percentile of the closed-form D of every layer, the first's 0 too.
+    std::vector<std::pair<double, double>> by_d;
+    double total = 0, most = 0;
+    for (const Layer& l : plan.layers) {
+      const double d = mid_distance(outer, l.z_lo, l.z_hi);
+      by_d.push_back({d, l.z_hi - l.z_lo});
+      total += l.z_hi - l.z_lo;
+      most = std::max(most, d);
+    }
+    std::sort(by_d.begin(), by_d.end());
+    double covered = 0, percentile = 0;
+    for (const auto& [d, t] : by_d) {
+      covered += t;
+      percentile = d;
+      if (covered >= 0.95 * total * (1 - 1e-12)) break;
+    }
+    CHECK(percentile == doctest::Approx(least).epsilon(1e-9));
+    CHECK(most == doctest::Approx(1.25).epsilon(1e-9));
+    CHECK(plan.cap >= least - 2e-3);
+    for (std::size_t i = 1; i < plan.layers.size(); ++i) {
+      CAPTURE(plan.layers[i].z_lo);
+      CHECK(plan.distance[i] == doctest::Approx(mid_distance(outer, plan.layers[i].z_lo, plan.layers[i].z_hi)).epsilon(2e-3).scale(1));
+    }
+  }
+}
+
+namespace {
+
+// mid's section with its holes filled: a planning contour whose D bounds mid's from above,
+// loosely where the part has a hole (as mid's bounds best's, where mid fills a hole best keeps).
+geometry::ContourResult mid_holes_filled(const geometry::ContourInput& input) {
+  geometry::ContourResult result = geometry::contour_strategy("mid").contour(input);
+  std::erase_if(result.region.loops, [](const geometry::Loop& loop) { return geometry::signed_area(loop) < 0; });
+  return result;
+}
+const geometry::ContourStrategy kMidHolesFilled{"mid-holes-filled", "mid's section, holes filled", "#000000",
+                                                &mid_holes_filled, nullptr};
+
+}  // namespace
+
+TEST_CASE("a_budget_aims_at_its_by_height_percentile_only_with_no_larger_d_as_printed") {
+  // Planned by mid with holes filled, printed by mid: vertical walls of r 5 to 0.3 mm, a slope
+  // of run 1 per mm of height to r 2.3 at 3 mm, one of run 4 to r 1.3 at 3.25 mm, vertical to
+  // the top at 8.5 mm, and a cup of r 0.5 in the last 0.15 mm. The cup's layer, [8.35, 8.5],
+  // has a planned D of at least 1.3 cos(pi / 48) - 0.5 (its hole's walls to the filled
+  // section's) and a printed D of 0 (vertical walls). The steep slope is over the least
+  // tolerance's cap in every plan: its thinnest layers have D = 4 * 0.15 / 2 = 0.3 ([3.10,
+  // 3.25] or [3.05, 3.20]: r 1.9 to 1.3 or 2.1 to 1.5, cut at 1.6 or 1.8), 0.3 mm of the height
+  // with the cup's 0.15 (5.3% of 8.5 mm); a by-height cap leaves at most 5% over it with one
+  // thicker layer there ([3.00, 3.25], D = 2.3 - 1.8 = 0.5, or [3.00, 3.20], D = 0.4), whose
+  // planned D is under the cup's. Printed by the planning contour, that plan is taken (its
+  // largest D is the cup's either way); printed by mid it is not: no layer of the least
+  // tolerance's plan prints a D over 0.3.
+  const std::vector<Vec2> profile{{0, 0},      {5, 0},     {5, 0.3},     {2.3, 3.0},  {1.3, 3.25},
+                                  {1.3, 8.5}, {0.5, 8.5}, {0.5, 8.35}, {0, 8.35}};
+  const std::vector<Vec2> outer(profile.begin() + 1, profile.begin() + 6);
+  REQUIRE(mid_distance(outer, 3.1, 3.25) == doctest::Approx(0.3).epsilon(1e-12));
+  REQUIRE(mid_distance(outer, 3.05, 3.2) == doctest::Approx(0.3).epsilon(1e-12));
+  REQUIRE(mid_distance(outer, 3.0, 3.2) == doctest::Approx(0.4).epsilon(1e-12));
+  REQUIRE(mid_distance(outer, 3.0, 3.25) == doctest::Approx(0.5).epsilon(1e-12));
+  const solids::Solid part = solids::revolve(profile, kSides);
+  const geometry::LayerStack stack(part.mesh, {});
+  for (std::size_t budget : {24, 26}) {
+    CAPTURE(budget);
+    for (const bool by_mid : {false, true}) {
+      CAPTURE(by_mid);
+      AdaptiveOptions options;
+      options.max_layers = budget;
+      options.contours = {&kMidHolesFilled};
+      if (by_mid) options.printed = &geometry::contour_strategy("mid");
+      const AdaptivePlan plan =
+          geometry::adaptive_plan(stack, 8.5, kUpPlus2, geometry::flat_levels(part.mesh), options);
+      REQUIRE(plan.layers.size() <= budget);
+      CHECK(plan.ceiling >= 1.3 * std::cos(std::numbers::pi / kSides) - 0.5 - 2e-3);
+      double most = 0;  // printed by mid, the cup's layer (vertical walls) 0
+      for (std::size_t i = 1; i + 1 < plan.layers.size(); ++i) {
+        most = std::max(most, mid_distance(outer, plan.layers[i].z_lo, plan.layers[i].z_hi));
+      }
+      CHECK(plan.cap_by_height == !by_mid);
+      if (by_mid) {
+        CHECK(most == doctest::Approx(0.3).epsilon(1e-9));
+      } else {
+        CHECK(most >= 0.4 - 1e-9);
+      }
+    }
   }
 }
 
@@ -325,3 +447,4 @@ TEST_CASE("the_top_layer_of_a_flat_topped_sphere_cap_is_within_the_tolerance") {
 }
 
 }  // namespace plan_contract_test
+
