@@ -982,6 +982,16 @@ bool offset_is_empty(const Paths& region, double delta, ClipperLib::JoinType joi
   return offset(region, delta, join, miter_limit).empty();
 }
 
+namespace {
+
+// The box both boxes cover (of boxes that meet).
+ClipperLib::IntRect box_overlap(const ClipperLib::IntRect& a, const ClipperLib::IntRect& b) {
+  return {std::max(a.left, b.left), std::max(a.top, b.top), std::min(a.right, b.right),
+          std::min(a.bottom, b.bottom)};
+}
+
+}  // namespace
+
 bool proven_inside(const Paths& inner, const Paths& outer) {
   if (inner.empty()) return true;
   if (outer.empty()) return false;
@@ -991,10 +1001,7 @@ bool proven_inside(const Paths& inner, const Paths& outer) {
   for (const Path& loop : outer) add_to_box(outer_box, outer_boxes.emplace_back(bounding_box(loop)));
   if (!boxes_meet(inner_box, outer_box)) return false;
   // Where the boxes overlap: elsewhere no edge of one can meet an edge of the other.
-  const ClipperLib::IntRect overlap{std::max(inner_box.left, outer_box.left),
-                                    std::max(inner_box.top, outer_box.top),
-                                    std::min(inner_box.right, outer_box.right),
-                                    std::min(inner_box.bottom, outer_box.bottom)};
+  const ClipperLib::IntRect overlap = box_overlap(inner_box, outer_box);
   // Where no edges meet, each loop lies on one side of the other region's boundary: every loop
   // of `inner` inside `outer`, and no loop of `outer` inside `inner` (where a hole of outer, or
   // a part of its boundary, would lie in inner). Tested first, as the cheaper: a point on an
@@ -1022,10 +1029,7 @@ bool proven_outside(const Paths& lines, const Paths& region) {
   for (const Path& line : lines) {
     if (!line.empty() && winding_of(region, region_boxes, line[0]) != 0) return false;
   }
-  const ClipperLib::IntRect overlap{std::max(lines_box.left, region_box.left),
-                                    std::max(lines_box.top, region_box.top),
-                                    std::min(lines_box.right, region_box.right),
-                                    std::min(lines_box.bottom, region_box.bottom)};
+  const ClipperLib::IntRect overlap = box_overlap(lines_box, region_box);
   const std::optional<bool> meet = sets_meet(lines, region, overlap);
   return meet && !*meet;
 }
