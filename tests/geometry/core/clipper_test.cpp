@@ -31,6 +31,16 @@ Loop round_loop(double cx, double cy, int n, Radius r) {
   return loop;
 }
 
+// The axis-aligned square [x0, x1] x [y0, y1], CCW; hole(): the same, CW.
+Loop square(double x0, double y0, double x1, double y1) {
+  return Loop{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
+}
+Loop hole(double x0, double y0, double x1, double y1) {
+  Loop loop = square(x0, y0, x1, y1);
+  std::reverse(loop.begin(), loop.end());
+  return loop;
+}
+
 // Area of the symmetric difference, mm^2.
 double difference_area(const clipper::Paths& a, const clipper::Paths& b) {
   return clipper::area_mm2(clipper::difference(a, b)) + clipper::area_mm2(clipper::difference(b, a));
@@ -241,14 +251,6 @@ TEST_CASE("clip_open_joined_cuts_a_closed_line_only_where_it_crosses_the_edge") 
 
 TEST_CASE("proven_inside_holds_where_every_point_is_inside_clear_of_the_edges") {
   // A 20 mm square with a 2 mm square hole about (5, 5).
-  const auto square = [](double x0, double y0, double x1, double y1) {
-    return Loop{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
-  };
-  const auto hole = [&](double x0, double y0, double x1, double y1) {
-    Loop loop = square(x0, y0, x1, y1);
-    std::reverse(loop.begin(), loop.end());
-    return loop;
-  };
   const clipper::Paths outer = geometry::to_clipper(Region{{square(-10, -10, 10, 10), hole(4, 4, 6, 6)}});
   const auto inside = [&](const Region& inner) {
     return clipper::proven_inside(geometry::to_clipper(inner), outer);
@@ -288,14 +290,6 @@ TEST_CASE("proven_inside_holds_where_every_point_is_inside_clear_of_the_edges") 
 // A 20 mm square with a 2 mm square hole about (5, 5); lines are closed loops, as the core's
 // loops are clipped (last point = first).
 TEST_CASE("proven_outside_holds_where_every_point_of_the_lines_is_outside_clear_of_the_edges") {
-  const auto square = [](double x0, double y0, double x1, double y1) {
-    return Loop{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
-  };
-  const auto hole = [&](double x0, double y0, double x1, double y1) {
-    Loop loop = square(x0, y0, x1, y1);
-    std::reverse(loop.begin(), loop.end());
-    return loop;
-  };
   const clipper::Paths region = geometry::to_clipper(Region{{square(-10, -10, 10, 10), hole(4, 4, 6, 6)}});
   const auto closed = [](const Loop& loop) {
     clipper::Path path = geometry::to_clipper(loop);
