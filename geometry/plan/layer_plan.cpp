@@ -884,82 +884,8 @@ struct CountPlan {
   std::vector<std::uint32_t> path;
   double tolerance = 0;
   std::optional<Limits> limits;
+  bool by_height = false;  // limits' tolerance is a by-height cap (budget_by_height)
 };
-
-// The plan in at most `count` printed layers: the least tolerance whose plan has at most that
-// many, by bisection between 0 and `thickest`'s tolerance `hi` (the thickest plan's: a budget
-// it breaks gets it), then the least swept volume in at most `count` layers with no layer
-// above the first over that plan's largest D and every one over the cap (budget_limits)
-// counted first: the layers go where they take off the most volume, P95h D and max D no worse
-// than the least tolerance's.
-CountPlan plan_in_count(LazyPlanner& planner, std::size_t count, const std::vector<std::uint32_t>& thickest,
-                        double hi) {
-  CountPlan plan{thickest, hi, std::nullopt};
-  if (printed_count(planner, thickest) > count) return plan;
-  double lo = 0;
-  while (hi - lo > 1e-3 * std::max(1.0, hi) * 0.5) {
-    const double mid = 0.5 * (lo + hi);
-    std::vector<std::uint32_t> tried = planner.plan(mid, false, false);
-    if (printed_count(planner, tried) <= count) {
-      hi = mid;
-      plan.path = std::move(tried);
-    } else {
-      lo = mid;
-    }
-  }
-  plan.tolerance = hi;
-  planner.measure_exactly(plan.path, hi);
-  const Limits limits = planner.budget_limits(plan.path, hi);
-  std::vector<std::uint32_t> least = planner.plan_within(count, limits);
-  planner.measure_exactly(least, hi);
-  if (!least.empty()) plan.path = std::move(least), plan.limits = limits;
-  return plan;
-}
-
-// A budget's plan: for max_layers, plan_in_count's; for `fits` (a print time), the plan in
-// count of the most layers whose plan it accepts, by bisection on the count between the
-// thickest plan's and the thinnest layers' (a plan's time grows with its layers, nearly: a
-// least-error plan of more layers puts its thin layers where the part may be wider, and the
-// estimate samples its layers; the bisection finds a count the budget takes with the next one
-// refused). Bisecting on the tolerance instead, whose plans' times are further from
-// monotone, took 0.3997 mm on the bunny at --max-time 80min (211 layers; its least-error plan
-// in those did not fit, in 207 it did) where 0.3728 mm's least-error plan fits in 217 layers:
-// 3% of the budget left unspent, mean D 0.429 mm and total ΔV 174 mm³ against 0.408 and 163.
-// A budget even the thickest plan breaks gets that plan. Returns the path and the tolerance
-// reached; the cap and ceiling into `plan`.
-std::pair<std::vector<std::uint32_t>, double> budget_path(LazyPlanner& planner, const AdaptiveOptions& options,
-                                                          AdaptivePlan& plan) {
-  std::vector<std::uint32_t> thickest = planner.plan(INFINITY, false);
-  planner.measure_exactly(thickest, INFINITY);
-  // (Its thinnest layers, the fixed first one among them, are on it whatever the tolerance.)
-  double hi = 0;
-  for (std::uint32_t e : thickest) {
-    if (!planner.thinnest(e)) hi = std::max(hi, planner.exact(e));
-  }
-  hi += 1e-3;
-  CountPlan taken;
-  if (options.max_layers > 0) {
-    taken = plan_in_count(planner, options.max_layers, thickest, hi);
-  } else {
-    const auto fits = [&](const std::vector<std::uint32_t>& path) { return options.fits(layers_of(planner, path)); };
-    if (!fits(thickest)) return {std::move(thickest), hi};
-    taken = {thickest, hi, std::nullopt};
-    // Counts below `fitting` are taken, from `refused` up refused (or past the thinnest plan).
-    std::size_t fitting = printed_count(planner, thickest);
-    std::size_t refused = printed_count(planner, planner.plan(0, false, false)) + 1;
-    while (refused - fitting > 1) {
-      const std::size_t count = fitting + (refused - fitting) / 2;
-      CountPlan tried = plan_in_count(planner, count, thickest, hi);
-      if (printed_count(planner, tried.path) <= count && fits(tried.path)) {
-        fitting = count, taken = std::move(tried);
-      } else {
-        refused = count;
-      }
-    }
-  }
-  if (taken.limits) plan.cap = taken.limits->tolerance, plan.ceiling = taken.limits->most;
-  return {std::move(taken.path), taken.tolerance};
-}
 
 // A plan's layers that print (a fixed first one too: it is part of the height): the by-height
 // 95th percentile of their D (kByHeightShare), their total swept volume, and the share of
@@ -1017,21 +943,24 @@ bool prints_over(LazyPlanner& planner, const std::vector<std::uint32_t>& path, d
   return false;
 }
 
-// A layer budget's plan aimed at the by-height percentile itself (layer_plan.h): where `base`
-// leaves more than the share of the height the percentile leaves out (5%) over its cap, the
-// least cap between that cap and base's own percentile (to within 1% of the cap, bisected) at
+// A layer budget's plan aimed at the by-height percentile itself (layer_plan.h): where `plan`'s
+// path (`base`) leaves more than the share of the height the percentile leaves out (5%) over
+// its cap, the least cap between that cap and base's own percentile (to within 1% of the cap,
+// bisected) at
 // which the plan of the least height over it (Limits::by_height: over it at any thickness)
 // leaves at most that share over it; taken if its percentile is lower than base's, its largest
 // D as printed (printed_most: the planned one, a section's, may be far above it: the bottle's
 // punt, 11 mm planned by mid, 0.3 mm printed by best) and its total swept volume no more.
 // Each cap tried costs one least_swept_path and the measuring of the slabs new on it; the
 // comparison, the layers of either plan planned over the other's largest D as printed,
-// measured as printed.
-std::vector<std::uint32_t> budget_by_height(LazyPlanner& planner, std::size_t budget, double tolerance,
-                                            std::vector<std::uint32_t> base, AdaptivePlan& plan) {
-  const PathSummary was = summarize(planner, base, plan.cap);
+// measured as printed. Taken, it replaces `plan`'s path and cap.
+void budget_by_height(LazyPlanner& planner, std::size_t budget, CountPlan& plan) {
+  if (!plan.limits) return;
+  const std::vector<std::uint32_t>& base = plan.path;
+  const double tolerance = plan.tolerance, ceiling = plan.limits->most;
+  const PathSummary was = summarize(planner, base, plan.limits->tolerance);
   const auto at = [&](double cap) {
-    std::vector<std::uint32_t> path = planner.plan_within(budget, Limits{cap, plan.ceiling, true});
+    std::vector<std::uint32_t> path = planner.plan_within(budget, Limits{cap, ceiling, true});
     if (printed_count(planner, path) > budget) path.clear();
     if (!path.empty()) planner.measure_exactly(path, tolerance);
     return path;
@@ -1041,11 +970,11 @@ std::vector<std::uint32_t> budget_by_height(LazyPlanner& planner, std::size_t bu
   };
   // A plan within the share at its cap has its percentile there already: no lower one is
   // sought (the cap is at least the least tolerance).
-  if (!(was.over > 1 - kByHeightShare + 1e-9)) return base;
-  double lo = plan.cap, hi = was.percentile;
+  if (!(was.over > 1 - kByHeightShare + 1e-9)) return;
+  double lo = plan.limits->tolerance, hi = was.percentile;
   std::vector<std::uint32_t> best = at(hi);
-  if (!within(best, hi)) return base;
-  while (hi - lo > 0.01 * plan.cap) {
+  if (!within(best, hi)) return;
+  while (hi - lo > 0.01 * plan.limits->tolerance) {
     const double mid = 0.5 * (lo + hi);
     std::vector<std::uint32_t> tried = at(mid);
     if (within(tried, mid)) {
@@ -1055,11 +984,97 @@ std::vector<std::uint32_t> budget_by_height(LazyPlanner& planner, std::size_t bu
     }
   }
   const PathSummary now = summarize(planner, best, hi);
-  if (!(now.percentile < was.percentile) || now.swept > was.swept * (1 + 1e-9)) return base;
-  if (prints_over(planner, best, printed_most(planner, base))) return base;
-  plan.cap = hi;
-  plan.cap_by_height = true;
-  return best;
+  if (!(now.percentile < was.percentile) || now.swept > was.swept * (1 + 1e-9)) return;
+  if (prints_over(planner, best, printed_most(planner, base))) return;
+  plan.limits->tolerance = hi;
+  plan.by_height = true;
+  plan.path = std::move(best);
+}
+
+// The plan in at most `count` printed layers: the least tolerance whose plan has at most that
+// many, by bisection between 0 and `thickest`'s tolerance `hi` (the thickest plan's: a budget
+// it breaks gets it), then the least swept volume in at most `count` layers with no layer
+// above the first over that plan's largest D and every one over the cap (budget_limits)
+// counted first: the layers go where they take off the most volume, P95h D and max D no worse
+// than the least tolerance's; then budget_by_height's, where it takes one.
+CountPlan plan_in_count(LazyPlanner& planner, std::size_t count, const std::vector<std::uint32_t>& thickest,
+                        double hi) {
+  CountPlan plan{thickest, hi, std::nullopt};
+  if (printed_count(planner, thickest) > count) return plan;
+  double lo = 0;
+  while (hi - lo > 1e-3 * std::max(1.0, hi) * 0.5) {
+    const double mid = 0.5 * (lo + hi);
+    std::vector<std::uint32_t> tried = planner.plan(mid, false, false);
+    if (printed_count(planner, tried) <= count) {
+      hi = mid;
+      plan.path = std::move(tried);
+    } else {
+      lo = mid;
+    }
+  }
+  plan.tolerance = hi;
+  planner.measure_exactly(plan.path, hi);
+  const Limits limits = planner.budget_limits(plan.path, hi);
+  std::vector<std::uint32_t> least = planner.plan_within(count, limits);
+  planner.measure_exactly(least, hi);
+  if (!least.empty()) plan.path = std::move(least), plan.limits = limits;
+  budget_by_height(planner, count, plan);
+  return plan;
+}
+
+// A budget's plan: for max_layers, plan_in_count's; for `fits` (a print time), the plan in
+// count of the most layers whose plan it accepts, by bisection on the count between the
+// thickest plan's and the thinnest layers' (a plan's time grows with its layers, nearly: a
+// least-error plan of more layers puts its thin layers where the part may be wider, and the
+// estimate samples its layers; the bisection finds a count the budget takes with the next one
+// refused). Bisecting on the tolerance instead, whose plans' times are further from
+// monotone, took 0.3997 mm on the bunny at --max-time 80min (211 layers; its least-error plan
+// in those did not fit, in 207 it did) where 0.3728 mm's least-error plan fits in 217 layers:
+// 3% of the budget left unspent, mean D 0.429 mm and total ΔV 174 mm³ against 0.408 and 163.
+// Each count tried gets max_layers' plan, the by-height aim too, so that the count taken is
+// the most whose --max-layers plan fits, and a plan made again in fewer layers (app/slice.cpp's
+// keep_time_budget) is of the same kind: with the search's plans not aimed by height and the
+// replans aimed, the bunny at --max-time 80min fitted 219 layers by the estimate, whose
+// program was over, and took 211 after three replans (mean D 0.4056 mm, P95h D 0.6451, total
+// ΔV 164.30 mm³, by `mahost analyze`); neither aimed, 218 after one (0.4072, 0.6336, 162.41);
+// both aimed, 214 and no replan (0.4009, 0.6311, 162.31). The cap at --max-time 30min
+// (tests/bench/models/cap.scad): 71 layers aimed against 73 not (0.1357, 0.2336, 62.31
+// against 0.1320, 0.2569, 60.57), a by-height plan there taking longer per layer.
+// A budget even the thickest plan breaks gets that plan. Returns the path and the tolerance
+// reached; the cap and ceiling into `plan`.
+std::pair<std::vector<std::uint32_t>, double> budget_path(LazyPlanner& planner, const AdaptiveOptions& options,
+                                                          AdaptivePlan& plan) {
+  std::vector<std::uint32_t> thickest = planner.plan(INFINITY, false);
+  planner.measure_exactly(thickest, INFINITY);
+  // (Its thinnest layers, the fixed first one among them, are on it whatever the tolerance.)
+  double hi = 0;
+  for (std::uint32_t e : thickest) {
+    if (!planner.thinnest(e)) hi = std::max(hi, planner.exact(e));
+  }
+  hi += 1e-3;
+  CountPlan taken;
+  if (options.max_layers > 0) {
+    taken = plan_in_count(planner, options.max_layers, thickest, hi);
+  } else {
+    const auto fits = [&](const std::vector<std::uint32_t>& path) { return options.fits(layers_of(planner, path)); };
+    if (!fits(thickest)) return {std::move(thickest), hi};
+    taken = {thickest, hi, std::nullopt};
+    // Counts below `fitting` are taken, from `refused` up refused (or past the thinnest plan).
+    std::size_t fitting = printed_count(planner, thickest);
+    std::size_t refused = printed_count(planner, planner.plan(0, false, false)) + 1;
+    while (refused - fitting > 1) {
+      const std::size_t count = fitting + (refused - fitting) / 2;
+      CountPlan tried = plan_in_count(planner, count, thickest, hi);
+      if (printed_count(planner, tried.path) <= count && fits(tried.path)) {
+        fitting = count, taken = std::move(tried);
+      } else {
+        refused = count;
+      }
+    }
+  }
+  if (taken.limits) plan.cap = taken.limits->tolerance, plan.ceiling = taken.limits->most;
+  plan.cap_by_height = taken.by_height;
+  return {std::move(taken.path), taken.tolerance};
 }
 
 // Each layer of `path` into `plan`: its D and swept volume, and whether it is within the
@@ -1115,9 +1130,6 @@ AdaptivePlan adaptive_plan(const LayerStack& stack, double part_height,
     path = planner.plan(plan.tolerance, true);
   } else {
     std::tie(path, plan.tolerance) = budget_path(planner, options, plan);
-    if (options.max_layers > 0 && plan.cap > 0) {
-      path = budget_by_height(planner, options.max_layers, plan.tolerance, std::move(path), plan);
-    }
   }
   planner.measure_exactly(path, plan.tolerance);
   if (!path.empty() && !planner.printed(path.back())) path.pop_back();  // a tip no layer prints

@@ -40,8 +40,8 @@
 // thinnest and the most layers only among plans as good: the bunny's P95h D 0.442 to 0.467 mm
 // at 207 to 332 layers, not 0.456 to 0.599 (290 layers: 0.483 -> 0.442, under Cura's 0.469),
 // its ΔV up to 2.2% higher (207 layers: 130.8 -> 133.6 mm^3).
-// With max_layers, where that plan leaves more than 5% of its height (the fixed first layer
-// counted) over its cap, the cap aims at the by-height 95th percentile itself: the least cap
+// With max_layers (and for each count a print-time budget, `fits`, tries), where that plan
+// leaves more than 5% of its height (the fixed first layer counted) over its cap, the cap aims at the by-height 95th percentile itself: the least cap
 // (bisected between the cap and that plan's own whole percentile, to 1% of the cap) at which
 // the plan of the least height over it, at any thickness (no landing term, no excess ranked:
 // the 5% a percentile leaves out may hold thicker layers, which spend fewer of the budget's

@@ -10,12 +10,14 @@
 //   - the top layer of a flat-topped sphere cap is within the tolerance;
 //   - the layer holding a flat level no allowed layer lands has the least D any plan gives it;
 //   - a budget leaves over its cap only what its by-height 95th percentile leaves out, at the
-//     least percentile a plan reaches, where that prints no larger D.
+//     least percentile a plan reaches, where that prints no larger D;
+//   - a print-time budget takes the layer budget's plan of the count it fits.
 #include <doctest/doctest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <numeric>
 #include <vector>
 
 #include "geometry/analysis/layer_analysis.h"
@@ -250,6 +252,20 @@ std::vector<Vec2> two_slopes(double top) {
   return {{0, 0}, {4, 0}, {4, 1.05}, {3, 1.13}, {3, 3.0}, {0.5, 3.15}, {0.5, top}, {0, top}};
 }
 
+// The plan of `part`, `top` mm tall, in at most `budget` layers: a layer budget's
+// (max_layers), or with `by_time` a print-time budget's whose `fits` takes a plan of at most
+// `budget` layers (its bisection on the count then takes `budget`).
+AdaptivePlan plan_in_budget(const solids::Solid& part, double top, std::size_t budget, bool by_time = false) {
+  const geometry::LayerStack stack(part.mesh, {});
+  AdaptiveOptions options;
+  if (by_time) {
+    options.fits = [budget](const std::vector<Layer>& layers) { return layers.size() <= budget; };
+  } else {
+    options.max_layers = budget;
+  }
+  return geometry::adaptive_plan(stack, top, kUpPlus2, geometry::flat_levels(part.mesh), options);
+}
+
 }  // namespace
 
 TEST_CASE("of_the_layers_a_budget_leaves_over_its_cap_the_plan_takes_those_least_far_over") {
@@ -271,13 +287,9 @@ TEST_CASE("of_the_layers_a_budget_leaves_over_its_cap_the_plan_takes_those_least
   const solids::Solid part = solids::revolve(profile, kSides);
   const geometry::SweptVolume swept(part.mesh);
   REQUIRE(swept(1.05, 1.2) < swept(1.0, 1.15));
-  const geometry::LayerStack stack(part.mesh, {});
   for (std::size_t budget : {24, 28, 32}) {
     CAPTURE(budget);
-    AdaptiveOptions options;
-    options.max_layers = budget;
-    const AdaptivePlan plan =
-        geometry::adaptive_plan(stack, 6.3, kUpPlus2, geometry::flat_levels(part.mesh), options);
+    const AdaptivePlan plan = plan_in_budget(part, 6.3, budget);
     REQUIRE(plan.layers.size() == budget);
     CHECK(plan.tolerance < 0.01);
     CHECK(plan.cap == plan.tolerance);
@@ -311,13 +323,9 @@ TEST_CASE("a_budget_leaves_over_its_cap_the_share_of_the_height_its_95th_percent
   REQUIRE(mid_distance(outer, 0.95, 1.1) == doctest::Approx(least).epsilon(1e-12));
   REQUIRE(mid_distance(outer, 1.1, 1.25) == doctest::Approx(0.375).epsilon(1e-12));
   const solids::Solid part = solids::revolve(profile, kSides);
-  const geometry::LayerStack stack(part.mesh, {});
   for (std::size_t budget : {16, 20, 24}) {
     CAPTURE(budget);
-    AdaptiveOptions options;
-    options.max_layers = budget;
-    const AdaptivePlan plan =
-        geometry::adaptive_plan(stack, 4.0, kUpPlus2, geometry::flat_levels(part.mesh), options);
+    const AdaptivePlan plan = plan_in_budget(part, 4.0, budget);
     REQUIRE(plan.layers.size() <= budget);
     CHECK(has_boundary(plan.layers, 1.1));
     // The by-height 95th percentile of the closed-form D of every layer, the first's 0 too.
@@ -343,6 +351,34 @@ TEST_CASE("a_budget_leaves_over_its_cap_the_share_of_the_height_its_95th_percent
       CAPTURE(plan.layers[i].z_lo);
       CHECK(plan.distance[i] == doctest::Approx(mid_distance(outer, plan.layers[i].z_lo, plan.layers[i].z_hi)).epsilon(2e-3).scale(1));
     }
+  }
+}
+
+TEST_CASE("a_print_time_budget_takes_the_layer_budgets_plan_of_the_count_it_fits") {
+  // The slopes to a top at 4 mm, under a print-time budget that takes any plan of at most N
+  // layers: its search takes the count N, and a plan as good as max_layers N gives, aimed at
+  // the by-height percentile as above (a boundary at 1.10 mm; the walls' layers, D = 0 and no
+  // volume swept, may lie otherwise), so that a plan made again in fewer layers (app/slice.cpp's
+  // keep_time_budget, by max_layers) is of the kind the count was found by, and the count said
+  // is the most whose layer budget's plan fits.
+  const solids::Solid part = solids::revolve(two_slopes(4.0), kSides);
+  for (std::size_t budget : {16, 20, 24}) {
+    CAPTURE(budget);
+    const AdaptivePlan counted = plan_in_budget(part, 4.0, budget);
+    const AdaptivePlan timed = plan_in_budget(part, 4.0, budget, true);
+    REQUIRE(counted.cap_by_height);
+    CHECK(timed.cap_by_height);
+    CHECK(timed.cap == counted.cap);
+    CHECK(timed.layers.size() == counted.layers.size());
+    CHECK(has_boundary(timed.layers, 1.1));
+    // The layers' D over the walls' rounding (1e-16), by size.
+    const auto slopes = [](std::vector<double> d) {
+      std::erase_if(d, [](double v) { return v < 1e-9; });
+      return std::sort(d.begin(), d.end()), d;
+    };
+    CHECK(slopes(timed.distance) == slopes(counted.distance));
+    const auto total = [](const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0); };
+    CHECK(total(timed.swept) == doctest::Approx(total(counted.swept)).epsilon(1e-12));
   }
 }
 
