@@ -278,6 +278,12 @@ void drop_collinear(ClipperLib::Path& loop) {
 // walk them; a vertex on the line through its neighbours is left out, as Clipper's union
 // leaves it out (where the paths bound their fill as they stand, the same loops as that
 // union's; the margin's mitres and the medial axis see every vertex).
+// Measured (callgrind, bench_footprint, the bunny's 333 slabs at 0.15 mm) and not taken: the
+// paths depend on the order std::sort leaves the edges out of one point in, wherever two
+// leave it for different points (a pinch: 322 of the 333 slabs have one), so the sort stays;
+// walking the edges as cycles through a table of their starts where no point is a pinch
+// (the same paths) cost 12 M instructions more than it saved, and sorting packed 64-bit keys
+// with the same comparisons (the same order) 10 M more.
 ClipperLib::Paths chain_boundary(const std::vector<Edge>& edges) {
   std::vector<std::pair<IntPoint, IntPoint>> remaining;  // directed, after cancelling
   for (const Edge& e : net_edges(edges)) {
@@ -534,7 +540,12 @@ void add_grown(const ClipperLib::Paths& loops, double delta, ClipperLib::Paths& 
 }
 
 // The footprint as Clipper's nesting (the tree must be the caller's: a PolyTree cannot be
-// copied).
+// copied). Of its 1.09 G instructions in the bunny's best slice at 0.15 mm the union is
+// 0.65 G; there is nothing to drop before it: a facet inside the covered set has every edge
+// shared and cancels in the chains, which are only the lower and upper contours and the
+// silhouettes, all on the footprint's boundary but at folds; and other input (loops dropped,
+// the union split by boxes) can order its output loops or begin them elsewhere, which the
+// medial axis samples from.
 void footprint_tree(const Slab& slab, double margin, ClipperLib::PolyTree& tree) {
   // The union of the projections grown by the margin, in one positive union of the boundary
   // chains grown as they stand (add_grown), without their own union first. The same set: the
