@@ -68,6 +68,21 @@ IslandAxis island_axis(const BoundaryPair& pair, std::span<const char> solid,
   return axis;
 }
 
+// The mid section on Clipper's grid, converted once per layer, where something asks for it
+// (caps, walls, floating features, the mid section's replacements).
+class MiddleOnGrid {
+ public:
+  explicit MiddleOnGrid(const Region& middle) : middle_(middle) {}
+  const ClipperLib::Paths& paths() {
+    if (!paths_) paths_ = to_clipper(middle_);
+    return *paths_;
+  }
+
+ private:
+  const Region& middle_;
+  std::optional<ClipperLib::Paths> paths_;
+};
+
 // What the islands give before the layer's union: every island's paths (its axis loops, or
 // a cap's or a wall's section, to add with positive winding), the floating features' zones,
 // and the axes with their pockets.
@@ -78,7 +93,7 @@ struct IslandContours {
 };
 
 IslandContours island_contours(const Slab& slab, std::span<const BoundaryPair> pairs,
-                               const Region& middle,
+                               const Region& middle, MiddleOnGrid& middle_grid,
                                const std::function<Region(double z)>& cross_section,
                                const MaOptions& options, MaStats* stats) {
   IslandContours parts;
@@ -91,18 +106,18 @@ IslandContours island_contours(const Slab& slab, std::span<const BoundaryPair> p
     if (cap) {
       parts.only_axes = false;
       if (stats) ++stats->caps;
-      island = ma::cap_contour(slab, pair, solid[0] != 0, middle, cross_section);
+      island = ma::cap_contour(slab, pair, solid[0] != 0, middle_grid.paths(), cross_section);
     } else if (ma::is_wall(pair)) {
       // Lower contour = upper contour: the contour is that section, exactly (the axis of the
       // ring would be it to a fraction of the margin), without a triangulation.
       parts.only_axes = false;
       if (stats) ++stats->walls;
-      island = ma::section_in_island(middle, pair, solid[0] != 0);
+      island = ma::section_in_island(middle_grid.paths(), pair, solid[0] != 0);
     } else {
       parts.axes.push_back(island_axis(pair, solid, options, stats, options.pockets));
       for (const Loop& loop : parts.axes.back().loops) island.push_back(to_clipper(loop));
       if (options.floating_features && ma::may_float(pair, middle)) {
-        if (!nested) clipper::union_nonzero_tree(to_clipper(middle), middle_nesting);
+        if (!nested) clipper::union_nonzero_tree(middle_grid.paths(), middle_nesting);
         nested = true;
         ma::add_floating_features(pair, middle_nesting, parts.features, stats);
       }
@@ -197,7 +212,7 @@ std::size_t refine_pockets(const std::vector<IslandAxis>& axes, const Region& co
         with_middle = farther_of(*middle_walls, p, with_middle);
       }
       if (with_middle >= now - kRefineTolerance) continue;
-      zone.insert(zone.end(), pocket.triangles.begin(), pocket.triangles.end());
+      pocket.add_triangles(zone);
       ++refined;
     }
   }
@@ -232,7 +247,9 @@ Region ma_contour(const Slab& slab, std::span<const BoundaryPair> pairs,
   if (pairs.empty()) return {};
   const Region middle = cross_section(0.5 * (slab.z_lo + slab.z_hi));
   if (stats) stats->islands += pairs.size();
-  const IslandContours parts = island_contours(slab, pairs, middle, cross_section, options, stats);
+  MiddleOnGrid middle_grid(middle);
+  const IslandContours parts =
+      island_contours(slab, pairs, middle, middle_grid, cross_section, options, stats);
   Region basic = united_contour(parts);
   const bool any_pocket = std::any_of(parts.axes.begin(), parts.axes.end(), [](const IslandAxis& a) {
     return !a.pockets.pockets.empty();
@@ -240,7 +257,7 @@ Region ma_contour(const Slab& slab, std::span<const BoundaryPair> pairs,
   if (parts.features.empty() && !any_pocket) return basic;
 
   const ClipperLib::Paths basic_paths = to_clipper(basic);
-  const ClipperLib::Paths middle_paths = to_clipper(middle);
+  const ClipperLib::Paths& middle_paths = middle_grid.paths();
   const ClipperLib::Paths feature_zone = clipper::union_nonzero(parts.features);
   const Region with_features = feature_zone.empty()
                                    ? std::move(basic)

@@ -62,22 +62,21 @@ bool is_wall(const BoundaryPair& pair) {
 }
 
 // The same from the whole section.
-ClipperLib::Paths section_in_island(const Region& section, const BoundaryPair& pair,
+ClipperLib::Paths section_in_island(const ClipperLib::Paths& section, const BoundaryPair& pair,
                                     bool solid_outside) {
   const ClipperLib::Path outline = to_clipper(pair.outer);
-  return section_in_island(clipper::intersection(to_clipper(section), {outline}), outline,
-                           solid_outside);
+  return section_in_island(clipper::intersection(section, {outline}), outline, solid_outside);
 }
 
 // A cap: the mid section inside it; if the feature does not reach the middle (nothing of an
 // empty-beside cap there, all of a solid-beside one, a cavity), the section half-way through
 // the feature's own height range inside the slab.
 ClipperLib::Paths cap_contour(const Slab& slab, const BoundaryPair& pair, bool solid_outside,
-                              const Region& middle,
+                              const ClipperLib::Paths& middle,
                               const std::function<Region(double z)>& cross_section) {
   const ClipperLib::Path outline = to_clipper(pair.outer);
   const double island = ClipperLib::Area(outline);
-  ClipperLib::Paths middle_inside = clipper::intersection(to_clipper(middle), {outline});
+  ClipperLib::Paths middle_inside = clipper::intersection(middle, {outline});
   const double inside = clipper::area_units2(middle_inside);
   const bool reaches_middle = solid_outside ? std::abs(inside - island) > kSquareMicrometre
                                             : inside > kSquareMicrometre;
@@ -92,8 +91,8 @@ ClipperLib::Paths cap_contour(const Slab& slab, const BoundaryPair& pair, bool s
       hi = std::max(hi, v.z);
     }
   }
-  const Region section = lo < hi ? cross_section(0.5 * (lo + hi)) : middle;
-  return section_in_island(section, pair, solid_outside);
+  if (!(lo < hi)) return section_in_island(middle, pair, solid_outside);
+  return section_in_island(to_clipper(cross_section(0.5 * (lo + hi))), pair, solid_outside);
 }
 
 // `region` with the mid section taking its place inside `zone`: (region \ zone) ∪ (mid ∩ zone),

@@ -34,14 +34,15 @@ bool is_wall(const BoundaryPair& pair);
 
 // The section's part inside the island's outline, as paths to add with positive winding:
 // where the island is solid all round (solid_outside), the outline reversed takes that solid
-// away first.
-ClipperLib::Paths section_in_island(const Region& section, const BoundaryPair& pair,
+// away first. `section` on Clipper's grid (to_clipper of the Region).
+ClipperLib::Paths section_in_island(const ClipperLib::Paths& section, const BoundaryPair& pair,
                                     bool solid_outside);
 
-// A cap's contour: the mid section `middle` inside it, or the section half-way through the
-// feature's height range inside the slab where it does not reach the middle.
+// A cap's contour: the mid section `middle` (on Clipper's grid) inside it, or the section
+// half-way through the feature's height range inside the slab where it does not reach the
+// middle.
 ClipperLib::Paths cap_contour(const Slab& slab, const BoundaryPair& pair, bool solid_outside,
-                              const Region& middle,
+                              const ClipperLib::Paths& middle,
                               const std::function<Region(double z)>& cross_section);
 
 // Whether add_floating_features can find a feature in the island (a quick test on the mid

@@ -83,12 +83,12 @@ void component_of(const SampleTriangulation& triangulation, const std::vector<ch
   }
 }
 
-ClipperLib::Path triangle(const SampleTriangulation& triangulation, std::uint32_t f) {
-  ClipperLib::Path path;
+// Face f's corners on the nanometre grid, CCW as CGAL keeps its faces.
+void add_triangle(const SampleTriangulation& triangulation, std::uint32_t f,
+                  std::vector<ClipperLib::IntPoint>& corners) {
   for (std::uint32_t v : triangulation.faces[f].vertex) {
-    path.push_back(to_clipper(triangulation.point[v]));
+    corners.push_back(to_clipper(triangulation.point[v]));
   }
-  return path;  // CCW, as CGAL keeps its faces
 }
 
 // A component as a pocket: its non-contributing samples (marked 2 in `contributing`, so each
@@ -108,22 +108,27 @@ Pocket pocket_of(const SampleTriangulation& triangulation, const std::vector<cha
   if (pocket.non_contributing.empty()) return pocket;
   // A mixed face has one same-side edge, so it is the mouth of one pocket at most, once.
   for (std::uint32_t f : component) {
-    pocket.triangles.push_back(triangle(triangulation, f));
+    add_triangle(triangulation, f, pocket.triangle_corners);
     const SampleTriangulation::Face& face = triangulation.faces[f];
     for (int i = 0; i < 3; ++i) {
       const std::uint32_t n = face.neighbour[i];
       if (inside[n] && is_mixed(triangulation.faces[n], labels) && !face.is_constrained(i)) {
-        pocket.triangles.push_back(triangle(triangulation, n));
+        add_triangle(triangulation, n, pocket.triangle_corners);
       }
     }
   }
-  for (const ClipperLib::Path& t : pocket.triangles) {
-    for (const auto& p : t) pocket.corners.push_back(from_clipper(p));
-  }
+  pocket.corners.reserve(pocket.triangle_corners.size());
+  for (const auto& p : pocket.triangle_corners) pocket.corners.push_back(from_clipper(p));
   return pocket;
 }
 
 }  // namespace
+
+void Pocket::add_triangles(ClipperLib::Paths& paths) const {
+  for (std::size_t k = 0; k + 2 < triangle_corners.size(); k += 3) {
+    paths.push_back({triangle_corners[k], triangle_corners[k + 1], triangle_corners[k + 2]});
+  }
+}
 
 IslandPockets island_pockets(const SampleTriangulation& triangulation,
                              const std::vector<char>& labels, std::span<const Sample> samples) {

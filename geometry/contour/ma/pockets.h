@@ -24,9 +24,14 @@
 namespace geometry::ma {
 
 struct Pocket {
-  ClipperLib::Paths triangles;        // its faces and mouths, CCW, on the nanometre grid
-  std::vector<Vec2> corners;          // their corners, mm
+  // Its faces and mouths, CCW, on the nanometre grid: three corners a triangle, as paths
+  // only where the mid section takes the pocket (triangles()).
+  std::vector<ClipperLib::IntPoint> triangle_corners;
+  std::vector<Vec2> corners;          // the same corners, mm
   std::vector<Vec2> non_contributing; // its samples that contribute nothing, mm, each once
+
+  // The triangles as paths, added to `paths`.
+  void add_triangles(ClipperLib::Paths& paths) const;
 };
 
 struct IslandPockets {
