@@ -171,7 +171,12 @@ void fair_between(const ContourVertex& a, const ContourVertex& b, int depth,
 
 // The loop straightened within `tolerance` (douglas_peucker.h). A faired contour has a
 // vertex wherever the triangulation crosses the axis, two or three per sample, most of them
-// on straight stretches.
+// on straight stretches. Douglas-Peucker asks about 5 million distances on bench_ma --quick
+// (171 M instructions). Measured and not taken: passing over blocks of 16 vertices whose
+// bound (their bounding box's farthest corner, or their ends' distance plus their bulge off
+// their own chord) is below the farthest vertex so far or a probe at the stretch's middle,
+// the same flags: the bounds cost more than the distances they saved (216 M with the bulge,
+// 241 M with boxes: most stretches Douglas-Peucker splits here are short, most vertices kept).
 Loop simplified(const Loop& loop, double tolerance) {
   const std::size_t n = loop.size();
   if (n <= 4) return loop;

@@ -99,7 +99,11 @@ ClipperLib::Paths cap_contour(const Slab& slab, const BoundaryPair& pair, bool s
 // in one Clipper operation, so that the two parts meet exactly along the zone's edges (two
 // operations round their crossings apart and leave nanometre cracks there). Each input has
 // winding 1 inside and 0 outside. Subject: region - zone > 0; clip: mid + zone - box > 0,
-// the box reversed round everything.
+// the box reversed round everything. (About 3.8 M instructions a call, on 73 of the bunny's
+// layers at 0.15 mm. Not taken: uniting only the region's loops near the zone's box and
+// passing the others through. The point set would be the same, but the paths Clipper lists
+// (their order, their first vertices) follow from all of its input, so the same output could
+// not be shown.)
 Region mid_inside(const ClipperLib::Paths& region, const ClipperLib::Paths& all_middle,
                   const ClipperLib::Paths& zone) {
   ClipperLib::IntRect bounds = clipper::bounding_box(zone);
