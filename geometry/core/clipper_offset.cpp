@@ -1,10 +1,12 @@
 // The toolpaths' offset (clipper.h): ClipperOffset's joins, most of its union left out; and
-// proven_inside and proven_outside, on the grid of edges the offset checks its loops on.
-#include "geometry/core/clipper.h"
+// proven_inside, proven_specks and proven_outside, on the grid of edges the offset checks
+// its loops on.
+#include "geometry/core/clipper_specks.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <span>
@@ -299,10 +301,14 @@ bool any_edges_meet(const Paths& loops, const EdgeCells& cells) {
   });
 }
 
-// Whether an edge of `a` meets an edge of `b`, where both sets' edges are tested within the box
-// `within` (where their boxes overlap): on a grid over it, the edges of each cut to it, about
-// one edge per cell. Nullopt where an edge covers more than 64 cells (a long edge across it).
-std::optional<bool> sets_meet(const Paths& a, const Paths& b, const ClipperLib::IntRect& within) {
+// Calls visit(loop of a, edge of a, loop of b, edge of b) for each edge of `a` that meets an
+// edge of `b`, where both sets' edges are tested within the box `within` (where their boxes
+// overlap): on a grid over it, the edges of each cut to it, about one edge per cell. Until it
+// returns true; returns whether it did, or nullopt where an edge covers more than 64 cells (a
+// long edge across it).
+template <class Visit>
+std::optional<bool> each_meeting(const Paths& a, const Paths& b, const ClipperLib::IntRect& within,
+                                 Visit&& visit) {
   const auto near = [&](const ClipperLib::IntPoint& p, const ClipperLib::IntPoint& q) {
     return std::max(p.X, q.X) >= within.left && std::min(p.X, q.X) <= within.right &&
            std::max(p.Y, q.Y) >= within.top && std::min(p.Y, q.Y) <= within.bottom;
@@ -365,11 +371,22 @@ std::optional<bool> sets_meet(const Paths& a, const Paths& b, const ClipperLib::
         // Once per pair: in the cell of the corner of least x and y of the boxes' overlap.
         if (std::size_t{std::max(p.r0, q.r0)} * columns + std::max(p.c0, q.c0) != c) continue;
         const Path& lq = b[q.loop - a_loops];
-        if (meet_within_boxes(lp[p.edge], end_of(p, lp), lq[q.edge], end_of(q, lq))) return true;
+        if (meet_within_boxes(lp[p.edge], end_of(p, lp), lq[q.edge], end_of(q, lq)) &&
+            visit(p.loop, p.edge, q.loop - a_loops, q.edge)) {
+          return true;
+        }
       }
     }
   }
   return false;
+}
+
+// Whether an edge of `a` meets an edge of `b` (each_meeting's grid); nullopt where an edge
+// covers more than 64 cells of it.
+std::optional<bool> sets_meet(const Paths& a, const Paths& b, const ClipperLib::IntRect& within) {
+  return each_meeting(a, b, within, [](std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t) {
+    return true;
+  });
 }
 
 // The non-zero winding number of the loops round p, which is on none of them (`boxes`: the
@@ -990,6 +1007,178 @@ ClipperLib::IntRect box_overlap(const ClipperLib::IntRect& a, const ClipperLib::
           std::min(a.bottom, b.bottom)};
 }
 
+// Whether `outer` winds round the first point of each loop of `inner` and `inner` round that
+// of no loop of `outer` that meets inner's box (`*_boxes`: the loops' bounding boxes). Where no
+// edge of one meets an edge of the other, each loop lies on one side of the other region's
+// boundary, so that is every loop of inner inside outer, and no loop of outer inside inner
+// (where a hole of outer, or a part of its boundary, would lie in inner). A point on an edge of
+// the other may give any winding, but then edges meet.
+bool first_points_inside(const Paths& inner, const std::vector<ClipperLib::IntRect>& inner_boxes,
+                         const ClipperLib::IntRect& inner_box, const Paths& outer,
+                         const std::vector<ClipperLib::IntRect>& outer_boxes) {
+  for (const Path& loop : inner) {
+    if (!loop.empty() && winding_of(outer, outer_boxes, loop[0]) == 0) return false;
+  }
+  for (std::size_t l = 0; l < outer.size(); ++l) {
+    if (outer[l].empty() || !boxes_meet(outer_boxes[l], inner_box)) continue;
+    if (winding_of(inner, inner_boxes, outer[l][0]) != 0) return false;
+  }
+  return true;
+}
+
+// The lattice point nearest (x, y) of the four round it that lie on the right of the line
+// a -> b or on it (a line through a point of a unit square leaves a corner of it on each side).
+ClipperLib::IntPoint right_of(const ClipperLib::IntPoint& a, const ClipperLib::IntPoint& b,
+                              double x, double y) {
+  const auto x0 = static_cast<ClipperLib::cInt>(std::floor(x));
+  const auto y0 = static_cast<ClipperLib::cInt>(std::floor(y));
+  ClipperLib::IntPoint best{x0, y0};
+  double least = std::numeric_limits<double>::infinity();
+  for (const ClipperLib::cInt dx : {0, 1}) {
+    for (const ClipperLib::cInt dy : {0, 1}) {
+      const ClipperLib::IntPoint c{x0 + dx, y0 + dy};
+      const double d = (double(c.X) - x) * (double(c.X) - x) + (double(c.Y) - y) * (double(c.Y) - y);
+      if (side(a, b, c) <= 0 && d < least) {
+        least = d;
+        best = c;
+      }
+    }
+  }
+  return best;
+}
+
+// The area of the points' convex hull, units^2 (Andrew's monotone chain).
+double hull_area(Path points) {
+  std::sort(points.begin(), points.end(), [](const ClipperLib::IntPoint& p, const ClipperLib::IntPoint& q) {
+    return p.X != q.X ? p.X < q.X : p.Y < q.Y;
+  });
+  points.erase(std::unique(points.begin(), points.end()), points.end());
+  if (points.size() < 3) return 0;
+  Path hull(2 * points.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {  // the lower chain
+    while (k >= 2 && side(hull[k - 2], hull[k - 1], points[i]) <= 0) --k;
+    hull[k++] = points[i];
+  }
+  for (std::size_t i = points.size() - 1, lower = k + 1; i-- > 0;) {  // the upper chain
+    while (k >= lower && side(hull[k - 2], hull[k - 1], points[i]) <= 0) --k;
+    hull[k++] = points[i];
+  }
+  hull.resize(k - 1);
+  return std::abs(ClipperLib::Area(hull));
+}
+
+// A crossing of an edge of a loop of a with an edge of b (proven_specks): `t` along the edge
+// of a, from 0 at its start to 1 at its end; `turn`, how b's winding number changes there
+// along a's edge (+1 where it passes from the right of b's edge to its left, else -1).
+struct Crossing {
+  std::uint32_t loop, edge;
+  double t;
+  int turn;
+};
+
+// What proven_specks cuts off a's loops: the cap of a run of vertices outside b (the convex
+// hull of the run and the chord's ends), its box and area.
+struct Cap {
+  ClipperLib::IntRect box;
+  double area;
+};
+
+// Loop `l` of a with each run of its vertices outside b cut off: the run from the vertex after
+// the edge that goes out to the vertex before the edge that comes back in, replaced by a chord
+// from a point on the first edge kMargin units before its first crossing to a point on the
+// second kMargin units past its last (each rounded to the lattice on the edge's right, a's
+// outside, or on it). Appends each run's cap to `caps`; false where there is no such cut: a
+// crossed edge with both ends inside b, every vertex outside, or a crossing within the margin
+// of an end. `crossed` holds the loop's crossings; `made` gets the edges the cut adds (from the
+// vertex before a run to the chord, the chord, and on to the vertex after it).
+bool cut_loop(const Path& loop, std::span<const Crossing> crossed, const Paths& b,
+              const std::vector<ClipperLib::IntRect>& b_boxes, Path& out, std::vector<Cap>& caps,
+              std::vector<std::pair<ClipperLib::IntPoint, ClipperLib::IntPoint>>& made) {
+  constexpr double kMargin = 1000;  // units: 1 um
+  const std::size_t n = loop.size();
+  // Per edge, where along it the first and last crossings lie, and how b's winding number
+  // changes along it; per vertex, whether inside b: b's winding number round the first vertex
+  // (on none of b's edges: no edge of b meets a's but by crossing), changed along each edge.
+  std::vector<double> first(n, 2), last(n, -1);
+  std::vector<int> turn(n, 0);
+  for (const Crossing& c : crossed) {
+    first[c.edge] = std::min(first[c.edge], c.t);
+    last[c.edge] = std::max(last[c.edge], c.t);
+    turn[c.edge] += c.turn;
+  }
+  std::vector<char> in(n);
+  int winding = winding_of(b, b_boxes, loop[0]);
+  for (std::size_t v = 0; v < n; ++v) {
+    in[v] = winding != 0;
+    winding += turn[v];
+  }
+  for (std::size_t e = 0; e < n; ++e) {
+    if (last[e] >= 0 && in[e] && in[e + 1 < n ? e + 1 : 0]) return false;
+  }
+  std::size_t s = 0;
+  while (s < n && !in[s]) ++s;
+  if (s == n) return false;
+  const auto along = [](const ClipperLib::IntPoint& p, const ClipperLib::IntPoint& q, double t) {
+    return right_of(p, q, double(p.X) + t * double(q.X - p.X), double(p.Y) + t * double(q.Y - p.Y));
+  };
+  const auto push = [&](const ClipperLib::IntPoint& p) {
+    if (out.empty() || out.back() != p) out.push_back(p);
+  };
+  out.clear();
+  Path cap;  // the run's chord end on the edge out, then its vertices
+  ClipperLib::IntPoint before;  // the vertex before the run
+  for (std::size_t j = 1; j <= n; ++j) {
+    const std::size_t v = (s + j) % n, u = (v + n - 1) % n;
+    const auto& p = loop[u];
+    const auto& q = loop[v];
+    const auto length = [&] { return std::hypot(double(q.X - p.X), double(q.Y - p.Y)); };
+    if (!in[v]) {
+      if (in[u]) {
+        const double t = first[u] - kMargin / length();
+        if (!(t > 0)) return false;
+        cap.assign(1, along(p, q, t));
+        before = p;
+      }
+      cap.push_back(q);
+      continue;
+    }
+    if (!in[u]) {
+      const double t = last[u] + kMargin / length();
+      if (!(t < 1)) return false;
+      cap.push_back(along(p, q, t));
+      push(cap.front());
+      push(cap.back());
+      caps.push_back({bounding_box(cap), hull_area(cap)});
+      made.insert(made.end(), {{before, cap.front()}, {cap.front(), cap.back()}, {cap.back(), q}});
+    }
+    push(q);
+  }
+  if (out.size() > 1 && out.front() == out.back()) out.pop_back();
+  return true;
+}
+
+// Whether the segment [p, q] meets an edge of the loops (`boxes`: their bounding boxes).
+bool meets_any(const ClipperLib::IntPoint& p, const ClipperLib::IntPoint& q, const Paths& loops,
+               const std::vector<ClipperLib::IntRect>& boxes) {
+  const ClipperLib::IntRect box{std::min(p.X, q.X), std::min(p.Y, q.Y), std::max(p.X, q.X),
+                                std::max(p.Y, q.Y)};
+  for (std::size_t l = 0; l < loops.size(); ++l) {
+    if (!boxes_meet(boxes[l], box)) continue;
+    const Path& loop = loops[l];
+    for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
+      const auto& c = loop[i];
+      const auto& d = loop[i + 1 < n ? i + 1 : 0];
+      if (std::max(c.X, d.X) < box.left || std::min(c.X, d.X) > box.right ||
+          std::max(c.Y, d.Y) < box.top || std::min(c.Y, d.Y) > box.bottom) {
+        continue;
+      }
+      if (meet_within_boxes(p, q, c, d)) return true;
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 bool proven_inside(const Paths& inner, const Paths& outer) {
@@ -1000,21 +1189,109 @@ bool proven_inside(const Paths& inner, const Paths& outer) {
   for (const Path& loop : inner) add_to_box(inner_box, inner_boxes.emplace_back(bounding_box(loop)));
   for (const Path& loop : outer) add_to_box(outer_box, outer_boxes.emplace_back(bounding_box(loop)));
   if (!boxes_meet(inner_box, outer_box)) return false;
-  // Where the boxes overlap: elsewhere no edge of one can meet an edge of the other.
-  const ClipperLib::IntRect overlap = box_overlap(inner_box, outer_box);
-  // Where no edges meet, each loop lies on one side of the other region's boundary: every loop
-  // of `inner` inside `outer`, and no loop of `outer` inside `inner` (where a hole of outer, or
-  // a part of its boundary, would lie in inner). Tested first, as the cheaper: a point on an
-  // edge of the other may give any winding, but then edges meet, which is tested after.
-  for (const Path& loop : inner) {
-    if (!loop.empty() && winding_of(outer, outer_boxes, loop[0]) == 0) return false;
-  }
-  for (std::size_t l = 0; l < outer.size(); ++l) {
-    if (outer[l].empty() || !boxes_meet(outer_boxes[l], inner_box)) continue;
-    if (winding_of(inner, inner_boxes, outer[l][0]) != 0) return false;
-  }
-  const std::optional<bool> meet = sets_meet(inner, outer, overlap);
+  // The windings first, as the cheaper; then whether edges meet, where the boxes overlap
+  // (elsewhere no edge of one can meet an edge of the other).
+  if (!first_points_inside(inner, inner_boxes, inner_box, outer, outer_boxes)) return false;
+  const std::optional<bool> meet = sets_meet(inner, outer, box_overlap(inner_box, outer_box));
   return meet && !*meet;
+}
+
+bool proven_specks(const Paths& a, const Paths& b, double area) {
+  if (a.empty()) return true;
+  if (b.empty()) return false;
+  // Each sliver is at most 2 units wide along an edge of a (where an edge of b passes within a
+  // unit of it), so all of them enclose at most 2 units times a's length.
+  double length = 0;
+  for (const Path& loop : a) {
+    for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
+      const auto& p = loop[i];
+      const auto& q = loop[i + 1 < n ? i + 1 : 0];
+      length += std::abs(double(q.X - p.X)) + std::abs(double(q.Y - p.Y));
+    }
+  }
+  const double slivers = 2 * length;
+  if (!(slivers < area)) return false;
+  std::vector<ClipperLib::IntRect> a_boxes, b_boxes;
+  ClipperLib::IntRect a_box = bounding_box(Path{}), b_box = bounding_box(Path{});
+  for (const Path& loop : a) add_to_box(a_box, a_boxes.emplace_back(bounding_box(loop)));
+  for (const Path& loop : b) add_to_box(b_box, b_boxes.emplace_back(bounding_box(loop)));
+  if (!boxes_meet(a_box, b_box)) return false;
+  // Every crossing of an edge of a with one of b's; none where they meet otherwise (an end of
+  // one on the other, or in line), nor too many: those are left to the difference.
+  constexpr std::size_t kMostCrossings = 256;
+  std::vector<Crossing> crossings;
+  bool touch = false;
+  const std::optional<bool> stopped = each_meeting(
+      a, b, box_overlap(a_box, b_box),
+      [&](std::uint32_t al, std::uint32_t ae, std::uint32_t bl, std::uint32_t be) {
+        const Path& la = a[al];
+        const Path& lb = b[bl];
+        const auto& p = la[ae];
+        const auto& q = la[ae + 1 < la.size() ? ae + 1 : 0];
+        const auto& c = lb[be];
+        const auto& d = lb[be + 1 < lb.size() ? be + 1 : 0];
+        const int turn = side(c, d, q);
+        if (!(side(p, q, c) * side(p, q, d) < 0 && side(c, d, p) * turn < 0)) {
+          touch = true;
+          return true;
+        }
+        // p + t (q - p) on the line through c and d.
+        const double ex = double(q.X - p.X), ey = double(q.Y - p.Y);
+        const double fx = double(d.X - c.X), fy = double(d.Y - c.Y);
+        const double gx = double(c.X - p.X), gy = double(c.Y - p.Y);
+        crossings.push_back({al, ae, (gx * fy - gy * fx) / (ex * fy - ey * fx), turn});
+        return crossings.size() > kMostCrossings;
+      });
+  if (!stopped || touch || crossings.size() > kMostCrossings) return false;
+  if (crossings.empty()) return first_points_inside(a, a_boxes, a_box, b, b_boxes);
+  // Where edges cross, a with its runs of vertices outside b cut off (cut_loop): a', whose
+  // windings differ from a's by those of the cycles each cut makes, new chain less old, v_i ->
+  // p -> q -> v_j+1 -> v_j -> ... -> v_i+1 -> v_i (v_i and v_j+1 inside b, the run v_i+1 ..
+  // v_j outside, p on the edge v_i -> v_i+1 and q on v_j -> v_j+1). Each cycle is the sum of
+  // the triangles v_i -> p -> v_i+1 and q -> v_j+1 -> v_j, which wind 0 or 1 times round any
+  // point (p and q lie on the right of their edges, or on them), and the cap's loop p -> q ->
+  // v_j -> ... -> v_i+1, which winds round points of the cap's hull only. So a point of a (a
+  // winds once round it: a is a Clipper result) that a' leaves out, where a' winds 0 times, is
+  // one round which some cap's loop winds -1 times: in its hull. Where a' is proven inside b
+  // (proven_inside), the difference of a and b is then in the caps' hulls, and with their
+  // boxes apart by more than the rounding of Clipper's crossings (2 units), each path of it is
+  // inside one hull, within a unit (its points are rounded to the lattice), with any slivers:
+  // less than the hull's area, its box's half perimeter times 2 units (the unit round the
+  // hull), and the slivers' bound.
+  std::sort(crossings.begin(), crossings.end(), [](const Crossing& x, const Crossing& y) {
+    return x.loop != y.loop ? x.loop < y.loop : x.edge < y.edge;
+  });
+  Paths cut = a;
+  std::vector<Cap> caps;
+  std::vector<std::pair<ClipperLib::IntPoint, ClipperLib::IntPoint>> made;
+  for (std::size_t k = 0; k < crossings.size();) {
+    const std::uint32_t l = crossings[k].loop;
+    std::size_t end = k;
+    while (end < crossings.size() && crossings[end].loop == l) ++end;
+    const std::span<const Crossing> crossed(crossings.data() + k, end - k);
+    if (!cut_loop(a[l], crossed, b, b_boxes, cut[l], caps, made)) return false;
+    a_boxes[l] = bounding_box(cut[l]);
+    add_to_box(a_box, a_boxes[l]);
+    k = end;
+  }
+  constexpr std::size_t kMostCaps = 64;
+  if (caps.size() > kMostCaps) return false;
+  for (std::size_t i = 0; i < caps.size(); ++i) {
+    const ClipperLib::IntRect& box = caps[i].box;
+    const double rim = 4 * (double(box.right - box.left) + double(box.bottom - box.top)) + 16;
+    if (!(caps[i].area + rim + slivers < area)) return false;
+    const ClipperLib::IntRect grown{box.left - 2, box.top - 2, box.right + 2, box.bottom + 2};
+    for (std::size_t j = 0; j < i; ++j) {
+      if (boxes_meet(grown, caps[j].box)) return false;
+    }
+  }
+  // a' inside b (proven_inside's proof): the edges it keeps of a's meet none of b's (every
+  // meeting was found above: a crossing, on an edge cut off or one of a run's), and those the
+  // cuts made are tested against b's here.
+  for (const auto& [p, q] : made) {
+    if (meets_any(p, q, b, b_boxes)) return false;
+  }
+  return first_points_inside(cut, a_boxes, a_box, b, b_boxes);
 }
 
 bool proven_outside(const Paths& lines, const Paths& region) {

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "geometry/core/clipper.h"
+#include "geometry/core/clipper_specks.h"
 #include "geometry/toolpaths/thin_walls.h"
 
 namespace geometry {
@@ -53,6 +53,9 @@ Perimeters perimeters(const ClipperLib::Paths& whole, double width, int count) {
   // what it is grown from), so that where there is no gap its edge does not run along the
   // edge of the space, which would cost the difference a crossing at every vertex.
   clipper::Paths gaps;
+  // The difference is mostly specks along the edge where the offsets round off short
+  // edges; a piece of wall to print has at least a sixteenth of a bead square of area.
+  const double min_gap = kMinGapArea * width * width * kClipperScale * kClipperScale;
   int made = 0;
   for (int k = 0; k < count && !core.empty(); ++k) {
     // The loop's centre line runs w/2 inside what is left, except where that is narrower
@@ -81,8 +84,13 @@ Perimeters perimeters(const ClipperLib::Paths& whole, double width, int count) {
     result.walls.push_back(std::move(level));
     const clipper::Paths bead = clipper::offset(clipper::simplified(loops, kCoverTolerance),
                                       width / 2 + kCoverTolerance, ClipperLib::jtSquare);
-    const clipper::Paths gap = clipper::difference(inside, bead);
-    gaps.insert(gaps.end(), gap.begin(), gap.end());
+    // What the bead leaves of the space it was laid in; nothing where every path of that is
+    // proven a speck (under min_gap), which drop_specks below would drop, each path on its own
+    // before anything else is done with them: the same gaps are left without the difference.
+    if (!clipper::proven_specks(inside, bead, min_gap)) {
+      const clipper::Paths gap = clipper::difference(inside, bead);
+      gaps.insert(gaps.end(), gap.begin(), gap.end());
+    }
     ++made;
     inside = std::move(core);
     if (k + 1 < count) core = clipper::offset(inside, -width);
@@ -94,10 +102,7 @@ Perimeters perimeters(const ClipperLib::Paths& whole, double width, int count) {
   } else {
     gaps.insert(gaps.end(), inside.begin(), inside.end());
   }
-  // The difference is mostly specks along the edge where the offsets round off short
-  // edges; a piece of wall to print has at least a sixteenth of a bead square of area.
   // Slivers narrower than a quarter bead are offset noise, not walls.
-  const double min_gap = kMinGapArea * width * width * kClipperScale * kClipperScale;
   auto drop_specks = [&] {
     std::erase_if(gaps, [&](const auto& path) { return std::abs(ClipperLib::Area(path)) < min_gap; });
   };
