@@ -185,6 +185,7 @@ struct Contender : BestCandidate {
   double deviation = -1;  // ΔV, once a tie needs it
   std::size_t same_as = kNone;  // a candidate measured before with this very region
   std::optional<BoundaryGrid> walls;  // the region's boundary, for D and ΔV
+  bool refuted = false;  // measured only until more than a tie above the least: D a lower bound
   std::size_t missed_count() const { return made ? missed.size() : kNotMade; }
   const BoundaryGrid& grid() {
     if (!walls) walls.emplace(result.region);
@@ -196,8 +197,11 @@ struct Contender : BestCandidate {
 // features missed and the least D so far.
 //
 // Fewest missed features first: only those candidates are measured. Then the least D, ma
-// first (it wins most layers, so its D refutes the others early): a candidate is measured
-// only until its D is known to be more than a tie above the least so far. A candidate whose
+// first (it wins most layers, so its D refutes the others early) unless its corners show mid
+// likely to beat it (open_with_ma_or_mid): a candidate is measured only until its D is known
+// to be more than a tie above the least so far. So every candidate within a tie of the least
+// D is measured in full, whatever the order, and the choice does not depend on the order;
+// only a refuted candidate's figure, a lower bound, does. A candidate whose
 // region is one already measured (optimal-height's search often ends at mid's height: 142
 // of a sphere's 150 layers) takes that one's D: exact if it was, else a lower bound above a
 // threshold at least this one's.
@@ -214,6 +218,7 @@ class Contest {
     // mid's D known (the layer plan's): taken as measured, first, so that ma is measured only
     // until it is seen to lose by more than a tie. The same choice as measuring it: the least
     // D and the candidates within a tie of it do not depend on the order.
+    ma_corners_.clear();
     mid_known_ = !std::isnan(input.mid_distance);
     if (mid_known_) candidates_[kMid].distance = input.mid_distance;
   }
@@ -222,6 +227,7 @@ class Contest {
   // (indices past the candidates skipped).
   void measure(const std::vector<std::size_t>& order) {
     settle_fewest();
+    if (!order.empty() && order.front() == kMa) open_with_ma_or_mid();
     for (std::size_t k : order) {
       if (k >= candidates_.size()) continue;
       if (candidates_[k].missed_count() != fewest_ || was_measured(k)) continue;
@@ -255,6 +261,7 @@ class Contest {
       const Contender& c = candidates_[k];
       choice.candidate_distance[k] =
           c.missed_count() == fewest_ && was_measured(k) ? c.distance : kNotMeasured;
+      choice.refuted[k] = choice.candidate_distance[k] != kNotMeasured && candidates_[root(k)].refuted;
     }
     const std::size_t best = least_deviation_of_the_tied();
     choice.chosen = candidates_[best].name;
@@ -305,12 +312,49 @@ class Contest {
       distance_options_.stop_above = least_ + kDistanceTie;
       distance_options_.first_points = farthest_;
       distance_options_.farthest_count = farthest_.empty() ? kFarthestPoints : 0;
+      distance_options_.state = k == kMa ? &ma_corners_ : nullptr;  // its corners, if measured
       DistanceError measured = distance_error(reference_.surface, c.grid(), c.missed, distance_options_);
       c.distance = measured.forward;
+      c.refuted = c.distance > distance_options_.stop_above;
       if (farthest_.empty()) farthest_ = std::move(measured.farthest);
     }
     measured_.push_back(k);
     least_ = std::min(least_, c.distance);
+  }
+
+  // ma and mid, both of the fewest missed features and neither measured: which to measure in
+  // full first. ma's corners are measured (kept in ma_corners_), which gives the surface points
+  // farthest from its walls and the farthest one's distance, a lower bound on ma's D. Where mid
+  // is nearer than that by more than a tie at all of those points, ma is likely to lose to
+  // mid's section (or optimal-height's, near it): mid is measured in full first, and ma's
+  // search then goes on from its corners only until it is refuted (more than a tie above the
+  // least D) or finds its D. Either order gives the same choice and the same D for every
+  // candidate within a tie of the least (Contest); only a refuted one's lower bound moves.
+  // On the bunny at 0.15 mm this guesses all 59 layers where ma loses, and 12 of the 189
+  // where mid loses (mid is then measured in full rather than refuted).
+  void open_with_ma_or_mid() {
+    if (mid_known_ || candidates_.size() <= kMa) return;
+    Contender& ma = candidates_[kMa];
+    Contender& mid = candidates_[kMid];
+    if (ma.missed_count() != fewest_ || mid.missed_count() != fewest_ || was_measured(kMa) ||
+        was_measured(kMid) || ma.result.region.loops == mid.result.region.loops) {
+      return;
+    }
+    DistanceOptions corners = distance_options_;
+    corners.stop_above = std::numeric_limits<double>::infinity();
+    corners.first_points = {};
+    corners.farthest_count = kFarthestPoints;
+    corners.state = &ma_corners_;
+    corners.corners_only = true;
+    DistanceError measured = distance_error(reference_.surface, ma.grid(), ma.missed, corners);
+    farthest_ = std::move(measured.farthest);
+    if (farthest_.empty()) return;  // corners measured to a missed island's outline
+    const double ma_at_least = measured.forward;
+    const BoundaryGrid& mid_walls = mid.grid();
+    for (std::uint32_t p : farthest_) {
+      if (!(mid_walls.nearest(reference_.surface.points[p]).distance < ma_at_least - kDistanceTie)) return;
+    }
+    measure_one(kMid);
   }
 
   bool contends(std::size_t k) const {
@@ -377,7 +421,12 @@ class Contest {
   std::vector<std::uint32_t> farthest_;
   std::optional<SlabColumns> built_columns_;
   const SlabColumns* columns_ = nullptr;
+  // ma's corners, where they are measured before mid (open_with_ma_or_mid): one a thread,
+  // reused from layer to layer.
+  static thread_local ForwardState ma_corners_;
 };
+
+thread_local ForwardState Contest::ma_corners_;
 
 }  // namespace
 

@@ -450,25 +450,69 @@ std::vector<std::uint32_t> farthest_points(const SlabSurface& surface, const For
   return points;
 }
 
+}  // namespace
+
+struct ForwardState::Impl {
+  ForwardScratch scratch;
+  BoundaryGrid outlines;  // the missed islands' walls, which some triangles are measured to
+  // Set by a corners_only call that measured every corner: for what, and the farthest.
+  const SlabSurface* surface = nullptr;
+  const BoundaryGrid* walls = nullptr;
+  bool all_to_walls = false;
+  double corner_best = 0;
+};
+
+ForwardState::ForwardState() : impl_(std::make_unique<Impl>()) {}
+ForwardState::~ForwardState() = default;
+void ForwardState::clear() {
+  impl_->surface = nullptr;
+  impl_->walls = nullptr;
+}
+
+namespace {
+
 double forward_distance(const SlabSurface& surface, const BoundaryGrid& walls,
                         std::span<const BoundaryPair> missed, double tolerance,
                         const DistanceOptions& options, std::vector<std::uint32_t>& farthest) {
   if (surface.triangles.empty()) return 0;
   const double stop_above = options.stop_above;
   const double settle = std::max(options.settle_below, 0.0);
-  thread_local ForwardScratch scratch;
-  // Surface inside a missed island is measured to the island's outline (see the header).
-  Region outlines;
-  for (const BoundaryPair& island : missed) outlines.loops.push_back(island.outer);
-  const BoundaryGrid outline_grid(outlines);
-  choose_walls(surface, walls, outline_grid, scratch.grid_of);
-  const bool all_to_walls = outline_grid.empty() && !walls.empty();
+  thread_local ForwardScratch own_scratch;
+  ForwardState::Impl* state = options.state ? &options.state->impl() : nullptr;
+  ForwardScratch& scratch = state ? state->scratch : own_scratch;
+  const bool resumed = state && !options.corners_only && state->surface == &surface &&
+                       state->walls == &walls;
   double best = 0;
-  measure_corners(surface, walls, scratch, stop_above, all_to_walls, options.first_points, best);
+  bool all_to_walls;
+  BoundaryGrid own_outlines;  // the missed islands' walls, without a state
+  if (resumed) {
+    // The corners a corners_only call measured, all of them (see the header).
+    all_to_walls = state->all_to_walls;
+    best = state->corner_best;
+    state->surface = nullptr;
+    state->walls = nullptr;
+  } else {
+    if (state) state->surface = nullptr, state->walls = nullptr;
+    // Surface inside a missed island is measured to the island's outline (see the header).
+    Region outlines;
+    for (const BoundaryPair& island : missed) outlines.loops.push_back(island.outer);
+    BoundaryGrid& outline_grid = state ? state->outlines : own_outlines;
+    outline_grid = BoundaryGrid(outlines);
+    choose_walls(surface, walls, outline_grid, scratch.grid_of);
+    all_to_walls = outline_grid.empty() && !walls.empty();
+    measure_corners(surface, walls, scratch, stop_above, all_to_walls, options.first_points, best);
+    if (options.corners_only && state && !(best > stop_above)) {
+      state->surface = &surface;
+      state->walls = &walls;
+      state->all_to_walls = all_to_walls;
+      state->corner_best = best;
+    }
+  }
   if (best > stop_above) return best;
   if (all_to_walls && options.farthest_count > 0) {
     farthest = farthest_points(surface, scratch, options.farthest_count);
   }
+  if (options.corners_only) return best;
   order_by_farthest_corner(surface, scratch);
   std::span<const SurfaceShape> shapes = surface.shapes;
   if (shapes.size() != surface.triangles.size()) {

@@ -46,6 +46,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -55,6 +56,28 @@
 #include "geometry/slab/slab.h"
 
 namespace geometry {
+
+// A forward measurement's corners, kept from a call with DistanceOptions::corners_only to the
+// call that searches the triangles (for best's contest: the corners of a region that may lose
+// are measured, another region is measured in full, and the first is searched only as far as
+// it takes to refute it). Holds what the search holds per surface point and triangle and the
+// walls of the missed islands; reusable for another measurement (each corners_only call
+// starts afresh). Not shared between threads.
+class ForwardState {
+ public:
+  ForwardState();
+  ~ForwardState();
+  ForwardState(const ForwardState&) = delete;
+  ForwardState& operator=(const ForwardState&) = delete;
+  // Forgets the corners kept: the next call given this state measures afresh. (A state kept
+  // across slabs is cleared before a new slab's surface can take an old one's address.)
+  void clear();
+  struct Impl;
+  Impl& impl() { return *impl_; }
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
 
 struct DistanceOptions {
   double tolerance = 1e-3;  // mm
@@ -78,6 +101,16 @@ struct DistanceOptions {
   std::span<const std::uint32_t> first_points = {};
   // How many of the points farthest from the walls to report in DistanceError::farthest.
   std::size_t farthest_count = 0;
+  // Where the forward search keeps what it has measured, for a later call to go on from
+  // (ForwardState); none: a scratch of the thread's, nothing kept.
+  ForwardState* state = nullptr;
+  // The forward search stops once every surface point's nearest wall is known (or, with
+  // stop_above, once one is farther): `forward` is then the farthest corner's distance, a
+  // lower bound on D, and `farthest` is reported. With a state, a later call for the same
+  // surface, walls and missed islands given the same state searches the triangles without
+  // measuring the corners again: the same D as one call measuring both (the corners'
+  // distances do not depend on the order they are taken in), at a new stop_above.
+  bool corners_only = false;
 };
 
 struct DistanceError {

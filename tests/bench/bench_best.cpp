@@ -6,7 +6,9 @@
 // Prints the CPU time of best's contours, one thread, and of ma's alone for comparison, how
 // often each candidate was chosen, and (unless --quick) the TBB-parallel wall time.
 // --layers: one line per layer (chosen candidate, its D, the candidates' D), the D's to 17
-// digits: a change meant to leave every candidate's D alone leaves these lines byte for byte.
+// digits; a candidate refuted early (more than a tie above the least D) shows ">=" a lower
+// bound of its D, which depends on the order best measures in. A change meant to leave best's
+// choice alone leaves every line's chosen candidate and its D byte for byte.
 // --dump: every layer's chosen region to FILE (text, full precision), to compare two builds
 // with cmp: a change meant to leave best's choice alone leaves the file byte for byte.
 #include <tbb/parallel_for.h>
@@ -81,10 +83,16 @@ static int run_bench(int argc, char** argv) {
   if (layers) {
     for (std::size_t i = 0; i < stack.size(); ++i) {
       const BestChoice& c = choices[i];
-      std::printf("%zu %.3f %s D %.17g missed %zu  mid %.17g opt %.17g ma %.17g\n", i,
+      // A candidate refuted early: ">=" its lower bound.
+      std::string figure[3];
+      for (int k = 0; k < 3; ++k) {
+        char text[40];
+        std::snprintf(text, sizeof text, "%s%.17g", c.refuted[k] ? ">=" : "", c.candidate_distance[k]);
+        figure[k] = text;
+      }
+      std::printf("%zu %.3f %s D %.17g missed %zu  mid %s opt %s ma %s\n", i,
                   stack.layers()[i].z_lo, std::string(c.chosen).c_str(), c.distance,
-                  c.missed_features, c.candidate_distance[0], c.candidate_distance[1],
-                  c.candidate_distance[2]);
+                  c.missed_features, figure[0].c_str(), figure[1].c_str(), figure[2].c_str());
     }
   }
   if (!dump.empty()) {

@@ -10,6 +10,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "geometry/metrics/distance_error.h"
@@ -159,6 +160,70 @@ TEST_CASE("horizontal_facet_is_judged_by_its_edges") {
   const std::size_t top = 3;  // [0.9, 1.2], the top face at 1.0 strictly inside
   const DistanceError d = distance_of(stack, top, stack.lower(top));
   CHECK(d.forward <= kRounding);
+}
+
+TEST_CASE("corners_kept_in_a_state_resume_to_the_same_distance_or_a_refutation") {
+  // The cone's layer again: lower's corners measured alone give their farthest one's distance
+  // (at most lower's D), and mid measured in full between, the search resumed from those
+  // corners gives lower's D to the bit, or at mid's D + 1 um a bound above it; the same with
+  // a missed feature (the box and cone's tip, measured to the tip's outline).
+  const int n = 48;
+  const double r = 10, h = 15;
+  const solids::Solid cone = solids::cone(r, h, n);
+  const LayerStack stack(cone.mesh, geometry::uniform_layers(h, 0.25));
+  const geometry::Slab slab = geometry::slab_of(stack, 20);
+  geometry::DistanceOptions options;
+  options.tolerance = kTolerance;
+  options.reverse = false;
+  const geometry::SlabSurface surface = geometry::slab_surface(slab, options);
+  const geometry::BoundaryGrid mid_walls(stack.mid(20)), lower_walls(stack.lower(20));
+  const DistanceError lower = geometry::distance_error(surface, lower_walls, {}, options);
+  const DistanceError mid = geometry::distance_error(surface, mid_walls, {}, options);
+  REQUIRE(lower.forward > 1.5 * mid.forward);
+  geometry::ForwardState state;
+  for (const double stop : {std::numeric_limits<double>::infinity(), mid.forward + 1e-3}) {
+    CAPTURE(stop);
+    geometry::DistanceOptions corners = options;
+    corners.state = &state;
+    corners.corners_only = true;
+    corners.farthest_count = 4;
+    const DistanceError first = geometry::distance_error(surface, lower_walls, {}, corners);
+    CHECK(first.forward <= lower.forward);
+    CHECK(first.farthest.size() == 4);
+    CHECK(lower_walls.nearest(surface.points[first.farthest[0]]).distance == first.forward);
+    CHECK(geometry::distance_error(surface, mid_walls, {}, options).forward == mid.forward);
+    geometry::DistanceOptions resume = options;
+    resume.state = &state;
+    resume.stop_above = stop;
+    const DistanceError resumed = geometry::distance_error(surface, lower_walls, {}, resume);
+    if (std::isinf(stop)) {
+      CHECK(resumed.forward == lower.forward);
+    } else {
+      CHECK(resumed.forward > stop);
+      CHECK(resumed.forward <= lower.forward);
+    }
+  }
+  // Resumed with other walls than the corners were measured to: measured afresh.
+  geometry::DistanceOptions corners = options;
+  corners.state = &state;
+  corners.corners_only = true;
+  geometry::distance_error(surface, lower_walls, {}, corners);
+  geometry::DistanceOptions resume = options;
+  resume.state = &state;
+  CHECK(geometry::distance_error(surface, mid_walls, {}, resume).forward == mid.forward);
+
+  const solids::Solid both = solids::combine(solids::box({-10, -3, 0}, {0, 3, 2}),
+                                             solids::cone(2, 2, 64, {7, 0, 0}));
+  const LayerStack two(both.mesh, geometry::uniform_layers(2, 0.5));
+  const geometry::Slab top = geometry::slab_of(two, 3);
+  const geometry::SlabSurface top_surface = geometry::slab_surface(top, options);
+  const Region box_only{{{{-10, -3}, {0, -3}, {0, 3}, {-10, 3}}}};
+  const auto missed = geometry::missed_features(geometry::slab_footprint(top), box_only);
+  REQUIRE(missed.size() == 1);
+  const geometry::BoundaryGrid box_walls(box_only);
+  const double whole = geometry::distance_error(top_surface, box_walls, missed, options).forward;
+  geometry::distance_error(top_surface, box_walls, missed, corners);
+  CHECK(geometry::distance_error(top_surface, box_walls, missed, resume).forward == whole);
 }
 
 TEST_CASE("empty_region_is_measured_to_the_footprint_outline") {
