@@ -330,8 +330,8 @@ class Contest {
   // search then goes on from its corners only until it is refuted (more than a tie above the
   // least D) or finds its D. Either order gives the same choice and the same D for every
   // candidate within a tie of the least (Contest); only a refuted one's lower bound moves.
-  // On the bunny at 0.15 mm this guesses all 59 layers where ma loses, and 12 of the 189
-  // where mid loses (mid is then measured in full rather than refuted).
+  // On the bunny at 0.15 mm this guesses 59 of the 60 layers where ma loses, and 12 of the
+  // 189 where mid loses (mid is then measured in full rather than refuted).
   void open_with_ma_or_mid() {
     if (mid_known_ || candidates_.size() <= kMa) return;
     Contender& ma = candidates_[kMa];
