@@ -45,14 +45,16 @@ namespace geometry {
 // in h and the integral cubic (its derivative is (z_hi - h) times area's), so the constructor
 // turns each such facet into a polynomial per piece (one to three clips of it a piece) and
 // operator() only sums the pieces h lies in. The facets of a fold or that C(z_lo) crosses (a
-// few per layer) are clipped at every h, with their fold partners (SlabColumns::overlapping).
+// few per layer) are clipped at every h; a fold facet's projection is intersected with each
+// of its partners' (SlabColumns::overlapping) once, here, and f_h ∩ g is that cut at h.
 // The same value as volume_deviation(columns, cross_section(h)) to floating point (that one
 // rounds the section to 1 nm and its intersection with C(z_lo) to 1 pm), for h in
 // [z_lo, z_hi); at h = z_hi the section from above belongs to the next slab and has to be
 // built. The pieces agree with clipping every cut facet at h to ~1e-11 relative on the
 // bunny's layers.
 // Cost: the constructor clips each facet once per corner and once per piece besides its
-// moments in C(z_lo); operator() sums the pieces that hold h and clips the few facets left. The
+// moments in C(z_lo), and intersects each fold pair once; operator() sums the pieces that
+// hold h, clips the few facets left and cuts their fold pairs' intersections. The
 // figures measured and the way not taken are in optimal_height.cpp.
 // Input: the slab's columns, mm. Output of operator(): mm^3, >= 0.
 class SectionDeviation {

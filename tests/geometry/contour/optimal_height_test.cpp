@@ -183,6 +183,60 @@ TEST_CASE("section_deviation_against_nested_ngons_closed_form") {
   }
 }
 
+TEST_CASE("section_deviation_of_a_fold_of_two_planes_closed_form") {
+  // A prism lying along x, 10 mm long, whose section at z is [0, 10] x [0, y(z)] with y
+  // falling from 6 at z = 0 to 3 at z = 1.1 and rising to 7 at z = 2. In the slab [1.0, 1.3]
+  // the falling plane (up-facing, over C(z_lo): y in [3, 3.27]) and the rising one
+  // (down-facing: y in [3, 3.89], partly outside C(z_lo)) overlap seen from above, a fold:
+  // each facet's share at h takes its intersection with its partners cut at h, for h on
+  // either side of the crease and exactly on it. The sections nest, so
+  // ΔV(h) = 10 ∫ |y(z) - y(h)| dz over the slab; y is linear on each part between the crease
+  // and where y(z) = y(h), where the trapezoid rule is exact.
+  const std::vector<geometry::Vec2> knots{{0, 6}, {1.1, 3}, {2, 7}};  // (z, y)
+  const solids::Solid prism = solids::lying_prism({{0, 0}, {6, 0}, {3, 1.1}, {7, 2}, {0, 2}}, 0, 10);
+  const geometry::Layer layer{1.0, 1.3};
+  const auto y = [&](double z) {
+    const geometry::Vec2 a = z <= knots[1].x ? knots[0] : knots[1], b = z <= knots[1].x ? knots[1] : knots[2];
+    return a.y + (b.y - a.y) * (z - a.x) / (b.x - a.x);
+  };
+  const auto exact = [&](double h) {
+    const double target = y(h);
+    std::vector<double> cuts{layer.z_lo, layer.z_hi, knots[1].x};
+    for (std::size_t j = 0; j + 1 < knots.size(); ++j) {
+      const geometry::Vec2 a = knots[j], b = knots[j + 1];
+      const double z = a.x + (target - a.y) / (b.y - a.y) * (b.x - a.x);
+      if (z > layer.z_lo && z < layer.z_hi) cuts.push_back(z);
+    }
+    std::sort(cuts.begin(), cuts.end());
+    double sum = 0;
+    for (std::size_t j = 0; j + 1 < cuts.size(); ++j) {
+      const double a = cuts[j], b = cuts[j + 1];
+      sum += (b - a) / 2 * (std::abs(y(a) - target) + std::abs(y(b) - target));
+    }
+    return 10 * sum;
+  };
+  const LayerStack stack(prism.mesh, {geometry::Layer{0, layer.z_lo}, layer, geometry::Layer{layer.z_hi, 2}});
+  const geometry::SlabColumns columns = geometry::slab_columns(geometry::slab_of(stack, 1), stack.lower(1));
+  std::size_t folded = 0;
+  for (const std::vector<int>& partners : columns.overlapping) folded += partners.size();
+  CHECK(folded > 0);
+  const geometry::SectionDeviation deviation(columns);
+  for (int j = 0; j <= 60; ++j) {
+    const double h = layer.z_lo + layer.thickness() * j / 60;
+    if (!(h < layer.z_hi)) continue;
+    CAPTURE(h);
+    CHECK(deviation(h) == doctest::Approx(exact(h)).epsilon(1e-9).scale(1e-9));
+  }
+  CHECK(deviation(1.1) == doctest::Approx(exact(1.1)).epsilon(1e-9).scale(1e-9));
+  // The search's height is no worse than a fine scan's best beyond its tolerance.
+  const geometry::OptimalHeight best = geometry::optimal_height(stack, 1, columns);
+  CHECK(best.volume_deviation == doctest::Approx(exact(best.height)).epsilon(1e-9).scale(1e-9));
+  for (int j = 0; j <= 300; ++j) {
+    const double h = layer.z_lo + layer.thickness() * j / 300;
+    CHECK(best.volume_deviation <= exact(h) + 1e-6);
+  }
+}
+
 TEST_CASE("optimal_height_of_a_missing_layer_is_empty") {
   const solids::Solid cube = solids::cube(1);
   const LayerStack stack(cube.mesh, geometry::uniform_layers(1, 0.5));
