@@ -43,6 +43,28 @@ DistanceError distance_of(const LayerStack& stack, std::size_t layer, const Regi
   return geometry::distance_error(surface, geometry::BoundaryGrid(region), missed, options);
 }
 
+
+// The 48-gon cone's (r 10, h 15) layer 20 of 0.25 mm layers, measured forward only: its
+// surface and its lower and mid sections' walls (lower's D there is t r cos(pi/n) / h, about
+// twice mid's t r / (2h)). Built in place: the slab and surface refer to the stack's mesh.
+struct ConeLayer {
+  static constexpr int n = 48;
+  static constexpr double r = 10, h = 15;
+  solids::Solid cone = solids::cone(r, h, n);
+  LayerStack stack{cone.mesh, geometry::uniform_layers(h, 0.25)};
+  geometry::Slab slab = geometry::slab_of(stack, 20);
+  geometry::DistanceOptions options = forward_only();
+  geometry::SlabSurface surface = geometry::slab_surface(slab, options);
+  geometry::BoundaryGrid mid_walls{stack.mid(20)}, lower_walls{stack.lower(20)};
+
+  static geometry::DistanceOptions forward_only() {
+    geometry::DistanceOptions o;
+    o.tolerance = kTolerance;
+    o.reverse = false;
+    return o;
+  }
+};
+
 }  // namespace
 
 TEST_CASE("cone_distance_of_lower_is_twice_that_of_mid") {
@@ -69,17 +91,11 @@ TEST_CASE("settling_below_a_bound_proves_the_cone_within_it_and_measures_it_exac
   // lower's forward D on the cone's layer is t r cos(pi/n) / h (above): asked to settle
   // below a bound over it, the search shows D within the bound (forward then a lower bound,
   // at most D); below it, it measures D as ever.
-  const int n = 48;
-  const double r = 10, h = 15;
-  const solids::Solid cone = solids::cone(r, h, n);
-  const LayerStack stack(cone.mesh, geometry::uniform_layers(h, 0.25));
-  const geometry::Slab slab = geometry::slab_of(stack, 20);
-  const double d = 0.25 * r * std::cos(kPi / n) / h;
-  geometry::DistanceOptions options;
-  options.tolerance = kTolerance;
-  options.reverse = false;
-  const geometry::SlabSurface surface = geometry::slab_surface(slab, options);
-  const geometry::BoundaryGrid walls(stack.lower(20));
+  const ConeLayer c;
+  const double d = 0.25 * c.r * std::cos(kPi / c.n) / c.h;
+  geometry::DistanceOptions options = c.options;
+  const geometry::SlabSurface& surface = c.surface;
+  const geometry::BoundaryGrid& walls = c.lower_walls;
   const DistanceError exact = geometry::distance_error(surface, walls, {}, options);
   CHECK_FALSE(exact.settled);
   CHECK(std::abs(exact.forward - d) <= kTolerance + kRounding);
@@ -98,16 +114,10 @@ TEST_CASE("points_measured_first_refute_a_farther_region_and_leave_an_exact_dist
   // from mid's walls measured first, lower is still refuted against mid's D, by a lower
   // bound of its own; measuring mid again with lower's farthest first gives the same D to
   // the bit.
-  const int n = 48;
-  const double r = 10, h = 15;
-  const solids::Solid cone = solids::cone(r, h, n);
-  const LayerStack stack(cone.mesh, geometry::uniform_layers(h, 0.25));
-  const geometry::Slab slab = geometry::slab_of(stack, 20);
-  geometry::DistanceOptions options;
-  options.tolerance = kTolerance;
-  options.reverse = false;
-  const geometry::SlabSurface surface = geometry::slab_surface(slab, options);
-  const geometry::BoundaryGrid mid_walls(stack.mid(20)), lower_walls(stack.lower(20));
+  const ConeLayer c;
+  geometry::DistanceOptions options = c.options;
+  const geometry::SlabSurface& surface = c.surface;
+  const geometry::BoundaryGrid &mid_walls = c.mid_walls, &lower_walls = c.lower_walls;
   options.farthest_count = 8;
   const DistanceError mid = geometry::distance_error(surface, mid_walls, {}, options);
   const DistanceError lower = geometry::distance_error(surface, lower_walls, {}, options);
@@ -167,16 +177,10 @@ TEST_CASE("corners_kept_in_a_state_resume_to_the_same_distance_or_a_refutation")
   // (at most lower's D), and mid measured in full between, the search resumed from those
   // corners gives lower's D to the bit, or at mid's D + 1 um a bound above it; the same with
   // a missed feature (the box and cone's tip, measured to the tip's outline).
-  const int n = 48;
-  const double r = 10, h = 15;
-  const solids::Solid cone = solids::cone(r, h, n);
-  const LayerStack stack(cone.mesh, geometry::uniform_layers(h, 0.25));
-  const geometry::Slab slab = geometry::slab_of(stack, 20);
-  geometry::DistanceOptions options;
-  options.tolerance = kTolerance;
-  options.reverse = false;
-  const geometry::SlabSurface surface = geometry::slab_surface(slab, options);
-  const geometry::BoundaryGrid mid_walls(stack.mid(20)), lower_walls(stack.lower(20));
+  const ConeLayer c;
+  geometry::DistanceOptions options = c.options;
+  const geometry::SlabSurface& surface = c.surface;
+  const geometry::BoundaryGrid &mid_walls = c.mid_walls, &lower_walls = c.lower_walls;
   const DistanceError lower = geometry::distance_error(surface, lower_walls, {}, options);
   const DistanceError mid = geometry::distance_error(surface, mid_walls, {}, options);
   REQUIRE(lower.forward > 1.5 * mid.forward);
