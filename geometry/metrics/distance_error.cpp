@@ -482,6 +482,7 @@ double forward_distance(const SlabSurface& surface, const BoundaryGrid& walls,
   ForwardScratch& scratch = state ? state->scratch : own_scratch;
   const bool resumed = state && !options.corners_only && state->surface == &surface &&
                        state->walls == &walls;
+  if (state) options.state->clear();  // corners kept serve the one call after them
   double best = 0;
   bool all_to_walls;
   BoundaryGrid own_outlines;  // the missed islands' walls, without a state
@@ -489,10 +490,7 @@ double forward_distance(const SlabSurface& surface, const BoundaryGrid& walls,
     // The corners a corners_only call measured, all of them (see the header).
     all_to_walls = state->all_to_walls;
     best = state->corner_best;
-    state->surface = nullptr;
-    state->walls = nullptr;
   } else {
-    if (state) state->surface = nullptr, state->walls = nullptr;
     // Surface inside a missed island is measured to the island's outline (see the header).
     Region outlines;
     for (const BoundaryPair& island : missed) outlines.loops.push_back(island.outer);
