@@ -13,6 +13,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "geometry/analysis/layer_analysis.h"
 #include "geometry/plan/slab_bound.h"
 #include "geometry/plan/swept_volume.h"
 
@@ -894,25 +895,19 @@ struct PathSummary {
   double percentile = 0, swept = 0, over = 0;
 };
 PathSummary summarize(const LazyPlanner& planner, const std::vector<std::uint32_t>& path, double cap) {
-  std::vector<std::pair<double, double>> layers;  // (D, thickness)
+  std::vector<double> distances, thicknesses;
   PathSummary s;
-  double total = 0, over = 0;
+  double over = 0;
   for (std::uint32_t e : path) {
     if (!planner.printed(e)) continue;
-    layers.push_back({planner.exact(e), planner.thickness(e)});
-    total += planner.thickness(e);
+    distances.push_back(planner.exact(e));
+    thicknesses.push_back(planner.thickness(e));
     s.swept += planner.swept(e);
     if (planner.exact(e) > cap) over += planner.thickness(e);
   }
-  if (layers.empty()) return s;
-  s.over = over / total;
-  std::sort(layers.begin(), layers.end());
-  double covered = 0;
-  for (const auto& [d, t] : layers) {
-    covered += t;
-    s.percentile = d;
-    if (covered >= kByHeightShare * total * (1 - 1e-12)) break;
-  }
+  if (distances.empty()) return s;
+  s.over = over / std::accumulate(thicknesses.begin(), thicknesses.end(), 0.0);
+  s.percentile = weighted_percentile(distances, thicknesses, 100 * kByHeightShare);
   return s;
 }
 
