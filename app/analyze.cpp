@@ -131,39 +131,6 @@ double share_within(const std::vector<LayerAnalysis>& layers, std::size_t k,
   return 100.0 * within / layers.size();
 }
 
-// How strategy k compares with baseline b over the layers.
-Comparison compare(const std::vector<LayerAnalysis>& layers, std::size_t k, std::size_t b) {
-  double per_layer = 0, lowest = 0, highest = 0;
-  std::size_t counted = 0, better = 0, worse = 0;
-  const double tolerance = geometry::DistanceOptions{}.tolerance;
-  for (const LayerAnalysis& layer : layers) {
-    const auto& m = layer.strategies[k].metrics;
-    const auto& base = layer.strategies[b].metrics;
-    if (base.volume_deviation > geometry::kNegligibleVolume) {
-      const double change = (m.volume_deviation - base.volume_deviation) / base.volume_deviation;
-      per_layer += change;
-      lowest = counted ? std::min(lowest, change) : change;
-      highest = counted ? std::max(highest, change) : change;
-      ++counted;
-    }
-    if (m.distance < base.distance - tolerance) ++better;
-    if (m.distance > base.distance + tolerance) ++worse;
-  }
-  Comparison c;
-  c.strategy = k;
-  c.baseline = b;
-  c.per_layer_change_percent = counted ? 100 * per_layer / counted : 0.0;
-  c.least_change_percent = 100 * lowest;
-  c.greatest_change_percent = 100 * highest;
-  c.layers_compared = counted;
-  c.distance_better = better;
-  c.distance_worse = worse;
-  // Below the distance metric's tolerance a D is zero; below a 10 um cube per layer a ΔV is.
-  c.negligible_distance = tolerance;
-  c.negligible_volume = geometry::kNegligibleVolume * static_cast<double>(layers.size());
-  return c;
-}
-
 // Each strategy against lower, and against mid (but lower and mid themselves).
 std::vector<Comparison> comparisons_of(const std::vector<LayerAnalysis>& layers, const Strategies& kinds) {
   const int lower = strategy_index(kinds, "lower"), mid = strategy_index(kinds, "mid");
@@ -276,6 +243,42 @@ std::vector<geometry::Layer> analyzed_layers(const AnalyzeRequest& request, cons
 }
 
 }  // namespace
+
+Comparison compare(const std::vector<LayerAnalysis>& layers, std::size_t k, std::size_t b) {
+  double per_layer = 0, lowest = 0, highest = 0;
+  std::size_t counted = 0, better = 0, worse = 0, keeping = 0;
+  const double tolerance = geometry::DistanceOptions{}.tolerance;
+  for (const LayerAnalysis& layer : layers) {
+    const auto& m = layer.strategies[k].metrics;
+    const auto& base = layer.strategies[b].metrics;
+    if (base.volume_deviation > geometry::kNegligibleVolume) {
+      const double change = (m.volume_deviation - base.volume_deviation) / base.volume_deviation;
+      per_layer += change;
+      lowest = counted ? std::min(lowest, change) : change;
+      highest = counted ? std::max(highest, change) : change;
+      ++counted;
+    }
+    if (m.distance < base.distance - tolerance) ++better;
+    if (m.distance > base.distance + tolerance) {
+      ++worse;
+      if (base.missed_features > m.missed_features) ++keeping;
+    }
+  }
+  Comparison c;
+  c.strategy = k;
+  c.baseline = b;
+  c.per_layer_change_percent = counted ? 100 * per_layer / counted : 0.0;
+  c.least_change_percent = 100 * lowest;
+  c.greatest_change_percent = 100 * highest;
+  c.layers_compared = counted;
+  c.distance_better = better;
+  c.distance_worse = worse;
+  c.distance_worse_keeping_features = keeping;
+  // Below the distance metric's tolerance a D is zero; below a 10 um cube per layer a ΔV is.
+  c.negligible_distance = tolerance;
+  c.negligible_volume = geometry::kNegligibleVolume * static_cast<double>(layers.size());
+  return c;
+}
 
 Strategies strategy_list(const std::vector<std::string>& names, const std::string& flag) {
   Strategies kinds;

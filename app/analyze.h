@@ -102,12 +102,19 @@ struct Comparison {
   double per_layer_change_percent = 0, least_change_percent = 0, greatest_change_percent = 0;
   std::size_t layers_compared = 0;
   // Layers whose D is below (better) or above (worse) the baseline's by more than the
-  // distance tolerance.
-  std::size_t distance_better = 0, distance_worse = 0;
+  // distance tolerance; of the worse, those where the baseline misses more features than the
+  // strategy (best printing a tip or a thin wall that mid's section leaves out, at a D that
+  // an empty or smaller section does not have).
+  std::size_t distance_better = 0, distance_worse = 0, distance_worse_keeping_features = 0;
   // Below these a D (mm) or a total ΔV (mm³) is rounding, not error: a change from a baseline
   // this small is no percentage.
   double negligible_distance = 0, negligible_volume = 0;
 };
+
+// How strategy k compares with baseline b over the layers (indices into each layer's
+// strategies).
+Comparison compare(const std::vector<geometry::LayerAnalysis>& layers, std::size_t k,
+                   std::size_t b);
 
 // Ma at thicker layers against lower at the analysed ones.
 struct ThickerLayers {

@@ -213,13 +213,19 @@ void print_comparison(const app::Comparison& c, const std::vector<StrategySummar
                                       signed_text(c.least_change_percent, 0),
                                       signed_text(c.greatest_change_percent, 0))
                         : std::string("ΔV per layer: n/a (the baseline's is negligible)");
+  const std::string keeping_text =
+      c.distance_worse_keeping_features
+          ? fmt::format(" ({} of them where {} misses a feature {} prints)",
+                        c.distance_worse_keeping_features, name_of(base.strategy),
+                        name_of(s.strategy))
+          : std::string();
   fmt::print("{} vs {}: mean D {}, max D {}, total ΔV {}, {}; D better on {}, worse on {} of {} "
-             "layers\n",
+             "layers{}\n",
              name_of(s.strategy), name_of(base.strategy),
              change_text(s.mean_distance, base.mean_distance, c.negligible_distance, "mm", 4),
              change_text(s.max_distance, base.max_distance, c.negligible_distance, "mm", 4),
              change_text(s.total_deviation, base.total_deviation, c.negligible_volume, "mm³", 3),
-             per_layer_text, c.distance_better, c.distance_worse, layers);
+             per_layer_text, c.distance_better, c.distance_worse, layers, keeping_text);
 }
 
 nlohmann::json comparison_json(const app::Comparison& c, const std::vector<StrategySummary>& summaries) {
@@ -243,6 +249,7 @@ nlohmann::json comparison_json(const app::Comparison& c, const std::vector<Strat
   j["per_layer_deviation_change_max_percent"] = c.greatest_change_percent;
   j["layers_distance_better"] = c.distance_better;
   j["layers_distance_worse"] = c.distance_worse;
+  j["layers_distance_worse_keeping_features"] = c.distance_worse_keeping_features;
   return j;
 }
 

@@ -94,6 +94,34 @@ TEST_CASE("analyze_in_process_measures_lower_on_a_frustum_as_its_closed_form") {
   CHECK(result.thicker.empty());
 }
 
+// One layer's measurements of two strategies, k = 0 and 1: D (mm) and missed features.
+geometry::LayerAnalysis layer_of(double d0, std::size_t missed0, double d1, std::size_t missed1) {
+  geometry::LayerAnalysis layer;
+  layer.strategies.resize(2);
+  layer.strategies[0].metrics.distance = d0;
+  layer.strategies[0].metrics.missed_features = missed0;
+  layer.strategies[1].metrics.distance = d1;
+  layer.strategies[1].metrics.missed_features = missed1;
+  return layer;
+}
+
+TEST_CASE("a_layer_worse_by_D_where_the_baseline_misses_a_feature_is_counted_as_such") {
+  // best (1) against mid (0): better on the first layer; worse on the second, where both miss
+  // nothing; worse on the third, a tip mid's empty section leaves out and best prints at a D
+  // the empty section (measured to the tip's own outline) does not have; equal on the last.
+  const std::vector<geometry::LayerAnalysis> layers = {
+      layer_of(0.20, 0, 0.10, 0), layer_of(0.10, 0, 0.15, 0), layer_of(0.128, 1, 0.212, 0),
+      layer_of(0.10, 0, 0.10, 0)};
+  const app::Comparison c = app::compare(layers, 1, 0);
+  CHECK(c.distance_better == 1);
+  CHECK(c.distance_worse == 2);
+  CHECK(c.distance_worse_keeping_features == 1);
+  // Mid against best: worse on the first layer only, where best misses nothing more.
+  const app::Comparison reverse = app::compare(layers, 0, 1);
+  CHECK(reverse.distance_worse == 1);
+  CHECK(reverse.distance_worse_keeping_features == 0);
+}
+
 TEST_CASE("analyze_in_process_gives_the_thicker_layers_and_the_drawn_layer_asked_for") {
   const std::string dir = test_support::scratch_dir("app_analyze_thicker");
   app::AnalyzeRequest request = frustum_request(dir);
