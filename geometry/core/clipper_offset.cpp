@@ -22,6 +22,17 @@ constexpr double kArcTolerance = 0.005;  // mm
 // A loop with less area than a micrometre square is a sliver of rounding, in nm^2.
 constexpr double kNoArea = 1e6;
 
+// The element after i and the one before it round a loop (a Path's points, or anything kept
+// per vertex): the end of edge i, and the start of the edge that ends at i.
+template <class Loop>
+const auto& next_of(const Loop& loop, std::size_t i) {
+  return loop[i + 1 < loop.size() ? i + 1 : 0];
+}
+template <class Loop>
+const auto& prev_of(const Loop& loop, std::size_t i) {
+  return loop[i > 0 ? i - 1 : loop.size() - 1];
+}
+
 struct Normal {
   double x, y;
 };
@@ -70,7 +81,7 @@ bool raw_offset(const Path& loop, const Joins& j, Path& out, std::vector<Normal>
   length.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const auto& a = loop[i];
-    const auto& b = loop[i + 1 < n ? i + 1 : 0];
+    const auto& b = next_of(loop, i);
     const double dx = double(b.X - a.X), dy = double(b.Y - a.Y);
     length[i] = std::sqrt(dx * dx + dy * dy);  // no overflow: nm on a bed
     normal[i] = length[i] > 0 ? Normal{dy / length[i], -dx / length[i]} : Normal{0, 0};
@@ -233,7 +244,7 @@ bool fill_cells(std::span<const Path> loops, std::size_t count, EdgeCells& cells
     const auto n = static_cast<std::uint32_t>(loop.size());
     for (std::uint32_t i = 0; i < n; ++i) {
       const auto& a = loop[i];
-      const auto& b = loop[i + 1 < n ? i + 1 : 0];
+      const auto& b = next_of(loop, i);
       const ClipperLib::cInt left = std::min(a.X, b.X), right = std::max(a.X, b.X);
       const ClipperLib::cInt top = std::min(a.Y, b.Y), bottom = std::max(a.Y, b.Y);
       const auto c0 = grid.column(left), c1 = grid.column(right);
@@ -284,9 +295,9 @@ bool any_edges_meet(const Paths& loops, const EdgeCells& cells) {
     const std::uint32_t f = p.edge, e = q.edge;
     const auto np = static_cast<std::uint32_t>(lp.size()), nq = static_cast<std::uint32_t>(lq.size());
     const auto& a = lp[f];
-    const auto& b = lp[f + 1 < np ? f + 1 : 0];
+    const auto& b = next_of(lp, f);
     const auto& c = lq[e];
-    const auto& d = lq[e + 1 < nq ? e + 1 : 0];
+    const auto& d = next_of(lq, e);
     const bool f_first = p.loop == q.loop && (f + 1 < np ? f + 1 : 0) == e;
     const bool e_first = p.loop == q.loop && (e + 1 < nq ? e + 1 : 0) == f;
     if (f_first || e_first) {
@@ -316,7 +327,7 @@ std::optional<bool> each_meeting(const Paths& a, const Paths& b, const ClipperLi
   std::size_t count = 0;
   for (const Paths* set : {&a, &b}) {
     for (const Path& loop : *set) {
-      for (std::size_t i = 0, n = loop.size(); i < n; ++i) count += near(loop[i], loop[i + 1 < n ? i + 1 : 0]);
+      for (std::size_t i = 0, n = loop.size(); i < n; ++i) count += near(loop[i], next_of(loop, i));
     }
   }
   if (count == 0) return false;
@@ -335,7 +346,7 @@ std::optional<bool> each_meeting(const Paths& a, const Paths& b, const ClipperLi
       const auto n = static_cast<std::uint32_t>(loop.size());
       for (std::uint32_t i = 0; i < n; ++i) {
         const auto& p = loop[i];
-        const auto& q = loop[i + 1 < n ? i + 1 : 0];
+        const auto& q = next_of(loop, i);
         if (!near(p, q)) continue;
         const ClipperLib::cInt left = std::min(p.X, q.X), right = std::max(p.X, q.X);
         const ClipperLib::cInt top = std::min(p.Y, q.Y), bottom = std::max(p.Y, q.Y);
@@ -471,7 +482,7 @@ __int128 twice_area(const Path& loop) {
   __int128 sum = 0;
   for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
     const auto& a = loop[i];
-    const auto& b = loop[i + 1 < n ? i + 1 : 0];
+    const auto& b = next_of(loop, i);
     sum += static_cast<__int128>(a.X) * b.Y - static_cast<__int128>(b.X) * a.Y;
   }
   return sum;
@@ -481,7 +492,7 @@ __int128 twice_area(const Path& loop) {
 // drops such vertices, from its input and its output).
 bool any_in_line(const Path& loop) {
   for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
-    if (side(loop[i > 0 ? i - 1 : n - 1], loop[i], loop[i + 1 < n ? i + 1 : 0]) == 0) return true;
+    if (side(prev_of(loop, i), loop[i], next_of(loop, i)) == 0) return true;
   }
   return false;
 }
@@ -500,7 +511,7 @@ bool edge_crossings(const Path& loop, std::vector<std::pair<std::uint32_t, std::
     const auto& a = loop[f];
     const auto& b = loop[f + 1];
     const auto& c = loop[e];
-    const auto& d = loop[e + 1 < n ? e + 1 : 0];
+    const auto& d = next_of(loop, e);
     const int s1 = side(a, b, c), s2 = side(a, b, d), s3 = side(c, d, a), s4 = side(c, d, b);
     if (s1 * s2 < 0 && s3 * s4 < 0) {
       crossings.emplace_back(f, e);
@@ -691,7 +702,7 @@ bool traced_boundary(const Path& raw,
   }
   const std::size_t count = crossings.size();
   const auto end_of = [&](std::uint32_t e) -> const ClipperLib::IntPoint& {
-    return raw[e + 1 < n ? e + 1 : 0];
+    return next_of(raw, e);
   };
   std::vector<ClipperLib::IntPoint> at(count);
   std::vector<EdgeCrossing> on;  // by edge, then along it
@@ -749,7 +760,7 @@ bool traced_boundary(const Path& raw,
   if (!least) return false;
   const std::size_t lowest = *least;
   std::vector<int> winding(on.size() + n);
-  const int outside = side(raw[lowest > 0 ? lowest - 1 : n - 1], raw[lowest], end_of(lowest)) > 0 ? 0 : -1;
+  const int outside = side(prev_of(raw, lowest), raw[lowest], end_of(lowest)) > 0 ? 0 : -1;
   int w = outside;
   std::size_t boundary = 0;
   for (std::size_t step = 0; step < n; ++step) {
@@ -800,9 +811,9 @@ bool traced_boundary(const Path& raw,
     if (at_y[k] - at_y[k - 1] <= 1) return false;
   }
   for (std::size_t v = 0; v < m; ++v) {
-    const auto& a = out[v > 0 ? v - 1 : m - 1];
+    const auto& a = prev_of(out, v);
     const auto& b = out[v];
-    const auto& c = out[v + 1 < m ? v + 1 : 0];
+    const auto& c = next_of(out, v);
     if (a == b || b == c || side(a, b, c) == 0) return false;
   }
   return started_as_clipper_starts(out);
@@ -950,7 +961,7 @@ bool wound_clear(const Paths& loops, const ClipperLib::IntPoint& p) {
   for (const Path& loop : loops) {
     for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
       const auto& a = loop[i];
-      const auto& b = loop[i + 1 < n ? i + 1 : 0];
+      const auto& b = next_of(loop, i);
       if (!(squared_distance_to_segment(q, {double(a.X), double(a.Y)}, {double(b.X), double(b.Y)}) > kClear2)) {
         return false;
       }
@@ -966,7 +977,7 @@ std::optional<ClipperLib::IntPoint> centroid(const Path& loop) {
   double a2 = 0, cx = 0, cy = 0;
   for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
     const double x0 = double(loop[i].X - o.X), y0 = double(loop[i].Y - o.Y);
-    const auto& b = loop[i + 1 < n ? i + 1 : 0];
+    const auto& b = next_of(loop, i);
     const double x1 = double(b.X - o.X), y1 = double(b.Y - o.Y);
     const double c = x0 * y1 - x1 * y0;
     a2 += c;
@@ -1114,7 +1125,7 @@ bool cut_loop(const Path& loop, std::span<const Crossing> crossed, const Paths& 
     winding += turn[v];
   }
   for (std::size_t e = 0; e < n; ++e) {
-    if (last[e] >= 0 && in[e] && in[e + 1 < n ? e + 1 : 0]) return false;
+    if (last[e] >= 0 && in[e] && next_of(in, e)) return false;
   }
   std::size_t s = 0;
   while (s < n && !in[s]) ++s;
@@ -1168,7 +1179,7 @@ bool meets_any(const ClipperLib::IntPoint& p, const ClipperLib::IntPoint& q, con
     const Path& loop = loops[l];
     for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
       const auto& c = loop[i];
-      const auto& d = loop[i + 1 < n ? i + 1 : 0];
+      const auto& d = next_of(loop, i);
       if (std::max(c.X, d.X) < box.left || std::min(c.X, d.X) > box.right ||
           std::max(c.Y, d.Y) < box.top || std::min(c.Y, d.Y) > box.bottom) {
         continue;
@@ -1205,7 +1216,7 @@ bool proven_specks(const Paths& a, const Paths& b, double area) {
   for (const Path& loop : a) {
     for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
       const auto& p = loop[i];
-      const auto& q = loop[i + 1 < n ? i + 1 : 0];
+      const auto& q = next_of(loop, i);
       length += std::abs(double(q.X - p.X)) + std::abs(double(q.Y - p.Y));
     }
   }
@@ -1227,9 +1238,9 @@ bool proven_specks(const Paths& a, const Paths& b, double area) {
         const Path& la = a[al];
         const Path& lb = b[bl];
         const auto& p = la[ae];
-        const auto& q = la[ae + 1 < la.size() ? ae + 1 : 0];
+        const auto& q = next_of(la, ae);
         const auto& c = lb[be];
-        const auto& d = lb[be + 1 < lb.size() ? be + 1 : 0];
+        const auto& d = next_of(lb, be);
         const int turn = side(c, d, q);
         if (!(side(p, q, c) * side(p, q, d) < 0 && side(c, d, p) * turn < 0)) {
           touch = true;
