@@ -941,11 +941,11 @@ bool prints_over(LazyPlanner& planner, const std::vector<std::uint32_t>& path, d
 // A layer budget's plan aimed at the by-height percentile itself (layer_plan.h): where `plan`'s
 // path (`base`) leaves more than the share of the height the percentile leaves out (5%) over
 // its cap, the least cap between that cap and base's own percentile (to within 1% of the cap,
-// bisected) at
-// which the plan of the least height over it (Limits::by_height: over it at any thickness)
-// leaves at most that share over it; taken if its percentile is lower than base's, its largest
-// D as printed (printed_most: the planned one, a section's, may be far above it: the bottle's
-// punt, 11 mm planned by mid, 0.3 mm printed by best) and its total swept volume no more.
+// bisected) at which the plan of the least height over it (Limits::by_height: over it at any
+// thickness) leaves at most that share over it; taken if its percentile is lower than base's,
+// its largest D as printed (printed_most: the planned one, a section's, may be far above it:
+// the bottle's punt, 11 mm planned by mid, 0.3 mm printed by best) and its total swept volume
+// no more.
 // Each cap tried costs one least_swept_path and the measuring of the slabs new on it; the
 // comparison, the layers of either plan planned over the other's largest D as printed,
 // measured as printed. Taken, it replaces `plan`'s path and cap.

@@ -8,8 +8,8 @@
 // thickness allowed and thinner: every layer of the segment a little), so an 8.00 mm part
 // prints 8.00 mm tall. Whichever is the nearer count of layers; half way, thinner ones (a
 // layer no thicker than asked follows a slope as closely and keeps an overhang within its
-// reach: a 20 mm part on the UP Plus 2 at 0.2 mm ends in two 0.15 mm layers, not 0.25). With no flat level above the first layer this is
-// uniform_layers() exactly.
+// reach: a 20 mm part on the UP Plus 2 at 0.2 mm ends in two 0.15 mm layers, not 0.25). With
+// no flat level above the first layer this is uniform_layers() exactly.
 //
 // Adaptive, by the exact error of the contour printed. With a tolerance: every layer above the
 // first within it (its distance error D, slab_error.h: the D `mahost analyze` reports for that
@@ -18,11 +18,12 @@
 // layer reaches it), the layers holding a flat level no allowed layer reaches over the
 // tolerance by the least height, then by the least D (Alexa et al.'s min-max objective for
 // the layers a flat level forces over), the fewest layers over the tolerance, the fewest
-// layers, and the least total error, the volume the layers' sections leave off the surface (swept_volume.h: the
-// volume deviation of the mid contour, exact where the surface is one sheet over each point of
-// a layer). A plan ends at the lowest height the layers reach at or above the part's top (with
-// a printer of any thickness, at the top): never more than the printer's step above it; a last
-// layer there that prints nothing (AdaptiveOptions::prints) is left out.
+// layers, and the least total error, the volume the layers' sections leave off the surface
+// (swept_volume.h: the volume deviation of the mid contour, exact where the surface is one
+// sheet over each point of a layer). A plan ends at the lowest height the layers reach at or
+// above the part's top (with a printer of any thickness, at the top): never more than the
+// printer's step above it; a last layer there that prints nothing (AdaptiveOptions::prints)
+// is left out.
 // With a budget of max_layers: the least tolerance whose plan has at most that many layers,
 // then the least total error in at most as many layers (a dynamic program over heights and
 // layers used) with none over that plan's largest D, in
@@ -41,14 +42,15 @@
 // at 207 to 332 layers, not 0.456 to 0.599 (290 layers: 0.483 -> 0.442, under Cura's 0.469),
 // its ΔV up to 2.2% higher (207 layers: 130.8 -> 133.6 mm^3).
 // With max_layers (and for each count a print-time budget, `fits`, tries), where that plan
-// leaves more than 5% of its height (the fixed first layer counted) over its cap, the cap aims at the by-height 95th percentile itself: the least cap
-// (bisected between the cap and that plan's own whole percentile, to 1% of the cap) at which
-// the plan of the least height over it, at any thickness (no landing term, no excess ranked:
-// the 5% a percentile leaves out may hold thicker layers, which spend fewer of the budget's
-// layers there), leaves at most 5% of the height over it; taken if its percentile is lower,
-// its largest D as printed (AdaptiveOptions::printed) and its swept volume no more. The
-// planned D of a section contour bounds the printed one from above, loosely where the section
-// fills a hole the printed contour keeps: the bottle's punt, mid's D 11 mm against best's 0.3,
+// leaves more than 5% of its height (the fixed first layer counted) over its cap, the cap aims
+// at the by-height 95th percentile itself: the least cap (bisected between the cap and that
+// plan's own whole percentile, to 1% of the cap) at which the plan of the least height over it,
+// at any thickness (no landing term, no excess ranked: the 5% a percentile leaves out may hold
+// thicker layers, which spend fewer of the budget's layers there), leaves at most 5% of the
+// height over it; taken if its percentile is lower, its largest D as printed
+// (AdaptiveOptions::printed) and its swept volume no more. The planned D of a section contour
+// bounds the printed one from above, loosely where the section fills a hole the printed
+// contour keeps: the bottle's punt, mid's D 11 mm against best's 0.3,
 // is no ceiling for a 0.25 mm layer on its shoulder, 1.1 mm planned and 0.795 printed, where
 // the least tolerance's plan prints nothing over 0.6 mm. A sphere cap's top, where D grows
 // without bound, is such a 5%: the cap 17 mm tall in 65 layers ends a 0.15 mm layer at 16.15
