@@ -366,9 +366,6 @@ std::optional<bool> each_meeting(const Paths& a, const Paths& b, const ClipperLi
   }
   const std::size_t cell_count = rows * columns;
   place_edges(cells, columns, cell_count);
-  const auto end_of = [&](const GridEdge& e, const Path& loop) -> const ClipperLib::IntPoint& {
-    return loop[e.edge + 1 < loop.size() ? e.edge + 1 : 0];
-  };
   for (std::size_t c = 0; c < cell_count; ++c) {
     const std::uint32_t first = cells.start[c], last = cells.start[c + 1];
     std::uint32_t split = first;
@@ -382,7 +379,7 @@ std::optional<bool> each_meeting(const Paths& a, const Paths& b, const ClipperLi
         // Once per pair: in the cell of the corner of least x and y of the boxes' overlap.
         if (std::size_t{std::max(p.r0, q.r0)} * columns + std::max(p.c0, q.c0) != c) continue;
         const Path& lq = b[q.loop - a_loops];
-        if (meet_within_boxes(lp[p.edge], end_of(p, lp), lq[q.edge], end_of(q, lq)) &&
+        if (meet_within_boxes(lp[p.edge], next_of(lp, p.edge), lq[q.edge], next_of(lq, q.edge)) &&
             visit(p.loop, p.edge, q.loop - a_loops, q.edge)) {
           return true;
         }
@@ -701,17 +698,14 @@ bool traced_boundary(const Path& raw,
     return false;
   }
   const std::size_t count = crossings.size();
-  const auto end_of = [&](std::uint32_t e) -> const ClipperLib::IntPoint& {
-    return next_of(raw, e);
-  };
   std::vector<ClipperLib::IntPoint> at(count);
   std::vector<EdgeCrossing> on;  // by edge, then along it
   on.reserve(2 * count);
   for (std::uint32_t c = 0; c < count; ++c) {
     const auto [i, j] = crossings[c];
-    if (!clipper_crossing(raw[i], end_of(i), raw[j], end_of(j), at[c])) return false;
-    on.push_back(crossing_on(i, c, raw[i], end_of(i), raw[j], end_of(j)));
-    on.push_back(crossing_on(j, c, raw[j], end_of(j), raw[i], end_of(i)));
+    if (!clipper_crossing(raw[i], next_of(raw, i), raw[j], next_of(raw, j), at[c])) return false;
+    on.push_back(crossing_on(i, c, raw[i], next_of(raw, i), raw[j], next_of(raw, j)));
+    on.push_back(crossing_on(j, c, raw[j], next_of(raw, j), raw[i], next_of(raw, i)));
   }
   bool tied = false;
   std::sort(on.begin(), on.end(), [&](const EdgeCrossing& p, const EdgeCrossing& q) {
@@ -753,14 +747,14 @@ bool traced_boundary(const Path& raw,
     const auto above = std::lower_bound(ys.begin(), ys.end(), y - 1);
     if (above == ys.begin() || above == ys.end() || *above <= y + 1) return false;
     const auto [i, j] = crossings[c];
-    if (!swept_as_crossing(raw[i], end_of(i), raw[j], end_of(j), *above, *(above - 1))) return false;
+    if (!swept_as_crossing(raw[i], next_of(raw, i), raw[j], next_of(raw, j), *above, *(above - 1))) return false;
   }
   // The right side's winding of each piece: piece p of edge e is number first[e] + e + p.
   const std::optional<std::size_t> least = lone_least_y(raw);
   if (!least) return false;
   const std::size_t lowest = *least;
   std::vector<int> winding(on.size() + n);
-  const int outside = side(prev_of(raw, lowest), raw[lowest], end_of(lowest)) > 0 ? 0 : -1;
+  const int outside = side(prev_of(raw, lowest), raw[lowest], next_of(raw, lowest)) > 0 ? 0 : -1;
   int w = outside;
   std::size_t boundary = 0;
   for (std::size_t step = 0; step < n; ++step) {
