@@ -257,8 +257,10 @@ std::vector<std::vector<int>> overlapping_facets(const SlabColumns& columns) {
   const BoundaryGrid grid(std::move(boxes));
   // On the stack where the outlines fit (small_polygon.h: the same arithmetic, so the same
   // answer), else through convex_intersection.
-  std::vector<SmallPolygon> outline(n);
-  for (std::size_t i = 0; i < n; ++i) outline[i] = small_polygon(columns.facets[i].outline);
+  // Pushed, not sized and assigned: a sized vector zeroes every polygon's 16 corners first.
+  std::vector<SmallPolygon> outline;
+  outline.reserve(n);
+  for (const ColumnFacet& facet : columns.facets) outline.push_back(small_polygon(facet.outline));
   const auto overlap = [&](std::size_t a, std::size_t b) {
     bool complete = columns.facets[a].outline.size() <= kSmallCorners &&
                     columns.facets[b].outline.size() <= kSmallCorners;
