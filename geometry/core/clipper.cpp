@@ -198,6 +198,9 @@ Paths clip_open_joined(const Paths& lines, const Paths& region) {
 std::vector<Paths> islands(const Paths& region) {
   std::vector<Paths> result;
   if (region.empty()) return result;
+  // Loops apart, each simple (most of a layer's sections): each its own island.
+  if (islands_of_loops_apart(region, result)) return result;
+  result.clear();
   PolyTree tree;
   union_nonzero_tree(region, tree);
   for (const ClipperLib::PolyNode* node = tree.GetFirst(); node; node = node->GetNext()) {

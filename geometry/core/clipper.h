@@ -144,6 +144,15 @@ bool offset_is_empty(const Paths& region, double delta, ClipperLib::JoinType joi
 // boundary alone takes 3,129, each the very loop Clipper makes (cutting folds alone: 1,833).
 bool union_of_folded_loop(const Path& loop, Path& out);
 
+// Clipper's islands (islands()) of loops that each run CCW and meet nowhere, without the
+// sweep: no point repeated or in line with its neighbours, no edges crossing or touching, no
+// loop inside another. Into `out`: each loop an island of its own, started where Clipper's
+// union starts a loop (the point after its least y), in the order its tree lists them (the
+// greatest y first). False, and `out` unspecified, where the loops are not such, two points of
+// a loop share its least y or two loops their greatest y (then the union is the answer).
+// Cost: a pass over the edges on a grid of about one edge per cell.
+bool islands_of_loops_apart(const Paths& region, std::vector<Paths>& out);
+
 // Shrink then grow by radius mm: removes every part narrower than 2 * radius.
 Paths opening(const Paths& region, double radius);
 

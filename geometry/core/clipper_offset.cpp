@@ -831,6 +831,28 @@ bool union_of_folded_loop(const Path& raw, Path& out) {
   return cut_folds(raw, crossings, out) || traced_boundary(raw, crossings, out);
 }
 
+bool islands_of_loops_apart(const Paths& region, std::vector<Paths>& out) {
+  std::vector<std::pair<ClipperLib::cInt, std::size_t>> tops;  // each loop's greatest y
+  tops.reserve(region.size());
+  for (std::size_t l = 0; l < region.size(); ++l) {
+    const Path& loop = region[l];
+    if (loop.size() < 3 || any_in_line(loop)) return false;
+    ClipperLib::cInt top = loop.front().Y;
+    for (const auto& p : loop) top = std::max(top, p.Y);
+    tops.emplace_back(top, l);
+  }
+  if (!already_a_region(region, std::vector<char>(region.size(), 1))) return false;
+  std::sort(tops.begin(), tops.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  out.clear();
+  for (std::size_t k = 0; k < tops.size(); ++k) {
+    if (k > 0 && tops[k].first == tops[k - 1].first) return false;
+    Path loop = region[tops[k].second];
+    if (!started_as_clipper_starts(loop)) return false;
+    out.push_back({std::move(loop)});
+  }
+  return true;
+}
+
 namespace {
 
 // The loops an offset by `units` takes (see offset): the region's own, or where one repeats a

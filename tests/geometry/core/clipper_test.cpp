@@ -214,6 +214,118 @@ TEST_CASE("union_of_folded_loop_is_clippers_union_of_jagged_loops") {
   CHECK(taken >= 40);
 }
 
+namespace {
+
+// Clipper's islands of a region, as its union's tree gives them (the reference for the islands
+// of loops apart, which are found without the union).
+std::vector<clipper::Paths> swept_islands(const clipper::Paths& region) {
+  clipper::PolyTree tree;
+  clipper::union_nonzero_tree(region, tree);
+  std::vector<clipper::Paths> result;
+  for (const ClipperLib::PolyNode* node = tree.GetFirst(); node; node = node->GetNext()) {
+    if (node->IsHole()) continue;
+    clipper::Paths island{node->Contour};
+    if (!ClipperLib::Orientation(island.front())) ClipperLib::ReversePath(island.front());
+    for (const ClipperLib::PolyNode* h : node->Childs) {
+      island.push_back(h->Contour);
+      if (ClipperLib::Orientation(island.back())) ClipperLib::ReversePath(island.back());
+    }
+    result.push_back(std::move(island));
+  }
+  return result;
+}
+
+// A loop of n points round (cx, cy), radii 1 +- spread / 2 mm at random, each point up to
+// `jitter` of a step along; some points at the y of the one before, some repeated.
+clipper::Path random_loop(std::mt19937& random, double cx, double cy, int n, double spread,
+                          double jitter, double repeats) {
+  std::uniform_real_distribution<double> unit(0, 1);
+  clipper::Path loop;
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * std::numbers::pi * (i + jitter * unit(random)) / n;
+    const double r = 1e6 * (1 + spread * (unit(random) - 0.5));
+    ClipperLib::IntPoint p{std::llround(cx + r * std::cos(a)), std::llround(cy + r * std::sin(a))};
+    if (i > 0 && unit(random) < 0.03) p.Y = loop.back().Y;     // a level edge
+    if (i > 0 && unit(random) < repeats) p = loop.back();      // a point repeated
+    loop.push_back(p);
+  }
+  return loop;
+}
+
+}  // namespace
+
+// A diamond, CCW from its lowest point: the loop itself, started at the point after its
+// lowest, as Clipper's union starts it; from any start, and only where the loop is simple.
+TEST_CASE("islands_of_loops_apart_start_each_after_its_least_y") {
+  const clipper::Path diamond{{0, -1000}, {1000, 0}, {0, 1000}, {-1000, 0}};
+  const clipper::Path expected{{1000, 0}, {0, 1000}, {-1000, 0}, {0, -1000}};
+  std::vector<clipper::Paths> ours;
+  for (std::size_t start = 0; start < 4; ++start) {
+    clipper::Path turned = diamond;
+    std::rotate(turned.begin(), turned.begin() + static_cast<std::ptrdiff_t>(start), turned.end());
+    REQUIRE(clipper::islands_of_loops_apart({turned}, ours));
+    CHECK(ours == std::vector<clipper::Paths>{{expected}});
+    CHECK(clipper::islands({turned}) == ours);
+    CHECK(swept_islands({turned}) == ours);
+  }
+  // Two diamonds apart, the higher one first.
+  clipper::Path low = diamond;
+  for (auto& p : low) p.Y -= 5000;
+  clipper::Path expected_low = expected;
+  for (auto& p : expected_low) p.Y -= 5000;
+  REQUIRE(clipper::islands_of_loops_apart({low, diamond}, ours));
+  CHECK(ours == std::vector<clipper::Paths>{{expected}, {expected_low}});
+  CHECK(swept_islands({low, diamond}) == ours);
+  // Not taken: a CW loop; two points at the least y (a square's bottom edge); a point in line
+  // with its neighbours; a bow tie (edges crossing); a point repeated (edges touching); one
+  // diamond inside another; two loops with the same greatest y.
+  const clipper::Path cw(diamond.rbegin(), diamond.rend());
+  CHECK_FALSE(clipper::islands_of_loops_apart({cw}, ours));
+  CHECK_FALSE(clipper::islands_of_loops_apart({{{0, 0}, {10, 0}, {10, 10}, {0, 10}}}, ours));
+  CHECK_FALSE(clipper::islands_of_loops_apart({{{0, -10}, {5, -5}, {10, 0}, {0, 10}}}, ours));
+  CHECK_FALSE(clipper::islands_of_loops_apart({{{0, -10}, {10, 10}, {0, 5}, {-10, 10}, {5, 0}}}, ours));
+  CHECK_FALSE(clipper::islands_of_loops_apart(
+      {{{0, -10}, {10, 0}, {0, 0}, {5, 5}, {0, 10}, {-5, 5}, {0, 0}, {-10, 0}}}, ours));
+  clipper::Path small{{0, -100}, {100, 0}, {0, 100}, {-100, 0}};
+  CHECK_FALSE(clipper::islands_of_loops_apart({diamond, small}, ours));
+  clipper::Path beside = diamond;
+  for (auto& p : beside) p.X += 5000;
+  CHECK_FALSE(clipper::islands_of_loops_apart({diamond, beside}, ours));
+}
+
+// Random regions of one to six loops (each radii drawn at random round a centre, some with
+// level edges or repeated points, some tangled so that edges cross), the loops apart, or
+// overlapping, or one inside another: wherever the loops are taken as apart, the islands are
+// Clipper's, point for point and in its order; and islands() is Clipper's on every region.
+TEST_CASE("islands_of_loops_apart_are_clippers") {
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> unit(0, 1);
+  int taken = 0, taken_several = 0;
+  for (int k = 0; k < 600; ++k) {
+    const int loops = 1 + k % 6;
+    const bool tangled = k % 7 == 0;  // loops that cross themselves often
+    const double apart = k % 5 == 0 ? 1.5e6 : 3e6;  // a fifth of them may overlap or nest
+    clipper::Paths region;
+    for (int l = 0; l < loops; ++l) {
+      const int n = 3 + static_cast<int>(unit(random) * 80);
+      region.push_back(random_loop(random, (l % 3) * apart + 5e5 * unit(random),
+                                   (l / 3) * apart + 5e5 * unit(random), n, tangled ? 1.2 : 0.2,
+                                   tangled ? 0.9 : 0.5, k % 11 == 1 ? 0.05 : 0));
+    }
+    CAPTURE(k);
+    const std::vector<clipper::Paths> swept = swept_islands(region);
+    std::vector<clipper::Paths> ours;
+    if (clipper::islands_of_loops_apart(region, ours)) {
+      ++taken;
+      taken_several += loops > 1;
+      CHECK(ours == swept);
+    }
+    CHECK(clipper::islands(region) == swept);
+  }
+  CHECK(taken >= 300);
+  CHECK(taken_several >= 220);
+}
+
 TEST_CASE("clip_open_joined_cuts_a_closed_line_only_where_it_crosses_the_edge") {
   // A circle of r 6 about (12, 3), closed (last point = first) and begun inside a 20 mm square
   // at angles where Clipper hands one of its two pieces back reversed: joined, one piece, from
