@@ -200,9 +200,12 @@ std::vector<Paths> islands(const Paths& region) {
   if (region.empty()) return result;
   // Loops apart, each simple (most of a layer's sections): each its own island.
   if (islands_of_loops_apart(region, result)) return result;
-  result.clear();
   PolyTree tree;
-  union_nonzero_tree(region, tree);
+  return islands(union_nonzero_tree(region, tree));
+}
+
+std::vector<Paths> islands(const PolyTree& tree) {
+  std::vector<Paths> result;
   for (const ClipperLib::PolyNode* node = tree.GetFirst(); node; node = node->GetNext()) {
     if (node->IsHole() || node->IsOpen()) continue;
     Paths island{node->Contour};

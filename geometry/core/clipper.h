@@ -112,6 +112,9 @@ bool proven_outside(const Paths& lines, const Paths& region);
 // Splits a region into islands: each outer loop with the holes directly inside it; an island
 // inside a hole is an island of its own. In the order Clipper's tree lists them.
 std::vector<Paths> islands(const Paths& region);
+// The islands of a union's tree (union_nonzero_tree), in its order: what islands() gives
+// where it sweeps.
+std::vector<Paths> islands(const PolyTree& tree);
 
 // Offset of a filled region by delta mm (negative shrinks). Sharp joins are mitred up to
 // miter_limit times delta; round joins follow the arc within 5 um. The loops' orientation

@@ -220,19 +220,7 @@ namespace {
 // of loops apart, which are found without the union).
 std::vector<clipper::Paths> swept_islands(const clipper::Paths& region) {
   clipper::PolyTree tree;
-  clipper::union_nonzero_tree(region, tree);
-  std::vector<clipper::Paths> result;
-  for (const ClipperLib::PolyNode* node = tree.GetFirst(); node; node = node->GetNext()) {
-    if (node->IsHole()) continue;
-    clipper::Paths island{node->Contour};
-    if (!ClipperLib::Orientation(island.front())) ClipperLib::ReversePath(island.front());
-    for (const ClipperLib::PolyNode* h : node->Childs) {
-      island.push_back(h->Contour);
-      if (ClipperLib::Orientation(island.back())) ClipperLib::ReversePath(island.back());
-    }
-    result.push_back(std::move(island));
-  }
-  return result;
+  return clipper::islands(clipper::union_nonzero_tree(region, tree));
 }
 
 // A loop of n points round (cx, cy), radii 1 +- spread / 2 mm at random, each point up to
