@@ -8,14 +8,15 @@
 #   - CuraEngine 4.13 adaptive layers at several thresholds (CURA_THRESHOLDS),
 #   - Slic3r 1.3 adaptive slicing at several qualities (SLIC3R_QUALITIES),
 #   - uniform layers of the mid section at several thicknesses (UNIFORM; mahost slice --contour
-#     mid: the printer's 0.3 mm first layer, flat tops landed),
+#     mid: the printer's first layer, flat tops landed),
 # the peer's layers are read from its G-code and judged with the model's own mid section (what
 # the peers print); then mahost plans at most as many layers (slice --max-layers N --contour
 # best), its layered part is exported (analyze --boundaries its G-code --export-layers) and
 # judged the same way. Each row: layers, mean D, P95h D (by height), max D, total ΔV of both,
 # and whether mahost is no worse on all four and at least 10% better on one ("yes"), with the
-# measures where it is worse otherwise. All slicing without supports or raft, on the UP Plus 2's
-# 0.15-0.4 mm (0.05 steps) and 0.3 mm first layer.
+# measures where it is worse otherwise. All slicing without supports or raft, on the printer
+# PRINTER (peer_slicers.sh; default up-plus-2: 0.15-0.4 mm in 0.05 mm steps, 0.3 mm first
+# layer; generic-marlin: 0.05-0.3 mm in 0.01 mm steps, 0.2 mm first layer).
 #
 # Usage: tests/bench/plan_vs_peers.sh [BUILD_DIR]          (default build; absolute or in the
 #                                                          repository; mahost built)
@@ -25,8 +26,10 @@
 #                   best), the others say how much of a row is the plan's and the contour's
 #        KEEP=DIR: keep every G-code, layered part and judge's JSON and CSV there
 #        PEERS=DIR: take the peers' G-code and judged JSON and CSV from an earlier run's KEEP
-#                   folder where it has them for the same placed model (byte for byte), instead
-#                   of slicing and judging them again (they do not depend on mahost's plan)
+#                   folder where it has them for the same placed model (byte for byte) and
+#                   printer, instead of slicing and judging them again (they do not depend on
+#                   mahost's plan)
+#        PRINTER=NAME: the printer profile all slice for (default up-plus-2)
 # Needs CuraEngine, slic3r, openscad, python3-numpy, python3-shapely (scripts/setup --bench).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -50,11 +53,13 @@ work=${KEEP:-$(mktemp -d)}
 mkdir -p "$work"
 [[ -n ${KEEP:-} ]] || trap 'rm -rf "$work"' EXIT
 source tests/bench/peer_slicers.sh
+echo "$peer_printer" >"$work/printer"  # whose range the peers' runs there were sliced in
 
 rows=()
 # reused TAG: whether PEERS holds the peer run TAG for this placed model.
 reused() {
   [[ -n ${PEERS:-} && -f $PEERS/$1.gcode && -f $PEERS/$1-peer.json && -f $PEERS/$1-peer.csv ]] &&
+    [[ $(cat "$PEERS/printer" 2>/dev/null || echo up-plus-2) == "$peer_printer" ]] &&
     cmp -s "$placed" "$PEERS/$model_name-placed.stl"
 }
 # compare NAME PEER.gcode: the peer's plan and mahost's at its layer count, one row.
@@ -68,7 +73,7 @@ compare() {
     "${judge[@]}" "$placed" --layers "$peer" --mid ${excl:+--exclude-z $excl} \
       --json "$work/$tag-peer.json" --csv "$work/$tag-peer.csv" >/dev/null
   fi
-  "$mahost" slice "$placed" --max-layers "$n" --contour "${judged_contours%% *}" --support none --no-raft \
+  "$mahost" slice "$placed" --printer "$peer_printer" --max-layers "$n" --contour "${judged_contours%% *}" --support none --no-raft \
     -o "$ours" >"$work/$tag-mahost.log" 2>&1 ||
     { echo "plan_vs_peers: mahost slice failed for $name:" >&2; tail -3 "$work/$tag-mahost.log" >&2; exit 1; }
   local contour label json
@@ -79,7 +84,7 @@ compare() {
       label="  same layers, $contour" json=$work/$tag-mahost-$contour.json
       part=$work/$tag-mahost-$contour-layers.stl
     fi
-    "$mahost" analyze "$placed" --boundaries "$ours" --contours "$contour" --contour "$contour" \
+    "$mahost" analyze "$placed" --printer "$peer_printer" --boundaries "$ours" --contours "$contour" --contour "$contour" \
       --export-layers "$part" >"$work/$tag-analyze.log" 2>&1 ||
       { echo "plan_vs_peers: mahost analyze failed for $name:" >&2; tail -3 "$work/$tag-analyze.log" >&2; exit 1; }
     "${judge[@]}" "$placed" --layers "$ours" --part "$part" ${excl:+--exclude-z $excl} \
@@ -90,20 +95,21 @@ compare() {
 
 # row PEER.json OURS.json NAME PEER.csv: one row of the table.
 row() {
-  rows+=("$(/usr/bin/python3 - "$@" <<'PY'
+  rows+=("$(/usr/bin/python3 - "$@" "$layer_min" "$layer_max" "$layer_step" <<'PY'
 import csv, json, sys
 peer, ours, name = json.load(open(sys.argv[1])), json.load(open(sys.argv[2])), sys.argv[3]
-# The peer's layers above the first that the UP Plus 2 cannot print: under 0.15 or over 0.4
-# mm, or between its steps of 0.05 mm, each to 1.5 um (a G-code file's Z is written to 1 um,
-# so a thickness from two of them is off by up to 1 um). The peers were given the range, and
-# Slic3r knows no step. Said beside the verdict, which still counts them as printed.
+lo, hi, step = map(float, sys.argv[5:8])
+# The peer's layers above the first that the printer cannot print: under its least or over its
+# greatest thickness, or between its steps, each to 1.5 um (a G-code file's Z is written to 1
+# um, so a thickness from two of them is off by up to 1 um). The peers were given the range,
+# and Slic3r knows no step. Said beside the verdict, which still counts them as printed.
 slack = 1.5e-3
 def printable(t):
-    return 0.15 - slack <= t <= 0.4 + slack and abs(t / 0.05 - round(t / 0.05)) * 0.05 <= slack
+    return lo - slack <= t <= hi + slack and abs(t / step - round(t / step)) * step <= slack
 layers = list(csv.DictReader(open(sys.argv[4])))[1:peer["layers"]]
 thicknesses = [float(r["z_hi"]) - float(r["z_lo"]) for r in layers]
-thin = [t for t in thicknesses if t < 0.15 - slack]
-off_step = [t for t in thicknesses if t >= 0.15 - slack and not printable(t)]
+thin = [t for t in thicknesses if t < lo - slack]
+off_step = [t for t in thicknesses if t >= lo - slack and not printable(t)]
 keys = [("mean_D", "mean D"), ("p95h_D", "P95h D"), ("max_D", "max D"), ("total_dV", "dV")]
 # D equal to a nanometre is a tie (a binary STL's 32-bit coordinates move a point by more:
 # the first layer, one slab for both, is judged 0.1256574 against 0.1256581 mm on the star).
@@ -115,8 +121,8 @@ cells = "  ".join(f"{peer[k]:7.4f} {ours[k]:7.4f}" if k != "total_dV" else f"{pe
 # A peer ending below the model's top (CuraEngine on the star and the cap) is judged with one
 # more slab printing nothing, counted in the mean D as a layer would be (judge.py).
 uncovered = peer.get("uncovered", 0) > 1e-6
-notes = ([f"{len(thin)} layer(s) under the printer's 0.15 mm, down to {min(thin):.3f}"] if thin else []) + \
-        ([f"{len(off_step)} between its 0.05 mm steps"] if off_step else []) + \
+notes = ([f"{len(thin)} layer(s) under the printer's {lo:g} mm, down to {min(thin):.3f}"] if thin else []) + \
+        ([f"{len(off_step)} between its {step:g} mm steps"] if off_step else []) + \
         ([f"ends {peer['uncovered']:.3f} mm below the top"] if uncovered else [])
 if notes:
     verdict += " (peer: " + "; ".join(notes) + ")"
@@ -162,7 +168,7 @@ for model_name in $models; do
     if reused "$model_name-uniform-$t"; then
       [[ $PEERS -ef $work ]] || cp "$PEERS/$model_name-uniform-$t.gcode" "$out"
     else
-      "$mahost" slice "$placed" --layer "$t" --contour mid --support none --no-raft -o "$out" >"$work/peer.log" 2>&1
+      "$mahost" slice "$placed" --printer "$peer_printer" --layer "$t" --contour mid --support none --no-raft -o "$out" >"$work/peer.log" 2>&1
     fi
     compare "uniform mid $t" "$out" "$model_name-uniform-$t"
   done
