@@ -154,10 +154,10 @@ LayerReference own_reference(const ContourInput& input, Slab slab) {
 
 // The reference's columns, or the slab's built here where it has none.
 const SlabColumns& columns_of(const ContourInput& input, const LayerReference& reference,
-                              std::optional<SlabColumns>& built) {
+                              SlabColumns& built) {
   if (reference.volumes) return reference.columns;
-  built = slab_columns(reference.slab, input.stack.lower(input.layer));
-  return *built;
+  slab_columns(reference.slab, input.stack.lower(input.layer), built);
+  return built;
 }
 
 // mid's section on a prism, unmeasured: its D is 0 (so is optimal-height's, whose search
@@ -419,14 +419,17 @@ class Contest {
   // The surface points farthest from the first walls measured in full: the next candidates'
   // corners are measured there first (DistanceOptions::first_points).
   std::vector<std::uint32_t> farthest_;
-  std::optional<SlabColumns> built_columns_;
   const SlabColumns* columns_ = nullptr;
   // ma's corners, where they are measured before mid (open_with_ma_or_mid): one a thread,
   // reused from layer to layer.
   static thread_local ForwardState ma_corners_;
+  // The slab's columns where the reference has none: one a thread, reused from layer to layer
+  // (slab_columns keeps its facets' storage).
+  static thread_local SlabColumns built_columns_;
 };
 
 thread_local ForwardState Contest::ma_corners_;
+thread_local SlabColumns Contest::built_columns_;
 
 }  // namespace
 
@@ -435,7 +438,7 @@ std::vector<BestCandidate> best_candidates(const ContourInput& input) {
   std::optional<LayerReference> own;
   if (!input.reference) own = own_reference(input, slab_of(input.stack, input.layer));
   const LayerReference& reference = own ? *own : *input.reference;
-  std::optional<SlabColumns> built;
+  SlabColumns built;
   CandidateMaker maker(input, reference);
   std::vector<BestCandidate> candidates = maker.first();
   maker.add_optimal(candidates, columns_of(input, reference, built));

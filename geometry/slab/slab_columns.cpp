@@ -296,8 +296,7 @@ std::vector<std::vector<int>> overlapping_facets(const SlabColumns& columns) {
   return overlapping;
 }
 
-SlabColumns slab_columns(const Slab& slab, const Region& lower_section) {
-  SlabColumns columns;
+void slab_columns(const Slab& slab, const Region& lower_section, SlabColumns& columns) {
   columns.z_lo = slab.z_lo;
   columns.z_hi = slab.z_hi;
   columns.lower = lower_section;
@@ -305,6 +304,7 @@ SlabColumns slab_columns(const Slab& slab, const Region& lower_section) {
   const double t = slab.z_hi - slab.z_lo;
   double volume = t * columns.lower_area;
   std::vector<Vec3> corners;
+  std::size_t used = 0;
   for (const auto& facet : slab.facets) {
     if (facet.size() < 3) continue;
     // Newell's normal: exact for planar polygons, robust to the clip's near-repeated points.
@@ -319,9 +319,6 @@ SlabColumns slab_columns(const Slab& slab, const Region& lower_section) {
     // A (nearly) vertical facet covers no area seen from above; dropping one whose normal is
     // within 1e-9 of horizontal changes a column integral by under 1e-9 of its area times t.
     if (!(length > 0) || std::abs(normal.z) <= 1e-9 * length) continue;
-    ColumnFacet column;
-    column.sign = normal.z > 0 ? -1 : 1;
-    column.outline.reserve(facet.size());
     // Corners that meet in projection (within kSameCorner) are one: an edge of a few ulps,
     // left by clipping a face at a plane its corner lies a rounding error off (a sphere's
     // equator at a layer's bottom), has no direction to speak of, which the exact integrals
@@ -332,6 +329,12 @@ SlabColumns slab_columns(const Slab& slab, const Region& lower_section) {
     }
     while (corners.size() > 1 && same_corner(corners.front(), corners.back())) corners.pop_back();
     if (corners.size() < 3) continue;
+    // The facets already there are overwritten, their outlines' storage reused.
+    if (used == columns.facets.size()) columns.facets.emplace_back();
+    ColumnFacet& column = columns.facets[used++];
+    column.sign = normal.z > 0 ? -1 : 1;
+    column.outline.clear();
+    column.outline.reserve(corners.size());
     for (const Vec3& v : corners) column.outline.push_back({v.x, v.y});
     if (column.sign > 0) std::reverse(column.outline.begin(), column.outline.end());
     const Vec3 first = corners[column.sign > 0 ? corners.size() - 1 : 0];
@@ -344,10 +347,15 @@ SlabColumns slab_columns(const Slab& slab, const Region& lower_section) {
     column.hi = box.hi;
     volume += column.sign * integrate_linear(column.outline, column.outline[0], column.w0,
                                              column.wx, column.wy);
-    columns.facets.push_back(std::move(column));
   }
+  columns.facets.resize(used);
   columns.volume = volume;
   columns.overlapping = overlapping_facets(columns);
+}
+
+SlabColumns slab_columns(const Slab& slab, const Region& lower_section) {
+  SlabColumns columns;
+  slab_columns(slab, lower_section, columns);
   return columns;
 }
 

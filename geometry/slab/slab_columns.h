@@ -52,6 +52,9 @@ struct SlabColumns {
 };
 
 SlabColumns slab_columns(const Slab& slab, const Region& lower_section);
+// The same into `columns`, whatever it held: its facets' outlines keep their storage, for a
+// caller that builds one slab's columns after another (a facet's outline is an allocation).
+void slab_columns(const Slab& slab, const Region& lower_section, SlabColumns& columns);
 
 // Exact integrals of 1, x - o.x and y - o.y over (convex polygon ∩ region), mm^2 and mm^3:
 // the region's boundary (as a grid, whose segments must be those of `region`) clipped by
