@@ -252,20 +252,45 @@ SegmentMedialAxis segment_medial_axis(const Region& region, double min_radius,
   return axis;
 }
 
+namespace {
+
+// The links at each point, in the order of the links, in one array: a point's own vector each
+// was an allocation per point, and prune_spurs builds this once a pass.
+class Incidence {
+ public:
+  explicit Incidence(const SegmentMedialAxis& axis) : begin_(axis.points.size() + 1, 0) {
+    for (const auto& [u, v] : axis.links) {
+      ++begin_[u + 1];
+      ++begin_[v + 1];
+    }
+    for (std::size_t p = 1; p < begin_.size(); ++p) begin_[p] += begin_[p - 1];
+    links_.resize(begin_.back());
+    std::vector<std::size_t> next(begin_.begin(), begin_.end() - 1);
+    for (std::size_t l = 0; l < axis.links.size(); ++l) {
+      links_[next[axis.links[l].first]++] = l;
+      links_[next[axis.links[l].second]++] = l;
+    }
+  }
+  std::size_t size(std::size_t point) const { return begin_[point + 1] - begin_[point]; }
+  std::size_t operator()(std::size_t point, std::size_t k) const { return links_[begin_[point] + k]; }
+
+ private:
+  std::vector<std::size_t> begin_, links_;
+};
+
+}  // namespace
+
 void prune_spurs(SegmentMedialAxis& axis) {
   const std::size_t n = axis.points.size();
+  std::vector<std::size_t> chain;
   for (bool changed = true; changed;) {
     changed = false;
-    std::vector<std::vector<std::size_t>> incident(n);
-    for (std::size_t l = 0; l < axis.links.size(); ++l) {
-      incident[axis.links[l].first].push_back(l);
-      incident[axis.links[l].second].push_back(l);
-    }
+    const Incidence incident(axis);
     std::vector<bool> removed(axis.links.size(), false);
     for (std::size_t leaf = 0; leaf < n; ++leaf) {
-      if (incident[leaf].size() != 1) continue;
-      std::vector<std::size_t> chain;
-      std::size_t at = leaf, via = incident[leaf][0];
+      if (incident.size(leaf) != 1) continue;
+      chain.clear();
+      std::size_t at = leaf, via = incident(leaf, 0);
       double chain_length = 0;
       while (true) {
         if (removed[via]) break;
@@ -274,15 +299,17 @@ void prune_spurs(SegmentMedialAxis& axis) {
         const std::size_t next = u == at ? v : u;
         chain_length += length(axis.points[next] - axis.points[at]);
         at = next;
-        if (incident[at].size() != 2) break;
-        via = incident[at][0] == via ? incident[at][1] : incident[at][0];
+        if (incident.size(at) != 2) break;
+        via = incident(at, 0) == via ? incident(at, 1) : incident(at, 0);
       }
-      if (incident[at].size() >= 3 && chain_length < axis.radius[at]) {
+      if (incident.size(at) >= 3 && chain_length < axis.radius[at]) {
         for (std::size_t l : chain) removed[l] = true;
         changed = true;
       }
     }
+    if (!changed) break;
     std::vector<std::pair<std::size_t, std::size_t>> kept;
+    kept.reserve(axis.links.size());
     for (std::size_t l = 0; l < axis.links.size(); ++l) {
       if (!removed[l]) kept.push_back(axis.links[l]);
     }
@@ -292,11 +319,7 @@ void prune_spurs(SegmentMedialAxis& axis) {
 
 std::vector<std::vector<std::size_t>> axis_chains(const SegmentMedialAxis& axis) {
   const std::size_t n = axis.points.size();
-  std::vector<std::vector<std::size_t>> incident(n);
-  for (std::size_t l = 0; l < axis.links.size(); ++l) {
-    incident[axis.links[l].first].push_back(l);
-    incident[axis.links[l].second].push_back(l);
-  }
+  const Incidence incident(axis);
   std::vector<bool> used(axis.links.size(), false);
   std::vector<std::vector<std::size_t>> result;
   auto walk = [&](std::size_t start, std::size_t via) {
@@ -307,14 +330,15 @@ std::vector<std::vector<std::size_t>> axis_chains(const SegmentMedialAxis& axis)
       const auto [u, v] = axis.links[via];
       at = u == at ? v : u;
       chain.push_back(at);
-      if (incident[at].size() != 2) break;
-      via = incident[at][0] == via ? incident[at][1] : incident[at][0];
+      if (incident.size(at) != 2) break;
+      via = incident(at, 0) == via ? incident(at, 1) : incident(at, 0);
     }
     result.push_back(std::move(chain));
   };
   for (std::size_t i = 0; i < n; ++i) {
-    if (incident[i].size() == 2) continue;
-    for (std::size_t l : incident[i]) {
+    if (incident.size(i) == 2) continue;
+    for (std::size_t k = 0; k < incident.size(i); ++k) {
+      const std::size_t l = incident(i, k);
       if (!used[l]) walk(i, l);
     }
   }
