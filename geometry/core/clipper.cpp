@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <limits>
 
+#include "geometry/core/clipper_engine.h"
 #include "geometry/core/douglas_peucker.h"
 
 namespace geometry {
@@ -79,10 +80,10 @@ namespace {
 template <class Result>
 void boolean(const Paths& a, const Paths& b, ClipperLib::ClipType type,
              ClipperLib::PolyFillType fill, Result& result) {
-  ClipperLib::Clipper engine;
-  engine.AddPaths(a, ClipperLib::ptSubject, true);
-  engine.AddPaths(b, ClipperLib::ptClip, true);
-  engine.Execute(type, result, fill, fill);
+  ReusedEngine engine;
+  engine->AddPaths(a, ClipperLib::ptSubject, true);
+  engine->AddPaths(b, ClipperLib::ptClip, true);
+  engine->Execute(type, result, fill, fill);
 }
 
 Paths boolean(const Paths& a, const Paths& b, ClipperLib::ClipType type,
@@ -157,11 +158,11 @@ PolyTree& union_positive_tree(const Paths& paths, PolyTree& tree) {
 
 Paths clip_open(const Paths& lines, const Paths& region) {
   if (lines.empty() || region.empty()) return {};
-  ClipperLib::Clipper engine;
-  engine.AddPaths(lines, ClipperLib::ptSubject, false);
-  engine.AddPaths(region, ClipperLib::ptClip, true);
+  ReusedEngine engine;
+  engine->AddPaths(lines, ClipperLib::ptSubject, false);
+  engine->AddPaths(region, ClipperLib::ptClip, true);
   PolyTree tree;
-  engine.Execute(ClipperLib::ctIntersection, tree, ClipperLib::pftNonZero,
+  engine->Execute(ClipperLib::ctIntersection, tree, ClipperLib::pftNonZero,
                  ClipperLib::pftNonZero);
   Paths result;
   ClipperLib::OpenPathsFromPolyTree(tree, result);

@@ -11,6 +11,8 @@
 #include <optional>
 #include <span>
 
+#include "geometry/core/clipper_engine.h"
+
 namespace geometry::clipper {
 
 namespace {
@@ -930,9 +932,9 @@ Paths offset(const Paths& region, double delta, ClipperLib::JoinType join, doubl
   const std::vector<const Path*>& loops = taken.loops;
   const std::vector<char>& outer = taken.outer;
   if (loops.empty()) return {};
-  ClipperLib::Clipper engine;
+  ReusedEngine engine;
   if (units == 0) {
-    for (const Path* loop : loops) engine.AddPath(*loop, ClipperLib::ptSubject, true);
+    for (const Path* loop : loops) engine->AddPath(*loop, ClipperLib::ptSubject, true);
   } else {
     // Where no loop went back through a vertex, the raw loops are often the offset as they
     // stand (a region with no narrow part the offset closes): checked, that costs a
@@ -947,21 +949,21 @@ Paths offset(const Paths& region, double delta, ClipperLib::JoinType join, doubl
       Path loop;
       if (union_of_folded_loop(raw[0], loop)) return {std::move(loop)};
     }
-    engine.AddPaths(raw, ClipperLib::ptSubject, true);
+    engine->AddPaths(raw, ClipperLib::ptSubject, true);
   }
   Paths result;
   if (units >= 0) {
-    engine.Execute(ClipperLib::ctUnion, result, ClipperLib::pftPositive, ClipperLib::pftPositive);
+    engine->Execute(ClipperLib::ctUnion, result, ClipperLib::pftPositive, ClipperLib::pftPositive);
     return result;
   }
   // Shrinking: the union of the negative winding inside a frame round it all (-1), whose
   // holes, where the raw loops (+1) cancel the frame, are the offset.
-  const ClipperLib::IntRect r = engine.GetBounds();
-  engine.AddPath({{r.left - 10, r.bottom + 10}, {r.right + 10, r.bottom + 10},
+  const ClipperLib::IntRect r = engine->GetBounds();
+  engine->AddPath({{r.left - 10, r.bottom + 10}, {r.right + 10, r.bottom + 10},
                    {r.right + 10, r.top - 10}, {r.left - 10, r.top - 10}},
                   ClipperLib::ptSubject, true);
-  engine.ReverseSolution(true);
-  engine.Execute(ClipperLib::ctUnion, result, ClipperLib::pftNegative, ClipperLib::pftNegative);
+  engine->ReverseSolution(true);
+  engine->Execute(ClipperLib::ctUnion, result, ClipperLib::pftNegative, ClipperLib::pftNegative);
   if (!result.empty()) result.erase(result.begin());
   return result;
 }
