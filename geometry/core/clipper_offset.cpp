@@ -878,7 +878,6 @@ struct OffsetLoops {
 void take_loops(const Paths& region, double units, OffsetLoops& taken) {
   taken.loops.reserve(region.size());
   taken.outer.reserve(region.size());
-  taken.cleaned.reserve(region.size());
   for (const Path& path : region) {
     const double area = ClipperLib::Area(path);
     if (std::abs(area) < kNoArea) continue;
@@ -890,6 +889,8 @@ void take_loops(const Paths& region, double units, OffsetLoops& taken) {
                                              std::adjacent_find(path.begin(), path.end()) != path.end());
     const Path* loop = &path;
     if (repeats) {
+      // Reserved before the first is taken, so that pointers into it hold.
+      if (taken.cleaned.empty()) taken.cleaned.reserve(region.size());
       Path& clean = taken.cleaned.emplace_back();
       clean.reserve(path.size());
       for (const auto& p : path) {
@@ -908,8 +909,10 @@ void take_loops(const Paths& region, double units, OffsetLoops& taken) {
 // went back through a vertex or was left with fewer than 3 points.
 bool raw_loops(const std::vector<const Path*>& loops, const Joins& joins, Paths& raw) {
   raw.assign(loops.size(), Path{});
-  std::vector<Normal> normal;
-  std::vector<double> length;
+  // Kept from call to call on this thread (raw_offset sizes them to each loop): the offset
+  // runs tens of thousands of times a slice.
+  thread_local std::vector<Normal> normal;
+  thread_local std::vector<double> length;
   bool back = false;
   for (std::size_t l = 0; l < loops.size(); ++l) {
     Path& out = raw[l];
