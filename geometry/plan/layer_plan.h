@@ -147,6 +147,8 @@ struct AdaptiveOptions {
   std::function<bool(const Layer& layer)> prints;
   double grid = 0.02;           // planning resolution when the printer's step is 0, mm
   bool measure_all = false;     // measure every candidate first (to check the lazy search)
+  bool search_afresh = false;   // each round's search from the bed, none of its costs kept
+                                // from the round before (to check that keeping them is exact)
   SlabErrorOptions error;
 };
 

@@ -9,6 +9,8 @@
 # Usage: tests/bench/plan_speed.sh [BUILD_DIR]      (default build; absolute or in the repository)
 #        PAIRS="0.4:0.3 0.3:0.2"  mahost --tolerance : CuraEngine adaptive_layer_height_threshold
 #        REPEAT=7                 runs of each (default 7)
+#        PRINTER=NAME             the printer profile both slice for (peer_slicers.sh; default
+#                                 up-plus-2, 0.05 mm steps; generic-marlin's are 0.01 mm)
 # Needs CuraEngine (scripts/setup) and Cura's definitions (tests/bench/cura_definitions.sh).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -47,13 +49,13 @@ for pair in $pairs; do
   : >"$theirs"
   : >"$ours-plan"
   for ((k = 0; k < repeat; ++k)); do
-    run "$ours" "$mahost" slice "$placed" --adaptive --tolerance "$tolerance" --support none --no-raft \
+    run "$ours" "$mahost" slice "$placed" --printer "$peer_printer" --adaptive --tolerance "$tolerance" --support none --no-raft \
       -o "$work/m.gcode"
     # The planning alone: the wall time the plan line gives ("planned in 2.3 s").
     sed -n 's/.*planned in \([0-9.]*\) s.*/\1/p' "$work/run.log" | head -1 >>"$ours-plan"
     run "$theirs" cura_adaptive "$work/c.gcode" "$placed" "$threshold"
   done
-  plan_line=$("$mahost" slice "$placed" --adaptive --tolerance "$tolerance" --support none --no-raft \
+  plan_line=$("$mahost" slice "$placed" --printer "$peer_printer" --adaptive --tolerance "$tolerance" --support none --no-raft \
     -o "$work/m.gcode" 2>&1 | grep -m1 '^adaptive:' | cut -c1-60)
   mw=$(cut -d' ' -f1 "$ours" | median) mc=$(cut -d' ' -f2 "$ours" | median)
   cw=$(cut -d' ' -f1 "$theirs" | median) cc=$(cut -d' ' -f2 "$theirs" | median)
@@ -66,4 +68,4 @@ for pair in $pairs; do
     "$(awk -v a="$mc" -v b="$cc" 'BEGIN { print a / b }')"
   echo "  ($plan_line...)"
 done
-echo "medians of $repeat runs each, alternated; load at the end: $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "printer $peer_printer; medians of $repeat runs each, alternated; load at the end: $(cut -d' ' -f1-3 /proc/loadavg)"

@@ -533,6 +533,41 @@ TEST_CASE("adaptive_plan_asking_only_whether_slabs_are_within_is_the_plan_of_all
   }
 }
 
+TEST_CASE("the_lazy_search_keeping_its_costs_from_round_to_round_plans_as_one_that_starts_afresh") {
+  // A round of the lazy search works out again only the nodes above the lowest slab measured
+  // since the round before (layer_plan.cpp: shortest_path); each round from the bed instead must
+  // give the same plan, layer for layer, and measure the same slabs, with a tolerance and with
+  // a budget, on a printer of fine steps (many rounds) and on the UP Plus 2.
+  const AllowedThicknesses fine{.listed = {}, .min = 0.05, .max = 0.3, .step = 0.01, .first = 0.2};
+  const solids::Solid ball = solids::sphere(8, 48, 24, {0, 0, 8});
+  const solids::Solid ring = solids::torus(12, 5, 48, 24, {0, 0, 5});
+  for (const geometry::Mesh* mesh : {&ball.mesh, &ring.mesh}) {
+    const geometry::LayerStack stack(*mesh, {});
+    const double top = geometry::bounding_box(*mesh).max.z;
+    for (const AllowedThicknesses* allowed : {&fine, &kUpPlus2}) {
+      for (const std::size_t budget : {std::size_t{0}, std::size_t{60}}) {
+        CAPTURE(allowed->step);
+        CAPTURE(budget);
+        AdaptiveOptions options;
+        options.tolerance = 0.1;
+        options.max_layers = budget;
+        const AdaptivePlan kept = geometry::adaptive_plan(stack, top, *allowed, geometry::flat_levels(*mesh), options);
+        options.search_afresh = true;
+        const AdaptivePlan afresh = geometry::adaptive_plan(stack, top, *allowed, geometry::flat_levels(*mesh), options);
+        CHECK(kept.rounds > 10);
+        CHECK(kept.rounds == afresh.rounds);
+        CHECK(kept.measured == afresh.measured);
+        REQUIRE(kept.layers.size() == afresh.layers.size());
+        for (std::size_t i = 0; i < kept.layers.size(); ++i) {
+          CHECK(kept.layers[i].z_lo == afresh.layers[i].z_lo);
+          CHECK(kept.layers[i].z_hi == afresh.layers[i].z_hi);
+          CHECK(kept.distance[i] == afresh.distance[i]);
+        }
+      }
+    }
+  }
+}
+
 TEST_CASE("plans_on_a_printer_of_any_thickness_in_a_range_land_flat_levels_exactly") {
   // generic-marlin: 0.05 to 0.3 mm, any value, first layer 0.2 mm; steps at 4.013 and 7.5.
   const AllowedThicknesses range{.listed = {}, .min = 0.05, .max = 0.3, .step = 0, .first = 0.2};
