@@ -674,7 +674,7 @@ class LazyPlanner {
   // The search of `plan` by PathCost's order over the grid, a dynamic program over the nodes
   // bottom up (every edge goes up). The costs are kept from one round of `lazily` to the next:
   // a node's cost depends only on the edges below it, so where the same limits are searched
-  // again only the nodes above the lowest whose edges were measured since (dirty_) are
+  // again only the nodes above the lowest whose edges were measured since (Search::dirty) are
   // worked out again, from the edges into them, in the same order as a search from the bed,
   // so that ties go the same way. On a printer of fine steps that is most of the search: the
   // cap (tests/bench/models/cap.scad) at --tolerance 0.1 on generic-marlin runs 2,800 rounds
@@ -685,14 +685,14 @@ class LazyPlanner {
     std::size_t from = 0;  // the nodes above it are worked out again
     if (!options_.search_afresh && s.cost.size() == n && s.limits.tolerance == limits.tolerance && s.limits.most == limits.most &&
         s.limits.by_height == limits.by_height && s.by_swept == by_swept) {
-      from = std::min<std::size_t>(dirty_, n);
+      from = std::min(s.dirty, n);
     } else {
       s.cost.assign(n, kUnreached);
       s.via.assign(n, kNoEdge);
       s.cost[0] = {};
       s.limits = limits, s.by_swept = by_swept;
     }
-    dirty_ = n;
+    s.dirty = n;
     std::fill(s.cost.begin() + static_cast<std::ptrdiff_t>(std::min(from + 1, n)), s.cost.end(), kUnreached);
     std::fill(s.via.begin() + static_cast<std::ptrdiff_t>(std::min(from + 1, n)), s.via.end(), kNoEdge);
     // Edges into the nodes above `from` start at most span_ nodes below them.
@@ -719,7 +719,7 @@ class LazyPlanner {
   // program over (node, edges used), each node's counts limited to those a path through it
   // can have (at least the fewest edges reaching it, at most the budget less the fewest from
   // it to the end).
-  std::vector<std::uint32_t> least_swept_path(std::size_t budget, Limits limits) const {
+  std::vector<std::uint32_t> least_swept_path(std::size_t budget, Limits limits) {
     const std::size_t n = grid_.z.size();
     constexpr std::uint32_t kFar = std::numeric_limits<std::uint32_t>::max() / 2;
     std::vector<std::uint32_t> fewest_to(n, kFar), fewest_from(n, kFar);
@@ -746,19 +746,38 @@ class LazyPlanner {
       const bool on_a_path = fewest_to[i] != kFar && fewest_from[i] != kFar && fewest_to[i] + fewest_from[i] <= most;
       offset[i + 1] = offset[i] + (on_a_path ? most - fewest_from[i] - fewest_to[i] + 1 : 0);
     }
-    std::vector<PathCost> cost(offset[n], kUnreached);
-    std::vector<std::uint32_t> via(offset[n], kNoEdge);
+    // The states' costs are kept from the round before (as shortest_path's) where the limits,
+    // the budget and so every node's range of counts are the same: the states of the nodes above
+    // the lowest whose edges were measured since are worked out again, from the edges into them.
+    BudgetSearch& kept = budget_search_;
+    std::size_t from = 0;
+    if (!options_.search_afresh && kept.budget == budget && kept.limits.tolerance == limits.tolerance &&
+        kept.limits.most == limits.most && kept.limits.by_height == limits.by_height &&
+        kept.fewest_to == fewest_to && kept.fewest_from == fewest_from && kept.cost.size() == offset[n]) {
+      from = std::min(kept.dirty, n);
+    } else {
+      kept.cost.assign(offset[n], kUnreached);
+      kept.via.assign(offset[n], kNoEdge);
+      kept.budget = budget, kept.limits = limits;
+      kept.fewest_to = fewest_to, kept.fewest_from = fewest_from;
+      if (offset[n] > 0) kept.cost[0] = {};
+    }
+    kept.dirty = n;
+    std::vector<PathCost>& cost = kept.cost;
+    std::vector<std::uint32_t>& via = kept.via;
+    const std::size_t above = offset[std::min(from + 1, n)];
+    std::fill(cost.begin() + static_cast<std::ptrdiff_t>(above), cost.end(), kUnreached);
+    std::fill(via.begin() + static_cast<std::ptrdiff_t>(above), via.end(), kNoEdge);
     const auto state = [&](std::size_t i, std::size_t k) -> std::ptrdiff_t {
       if (offset[i + 1] == offset[i] || k < fewest_to[i] || k + fewest_from[i] > most) return -1;
       return static_cast<std::ptrdiff_t>(offset[i] + k - fewest_to[i]);
     };
-    cost[0] = {};
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t i = from > span_ ? from - span_ : 0; i < n; ++i) {
       for (std::size_t k = fewest_to[i]; offset[i + 1] > offset[i] && k + fewest_from[i] <= most; ++k) {
         const std::ptrdiff_t s = state(i, k);
         if (!(cost[s] < kUnreached)) continue;
         for (std::uint32_t e = grid_.edge_begin[i]; e < grid_.edge_begin[i + 1]; ++e) {
-          if (!usable(e, limits)) continue;
+          if (grid_.edge_to[e] <= from || !usable(e, limits)) continue;
           const std::ptrdiff_t t = state(grid_.edge_to[e], k + printed(e));
           if (t < 0) continue;
           PathCost through = cost[s].through(*this, e, limits);
@@ -813,7 +832,7 @@ class LazyPlanner {
     for (std::size_t k = 0; k < edges.size(); ++k) {
       const std::uint32_t e = edges[k];
       const SlabError& error = found[k];
-      dirty_ = std::min<std::size_t>(dirty_, grid_.edge_from[e]);
+      touch(grid_.edge_from[e]);
       if (error.exact()) {
         exact_[e] = error.distance();
       } else if (error.settled() && !(proven_[e] <= tolerance)) {
@@ -849,7 +868,7 @@ class LazyPlanner {
       for (std::uint32_t f = grid_.edge_begin[i]; f < grid_.edge_begin[i + 1]; ++f) {
         const Layer wider{grid_.z[i], grid_.z[grid_.edge_to[f]]};
         if (wider.z_hi < b - kSameHeight || std::abs(cuts_at(wider) - h) > 1e-9) continue;
-        if (d > lower_[f]) lower_[f] = d, dirty_ = std::min<std::size_t>(dirty_, i);
+        if (d > lower_[f]) lower_[f] = d, touch(i);
       }
     }
   }
@@ -875,14 +894,28 @@ class LazyPlanner {
   std::vector<long long> thickness_nm_;  // each candidate's thickness in whole nanometres
   std::uint32_t span_ = 0;               // the most nodes a candidate spans
   // shortest_path's costs and edges in, per node, for `limits` and `by_swept`; nodes above
-  // `dirty_` are out of date (an edge from there measured since).
+  // `dirty` are out of date (an edge from there measured since).
   struct Search {
     std::vector<PathCost> cost;
     std::vector<std::uint32_t> via;
     Limits limits;
     bool by_swept = false;
+    std::size_t dirty = 0;
   } search_;
-  std::size_t dirty_ = 0;
+  // least_swept_path's, per state, for `budget`, `limits` and the nodes' ranges of counts.
+  struct BudgetSearch {
+    std::vector<PathCost> cost;
+    std::vector<std::uint32_t> via;
+    std::vector<std::uint32_t> fewest_to, fewest_from;
+    std::size_t budget = 0;
+    Limits limits;
+    std::size_t dirty = 0;
+  } budget_search_;
+  // An edge from `node` measured (or bounded) anew: the kept costs above it are out of date.
+  void touch(std::size_t node) {
+    search_.dirty = std::min(search_.dirty, node);
+    budget_search_.dirty = std::min(budget_search_.dirty, node);
+  }
 };
 
 // The least angle from horizontal of the model's sloped surface inside [z_lo, z_hi], degrees
