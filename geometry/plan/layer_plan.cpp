@@ -392,6 +392,7 @@ struct Limits {
   // A by-height cap (budget_by_height): a layer over the tolerance counts by its height
   // whatever its thickness, never as a landing term, and its D past it is not ranked.
   bool by_height = false;
+  bool operator==(const Limits&) const = default;
 };
 
 // A path's cost in the tolerance's objective, compared in this order: flat levels crossed
@@ -683,8 +684,7 @@ class LazyPlanner {
     const std::size_t n = grid_.z.size();
     Search& s = search_;
     std::size_t from = 0;  // the nodes above it are worked out again
-    if (!options_.search_afresh && s.cost.size() == n && s.limits.tolerance == limits.tolerance && s.limits.most == limits.most &&
-        s.limits.by_height == limits.by_height && s.by_swept == by_swept) {
+    if (!options_.search_afresh && s.cost.size() == n && s.limits == limits && s.by_swept == by_swept) {
       from = std::min(s.dirty, n);
     } else {
       s.cost.assign(n, kUnreached);
@@ -751,9 +751,8 @@ class LazyPlanner {
     // the lowest whose edges were measured since are worked out again, from the edges into them.
     BudgetSearch& kept = budget_search_;
     std::size_t from = 0;
-    if (!options_.search_afresh && kept.budget == budget && kept.limits.tolerance == limits.tolerance &&
-        kept.limits.most == limits.most && kept.limits.by_height == limits.by_height &&
-        kept.fewest_to == fewest_to && kept.fewest_from == fewest_from && kept.cost.size() == offset[n]) {
+    if (!options_.search_afresh && kept.budget == budget && kept.limits == limits && kept.fewest_to == fewest_to &&
+        kept.fewest_from == fewest_from && kept.cost.size() == offset[n]) {
       from = std::min(kept.dirty, n);
     } else {
       kept.cost.assign(offset[n], kUnreached);
