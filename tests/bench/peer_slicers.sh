@@ -11,25 +11,23 @@ source "$(dirname "${BASH_SOURCE[0]}")/cura_definitions.sh"
 peer_printer=${PRINTER:-up-plus-2}
 peer_profile="$(dirname "${BASH_SOURCE[0]}")/../../configs/printers/$peer_printer.toml"
 [[ -f $peer_profile ]] || { echo "no printer profile $peer_profile (PRINTER=$peer_printer)" >&2; exit 2; }
-read -r layer_min layer_max layer_step first_layer < <(/usr/bin/python3 - "$peer_profile" <<'PY'
-import sys, tomllib
+# The profile's range and first layer, and CuraEngine's base and variation for it. CuraEngine's
+# adaptive heights are its base layer height plus or minus whole variation steps, so the base
+# must be one of the printer's heights: the one a whole number of steps above the least that is
+# nearest the middle of the range, rounded down, and the variation as many steps (UP Plus 2:
+# 0.25 +- 0.1, 0.15 to 0.35 mm, as 0.275 +- 0.125 would print between the steps;
+# generic-marlin: 0.17 +- 0.12, 0.05 to 0.29 mm).
+read -r layer_min layer_max layer_step first_layer cura_base cura_variation < <(/usr/bin/python3 - "$peer_profile" <<'PY'
+import math, sys, tomllib
 profile = tomllib.load(open(sys.argv[1], "rb"))
 layer = profile["layer"]
-print(layer["min"], layer["max"], layer["step"], profile["first_layer"]["height"])
+lo, hi, step = layer["min"], layer["max"], layer["step"]
+k = math.floor((hi - lo) / 2 / step + 1e-9) if step > 0 else 0
+print(lo, hi, step, profile["first_layer"]["height"], f"{lo + k * step:.4f} {k * step:.4f}")
 PY
 )
-# CuraEngine's adaptive heights are its base layer height plus or minus whole variation steps,
-# so the base must be one of the printer's heights: the one a whole number of steps above the
-# least that is nearest the middle of the range, rounded down, and the variation as many steps
-# (UP Plus 2: 0.25 +- 0.1, 0.15 to 0.35 mm, as 0.275 +- 0.125 would print between the steps;
-# generic-marlin: 0.17 +- 0.12, 0.05 to 0.29 mm).
-read -r cura_base cura_variation < <(/usr/bin/python3 - "$layer_min" "$layer_max" "$layer_step" <<'PY'
-import math, sys
-lo, hi, step = map(float, sys.argv[1:])
-k = math.floor((hi - lo) / 2 / step + 1e-9)
-print(f"{lo + k * step:.4f} {k * step:.4f}")
-PY
-)
+[[ -n $cura_variation && $layer_step != 0 ]] ||
+  { echo "the peers' comparison needs a printer with a layer step (PRINTER=$peer_printer)" >&2; exit 2; }
 
 # cura_adaptive OUT.gcode PLACED.stl THRESHOLD: CuraEngine 4.13's adaptive layers
 # (adaptive_layer_height_enabled, base cura_base, variation cura_variation in the printer's
