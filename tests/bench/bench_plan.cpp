@@ -5,9 +5,10 @@
 // every candidate first, to see that the lazy search loses nothing.
 //
 // Usage: bench_plan [STL] [--tolerances 0.1,0.2,0.3] [--contours mid|ma|mid,ma,...]
-//                   [--max-layers N] [--exhaustive] [--layers]
+//                   [--max-layers N] [--exhaustive] [--layers] [--range MIN,MAX,STEP,FIRST]
 // Default: data/bunny.stl placed as in the paper (Y up, metres, 50 mm tall), the UP Plus 2's
-// thicknesses (0.15-0.4 mm in 0.05 steps, first layer 0.3 mm), contours mid.
+// thicknesses (0.15-0.4 mm in 0.05 steps, first layer 0.3 mm), contours mid. --range gives
+// another printer's (generic-marlin: 0.05,0.3,0.01,0.2).
 #include <sys/resource.h>
 #include <time.h>
 
@@ -95,6 +96,7 @@ static int run_bench(int argc, char** argv) {
   std::vector<std::string> contours{"mid"};
   std::size_t max_layers = 0;
   bool exhaustive = false, layers = false;
+  AllowedThicknesses allowed{.listed = {}, .min = 0.15, .max = 0.4, .step = 0.05, .first = 0.3};
   double z_from = -1;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -104,6 +106,15 @@ static int run_bench(int argc, char** argv) {
     else if (arg == "--exhaustive") exhaustive = true;
     else if (arg == "--layers") layers = true;
     else if (arg == "--from" && i + 1 < argc) z_from = std::atof(argv[++i]);
+    else if (arg == "--range" && i + 1 < argc) {
+      const std::vector<std::string> range = split(argv[++i]);
+      if (range.size() != 4) {
+        std::fprintf(stderr, "bench_plan: --range takes MIN,MAX,STEP,FIRST in mm\n");
+        return 2;
+      }
+      allowed = {.listed = {}, .min = std::atof(range[0].c_str()), .max = std::atof(range[1].c_str()),
+                 .step = std::atof(range[2].c_str()), .first = std::atof(range[3].c_str())};
+    }
     else path = arg;
   }
   AdaptiveOptions options;
@@ -127,7 +138,6 @@ static int run_bench(int argc, char** argv) {
   const double top = bounding_box(mesh).max.z;
   const LayerStack stack(mesh, {});
   const std::vector<FlatLevel> flats = flat_levels(mesh);
-  const AllowedThicknesses allowed{.listed = {}, .min = 0.15, .max = 0.4, .step = 0.05, .first = 0.3};
   std::printf("model %s: %zu faces, %.2f mm tall, %zu flat levels; contours %s\n", path.c_str(),
               mesh.faces.size(), top, flats.size(), contours.size() == 1 ? contours[0].c_str() : "several");
   for (const std::string& text : max_layers > 0 ? std::vector<std::string>{"0"} : tolerances) {
