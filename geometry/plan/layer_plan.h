@@ -147,8 +147,10 @@ struct AdaptiveOptions {
   std::function<bool(const Layer& layer)> prints;
   double grid = 0.02;           // planning resolution when the printer's step is 0, mm
   bool measure_all = false;     // measure every candidate first (to check the lazy search)
-  bool search_afresh = false;   // each round's search from the bed, none of its costs kept
-                                // from the round before (to check that keeping them is exact)
+  // Each round's search over the whole grid from the bed, none of its costs kept from the round
+  // before, no node above the measured ones left to the untouched grid's best way on, each
+  // candidate's step worked out again (to check that those savings are exact).
+  bool search_afresh = false;
   SlabErrorOptions error;
 };
 

@@ -535,13 +535,20 @@ TEST_CASE("adaptive_plan_asking_only_whether_slabs_are_within_is_the_plan_of_all
 
 TEST_CASE("the_lazy_search_keeping_its_costs_from_round_to_round_plans_as_one_that_starts_afresh") {
   // A round of the lazy search works out again only the nodes above the lowest slab measured
-  // since the round before (layer_plan.cpp: shortest_path); each round from the bed instead must
-  // give the same plan, layer for layer, and measure the same slabs, with a tolerance and with
-  // a budget, on a printer of fine steps (many rounds) and on the UP Plus 2.
+  // since the round before, and of those only up to where the candidates from below the
+  // highest measured one reach, the rest taken from the best ways on through the grid as it
+  // was before any was measured (layer_plan.cpp: shortest_path); each candidate's cost in a
+  // path is kept and worked out again only where it is measured (EdgeStep). A search over
+  // the whole grid from the bed in every round instead must give the same plan, layer for
+  // layer, and measure the same slabs, with a tolerance and with a budget, on a printer of
+  // fine steps (many rounds) and on the UP Plus 2, on smooth parts and on one with a ledge
+  // between the steps' heights (4.013 mm: candidates measured exactly from the start, high
+  // above the first measured).
   const AllowedThicknesses fine{.listed = {}, .min = 0.05, .max = 0.3, .step = 0.01, .first = 0.2};
   const solids::Solid ball = solids::sphere(8, 48, 24, {0, 0, 8});
   const solids::Solid ring = solids::torus(12, 5, 48, 24, {0, 0, 5});
-  for (const geometry::Mesh* mesh : {&ball.mesh, &ring.mesh}) {
+  const solids::Solid ledged = solids::revolve({{0, 0}, {9, 0}, {6, 4.013}, {4, 4.013}, {2.5, 9}, {0, 9}}, 48);
+  for (const geometry::Mesh* mesh : {&ball.mesh, &ring.mesh, &ledged.mesh}) {
     const geometry::LayerStack stack(*mesh, {});
     const double top = geometry::bounding_box(*mesh).max.z;
     for (const AllowedThicknesses* allowed : {&fine, &kUpPlus2}) {
