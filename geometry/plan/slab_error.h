@@ -15,9 +15,11 @@
 // the region misses is measured to the island's outline, never farther than to the walls (the
 // way out of the island crosses its outline first), so measuring everything to the walls
 // bounds D from above; and a section contour (lower, mid) touches every island holding a piece
-// of surface that crosses the section's height. When every connected piece of the slab's
-// surface does (found through the mesh's edges), no island is missed and that bound is D, with
-// no footprint built (about 45% of the work for a mid section). The surface's points on the
+// of surface that crosses the section's height, and every island holding a piece with a point
+// well inside the section. When every connected piece of the slab's surface does one or the
+// other (found through the mesh's edges), no island is missed and that bound is D, with no
+// footprint built (about 45% of the work for a mid section; the bunny's many small bumps and
+// dents on its walls, which a mid section passes round, are pieces of the second kind). The surface's points on the
 // slab's two planes are then the sections there: a section strategy's slab is first judged by
 // those alone, before the slab is cut out of the mesh, and refused if one of them stands past
 // `enough` (most refused candidates are refused so). Sections are cut once per height and
@@ -88,9 +90,11 @@ class SlabMeter {
   // Does every connected piece of surface in [z_lo, z_hi] reach both its planes? It does where
   // no vertex that is a local top or bottom of the surface, and no flat face, lies inside.
   bool spans_every_piece(double z_lo, double z_hi) const;
-  // Does every connected piece of surface in [z_lo, z_hi] cross height h?
-  bool every_piece_crosses(std::span<const std::uint32_t> faces, double z_lo, double z_hi,
-                           double h) const;
+  // Does every connected piece of surface in [z_lo, z_hi] cross height h, or else have a point
+  // well inside the region `walls` bound (so that the piece's island of the footprint overlaps
+  // the region: a bump on a wall, which a slab's mid section does not cut but passes round)?
+  bool every_piece_meets(std::span<const std::uint32_t> faces, double z_lo, double z_hi, double h,
+                         const BoundaryGrid& walls) const;
 
   // The model's section at height z, cut the first time it is asked for.
   std::shared_ptr<const Region> section(double z) const;
@@ -100,8 +104,8 @@ class SlabMeter {
   // One strategy's trial on the slab: its region, and its D measured to the region's walls.
   SlabTrial trial(Cut& cut, const ContourStrategy& strategy) const;
   // Is the strategy a section that touches every island of the slab's footprint holding
-  // surface (so no island is missed, and D is measured to the walls alone)?
-  bool section_meets_every_piece(Cut& cut, const ContourStrategy& strategy) const;
+  // surface (so no island is missed, and D is measured to the walls alone)? `walls`: its region's.
+  bool section_meets_every_piece(Cut& cut, const ContourStrategy& strategy, const BoundaryGrid& walls) const;
   // D to the walls: the sections on the slab's planes first, then the whole surface.
   void measure_to_walls(Cut& cut, const BoundaryGrid& walls, SlabTrial& trial) const;
   // D with the footprint's islands the region misses measured to their outlines.
