@@ -37,12 +37,17 @@ double first_beyond(std::span<const Region* const> sections, const BoundaryGrid&
 
 }  // namespace
 
+// The section at one height and the grid over its walls, each made the first time it is asked
+// for. The grid is shared between threads: only its queries that keep no state (nearest,
+// any_within, winding_number) are asked of it; a search that marks segments (for_each_near,
+// distance_error's) gets a copy.
 struct SlabMeter::Section {
-  std::once_flag cut;
+  std::once_flag cut, gridded;
   std::shared_ptr<const Region> region;
+  std::shared_ptr<const BoundaryGrid> walls;
 };
 
-std::shared_ptr<const Region> SlabMeter::section(double z) const {
+std::shared_ptr<SlabMeter::Section> SlabMeter::entry(double z) const {
   std::shared_ptr<Section> entry;
   {
     std::lock_guard lock(sections_mutex_);
@@ -51,7 +56,15 @@ std::shared_ptr<const Region> SlabMeter::section(double z) const {
     entry = slot;
   }
   std::call_once(entry->cut, [&] { entry->region = std::make_shared<Region>(stack_.cross_section(z)); });
-  return entry->region;
+  return entry;
+}
+
+std::shared_ptr<const Region> SlabMeter::section(double z) const { return entry(z)->region; }
+
+std::shared_ptr<const BoundaryGrid> SlabMeter::section_walls(double z) const {
+  const std::shared_ptr<Section> at = entry(z);
+  std::call_once(at->gridded, [&] { at->walls = std::make_shared<const BoundaryGrid>(*at->region); });
+  return at->walls;
 }
 
 void SlabMeter::forget_below(double z) const {
@@ -235,7 +248,7 @@ bool SlabMeter::section_meets_every_piece(Cut& cut, const ContourStrategy& strat
           every_piece_meets(cut.faces(), cut.z_lo, cut.z_hi, strategy.cuts_at(cut.reference.layer), walls));
 }
 
-void SlabMeter::measure_to_walls(Cut& cut, const BoundaryGrid& walls, SlabTrial& trial) const {
+void SlabMeter::measure_to_walls(Cut& cut, const BoundaryGrid& walls, bool shared, SlabTrial& trial) const {
   // Every surface point counts to the walls; the sections on the slab's two planes, where a
   // section's walls stand farthest from the surface, first: one point past `enough` refuses
   // the slab without the rest of the surface.
@@ -253,16 +266,18 @@ void SlabMeter::measure_to_walls(Cut& cut, const BoundaryGrid& walls, SlabTrial&
     trial.distance = end_farthest;
     return;
   }
-  const DistanceError measured = distance_error(cut.surface(), walls, {}, distance);
+  const BoundaryGrid own = shared ? walls : BoundaryGrid();  // distance_error marks segments
+  const DistanceError measured = distance_error(cut.surface(), shared ? own : walls, {}, distance);
   trial.distance = measured.forward;
   trial.settled = measured.settled;
 }
 
-void SlabMeter::measure_with_islands(Cut& cut, const BoundaryGrid& walls, SlabTrial& trial) const {
+void SlabMeter::measure_with_islands(Cut& cut, const BoundaryGrid& walls, bool shared, SlabTrial& trial) const {
   cut.surface();
   const std::vector<BoundaryPair> missed = missed_features(cut.islands(), trial.region);
   trial.missed = missed.size();
-  const DistanceError measured = distance_error(cut.surface(), walls, missed, cut.distance);
+  const BoundaryGrid own = shared ? walls : BoundaryGrid();  // distance_error marks segments
+  const DistanceError measured = distance_error(cut.surface(), shared ? own : walls, missed, cut.distance);
   trial.distance = measured.forward;
   trial.settled = measured.settled;
 }
@@ -270,17 +285,23 @@ void SlabMeter::measure_with_islands(Cut& cut, const BoundaryGrid& walls, SlabTr
 SlabTrial SlabMeter::trial(Cut& cut, const ContourStrategy& strategy) const {
   SlabTrial trial;
   trial.strategy = &strategy;
+  // A section's walls are shared by every slab cut there (a height halves many candidates).
+  std::shared_ptr<const BoundaryGrid> shared;
+  BoundaryGrid own;
   if (strategy.cuts_at != nullptr) {
-    trial.region = *section(strategy.cuts_at(cut.reference.layer));
+    const double h = strategy.cuts_at(cut.reference.layer);
+    trial.region = *section(h);
+    shared = section_walls(h);
   } else {
     cut.islands(), cut.surface();
     trial.region = strategy.contour({cut.view, 0, options_.contour, &cut.reference}).region;
+    own = BoundaryGrid(trial.region);
   }
-  const BoundaryGrid walls(trial.region);
+  const BoundaryGrid& walls = shared ? *shared : own;
   if (section_meets_every_piece(cut, strategy, walls)) {
-    measure_to_walls(cut, walls, trial);
+    measure_to_walls(cut, walls, shared != nullptr, trial);
   } else {
-    measure_with_islands(cut, walls, trial);
+    measure_with_islands(cut, walls, shared != nullptr, trial);
   }
   trial.bounded = trial.distance > cut.distance.stop_above;
   return trial;

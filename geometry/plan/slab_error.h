@@ -96,8 +96,12 @@ class SlabMeter {
   bool every_piece_meets(std::span<const std::uint32_t> faces, double z_lo, double z_hi, double h,
                          const BoundaryGrid& walls) const;
 
-  // The model's section at height z, cut the first time it is asked for.
+  // The model's section at height z, cut the first time it is asked for, and the grid over
+  // its walls, likewise (only its queries that keep no state may be asked of it).
+  struct Section;
+  std::shared_ptr<Section> entry(double z) const;
   std::shared_ptr<const Region> section(double z) const;
+  std::shared_ptr<const BoundaryGrid> section_walls(double z) const;
 
   // One slab's faces, slab, surface and islands, each cut the first time it is needed.
   struct Cut;
@@ -107,16 +111,16 @@ class SlabMeter {
   // surface (so no island is missed, and D is measured to the walls alone)? `walls`: its region's.
   bool section_meets_every_piece(Cut& cut, const ContourStrategy& strategy, const BoundaryGrid& walls) const;
   // D to the walls: the sections on the slab's planes first, then the whole surface.
-  void measure_to_walls(Cut& cut, const BoundaryGrid& walls, SlabTrial& trial) const;
+  // `shared`: the walls' grid is a section's (section_walls), copied for the surface's search.
+  void measure_to_walls(Cut& cut, const BoundaryGrid& walls, bool shared, SlabTrial& trial) const;
   // D with the footprint's islands the region misses measured to their outlines.
-  void measure_with_islands(Cut& cut, const BoundaryGrid& walls, SlabTrial& trial) const;
+  void measure_with_islands(Cut& cut, const BoundaryGrid& walls, bool shared, SlabTrial& trial) const;
 
   const LayerStack& stack_;
   SlabErrorOptions options_;
   std::vector<std::array<std::uint32_t, 3>> neighbours_;  // across edge k (corners k, k+1)
   std::vector<double> flat_heights_;  // of the exactly horizontal faces, ascending, once each
   std::vector<double> extreme_heights_;  // of the vertices no neighbour rises or falls from
-  struct Section;
   mutable std::mutex sections_mutex_;
   mutable std::unordered_map<double, std::shared_ptr<Section>> sections_;
 };
