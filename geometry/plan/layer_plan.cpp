@@ -542,6 +542,19 @@ class LazyPlanner {
       thickness_nm_[e] = nanometres(thickness(e));
       span_ = std::max(span_, grid_.edge_to[e] - grid_.edge_from[e]);
     }
+    // The edges into each node, in the order of the nodes they come from (a counting sort of
+    // the edges, which are numbered so), and the highest node any comes from.
+    const std::size_t nodes = grid_.z.size();
+    in_begin_.assign(nodes + 1, 0);
+    for (std::uint32_t e = 0; e < edges; ++e) ++in_begin_[grid_.edge_to[e] + 1];
+    for (std::size_t j = 0; j < nodes; ++j) in_begin_[j + 1] += in_begin_[j];
+    in_edges_.resize(edges);
+    std::vector<std::uint32_t> next(in_begin_.begin(), in_begin_.end() - 1);
+    for (std::uint32_t e = 0; e < edges; ++e) in_edges_[next[grid_.edge_to[e]]++] = e;
+    wave_from_.assign(nodes, 0);
+    for (std::uint32_t e = 0; e < edges; ++e) {
+      wave_from_[grid_.edge_to[e]] = std::max<std::size_t>(wave_from_[grid_.edge_to[e]], grid_.edge_from[e] + 1);
+    }
     lower_.assign(edges, 0);
     exact_.assign(edges, NAN);
     proven_.assign(edges, NAN);
@@ -879,20 +892,34 @@ class LazyPlanner {
       return static_cast<std::ptrdiff_t>(offset[i] + k - fewest_to[i]);
     };
     const EdgeStep* const steps = up_to_date(kept.steps, limits).data();
-    for (std::size_t i = from > span_ ? from - span_ : 0; i < n; ++i) {
-      for (std::size_t k = fewest_to[i]; offset[i + 1] > offset[i] && k + fewest_from[i] <= most; ++k) {
-        const std::ptrdiff_t s = state(i, k);
-        if (!(cost[s] < kUnreached)) continue;
-        for (std::uint32_t e = grid_.edge_begin[i]; e < grid_.edge_begin[i + 1]; ++e) {
+    // Node j's states from the edges into it, in the order of the nodes they come from: the
+    // order in which a search pushing from each node in turn offers them, so ties go the same
+    // way. The nodes of a wave (in_waves) take nothing from each other and are worked out side
+    // by side.
+    const auto pull = [&](std::size_t j) {
+      for (std::size_t k = fewest_to[j]; offset[j + 1] > offset[j] && k + fewest_from[j] <= most; ++k) {
+        const std::ptrdiff_t t = state(j, k);
+        for (std::uint32_t x = in_begin_[j]; x < in_begin_[j + 1]; ++x) {
+          const std::uint32_t e = in_edges_[x];
           const EdgeStep& step = steps[e];
-          if (step.to <= from || !step.usable) continue;
-          const std::ptrdiff_t t = state(step.to, k + step.printed);
-          if (t < 0) continue;
+          if (!step.usable || k < step.printed) continue;
+          const std::ptrdiff_t s = state(grid_.edge_from[e], k - step.printed);
+          if (s < 0 || !(cost[s] < kUnreached)) continue;
           PathCost through = cost[s].through(*this, e, step, limits);
           through.layers = 0;  // the budget counts them
           if (through < cost[t]) cost[t] = through, via[t] = e;
         }
       }
+    };
+    for (std::size_t j = from + 1; j < n;) {
+      std::size_t end = j + 1;
+      while (end < n && wave_from_[end] <= j) ++end;
+      if (end - j == 1) {
+        pull(j);
+      } else {
+        tbb::parallel_for(j, end, [&](std::size_t t) { pull(t); });
+      }
+      j = end;
     }
     // Of the plans that end: the least by the terms of landing (flat levels, and the top by
     // thicker layers over the cap), then the lowest end (layer_plan.h: the lowest height the
@@ -1002,6 +1029,11 @@ class LazyPlanner {
   std::size_t batch_ = 2 * std::max(1u, std::thread::hardware_concurrency());
   std::vector<long long> thickness_nm_;  // each candidate's thickness in whole nanometres
   std::uint32_t span_ = 0;               // the most nodes a candidate spans
+  // The edges into node j: in_edges_[in_begin_[j]..in_begin_[j + 1]), by the node they come
+  // from. wave_from_[j]: one past the highest node an edge into j comes from (0: none), so a
+  // run of nodes each with wave_from_ at most the run's first takes nothing from the others.
+  std::vector<std::uint32_t> in_begin_, in_edges_;
+  std::vector<std::size_t> wave_from_;
   // shortest_path's costs and edges in, per node, for `limits` and `by_swept`; nodes above
   // `dirty` are out of date (an edge from there measured since).
   // Each search's EdgeSteps at the limits it last searched, and how many of changes_ they take in.
