@@ -395,6 +395,25 @@ struct Limits {
   bool operator==(const Limits&) const = default;
 };
 
+// What one candidate adds to a path's cost at a search's limits (PathCost::through), worked
+// out once per candidate and limits and again only where the candidate is measured or bounded
+// anew: the searches relax every candidate above a changed node in every round (the bunny on
+// generic-marlin at --tolerance 0.3: 7,656 rounds over 129,481 candidates), and reading the
+// dozen per-candidate facts behind it each time cost more than the search's own arithmetic.
+struct EdgeStep {
+  enum Over : std::uint8_t { kWithin, kLanding, kUnmet };
+  double swept = 0;              // mm^3
+  std::uint32_t to = 0;          // the node it ends at
+  std::uint32_t thickness = 0;   // nm
+  std::uint32_t flats = 0;       // flat levels it crosses
+  Over over = kWithin;           // within the tolerance, or counted as a landing or unmet layer
+  bool usable = false;           // LazyPlanner::usable
+  bool printed = false;          // a layer that prints (not a last one printing nothing)
+  bool unsettled = false;
+  bool forced = false;           // holds a flat level no allowed layer lands (measured exactly)
+  bool excess = false;           // unmet under a ceiling: its D past the tolerance counts too
+};
+
 // A path's cost in the tolerance's objective, compared in this order: flat levels crossed
 // (of those an allowed layer lands); over the layers holding a flat level no allowed layer
 // lands (every plan has one per such level) and past the tolerance, their height, then their
@@ -415,25 +434,6 @@ struct Limits {
 // what it knows instead of wandering among paths equally good by their bounds). Heights and
 // D in whole nanometres: sums of thicknesses taken at different heights (0.45 - 0.3 and
 // 1.25 - 1.1) differ in their last bits, which must not decide before the swept volume does.
-// What one candidate adds to a path's cost at a search's limits (PathCost::through), worked
-// out once per candidate and limits and again only where the candidate is measured or bounded
-// anew: the searches relax every candidate above a changed node in every round (the bunny on
-// generic-marlin at --tolerance 0.3: 7,656 rounds over 129,481 candidates), and reading the
-// dozen per-candidate facts behind it each time cost more than the search's own arithmetic.
-struct EdgeStep {
-  enum Over : std::uint8_t { kWithin, kLanding, kUnmet };
-  double swept = 0;              // mm^3
-  std::uint32_t to = 0;          // the node it ends at
-  std::uint32_t thickness = 0;   // nm
-  std::uint32_t flats = 0;       // flat levels it crosses
-  Over over = kWithin;           // within the tolerance, or counted as a landing or unmet layer
-  bool usable = false;           // LazyPlanner::usable
-  bool printed = false;          // a layer that prints (not a last one printing nothing)
-  bool unsettled = false;
-  bool forced = false;           // holds a flat level no allowed layer lands (measured exactly)
-  bool excess = false;           // unmet under a ceiling: its D past the tolerance counts too
-};
-
 struct PathCost {
   std::uint32_t flats = 0;
   long long forced_height = 0, forced_most = 0, forced_sum = 0;  // nm
@@ -684,7 +684,6 @@ class LazyPlanner {
   // 1 for a layer that prints, 0 for a last layer that prints nothing (mark_empty_ends).
   std::uint32_t printed(std::uint32_t e) const { return grid_.edge_empty[e] ? 0 : 1; }
   double thickness(std::uint32_t e) const { return grid_.z[grid_.edge_to[e]] - grid_.z[grid_.edge_from[e]]; }
-  long long thickness_nm(std::uint32_t e) const { return thickness_nm_[e]; }  // in whole nanometres
   double exact(std::uint32_t e) const { return exact_[e]; }
   double known(std::uint32_t e) const { return std::isnan(exact_[e]) ? lower_[e] : exact_[e]; }  // or a lower bound
   double swept(std::uint32_t e) const { return swept_[e]; }
@@ -746,9 +745,9 @@ class LazyPlanner {
   // a node's cost depends only on the edges below it, so where the same limits are searched
   // again only the nodes above the lowest whose edges were measured since (Search::dirty) are
   // worked out again, from the edges into them, in the same order as a search from the bed,
-  // so that ties go the same way. On a printer of fine steps that is most of the search: the
-  // cap (tests/bench/models/cap.scad) at --tolerance 0.1 on generic-marlin runs 2,800 rounds
-  // over 43,681 candidates.
+  // so that ties go the same way (up to the cut below). On a printer of fine steps that is
+  // most of the search: the cap (tests/bench/models/cap.scad) at --tolerance 0.1 on
+  // generic-marlin runs 2,800 rounds over 43,681 candidates.
   std::vector<std::uint32_t> shortest_path(Limits limits, bool by_swept) {
     const std::size_t n = grid_.z.size();
     Search& s = search_;
