@@ -233,6 +233,15 @@ namespace {
 // The metric's options for one measurement: stopping past `refute_above` (> 0), and with
 // `settle`, once D is seen within `enough` by the metric's tolerance at least (so that a
 // settled D is within it).
+// distance_error to `walls`; a section's grid shared between threads (`shared`) copied first,
+// since the surface's search marks the segments it visits (for_each_near).
+DistanceError distance_to(const SlabSurface& surface, const BoundaryGrid& walls, bool shared,
+                          std::span<const BoundaryPair> missed, const DistanceOptions& options) {
+  if (!shared) return distance_error(surface, walls, missed, options);
+  const BoundaryGrid own = walls;
+  return distance_error(surface, own, missed, options);
+}
+
 DistanceOptions trial_distance(DistanceOptions distance, double enough, double refute_above, bool settle) {
   distance.reverse = false;
   if (refute_above > 0) distance.stop_above = refute_above;
@@ -266,8 +275,7 @@ void SlabMeter::measure_to_walls(Cut& cut, const BoundaryGrid& walls, bool share
     trial.distance = end_farthest;
     return;
   }
-  const BoundaryGrid own = shared ? walls : BoundaryGrid();  // distance_error marks segments
-  const DistanceError measured = distance_error(cut.surface(), shared ? own : walls, {}, distance);
+  const DistanceError measured = distance_to(cut.surface(), walls, shared, {}, distance);
   trial.distance = measured.forward;
   trial.settled = measured.settled;
 }
@@ -276,8 +284,7 @@ void SlabMeter::measure_with_islands(Cut& cut, const BoundaryGrid& walls, bool s
   cut.surface();
   const std::vector<BoundaryPair> missed = missed_features(cut.islands(), trial.region);
   trial.missed = missed.size();
-  const BoundaryGrid own = shared ? walls : BoundaryGrid();  // distance_error marks segments
-  const DistanceError measured = distance_error(cut.surface(), shared ? own : walls, missed, cut.distance);
+  const DistanceError measured = distance_to(cut.surface(), walls, shared, missed, cut.distance);
   trial.distance = measured.forward;
   trial.settled = measured.settled;
 }
