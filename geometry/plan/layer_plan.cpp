@@ -537,11 +537,7 @@ class LazyPlanner {
       forced_[e] = crossed(flats.off_grid, a, b) > 0;
       refused_[e] = overhangs && !grid_.edge_thinnest[e] && (*overhangs)(a, b) > thick.min_area;
     });
-    thickness_nm_.resize(edges);
-    for (std::uint32_t e = 0; e < edges; ++e) {
-      thickness_nm_[e] = nanometres(thickness(e));
-      span_ = std::max(span_, grid_.edge_to[e] - grid_.edge_from[e]);
-    }
+    for (std::uint32_t e = 0; e < edges; ++e) span_ = std::max(span_, grid_.edge_to[e] - grid_.edge_from[e]);
     // The edges into each node, in the order of the nodes they come from (a counting sort of
     // the edges, which are numbered so), and the highest node any comes from.
     const std::size_t nodes = grid_.z.size();
@@ -664,7 +660,7 @@ class LazyPlanner {
     EdgeStep step;
     step.swept = swept_[e];
     step.to = grid_.edge_to[e];
-    step.thickness = static_cast<std::uint32_t>(thickness_nm_[e]);
+    step.thickness = static_cast<std::uint32_t>(nanometres(thickness(e)));
     step.flats = crossed_[e];
     step.printed = printed(e) != 0;
     step.forced = forced_[e] != 0;
@@ -773,8 +769,11 @@ class LazyPlanner {
     s.dirty = n;
     s.cut = cut;
     const std::size_t reach = std::min(n, cut + span_);  // the nodes the edges from below the cut reach
-    std::fill(s.cost.begin() + static_cast<std::ptrdiff_t>(std::min(from + 1, n)), s.cost.begin() + static_cast<std::ptrdiff_t>(std::max(reach, std::min(from + 1, n))), kUnreached);
-    std::fill(s.via.begin() + static_cast<std::ptrdiff_t>(std::min(from + 1, n)), s.via.begin() + static_cast<std::ptrdiff_t>(std::max(reach, std::min(from + 1, n))), kNoEdge);
+    // The nodes worked out again: above `from`, up to those the edges from below the cut reach.
+    const auto redone_lo = static_cast<std::ptrdiff_t>(std::min(from + 1, n));
+    const auto redone_hi = std::max(static_cast<std::ptrdiff_t>(reach), redone_lo);
+    std::fill(s.cost.begin() + redone_lo, s.cost.begin() + redone_hi, kUnreached);
+    std::fill(s.via.begin() + redone_lo, s.via.begin() + redone_hi, kNoEdge);
     const EdgeStep* const steps = up_to_date(s.steps, limits).data();
     // Edges into the nodes above `from` start at most span_ nodes below them.
     for (std::size_t i = from > span_ ? from - span_ : 0; i < cut; ++i) {
@@ -893,7 +892,7 @@ class LazyPlanner {
     const EdgeStep* const steps = up_to_date(kept.steps, limits).data();
     // Node j's states from the edges into it, in the order of the nodes they come from: the
     // order in which a search pushing from each node in turn offers them, so ties go the same
-    // way. The nodes of a wave (in_waves) take nothing from each other and are worked out side
+    // way. The nodes of a wave (wave_from_) take nothing from each other and are worked out side
     // by side.
     const auto pull = [&](std::size_t j) {
       for (std::size_t k = fewest_to[j]; offset[j + 1] > offset[j] && k + fewest_from[j] <= most; ++k) {
@@ -966,8 +965,7 @@ class LazyPlanner {
     for (std::size_t k = 0; k < edges.size(); ++k) {
       const std::uint32_t e = edges[k];
       const SlabError& error = found[k];
-      touch(grid_.edge_from[e]);
-      changes_.push_back(e);
+      touch(e);
       if (error.exact()) {
         exact_[e] = error.distance();
       } else if (error.settled() && !(proven_[e] <= tolerance)) {
@@ -1003,7 +1001,7 @@ class LazyPlanner {
       for (std::uint32_t f = grid_.edge_begin[i]; f < grid_.edge_begin[i + 1]; ++f) {
         const Layer wider{grid_.z[i], grid_.z[grid_.edge_to[f]]};
         if (wider.z_hi < b - kSameHeight || std::abs(cuts_at(wider) - h) > 1e-9) continue;
-        if (d > lower_[f]) lower_[f] = d, touch(i), changes_.push_back(f);
+        if (d > lower_[f]) lower_[f] = d, touch(f);
       }
     }
   }
@@ -1026,15 +1024,12 @@ class LazyPlanner {
   std::vector<char> counted_;  // measured at least once (measured())
   std::size_t measured_ = 0, rounds_ = 0;
   std::size_t batch_ = 2 * std::max(1u, std::thread::hardware_concurrency());
-  std::vector<long long> thickness_nm_;  // each candidate's thickness in whole nanometres
   std::uint32_t span_ = 0;               // the most nodes a candidate spans
   // The edges into node j: in_edges_[in_begin_[j]..in_begin_[j + 1]), by the node they come
   // from. wave_from_[j]: one past the highest node an edge into j comes from (0: none), so a
   // run of nodes each with wave_from_ at most the run's first takes nothing from the others.
   std::vector<std::uint32_t> in_begin_, in_edges_;
   std::vector<std::size_t> wave_from_;
-  // shortest_path's costs and edges in, per node, for `limits` and `by_swept`; nodes above
-  // `dirty` are out of date (an edge from there measured since).
   // Each search's EdgeSteps at the limits it last searched, and how many of changes_ they take in.
   struct Steps {
     std::vector<EdgeStep> of;
@@ -1043,6 +1038,8 @@ class LazyPlanner {
   };
   // The candidates measured or bounded anew, in turn, not yet taken in by every search's steps.
   std::vector<std::uint32_t> changes_;
+  // shortest_path's costs and edges in, per node, for `limits` and `by_swept`; nodes above
+  // `dirty` are out of date (an edge from there measured since).
   struct Search {
     Steps steps;
     std::vector<PathCost> cost;
@@ -1086,8 +1083,11 @@ class LazyPlanner {
     for (Steps* kept : {&search_.steps, &budget_search_.steps}) kept->seen -= std::min(kept->seen, taken);
     return steps.of;
   }
-  // An edge from `node` measured (or bounded) anew: the kept costs above it are out of date.
-  void touch(std::size_t node) {
+  // Edge e measured (or bounded) anew: its step is out of date, and so are the kept costs
+  // above the node it starts at.
+  void touch(std::uint32_t e) {
+    const std::size_t node = grid_.edge_from[e];
+    changes_.push_back(e);
     touched_top_ = std::max(touched_top_, node);
     search_.dirty = std::min(search_.dirty, node);
     budget_search_.dirty = std::min(budget_search_.dirty, node);
