@@ -66,7 +66,8 @@
 // lower bound of its D (0, or what measuring it or a slab inside it with the same section
 // proved), the best path is found, the slabs on it not yet settled are measured (in parallel:
 // with a tolerance, only until each is seen to be within it or past it, since that is all a
-// path's cost asks), and the search runs again until every layer of the path is settled. The
+// path's cost asks; the next few first from their end sections alone, which refuses most
+// candidates without cutting their surface), and the search runs again until every layer of the path is settled. The
 // swept volume is exact for every candidate from the start. So the path is the optimum over
 // every allowed sequence, not only over the slabs measured. Every layer of the result is then
 // measured exactly.

@@ -257,20 +257,32 @@ bool SlabMeter::section_meets_every_piece(Cut& cut, const ContourStrategy& strat
           every_piece_meets(cut.faces(), cut.z_lo, cut.z_hi, strategy.cuts_at(cut.reference.layer), walls));
 }
 
+double SlabMeter::ends_farthest(Cut& cut, const BoundaryGrid& walls) const {
+  if (!std::isfinite(cut.distance.stop_above)) return 0;
+  // A section is the limit from above: at a flat face on the top plane (a step's top)
+  // the slab's own surface there is the limit from below, a hair lower.
+  const bool flat_top = std::binary_search(flat_heights_.begin(), flat_heights_.end(), cut.z_hi);
+  const auto bottom = section(cut.z_lo), top = section(flat_top ? cut.z_hi - kBelow : cut.z_hi);
+  const Region* ends[] = {bottom.get(), top.get()};
+  return first_beyond(ends, walls, cut.distance.stop_above);
+}
+
+double SlabMeter::ends_past(double z_lo, double z_hi, const ContourStrategy& strategy, double stop_above) const {
+  if (strategy.cuts_at == nullptr || !(stop_above > 0) || !std::isfinite(stop_above)) return 0;
+  const DistanceOptions distance = trial_distance(options_.distance, 0, stop_above, false);
+  Cut cut(stack_, z_lo, z_hi, distance);
+  const std::shared_ptr<const BoundaryGrid> walls = section_walls(strategy.cuts_at(cut.reference.layer));
+  if (!section_meets_every_piece(cut, strategy, *walls)) return 0;
+  const double d = ends_farthest(cut, *walls);
+  return d > stop_above ? d : 0;
+}
+
 void SlabMeter::measure_to_walls(Cut& cut, const BoundaryGrid& walls, bool shared, SlabTrial& trial) const {
   // Every surface point counts to the walls; the sections on the slab's two planes, where a
   // section's walls stand farthest from the surface, first: one point past `enough` refuses
   // the slab without the rest of the surface.
   const DistanceOptions& distance = cut.distance;
-  double end_farthest = 0;
-  if (std::isfinite(distance.stop_above)) {
-    // A section is the limit from above: at a flat face on the top plane (a step's top)
-    // the slab's own surface there is the limit from below, a hair lower.
-    const bool flat_top = std::binary_search(flat_heights_.begin(), flat_heights_.end(), cut.z_hi);
-    const auto bottom = section(cut.z_lo), top = section(flat_top ? cut.z_hi - kBelow : cut.z_hi);
-    const Region* ends[] = {bottom.get(), top.get()};
-    end_farthest = first_beyond(ends, walls, distance.stop_above);
-  }
+  const double end_farthest = ends_farthest(cut, walls);
   if (end_farthest > distance.stop_above) {
     trial.distance = end_farthest;
     return;

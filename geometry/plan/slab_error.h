@@ -82,6 +82,11 @@ class SlabMeter {
   SlabError operator()(double z_lo, double z_hi, std::span<const ContourStrategy* const> strategies,
                        double enough = 0, double refute_above = 0, bool settle = false) const;
 
+  // The D of a section strategy on the slab seen past `stop_above` from the sections on the
+  // slab's two planes alone, as operator() would find it first; 0 where that shows nothing
+  // (a D within it there, an island the section may miss, not a section strategy).
+  double ends_past(double z_lo, double z_hi, const ContourStrategy& strategy, double stop_above) const;
+
   // Lets go of the sections kept below height z (a search that has moved on above them); one
   // asked for again is cut again.
   void forget_below(double z) const;
@@ -113,6 +118,9 @@ class SlabMeter {
   // D to the walls: the sections on the slab's planes first, then the whole surface.
   // `shared`: the walls' grid is a section's (section_walls), copied for the surface's search.
   void measure_to_walls(Cut& cut, const BoundaryGrid& walls, bool shared, SlabTrial& trial) const;
+  // The distance from `walls` of the first vertex of the sections on the slab's planes farther
+  // than the cut's stop_above; 0 when none is.
+  double ends_farthest(Cut& cut, const BoundaryGrid& walls) const;
   // D with the footprint's islands the region misses measured to their outlines.
   void measure_with_islands(Cut& cut, const BoundaryGrid& walls, bool shared, SlabTrial& trial) const;
 
