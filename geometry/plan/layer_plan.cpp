@@ -995,39 +995,57 @@ class LazyPlanner {
     if (progress_) progress_(measured_);
   }
 
-  // Refuses those of the slabs not seen past `refute` from their end sections alone
-  // (SlabMeter::ends_past, a single section contour's) that are, as measuring them would
-  // first; whether any was. The thinnest are measured exactly instead.
+  // Refuses those of the slabs whose end sections alone show D past `refute`
+  // (SlabMeter::ends_past, a single section contour's), as measuring them would first, and
+  // then from each slab refused the next thinner one from the same height, and so on down to
+  // one the ends do not refuse: where the search would turn next, a round each otherwise (the
+  // bunny on generic-marlin at --tolerance 0.3: 2,671 rounds instead of 13,481). Whether any
+  // was refused. The thinnest are measured exactly instead.
   bool refuted_by_ends(std::span<const std::uint32_t> slabs, double refute) {
     if (!(refute > 0) || options_.contours.size() != 1 || !options_.contours.front()->cuts_at) return false;
+    const auto open = [&](std::uint32_t e) {
+      return !thinnest(e) && !(ends_within_[e] <= refute) && !(lower_[e] > refute) && std::isnan(exact_[e]);
+    };
     std::vector<std::uint32_t> edges;
     for (const std::uint32_t e : slabs) {
-      if (!thinnest(e) && !(ends_within_[e] <= refute)) edges.push_back(e);
+      if (open(e)) edges.push_back(e);
     }
-    if (edges.empty()) return false;
-    std::vector<double> past(edges.size());
-    tbb::parallel_for(std::size_t{0}, edges.size(), [&](std::size_t k) {
-      const std::uint32_t e = edges[k];
-      past[k] = meter_.ends_past(grid_.z[grid_.edge_from[e]], grid_.z[grid_.edge_to[e]],
-                                 *options_.contours.front(), refute);
-    });
     bool any = false;
-    for (std::size_t k = 0; k < edges.size(); ++k) {
-      const std::uint32_t e = edges[k];
-      if (!(past[k] > 0)) {
-        ends_within_[e] = refute;
-        continue;
+    std::vector<double> past;
+    while (!edges.empty()) {
+      past.assign(edges.size(), 0);
+      tbb::parallel_for(std::size_t{0}, edges.size(), [&](std::size_t k) {
+        const std::uint32_t e = edges[k];
+        past[k] = meter_.ends_past(grid_.z[grid_.edge_from[e]], grid_.z[grid_.edge_to[e]],
+                                   *options_.contours.front(), refute);
+      });
+      std::vector<std::uint32_t> thinner;
+      for (std::size_t k = 0; k < edges.size(); ++k) {
+        const std::uint32_t e = edges[k];
+        if (!(past[k] > 0)) {
+          ends_within_[e] = refute;
+          continue;
+        }
+        any = true;
+        touch(e);
+        lower_[e] = std::max(lower_[e], past[k]);
+        widen(e, past[k]);
+        if (!counted_[e]) ++measured_;
+        counted_[e] = 1;
+        // The edges from a node are numbered thinnest first.
+        for (std::uint32_t f = e; f-- > grid_.edge_begin[grid_.edge_from[e]];) {
+          if (!open(f)) continue;
+          if (std::find(thinner.begin(), thinner.end(), f) == thinner.end()) thinner.push_back(f);
+          break;
+        }
       }
-      any = true;
-      touch(e);
-      lower_[e] = std::max(lower_[e], past[k]);
-      widen(e, past[k]);
-      if (!counted_[e]) ++measured_;
-      counted_[e] = 1;
+      edges = std::move(thinner);
     }
     if (any && progress_) progress_(measured_);
     return any;
   }
+
+
 
   // A section contour measured on [a, b] proves D >= d on every slab that holds [a, b] and
   // cuts the same section: the same region, more surface to measure (and islands only grow,
