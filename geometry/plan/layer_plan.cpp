@@ -904,17 +904,26 @@ class LazyPlanner {
     // order in which a search pushing from each node in turn offers them, so ties go the same
     // way. The nodes of a wave (wave_from_) take nothing from each other and are worked out side
     // by side.
+    // An edge at a time over all of j's counts: each state still takes the edges in that
+    // order, and an edge's share of the cost is worked out once.
     const auto pull = [&](std::size_t j) {
-      for (std::size_t k = fewest_to[j]; offset[j + 1] > offset[j] && k + fewest_from[j] <= most; ++k) {
-        const std::ptrdiff_t t = state(j, k);
-        for (std::uint32_t x = in_begin_[j]; x < in_begin_[j + 1]; ++x) {
-          const std::uint32_t e = in_edges_[x];
-          const EdgeStep& step = steps[e];
-          if (!step.usable || k < step.printed) continue;
-          const std::ptrdiff_t s = state(grid_.edge_from[e], k - step.printed);
-          if (s < 0 || !(cost[s] < kUnreached)) continue;
-          PathCost through = cost[s].through(*this, e, step, limits);
-          through.layers = 0;  // the budget counts them
+      if (offset[j + 1] == offset[j]) return;
+      const std::size_t k_hi = most - fewest_from[j];  // j's states: counts fewest_to[j]..k_hi
+      for (std::uint32_t x = in_begin_[j]; x < in_begin_[j + 1]; ++x) {
+        const std::uint32_t e = in_edges_[x];
+        const EdgeStep& step = steps[e];
+        const std::uint32_t i = grid_.edge_from[e];
+        if (!step.usable || offset[i + 1] == offset[i]) continue;
+        PathCost share = PathCost{}.through(*this, e, step, limits);
+        share.layers = 0;  // the budget counts them
+        // From i's state of k - printed layers, where it has one.
+        const std::size_t first = std::max<std::size_t>(fewest_to[j], fewest_to[i] + step.printed);
+        const std::size_t last = std::min(k_hi, most - fewest_from[i] + step.printed);
+        for (std::size_t k = first; k <= last; ++k) {
+          const std::size_t s = offset[i] + (k - step.printed - fewest_to[i]);
+          if (!(cost[s] < kUnreached)) continue;
+          const std::size_t t = offset[j] + (k - fewest_to[j]);
+          const PathCost through = cost[s].then(share);
           if (through < cost[t]) cost[t] = through, via[t] = e;
         }
       }
