@@ -170,6 +170,9 @@ std::string over_tolerance_runs(const geometry::AdaptivePlan& plan) {
                              landed == plan.layers.back().z_hi ? "top" : "flat level", landed);
         break;
       }
+      case geometry::OverTolerance::height_share:
+        reason = "thicker than the thinnest, in the 5% of the height the by-height cap leaves out";
+        break;
       case geometry::OverTolerance::missed_feature:
         reason = "a tip or bump smaller than a layer, which the contour leaves out";
         break;

@@ -1417,7 +1417,8 @@ void judge_layers(const LayerStack& stack, const AllowedThicknesses& allowed, st
       // (A flat level off the heights the layers reach is crossed by every plan: its target,
       // the nearest reachable height, is on a boundary, and the level inside a layer.)
       else if (planner.crossed_flats(e) > 0 || crossed(flats, layer.z_lo, layer.z_hi) > 0) why = OverTolerance::flat_level;
-      else if (!planner.thinnest(e)) why = OverTolerance::landing;
+      // (A by-height cap lets 5% of the height be over it at any thickness, landing or not.)
+      else if (!planner.thinnest(e)) why = plan.cap_by_height ? OverTolerance::height_share : OverTolerance::landing;
       else if (planner.missed(e) > 0) why = OverTolerance::missed_feature;
       else why = OverTolerance::shallow_surface, lean = least_lean(stack, layer.z_lo, layer.z_hi);
       if (why != OverTolerance::first_layer) ++plan.unmet;

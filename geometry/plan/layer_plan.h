@@ -162,6 +162,9 @@ enum class OverTolerance : char {
   flat_level,       // it crosses a flat level that no allowed layer lands
   landing,          // thicker than the thinnest, to land a flat level or the top that the
                     // thinnest layers (within the tolerance there are no others) miss
+  height_share,     // thicker than the thinnest, in the share of the height a budget's
+                    // by-height cap leaves out (AdaptivePlan::cap_by_height), where it spends
+                    // fewer of the budget's layers
   missed_feature,   // its contour leaves out a tip or bump of the slab (missed_features.h)
   shallow_surface,  // the surface leans so little that even the thinnest layer steps too far
 };

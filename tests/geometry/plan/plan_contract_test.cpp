@@ -439,6 +439,15 @@ TEST_CASE("a_budget_aims_at_its_by_height_percentile_only_with_no_larger_d_as_pr
         CHECK(most == doctest::Approx(0.3).epsilon(1e-9));
       } else {
         CHECK(most >= 0.4 - 1e-9);
+        // The thicker layer over the cap lands nothing: it is said to be in the 5% the
+        // by-height cap leaves out.
+        std::size_t left_out = 0;
+        for (std::size_t i = 1; i < plan.layers.size(); ++i) {
+          CAPTURE(plan.layers[i].z_lo);
+          CHECK(plan.why[i] != OverTolerance::landing);
+          left_out += plan.why[i] == OverTolerance::height_share;
+        }
+        CHECK(left_out == 1);
       }
     }
   }
