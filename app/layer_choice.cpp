@@ -105,8 +105,8 @@ LayerChoice choose_layers(const AdaptiveRequest& request, const printer::Printer
     options.thick_overhangs = request.thick_overhangs;
     if (request.max_seconds > 0 && estimate) {
       choice.budget_seconds = request.max_seconds;
-      options.fits = [&](const std::vector<geometry::Layer>& layers) {
-        return estimate(layers) <= request.max_seconds;
+      options.overrun = [&](const std::vector<geometry::Layer>& layers) {
+        return estimate(layers) - request.max_seconds;
       };
     }
     options.contours = planning_strategies(printed);

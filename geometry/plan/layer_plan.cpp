@@ -1342,7 +1342,7 @@ CountPlan plan_in_count(LazyPlanner& planner, std::size_t count, const std::vect
   return plan;
 }
 
-// A budget's plan: for max_layers, plan_in_count's; for `fits` (a print time), the plan in
+// A budget's plan: for max_layers, plan_in_count's; for `overrun` (a print time), the plan in
 // count of the most layers whose plan it accepts, by bisection on the count between the
 // thickest plan's and the thinnest layers' (a plan's time grows with its layers, nearly: a
 // least-error plan of more layers puts its thin layers where the part may be wider, and the
@@ -1376,20 +1376,39 @@ std::pair<std::vector<std::uint32_t>, double> budget_path(LazyPlanner& planner, 
   if (options.max_layers > 0) {
     taken = plan_in_count(planner, options.max_layers, thickest, hi);
   } else {
-    const auto fits = [&](const std::vector<std::uint32_t>& path) { return options.fits(layers_of(planner, path)); };
-    if (!fits(thickest)) return {std::move(thickest), hi};
+    const auto overrun = [&](const std::vector<std::uint32_t>& path) { return options.overrun(layers_of(planner, path)); };
+    double fitting_over = overrun(thickest);
+    if (fitting_over > 0) return {std::move(thickest), hi};
     taken = {thickest, hi, std::nullopt};
     // Counts below `fitting` are taken, from `refused` up refused (or past the thinnest plan).
     std::size_t fitting = printed_count(planner, thickest);
-    std::size_t refused = printed_count(planner, planner.plan(0, false, false)) + 1;
+    const std::vector<std::uint32_t> thinnest = planner.plan(0, false, false);
+    std::size_t refused = printed_count(planner, thinnest) + 1;
+    double refused_over = overrun(thinnest);  // the thinnest plan's, for `refused`
+    // The more layers, the longer a count's plan takes to find (the bunny on generic-marlin:
+    // 47 s in 582 layers, 3 s in 315), and each takes seconds, so the count tried is where a
+    // straight line between the overruns of the counts known to fit and to be refused puts
+    // the budget (regula falsi), the first time a little above it, and halfway where the
+    // last such step left more than half the counts open.
+    bool halve = !(refused_over > 0), first = true;
     while (refused - fitting > 1) {
-      const std::size_t count = fitting + (refused - fitting) / 2;
-      CountPlan tried = plan_in_count(planner, count, thickest, hi);
-      if (printed_count(planner, tried.path) <= count && fits(tried.path)) {
-        fitting = count, taken = std::move(tried);
-      } else {
-        refused = count;
+      std::size_t count = fitting + (refused - fitting) / 2;
+      if (!halve) {
+        const double share = -fitting_over / (refused_over - fitting_over);
+        count = fitting + static_cast<std::size_t>(std::llround(share * static_cast<double>(refused - fitting)));
+        if (first) count += std::max<std::size_t>(2, count / 20);
+        count = std::clamp(count, fitting + 1, refused - 1);
       }
+      const std::size_t open = refused - fitting;
+      first = false;
+      CountPlan tried = plan_in_count(planner, count, thickest, hi);
+      const double over = printed_count(planner, tried.path) <= count ? overrun(tried.path) : INFINITY;
+      if (over <= 0) {
+        fitting = count, fitting_over = over, taken = std::move(tried);
+      } else {
+        refused = count, refused_over = over;
+      }
+      halve = (!halve && 2 * (refused - fitting) > open) || !std::isfinite(refused_over);
     }
   }
   if (taken.limits) plan.cap = taken.limits->tolerance, plan.ceiling = taken.limits->most;
@@ -1443,10 +1462,10 @@ AdaptivePlan adaptive_plan(const LayerStack& stack, double part_height,
   plan.candidates = planner.candidates();
   plan.refused_for_overhangs = planner.refused();
   planner.measure_forced(options.tolerance);
-  if (options.measure_all) planner.measure_all(options.max_layers > 0 || options.fits ? 0 : options.tolerance);
+  if (options.measure_all) planner.measure_all(options.max_layers > 0 || options.overrun ? 0 : options.tolerance);
 
   std::vector<std::uint32_t> path;
-  if (options.max_layers == 0 && !options.fits) {
+  if (options.max_layers == 0 && !options.overrun) {
     plan.tolerance = std::max(0.0, options.tolerance);
     path = planner.plan(plan.tolerance, true);
   } else {

@@ -118,10 +118,11 @@ UniformPlan uniform_plan(double part_height, double thickness, const AllowedThic
 struct AdaptiveOptions {
   double tolerance = 0.3;       // D within this, mm
   std::size_t max_layers = 0;   // > 0: the least tolerance with at most this many layers instead
-  // Set (and max_layers 0): the max_layers plan of the most layers whose plan this accepts
+  // Set (and max_layers 0): how far a plan is over a budget, a print time's seconds past it
+  // (at most 0: within it); the max_layers plan of the most layers whose plan is within it
   // instead (a bisection on the count: a print time nearly grows with it). Called only from
-  // the calling thread; the search takes a plan it accepts for one of fewer layers.
-  std::function<bool(const std::vector<Layer>& layers)> fits;
+  // the calling thread; the search takes a plan within it for one of fewer layers.
+  std::function<double(const std::vector<Layer>& layers)> overrun;
   // The contours a layer may print; a layer meets the tolerance when one of them does (one
   // kind for a plain strategy; mid, ma and optimal-height for `best`). Cheapest first.
   std::vector<const ContourStrategy*> contours{&contour_strategy("mid")};

@@ -406,10 +406,10 @@ TEST_CASE("adaptive_plan_with_any_budget_finds_the_least_tolerance_it_accepts") 
   const geometry::LayerStack stack(cone.mesh, {});
   AdaptiveOptions options;
   std::size_t asked = 0;
-  options.fits = [&](const std::vector<geometry::Layer>& layers) {
+  options.overrun = [&](const std::vector<geometry::Layer>& layers) {
     ++asked;
     check_thicknesses(layers, kUpPlus2);
-    return layers.size() <= 60;
+    return static_cast<double>(layers.size()) - 60;
   };
   const auto flats = geometry::flat_levels(cone.mesh);
   const AdaptivePlan plan = geometry::adaptive_plan(stack, 20, kUpPlus2, flats, options);
@@ -420,7 +420,7 @@ TEST_CASE("adaptive_plan_with_any_budget_finds_the_least_tolerance_it_accepts") 
   CHECK(plan.measured > 0);
   CHECK(plan.measured <= plan.candidates);
   // A budget no plan meets gets the thickest plan (every layer within its tolerance).
-  options.fits = [](const std::vector<geometry::Layer>&) { return false; };
+  options.overrun = [](const std::vector<geometry::Layer>&) { return 1.0; };
   const AdaptivePlan thickest = geometry::adaptive_plan(stack, 20, kUpPlus2, flats, options);
   CHECK(thickest.unmet == 0);
   CHECK(thickest.layers.size() <= 1 + 50 + 1);  // 19.7 mm of 0.4 mm layers
@@ -440,7 +440,9 @@ TEST_CASE("adaptive_plan_within_a_budget_of_layers_by_their_plan_is_the_plan_of_
     by_count.max_layers = count;
     const AdaptivePlan counted = geometry::adaptive_plan(stack, 20, kUpPlus2, flats, by_count);
     AdaptiveOptions by_plan;
-    by_plan.fits = [&](const std::vector<Layer>& layers) { return layers.size() <= count; };
+    by_plan.overrun = [&](const std::vector<Layer>& layers) {
+      return static_cast<double>(layers.size()) - static_cast<double>(count);
+    };
     const AdaptivePlan judged = geometry::adaptive_plan(stack, 20, kUpPlus2, flats, by_plan);
     CHECK(judged.layers.size() == count);
     REQUIRE(judged.layers.size() == counted.layers.size());
@@ -481,7 +483,7 @@ TEST_CASE("adaptive_plan_within_any_print_time_is_the_least_total_error_that_fit
     const double budget = least + (most - least) * k / 12.0;
     CAPTURE(budget);
     AdaptiveOptions options;
-    options.fits = [&](const std::vector<Layer>& layers) { return seconds(layers) <= budget; };
+    options.overrun = [&](const std::vector<Layer>& layers) { return seconds(layers) - budget; };
     const AdaptivePlan plan = geometry::adaptive_plan(stack, 16, kUpPlus2, flats, options);
     check_thicknesses(plan.layers, kUpPlus2);
     CHECK(seconds(plan.layers) <= budget);

@@ -259,7 +259,7 @@ AdaptivePlan plan_in_budget(const solids::Solid& part, double top, std::size_t b
   const geometry::LayerStack stack(part.mesh, {});
   AdaptiveOptions options;
   if (by_time) {
-    options.fits = [budget](const std::vector<Layer>& layers) { return layers.size() <= budget; };
+    options.overrun = [budget](const std::vector<Layer>& layers) { return static_cast<double>(layers.size()) - static_cast<double>(budget); };
   } else {
     options.max_layers = budget;
   }
