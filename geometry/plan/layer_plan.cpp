@@ -724,9 +724,9 @@ class LazyPlanner {
       }
       if (unsettled.empty()) return path;
       // Most candidates a path tries are refused, and most of those by their end sections
-      // alone; the surface is cut and measured only for slabs of a path whose next few
-      // unsettled slabs all pass that (the bunny on generic-marlin at --tolerance 0.3: 2,590
-      // slabs measured within it instead of 4,720, of which 284 make the plan).
+      // alone; a slab is measured in full only once the next few unsettled slabs of its path
+      // all pass that (the bunny on generic-marlin at --tolerance 0.3: 3,459 slabs measured
+      // in full, 2,427 of them found within it, instead of 30,753 and 4,720).
       if (refuted_by_ends({unsettled.begin(), std::min(unsettled.end(), unsettled.begin() + 2 * batch)}, refute)) {
         continue;
       }
@@ -1053,8 +1053,6 @@ class LazyPlanner {
     if (any && progress_) progress_(measured_);
     return any;
   }
-
-
 
   // A section contour measured on [a, b] proves D >= d on every slab that holds [a, b] and
   // cuts the same section: the same region, more surface to measure (and islands only grow,

@@ -67,10 +67,10 @@
 // proved), the best path is found, the slabs on it not yet settled are measured (in parallel:
 // with a tolerance, only until each is seen to be within it or past it, since that is all a
 // path's cost asks; the next few first from their end sections alone, which refuses most
-// candidates without cutting their surface), and the search runs again until every layer of the path is settled. The
-// swept volume is exact for every candidate from the start. So the path is the optimum over
-// every allowed sequence, not only over the slabs measured. Every layer of the result is then
-// measured exactly.
+// candidates without cutting their surface), and the search runs again until every layer of
+// the path is settled. The swept volume is exact for every candidate from the start. So the
+// path is the optimum over every allowed sequence, not only over the slabs measured. Every
+// layer of the result is then measured exactly.
 //
 // Units mm. A part of no height gets no layers. Total: any options give a plan (a tolerance of
 // 0 gives the thinnest layers everywhere, all over it where D > 0).
