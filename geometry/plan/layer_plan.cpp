@@ -1341,11 +1341,11 @@ CountPlan plan_in_count(LazyPlanner& planner, std::size_t count, const std::vect
 }
 
 // A budget's plan: for max_layers, plan_in_count's; for `overrun` (a print time), the plan in
-// count of the most layers whose plan it accepts, by bisection on the count between the
+// count of the most layers whose plan is within it, searched for on the count between the
 // thickest plan's and the thinnest layers' (a plan's time grows with its layers, nearly: a
 // least-error plan of more layers puts its thin layers where the part may be wider, and the
-// estimate samples its layers; the bisection finds a count the budget takes with the next one
-// refused). Bisecting on the tolerance instead, whose plans' times are further from
+// estimate samples its layers; the search finds a count the budget takes with the next one
+// refused). Searching on the tolerance instead, whose plans' times are further from
 // monotone, took 0.3997 mm on the bunny at --max-time 80min (211 layers; its least-error plan
 // in those did not fit, in 207 it did) where 0.3728 mm's least-error plan fits in 217 layers:
 // 3% of the budget left unspent, mean D 0.429 mm and total ΔV 174 mm³ against 0.408 and 163.
