@@ -984,24 +984,31 @@ class LazyPlanner {
     for (std::size_t k = 0; k < edges.size(); ++k) {
       const std::uint32_t e = edges[k];
       const SlabError& error = found[k];
-      touch(e);
       if (error.exact()) {
         exact_[e] = error.distance();
       } else if (error.settled() && !(proven_[e] <= tolerance)) {
         proven_[e] = tolerance;
       }
-      lower_[e] = std::max(lower_[e], error.distance());
       if (!error.trials.empty() && error.trials[error.best].missed > 0) missed_[e] = error.trials[error.best].missed;
-      widen(e, error.distance());
+      bound(e, error.distance());
     }
     if (!counted) return;
-    // A slab measured again (exactly after settled, or by a budget's search at another
-    // tolerance) is one candidate: measured() never exceeds candidates().
-    for (const std::uint32_t e : edges) {
-      if (!counted_[e]) ++measured_;
-      counted_[e] = 1;
-    }
+    for (const std::uint32_t e : edges) count(e);
     if (progress_) progress_(measured_);
+  }
+
+  // Slab e measured (or refused from its end sections): D at least d there and, as widen
+  // proves, on the wider slabs cutting the same section.
+  void bound(std::uint32_t e, double d) {
+    touch(e);
+    lower_[e] = std::max(lower_[e], d);
+    widen(e, d);
+  }
+  // A slab measured again (exactly after settled, or by a budget's search at another
+  // tolerance) is one candidate: measured() never exceeds candidates().
+  void count(std::uint32_t e) {
+    if (!counted_[e]) ++measured_;
+    counted_[e] = 1;
   }
 
   // Refuses those of the slabs whose end sections alone show D past `refute`
@@ -1036,11 +1043,8 @@ class LazyPlanner {
           continue;
         }
         any = true;
-        touch(e);
-        lower_[e] = std::max(lower_[e], past[k]);
-        widen(e, past[k]);
-        if (!counted_[e]) ++measured_;
-        counted_[e] = 1;
+        bound(e, past[k]);
+        count(e);
         // The edges from a node are numbered thinnest first.
         for (std::uint32_t f = e; f-- > grid_.edge_begin[grid_.edge_from[e]];) {
           if (!open(f)) continue;

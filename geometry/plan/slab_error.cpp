@@ -230,9 +230,6 @@ struct SlabMeter::Cut {
 
 namespace {
 
-// The metric's options for one measurement: stopping past `refute_above` (> 0), and with
-// `settle`, once D is seen within `enough` by the metric's tolerance at least (so that a
-// settled D is within it).
 // distance_error to `walls`; a section's grid shared between threads (`shared`) copied first,
 // since the surface's search marks the segments it visits (for_each_near).
 DistanceError distance_to(const SlabSurface& surface, const BoundaryGrid& walls, bool shared,
@@ -242,6 +239,9 @@ DistanceError distance_to(const SlabSurface& surface, const BoundaryGrid& walls,
   return distance_error(surface, own, missed, options);
 }
 
+// The metric's options for one measurement: stopping past `refute_above` (> 0), and with
+// `settle`, once D is seen within `enough` by the metric's tolerance at least (so that a
+// settled D is within it).
 DistanceOptions trial_distance(DistanceOptions distance, double enough, double refute_above, bool settle) {
   distance.reverse = false;
   if (refute_above > 0) distance.stop_above = refute_above;
